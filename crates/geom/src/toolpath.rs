@@ -1,0 +1,329 @@
+//! The machine-neutral toolpath: a list of self-contained moves.
+
+use std::f64::consts::TAU;
+
+/// A position of all six axes: X Y Z in mm, A B C in degrees.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Axes {
+    /// X in mm.
+    pub x: f64,
+    /// Y in mm.
+    pub y: f64,
+    /// Z in mm.
+    pub z: f64,
+    /// A (rotary about X) in degrees.
+    pub a: f64,
+    /// B (rotary about Y) in degrees.
+    pub b: f64,
+    /// C (rotary about Z) in degrees.
+    pub c: f64,
+}
+
+impl Axes {
+    /// All axes at zero.
+    pub const ZERO: Axes = Axes { x: 0.0, y: 0.0, z: 0.0, a: 0.0, b: 0.0, c: 0.0 };
+
+    /// The axes as an array in the order X Y Z A B C.
+    pub fn to_array(self) -> [f64; 6] {
+        [self.x, self.y, self.z, self.a, self.b, self.c]
+    }
+
+    /// Builds axes from an array in the order X Y Z A B C.
+    pub fn from_array(v: [f64; 6]) -> Axes {
+        Axes { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5] }
+    }
+
+    /// The X Y Z part.
+    pub fn xyz(self) -> [f64; 3] {
+        [self.x, self.y, self.z]
+    }
+
+    /// Straight-line distance of the linear axes X Y Z to `other`, in mm.
+    pub fn distance(self, other: Axes) -> f64 {
+        let d = [other.x - self.x, other.y - self.y, other.z - self.z];
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    }
+}
+
+/// The plane an arc turns in (G17, G18, G19).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Plane {
+    /// G17: the XY plane, helical axis Z.
+    #[default]
+    Xy,
+    /// G18: the ZX plane, helical axis Y.
+    Zx,
+    /// G19: the YZ plane, helical axis X.
+    Yz,
+}
+
+impl Plane {
+    /// Indices (into X Y Z) of the plane's first axis, second axis and normal
+    /// axis. The pair is ordered so that counter-clockwise (G03) is the
+    /// positive rotation seen from the positive normal axis.
+    pub fn axes(self) -> (usize, usize, usize) {
+        match self {
+            Plane::Xy => (0, 1, 2),
+            Plane::Zx => (2, 0, 1),
+            Plane::Yz => (1, 2, 0),
+        }
+    }
+}
+
+/// A circular (or helical) arc: the geometry beyond start and end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Arc {
+    /// Centre in X Y Z (mm); its coordinate along the plane normal is the
+    /// start's.
+    pub center: [f64; 3],
+    /// The plane the arc turns in.
+    pub plane: Plane,
+    /// `true` for counter-clockwise (G03) seen from the positive normal axis.
+    pub ccw: bool,
+    /// Extra full turns beyond the first sweep (helical `P` turns), usually 0.
+    pub turns: u32,
+}
+
+impl Arc {
+    /// Radius measured at the start point.
+    pub fn radius(&self, start: Axes) -> f64 {
+        let (i, j, _) = self.plane.axes();
+        let s = start.xyz();
+        (s[i] - self.center[i]).hypot(s[j] - self.center[j])
+    }
+
+    /// Swept angle in radians, always positive, in (0, 2π] plus the extra
+    /// turns: equal start and end make a full circle.
+    pub fn sweep(&self, start: Axes, end: Axes) -> f64 {
+        let (i, j, _) = self.plane.axes();
+        let (s, e) = (start.xyz(), end.xyz());
+        let a0 = (s[j] - self.center[j]).atan2(s[i] - self.center[i]);
+        let a1 = (e[j] - self.center[j]).atan2(e[i] - self.center[i]);
+        let mut d = if self.ccw { a1 - a0 } else { a0 - a1 };
+        while d <= 1e-12 {
+            d += TAU;
+        }
+        while d > TAU + 1e-12 {
+            d -= TAU;
+        }
+        d + TAU * f64::from(self.turns)
+    }
+
+    /// Path length of the arc (helix included) in mm.
+    pub fn length(&self, start: Axes, end: Axes) -> f64 {
+        let (_, _, n) = self.plane.axes();
+        let planar = self.radius(start) * self.sweep(start, end);
+        let rise = end.xyz()[n] - start.xyz()[n];
+        planar.hypot(rise)
+    }
+
+    /// The point at parameter `t` in [0, 1] along the arc (rotary axes and the
+    /// helical axis vary linearly).
+    pub fn point_at(&self, start: Axes, end: Axes, t: f64) -> Axes {
+        let (i, j, n) = self.plane.axes();
+        let s = start.xyz();
+        let r = self.radius(start);
+        let a0 = (s[j] - self.center[j]).atan2(s[i] - self.center[i]);
+        let sweep = self.sweep(start, end);
+        let a = if self.ccw { a0 + sweep * t } else { a0 - sweep * t };
+        let lerp = |p: f64, q: f64| p + (q - p) * t;
+        let mut p = [0.0; 3];
+        p[i] = self.center[i] + r * a.cos();
+        p[j] = self.center[j] + r * a.sin();
+        p[n] = lerp(s[n], end.xyz()[n]);
+        Axes {
+            x: p[0],
+            y: p[1],
+            z: p[2],
+            a: lerp(start.a, end.a),
+            b: lerp(start.b, end.b),
+            c: lerp(start.c, end.c),
+        }
+    }
+}
+
+/// What a move does.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum MoveKind {
+    /// Positioning at rapid rate (G00).
+    Rapid,
+    /// Straight cutting move at the feed (G01).
+    #[default]
+    Feed,
+    /// Circular or helical cutting move (G02/G03).
+    Arc(Arc),
+    /// Probing (skip) move toward the end point (G31).
+    Probe,
+    /// A pause at the start point, in seconds (G04); start equals end.
+    Dwell(f64),
+}
+
+/// Spindle state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Spindle {
+    /// Stopped (M05).
+    #[default]
+    Off,
+    /// Clockwise (M03).
+    Cw,
+    /// Counter-clockwise (M04).
+    Ccw,
+}
+
+/// Coolant state (M07 mist, M08 flood, M09 off).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Coolant {
+    /// Mist or air blow (M07).
+    pub mist: bool,
+    /// Flood (M08).
+    pub flood: bool,
+}
+
+/// One move of the toolpath, complete in itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Move {
+    /// What the move does.
+    pub kind: MoveKind,
+    /// Tool tip position at the start.
+    pub start: Axes,
+    /// Tool tip position at the end.
+    pub end: Axes,
+    /// Feed in mm/min (the modal feed; unused by rapids and dwells).
+    pub feed: f64,
+    /// Spindle speed in rpm.
+    pub speed: f64,
+    /// Spindle direction.
+    pub spindle: Spindle,
+    /// Coolant state.
+    pub coolant: Coolant,
+    /// Tool number in the spindle.
+    pub tool: u32,
+    /// 1-based source line that made the move (0 when generated).
+    pub line: u32,
+}
+
+impl Move {
+    /// Length of the path the tool tip travels, in mm (0 for a dwell).
+    pub fn length(&self) -> f64 {
+        match self.kind {
+            MoveKind::Arc(arc) => arc.length(self.start, self.end),
+            MoveKind::Dwell(_) => 0.0,
+            _ => self.start.distance(self.end),
+        }
+    }
+
+    /// `true` for rapids, `false` for every move that cuts or dwells.
+    pub fn is_rapid(&self) -> bool {
+        matches!(self.kind, MoveKind::Rapid)
+    }
+}
+
+/// A sequence of moves, in execution order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Toolpath {
+    /// The moves.
+    pub moves: Vec<Move>,
+}
+
+impl Toolpath {
+    /// Appends a move.
+    pub fn push(&mut self, m: Move) {
+        self.moves.push(m);
+    }
+
+    /// Total length of non-rapid motion (feed, arc, probe), in mm.
+    pub fn feed_length(&self) -> f64 {
+        self.moves.iter().filter(|m| !m.is_rapid()).map(Move::length).sum()
+    }
+
+    /// Total length of rapid motion, in mm.
+    pub fn rapid_length(&self) -> f64 {
+        self.moves.iter().filter(|m| m.is_rapid()).map(Move::length).sum()
+    }
+
+    /// Smallest box holding every point the tool tip passes through (arcs
+    /// included exactly at their quadrant points), or `None` without moves.
+    pub fn bounds(&self) -> Option<([f64; 3], [f64; 3])> {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        let mut add = |p: [f64; 3]| {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        };
+        for m in &self.moves {
+            add(m.start.xyz());
+            add(m.end.xyz());
+            if let MoveKind::Arc(arc) = m.kind {
+                for p in arc_extremes(&arc, m.start, m.end) {
+                    add(p);
+                }
+            }
+        }
+        (!self.moves.is_empty()).then_some((lo, hi))
+    }
+}
+
+/// Points where an arc reaches its extreme in the plane's axes.
+fn arc_extremes(arc: &Arc, start: Axes, end: Axes) -> Vec<[f64; 3]> {
+    let (i, j, _) = arc.plane.axes();
+    let s = start.xyz();
+    let r = arc.radius(start);
+    let a0 = (s[j] - arc.center[j]).atan2(s[i] - arc.center[i]);
+    let sweep = arc.sweep(start, end);
+    let mut out = Vec::new();
+    for q in 0..4 {
+        let target = f64::from(q) * TAU / 4.0;
+        // Angle travelled from the start to reach `target` in the arc's direction.
+        let raw = if arc.ccw { target - a0 } else { a0 - target };
+        let travel = raw.rem_euclid(TAU);
+        if travel <= sweep {
+            let t = travel / sweep;
+            let mut p = arc.point_at(start, end, t).xyz();
+            p[i] = arc.center[i] + r * target.cos();
+            p[j] = arc.center[j] + r * target.sin();
+            out.push(p);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(x: f64, y: f64, z: f64) -> Axes {
+        Axes { x, y, z, ..Axes::ZERO }
+    }
+
+    #[test]
+    fn quarter_arc_length_and_bounds() {
+        let arc = Arc { center: [0.0, 0.0, 0.0], plane: Plane::Xy, ccw: true, turns: 0 };
+        let m = Move { kind: MoveKind::Arc(arc), start: at(10.0, 0.0, 0.0), end: at(0.0, 10.0, 0.0), ..Move::default() };
+        assert!((m.length() - 5.0 * std::f64::consts::PI).abs() < 1e-12);
+        let path = Toolpath { moves: vec![m] };
+        let (lo, hi) = path.bounds().unwrap();
+        assert_eq!(lo, [0.0, 0.0, 0.0]);
+        assert_eq!(hi, [10.0, 10.0, 0.0]);
+    }
+
+    #[test]
+    fn full_circle_cw_reaches_all_quadrants() {
+        let arc = Arc { center: [5.0, 0.0, 0.0], plane: Plane::Xy, ccw: false, turns: 0 };
+        let m = Move { kind: MoveKind::Arc(arc), start: at(0.0, 0.0, 0.0), end: at(0.0, 0.0, -3.0), ..Move::default() };
+        let len = m.length();
+        assert!((len - (10.0 * std::f64::consts::PI).hypot(3.0)).abs() < 1e-9);
+        let (lo, hi) = Toolpath { moves: vec![m] }.bounds().unwrap();
+        assert!((lo[1] + 5.0).abs() < 1e-12 && (hi[1] - 5.0).abs() < 1e-12);
+        assert!((hi[0] - 10.0).abs() < 1e-12 && lo[2] == -3.0);
+    }
+
+    #[test]
+    fn zx_plane_ccw_direction() {
+        // G18: counter-clockwise seen from +Y goes from +Z toward +X.
+        let arc = Arc { center: [0.0, 0.0, 0.0], plane: Plane::Zx, ccw: true, turns: 0 };
+        let p = arc.point_at(at(0.0, 0.0, 10.0), at(10.0, 0.0, 0.0), 0.5);
+        assert!(p.x > 7.0 && p.z > 7.0);
+    }
+}

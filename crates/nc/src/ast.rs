@@ -1,0 +1,342 @@
+//! The program model: what the text says, with spans, evaluating nothing.
+//!
+//! Blocks, words and expressions live in flat arenas inside [`Program`] and
+//! refer to each other by index, so parsing a million-block file makes a
+//! handful of allocations rather than millions. Several files (a main program
+//! and subprogram files) parse into one `Program`; `GOTO` and `WHILE` resolve
+//! to block indices of the program unit they belong to.
+
+use crate::source::Span;
+
+/// Index of an expression in [`Program::exprs`].
+pub type ExprId = u32;
+
+/// A Custom Macro B expression.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expr {
+    /// A literal number.
+    Number(f64),
+    /// `#n` or `#[expr]`: the variable whose number is the expression's value.
+    Var(ExprId),
+    /// `#<name>`: a LinuxCNC named parameter (parsed, not executed yet).
+    Named(String),
+    /// Unary minus.
+    Neg(ExprId),
+    /// A binary operator.
+    Binary(BinOp, ExprId, ExprId),
+    /// A function with one argument, or two (`ATAN[a]/[b]`, `ATAN[a,b]`, `POW[a,b]`).
+    Call(Func, ExprId, Option<ExprId>),
+}
+
+/// Binary operators, by Fanuc precedence group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    /// `*`
+    Mul,
+    /// `/`
+    Div,
+    /// `AND` (bitwise on integers, logical on conditions)
+    And,
+    /// `MOD`
+    Mod,
+    /// `+`
+    Add,
+    /// `-`
+    Sub,
+    /// `OR`
+    Or,
+    /// `XOR`
+    Xor,
+    /// `EQ`
+    Eq,
+    /// `NE`
+    Ne,
+    /// `GT`
+    Gt,
+    /// `GE`
+    Ge,
+    /// `LT`
+    Lt,
+    /// `LE`
+    Le,
+}
+
+impl BinOp {
+    /// Binding strength: 3 for `* / AND MOD`, 2 for `+ - OR XOR`, 1 for comparisons.
+    pub fn precedence(self) -> u8 {
+        use BinOp::*;
+        match self {
+            Mul | Div | And | Mod => 3,
+            Add | Sub | Or | Xor => 2,
+            Eq | Ne | Gt | Ge | Lt | Le => 1,
+        }
+    }
+
+    /// The operator as written in a program.
+    pub fn text(self) -> &'static str {
+        use BinOp::*;
+        match self {
+            Mul => "*",
+            Div => "/",
+            And => "AND",
+            Mod => "MOD",
+            Add => "+",
+            Sub => "-",
+            Or => "OR",
+            Xor => "XOR",
+            Eq => "EQ",
+            Ne => "NE",
+            Gt => "GT",
+            Ge => "GE",
+            Lt => "LT",
+            Le => "LE",
+        }
+    }
+
+    /// All operators spelled as keywords, with their spelling.
+    pub const KEYWORDS: [(&'static str, BinOp); 10] = [
+        ("AND", BinOp::And),
+        ("MOD", BinOp::Mod),
+        ("OR", BinOp::Or),
+        ("XOR", BinOp::Xor),
+        ("EQ", BinOp::Eq),
+        ("NE", BinOp::Ne),
+        ("GT", BinOp::Gt),
+        ("GE", BinOp::Ge),
+        ("LT", BinOp::Lt),
+        ("LE", BinOp::Le),
+    ];
+}
+
+/// Macro functions. Angles are in degrees, as on the control.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Func {
+    /// `SIN`
+    Sin,
+    /// `COS`
+    Cos,
+    /// `TAN`
+    Tan,
+    /// `ASIN`
+    Asin,
+    /// `ACOS`
+    Acos,
+    /// `ATAN` (one argument, or two: `ATAN[y]/[x]` or `ATAN[y,x]`)
+    Atan,
+    /// `SQRT`
+    Sqrt,
+    /// `ABS`
+    Abs,
+    /// `ROUND` (half away from zero)
+    Round,
+    /// `FIX` (toward zero)
+    Fix,
+    /// `FUP` (away from zero)
+    Fup,
+    /// `LN`
+    Ln,
+    /// `EXP`
+    Exp,
+    /// `POW[base, exponent]`
+    Pow,
+    /// `BIN` (BCD to binary)
+    Bin,
+    /// `BCD` (binary to BCD)
+    Bcd,
+}
+
+impl Func {
+    /// Every function with its spelling; longer names first where one is a
+    /// prefix of another.
+    pub const ALL: [(&'static str, Func); 16] = [
+        ("ASIN", Func::Asin),
+        ("ACOS", Func::Acos),
+        ("ATAN", Func::Atan),
+        ("SIN", Func::Sin),
+        ("COS", Func::Cos),
+        ("TAN", Func::Tan),
+        ("SQRT", Func::Sqrt),
+        ("ABS", Func::Abs),
+        ("ROUND", Func::Round),
+        ("FIX", Func::Fix),
+        ("FUP", Func::Fup),
+        ("LN", Func::Ln),
+        ("EXP", Func::Exp),
+        ("POW", Func::Pow),
+        ("BIN", Func::Bin),
+        ("BCD", Func::Bcd),
+    ];
+
+    /// The function's name as written.
+    pub fn name(self) -> &'static str {
+        Func::ALL.iter().find(|(_, f)| *f == self).map_or("?", |(n, _)| n)
+    }
+}
+
+/// The value part of a word.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WordValue {
+    /// A literal; `decimal` tells whether it was written with a decimal point.
+    Number {
+        /// The number as written (not yet scaled by any input increment).
+        value: f64,
+        /// Written with a decimal point.
+        decimal: bool,
+    },
+    /// A macro expression (`#1`, `-#1`, `[#1+2]`).
+    Expr(ExprId),
+}
+
+/// An address letter with its value: `X10.`, `G#1`, `F[#9*2]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Word {
+    /// The address, an upper-case ASCII letter.
+    pub letter: u8,
+    /// The value.
+    pub value: WordValue,
+    /// Where the word is written.
+    pub span: Span,
+}
+
+/// One item of a `DPRNT[...]` statement.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PrintItem {
+    /// Literal characters.
+    Text(String),
+    /// `#var[ab]`: a variable printed with `a` integer and `b` fraction digits.
+    Var {
+        /// The variable number expression.
+        var: ExprId,
+        /// Integer digits.
+        int_digits: u8,
+        /// Fraction digits.
+        frac_digits: u8,
+    },
+}
+
+/// What a block says.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Statement {
+    /// A block of NC words; `words` indexes [`Program::words`].
+    Words {
+        /// First word.
+        start: u32,
+        /// Number of words.
+        len: u32,
+    },
+    /// `#var = value`.
+    Assign {
+        /// The variable number expression (the part after `#`).
+        var: ExprId,
+        /// The value.
+        value: ExprId,
+    },
+    /// `GOTO n`.
+    Goto(ExprId),
+    /// `IF [cond] GOTO n`.
+    IfGoto {
+        /// The condition.
+        cond: ExprId,
+        /// The sequence number to jump to.
+        target: ExprId,
+    },
+    /// `IF [cond] THEN #var = value`.
+    IfThen {
+        /// The condition.
+        cond: ExprId,
+        /// The variable number expression.
+        var: ExprId,
+        /// The value.
+        value: ExprId,
+    },
+    /// `WHILE [cond] DO m`.
+    While {
+        /// The condition.
+        cond: ExprId,
+        /// The loop identifier m (1..3).
+        label: u8,
+    },
+    /// `DO m` without `WHILE`: an endless loop.
+    Do {
+        /// The loop identifier m (1..3).
+        label: u8,
+    },
+    /// `END m`.
+    End {
+        /// The loop identifier m (1..3).
+        label: u8,
+    },
+    /// `POPEN`: open the output channel.
+    Popen,
+    /// `PCLOS`: close the output channel.
+    Pclos,
+    /// `DPRNT[...]`: print a line.
+    Dprnt(Vec<PrintItem>),
+    /// Something recognised but not executed yet (LinuxCNC O-words, GRBL `$`
+    /// commands, `BPRNT`); the text says what.
+    Unsupported(String),
+    /// Nothing but comments, a sequence number or an empty line.
+    Empty,
+}
+
+/// One line of the program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Block {
+    /// The whole block.
+    pub span: Span,
+    /// 1-based line in its file.
+    pub line: u32,
+    /// The `N` sequence number, if any.
+    pub number: Option<u32>,
+    /// Starts with `/` (optional block skip).
+    pub delete: bool,
+    /// What it says.
+    pub statement: Statement,
+}
+
+/// One `O` program (or the unnamed main program before the first `O`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramUnit {
+    /// The program number, `None` for the unnamed program at the top of a file.
+    pub number: Option<u32>,
+    /// The comment on the `O` line, if any.
+    pub title: Option<String>,
+    /// Where the `O` word is (or the first block).
+    pub span: Span,
+    /// Its blocks: indices into [`Program::blocks`].
+    pub blocks: std::ops::Range<u32>,
+}
+
+/// Everything parsed so far: one or more files of program units.
+#[derive(Clone, Debug, Default)]
+pub struct Program {
+    /// Program units in the order they were parsed.
+    pub units: Vec<ProgramUnit>,
+    /// All blocks.
+    pub blocks: Vec<Block>,
+    /// All words of all `Words` blocks.
+    pub words: Vec<Word>,
+    /// All expressions.
+    pub exprs: Vec<Expr>,
+}
+
+impl Program {
+    /// The words of a block (empty for macro statements).
+    pub fn words(&self, block: &Block) -> &[Word] {
+        match block.statement {
+            Statement::Words { start, len } => &self.words[start as usize..(start + len) as usize],
+            _ => &[],
+        }
+    }
+
+    /// The unit with program number `number`.
+    pub fn unit(&self, number: u32) -> Option<usize> {
+        self.units.iter().position(|u| u.number == Some(number))
+    }
+
+    /// Appends an expression and returns its id.
+    pub fn push_expr(&mut self, e: Expr) -> ExprId {
+        self.exprs.push(e);
+        (self.exprs.len() - 1) as ExprId
+    }
+}

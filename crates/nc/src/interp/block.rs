@@ -1,0 +1,572 @@
+//! One NC block: evaluate its words, then apply it completely.
+
+use kezuri_geom::{Arc, Axes, Move, MoveKind, Spindle};
+
+use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, RadiusComp, Units};
+use super::value::Value;
+use super::vars::Locals;
+use super::{IntegerInput, ModalCall, State};
+use crate::ast::{Program, WordValue};
+use crate::source::{Diagnostic, Span};
+
+/// What the block pointer does after a block.
+pub(super) enum Action {
+    Next,
+    Call(Call),
+    Return(Option<u32>),
+    End,
+}
+
+/// How a program was called.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum FrameKind {
+    Main,
+    Subprogram,
+    Macro,
+    ModalMacro,
+}
+
+impl FrameKind {
+    pub(super) fn is_macro(self) -> bool {
+        matches!(self, FrameKind::Macro | FrameKind::ModalMacro)
+    }
+}
+
+pub(super) struct Call {
+    pub program: u32,
+    pub repeats: u32,
+    pub kind: FrameKind,
+    pub args: Option<Box<Locals>>,
+    pub span: Span,
+}
+
+/// The evaluated words of one block.
+struct Words {
+    value: [f64; 26],
+    present: u32,
+    spans: [Span; 26],
+    g: [(u32, Span); 8],
+    g_count: usize,
+    m: [(u32, Span); 4],
+    m_count: usize,
+}
+
+fn bit(letter: u8) -> u32 {
+    1 << (letter - b'A')
+}
+
+impl Words {
+    fn has(&self, letter: u8) -> bool {
+        self.present & bit(letter) != 0
+    }
+
+    fn get(&self, letter: u8) -> Option<f64> {
+        self.has(letter).then(|| self.value[(letter - b'A') as usize])
+    }
+
+    fn span(&self, letter: u8) -> Span {
+        self.spans[(letter - b'A') as usize]
+    }
+
+    fn any_axis(&self) -> bool {
+        b"XYZABC".iter().any(|&l| self.has(l))
+    }
+}
+
+/// Addresses whose integer values count least input increments.
+const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ";
+
+/// Argument specification I: address to local variable number.
+fn argument_slot(letter: u8) -> Option<usize> {
+    Some(match letter {
+        b'A' => 1,
+        b'B' => 2,
+        b'C' => 3,
+        b'I' => 4,
+        b'J' => 5,
+        b'K' => 6,
+        b'D' => 7,
+        b'E' => 8,
+        b'F' => 9,
+        b'H' => 11,
+        b'M' => 13,
+        b'Q' => 17,
+        b'R' => 18,
+        b'S' => 19,
+        b'T' => 20,
+        b'U' => 21,
+        b'V' => 22,
+        b'W' => 23,
+        b'X' => 24,
+        b'Y' => 25,
+        b'Z' => 26,
+        _ => return None,
+    })
+}
+
+impl State {
+    fn gather(&mut self, program: &Program, pc: u32) -> Result<Words, Diagnostic> {
+        let block = &program.blocks[pc as usize];
+        let mut w = Words {
+            value: [0.0; 26],
+            present: 0,
+            spans: [Span::default(); 26],
+            g: [(0, Span::default()); 8],
+            g_count: 0,
+            m: [(0, Span::default()); 4],
+            m_count: 0,
+        };
+        for word in program.words(block) {
+            let (v, decimal) = match word.value {
+                WordValue::Number { value, decimal } => (value, decimal),
+                WordValue::Expr(e) => match self.eval(program, e).map_err(|m| Diagnostic::error(word.span, m))? {
+                    Value::Vacant => continue,
+                    Value::Num(v) => (v, true),
+                },
+            };
+            let letter = word.letter;
+            match letter {
+                b'G' => {
+                    let tenths = (v * 10.0).round();
+                    if !(0.0..=9999.0).contains(&tenths) || (v * 10.0 - tenths).abs() > 1e-6 {
+                        return Err(Diagnostic::error(word.span, format!("G{v} is not a G code")));
+                    }
+                    if w.g_count == w.g.len() {
+                        return Err(Diagnostic::error(word.span, "more than 8 G codes in one block"));
+                    }
+                    w.g[w.g_count] = (tenths as u32, word.span);
+                    w.g_count += 1;
+                }
+                b'M' => {
+                    if v.fract() != 0.0 || !(0.0..=99_999_999.0).contains(&v) {
+                        return Err(Diagnostic::error(word.span, format!("M{v} is not an M code")));
+                    }
+                    if w.m_count == w.m.len() {
+                        return Err(Diagnostic::error(word.span, "more than 4 M codes in one block"));
+                    }
+                    w.m[w.m_count] = (v as u32, word.span);
+                    w.m_count += 1;
+                    self.last.m = v;
+                }
+                _ => {
+                    if w.has(letter) {
+                        return Err(Diagnostic::error(word.span, format!("address {} appears twice in this block", letter as char)));
+                    }
+                    let mut v = v;
+                    if !decimal && AXIS_LETTERS.contains(&letter) && self.settings.integer_input == IntegerInput::Increments {
+                        let increment = if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 0.001 } else { 0.0001 };
+                        if v != 0.0 {
+                            let unit = if self.modal.units == Units::Mm { "mm" } else { "inch" };
+                            self.warn(
+                                "decimal",
+                                word.span,
+                                format!(
+                                    "{}{} has no decimal point: read as {} increments = {} {unit}; write {}{}. if you meant {} {unit}",
+                                    letter as char,
+                                    v,
+                                    v,
+                                    v * increment,
+                                    letter as char,
+                                    v,
+                                    v
+                                ),
+                            );
+                        }
+                        v *= increment;
+                    }
+                    let i = (letter - b'A') as usize;
+                    w.value[i] = v;
+                    w.spans[i] = word.span;
+                    w.present |= bit(letter);
+                }
+            }
+        }
+        Ok(w)
+    }
+
+    /// Executes the NC block at `pc`.
+    pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
+        let (span, line) = (program.blocks[pc as usize].span, program.blocks[pc as usize].line);
+        let w = self.gather(program, pc)?;
+        self.blocks += 1;
+        let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
+        for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
+            let Some(code) = GCode::decode(tenths) else {
+                let shown = if tenths % 10 == 0 { format!("G{:02}", tenths / 10) } else { format!("G{}.{}", tenths / 10, tenths % 10) };
+                return Err(Diagnostic::error(gspan, format!("{shown} is not supported")));
+            };
+            let group = code.group();
+            if group != 0 {
+                if let Some((other, _)) = codes[..k].iter().flatten().find(|(c, _)| c.group() == group) {
+                    return Err(Diagnostic::error(gspan, format!("two G codes of modal group {group} in one block ({other:?} and {code:?})")));
+                }
+            }
+            codes[k] = Some((code, gspan));
+        }
+        let codes = &codes[..w.g_count];
+        let has = |f: fn(&GCode) -> bool| codes.iter().flatten().find(|(c, _)| f(c)).map(|&(c, s)| (c, s));
+
+        // G65: a macro call with arguments, and nothing else.
+        if let Some((_, gspan)) = has(|c| *c == GCode::MacroCall) {
+            return Ok(Action::Call(self.macro_call(&w, gspan, FrameKind::Macro)?));
+        }
+
+        // Modal G codes take effect first, so a modal macro sees them in #4001…
+        for &(code, gspan) in codes.iter().flatten() {
+            self.apply_modal(code, &w, gspan)?;
+        }
+
+        // G66.1 mode: every block calls the macro instead of moving.
+        let in_modal_macro = self.modal_depth > 0;
+        if let Some(call) = &self.modal_call {
+            if self.modal.modal_call == Some(ModalCallKind::EveryBlock) && !in_modal_macro {
+                if let Some((code, gspan)) = codes.iter().flatten().find(|(c, _)| c.group() == 0) {
+                    return Err(Diagnostic::error(*gspan, format!("{code:?} cannot be given while G66.1 calls a macro on every block")));
+                }
+                let mut args = [Value::Vacant; 33];
+                fill_arguments(&w, &mut args);
+                return Ok(Action::Call(Call { program: call.program, repeats: call.repeats, kind: FrameKind::ModalMacro, args: Some(Box::new(args)), span }));
+            }
+        }
+        if has(|c| matches!(c, GCode::ModalCall(_))).is_some() {
+            return Ok(Action::Next);
+        }
+
+        self.feed_speed_tool(&w);
+        let mut end = None;
+        for &(m, mspan) in &w.m[..w.m_count] {
+            match m {
+                3 => self.spindle = Spindle::Cw,
+                4 => self.spindle = Spindle::Ccw,
+                5 => self.spindle = Spindle::Off,
+                6 => self.tool = self.pending_tool,
+                7 => self.coolant.mist = true,
+                8 => self.coolant.flood = true,
+                9 => self.coolant = Default::default(),
+                0 | 1 | 19 => {}
+                2 | 30 => end = Some(Action::End),
+                98 => end = Some(Action::Call(self.subprogram_call(&w, mspan)?)),
+                99 => end = Some(Action::Return(w.get(b'P').map(|p| p as u32))),
+                _ => self.warn("m-code", mspan, format!("M{m} has no effect in the simulation")),
+            }
+        }
+
+        let moved = self.motion(codes, &w, span, line)?;
+
+        if moved && !in_modal_macro && self.modal.modal_call == Some(ModalCallKind::AfterMove) {
+            if let Some(call) = &self.modal_call {
+                return Ok(Action::Call(Call { program: call.program, repeats: call.repeats, kind: FrameKind::ModalMacro, args: Some(Box::new(call.args)), span }));
+            }
+        }
+        Ok(end.unwrap_or(Action::Next))
+    }
+
+    fn macro_call(&mut self, w: &Words, gspan: Span, kind: FrameKind) -> Result<Call, Diagnostic> {
+        let program = w.get(b'P').ok_or_else(|| Diagnostic::error(gspan, "a macro call needs P, the program number"))?;
+        let repeats = w.get(b'L').unwrap_or(1.0);
+        let mut args = [Value::Vacant; 33];
+        fill_arguments(w, &mut args);
+        Ok(Call { program: whole(program, w.span(b'P'), "program number")?, repeats: whole(repeats, w.span(b'L'), "repeat count")?, kind, args: Some(Box::new(args)), span: gspan })
+    }
+
+    fn subprogram_call(&mut self, w: &Words, mspan: Span) -> Result<Call, Diagnostic> {
+        let p = w.get(b'P').ok_or_else(|| Diagnostic::error(mspan, "M98 needs P, the subprogram number"))?;
+        let mut program = whole(p, w.span(b'P'), "subprogram number")?;
+        let mut repeats = 1;
+        match w.get(b'L') {
+            Some(l) => repeats = whole(l, w.span(b'L'), "repeat count")?,
+            // M98 P50010: five times O0010 (count in front of four digits).
+            None if program > 9999 => {
+                repeats = program / 10_000;
+                program %= 10_000;
+            }
+            None => {}
+        }
+        Ok(Call { program, repeats, kind: FrameKind::Subprogram, args: None, span: mspan })
+    }
+
+    fn apply_modal(&mut self, code: GCode, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
+        match code {
+            GCode::Motion(m) => self.modal.motion = m,
+            GCode::Plane(p) => self.modal.plane = p,
+            GCode::Distance(d) => self.modal.distance = d,
+            GCode::FeedMode(f) => self.modal.feed_mode = f,
+            GCode::Units(u) => self.modal.units = u,
+            GCode::RadiusComp(c) => {
+                if c != RadiusComp::Off {
+                    self.warn("radius-comp", gspan, "cutter radius compensation (G41/G42) is recognised but not simulated: the path is the programmed one");
+                }
+                self.modal.radius_comp = c;
+            }
+            GCode::LengthComp(positive) => {
+                let h = w.get(b'H').map_or(Ok(0), |h| whole(h, w.span(b'H'), "H number"))?;
+                if !self.settings.tool_lengths.contains_key(&h) {
+                    self.warn("offset", gspan, format!("tool length offset H{h} is not in the tool table: it reads 0"));
+                }
+                self.last.h = f64::from(h);
+                self.modal.length_comp = Some((if positive { 1.0 } else { -1.0 }, h));
+            }
+            GCode::LengthCompOff => self.modal.length_comp = None,
+            GCode::WorkOffset(i) => self.modal.work_offset = i,
+            GCode::CycleOff => {}
+            GCode::CannedCycle => return Err(Diagnostic::error(gspan, "canned drilling cycles (G73–G89) are not supported yet")),
+            GCode::ModalCall(kind) => {
+                let call = self.macro_call(w, gspan, FrameKind::ModalMacro)?;
+                self.modal.modal_call = Some(kind);
+                self.modal_call = Some(ModalCall { program: call.program, repeats: call.repeats, args: *call.args.expect("macro arguments") });
+            }
+            GCode::ModalCallOff => {
+                self.modal.modal_call = None;
+                self.modal_call = None;
+            }
+            GCode::Dwell | GCode::SetOffsets | GCode::Home | GCode::Skip | GCode::MachineCoords | GCode::MacroCall | GCode::SetPosition => {}
+        }
+        Ok(())
+    }
+
+    fn feed_speed_tool(&mut self, w: &Words) {
+        if let Some(f) = w.get(b'F') {
+            self.feed_word = f;
+            self.feed_set = true;
+        }
+        if let Some(s) = w.get(b'S') {
+            self.speed = s;
+        }
+        if let Some(t) = w.get(b'T') {
+            self.pending_tool = t.max(0.0) as u32;
+        }
+        for (letter, slot) in [(b'B', &mut self.last.b), (b'D', &mut self.last.d), (b'E', &mut self.last.e)] {
+            if let Some(v) = w.get(letter) {
+                *slot = v;
+            }
+        }
+    }
+
+    /// The feed in mm/min for the current modal state.
+    fn feed_mm_min(&mut self, span: Span) -> f64 {
+        if !self.feed_set {
+            self.warn("no-feed", span, "a cutting move before any F word: the feed is unknown (0)");
+        }
+        let f = if self.modal.units == Units::Inch { self.feed_word * 25.4 } else { self.feed_word };
+        match self.modal.feed_mode {
+            FeedMode::PerMinute => f,
+            FeedMode::PerRev => {
+                if self.speed == 0.0 {
+                    self.warn("no-speed", span, "feed per revolution (G95) with spindle speed 0");
+                }
+                f * self.speed
+            }
+        }
+    }
+
+    /// Program units of a linear word, in mm.
+    fn mm(&self, v: f64) -> f64 {
+        if self.modal.units == Units::Inch {
+            v * 25.4
+        } else {
+            v
+        }
+    }
+
+    /// The end point, in work coordinates, that the axis words ask for.
+    fn target(&self, w: &Words) -> Axes {
+        let mut p = self.work_position().to_array();
+        for (i, &letter) in b"XYZABC".iter().enumerate() {
+            if let Some(v) = w.get(letter) {
+                let v = if i < 3 { self.mm(v) } else { v };
+                p[i] = match self.modal.distance {
+                    Distance::Absolute => v,
+                    Distance::Incremental => p[i] + v,
+                };
+            }
+        }
+        Axes::from_array(p)
+    }
+
+    fn to_machine(&self, work: Axes) -> Axes {
+        let (p, o) = (work.to_array(), self.frame_offset().to_array());
+        Axes::from_array(std::array::from_fn(|i| p[i] + o[i]))
+    }
+
+    fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, line: u32) {
+        let m = Move {
+            kind,
+            start: self.tip,
+            end,
+            feed,
+            speed: self.speed,
+            spindle: self.spindle,
+            coolant: self.coolant,
+            tool: self.tool,
+            line,
+        };
+        self.toolpath.push(m);
+        self.tip = end;
+    }
+
+    /// Applies the one-shot codes and the motion of a block. Returns whether
+    /// an axis moved.
+    fn motion(&mut self, codes: &[Option<(GCode, Span)>], w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
+        match one_shot {
+            Some((GCode::Dwell, gspan)) => {
+                let seconds = match (w.get(b'P'), w.get(b'X')) {
+                    (Some(p), _) => p / 1000.0,
+                    (None, Some(x)) => x,
+                    (None, None) => return Err(Diagnostic::error(gspan, "G04 needs the dwell time: X (seconds) or P (milliseconds)")),
+                };
+                if seconds < 0.0 {
+                    return Err(Diagnostic::error(gspan, "a dwell time cannot be negative"));
+                }
+                self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, line);
+                return Ok(false);
+            }
+            Some((GCode::Home, _)) => {
+                let via = self.to_machine(self.target(w));
+                let mut home = self.tip;
+                let (h, mut v) = (self.settings.home.to_array(), home.to_array());
+                let lz = self.length_offset();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if w.has(letter) {
+                        v[i] = h[i] - if i == 2 { lz } else { 0.0 };
+                    }
+                }
+                home = Axes::from_array(v);
+                if w.any_axis() {
+                    self.push_move(MoveKind::Rapid, via, 0.0, line);
+                    self.push_move(MoveKind::Rapid, home, 0.0, line);
+                }
+                return Ok(w.any_axis());
+            }
+            Some((GCode::SetPosition, _)) => {
+                let mut g = self.g92_shift.to_array();
+                let t = self.tip.to_array();
+                let o = self.work_offsets[self.modal.work_offset].to_array();
+                let e = self.external_offset.to_array();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if let Some(v) = w.get(letter) {
+                        let v = if i < 3 { self.mm(v) } else { v };
+                        g[i] = t[i] - o[i] - e[i] - v;
+                    }
+                }
+                self.g92_shift = Axes::from_array(g);
+                return Ok(false);
+            }
+            Some((GCode::MachineCoords, gspan)) => {
+                if self.modal.distance == Distance::Incremental {
+                    return Err(Diagnostic::error(gspan, "G53 needs absolute (G90) positions"));
+                }
+                let mut p = self.tip.to_array();
+                let lz = self.length_offset();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if let Some(v) = w.get(letter) {
+                        p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
+                    }
+                }
+                let kind = if self.modal.motion == Motion::Rapid { MoveKind::Rapid } else { MoveKind::Feed };
+                let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed_mm_min(span) };
+                self.push_move(kind, Axes::from_array(p), feed, line);
+                return Ok(w.any_axis());
+            }
+            Some((GCode::Skip, _)) => {
+                if !w.any_axis() {
+                    return Ok(false);
+                }
+                let end = self.to_machine(self.target(w));
+                let feed = self.feed_mm_min(span);
+                self.push_move(MoveKind::Probe, end, feed, line);
+                self.skip_position = self.work_position();
+                return Ok(true);
+            }
+            Some((GCode::SetOffsets, gspan)) => return Err(Diagnostic::error(gspan, "G10 (offsets by program) is not supported yet")),
+            _ => {}
+        }
+        let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
+        if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
+            return Ok(false);
+        }
+        let end = self.to_machine(self.target(w));
+        match self.modal.motion {
+            Motion::Rapid => self.push_move(MoveKind::Rapid, end, 0.0, line),
+            Motion::Linear => {
+                let feed = self.feed_mm_min(span);
+                self.push_move(MoveKind::Feed, end, feed, line);
+            }
+            Motion::Cw | Motion::Ccw => {
+                let arc = self.arc(w, end, span)?;
+                let feed = self.feed_mm_min(span);
+                self.push_move(MoveKind::Arc(arc), end, feed, line);
+            }
+        }
+        Ok(true)
+    }
+
+    fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {
+        let plane = self.modal.plane;
+        let (i, j, _) = plane.axes();
+        let ccw = self.modal.motion == Motion::Ccw;
+        let s = self.tip.xyz();
+        let e = end.xyz();
+        let mut center = s;
+        if let Some(r) = w.get(b'R') {
+            let r = self.mm(r);
+            let (dx, dy) = (e[i] - s[i], e[j] - s[j]);
+            let chord = dx.hypot(dy);
+            if chord < 1e-9 {
+                return Err(Diagnostic::error(w.span(b'R'), "an R arc cannot end where it starts: give I J K for a full circle"));
+            }
+            let half = chord / 2.0;
+            if r.abs() < half - 1e-6 {
+                return Err(Diagnostic::error(w.span(b'R'), format!("R{} is smaller than half the distance to the end point ({half:.4} mm)", r.abs())));
+            }
+            let h = (r * r - half * half).max(0.0).sqrt();
+            // Centre to the left of the chord for a short CCW arc.
+            let left = (ccw == (r > 0.0)) as i32 as f64 * 2.0 - 1.0;
+            center[i] = s[i] + dx / 2.0 - left * h * dy / chord;
+            center[j] = s[j] + dy / 2.0 + left * h * dx / chord;
+        } else {
+            let offsets = [(b'I', 0usize), (b'J', 1), (b'K', 2)];
+            let mut any = false;
+            for (letter, axis) in offsets {
+                if let Some(v) = w.get(letter) {
+                    center[axis] = s[axis] + self.mm(v);
+                    any = true;
+                }
+            }
+            if !any {
+                return Err(Diagnostic::error(span, "an arc needs its centre (I J K) or its radius (R)"));
+            }
+            let r0 = (s[i] - center[i]).hypot(s[j] - center[j]);
+            let r1 = (e[i] - center[i]).hypot(e[j] - center[j]);
+            if r0 < 1e-9 {
+                return Err(Diagnostic::error(span, "the arc's centre is its start point (radius 0)"));
+            }
+            if (r1 - r0).abs() > 0.002 {
+                self.warn(
+                    "arc-radius",
+                    span,
+                    format!("the arc's end point is {:.4} mm off its circle (radius {r0:.4} at the start, {r1:.4} at the end)", (r1 - r0).abs()),
+                );
+            }
+        }
+        let (_, _, n) = plane.axes();
+        center[n] = s[n];
+        Ok(Arc { center, plane, ccw, turns: 0 })
+    }
+}
+
+fn fill_arguments(w: &Words, args: &mut Locals) {
+    for letter in b'A'..=b'Z' {
+        if let (Some(v), Some(slot)) = (w.get(letter), argument_slot(letter)) {
+            args[slot - 1] = Value::Num(v);
+        }
+    }
+}
+
+fn whole(v: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
+    if v.fract() != 0.0 || !(0.0..=99_999_999.0).contains(&v) {
+        return Err(Diagnostic::error(span, format!("{what} must be a whole number, got {v}")));
+    }
+    Ok(v as u32)
+}
+

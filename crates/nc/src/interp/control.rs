@@ -1,0 +1,462 @@
+//! The block pointer: macro statements, loops, jumps, calls and returns.
+
+use std::collections::HashMap;
+
+use super::block::{Action, Call, FrameKind};
+use super::value::{self, Value};
+use super::{Library, Outcome, Settings, State};
+use crate::ast::{Expr, ExprId, PrintItem, Program, Statement};
+use crate::parse::parse;
+use crate::source::{Diagnostic, Sources, Span};
+
+/// Deepest nesting of M98 subprogram calls.
+const MAX_SUBPROGRAM_DEPTH: usize = 4;
+/// Deepest nesting of G65/G66 macro calls.
+const MAX_MACRO_DEPTH: usize = 5;
+
+struct Frame {
+    unit: usize,
+    pc: u32,
+    kind: FrameKind,
+    repeats_left: u32,
+    call_span: Span,
+    args: Option<Box<super::Locals>>,
+}
+
+/// Sequence numbers and loop pairs of one program unit.
+#[derive(Default)]
+struct UnitIndex {
+    labels: HashMap<u32, u32>,
+    /// For each WHILE/DO block, its END; for each END, its WHILE/DO; or why
+    /// it has none.
+    loops: HashMap<u32, Result<u32, String>>,
+}
+
+pub(super) struct Interp<'a> {
+    program: &'a mut Program,
+    sources: &'a mut Sources,
+    library: &'a mut dyn Library,
+    st: State,
+    frames: Vec<Frame>,
+    index: HashMap<usize, UnitIndex>,
+    statements: u64,
+    completed: bool,
+    last_back_jump: Option<u32>,
+}
+
+impl<'a> Interp<'a> {
+    pub(super) fn new(program: &'a mut Program, sources: &'a mut Sources, library: &'a mut dyn Library, settings: Settings) -> Self {
+        Interp {
+            program,
+            sources,
+            library,
+            st: State::new(settings),
+            frames: Vec::new(),
+            index: HashMap::new(),
+            statements: 0,
+            completed: false,
+            last_back_jump: None,
+        }
+    }
+
+    pub(super) fn run(&mut self, main: usize) {
+        let Some(unit) = self.program.units.get(main) else { return };
+        self.st.last.o = unit.number.unwrap_or(0) as f64;
+        self.frames.push(Frame {
+            unit: main,
+            pc: unit.blocks.start,
+            kind: FrameKind::Main,
+            repeats_left: 0,
+            call_span: unit.span,
+            args: None,
+        });
+        loop {
+            match self.step() {
+                Ok(true) => {}
+                Ok(false) => {
+                    self.completed = true;
+                    break;
+                }
+                Err(mut d) => {
+                    d.call_chain = self.call_chain();
+                    self.st.diagnostics.push(d);
+                    break;
+                }
+            }
+        }
+    }
+
+    pub(super) fn finish(mut self) -> Outcome {
+        let mut summary: Vec<_> = self.st.warned.iter().filter(|(_, &n)| n > super::WARNINGS_PER_KIND).collect();
+        summary.sort();
+        for (kind, n) in summary {
+            let span = self.st.diagnostics.iter().rev().find(|d| !d.is_error()).map_or(Span::default(), |d| d.span);
+            let more = n - super::WARNINGS_PER_KIND;
+            self.st.diagnostics.push(Diagnostic::warning(span, format!("… and {more} more warnings like these ({kind})")));
+        }
+        Outcome {
+            toolpath: self.st.toolpath,
+            diagnostics: self.st.diagnostics,
+            prints: self.st.prints,
+            blocks: self.st.blocks,
+            statements: self.statements,
+            completed: self.completed,
+        }
+    }
+
+    fn call_chain(&self) -> Vec<(String, Span)> {
+        self.frames
+            .iter()
+            .skip(1)
+            .map(|f| {
+                let number = self.program.units[f.unit].number.unwrap_or(0);
+                let how = match f.kind {
+                    FrameKind::Subprogram => "subprogram",
+                    FrameKind::Macro => "macro",
+                    FrameKind::ModalMacro => "modal macro",
+                    FrameKind::Main => "program",
+                };
+                (format!("{how} O{number:04}"), f.call_span)
+            })
+            .collect()
+    }
+
+    fn frame(&mut self) -> &mut Frame {
+        self.frames.last_mut().expect("a frame while running")
+    }
+
+    /// Runs one statement. `Ok(false)` when the program has ended.
+    fn step(&mut self) -> Result<bool, Diagnostic> {
+        let (unit, pc) = {
+            let f = self.frames.last().expect("a frame while running");
+            (f.unit, f.pc)
+        };
+        let end = self.program.units[unit].blocks.end;
+        if pc >= end {
+            let span = self.program.units[unit].span;
+            if self.frames.len() == 1 {
+                self.st.warn("end", span, "the program ends without M30 or M02");
+                return Ok(false);
+            }
+            self.st.warn("end", span, "the subprogram ends without M99; returning");
+            return self.return_from(None, span);
+        }
+        self.frame().pc = pc + 1;
+        self.statements += 1;
+        if self.statements > self.st.settings.step_limit {
+            return Err(self.runaway(pc));
+        }
+        let block = &self.program.blocks[pc as usize];
+        if block.delete && self.st.settings.block_delete {
+            return Ok(true);
+        }
+        let span = block.span;
+        if let Some(n) = block.number {
+            self.st.last.n = f64::from(n);
+        }
+        let located = |r: Result<Value, String>| r.map_err(|m| Diagnostic::error(span, m));
+        match &block.statement {
+            Statement::Empty => {}
+            Statement::Words { .. } => {
+                let action = self.st.exec_block(self.program, pc)?;
+                return self.act(action, span);
+            }
+            &Statement::Assign { var, value } => {
+                let v = located(self.st.eval(self.program, value))?;
+                self.assign(var, v, pc)?;
+            }
+            &Statement::Goto(target) => {
+                let n = located(self.st.eval(self.program, target))?;
+                self.jump(unit, n, span)?;
+            }
+            &Statement::IfGoto { cond, target } => {
+                if located(self.st.eval(self.program, cond))?.truth() {
+                    let n = located(self.st.eval(self.program, target))?;
+                    self.jump(unit, n, span)?;
+                }
+            }
+            &Statement::IfThen { cond, var, value } => {
+                if located(self.st.eval(self.program, cond))?.truth() {
+                    let v = located(self.st.eval(self.program, value))?;
+                    self.assign(var, v, pc)?;
+                }
+            }
+            &Statement::While { cond, .. } => {
+                let partner = self.loop_partner(unit, pc)?;
+                if !located(self.st.eval(self.program, cond))?.truth() {
+                    self.frame().pc = partner + 1;
+                }
+            }
+            Statement::Do { .. } => {
+                self.loop_partner(unit, pc)?;
+            }
+            Statement::End { .. } => {
+                let partner = self.loop_partner(unit, pc)?;
+                self.last_back_jump = Some(partner);
+                self.frame().pc = partner;
+            }
+            Statement::Popen => self.st.print_open = true,
+            Statement::Pclos => self.st.print_open = false,
+            Statement::Dprnt(items) => {
+                if !self.st.print_open {
+                    self.st.warn("dprnt", span, "DPRNT without POPEN: the control would not print this line");
+                }
+                let line = self.st.format_print(self.program, items).map_err(|m| Diagnostic::error(span, m))?;
+                self.st.prints.push(line);
+            }
+            Statement::Unsupported(what) => return Err(Diagnostic::error(span, what.clone())),
+        }
+        Ok(true)
+    }
+
+    fn assign(&mut self, var: ExprId, value: Value, pc: u32) -> Result<(), Diagnostic> {
+        let block = &self.program.blocks[pc as usize];
+        let span = block.span;
+        let number = self.st.var_number(self.program, var).map_err(|m| Diagnostic::error(span, m))?;
+        if number == 3000.0 {
+            let text = &self.sources.get(span.file).text[span.start as usize..span.end as usize];
+            let message = text.find('(').and_then(|o| text[o + 1..].find(')').map(|c| text[o + 1..o + 1 + c].trim().to_string()));
+            let alarm = 3000.0 + value.num();
+            return Err(Diagnostic::error(span, format!("macro alarm {alarm}: {}", message.unwrap_or_else(|| "(no message)".into()))));
+        }
+        self.st.write_var(number, value).map_err(|m| Diagnostic::error(span, m))
+    }
+
+    fn jump(&mut self, unit: usize, target: Value, span: Span) -> Result<(), Diagnostic> {
+        let n = target.num();
+        if n.fract() != 0.0 || !(1.0..=99_999_999.0).contains(&n) {
+            return Err(Diagnostic::error(span, format!("GOTO {n}: a sequence number is a whole number from 1 to 99999999")));
+        }
+        let to = self.unit_index(unit).labels.get(&(n as u32)).copied();
+        let Some(to) = to else {
+            let number = self.program.units[unit].number.map_or(String::from("this program"), |o| format!("O{o:04}"));
+            return Err(Diagnostic::error(span, format!("GOTO {n}: there is no block N{n} in {number}")));
+        };
+        let from = self.frames.last().map_or(0, |f| f.pc);
+        if to < from {
+            self.last_back_jump = Some(from - 1);
+        }
+        self.frame().pc = to;
+        Ok(())
+    }
+
+    fn unit_index(&mut self, unit: usize) -> &UnitIndex {
+        let program = &*self.program;
+        self.index.entry(unit).or_insert_with(|| build_index(program, unit))
+    }
+
+    fn loop_partner(&mut self, unit: usize, pc: u32) -> Result<u32, Diagnostic> {
+        let span = self.program.blocks[pc as usize].span;
+        match self.unit_index(unit).loops.get(&pc) {
+            Some(Ok(p)) => Ok(*p),
+            Some(Err(m)) => Err(Diagnostic::error(span, m.clone())),
+            None => Err(Diagnostic::error(span, "loop statement without a partner")),
+        }
+    }
+
+    fn runaway(&self, pc: u32) -> Diagnostic {
+        let limit = self.st.settings.step_limit;
+        let at = self.last_back_jump.unwrap_or(pc);
+        let block = &self.program.blocks[at as usize];
+        let what = match block.statement {
+            Statement::While { label, .. } => format!("the WHILE … DO{label} loop"),
+            Statement::Do { label } => format!("the DO{label} loop"),
+            _ if self.last_back_jump.is_some() => "the backward GOTO here".to_string(),
+            _ => "this program".to_string(),
+        };
+        Diagnostic::error(
+            block.span,
+            format!("stopped after {limit} statements: {what} does not seem to end (raise the step limit if it should run longer)"),
+        )
+    }
+
+    fn act(&mut self, action: Action, span: Span) -> Result<bool, Diagnostic> {
+        match action {
+            Action::Next => Ok(true),
+            Action::End => Ok(false),
+            Action::Call(call) => {
+                self.call(call)?;
+                Ok(true)
+            }
+            Action::Return(target) => self.return_from(target, span),
+        }
+    }
+
+    fn find_unit(&mut self, number: u32, span: Span) -> Result<usize, Diagnostic> {
+        if let Some(u) = self.program.unit(number) {
+            return Ok(u);
+        }
+        let Some(file) = self.library.load(number) else {
+            return Err(Diagnostic::error(span, format!("program O{number:04} is not in the file or the program library")));
+        };
+        let name = file.name.clone();
+        let id = self.sources.add(file);
+        let text = self.sources.get(id).text.clone();
+        let diagnostics = parse(self.program, id, &text);
+        let errors: Vec<_> = diagnostics.iter().filter(|d| d.is_error()).cloned().collect();
+        self.st.diagnostics.extend(diagnostics.into_iter().filter(|d| !d.is_error()));
+        if let Some(first) = errors.into_iter().next() {
+            return Err(first);
+        }
+        self.program
+            .unit(number)
+            .ok_or_else(|| Diagnostic::error(span, format!("{name} does not contain program O{number:04}")))
+    }
+
+    fn call(&mut self, call: Call) -> Result<(), Diagnostic> {
+        let unit = self.find_unit(call.program, call.span)?;
+        let depth = self.frames.iter().filter(|f| f.kind.is_macro() == call.kind.is_macro() && f.kind != FrameKind::Main).count();
+        let (limit, what) = if call.kind.is_macro() { (MAX_MACRO_DEPTH, "macro calls") } else { (MAX_SUBPROGRAM_DEPTH, "subprogram calls") };
+        if depth >= limit {
+            return Err(Diagnostic::error(call.span, format!("{what} nested deeper than {limit} (a program that calls itself without end?)")));
+        }
+        if call.repeats == 0 {
+            return Ok(());
+        }
+        if let Some(args) = &call.args {
+            self.st.enter_level(args);
+        }
+        if call.kind == FrameKind::ModalMacro {
+            self.st.modal_depth += 1;
+        }
+        self.frames.push(Frame {
+            unit,
+            pc: self.program.units[unit].blocks.start,
+            kind: call.kind,
+            repeats_left: call.repeats - 1,
+            call_span: call.span,
+            args: call.args,
+        });
+        Ok(())
+    }
+
+    fn return_from(&mut self, target: Option<u32>, span: Span) -> Result<bool, Diagnostic> {
+        if self.frames.len() == 1 {
+            self.st.warn("m99-main", span, "M99 in the main program restarts it on the control; the run stops here");
+            return Ok(false);
+        }
+        let unit = self.frames.last().map_or(0, |f| f.unit);
+        let start = self.program.units[unit].blocks.start;
+        let f = self.frame();
+        if f.repeats_left > 0 {
+            f.repeats_left -= 1;
+            f.pc = start;
+            let args = f.args.clone();
+            if let Some(args) = args {
+                self.st.leave_level();
+                self.st.enter_level(&args);
+            }
+            return Ok(true);
+        }
+        let done = self.frames.pop().expect("a frame to return from");
+        if done.args.is_some() {
+            self.st.leave_level();
+        }
+        if done.kind == FrameKind::ModalMacro {
+            self.st.modal_depth -= 1;
+        }
+        if let Some(n) = target {
+            let caller = self.frames.last().map_or(0, |f| f.unit);
+            self.jump(caller, Value::Num(f64::from(n)), span)?;
+        }
+        Ok(true)
+    }
+}
+
+fn build_index(program: &Program, unit: usize) -> UnitIndex {
+    let mut index = UnitIndex::default();
+    let mut open: Vec<(u8, u32)> = Vec::new();
+    for i in program.units[unit].blocks.clone() {
+        let block = &program.blocks[i as usize];
+        if let Some(n) = block.number {
+            index.labels.entry(n).or_insert(i);
+        }
+        match block.statement {
+            Statement::While { label, .. } | Statement::Do { label } => open.push((label, i)),
+            Statement::End { label } => match open.last() {
+                Some(&(l, start)) if l == label => {
+                    open.pop();
+                    index.loops.insert(start, Ok(i));
+                    index.loops.insert(i, Ok(start));
+                }
+                Some(&(l, _)) => {
+                    index.loops.insert(i, Err(format!("END{label} closes a loop opened as DO{l}: loops must nest")));
+                }
+                None => {
+                    index.loops.insert(i, Err(format!("END{label} has no WHILE … DO{label} before it")));
+                }
+            },
+            _ => {}
+        }
+    }
+    for (label, start) in open {
+        index.loops.insert(start, Err(format!("DO{label} has no END{label} after it in this program")));
+    }
+    index
+}
+
+impl State {
+    /// Evaluates an expression.
+    pub(super) fn eval(&mut self, program: &Program, id: ExprId) -> Result<Value, String> {
+        Ok(match &program.exprs[id as usize] {
+            &Expr::Number(v) => Value::Num(v),
+            &Expr::Var(n) => {
+                let number = self.var_number(program, n)?;
+                self.read_var(number)?
+            }
+            Expr::Named(name) => return Err(format!("LinuxCNC named parameters (#<{name}>) are not supported yet")),
+            &Expr::Neg(e) => match self.eval(program, e)? {
+                Value::Vacant => Value::Vacant,
+                Value::Num(v) => Value::Num(-v),
+            },
+            &Expr::Binary(op, a, b) => {
+                let (a, b) = (self.eval(program, a)?, self.eval(program, b)?);
+                value::binary(op, a, b)?
+            }
+            &Expr::Call(func, a, b) => {
+                let a = self.eval(program, a)?;
+                let b = match b {
+                    Some(b) => Some(self.eval(program, b)?),
+                    None => None,
+                };
+                value::call(func, a, b)?
+            }
+        })
+    }
+
+    /// The variable number an `#…` expression names.
+    pub(super) fn var_number(&mut self, program: &Program, id: ExprId) -> Result<f64, String> {
+        if let Expr::Named(name) = &program.exprs[id as usize] {
+            return Err(format!("LinuxCNC named parameters (#<{name}>) are not supported yet"));
+        }
+        let v = self.eval(program, id)?.num();
+        // Fanuc rounds a computed variable number to the nearest whole number.
+        Ok(value::round_half_away(v))
+    }
+
+    fn enter_level(&mut self, args: &super::Locals) {
+        self.level += 1;
+        self.locals.truncate(self.level);
+        self.locals.push(*args);
+    }
+
+    fn leave_level(&mut self) {
+        self.locals.truncate(self.level);
+        self.level -= 1;
+    }
+
+    fn format_print(&mut self, program: &Program, items: &[PrintItem]) -> Result<String, String> {
+        let mut line = String::new();
+        for item in items {
+            match item {
+                PrintItem::Text(t) => line.extend(t.chars().map(|c| if c == '*' { ' ' } else { c })),
+                &PrintItem::Var { var, frac_digits, .. } => {
+                    let number = self.var_number(program, var)?;
+                    let v = self.read_var(number)?.num();
+                    line.push_str(&format!("{:.*}", frac_digits as usize, v));
+                }
+            }
+        }
+        Ok(line)
+    }
+}

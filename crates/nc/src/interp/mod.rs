@@ -1,0 +1,246 @@
+//! Program model to toolpath: a Fanuc-style control in software.
+//!
+//! The interpreter walks blocks by index. Macro statements (`#1=…`, `IF`,
+//! `GOTO`, `WHILE … DO … END`) change variables and the block pointer; NC
+//! blocks apply completely or not at all: every word is evaluated first
+//! (a word whose variable is vacant is left out, as on the control), then
+//! modal G codes, feed/speed/tool, motion, and last the calls and the end of
+//! program. Calls (`M98`, `G65`, `G66`, `G66.1`) push frames; `M99` pops them.
+//! Nothing here does I/O: subprograms outside the parsed files come from a
+//! [`Library`], the clock is [`Settings::clock_seed`], `DPRNT` lines are
+//! returned in [`Outcome::prints`].
+
+mod block;
+mod control;
+mod modal;
+mod value;
+mod vars;
+
+use std::collections::{BTreeMap, HashMap};
+
+use kezuri_geom::{Axes, Coolant, Spindle, Toolpath};
+
+use crate::ast::Program;
+use crate::source::{Diagnostic, SourceFile, Sources, Span};
+pub use modal::{Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
+pub use value::Value;
+use vars::{Clock, Locals};
+
+/// How a word written without a decimal point is read on axis addresses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegerInput {
+    /// A count of the least input increment (0.001 mm, 0.0001 inch, 0.001°),
+    /// as a Fanuc control with decimal-point programming off: `X100` is
+    /// 0.1 mm. The default; such words get a warning.
+    #[default]
+    Increments,
+    /// Whole units, as LinuxCNC and GRBL read them: `X100` is 100 mm.
+    Units,
+}
+
+/// Everything a run needs besides the program.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// How axis words without a decimal point are read.
+    pub integer_input: IntegerInput,
+    /// `None`: the clock advances 16 ms per read; `Some(seed)`: by a
+    /// reproducible pseudo-random 1–1000 ms per read.
+    pub clock_seed: Option<u64>,
+    /// Most statements executed before the run is stopped as a runaway loop.
+    pub step_limit: u64,
+    /// Skip blocks that start with `/` (the block delete switch is on).
+    pub block_delete: bool,
+    /// Tool length offsets by H number (mm).
+    pub tool_lengths: BTreeMap<u32, f64>,
+    /// Tool radius offsets by D number (mm).
+    pub tool_radii: BTreeMap<u32, f64>,
+    /// Work offsets G54 … G59, machine coordinates of each work zero.
+    pub work_offsets: [Axes; 6],
+    /// Machine position of the reference point that G28 returns to.
+    pub home: Axes,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            integer_input: IntegerInput::Increments,
+            clock_seed: None,
+            step_limit: 10_000_000,
+            block_delete: false,
+            tool_lengths: BTreeMap::new(),
+            tool_radii: BTreeMap::new(),
+            work_offsets: [Axes::ZERO; 6],
+            home: Axes::ZERO,
+        }
+    }
+}
+
+/// Where subprograms that are not in the parsed files come from (a folder of
+/// `O####.nc` files, say). The interpreter asks only when a call needs one.
+pub trait Library {
+    /// The file holding program `number`, if there is one.
+    fn load(&mut self, number: u32) -> Option<SourceFile>;
+}
+
+/// A library with no programs.
+pub struct NoLibrary;
+
+impl Library for NoLibrary {
+    fn load(&mut self, _: u32) -> Option<SourceFile> {
+        None
+    }
+}
+
+/// What a run produced.
+#[derive(Clone, Debug, Default)]
+pub struct Outcome {
+    /// The motions, in order.
+    pub toolpath: Toolpath,
+    /// Warnings, and the error that stopped the run if it did not end.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Lines written by `DPRNT`.
+    pub prints: Vec<String>,
+    /// NC blocks executed (macro statements not counted).
+    pub blocks: u64,
+    /// Statements executed, macro statements included.
+    pub statements: u64,
+    /// `true` when the program reached its end without an error.
+    pub completed: bool,
+}
+
+/// Runs program unit `main` of `program` and returns the toolpath with its
+/// diagnostics. Subprograms are looked up first in `program`, then in
+/// `library` (whose files are added to `sources` and parsed into `program`).
+pub fn run(program: &mut Program, sources: &mut Sources, main: usize, library: &mut dyn Library, settings: &Settings) -> Outcome {
+    let mut interp = control::Interp::new(program, sources, library, settings.clone());
+    interp.run(main);
+    interp.finish()
+}
+
+/// Words of the block being executed that a macro may read back.
+#[derive(Clone, Debug, Default)]
+struct LastWords {
+    b: f64,
+    d: f64,
+    e: f64,
+    h: f64,
+    m: f64,
+    n: f64,
+    o: f64,
+}
+
+/// An active G66/G66.1 call.
+#[derive(Clone, Debug)]
+struct ModalCall {
+    program: u32,
+    repeats: u32,
+    args: Locals,
+}
+
+/// Everything the control remembers, apart from the program itself.
+struct State {
+    settings: Settings,
+    modal: Modal,
+    /// Tool tip in machine coordinates, without length compensation.
+    tip: Axes,
+    work_offsets: [Axes; 6],
+    external_offset: Axes,
+    g92_shift: Axes,
+    skip_position: Axes,
+    feed_word: f64,
+    feed_set: bool,
+    speed: f64,
+    spindle: Spindle,
+    coolant: Coolant,
+    tool: u32,
+    pending_tool: u32,
+    last: LastWords,
+    modal_call: Option<ModalCall>,
+    /// Modal macro frames on the call stack (their blocks are not called).
+    modal_depth: u32,
+    locals: Vec<Locals>,
+    level: usize,
+    common: Box<[Value; 100]>,
+    persistent: Box<[Value; 500]>,
+    clock: Clock,
+    toolpath: Toolpath,
+    diagnostics: Vec<Diagnostic>,
+    warned: HashMap<&'static str, u32>,
+    prints: Vec<String>,
+    print_open: bool,
+    blocks: u64,
+}
+
+/// Warnings of one kind shown before the rest are only counted.
+const WARNINGS_PER_KIND: u32 = 5;
+
+impl State {
+    fn new(settings: Settings) -> State {
+        State {
+            work_offsets: settings.work_offsets,
+            clock: Clock::new(settings.clock_seed),
+            settings,
+            modal: Modal::default(),
+            tip: Axes::ZERO,
+            external_offset: Axes::ZERO,
+            g92_shift: Axes::ZERO,
+            skip_position: Axes::ZERO,
+            feed_word: 0.0,
+            feed_set: false,
+            speed: 0.0,
+            spindle: Spindle::Off,
+            coolant: Coolant::default(),
+            tool: 0,
+            pending_tool: 0,
+            last: LastWords::default(),
+            modal_call: None,
+            modal_depth: 0,
+            locals: vec![[Value::Vacant; 33]],
+            level: 0,
+            common: Box::new([Value::Vacant; 100]),
+            persistent: Box::new([Value::Vacant; 500]),
+            toolpath: Toolpath::default(),
+            diagnostics: Vec::new(),
+            warned: HashMap::new(),
+            prints: Vec::new(),
+            print_open: false,
+            blocks: 0,
+        }
+    }
+
+    /// Offset from work coordinates to machine coordinates of the tool tip.
+    fn frame_offset(&self) -> Axes {
+        let w = self.work_offsets[self.modal.work_offset].to_array();
+        let e = self.external_offset.to_array();
+        let g = self.g92_shift.to_array();
+        Axes::from_array(std::array::from_fn(|i| w[i] + e[i] + g[i]))
+    }
+
+    /// The current position in work coordinates (what #5001 reads).
+    fn work_position(&self) -> Axes {
+        let (t, o) = (self.tip.to_array(), self.frame_offset().to_array());
+        Axes::from_array(std::array::from_fn(|i| t[i] - o[i]))
+    }
+
+    /// Length compensation applied to Z by G43/G44.
+    fn length_offset(&self) -> f64 {
+        match self.modal.length_comp {
+            Some((sign, h)) => sign * self.settings.tool_lengths.get(&h).copied().unwrap_or(0.0),
+            None => 0.0,
+        }
+    }
+
+    /// Machine position of the spindle gauge line (what #5021 reads).
+    fn machine_position(&self) -> Axes {
+        Axes { z: self.tip.z + self.length_offset(), ..self.tip }
+    }
+
+    /// Adds a warning, showing at most [`WARNINGS_PER_KIND`] of each kind.
+    fn warn(&mut self, kind: &'static str, span: Span, message: impl Into<String>) {
+        let count = self.warned.entry(kind).or_insert(0);
+        *count += 1;
+        if *count <= WARNINGS_PER_KIND {
+            self.diagnostics.push(Diagnostic::warning(span, message));
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! Typed modal state: one enum per modal group, and the G codes that set them.
+
+use kezuri_geom::Plane;
+
+/// Group 1: how axis words move the tool.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Motion {
+    /// G00
+    Rapid,
+    /// G01
+    Linear,
+    /// G02
+    Cw,
+    /// G03
+    Ccw,
+}
+
+/// Group 3: absolute or incremental axis words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distance {
+    /// G90
+    Absolute,
+    /// G91
+    Incremental,
+}
+
+/// Group 6: input units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    /// G21
+    Mm,
+    /// G20
+    Inch,
+}
+
+/// Group 5: feed per minute or per revolution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedMode {
+    /// G94
+    PerMinute,
+    /// G95
+    PerRev,
+}
+
+/// Group 7: cutter radius compensation (recognised, not simulated).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadiusComp {
+    /// G40
+    Off,
+    /// G41
+    Left,
+    /// G42
+    Right,
+}
+
+/// Group 12: modal macro call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModalCallKind {
+    /// G66: call after each block that moves an axis.
+    AfterMove,
+    /// G66.1: call on every block, instead of it.
+    EveryBlock,
+}
+
+/// A G code, decoded from its number (`G66.1` is `Code(66, 1)`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GCode {
+    /// G00 G01 G02 G03
+    Motion(Motion),
+    /// G04
+    Dwell,
+    /// G10 (offsets by program)
+    SetOffsets,
+    /// G17 G18 G19
+    Plane(Plane),
+    /// G20 G21
+    Units(Units),
+    /// G28
+    Home,
+    /// G31
+    Skip,
+    /// G40 G41 G42
+    RadiusComp(RadiusComp),
+    /// G43 (`true`) G44 (`false`): tool length offset + or -.
+    LengthComp(bool),
+    /// G49
+    LengthCompOff,
+    /// G53
+    MachineCoords,
+    /// G54 … G59 as 0 … 5
+    WorkOffset(usize),
+    /// G65
+    MacroCall,
+    /// G66, G66.1
+    ModalCall(ModalCallKind),
+    /// G67
+    ModalCallOff,
+    /// G80: cancel canned cycle (nothing to cancel here)
+    CycleOff,
+    /// G90 G91
+    Distance(Distance),
+    /// G92
+    SetPosition,
+    /// G94 G95
+    FeedMode(FeedMode),
+    /// G73 … G89 canned cycles, not supported yet
+    CannedCycle,
+}
+
+impl GCode {
+    /// Decodes a G number given as ten times its value (G1 is 10, G66.1 is 661).
+    pub fn decode(tenths: u32) -> Option<GCode> {
+        use GCode::*;
+        Some(match tenths {
+            0 => Motion(self::Motion::Rapid),
+            10 => Motion(self::Motion::Linear),
+            20 => Motion(self::Motion::Cw),
+            30 => Motion(self::Motion::Ccw),
+            40 => Dwell,
+            100 => SetOffsets,
+            170 => Plane(kezuri_geom::Plane::Xy),
+            180 => Plane(kezuri_geom::Plane::Zx),
+            190 => Plane(kezuri_geom::Plane::Yz),
+            200 => Units(self::Units::Inch),
+            210 => Units(self::Units::Mm),
+            280 => Home,
+            310 => Skip,
+            400 => RadiusComp(self::RadiusComp::Off),
+            410 => RadiusComp(self::RadiusComp::Left),
+            420 => RadiusComp(self::RadiusComp::Right),
+            430 => LengthComp(true),
+            440 => LengthComp(false),
+            490 => LengthCompOff,
+            530 => MachineCoords,
+            540..=590 if tenths % 10 == 0 => WorkOffset(((tenths - 540) / 10) as usize),
+            650 => MacroCall,
+            660 => ModalCall(ModalCallKind::AfterMove),
+            661 => ModalCall(ModalCallKind::EveryBlock),
+            670 => ModalCallOff,
+            800 => CycleOff,
+            730 | 740 | 760 | 810..=890 if tenths % 10 == 0 => CannedCycle,
+            900 => Distance(self::Distance::Absolute),
+            910 => Distance(self::Distance::Incremental),
+            920 => SetPosition,
+            940 => FeedMode(self::FeedMode::PerMinute),
+            950 => FeedMode(self::FeedMode::PerRev),
+            _ => return None,
+        })
+    }
+
+    /// The modal group (Fanuc numbering); 0 for one-shot codes.
+    pub fn group(self) -> u32 {
+        use GCode::*;
+        match self {
+            Motion(_) => 1,
+            Plane(_) => 2,
+            Distance(_) => 3,
+            FeedMode(_) => 5,
+            Units(_) => 6,
+            RadiusComp(_) => 7,
+            LengthComp(_) | LengthCompOff => 8,
+            CycleOff | CannedCycle => 9,
+            ModalCall(_) | ModalCallOff => 12,
+            WorkOffset(_) => 14,
+            Dwell | SetOffsets | Home | Skip | MachineCoords | MacroCall | SetPosition => 0,
+        }
+    }
+}
+
+/// The modal state of the control.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Modal {
+    /// Group 1.
+    pub motion: Motion,
+    /// Group 2.
+    pub plane: Plane,
+    /// Group 3.
+    pub distance: Distance,
+    /// Group 5.
+    pub feed_mode: FeedMode,
+    /// Group 6.
+    pub units: Units,
+    /// Group 7.
+    pub radius_comp: RadiusComp,
+    /// Group 8: `Some((sign, H number))` while G43/G44 is active.
+    pub length_comp: Option<(f64, u32)>,
+    /// Group 14: G54 … G59 as 0 … 5.
+    pub work_offset: usize,
+    /// Group 12: the active modal macro call kind.
+    pub modal_call: Option<ModalCallKind>,
+}
+
+impl Default for Modal {
+    fn default() -> Modal {
+        Modal {
+            motion: Motion::Rapid,
+            plane: Plane::Xy,
+            distance: Distance::Absolute,
+            feed_mode: FeedMode::PerMinute,
+            units: Units::Mm,
+            radius_comp: RadiusComp::Off,
+            length_comp: None,
+            work_offset: 0,
+            modal_call: None,
+        }
+    }
+}
+
+impl Modal {
+    /// The value `#4000+group` reads: the G number of the group's active code.
+    pub fn group_value(&self, group: u32) -> Option<f64> {
+        Some(match group {
+            1 => match self.motion {
+                Motion::Rapid => 0.0,
+                Motion::Linear => 1.0,
+                Motion::Cw => 2.0,
+                Motion::Ccw => 3.0,
+            },
+            2 => match self.plane {
+                Plane::Xy => 17.0,
+                Plane::Zx => 18.0,
+                Plane::Yz => 19.0,
+            },
+            3 => match self.distance {
+                Distance::Absolute => 90.0,
+                Distance::Incremental => 91.0,
+            },
+            4 => 22.0,
+            5 => match self.feed_mode {
+                FeedMode::PerMinute => 94.0,
+                FeedMode::PerRev => 95.0,
+            },
+            6 => match self.units {
+                Units::Inch => 20.0,
+                Units::Mm => 21.0,
+            },
+            7 => match self.radius_comp {
+                RadiusComp::Off => 40.0,
+                RadiusComp::Left => 41.0,
+                RadiusComp::Right => 42.0,
+            },
+            8 => match self.length_comp {
+                None => 49.0,
+                Some((s, _)) if s > 0.0 => 43.0,
+                Some(_) => 44.0,
+            },
+            9 => 80.0,
+            10 => 98.0,
+            11 => 50.0,
+            12 => match self.modal_call {
+                None => 67.0,
+                Some(ModalCallKind::AfterMove) => 66.0,
+                Some(ModalCallKind::EveryBlock) => 66.1,
+            },
+            13 => 97.0,
+            14 => 54.0 + self.work_offset as f64,
+            15 => 64.0,
+            16 => 69.0,
+            17 => 15.0,
+            18 => 40.1,
+            19 => 25.0,
+            20 => 160.0,
+            21 => 13.1,
+            22 => 50.1,
+            _ => return None,
+        })
+    }
+}

@@ -1,0 +1,650 @@
+//! Text to program model: a hand-written, byte-level parser.
+//!
+//! One pass over the bytes, one block per line. Spaces are allowed anywhere
+//! between words and inside expressions; letters may be lower case; comments
+//! are `( … )` and `;` to the end of the line. The parser evaluates nothing
+//! and never fails: a block it cannot read becomes an error diagnostic and an
+//! empty block, and parsing goes on with the next line.
+
+use crate::ast::{BinOp, Block, Expr, ExprId, Func, PrintItem, Program, ProgramUnit, Statement, Word, WordValue};
+use crate::source::{Diagnostic, FileId, Span};
+
+/// Deepest bracket nesting accepted (Fanuc allows five).
+const MAX_DEPTH: u32 = 64;
+
+/// LinuxCNC O-word keywords (`o100 sub`, `o101 if [...]`).
+const OWORD_KEYWORDS: [&str; 15] = [
+    "SUB", "ENDSUB", "CALL", "RETURN", "IF", "ELSEIF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "DO", "REPEAT", "ENDREPEAT",
+    "BREAK", "CONTINUE",
+];
+
+/// Parses `text` (file `file` of the run) and appends its program units to
+/// `program`. Returns the diagnostics; the program is usable for the blocks
+/// that parsed.
+pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic> {
+    let mut diagnostics = Vec::new();
+    let bytes = text.as_bytes();
+    let mut unit = ProgramUnit {
+        number: None,
+        title: None,
+        span: Span::new(file, 0, 0),
+        blocks: program.blocks.len() as u32..program.blocks.len() as u32,
+    };
+    let mut percent_seen = 0;
+    let mut pos = 0;
+    let mut line = 0u32;
+    while pos < bytes.len() {
+        line += 1;
+        let end = bytes[pos..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| pos + i);
+        let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0 };
+        p.skip_blanks();
+        if p.pos < end && p.b[p.pos] == b'%' {
+            percent_seen += 1;
+        } else if percent_seen >= 2 {
+            if p.pos < end && !text[p.pos..end].trim().is_empty() {
+                diagnostics.push(Diagnostic::warning(
+                    Span::new(file, p.pos, end),
+                    "text after the closing '%' is ignored",
+                ));
+                break;
+            }
+        } else if let Some(header) = p.program_header(&mut diagnostics) {
+            finish_unit(program, &mut unit);
+            unit = ProgramUnit {
+                number: Some(header.0),
+                title: header.1,
+                span: Span::new(file, pos, end),
+                blocks: program.blocks.len() as u32..program.blocks.len() as u32,
+            };
+        } else {
+            let words_mark = p.program.words.len();
+            let exprs_mark = p.program.exprs.len();
+            let block = match p.block(line) {
+                Ok(block) => block,
+                Err(d) => {
+                    diagnostics.push(d);
+                    program.words.truncate(words_mark);
+                    program.exprs.truncate(exprs_mark);
+                    Block {
+                        span: Span::new(file, pos, end),
+                        line,
+                        number: None,
+                        delete: false,
+                        statement: Statement::Empty,
+                    }
+                }
+            };
+            if unit.blocks.is_empty() && unit.number.is_none() {
+                unit.span = block.span;
+            }
+            program.blocks.push(block);
+        }
+        pos = end + 1;
+    }
+    finish_unit(program, &mut unit);
+    diagnostics
+}
+
+fn finish_unit(program: &mut Program, unit: &mut ProgramUnit) {
+    unit.blocks.end = program.blocks.len() as u32;
+    let anonymous_and_empty = unit.number.is_none()
+        && program.blocks[unit.blocks.start as usize..unit.blocks.end as usize]
+            .iter()
+            .all(|b| b.statement == Statement::Empty);
+    if !anonymous_and_empty {
+        program.units.push(unit.clone());
+    }
+}
+
+struct LineParser<'a> {
+    b: &'a [u8],
+    pos: usize,
+    end: usize,
+    file: FileId,
+    program: &'a mut Program,
+    depth: u32,
+}
+
+type Result<T> = std::result::Result<T, Diagnostic>;
+
+impl LineParser<'_> {
+    fn span(&self, start: usize) -> Span {
+        Span::new(self.file, start, self.pos.max(start))
+    }
+
+    fn error_here(&self, message: impl Into<String>) -> Diagnostic {
+        let end = (self.pos + 1).min(self.end).max(self.pos);
+        Diagnostic::error(Span::new(self.file, self.pos, end), message)
+    }
+
+    fn peek(&self) -> Option<u8> {
+        (self.pos < self.end).then(|| self.b[self.pos].to_ascii_uppercase())
+    }
+
+    /// Skips spaces, tabs, carriage returns and `( … )` comments. A `;`
+    /// ends the block.
+    fn skip_blanks(&mut self) {
+        while self.pos < self.end {
+            match self.b[self.pos] {
+                b' ' | b'\t' | b'\r' => self.pos += 1,
+                b'(' => match self.b[self.pos..self.end].iter().position(|&c| c == b')') {
+                    Some(i) => self.pos += i + 1,
+                    None => return,
+                },
+                b';' => self.pos = self.end,
+                _ => return,
+            }
+        }
+    }
+
+    /// Is the keyword (upper case) at the cursor, case-insensitively?
+    fn at_keyword(&self, kw: &str) -> bool {
+        let k = kw.as_bytes();
+        self.pos + k.len() <= self.end && self.b[self.pos..self.pos + k.len()].eq_ignore_ascii_case(k)
+    }
+
+    fn eat_keyword(&mut self, kw: &str) -> bool {
+        let yes = self.at_keyword(kw);
+        if yes {
+            self.pos += kw.len();
+            self.skip_blanks();
+        }
+        yes
+    }
+
+    fn expect(&mut self, c: u8, what: &str) -> Result<()> {
+        self.skip_blanks();
+        if self.peek() == Some(c) {
+            self.pos += 1;
+            self.skip_blanks();
+            Ok(())
+        } else {
+            Err(self.error_here(format!("expected {what}")))
+        }
+    }
+
+    fn push(&mut self, e: Expr) -> ExprId {
+        self.program.push_expr(e)
+    }
+
+    /// `O1234 (TITLE)` or `:1234`: returns the number and title.
+    fn program_header(&mut self, diagnostics: &mut Vec<Diagnostic>) -> Option<(u32, Option<String>)> {
+        let start = self.pos;
+        if !matches!(self.peek(), Some(b'O' | b':')) {
+            return None;
+        }
+        self.pos += 1;
+        let digits_start = self.pos;
+        while self.pos < self.end && self.b[self.pos].is_ascii_digit() {
+            self.pos += 1;
+        }
+        let after_number = self.pos;
+        self.skip_blanks();
+        if after_number == digits_start || OWORD_KEYWORDS.iter().any(|k| self.at_keyword(k)) {
+            self.pos = start;
+            return None;
+        }
+        let text = std::str::from_utf8(&self.b[digits_start..after_number]).unwrap_or("");
+        let Ok(number) = text.parse::<u32>() else {
+            diagnostics.push(Diagnostic::error(Span::new(self.file, start, after_number), "program number is too large"));
+            return Some((0, None));
+        };
+        let line = &self.b[after_number..self.end];
+        let title = line
+            .iter()
+            .position(|&c| c == b'(')
+            .and_then(|open| line[open..].iter().position(|&c| c == b')').map(|close| (open, open + close)))
+            .map(|(open, close)| String::from_utf8_lossy(&line[open + 1..close]).trim().to_string());
+        if self.pos < self.end {
+            diagnostics.push(Diagnostic::warning(
+                Span::new(self.file, self.pos, self.end),
+                "words after a program number are ignored; put them on the next line",
+            ));
+        }
+        Some((number, title))
+    }
+
+    fn block(&mut self, line: u32) -> Result<Block> {
+        let start = self.pos;
+        let mut delete = false;
+        if self.peek() == Some(b'/') {
+            delete = true;
+            self.pos += 1;
+            while self.pos < self.end && self.b[self.pos].is_ascii_digit() {
+                self.pos += 1;
+            }
+            self.skip_blanks();
+        }
+        let mut number = None;
+        if self.peek() == Some(b'N') && self.b.get(self.pos + 1).is_some_and(|c| c.is_ascii_digit() || *c == b' ') {
+            let n_start = self.pos;
+            self.pos += 1;
+            self.skip_blanks();
+            let (value, decimal) = self.number()?.ok_or_else(|| self.error_here("expected a sequence number after N"))?;
+            if decimal || value > 99_999_999.0 {
+                return Err(Diagnostic::error(self.span(n_start), "a sequence number is a whole number of at most 8 digits"));
+            }
+            number = Some(value as u32);
+            self.skip_blanks();
+        }
+        let statement = self.statement()?;
+        self.skip_blanks();
+        if self.pos < self.end {
+            let rest = String::from_utf8_lossy(&self.b[self.pos..self.end]);
+            if self.b[self.pos] == b'(' {
+                return Err(self.error_here("comment is not closed before the end of the line"));
+            }
+            return Err(self.error_here(format!("unexpected '{}'", rest.chars().next().unwrap_or('?'))));
+        }
+        let line_end = if self.end > start && self.b[self.end - 1] == b'\r' { self.end - 1 } else { self.end };
+        Ok(Block { span: Span::new(self.file, start, line_end), line, number, delete, statement })
+    }
+
+    fn statement(&mut self) -> Result<Statement> {
+        let Some(c) = self.peek() else { return Ok(Statement::Empty) };
+        match c {
+            b'#' => {
+                let var = self.variable_number()?;
+                self.expect(b'=', "'=' after the variable of an assignment")?;
+                let value = self.expr(0)?;
+                Ok(Statement::Assign { var, value })
+            }
+            b'$' => Ok(self.unsupported("GRBL '$' system commands are not run by kezuri")),
+            b'O' => {
+                let word = String::from_utf8_lossy(&self.b[self.pos..self.end]).trim().to_string();
+                Ok(self.unsupported(&format!("LinuxCNC O-word '{word}' is not supported yet")))
+            }
+            _ if self.eat_keyword("IF") => self.if_statement(),
+            _ if self.eat_keyword("GOTO") => Ok(Statement::Goto(self.operand()?)),
+            _ if self.eat_keyword("WHILE") => {
+                let cond = self.bracketed()?;
+                self.skip_blanks();
+                if !self.eat_keyword("DO") {
+                    return Err(self.error_here("expected DO after the WHILE condition"));
+                }
+                Ok(Statement::While { cond, label: self.loop_label()? })
+            }
+            _ if self.at_keyword("DO") && self.b.get(self.pos + 2).is_some_and(|c| c.is_ascii_digit() || *c == b' ') => {
+                self.pos += 2;
+                self.skip_blanks();
+                Ok(Statement::Do { label: self.loop_label()? })
+            }
+            _ if self.at_keyword("END") && !self.at_keyword("ENDSUB") => {
+                self.pos += 3;
+                self.skip_blanks();
+                Ok(Statement::End { label: self.loop_label()? })
+            }
+            _ if self.eat_keyword("POPEN") => Ok(Statement::Popen),
+            _ if self.eat_keyword("PCLOS") => Ok(Statement::Pclos),
+            _ if self.eat_keyword("DPRNT") => self.dprnt(),
+            _ if self.at_keyword("BPRNT") => Ok(self.unsupported("BPRNT (binary output) is not supported yet")),
+            _ => self.words(),
+        }
+    }
+
+    fn unsupported(&mut self, what: &str) -> Statement {
+        self.pos = self.end;
+        Statement::Unsupported(what.to_string())
+    }
+
+    fn loop_label(&mut self) -> Result<u8> {
+        let start = self.pos;
+        match self.number()? {
+            Some((v, false)) if (1.0..=3.0).contains(&v) => Ok(v as u8),
+            _ => Err(Diagnostic::error(self.span(start), "a loop number (after DO or END) must be 1, 2 or 3")),
+        }
+    }
+
+    fn if_statement(&mut self) -> Result<Statement> {
+        let cond = self.bracketed()?;
+        self.skip_blanks();
+        if self.eat_keyword("GOTO") {
+            return Ok(Statement::IfGoto { cond, target: self.operand()? });
+        }
+        if self.eat_keyword("THEN") {
+            if self.peek() != Some(b'#') {
+                return Err(self.error_here("only an assignment '#n = …' may follow THEN"));
+            }
+            let var = self.variable_number()?;
+            self.expect(b'=', "'=' after the variable of an assignment")?;
+            let value = self.expr(0)?;
+            return Ok(Statement::IfThen { cond, var, value });
+        }
+        Err(self.error_here("expected GOTO or THEN after the IF condition"))
+    }
+
+    fn dprnt(&mut self) -> Result<Statement> {
+        if self.peek() != Some(b'[') {
+            return Err(self.error_here("expected '[' after DPRNT"));
+        }
+        self.pos += 1;
+        let mut items = Vec::new();
+        let mut text = String::new();
+        loop {
+            let Some(&c) = self.b.get(self.pos).filter(|_| self.pos < self.end) else {
+                return Err(self.error_here("DPRNT is missing its closing ']'"));
+            };
+            match c {
+                b']' => {
+                    self.pos += 1;
+                    break;
+                }
+                b'#' => {
+                    if !text.is_empty() {
+                        items.push(PrintItem::Text(std::mem::take(&mut text)));
+                    }
+                    let var = self.variable_number()?;
+                    let fmt_start = self.pos;
+                    let digits = if self.peek() == Some(b'[') {
+                        self.pos += 1;
+                        let d = self.b[self.pos..self.end].iter().take_while(|c| c.is_ascii_digit()).count();
+                        self.pos += d;
+                        let ok = self.peek() == Some(b']') && (1..=2).contains(&d);
+                        self.pos += 1;
+                        if !ok {
+                            return Err(Diagnostic::error(self.span(fmt_start), "DPRNT format must be [ab]: a integer and b fraction digits"));
+                        }
+                        let f = &self.b[fmt_start + 1..fmt_start + 1 + d];
+                        if d == 1 { (f[0] - b'0', 0) } else { (f[0] - b'0', f[1] - b'0') }
+                    } else {
+                        (8, 3)
+                    };
+                    items.push(PrintItem::Var { var, int_digits: digits.0, frac_digits: digits.1 });
+                }
+                _ => {
+                    let ch_len = utf8_len(c);
+                    text.push_str(&String::from_utf8_lossy(&self.b[self.pos..(self.pos + ch_len).min(self.end)]));
+                    self.pos += ch_len;
+                }
+            }
+        }
+        if !text.is_empty() {
+            items.push(PrintItem::Text(text));
+        }
+        Ok(Statement::Dprnt(items))
+    }
+
+    fn words(&mut self) -> Result<Statement> {
+        let start = self.program.words.len() as u32;
+        while let Some(c) = self.peek() {
+            let word_start = self.pos;
+            if !c.is_ascii_alphabetic() {
+                return Err(self.error_here(format!("expected an address letter, found '{}'", self.char_here())));
+            }
+            if c == b'O' {
+                return Err(self.error_here("a program number 'O' must be on a line of its own"));
+            }
+            self.pos += 1;
+            self.skip_blanks();
+            let value = self.word_value(c)?;
+            self.program.words.push(Word { letter: c, value, span: self.span(word_start) });
+            self.skip_blanks();
+        }
+        Ok(Statement::Words { start, len: self.program.words.len() as u32 - start })
+    }
+
+    fn char_here(&self) -> char {
+        std::str::from_utf8(&self.b[self.pos..self.end.min(self.pos + 4)])
+            .ok()
+            .and_then(|s| s.chars().next())
+            .or_else(|| String::from_utf8_lossy(&self.b[self.pos..self.end]).chars().next())
+            .unwrap_or('?')
+    }
+
+    fn word_value(&mut self, letter: u8) -> Result<WordValue> {
+        let sign_start = self.pos;
+        let mut negative = false;
+        if let Some(s @ (b'-' | b'+')) = self.peek() {
+            negative = s == b'-';
+            self.pos += 1;
+            self.skip_blanks();
+        }
+        match self.peek() {
+            Some(b'0'..=b'9' | b'.') => {
+                let (value, decimal) = self.number()?.ok_or_else(|| self.error_here("expected digits"))?;
+                Ok(WordValue::Number { value: if negative { -value } else { value }, decimal })
+            }
+            Some(b'#' | b'[') => {
+                let e = self.primary()?;
+                Ok(WordValue::Expr(if negative { self.push(Expr::Neg(e)) } else { e }))
+            }
+            Some(b'A'..=b'Z') if Func::ALL.iter().any(|(n, _)| self.at_keyword(n)) => {
+                let e = self.primary()?;
+                Ok(WordValue::Expr(if negative { self.push(Expr::Neg(e)) } else { e }))
+            }
+            _ => Err(self.missing_value(letter, sign_start)),
+        }
+    }
+
+    fn missing_value(&self, letter: u8, at: usize) -> Diagnostic {
+        let end = (at + 1).min(self.end).max(at);
+        Diagnostic::error(Span::new(self.file, at.saturating_sub(1), end), format!("address {} has no value", letter as char))
+    }
+
+    /// A number literal: digits with at most one decimal point. Returns the
+    /// value and whether a decimal point was written; `None` if no digit.
+    fn number(&mut self) -> Result<Option<(f64, bool)>> {
+        let start = self.pos;
+        let mut mantissa: u64 = 0;
+        let mut digits = 0u32;
+        let mut fraction = 0u32;
+        let mut decimal = false;
+        while self.pos < self.end {
+            let c = self.b[self.pos];
+            if c.is_ascii_digit() {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+                digits += 1;
+                fraction += u32::from(decimal);
+            } else if c == b'.' && !decimal {
+                decimal = true;
+            } else {
+                break;
+            }
+            self.pos += 1;
+        }
+        if digits == 0 {
+            self.pos = start;
+            return Ok(None);
+        }
+        const POW10: [f64; 16] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15];
+        let value = if digits <= 15 {
+            // Exact: the mantissa and the power of ten are both exact doubles,
+            // and one IEEE division rounds correctly.
+            mantissa as f64 / POW10[fraction as usize]
+        } else {
+            let text = std::str::from_utf8(&self.b[start..self.pos]).unwrap_or("0");
+            let text = if text.ends_with('.') { &text[..text.len() - 1] } else { text };
+            text.parse::<f64>().map_err(|_| Diagnostic::error(self.span(start), "number cannot be read"))?
+        };
+        if !value.is_finite() || value > 1e15 {
+            return Err(Diagnostic::error(self.span(start), "number is too large"));
+        }
+        Ok(Some((value, decimal)))
+    }
+
+    /// `#n`, `#[expr]` or `#<name>`: returns the variable-number expression
+    /// (for `#<name>`, a `Named` expression).
+    fn variable_number(&mut self) -> Result<ExprId> {
+        let start = self.pos;
+        self.pos += 1; // '#'
+        self.skip_blanks();
+        match self.peek() {
+            Some(b'0'..=b'9') => {
+                let (v, _) = self.number()?.unwrap_or((0.0, false));
+                Ok(self.push(Expr::Number(v)))
+            }
+            Some(b'[') => self.bracketed(),
+            Some(b'<') => {
+                let close = self.b[self.pos..self.end].iter().position(|&c| c == b'>');
+                let Some(close) = close else {
+                    return Err(Diagnostic::error(self.span(start), "named parameter is missing its closing '>'"));
+                };
+                let name = String::from_utf8_lossy(&self.b[self.pos + 1..self.pos + close]).to_string();
+                self.pos += close + 1;
+                Ok(self.push(Expr::Named(name)))
+            }
+            Some(b'#') => Err(self.error_here("write #[#n] for an indirect variable, not ##n")),
+            _ => Err(Diagnostic::error(self.span(start), "expected a variable number or '[' after '#'")),
+        }
+    }
+
+    fn bracketed(&mut self) -> Result<ExprId> {
+        self.skip_blanks();
+        let open = self.pos;
+        if self.peek() != Some(b'[') {
+            return Err(self.error_here("expected '['"));
+        }
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(self.error_here(format!("brackets nested deeper than {MAX_DEPTH}")));
+        }
+        self.pos += 1;
+        self.skip_blanks();
+        let e = self.expr(0)?;
+        self.skip_blanks();
+        if self.peek() != Some(b']') {
+            let mut d = self.error_here("expected ']' to close this '['");
+            if self.pos >= self.end {
+                d.span = Span::new(self.file, open, open + 1);
+                d.message = "'[' is not closed before the end of the line".into();
+            }
+            return Err(d);
+        }
+        self.pos += 1;
+        self.depth -= 1;
+        Ok(e)
+    }
+
+    /// An operand of a statement such as `GOTO`: a number, a variable, or a
+    /// bracketed expression, with an optional sign.
+    fn operand(&mut self) -> Result<ExprId> {
+        self.skip_blanks();
+        let e = self.unary()?;
+        Ok(e)
+    }
+
+    fn expr(&mut self, min_prec: u8) -> Result<ExprId> {
+        let mut lhs = self.unary()?;
+        loop {
+            self.skip_blanks();
+            let Some((op, len)) = self.binop() else { break };
+            if op.precedence() < min_prec.max(1) {
+                break;
+            }
+            self.pos += len;
+            self.skip_blanks();
+            let rhs = self.expr(op.precedence() + 1)?;
+            lhs = self.push(Expr::Binary(op, lhs, rhs));
+        }
+        Ok(lhs)
+    }
+
+    fn binop(&self) -> Option<(BinOp, usize)> {
+        match self.peek()? {
+            b'*' => Some((BinOp::Mul, 1)),
+            b'/' => Some((BinOp::Div, 1)),
+            b'+' => Some((BinOp::Add, 1)),
+            b'-' => Some((BinOp::Sub, 1)),
+            _ => BinOp::KEYWORDS.iter().find(|(k, _)| self.at_keyword(k)).map(|&(k, op)| (op, k.len())),
+        }
+    }
+
+    fn unary(&mut self) -> Result<ExprId> {
+        self.skip_blanks();
+        match self.peek() {
+            Some(b'-') => {
+                self.pos += 1;
+                self.depth += 1;
+                if self.depth > MAX_DEPTH {
+                    return Err(self.error_here("too many signs in a row"));
+                }
+                let e = self.unary()?;
+                self.depth -= 1;
+                Ok(self.push(Expr::Neg(e)))
+            }
+            Some(b'+') => {
+                self.pos += 1;
+                self.unary()
+            }
+            _ => self.primary(),
+        }
+    }
+
+    fn primary(&mut self) -> Result<ExprId> {
+        self.skip_blanks();
+        match self.peek() {
+            Some(b'0'..=b'9' | b'.') => {
+                let (v, _) = self.number()?.ok_or_else(|| self.error_here("expected digits"))?;
+                Ok(self.push(Expr::Number(v)))
+            }
+            Some(b'#') => {
+                let n = self.variable_number()?;
+                match self.program.exprs[n as usize] {
+                    Expr::Named(_) => Ok(n),
+                    _ => Ok(self.push(Expr::Var(n))),
+                }
+            }
+            Some(b'[') => self.bracketed(),
+            Some(b'A'..=b'Z') => {
+                let Some(&(name, func)) = Func::ALL.iter().find(|(n, _)| self.at_keyword(n)) else {
+                    return Err(self.error_here("expected a number, a variable, '[' or a function"));
+                };
+                let start = self.pos;
+                self.pos += name.len();
+                self.skip_blanks();
+                if self.peek() != Some(b'[') {
+                    return Err(Diagnostic::error(self.span(start), format!("{name} needs its argument in brackets: {name}[…]")));
+                }
+                self.pos += 1;
+                self.depth += 1;
+                if self.depth > MAX_DEPTH {
+                    return Err(self.error_here(format!("brackets nested deeper than {MAX_DEPTH}")));
+                }
+                let a = self.expr(0)?;
+                self.skip_blanks();
+                let mut b = None;
+                if self.peek() == Some(b',') {
+                    self.pos += 1;
+                    b = Some(self.expr(0)?);
+                    self.skip_blanks();
+                }
+                if self.peek() != Some(b']') {
+                    return Err(self.error_here(format!("expected ']' to close {name}[")));
+                }
+                self.pos += 1;
+                self.depth -= 1;
+                if func == Func::Atan && b.is_none() {
+                    let save = self.pos;
+                    self.skip_blanks();
+                    if self.peek() == Some(b'/') {
+                        self.pos += 1;
+                        self.skip_blanks();
+                        if self.peek() == Some(b'[') {
+                            b = Some(self.bracketed()?);
+                        } else {
+                            self.pos = save;
+                        }
+                    } else {
+                        self.pos = save;
+                    }
+                }
+                match (func, b) {
+                    (Func::Pow, None) => Err(Diagnostic::error(self.span(start), "POW needs two arguments: POW[base, exponent]")),
+                    (Func::Atan | Func::Pow, _) | (_, None) => Ok(self.push(Expr::Call(func, a, b))),
+                    _ => Err(Diagnostic::error(self.span(start), format!("{name} takes one argument"))),
+                }
+            }
+            Some(_) => Err(self.error_here(format!("expected a value, found '{}'", self.char_here()))),
+            None => Err(self.error_here("expected a value at the end of the line")),
+        }
+    }
+}
+
+fn utf8_len(first: u8) -> usize {
+    match first {
+        0xF0..=0xFF => 4,
+        0xE0..=0xEF => 3,
+        0xC0..=0xDF => 2,
+        _ => 1,
+    }
+}

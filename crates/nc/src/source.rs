@@ -1,0 +1,199 @@
+//! Source files, byte spans and located diagnostics.
+//!
+//! Spans are byte offsets into one file of a [`Sources`] set; line and column
+//! are computed only when a diagnostic is rendered.
+
+use std::fmt;
+
+/// Index of a file in a [`Sources`] set.
+pub type FileId = u32;
+
+/// A byte range in one source file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Span {
+    /// The file.
+    pub file: FileId,
+    /// First byte.
+    pub start: u32,
+    /// One past the last byte.
+    pub end: u32,
+}
+
+impl Span {
+    /// A span from `start` to `end` in `file`.
+    pub fn new(file: FileId, start: usize, end: usize) -> Span {
+        Span { file, start: start as u32, end: end as u32 }
+    }
+
+    /// The smallest span covering both.
+    pub fn to(self, other: Span) -> Span {
+        Span { file: self.file, start: self.start.min(other.start), end: self.end.max(other.end) }
+    }
+}
+
+/// One source file: its name as the user gave it and its text.
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    /// Name shown in diagnostics (usually the path).
+    pub name: String,
+    /// The text; invalid UTF-8 was replaced before it got here.
+    pub text: String,
+    line_starts: Vec<u32>,
+}
+
+impl SourceFile {
+    /// A file from its name and text.
+    pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
+        let text = text.into();
+        let mut line_starts = vec![0];
+        line_starts.extend(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i as u32 + 1));
+        SourceFile { name: name.into(), text, line_starts }
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    pub fn line_col(&self, offset: u32) -> (u32, u32) {
+        let line = self.line_starts.partition_point(|&s| s <= offset) - 1;
+        let start = self.line_starts[line] as usize;
+        let end = (offset as usize).min(self.text.len());
+        let col = self.text.get(start..end).map_or(end - start, |s| s.chars().count());
+        (line as u32 + 1, col as u32 + 1)
+    }
+
+    /// The text of a 1-based line, without its line break.
+    pub fn line_text(&self, line: u32) -> &str {
+        let i = (line - 1) as usize;
+        let start = self.line_starts[i] as usize;
+        let end = self.line_starts.get(i + 1).map_or(self.text.len(), |&e| e as usize);
+        self.text[start..end].trim_end_matches(['\n', '\r'])
+    }
+}
+
+/// The files a run reads: the main program and any subprogram files.
+#[derive(Clone, Debug, Default)]
+pub struct Sources {
+    files: Vec<SourceFile>,
+}
+
+impl Sources {
+    /// Adds a file and returns its id.
+    pub fn add(&mut self, file: SourceFile) -> FileId {
+        self.files.push(file);
+        (self.files.len() - 1) as FileId
+    }
+
+    /// The file with this id.
+    pub fn get(&self, id: FileId) -> &SourceFile {
+        &self.files[id as usize]
+    }
+
+    /// Number of files.
+    pub fn len(&self) -> usize {
+        self.files.len()
+    }
+
+    /// `true` when no file was added.
+    pub fn is_empty(&self) -> bool {
+        self.files.is_empty()
+    }
+}
+
+/// How bad a diagnostic is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Severity {
+    /// The program cannot be run past this point.
+    Error,
+    /// The program runs, but probably not as its author meant.
+    Warning,
+}
+
+/// A located message about a program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    /// Error or warning.
+    pub severity: Severity,
+    /// What is wrong, in a machinist's words.
+    pub message: String,
+    /// Where.
+    pub span: Span,
+    /// Macro and subprogram calls that led here, innermost last: each a
+    /// description and the span of the calling block.
+    pub call_chain: Vec<(String, Span)>,
+}
+
+impl Diagnostic {
+    /// An error at `span`.
+    pub fn error(span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic { severity: Severity::Error, message: message.into(), span, call_chain: Vec::new() }
+    }
+
+    /// A warning at `span`.
+    pub fn warning(span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic { severity: Severity::Warning, message: message.into(), span, call_chain: Vec::new() }
+    }
+
+    /// `true` for errors.
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// One line: `file:line:col: error: message`.
+    pub fn headline(&self, sources: &Sources) -> String {
+        let file = sources.get(self.span.file);
+        let (line, col) = file.line_col(self.span.start);
+        let kind = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        format!("{}:{}:{}: {}: {}", file.name, line, col, kind, self.message)
+    }
+
+    /// The headline, the source line with a caret under the span, and the
+    /// call chain.
+    pub fn render(&self, sources: &Sources) -> String {
+        RenderedDiagnostic { diagnostic: self, sources }.to_string()
+    }
+}
+
+struct RenderedDiagnostic<'a> {
+    diagnostic: &'a Diagnostic,
+    sources: &'a Sources,
+}
+
+impl fmt::Display for RenderedDiagnostic<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let d = self.diagnostic;
+        let file = self.sources.get(d.span.file);
+        let (line, col) = file.line_col(d.span.start);
+        writeln!(f, "{}", d.headline(self.sources))?;
+        let text: String = file.line_text(line).chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+        let gutter = line.to_string();
+        writeln!(f, "{} | {}", gutter, text)?;
+        let width = text.chars().count() as u32;
+        let (end_line, end_col) = file.line_col(d.span.end.max(d.span.start));
+        let carets = if end_line == line { end_col.saturating_sub(col).max(1) } else { (width + 1).saturating_sub(col).max(1) };
+        write!(f, "{} | {}{}", " ".repeat(gutter.len()), " ".repeat(col as usize - 1), "^".repeat(carets as usize))?;
+        for (what, span) in d.call_chain.iter().rev() {
+            let file = self.sources.get(span.file);
+            let (l, c) = file.line_col(span.start);
+            write!(f, "\n  in {} called at {}:{}:{}", what, file.name, l, c)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_line_column_and_caret() {
+        let mut sources = Sources::default();
+        let id = sources.add(SourceFile::new("a.nc", "G01 X1.\nG01 X[1+]\n"));
+        let d = Diagnostic::error(Span::new(id, 16, 17), "expected a value after '+'");
+        expect_test::expect![[r#"
+            a.nc:2:9: error: expected a value after '+'
+            2 | G01 X[1+]
+              |         ^"#]]
+        .assert_eq(&d.render(&sources));
+    }
+}
