@@ -131,14 +131,7 @@ impl Arc {
         p[i] = self.center[i] + r * a.cos();
         p[j] = self.center[j] + r * a.sin();
         p[n] = lerp(s[n], end.xyz()[n]);
-        Axes {
-            x: p[0],
-            y: p[1],
-            z: p[2],
-            a: lerp(start.a, end.a),
-            b: lerp(start.b, end.b),
-            c: lerp(start.c, end.c),
-        }
+        Axes { x: p[0], y: p[1], z: p[2], a: lerp(start.a, end.a), b: lerp(start.b, end.b), c: lerp(start.c, end.c) }
     }
 }
 
@@ -300,7 +293,8 @@ mod tests {
     #[test]
     fn quarter_arc_length_and_bounds() {
         let arc = Arc { center: [0.0, 0.0, 0.0], plane: Plane::Xy, ccw: true, turns: 0 };
-        let m = Move { kind: MoveKind::Arc(arc), start: at(10.0, 0.0, 0.0), end: at(0.0, 10.0, 0.0), ..Move::default() };
+        let m =
+            Move { kind: MoveKind::Arc(arc), start: at(10.0, 0.0, 0.0), end: at(0.0, 10.0, 0.0), ..Move::default() };
         assert!((m.length() - 5.0 * std::f64::consts::PI).abs() < 1e-12);
         let path = Toolpath { moves: vec![m] };
         let (lo, hi) = path.bounds().unwrap();

@@ -14,8 +14,21 @@ const MAX_DEPTH: u32 = 64;
 
 /// LinuxCNC O-word keywords (`o100 sub`, `o101 if [...]`).
 const OWORD_KEYWORDS: [&str; 15] = [
-    "SUB", "ENDSUB", "CALL", "RETURN", "IF", "ELSEIF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "DO", "REPEAT", "ENDREPEAT",
-    "BREAK", "CONTINUE",
+    "SUB",
+    "ENDSUB",
+    "CALL",
+    "RETURN",
+    "IF",
+    "ELSEIF",
+    "ELSE",
+    "ENDIF",
+    "WHILE",
+    "ENDWHILE",
+    "DO",
+    "REPEAT",
+    "ENDREPEAT",
+    "BREAK",
+    "CONTINUE",
 ];
 
 /// Parses `text` (file `file` of the run) and appends its program units to
@@ -42,10 +55,8 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
             percent_seen += 1;
         } else if percent_seen >= 2 {
             if p.pos < end && !text[p.pos..end].trim().is_empty() {
-                diagnostics.push(Diagnostic::warning(
-                    Span::new(file, p.pos, end),
-                    "text after the closing '%' is ignored",
-                ));
+                diagnostics
+                    .push(Diagnostic::warning(Span::new(file, p.pos, end), "text after the closing '%' is ignored"));
                 break;
             }
         } else if let Some(header) = p.program_header(&mut diagnostics) {
@@ -186,7 +197,8 @@ impl LineParser<'_> {
         }
         let text = std::str::from_utf8(&self.b[digits_start..after_number]).unwrap_or("");
         let Ok(number) = text.parse::<u32>() else {
-            diagnostics.push(Diagnostic::error(Span::new(self.file, start, after_number), "program number is too large"));
+            diagnostics
+                .push(Diagnostic::error(Span::new(self.file, start, after_number), "program number is too large"));
             return Some((0, None));
         };
         let line = &self.b[after_number..self.end];
@@ -220,9 +232,13 @@ impl LineParser<'_> {
             let n_start = self.pos;
             self.pos += 1;
             self.skip_blanks();
-            let (value, decimal) = self.number()?.ok_or_else(|| self.error_here("expected a sequence number after N"))?;
+            let (value, decimal) =
+                self.number()?.ok_or_else(|| self.error_here("expected a sequence number after N"))?;
             if decimal || value > 99_999_999.0 {
-                return Err(Diagnostic::error(self.span(n_start), "a sequence number is a whole number of at most 8 digits"));
+                return Err(Diagnostic::error(
+                    self.span(n_start),
+                    "a sequence number is a whole number of at most 8 digits",
+                ));
             }
             number = Some(value as u32);
             self.skip_blanks();
@@ -264,7 +280,9 @@ impl LineParser<'_> {
                 }
                 Ok(Statement::While { cond, label: self.loop_label()? })
             }
-            _ if self.at_keyword("DO") && self.b.get(self.pos + 2).is_some_and(|c| c.is_ascii_digit() || *c == b' ') => {
+            _ if self.at_keyword("DO")
+                && self.b.get(self.pos + 2).is_some_and(|c| c.is_ascii_digit() || *c == b' ') =>
+            {
                 self.pos += 2;
                 self.skip_blanks();
                 Ok(Statement::Do { label: self.loop_label()? })
@@ -342,10 +360,17 @@ impl LineParser<'_> {
                         let ok = self.peek() == Some(b']') && (1..=2).contains(&d);
                         self.pos += 1;
                         if !ok {
-                            return Err(Diagnostic::error(self.span(fmt_start), "DPRNT format must be [ab]: a integer and b fraction digits"));
+                            return Err(Diagnostic::error(
+                                self.span(fmt_start),
+                                "DPRNT format must be [ab]: a integer and b fraction digits",
+                            ));
                         }
                         let f = &self.b[fmt_start + 1..fmt_start + 1 + d];
-                        if d == 1 { (f[0] - b'0', 0) } else { (f[0] - b'0', f[1] - b'0') }
+                        if d == 1 {
+                            (f[0] - b'0', 0)
+                        } else {
+                            (f[0] - b'0', f[1] - b'0')
+                        }
                     } else {
                         (8, 3)
                     };
@@ -418,7 +443,10 @@ impl LineParser<'_> {
 
     fn missing_value(&self, letter: u8, at: usize) -> Diagnostic {
         let end = (at + 1).min(self.end).max(at);
-        Diagnostic::error(Span::new(self.file, at.saturating_sub(1), end), format!("address {} has no value", letter as char))
+        Diagnostic::error(
+            Span::new(self.file, at.saturating_sub(1), end),
+            format!("address {} has no value", letter as char),
+        )
     }
 
     /// A number literal: digits with at most one decimal point. Returns the
@@ -593,7 +621,10 @@ impl LineParser<'_> {
                 self.pos += name.len();
                 self.skip_blanks();
                 if self.peek() != Some(b'[') {
-                    return Err(Diagnostic::error(self.span(start), format!("{name} needs its argument in brackets: {name}[…]")));
+                    return Err(Diagnostic::error(
+                        self.span(start),
+                        format!("{name} needs its argument in brackets: {name}[…]"),
+                    ));
                 }
                 self.pos += 1;
                 self.depth += 1;
@@ -629,7 +660,9 @@ impl LineParser<'_> {
                     }
                 }
                 match (func, b) {
-                    (Func::Pow, None) => Err(Diagnostic::error(self.span(start), "POW needs two arguments: POW[base, exponent]")),
+                    (Func::Pow, None) => {
+                        Err(Diagnostic::error(self.span(start), "POW needs two arguments: POW[base, exponent]"))
+                    }
                     (Func::Atan | Func::Pow, _) | (_, None) => Ok(self.push(Expr::Call(func, a, b))),
                     _ => Err(Diagnostic::error(self.span(start), format!("{name} takes one argument"))),
                 }

@@ -170,7 +170,8 @@ impl fmt::Display for RenderedDiagnostic<'_> {
         writeln!(f, "{} | {}", gutter, text)?;
         let width = text.chars().count() as u32;
         let (end_line, end_col) = file.line_col(d.span.end.max(d.span.start));
-        let carets = if end_line == line { end_col.saturating_sub(col).max(1) } else { (width + 1).saturating_sub(col).max(1) };
+        let carets =
+            if end_line == line { end_col.saturating_sub(col).max(1) } else { (width + 1).saturating_sub(col).max(1) };
         write!(f, "{} | {}{}", " ".repeat(gutter.len()), " ".repeat(col as usize - 1), "^".repeat(carets as usize))?;
         for (what, span) in d.call_chain.iter().rev() {
             let file = self.sources.get(span.file);

@@ -1,1 +1,5 @@
-pub fn todo() {}
+//! Toolpath to text: NC dialects and the CSV motion dump.
+
+mod csv;
+
+pub use csv::csv;

@@ -150,11 +150,18 @@ impl State {
                 }
                 _ => {
                     if w.has(letter) {
-                        return Err(Diagnostic::error(word.span, format!("address {} appears twice in this block", letter as char)));
+                        return Err(Diagnostic::error(
+                            word.span,
+                            format!("address {} appears twice in this block", letter as char),
+                        ));
                     }
                     let mut v = v;
-                    if !decimal && AXIS_LETTERS.contains(&letter) && self.settings.integer_input == IntegerInput::Increments {
-                        let increment = if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 0.001 } else { 0.0001 };
+                    if !decimal
+                        && AXIS_LETTERS.contains(&letter)
+                        && self.settings.integer_input == IntegerInput::Increments
+                    {
+                        let increment =
+                            if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 0.001 } else { 0.0001 };
                         if v != 0.0 {
                             let unit = if self.modal.units == Units::Mm { "mm" } else { "inch" };
                             self.warn(
@@ -192,13 +199,20 @@ impl State {
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
             let Some(code) = GCode::decode(tenths) else {
-                let shown = if tenths % 10 == 0 { format!("G{:02}", tenths / 10) } else { format!("G{}.{}", tenths / 10, tenths % 10) };
+                let shown = if tenths % 10 == 0 {
+                    format!("G{:02}", tenths / 10)
+                } else {
+                    format!("G{}.{}", tenths / 10, tenths % 10)
+                };
                 return Err(Diagnostic::error(gspan, format!("{shown} is not supported")));
             };
             let group = code.group();
             if group != 0 {
                 if let Some((other, _)) = codes[..k].iter().flatten().find(|(c, _)| c.group() == group) {
-                    return Err(Diagnostic::error(gspan, format!("two G codes of modal group {group} in one block ({other:?} and {code:?})")));
+                    return Err(Diagnostic::error(
+                        gspan,
+                        format!("two G codes of modal group {group} in one block ({other:?} and {code:?})"),
+                    ));
                 }
             }
             codes[k] = Some((code, gspan));
@@ -221,11 +235,20 @@ impl State {
         if let Some(call) = &self.modal_call {
             if self.modal.modal_call == Some(ModalCallKind::EveryBlock) && !in_modal_macro {
                 if let Some((code, gspan)) = codes.iter().flatten().find(|(c, _)| c.group() == 0) {
-                    return Err(Diagnostic::error(*gspan, format!("{code:?} cannot be given while G66.1 calls a macro on every block")));
+                    return Err(Diagnostic::error(
+                        *gspan,
+                        format!("{code:?} cannot be given while G66.1 calls a macro on every block"),
+                    ));
                 }
                 let mut args = [Value::Vacant; 33];
                 fill_arguments(&w, &mut args);
-                return Ok(Action::Call(Call { program: call.program, repeats: call.repeats, kind: FrameKind::ModalMacro, args: Some(Box::new(args)), span }));
+                return Ok(Action::Call(Call {
+                    program: call.program,
+                    repeats: call.repeats,
+                    kind: FrameKind::ModalMacro,
+                    args: Some(Box::new(args)),
+                    span,
+                }));
             }
         }
         if has(|c| matches!(c, GCode::ModalCall(_))).is_some() {
@@ -255,18 +278,31 @@ impl State {
 
         if moved && !in_modal_macro && self.modal.modal_call == Some(ModalCallKind::AfterMove) {
             if let Some(call) = &self.modal_call {
-                return Ok(Action::Call(Call { program: call.program, repeats: call.repeats, kind: FrameKind::ModalMacro, args: Some(Box::new(call.args)), span }));
+                return Ok(Action::Call(Call {
+                    program: call.program,
+                    repeats: call.repeats,
+                    kind: FrameKind::ModalMacro,
+                    args: Some(Box::new(call.args)),
+                    span,
+                }));
             }
         }
         Ok(end.unwrap_or(Action::Next))
     }
 
     fn macro_call(&mut self, w: &Words, gspan: Span, kind: FrameKind) -> Result<Call, Diagnostic> {
-        let program = w.get(b'P').ok_or_else(|| Diagnostic::error(gspan, "a macro call needs P, the program number"))?;
+        let program =
+            w.get(b'P').ok_or_else(|| Diagnostic::error(gspan, "a macro call needs P, the program number"))?;
         let repeats = w.get(b'L').unwrap_or(1.0);
         let mut args = [Value::Vacant; 33];
         fill_arguments(w, &mut args);
-        Ok(Call { program: whole(program, w.span(b'P'), "program number")?, repeats: whole(repeats, w.span(b'L'), "repeat count")?, kind, args: Some(Box::new(args)), span: gspan })
+        Ok(Call {
+            program: whole(program, w.span(b'P'), "program number")?,
+            repeats: whole(repeats, w.span(b'L'), "repeat count")?,
+            kind,
+            args: Some(Box::new(args)),
+            span: gspan,
+        })
     }
 
     fn subprogram_call(&mut self, w: &Words, mspan: Span) -> Result<Call, Diagnostic> {
@@ -309,17 +345,29 @@ impl State {
             GCode::LengthCompOff => self.modal.length_comp = None,
             GCode::WorkOffset(i) => self.modal.work_offset = i,
             GCode::CycleOff => {}
-            GCode::CannedCycle => return Err(Diagnostic::error(gspan, "canned drilling cycles (G73–G89) are not supported yet")),
+            GCode::CannedCycle => {
+                return Err(Diagnostic::error(gspan, "canned drilling cycles (G73–G89) are not supported yet"))
+            }
             GCode::ModalCall(kind) => {
                 let call = self.macro_call(w, gspan, FrameKind::ModalMacro)?;
                 self.modal.modal_call = Some(kind);
-                self.modal_call = Some(ModalCall { program: call.program, repeats: call.repeats, args: *call.args.expect("macro arguments") });
+                self.modal_call = Some(ModalCall {
+                    program: call.program,
+                    repeats: call.repeats,
+                    args: *call.args.expect("macro arguments"),
+                });
             }
             GCode::ModalCallOff => {
                 self.modal.modal_call = None;
                 self.modal_call = None;
             }
-            GCode::Dwell | GCode::SetOffsets | GCode::Home | GCode::Skip | GCode::MachineCoords | GCode::MacroCall | GCode::SetPosition => {}
+            GCode::Dwell
+            | GCode::SetOffsets
+            | GCode::Home
+            | GCode::Skip
+            | GCode::MachineCoords
+            | GCode::MacroCall
+            | GCode::SetPosition => {}
         }
         Ok(())
     }
@@ -406,14 +454,25 @@ impl State {
 
     /// Applies the one-shot codes and the motion of a block. Returns whether
     /// an axis moved.
-    fn motion(&mut self, codes: &[Option<(GCode, Span)>], w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
+    fn motion(
+        &mut self,
+        codes: &[Option<(GCode, Span)>],
+        w: &Words,
+        span: Span,
+        line: u32,
+    ) -> Result<bool, Diagnostic> {
         let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
         match one_shot {
             Some((GCode::Dwell, gspan)) => {
                 let seconds = match (w.get(b'P'), w.get(b'X')) {
                     (Some(p), _) => p / 1000.0,
                     (None, Some(x)) => x,
-                    (None, None) => return Err(Diagnostic::error(gspan, "G04 needs the dwell time: X (seconds) or P (milliseconds)")),
+                    (None, None) => {
+                        return Err(Diagnostic::error(
+                            gspan,
+                            "G04 needs the dwell time: X (seconds) or P (milliseconds)",
+                        ))
+                    }
                 };
                 if seconds < 0.0 {
                     return Err(Diagnostic::error(gspan, "a dwell time cannot be negative"));
@@ -478,7 +537,9 @@ impl State {
                 self.skip_position = self.work_position();
                 return Ok(true);
             }
-            Some((GCode::SetOffsets, gspan)) => return Err(Diagnostic::error(gspan, "G10 (offsets by program) is not supported yet")),
+            Some((GCode::SetOffsets, gspan)) => {
+                return Err(Diagnostic::error(gspan, "G10 (offsets by program) is not supported yet"))
+            }
             _ => {}
         }
         let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
@@ -513,11 +574,17 @@ impl State {
             let (dx, dy) = (e[i] - s[i], e[j] - s[j]);
             let chord = dx.hypot(dy);
             if chord < 1e-9 {
-                return Err(Diagnostic::error(w.span(b'R'), "an R arc cannot end where it starts: give I J K for a full circle"));
+                return Err(Diagnostic::error(
+                    w.span(b'R'),
+                    "an R arc cannot end where it starts: give I J K for a full circle",
+                ));
             }
             let half = chord / 2.0;
             if r.abs() < half - 1e-6 {
-                return Err(Diagnostic::error(w.span(b'R'), format!("R{} is smaller than half the distance to the end point ({half:.4} mm)", r.abs())));
+                return Err(Diagnostic::error(
+                    w.span(b'R'),
+                    format!("R{} is smaller than half the distance to the end point ({half:.4} mm)", r.abs()),
+                ));
             }
             let h = (r * r - half * half).max(0.0).sqrt();
             // Centre to the left of the chord for a short CCW arc.
@@ -569,4 +636,3 @@ fn whole(v: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {
     }
     Ok(v as u32)
 }
-

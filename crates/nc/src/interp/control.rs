@@ -45,7 +45,12 @@ pub(super) struct Interp<'a> {
 }
 
 impl<'a> Interp<'a> {
-    pub(super) fn new(program: &'a mut Program, sources: &'a mut Sources, library: &'a mut dyn Library, settings: Settings) -> Self {
+    pub(super) fn new(
+        program: &'a mut Program,
+        sources: &'a mut Sources,
+        library: &'a mut dyn Library,
+        settings: Settings,
+    ) -> Self {
         Interp {
             program,
             sources,
@@ -92,7 +97,9 @@ impl<'a> Interp<'a> {
         for (kind, n) in summary {
             let span = self.st.diagnostics.iter().rev().find(|d| !d.is_error()).map_or(Span::default(), |d| d.span);
             let more = n - super::WARNINGS_PER_KIND;
-            self.st.diagnostics.push(Diagnostic::warning(span, format!("… and {more} more warnings like these ({kind})")));
+            self.st
+                .diagnostics
+                .push(Diagnostic::warning(span, format!("… and {more} more warnings like these ({kind})")));
         }
         Outcome {
             toolpath: self.st.toolpath,
@@ -215,9 +222,13 @@ impl<'a> Interp<'a> {
         let number = self.st.var_number(self.program, var).map_err(|m| Diagnostic::error(span, m))?;
         if number == 3000.0 {
             let text = &self.sources.get(span.file).text[span.start as usize..span.end as usize];
-            let message = text.find('(').and_then(|o| text[o + 1..].find(')').map(|c| text[o + 1..o + 1 + c].trim().to_string()));
+            let message =
+                text.find('(').and_then(|o| text[o + 1..].find(')').map(|c| text[o + 1..o + 1 + c].trim().to_string()));
             let alarm = 3000.0 + value.num();
-            return Err(Diagnostic::error(span, format!("macro alarm {alarm}: {}", message.unwrap_or_else(|| "(no message)".into()))));
+            return Err(Diagnostic::error(
+                span,
+                format!("macro alarm {alarm}: {}", message.unwrap_or_else(|| "(no message)".into())),
+            ));
         }
         self.st.write_var(number, value).map_err(|m| Diagnostic::error(span, m))
     }
@@ -225,7 +236,10 @@ impl<'a> Interp<'a> {
     fn jump(&mut self, unit: usize, target: Value, span: Span) -> Result<(), Diagnostic> {
         let n = target.num();
         if n.fract() != 0.0 || !(1.0..=99_999_999.0).contains(&n) {
-            return Err(Diagnostic::error(span, format!("GOTO {n}: a sequence number is a whole number from 1 to 99999999")));
+            return Err(Diagnostic::error(
+                span,
+                format!("GOTO {n}: a sequence number is a whole number from 1 to 99999999"),
+            ));
         }
         let to = self.unit_index(unit).labels.get(&(n as u32)).copied();
         let Some(to) = to else {
@@ -287,7 +301,10 @@ impl<'a> Interp<'a> {
             return Ok(u);
         }
         let Some(file) = self.library.load(number) else {
-            return Err(Diagnostic::error(span, format!("program O{number:04} is not in the file or the program library")));
+            return Err(Diagnostic::error(
+                span,
+                format!("program O{number:04} is not in the file or the program library"),
+            ));
         };
         let name = file.name.clone();
         let id = self.sources.add(file);
@@ -305,10 +322,21 @@ impl<'a> Interp<'a> {
 
     fn call(&mut self, call: Call) -> Result<(), Diagnostic> {
         let unit = self.find_unit(call.program, call.span)?;
-        let depth = self.frames.iter().filter(|f| f.kind.is_macro() == call.kind.is_macro() && f.kind != FrameKind::Main).count();
-        let (limit, what) = if call.kind.is_macro() { (MAX_MACRO_DEPTH, "macro calls") } else { (MAX_SUBPROGRAM_DEPTH, "subprogram calls") };
+        let depth = self
+            .frames
+            .iter()
+            .filter(|f| f.kind.is_macro() == call.kind.is_macro() && f.kind != FrameKind::Main)
+            .count();
+        let (limit, what) = if call.kind.is_macro() {
+            (MAX_MACRO_DEPTH, "macro calls")
+        } else {
+            (MAX_SUBPROGRAM_DEPTH, "subprogram calls")
+        };
         if depth >= limit {
-            return Err(Diagnostic::error(call.span, format!("{what} nested deeper than {limit} (a program that calls itself without end?)")));
+            return Err(Diagnostic::error(
+                call.span,
+                format!("{what} nested deeper than {limit} (a program that calls itself without end?)"),
+            ));
         }
         if call.repeats == 0 {
             return Ok(());

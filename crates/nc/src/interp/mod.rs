@@ -111,7 +111,13 @@ pub struct Outcome {
 /// Runs program unit `main` of `program` and returns the toolpath with its
 /// diagnostics. Subprograms are looked up first in `program`, then in
 /// `library` (whose files are added to `sources` and parsed into `program`).
-pub fn run(program: &mut Program, sources: &mut Sources, main: usize, library: &mut dyn Library, settings: &Settings) -> Outcome {
+pub fn run(
+    program: &mut Program,
+    sources: &mut Sources,
+    main: usize,
+    library: &mut dyn Library,
+    settings: &Settings,
+) -> Outcome {
     let mut interp = control::Interp::new(program, sources, library, settings.clone());
     interp.run(main);
     interp.finish()

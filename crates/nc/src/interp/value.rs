@@ -277,7 +277,14 @@ mod tests {
 
     #[test]
     fn function_domain_errors() {
-        for (func, a) in [(Func::Sqrt, -1.0), (Func::Asin, 1.5), (Func::Acos, -2.0), (Func::Ln, 0.0), (Func::Tan, 90.0), (Func::Bin, 10.0)] {
+        for (func, a) in [
+            (Func::Sqrt, -1.0),
+            (Func::Asin, 1.5),
+            (Func::Acos, -2.0),
+            (Func::Ln, 0.0),
+            (Func::Tan, 90.0),
+            (Func::Bin, 10.0),
+        ] {
             assert!(call(func, Num(a), None).is_err(), "{func:?}[{a}]");
         }
         assert!(call(Func::Pow, Num(-2.0), Some(Num(0.5))).is_err());

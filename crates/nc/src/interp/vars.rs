@@ -103,7 +103,8 @@ impl State {
             3002 => self.clock.set_ms(v * 3_600_000.0),
             5201..=5346 if (n - 5201) % 20 < 6 => {
                 let (frame, axis_index) = ((n - 5201) / 20, ((n - 5201) % 20) as usize);
-                let offset = if frame == 0 { &mut self.external_offset } else { &mut self.work_offsets[frame as usize - 1] };
+                let offset =
+                    if frame == 0 { &mut self.external_offset } else { &mut self.work_offsets[frame as usize - 1] };
                 let mut a = offset.to_array();
                 a[axis_index] = v;
                 *offset = Axes::from_array(a);

@@ -1,0 +1,36 @@
+//! The CSV motion dump (`kezuri run --emit csv`): one row per motion end
+//! point, full precision, the same text the golden tests compare.
+
+use std::fmt::Write;
+
+use kezuri_geom::{MoveKind, Toolpath};
+
+/// The header of the CSV dump.
+pub const CSV_HEADER: &str = "line,kind,x,y,z,a,b,c,feed";
+
+/// Writes `line,kind,x,y,z,a,b,c,feed` rows: `kind` is `rapid`, `feed`,
+/// `cw`, `ccw` or `probe`; dwells give no row; numbers are the shortest text
+/// that reads back to the same double; `feed` is in mm/min and empty for
+/// rapids.
+pub fn csv(toolpath: &Toolpath) -> String {
+    let mut out = String::with_capacity(64 * toolpath.moves.len() + 32);
+    out.push_str(CSV_HEADER);
+    out.push('\n');
+    for m in &toolpath.moves {
+        let kind = match m.kind {
+            MoveKind::Rapid => "rapid",
+            MoveKind::Feed => "feed",
+            MoveKind::Arc(arc) if arc.ccw => "ccw",
+            MoveKind::Arc(_) => "cw",
+            MoveKind::Probe => "probe",
+            MoveKind::Dwell(_) => continue,
+        };
+        let e = m.end;
+        let _ = write!(out, "{},{kind},{},{},{},{},{},{},", m.line, e.x, e.y, e.z, e.a, e.b, e.c);
+        if !m.is_rapid() {
+            let _ = write!(out, "{}", m.feed);
+        }
+        out.push('\n');
+    }
+    out
+}
