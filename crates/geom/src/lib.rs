@@ -22,6 +22,8 @@
 //! assert_eq!(path.feed_length(), 10.0);
 //! ```
 
+mod time;
 mod toolpath;
 
+pub use time::{cycle_time, Dynamics};
 pub use toolpath::{Arc, Axes, Coolant, Move, MoveKind, Plane, Spindle, Toolpath};
