@@ -220,6 +220,7 @@ pub struct Toolpath {
 
 impl Toolpath {
     /// Appends a move.
+    #[inline]
     pub fn push(&mut self, m: Move) {
         self.moves.push(m);
     }

@@ -6,7 +6,7 @@
 //! and subprogram files) parse into one `Program`; `GOTO` and `WHILE` resolve
 //! to block indices of the program unit they belong to.
 
-use crate::source::Span;
+use crate::source::{FileId, Span};
 
 /// Index of an expression in [`Program::exprs`].
 pub type ExprId = u32;
@@ -188,14 +188,76 @@ pub enum WordValue {
 }
 
 /// An address letter with its value: `X10.`, `G#1`, `F[#9*2]`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// Stored in 16 bytes: a million-block program holds millions of words, and
+/// where fresh memory is slow to touch (as on the benchmark machine, see
+/// BENCHMARKS.md) their size shows in the parse time. So the value is read
+/// through [`Word::value`], and the span through [`Word::span`] with the file
+/// of the block the word belongs to.
+#[derive(Clone, Copy)]
 pub struct Word {
     /// The address, an upper-case ASCII letter.
     pub letter: u8,
+    kind: WordKind,
+    /// Length of the word's text in bytes (capped at `u16::MAX`).
+    len: u16,
+    /// Offset of the word's first byte in its file.
+    start: u32,
+    /// The number's bits, or the expression id.
+    bits: u64,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum WordKind {
+    Integer,
+    Decimal,
+    Expr,
+}
+
+impl Word {
+    /// A word from its address, value and span (whose file is not kept).
+    pub fn new(letter: u8, value: WordValue, span: Span) -> Word {
+        let (bits, kind) = match value {
+            WordValue::Number { value, decimal: false } => (value.to_bits(), WordKind::Integer),
+            WordValue::Number { value, decimal: true } => (value.to_bits(), WordKind::Decimal),
+            WordValue::Expr(e) => (u64::from(e), WordKind::Expr),
+        };
+        let len = span.end.saturating_sub(span.start).min(u32::from(u16::MAX)) as u16;
+        Word { letter, kind, len, start: span.start, bits }
+    }
+
     /// The value.
-    pub value: WordValue,
-    /// Where the word is written.
-    pub span: Span,
+    #[inline]
+    pub fn value(&self) -> WordValue {
+        match self.kind {
+            WordKind::Expr => WordValue::Expr(self.bits as ExprId),
+            kind => WordValue::Number { value: f64::from_bits(self.bits), decimal: kind == WordKind::Decimal },
+        }
+    }
+
+    /// Where the word is written, in `file`: the file of its block.
+    #[inline]
+    pub fn span(&self, file: FileId) -> Span {
+        Span { file, start: self.start, end: self.start + u32::from(self.len) }
+    }
+}
+
+impl PartialEq for Word {
+    fn eq(&self, other: &Word) -> bool {
+        self.letter == other.letter
+            && self.value() == other.value()
+            && (self.start, self.len) == (other.start, other.len)
+    }
+}
+
+impl std::fmt::Debug for Word {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Word")
+            .field("letter", &self.letter)
+            .field("value", &self.value())
+            .field("bytes", &(self.start..self.start + u32::from(self.len)))
+            .finish()
+    }
 }
 
 /// One item of a `DPRNT[...]` statement.

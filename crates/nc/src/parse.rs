@@ -37,6 +37,11 @@ const OWORD_KEYWORDS: [&str; 15] = [
 pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     let bytes = text.as_bytes();
+    // Room for the whole file up front (a block per line, a word per 8
+    // bytes): growing the arenas step by step copies them. Capacity that is
+    // never touched costs no memory.
+    program.blocks.reserve(memchr::memchr_iter(b'\n', bytes).count() + 1);
+    program.words.reserve(bytes.len() / 8);
     let mut unit = ProgramUnit {
         number: None,
         title: None,
@@ -48,7 +53,7 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
     let mut line = 0u32;
     while pos < bytes.len() {
         line += 1;
-        let end = bytes[pos..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| pos + i);
+        let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |i| pos + i);
         let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0 };
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
@@ -134,7 +139,19 @@ impl LineParser<'_> {
 
     /// Skips spaces, tabs, carriage returns and `( … )` comments. A `;`
     /// ends the block.
+    #[inline]
     fn skip_blanks(&mut self) {
+        // Fast path: between words there is at most a space or two.
+        while self.pos < self.end && self.b[self.pos] == b' ' {
+            self.pos += 1;
+        }
+        if self.pos < self.end && matches!(self.b[self.pos], b'\t' | b'\r' | b'(' | b';') {
+            self.skip_blanks_slow();
+        }
+    }
+
+    #[inline(never)]
+    fn skip_blanks_slow(&mut self) {
         while self.pos < self.end {
             match self.b[self.pos] {
                 b' ' | b'\t' | b'\r' => self.pos += 1,
@@ -246,11 +263,10 @@ impl LineParser<'_> {
         let statement = self.statement()?;
         self.skip_blanks();
         if self.pos < self.end {
-            let rest = String::from_utf8_lossy(&self.b[self.pos..self.end]);
             if self.b[self.pos] == b'(' {
                 return Err(self.error_here("comment is not closed before the end of the line"));
             }
-            return Err(self.error_here(format!("unexpected '{}'", rest.chars().next().unwrap_or('?'))));
+            return Err(self.error_here(format!("unexpected '{}'", self.char_here())));
         }
         let line_end = if self.end > start && self.b[self.end - 1] == b'\r' { self.end - 1 } else { self.end };
         Ok(Block { span: Span::new(self.file, start, line_end), line, number, delete, statement })
@@ -270,6 +286,10 @@ impl LineParser<'_> {
                 let word = String::from_utf8_lossy(&self.b[self.pos..self.end]).trim().to_string();
                 Ok(self.unsupported(&format!("LinuxCNC O-word '{word}' is not supported yet")))
             }
+            // Most blocks are plain words: skip the keyword tests below when
+            // the first letter starts none of them (keep this list in step).
+            _ if !matches!(c, b'I' | b'G' | b'W' | b'D' | b'E' | b'P' | b'B') => self.words(),
+            b'G' if !self.at_keyword("GOTO") => self.words(),
             _ if self.eat_keyword("IF") => self.if_statement(),
             _ if self.eat_keyword("GOTO") => Ok(Statement::Goto(self.operand()?)),
             _ if self.eat_keyword("WHILE") => {
@@ -391,8 +411,13 @@ impl LineParser<'_> {
 
     fn words(&mut self) -> Result<Statement> {
         let start = self.program.words.len() as u32;
+        self.pos = plain_words(&self.b[..self.end], self.pos, self.file, &mut self.program.words);
+        self.skip_blanks();
         while let Some(c) = self.peek() {
             let word_start = self.pos;
+            if c == b'(' {
+                return Err(self.error_here("comment is not closed before the end of the line"));
+            }
             if !c.is_ascii_alphabetic() {
                 return Err(self.error_here(format!("expected an address letter, found '{}'", self.char_here())));
             }
@@ -400,20 +425,42 @@ impl LineParser<'_> {
                 return Err(self.error_here("a program number 'O' must be on a line of its own"));
             }
             self.pos += 1;
-            self.skip_blanks();
-            let value = self.word_value(c)?;
-            self.program.words.push(Word { letter: c, value, span: self.span(word_start) });
+            let value = match self.plain_number() {
+                Some(value) => value,
+                None => {
+                    self.skip_blanks();
+                    self.word_value(c)?
+                }
+            };
+            self.program.words.push(Word::new(c, value, self.span(word_start)));
             self.skip_blanks();
         }
         Ok(Statement::Words { start, len: self.program.words.len() as u32 - start })
     }
 
-    fn char_here(&self) -> char {
-        std::str::from_utf8(&self.b[self.pos..self.end.min(self.pos + 4)])
+    /// The character at the cursor, for a message: control characters
+    /// (binary garbage) escaped so that they can be seen.
+    fn char_here(&self) -> String {
+        let c = std::str::from_utf8(&self.b[self.pos..self.end.min(self.pos + 4)])
             .ok()
             .and_then(|s| s.chars().next())
             .or_else(|| String::from_utf8_lossy(&self.b[self.pos..self.end]).chars().next())
-            .unwrap_or('?')
+            .unwrap_or('?');
+        if c.is_control() {
+            c.escape_default().to_string()
+        } else {
+            c.to_string()
+        }
+    }
+
+    /// The common case of a word's value, `X-12.345`: a sign and a number
+    /// written right after the address. Gives what [`Self::word_value`]
+    /// gives for it; `None`, with the cursor unmoved, for anything else.
+    #[inline]
+    fn plain_number(&mut self) -> Option<WordValue> {
+        let (value, len) = signed_number(&self.b[self.pos..self.end])?;
+        self.pos += len;
+        Some(value)
     }
 
     fn word_value(&mut self, letter: u8) -> Result<WordValue> {
@@ -453,37 +500,23 @@ impl LineParser<'_> {
     /// value and whether a decimal point was written; `None` if no digit.
     fn number(&mut self) -> Result<Option<(f64, bool)>> {
         let start = self.pos;
-        let mut mantissa: u64 = 0;
-        let mut digits = 0u32;
-        let mut fraction = 0u32;
-        let mut decimal = false;
-        while self.pos < self.end {
-            let c = self.b[self.pos];
-            if c.is_ascii_digit() {
-                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                digits += 1;
-                fraction += u32::from(decimal);
-            } else if c == b'.' && !decimal {
-                decimal = true;
-            } else {
-                break;
-            }
-            self.pos += 1;
+        if let Some((value, decimal, len)) = short_number(&self.b[start..self.end]) {
+            self.pos += len;
+            return Ok(Some((value, decimal)));
         }
-        if digits == 0 {
-            self.pos = start;
+        // No digit at all, or more than 15: the standard library rounds those.
+        let s = &self.b[start..self.end];
+        let mut ignored = 0;
+        let int_digits = digit_run(s, &mut ignored);
+        let decimal = s.get(int_digits) == Some(&b'.');
+        let fraction = if decimal { digit_run(&s[int_digits + 1..], &mut ignored) } else { 0 };
+        if int_digits + fraction == 0 {
             return Ok(None);
         }
-        const POW10: [f64; 16] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15];
-        let value = if digits <= 15 {
-            // Exact: the mantissa and the power of ten are both exact doubles,
-            // and one IEEE division rounds correctly.
-            mantissa as f64 / POW10[fraction as usize]
-        } else {
-            let text = std::str::from_utf8(&self.b[start..self.pos]).unwrap_or("0");
-            let text = if text.ends_with('.') { &text[..text.len() - 1] } else { text };
-            text.parse::<f64>().map_err(|_| Diagnostic::error(self.span(start), "number cannot be read"))?
-        };
+        self.pos = start + int_digits + fraction + usize::from(decimal);
+        let text = std::str::from_utf8(&self.b[start..self.pos]).unwrap_or("0");
+        let text = text.strip_suffix('.').unwrap_or(text);
+        let value = text.parse::<f64>().map_err(|_| Diagnostic::error(self.span(start), "number cannot be read"))?;
         if !value.is_finite() || value > 1e15 {
             return Err(Diagnostic::error(self.span(start), "number is too large"));
         }
@@ -671,6 +704,83 @@ impl LineParser<'_> {
             None => Err(self.error_here("expected a value at the end of the line")),
         }
     }
+}
+
+/// The fast path of [`LineParser::words`]: reads the words of `line` from
+/// `pos` on for as long as each is an address letter with a plain number
+/// right after it (`X-12.345`) and only spaces come between them; pushes them
+/// as the general loop would, and returns the position after the last one
+/// (`pos` if none), where the general loop goes on.
+/// Not inlined: on its own the loop keeps its state in registers.
+#[inline(never)]
+fn plain_words(line: &[u8], pos: usize, file: FileId, words: &mut Vec<Word>) -> usize {
+    let (mut done, mut pos) = (pos, pos);
+    while let Some(&c) = line.get(pos) {
+        let letter = c.to_ascii_uppercase();
+        if !letter.is_ascii_alphabetic() || letter == b'O' {
+            break;
+        }
+        let Some((value, len)) = signed_number(&line[pos + 1..]) else { break };
+        done = pos + 1 + len;
+        words.push(Word::new(letter, value, Span::new(file, pos, done)));
+        pos = done;
+        while line.get(pos) == Some(&b' ') {
+            pos += 1;
+        }
+    }
+    done
+}
+
+/// A sign (or none) and a [`short_number`] at the start of `s`: the value as
+/// [`LineParser::word_value`] gives it, and the length in bytes.
+#[inline(always)]
+fn signed_number(s: &[u8]) -> Option<(WordValue, usize)> {
+    let (negative, unsigned) = match s.first() {
+        Some(b'-') => (true, &s[1..]),
+        Some(b'+') => (false, &s[1..]),
+        _ => (false, s),
+    };
+    let (value, decimal, len) = short_number(unsigned)?;
+    let value = WordValue::Number { value: if negative { -value } else { value }, decimal };
+    Some((value, s.len() - unsigned.len() + len))
+}
+
+/// The number literal at the start of `s` when it has at most 15 digits:
+/// its value, whether it has a decimal point, and its length in bytes.
+/// `None` for anything else (no digit, too long), which
+/// [`LineParser::number`] reads the slow way.
+#[inline(always)]
+fn short_number(s: &[u8]) -> Option<(f64, bool, usize)> {
+    const POW10: [f64; 16] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15];
+    let mut mantissa: u64 = 0;
+    let int_digits = digit_run(s, &mut mantissa);
+    let decimal = s.get(int_digits) == Some(&b'.');
+    let fraction = if decimal { digit_run(&s[int_digits + 1..], &mut mantissa) } else { 0 };
+    let digits = int_digits + fraction;
+    if digits == 0 || digits > 15 {
+        return None;
+    }
+    // Exact: the mantissa (below 10^15) and the power of ten are both exact
+    // doubles, and one IEEE division rounds correctly.
+    Some((mantissa as f64 / POW10[fraction], decimal, digits + usize::from(decimal)))
+}
+
+/// Counts the ASCII digits at the start of `s`, accumulating them into
+/// `mantissa` (wrapping: numbers of more than 15 digits are read again).
+#[inline(always)]
+fn digit_run(s: &[u8], mantissa: &mut u64) -> usize {
+    let mut m = *mantissa;
+    let mut n = 0;
+    for &c in s {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+        n += 1;
+    }
+    *mantissa = m;
+    n
 }
 
 fn utf8_len(first: u8) -> usize {

@@ -6,8 +6,8 @@ use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, RadiusComp,
 use super::value::Value;
 use super::vars::Locals;
 use super::{IntegerInput, ModalCall, State};
-use crate::ast::{Program, WordValue};
-use crate::source::{Diagnostic, Span};
+use crate::ast::{Program, Word, WordValue};
+use crate::source::{Diagnostic, FileId, Span};
 
 /// What the block pointer does after a block.
 pub(super) enum Action {
@@ -40,11 +40,16 @@ pub(super) struct Call {
     pub span: Span,
 }
 
-/// The evaluated words of one block.
-struct Words {
+/// The evaluated words of one block. Kept small and filled in place: it is
+/// made for every block.
+struct Words<'a> {
+    /// The block's words and their file, for the spans of diagnostics.
+    words: &'a [Word],
+    file: FileId,
     value: [f64; 26],
     present: u32,
-    spans: [Span; 26],
+    /// Where in `words` each present address is.
+    index: [u32; 26],
     g: [(u32, Span); 8],
     g_count: usize,
     m: [(u32, Span); 4],
@@ -55,7 +60,21 @@ fn bit(letter: u8) -> u32 {
     1 << (letter - b'A')
 }
 
-impl Words {
+impl<'a> Words<'a> {
+    fn new(words: &'a [Word], file: FileId) -> Self {
+        Words {
+            words,
+            file,
+            value: [0.0; 26],
+            present: 0,
+            index: [0; 26],
+            g: [(0, Span::default()); 8],
+            g_count: 0,
+            m: [(0, Span::default()); 4],
+            m_count: 0,
+        }
+    }
+
     fn has(&self, letter: u8) -> bool {
         self.present & bit(letter) != 0
     }
@@ -64,14 +83,23 @@ impl Words {
         self.has(letter).then(|| self.value[(letter - b'A') as usize])
     }
 
+    /// Where the word of this address is written; the default span when the
+    /// block has none.
     fn span(&self, letter: u8) -> Span {
-        self.spans[(letter - b'A') as usize]
+        if !self.has(letter) {
+            return Span::default();
+        }
+        self.words.get(self.index[(letter - b'A') as usize] as usize).map_or(Span::default(), |w| w.span(self.file))
     }
 
     fn any_axis(&self) -> bool {
         b"XYZABC".iter().any(|&l| self.has(l))
     }
 }
+
+/// Largest difference (mm) between an I J K arc's start and end radius that
+/// the control accepts: parameter 3410 of a Fanuc control, typically 0.02 mm.
+const ARC_RADIUS_ALARM: f64 = 0.02;
 
 /// Addresses whose integer values count least input increments.
 const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ";
@@ -105,21 +133,13 @@ fn argument_slot(letter: u8) -> Option<usize> {
 }
 
 impl State {
-    fn gather(&mut self, program: &Program, pc: u32) -> Result<Words, Diagnostic> {
-        let block = &program.blocks[pc as usize];
-        let mut w = Words {
-            value: [0.0; 26],
-            present: 0,
-            spans: [Span::default(); 26],
-            g: [(0, Span::default()); 8],
-            g_count: 0,
-            m: [(0, Span::default()); 4],
-            m_count: 0,
-        };
-        for word in program.words(block) {
-            let (v, decimal) = match word.value {
+    /// Evaluates the words of `w` (made by [`Words::new`]) into it.
+    fn gather(&mut self, program: &Program, w: &mut Words) -> Result<(), Diagnostic> {
+        for (k, word) in w.words.iter().enumerate() {
+            let word_span = word.span(w.file);
+            let (v, decimal) = match word.value() {
                 WordValue::Number { value, decimal } => (value, decimal),
-                WordValue::Expr(e) => match self.eval(program, e).map_err(|m| Diagnostic::error(word.span, m))? {
+                WordValue::Expr(e) => match self.eval(program, e).map_err(|m| Diagnostic::error(word_span, m))? {
                     Value::Vacant => continue,
                     Value::Num(v) => (v, true),
                 },
@@ -129,29 +149,29 @@ impl State {
                 b'G' => {
                     let tenths = (v * 10.0).round();
                     if !(0.0..=9999.0).contains(&tenths) || (v * 10.0 - tenths).abs() > 1e-6 {
-                        return Err(Diagnostic::error(word.span, format!("G{v} is not a G code")));
+                        return Err(Diagnostic::error(word_span, format!("G{v} is not a G code")));
                     }
                     if w.g_count == w.g.len() {
-                        return Err(Diagnostic::error(word.span, "more than 8 G codes in one block"));
+                        return Err(Diagnostic::error(word_span, "more than 8 G codes in one block"));
                     }
-                    w.g[w.g_count] = (tenths as u32, word.span);
+                    w.g[w.g_count] = (tenths as u32, word_span);
                     w.g_count += 1;
                 }
                 b'M' => {
                     if v.fract() != 0.0 || !(0.0..=99_999_999.0).contains(&v) {
-                        return Err(Diagnostic::error(word.span, format!("M{v} is not an M code")));
+                        return Err(Diagnostic::error(word_span, format!("M{v} is not an M code")));
                     }
                     if w.m_count == w.m.len() {
-                        return Err(Diagnostic::error(word.span, "more than 4 M codes in one block"));
+                        return Err(Diagnostic::error(word_span, "more than 4 M codes in one block"));
                     }
-                    w.m[w.m_count] = (v as u32, word.span);
+                    w.m[w.m_count] = (v as u32, word_span);
                     w.m_count += 1;
                     self.last.m = v;
                 }
                 _ => {
                     if w.has(letter) {
                         return Err(Diagnostic::error(
-                            word.span,
+                            word_span,
                             format!("address {} appears twice in this block", letter as char),
                         ));
                     }
@@ -160,60 +180,79 @@ impl State {
                         && AXIS_LETTERS.contains(&letter)
                         && self.settings.integer_input == IntegerInput::Increments
                     {
-                        let increment =
-                            if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 0.001 } else { 0.0001 };
+                        // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by
+                        // the exact power of ten gives the nearest double (X-26 is -0.026).
+                        let counts =
+                            if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 1000.0 } else { 10_000.0 };
                         if v != 0.0 {
-                            let unit = if self.modal.units == Units::Mm { "mm" } else { "inch" };
+                            let unit = match self.modal.units {
+                                _ if b"ABC".contains(&letter) => "deg",
+                                Units::Mm => "mm",
+                                Units::Inch => "inch",
+                            };
                             self.warn(
                                 "decimal",
-                                word.span,
+                                word_span,
                                 format!(
                                     "{}{} has no decimal point: read as {} increments = {} {unit}; write {}{}. if you meant {} {unit}",
                                     letter as char,
                                     v,
                                     v,
-                                    v * increment,
+                                    v / counts,
                                     letter as char,
                                     v,
                                     v
                                 ),
                             );
                         }
-                        v *= increment;
+                        v /= counts;
                     }
                     let i = (letter - b'A') as usize;
                     w.value[i] = v;
-                    w.spans[i] = word.span;
+                    w.index[i] = k as u32;
                     w.present |= bit(letter);
                 }
             }
         }
-        Ok(w)
+        Ok(())
     }
 
     /// Executes the NC block at `pc`.
     pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
-        let (span, line) = (program.blocks[pc as usize].span, program.blocks[pc as usize].line);
-        let w = self.gather(program, pc)?;
+        let block = &program.blocks[pc as usize];
+        let (span, line) = (block.span, block.line);
+        let mut w = Words::new(program.words(block), block.span.file);
+        self.gather(program, &mut w)?;
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
             let Some(code) = GCode::decode(tenths) else {
-                let shown = if tenths % 10 == 0 {
-                    format!("G{:02}", tenths / 10)
-                } else {
-                    format!("G{}.{}", tenths / 10, tenths % 10)
-                };
-                return Err(Diagnostic::error(gspan, format!("{shown} is not supported")));
+                return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
             };
             let group = code.group();
-            if group != 0 {
-                if let Some((other, _)) = codes[..k].iter().flatten().find(|(c, _)| c.group() == group) {
+            if let Some(j) = codes[..k].iter().position(|c| c.is_some_and(|(c, _)| c.group() == group)) {
+                if group == 0 {
                     return Err(Diagnostic::error(
                         gspan,
-                        format!("two G codes of modal group {group} in one block ({other:?} and {code:?})"),
+                        format!(
+                            "{} and {} are both one-shot G codes (group 0): give them in two blocks",
+                            g_name(w.g[j].0),
+                            g_name(tenths)
+                        ),
                     ));
                 }
+                // As on a Fanuc control, the last G code of a group in a block is the valid one.
+                self.warn(
+                    "same-group",
+                    gspan,
+                    format!(
+                        "{} and {} are both in modal group {group}: the last one, {}, is used",
+                        g_name(w.g[j].0),
+                        g_name(tenths),
+                        g_name(tenths)
+                    ),
+                );
+                codes[j] = None;
             }
             codes[k] = Some((code, gspan));
         }
@@ -416,9 +455,12 @@ impl State {
         }
     }
 
-    /// The end point, in work coordinates, that the axis words ask for.
+    /// The end point, in machine coordinates, that the axis words ask for.
     fn target(&self, w: &Words) -> Axes {
-        let mut p = self.work_position().to_array();
+        let o = self.frame_offset().to_array();
+        let t = self.tip.to_array();
+        // The work position (as `work_position` gives it), then the words.
+        let mut p: [f64; 6] = std::array::from_fn(|i| t[i] - o[i]);
         for (i, &letter) in b"XYZABC".iter().enumerate() {
             if let Some(v) = w.get(letter) {
                 let v = if i < 3 { self.mm(v) } else { v };
@@ -428,11 +470,6 @@ impl State {
                 };
             }
         }
-        Axes::from_array(p)
-    }
-
-    fn to_machine(&self, work: Axes) -> Axes {
-        let (p, o) = (work.to_array(), self.frame_offset().to_array());
         Axes::from_array(std::array::from_fn(|i| p[i] + o[i]))
     }
 
@@ -465,6 +502,8 @@ impl State {
         match one_shot {
             Some((GCode::Dwell, gspan)) => {
                 let seconds = match (w.get(b'P'), w.get(b'X')) {
+                    // P is milliseconds on a Fanuc control, seconds on LinuxCNC and GRBL.
+                    (Some(p), _) if self.settings.integer_input == IntegerInput::Units => p,
                     (Some(p), _) => p / 1000.0,
                     (None, Some(x)) => x,
                     (None, None) => {
@@ -481,7 +520,7 @@ impl State {
                 return Ok(false);
             }
             Some((GCode::Home, _)) => {
-                let via = self.to_machine(self.target(w));
+                let via = self.target(w);
                 let mut home = self.tip;
                 let (h, mut v) = (self.settings.home.to_array(), home.to_array());
                 let lz = self.length_offset();
@@ -522,19 +561,22 @@ impl State {
                         p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
                     }
                 }
-                let kind = if self.modal.motion == Motion::Rapid { MoveKind::Rapid } else { MoveKind::Feed };
-                let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed_mm_min(span) };
-                self.push_move(kind, Axes::from_array(p), feed, line);
+                // G53 positions at rapid traverse whatever the group 1 mode.
+                if w.any_axis() {
+                    self.push_move(MoveKind::Rapid, Axes::from_array(p), 0.0, line);
+                }
                 return Ok(w.any_axis());
             }
             Some((GCode::Skip, _)) => {
                 if !w.any_axis() {
                     return Ok(false);
                 }
-                let end = self.to_machine(self.target(w));
+                let end = self.target(w);
                 let feed = self.feed_mm_min(span);
                 self.push_move(MoveKind::Probe, end, feed, line);
-                self.skip_position = self.work_position();
+                // #5061… include the tool length offset, as #5041… do.
+                let work = self.work_position();
+                self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
                 return Ok(true);
             }
             Some((GCode::SetOffsets, gspan)) => {
@@ -546,7 +588,7 @@ impl State {
         if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
             return Ok(false);
         }
-        let end = self.to_machine(self.target(w));
+        let end = self.target(w);
         match self.modal.motion {
             Motion::Rapid => self.push_move(MoveKind::Rapid, end, 0.0, line),
             Motion::Linear => {
@@ -608,7 +650,15 @@ impl State {
             if r0 < 1e-9 {
                 return Err(Diagnostic::error(span, "the arc's centre is its start point (radius 0)"));
             }
-            if (r1 - r0).abs() > 0.002 {
+            let off = (r1 - r0).abs();
+            if off > ARC_RADIUS_ALARM {
+                // The control stops here (Fanuc alarm PS0020, over tolerance of radius).
+                return Err(Diagnostic::error(
+                    span,
+                    format!("the arc's end point is {off:.4} mm off its circle (radius {r0:.4} at the start, {r1:.4} at the end): more than {ARC_RADIUS_ALARM} mm, the control stops with an alarm"),
+                ));
+            }
+            if off > 0.002 {
                 self.warn(
                     "arc-radius",
                     span,
@@ -622,11 +672,24 @@ impl State {
     }
 }
 
+/// `G01`, `G66.1`: a G code as written, from ten times its number.
+fn g_name(tenths: u32) -> String {
+    if tenths.is_multiple_of(10) {
+        format!("G{:02}", tenths / 10)
+    } else {
+        format!("G{:02}.{}", tenths / 10, tenths % 10)
+    }
+}
+
 fn fill_arguments(w: &Words, args: &mut Locals) {
     for letter in b'A'..=b'Z' {
         if let (Some(v), Some(slot)) = (w.get(letter), argument_slot(letter)) {
             args[slot - 1] = Value::Num(v);
         }
+    }
+    // M words are kept apart as M codes; the first one is argument #13.
+    if w.m_count > 0 {
+        args[12] = Value::Num(f64::from(w.m[0].0));
     }
 }
 

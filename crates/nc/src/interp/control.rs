@@ -9,6 +9,8 @@ use crate::ast::{Expr, ExprId, PrintItem, Program, Statement};
 use crate::parse::parse;
 use crate::source::{Diagnostic, Sources, Span};
 
+/// Most moves reserved before a run (a hint; the toolpath grows past it).
+const MAX_RESERVED_MOVES: usize = 1 << 22;
 /// Deepest nesting of M98 subprogram calls.
 const MAX_SUBPROGRAM_DEPTH: usize = 4;
 /// Deepest nesting of G65/G66 macro calls.
@@ -67,6 +69,9 @@ impl<'a> Interp<'a> {
     pub(super) fn run(&mut self, main: usize) {
         let Some(unit) = self.program.units.get(main) else { return };
         self.st.last.o = unit.number.unwrap_or(0) as f64;
+        // Room for about a move per block up front: growing a large toolpath
+        // step by step copies it. Untouched capacity costs no memory.
+        self.st.toolpath.moves.reserve(unit.blocks.len().min(MAX_RESERVED_MOVES));
         self.frames.push(Frame {
             unit: main,
             pc: unit.blocks.start,
@@ -174,12 +179,12 @@ impl<'a> Interp<'a> {
             }
             &Statement::Goto(target) => {
                 let n = located(self.st.eval(self.program, target))?;
-                self.jump(unit, n, span)?;
+                self.jump(unit, n, span, "GOTO")?;
             }
             &Statement::IfGoto { cond, target } => {
                 if located(self.st.eval(self.program, cond))?.truth() {
                     let n = located(self.st.eval(self.program, target))?;
-                    self.jump(unit, n, span)?;
+                    self.jump(unit, n, span, "GOTO")?;
                 }
             }
             &Statement::IfThen { cond, var, value } => {
@@ -233,18 +238,20 @@ impl<'a> Interp<'a> {
         self.st.write_var(number, value).map_err(|m| Diagnostic::error(span, m))
     }
 
-    fn jump(&mut self, unit: usize, target: Value, span: Span) -> Result<(), Diagnostic> {
+    /// Jumps to block `N<target>` of `unit`; `what` names the statement
+    /// (`GOTO`, `M99 P`) in messages.
+    fn jump(&mut self, unit: usize, target: Value, span: Span, what: &str) -> Result<(), Diagnostic> {
         let n = target.num();
         if n.fract() != 0.0 || !(1.0..=99_999_999.0).contains(&n) {
             return Err(Diagnostic::error(
                 span,
-                format!("GOTO {n}: a sequence number is a whole number from 1 to 99999999"),
+                format!("{what}{n}: a sequence number is a whole number from 1 to 99999999"),
             ));
         }
         let to = self.unit_index(unit).labels.get(&(n as u32)).copied();
         let Some(to) = to else {
             let number = self.program.units[unit].number.map_or(String::from("this program"), |o| format!("O{o:04}"));
-            return Err(Diagnostic::error(span, format!("GOTO {n}: there is no block N{n} in {number}")));
+            return Err(Diagnostic::error(span, format!("{what}{n}: there is no block N{n} in {number}")));
         };
         let from = self.frames.last().map_or(0, |f| f.pc);
         if to < from {
@@ -367,13 +374,10 @@ impl<'a> Interp<'a> {
         let start = self.program.units[unit].blocks.start;
         let f = self.frame();
         if f.repeats_left > 0 {
+            // The next repetition goes on with the same local variables: the
+            // arguments are set on the first one only (G65 P… L…).
             f.repeats_left -= 1;
             f.pc = start;
-            let args = f.args.clone();
-            if let Some(args) = args {
-                self.st.leave_level();
-                self.st.enter_level(&args);
-            }
             return Ok(true);
         }
         let done = self.frames.pop().expect("a frame to return from");
@@ -385,7 +389,7 @@ impl<'a> Interp<'a> {
         }
         if let Some(n) = target {
             let caller = self.frames.last().map_or(0, |f| f.unit);
-            self.jump(caller, Value::Num(f64::from(n)), span)?;
+            self.jump(caller, Value::Num(f64::from(n)), span, "M99 P")?;
         }
         Ok(true)
     }
@@ -408,7 +412,12 @@ fn build_index(program: &Program, unit: usize) -> UnitIndex {
                     index.loops.insert(i, Ok(start));
                 }
                 Some(&(l, _)) => {
-                    index.loops.insert(i, Err(format!("END{label} closes a loop opened as DO{l}: loops must nest")));
+                    let crossing =
+                        format!("END{label} comes before END{l}: the DO{label} and DO{l} loops cross; loops must nest");
+                    if let Some(&(_, start)) = open.iter().rev().find(|(o, _)| *o == label) {
+                        index.loops.insert(start, Err(crossing.clone()));
+                    }
+                    index.loops.insert(i, Err(crossing));
                 }
                 None => {
                     index.loops.insert(i, Err(format!("END{label} has no WHILE … DO{label} before it")));
@@ -418,7 +427,10 @@ fn build_index(program: &Program, unit: usize) -> UnitIndex {
         }
     }
     for (label, start) in open {
-        index.loops.insert(start, Err(format!("DO{label} has no END{label} after it in this program")));
+        index
+            .loops
+            .entry(start)
+            .or_insert_with(|| Err(format!("DO{label} has no END{label} after it in this program")));
     }
     index
 }

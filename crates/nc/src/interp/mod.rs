@@ -34,7 +34,8 @@ pub enum IntegerInput {
     /// 0.1 mm. The default; such words get a warning.
     #[default]
     Increments,
-    /// Whole units, as LinuxCNC and GRBL read them: `X100` is 100 mm.
+    /// Whole units, as LinuxCNC and GRBL read them: `X100` is 100 mm. The
+    /// dwell `G4 P` is then in seconds too, as those controls read it.
     Units,
 }
 

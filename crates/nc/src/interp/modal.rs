@@ -77,7 +77,7 @@ pub enum GCode {
     Units(Units),
     /// G28
     Home,
-    /// G31
+    /// G31 skip; also G38.2 … G38.5, the LinuxCNC and GRBL probe moves
     Skip,
     /// G40 G41 G42
     RadiusComp(RadiusComp),
@@ -124,7 +124,7 @@ impl GCode {
             200 => Units(self::Units::Inch),
             210 => Units(self::Units::Mm),
             280 => Home,
-            310 => Skip,
+            310 | 382..=385 => Skip,
             400 => RadiusComp(self::RadiusComp::Off),
             410 => RadiusComp(self::RadiusComp::Left),
             420 => RadiusComp(self::RadiusComp::Right),
@@ -132,13 +132,13 @@ impl GCode {
             440 => LengthComp(false),
             490 => LengthCompOff,
             530 => MachineCoords,
-            540..=590 if tenths % 10 == 0 => WorkOffset(((tenths - 540) / 10) as usize),
+            540..=590 if tenths.is_multiple_of(10) => WorkOffset(((tenths - 540) / 10) as usize),
             650 => MacroCall,
             660 => ModalCall(ModalCallKind::AfterMove),
             661 => ModalCall(ModalCallKind::EveryBlock),
             670 => ModalCallOff,
             800 => CycleOff,
-            730 | 740 | 760 | 810..=890 if tenths % 10 == 0 => CannedCycle,
+            730 | 740 | 760 | 810..=890 if tenths.is_multiple_of(10) => CannedCycle,
             900 => Distance(self::Distance::Absolute),
             910 => Distance(self::Distance::Incremental),
             920 => SetPosition,

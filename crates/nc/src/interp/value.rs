@@ -59,9 +59,11 @@ fn whole(v: f64, what: &str) -> Result<i64, String> {
 pub fn binary(op: BinOp, a: Value, b: Value) -> Result<Value, String> {
     use BinOp::*;
     let (x, y) = (a.num(), b.num());
+    // EQ and NE tell vacant from 0.
+    let equal = || a == b || (!a.is_vacant() && !b.is_vacant() && x == y);
     let v = match op {
-        Eq => return Ok(from_bool(a == b || (!a.is_vacant() && !b.is_vacant() && x == y))),
-        Ne => return Ok(from_bool(!(a == b || (!a.is_vacant() && !b.is_vacant() && x == y)))),
+        Eq => return Ok(from_bool(equal())),
+        Ne => return Ok(from_bool(!equal())),
         Gt => return Ok(from_bool(x > y)),
         Ge => return Ok(from_bool(x >= y)),
         Lt => return Ok(from_bool(x < y)),

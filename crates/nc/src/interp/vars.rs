@@ -79,9 +79,21 @@ impl State {
             4120 => self.pending_tool as f64,
             5001..=5006 => axis(work, n - 5001).unwrap_or(0.0),
             5021..=5026 => axis(self.machine_position(), n - 5021).unwrap_or(0.0),
-            5041..=5046 => axis(work, n - 5041).unwrap_or(0.0),
+            // As on a Fanuc control, #5001… is the programmed end point (no
+            // tool length offset); #5021…, #5041… and #5061… include it: they
+            // are where the spindle's reference point is, and #5081… is the
+            // offset itself (so #5063-#5083 is the tool tip).
+            5041..=5046 => axis(work, n - 5041).unwrap_or(0.0) + if n == 5043 { self.length_offset() } else { 0.0 },
             5061..=5066 => axis(self.skip_position, n - 5061).unwrap_or(0.0),
-            5201..=5346 => {
+            5081..=5086 => {
+                if n == 5083 {
+                    self.length_offset()
+                } else {
+                    0.0
+                }
+            }
+            // #5201… external offset, #5221… G54, …, #5321… G59 (six axes each).
+            5201..=5326 => {
                 let (frame, axis_index) = ((n - 5201) / 20, (n - 5201) % 20);
                 let offset = if frame == 0 { self.external_offset } else { self.work_offsets[frame as usize - 1] };
                 axis(offset, axis_index).ok_or_else(|| format!("#{n} is not a work offset variable"))?
@@ -101,7 +113,7 @@ impl State {
             }
             3001 => self.clock.set_ms(v),
             3002 => self.clock.set_ms(v * 3_600_000.0),
-            5201..=5346 if (n - 5201) % 20 < 6 => {
+            5201..=5326 if (n - 5201) % 20 < 6 => {
                 let (frame, axis_index) = ((n - 5201) / 20, ((n - 5201) % 20) as usize);
                 let offset =
                     if frame == 0 { &mut self.external_offset } else { &mut self.work_offsets[frame as usize - 1] };

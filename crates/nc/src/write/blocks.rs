@@ -1,0 +1,610 @@
+//! The block writer behind [`program`](super::program): what the control
+//! knows at each point of the program, and the words of each block.
+
+use std::f64::consts::PI;
+
+use kezuri_geom::{Arc, Axes, Coolant, Move, Plane, Spindle, Toolpath};
+
+use super::gcode::{Dialect, WriteError, WriteOptions};
+
+/// The words that differ between dialects.
+struct Codes {
+    motion: [&'static str; 4],
+    plane: [&'static str; 3],
+    dwell: &'static str,
+    probe: &'static str,
+    spindle: [&'static str; 3],
+    tool_change: &'static str,
+    mist: &'static str,
+    flood: &'static str,
+    coolant_off: &'static str,
+    end: &'static str,
+}
+
+static FANUC: Codes = Codes {
+    motion: ["G00", "G01", "G02", "G03"],
+    plane: ["G17", "G18", "G19"],
+    dwell: "G04",
+    probe: "G31",
+    spindle: ["M05", "M03", "M04"],
+    tool_change: "M06",
+    mist: "M07",
+    flood: "M08",
+    coolant_off: "M09",
+    end: "M30",
+};
+
+static SHORT: Codes = Codes {
+    motion: ["G0", "G1", "G2", "G3"],
+    plane: ["G17", "G18", "G19"],
+    dwell: "G4",
+    probe: "G38.2",
+    spindle: ["M5", "M3", "M4"],
+    tool_change: "M6",
+    mist: "M7",
+    flood: "M8",
+    coolant_off: "M9",
+    end: "M2",
+};
+
+/// The safe start block: mm, absolute, XY plane, feed per minute, no cutter
+/// compensation, no canned cycle.
+const SAFE_START: &str = "G21 G90 G17 G94 G40 G80";
+
+/// Largest `N` number a Fanuc control reads.
+const MAX_SEQUENCE: u32 = 99_999;
+
+/// Numbers must be smaller than this in size.
+const LIMIT: f64 = 1e9;
+
+const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+
+const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+
+/// The motion modal group (group 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Motion {
+    Rapid,
+    Linear,
+    Cw,
+    Ccw,
+}
+
+/// The writer and what it knows of the control's state.
+pub(super) struct Writer {
+    out: String,
+    dialect: Dialect,
+    codes: &'static Codes,
+    digits: u32,
+    /// 10^digits.
+    scale: f64,
+    /// Write a decimal point on every axis word (Fanuc).
+    point: bool,
+    step: u32,
+    sequence: u32,
+    /// Which of X Y Z A B C the program writes.
+    used: [bool; 6],
+    /// The control's position in units of the last digit (`None`: unknown).
+    pos: [Option<i64>; 6],
+    motion: Option<Motion>,
+    plane: Option<Plane>,
+    feed: Option<i64>,
+    speed: Option<i64>,
+    spindle: Spindle,
+    coolant: Coolant,
+    tool: u32,
+    /// Words in the block being written.
+    words: u32,
+    /// Index and source line of the move being written.
+    pub(super) at: (usize, u32),
+}
+
+impl Dialect {
+    fn codes(self) -> &'static Codes {
+        match self {
+            Dialect::Fanuc => &FANUC,
+            Dialect::LinuxCnc | Dialect::Grbl => &SHORT,
+        }
+    }
+}
+
+impl Writer {
+    pub(super) fn new(toolpath: &Toolpath, o: &WriteOptions) -> Result<Writer, WriteError> {
+        let range = |name, value: u32, min, max| {
+            if (min..=max).contains(&value) {
+                Ok(())
+            } else {
+                Err(WriteError::Option { name, value, min, max })
+            }
+        };
+        range("digits", u32::from(o.digits), 0, POW10.len() as u32 - 1)?;
+        if let Some(step) = o.line_numbers {
+            range("line_numbers", step, 1, MAX_SEQUENCE)?;
+        }
+        if o.dialect == Dialect::Fanuc {
+            range("program_number", o.program_number, 1, 9999)?;
+        }
+        let digits = u32::from(o.digits);
+        let mut w = Writer {
+            out: String::with_capacity(toolpath.moves.len() * 24 + 256),
+            dialect: o.dialect,
+            codes: o.dialect.codes(),
+            digits,
+            scale: POW10[digits as usize] as f64,
+            point: o.dialect == Dialect::Fanuc,
+            step: o.line_numbers.unwrap_or(0),
+            sequence: o.line_numbers.unwrap_or(0),
+            used: [true, true, true, false, false, false],
+            pos: [None, None, None, Some(0), Some(0), Some(0)],
+            motion: None,
+            plane: Some(Plane::Xy),
+            feed: None,
+            speed: Some(0),
+            spindle: Spindle::Off,
+            coolant: Coolant::default(),
+            tool: 0,
+            words: 0,
+            at: (0, 0),
+        };
+        // Rotary axes are written only if the toolpath turns them.
+        for (index, m) in toolpath.moves.iter().enumerate() {
+            w.at = (index, m.line);
+            for p in [m.start, m.end] {
+                let v = p.to_array();
+                for k in 3..6 {
+                    if !w.used[k] && w.fixed(v[k], AXIS_LETTERS[k])? != 0 {
+                        if w.dialect == Dialect::Grbl {
+                            return Err(WriteError::RotaryAxis {
+                                index,
+                                line: m.line,
+                                axis: AXIS_LETTERS[k],
+                                dialect: w.dialect,
+                            });
+                        }
+                        w.used[k] = true;
+                        w.pos[k] = None;
+                    }
+                }
+            }
+        }
+        Ok(w)
+    }
+
+    pub(super) fn header(&mut self, o: &WriteOptions) {
+        let title = o.title.as_deref().map(str::trim).filter(|t| !t.is_empty());
+        if self.dialect == Dialect::Fanuc {
+            self.out.push_str("%\nO");
+            push_padded(&mut self.out, u64::from(o.program_number), 4);
+            if let Some(t) = title {
+                self.out.push(' ');
+                push_comment(&mut self.out, t);
+            }
+            self.out.push('\n');
+        } else if let Some(t) = title {
+            push_comment(&mut self.out, t);
+            self.out.push('\n');
+        }
+        self.block();
+        self.code(SAFE_START);
+        self.out.push('\n');
+    }
+
+    /// The last block and the closing line; the program text.
+    pub(super) fn finish(mut self) -> String {
+        self.block();
+        self.code(self.codes.end);
+        self.out.push('\n');
+        if self.dialect == Dialect::Fanuc {
+            self.out.push_str("%\n");
+        }
+        self.out
+    }
+
+    /// A value in units of the last digit, or an error for a value no
+    /// program can hold.
+    fn fixed(&self, v: f64, word: char) -> Result<i64, WriteError> {
+        if !v.is_finite() || v.abs() >= LIMIT {
+            return Err(self.number_error(word, v));
+        }
+        Ok((v * self.scale).round() as i64)
+    }
+
+    fn number_error(&self, word: char, value: f64) -> WriteError {
+        WriteError::Number { index: self.at.0, line: self.at.1, word, value }
+    }
+
+    /// Like [`Writer::fixed`] for values that cannot be negative.
+    fn non_negative(&self, v: f64, word: char) -> Result<i64, WriteError> {
+        if v < 0.0 {
+            return Err(self.number_error(word, v));
+        }
+        self.fixed(v, word)
+    }
+
+    /// The rounded position of the axes the program writes.
+    fn target(&self, p: Axes) -> Result<[i64; 6], WriteError> {
+        let v = p.to_array();
+        let mut t = [0; 6];
+        for k in 0..6 {
+            if self.used[k] {
+                t[k] = self.fixed(v[k], AXIS_LETTERS[k])?;
+            }
+        }
+        Ok(t)
+    }
+
+    /// Starts a block: its `N` word when blocks are numbered.
+    fn block(&mut self) {
+        self.words = 0;
+        if self.step > 0 {
+            self.space();
+            self.out.push('N');
+            push_uint(&mut self.out, u64::from(self.sequence));
+            self.sequence =
+                if self.sequence > MAX_SEQUENCE - self.step { self.step } else { self.sequence + self.step };
+        }
+    }
+
+    fn space(&mut self) {
+        if self.words > 0 {
+            self.out.push(' ');
+        }
+        self.words += 1;
+    }
+
+    fn code(&mut self, code: &str) {
+        self.space();
+        self.out.push_str(code);
+    }
+
+    /// A word whose value is `n` units of the last digit.
+    fn word(&mut self, letter: char, n: i64, point: bool) {
+        self.space();
+        self.out.push(letter);
+        push_fixed(&mut self.out, n, self.digits, point);
+    }
+
+    /// One block holding only `code`.
+    fn line(&mut self, code: &str) {
+        self.block();
+        self.code(code);
+        self.out.push('\n');
+    }
+
+    /// Tool, spindle and coolant blocks that bring the control to the state
+    /// of move `m`.
+    pub(super) fn state(&mut self, m: &Move) -> Result<(), WriteError> {
+        if m.tool != self.tool {
+            self.tool_change(m.tool);
+        }
+        let speed = self.non_negative(m.speed, 'S')?;
+        let turns_on = m.spindle != Spindle::Off && m.spindle != self.spindle;
+        if turns_on || Some(speed) != self.speed || m.spindle != self.spindle {
+            self.block();
+            if turns_on || Some(speed) != self.speed {
+                self.word('S', speed, false);
+                self.speed = Some(speed);
+            }
+            if m.spindle != self.spindle {
+                let code = match m.spindle {
+                    Spindle::Off => self.codes.spindle[0],
+                    Spindle::Cw => self.codes.spindle[1],
+                    Spindle::Ccw => self.codes.spindle[2],
+                };
+                self.code(code);
+                self.spindle = m.spindle;
+            }
+            self.out.push('\n');
+        }
+        let (was, now) = (self.coolant, m.coolant);
+        if was != now {
+            if (was.mist && !now.mist) || (was.flood && !now.flood) {
+                self.line(self.codes.coolant_off);
+                self.coolant = Coolant::default();
+            }
+            if now.mist && !self.coolant.mist {
+                self.line(self.codes.mist);
+            }
+            if now.flood && !self.coolant.flood {
+                self.line(self.codes.flood);
+            }
+            self.coolant = now;
+        }
+        Ok(())
+    }
+
+    fn tool_change(&mut self, tool: u32) {
+        if self.spindle != Spindle::Off {
+            self.line(self.codes.spindle[0]);
+            self.spindle = Spindle::Off;
+        }
+        if self.coolant != Coolant::default() {
+            self.line(self.codes.coolant_off);
+            self.coolant = Coolant::default();
+        }
+        if self.dialect == Dialect::Grbl {
+            self.out.push_str("(TOOL CHANGE: PUT IN TOOL ");
+            push_uint(&mut self.out, u64::from(tool));
+            self.out.push_str(", THEN RESUME)\n");
+            self.line("M0");
+        } else {
+            self.block();
+            self.space();
+            self.out.push('T');
+            push_uint(&mut self.out, u64::from(tool));
+            self.code(self.codes.tool_change);
+            self.out.push('\n');
+        }
+        // A tool change macro may move the axes and change modal words.
+        self.tool = tool;
+        for k in 0..6 {
+            if self.used[k] {
+                self.pos[k] = None;
+            }
+        }
+        self.motion = None;
+        self.plane = None;
+        self.feed = None;
+    }
+
+    /// A straight move to `end`: `motion` is `None` for a probe move; `feed`
+    /// is `None` for a rapid.
+    pub(super) fn straight(&mut self, motion: Option<Motion>, end: Axes, feed: Option<f64>) -> Result<(), WriteError> {
+        let t = self.target(end)?;
+        let feed = feed.map(|f| self.non_negative(f, 'F')).transpose()?;
+        self.straight_to(motion, t, feed);
+        Ok(())
+    }
+
+    fn straight_to(&mut self, motion: Option<Motion>, t: [i64; 6], feed: Option<i64>) {
+        if (0..6).all(|k| self.pos[k] == Some(t[k])) {
+            return;
+        }
+        self.block();
+        match motion {
+            Some(g) if self.motion != Some(g) => {
+                self.code(self.codes.motion[g as usize]);
+                self.motion = Some(g);
+            }
+            Some(_) => {}
+            None => {
+                self.code(self.codes.probe);
+                self.motion = None;
+            }
+        }
+        self.axis_words(&t);
+        if let Some(f) = feed {
+            self.feed_word(f);
+        }
+        self.out.push('\n');
+    }
+
+    /// The axis words of `t` that differ from the control's position, which
+    /// becomes `t`.
+    fn axis_words(&mut self, t: &[i64; 6]) {
+        for k in 0..6 {
+            if self.pos[k] != Some(t[k]) {
+                self.word(AXIS_LETTERS[k], t[k], self.point);
+                self.pos[k] = Some(t[k]);
+            }
+        }
+    }
+
+    fn feed_word(&mut self, f: i64) {
+        if self.feed != Some(f) {
+            self.word('F', f, self.point);
+            self.feed = Some(f);
+        }
+    }
+
+    pub(super) fn dwell(&mut self, seconds: f64) -> Result<(), WriteError> {
+        if !(0.0..LIMIT).contains(&seconds) {
+            return Err(self.number_error('P', seconds));
+        }
+        let ms = (seconds * 1000.0).round() as i64;
+        self.block();
+        self.code(self.codes.dwell);
+        self.space();
+        self.out.push('P');
+        // Milliseconds for Fanuc, seconds (to the millisecond) otherwise.
+        push_fixed(&mut self.out, ms, if self.dialect == Dialect::Fanuc { 0 } else { 3 }, false);
+        self.out.push('\n');
+        Ok(())
+    }
+
+    pub(super) fn arc(&mut self, m: &Move, arc: Arc) -> Result<(), WriteError> {
+        let feed = self.non_negative(m.feed, 'F')?;
+        let start = self.target(m.start)?;
+        let exact = m.start.to_array();
+        let away = (0..6).any(|k| match self.pos[k] {
+            Some(p) => (p as f64 - exact[k] * self.scale).abs() > 1.0,
+            None => true,
+        });
+        if away {
+            self.straight_to(Some(Motion::Linear), start, Some(feed));
+        }
+        let single = Arc { turns: 0, ..arc };
+        let mut from = m.start;
+        if arc.turns > 0 {
+            // One full circle per extra turn, the helical and rotary axes
+            // sharing out their travel by angle.
+            let total = arc.sweep(m.start, m.end);
+            let (s, e) = (m.start.to_array(), m.end.to_array());
+            let (_, _, n) = arc.plane.axes();
+            for turn in 1..=arc.turns {
+                let t = f64::from(turn) * std::f64::consts::TAU / total;
+                let mut p = s;
+                for k in (3..6).chain([n]) {
+                    p[k] = s[k] + (e[k] - s[k]) * t;
+                }
+                let to = Axes::from_array(p);
+                self.single_arc(from, to, single, feed)?;
+                from = to;
+            }
+        }
+        self.single_arc(from, m.end, single, feed)
+    }
+
+    /// One arc of at most a full turn from the control's position, which is
+    /// `start` rounded.
+    fn single_arc(&mut self, start: Axes, end: Axes, arc: Arc, feed: i64) -> Result<(), WriteError> {
+        let (i, j, _) = arc.plane.axes();
+        let mut t = self.target(end)?;
+        // The start is the control's position: `arc` made sure it is known.
+        let s: [i64; 6] = std::array::from_fn(|k| self.pos[k].unwrap_or(t[k]));
+        let exact_sweep = arc.sweep(start, end);
+        let letters = ['I', 'J', 'K'];
+        let centre = [self.fixed(arc.center[i], letters[i])?, self.fixed(arc.center[j], letters[j])?];
+        let plain = [centre[0] - s[i], centre[1] - s[j]];
+        let full = t[i] == s[i] && t[j] == s[j];
+        let offset = if full {
+            if exact_sweep <= PI {
+                self.straight_to(Some(Motion::Linear), t, Some(feed));
+                return Ok(());
+            }
+            plain
+        } else {
+            // Within half a unit, and 0.001 mm, of the circle is close enough.
+            let close = (0.001 * self.scale).min(0.5);
+            let offset = best_centre(plain, [t[i] - s[i], t[j] - s[j]], close);
+            let written = self.written_sweep(arc, &s, &t, offset);
+            if (written - exact_sweep).abs() > PI {
+                if exact_sweep <= PI {
+                    self.straight_to(Some(Motion::Linear), t, Some(feed));
+                    return Ok(());
+                }
+                // Rounding closed a near-full circle: make it a full one.
+                t[i] = s[i];
+                t[j] = s[j];
+                plain
+            } else {
+                offset
+            }
+        };
+        if offset[0] == 0 && offset[1] == 0 {
+            // A radius below the last digit.
+            self.straight_to(Some(Motion::Linear), t, Some(feed));
+            return Ok(());
+        }
+        self.block();
+        if Some(arc.plane) != self.plane {
+            let code = match arc.plane {
+                Plane::Xy => self.codes.plane[0],
+                Plane::Zx => self.codes.plane[1],
+                Plane::Yz => self.codes.plane[2],
+            };
+            self.code(code);
+            self.plane = Some(arc.plane);
+        }
+        let g = if arc.ccw { Motion::Ccw } else { Motion::Cw };
+        if self.motion != Some(g) {
+            self.code(self.codes.motion[g as usize]);
+            self.motion = Some(g);
+        }
+        self.axis_words(&t);
+        for (k, letter) in letters.into_iter().enumerate() {
+            if k == i {
+                self.word(letter, offset[0], self.point);
+            } else if k == j {
+                self.word(letter, offset[1], self.point);
+            }
+        }
+        self.feed_word(feed);
+        self.out.push('\n');
+        Ok(())
+    }
+
+    /// The sweep a control computes from the written start, end and centre.
+    fn written_sweep(&self, arc: Arc, s: &[i64; 6], t: &[i64; 6], offset: [i64; 2]) -> f64 {
+        let (i, j, _) = arc.plane.axes();
+        let unit = |v: i64| v as f64 / self.scale;
+        let point = |p: &[i64; 6]| Axes { x: unit(p[0]), y: unit(p[1]), z: unit(p[2]), ..Axes::ZERO };
+        let mut center = [0.0; 3];
+        center[i] = unit(s[i] + offset[0]);
+        center[j] = unit(s[j] + offset[1]);
+        Arc { center, ..arc }.sweep(point(s), point(t))
+    }
+}
+
+/// The centre offset (in units of the last digit) to write: `plain`, the
+/// rounded one, when the end (`end`, relative to the start) lies within
+/// `close` units of its circle, otherwise the one of the nine around `plain`
+/// that puts the end best on the circle through the start.
+fn best_centre(plain: [i64; 2], end: [i64; 2], close: f64) -> [i64; 2] {
+    let miss = |o: [i64; 2]| {
+        let r0 = (o[0] as f64).hypot(o[1] as f64);
+        let r1 = ((end[0] - o[0]) as f64).hypot((end[1] - o[1]) as f64);
+        (r1 - r0).abs()
+    };
+    let mut best = (plain, miss(plain));
+    if best.1 <= close {
+        return plain;
+    }
+    for d0 in -1..=1 {
+        for d1 in -1..=1 {
+            let o = [plain[0] + d0, plain[1] + d1];
+            let e = miss(o);
+            if e < best.1 - 1e-9 {
+                best = (o, e);
+            }
+        }
+    }
+    best.0
+}
+
+/// Writes `n` units of the last of `digits` decimals: trailing zeros
+/// trimmed, never `-0`, and with `point` a decimal point even on whole
+/// numbers.
+fn push_fixed(out: &mut String, n: i64, digits: u32, point: bool) {
+    if n < 0 {
+        out.push('-');
+    }
+    let a = n.unsigned_abs();
+    let p = POW10[digits as usize];
+    push_uint(out, a / p);
+    let frac = a % p;
+    if frac != 0 {
+        out.push('.');
+        push_padded(out, frac, digits);
+        // Trailing zeros go; a non-zero digit stops it before the point.
+        while out.ends_with('0') {
+            out.pop();
+        }
+    } else if point {
+        out.push('.');
+    }
+}
+
+fn push_uint(out: &mut String, v: u64) {
+    push_padded(out, v, 1);
+}
+
+/// Writes `v` with at least `width` digits (leading zeros).
+fn push_padded(out: &mut String, mut v: u64, width: u32) {
+    let mut buf = [b'0'; 20];
+    let mut i = buf.len();
+    while v > 0 || buf.len() - i < width as usize {
+        i -= 1;
+        buf[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+    }
+    for &b in &buf[i..] {
+        out.push(char::from(b));
+    }
+}
+
+/// Writes `text` as a comment `( … )`, with characters that would end it
+/// or the tape replaced.
+fn push_comment(out: &mut String, text: &str) {
+    out.push('(');
+    for c in text.chars() {
+        out.push(match c {
+            '(' => '[',
+            ')' => ']',
+            '%' => '_',
+            c if c == ' ' || c.is_ascii_graphic() => c,
+            _ => '_',
+        });
+    }
+    out.push(')');
+}

@@ -1,0 +1,4 @@
+(TEST: step-limit=1000)
+N10 #1=#1+1.
+GOTO10
+M30

@@ -1,0 +1,5 @@
+(TEST: step-limit=1000)
+G90
+WHILE[1]DO1
+END1
+M30

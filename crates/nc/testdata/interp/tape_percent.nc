@@ -1,0 +1,5 @@
+%
+O0100 (TAPE FORMAT)
+G90 G00 X1. Y1.
+M30
+%
