@@ -1,0 +1,144 @@
+//! A fuzz test that needs no fuzzing tools: proptest makes NC-like programs
+//! (words, `#` variables, brackets, `IF`/`GOTO`/`WHILE`, `G65`/`M98` calls,
+//! comments) and plain random bytes, and each must parse and run without a
+//! panic and within a small step limit.
+//!
+//! Slow, so it runs only when `KEZURI_FUZZ` is set (to the number of cases,
+//! or to anything else for 2,000):
+//! `KEZURI_FUZZ=20000 cargo test --release -p kezuri-nc --test fuzz`.
+//! The coverage-guided fuzz target is `fuzz/` (see fuzz/README.md).
+
+use kezuri_nc::{interp, parse, Program, SourceFile, Sources};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestCaseError, TestRunner};
+
+const STEP_LIMIT: u64 = 10_000;
+
+/// Parses and runs `text` as the fuzz target does; fails on a run that does
+/// not stop at the step limit. A panic fails the test by itself.
+fn parse_and_run(text: &str) -> Result<(), TestCaseError> {
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("fuzz.nc", text));
+    let mut program = Program::default();
+    for d in parse(&mut program, file, text) {
+        d.render(&sources);
+    }
+    let settings = interp::Settings { step_limit: STEP_LIMIT, ..interp::Settings::default() };
+    for main in 0..program.units.len().min(2) {
+        let outcome = interp::run(&mut program, &mut sources, main, &mut interp::NoLibrary, &settings);
+        prop_assert!(outcome.statements <= STEP_LIMIT + 1, "ran {} statements", outcome.statements);
+        for d in &outcome.diagnostics {
+            d.render(&sources);
+        }
+    }
+    Ok(())
+}
+
+fn number() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (-2000i32..2000).prop_map(|n| n.to_string()),
+        (-2000.0f64..2000.0).prop_map(|v| format!("{v:.3}")),
+        Just("0".to_string()),
+        Just(".5".to_string()),
+        Just("1.".to_string()),
+        Just("99999999".to_string()),
+        Just("1234567890123456789".to_string()),
+    ]
+}
+
+fn variable() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just(0u32),
+        1u32..34,
+        100u32..110,
+        500u32..503,
+        prop::sample::select(vec![3000, 3001, 3002, 4001, 4003, 4109, 5001, 5021, 5041, 5061, 5221, 5321, 5341]),
+    ]
+    .prop_map(|n| format!("#{n}"))
+}
+
+/// An expression, nested a few levels.
+fn expr() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![number(), variable()];
+    leaf.prop_recursive(4, 24, 3, |inner| {
+        let func = prop::sample::select(vec![
+            "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "ABS", "ROUND", "FIX", "FUP", "LN", "EXP", "BIN",
+            "BCD",
+        ]);
+        let op = prop::sample::select(vec![
+            "+", "-", "*", "/", " AND ", " OR ", " XOR ", " MOD ", " EQ ", " NE ", " GT ", " GE ", " LT ", " LE ",
+        ]);
+        prop_oneof![
+            (inner.clone(), op, inner.clone()).prop_map(|(a, o, b)| format!("[{a}{o}{b}]")),
+            (func, inner.clone()).prop_map(|(f, a)| format!("{f}[{a}]")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("POW[{a},{b}]")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("ATAN[{a}]/[{b}]")),
+            inner.clone().prop_map(|a| format!("#[{a}]")),
+            inner.prop_map(|a| format!("-{a}")),
+        ]
+    })
+}
+
+fn word() -> impl Strategy<Value = String> {
+    let letter = prop::sample::select(b"ABCDEFGHIJKLMNPQRSTUVWXYZ".to_vec());
+    let code = prop::sample::select(vec![
+        "G00", "G01", "G02", "G03", "G04", "G17", "G18", "G19", "G20", "G21", "G28", "G31", "G40", "G41", "G43", "G49",
+        "G53", "G54", "G59", "G65", "G66", "G66.1", "G67", "G80", "G90", "G91", "G92", "G94", "G95", "M03", "M05",
+        "M06", "M08", "M09", "M98", "M99", "M30",
+    ]);
+    prop_oneof![
+        code.prop_map(str::to_string),
+        (letter.clone(), number()).prop_map(|(l, n)| format!("{}{n}", l as char)),
+        (letter, expr()).prop_map(|(l, e)| format!("{}{e}", l as char)),
+    ]
+}
+
+fn line() -> impl Strategy<Value = String> {
+    let label = 1u32..4;
+    prop_oneof![
+        4 => prop::collection::vec(word(), 1..6).prop_map(|w| w.join(" ")),
+        2 => (variable(), expr()).prop_map(|(v, e)| format!("{v}={e}")),
+        1 => (expr(), 1u32..20).prop_map(|(c, n)| format!("IF [{c}] GOTO {n}")),
+        1 => (expr(), variable(), expr()).prop_map(|(c, v, e)| format!("IF [{c}] THEN {v}={e}")),
+        1 => (1u32..20).prop_map(|n| format!("GOTO {n}")),
+        1 => (expr(), label.clone()).prop_map(|(c, m)| format!("WHILE [{c}] DO{m}")),
+        1 => label.clone().prop_map(|m| format!("DO {m}")),
+        1 => label.prop_map(|m| format!("END{m}")),
+        1 => (1u32..20, prop::collection::vec(word(), 0..4)).prop_map(|(n, w)| format!("N{n} {}", w.join(" "))),
+        1 => (prop::sample::select(vec![10u32, 11, 12, 9010]), prop::collection::vec(word(), 0..4))
+            .prop_map(|(p, w)| format!("G65 P{p} {}", w.join(" "))),
+        1 => (prop::sample::select(vec![10u32, 11, 12, 50010]), 0u32..4).prop_map(|(p, l)| format!("M98 P{p} L{l}")),
+        1 => prop::sample::select(vec![
+            "%", "O0010", "O0011 (SUB)", "O0012", "O9010", "M99", "M99 P5", "POPEN", "PCLOS", "DPRNT[X#1[43]*Y#2]",
+            "(COMMENT", "; semicolon", "/ G00 X1.", "o100 sub", "#<name>=1", "$H", "[", "]", "#", "G", "X--1",
+        ])
+        .prop_map(str::to_string),
+    ]
+}
+
+fn program() -> impl Strategy<Value = String> {
+    prop::collection::vec(line(), 0..40).prop_map(|lines| lines.join("\n"))
+}
+
+fn cases() -> Option<u32> {
+    let value = std::env::var("KEZURI_FUZZ").ok()?;
+    Some(value.parse().unwrap_or(2_000))
+}
+
+#[test]
+fn nc_like_programs_end_without_a_panic() {
+    let Some(cases) = cases() else { return };
+    let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
+    runner.run(&program(), |text| parse_and_run(&text)).unwrap();
+}
+
+#[test]
+fn random_bytes_end_without_a_panic() {
+    let Some(cases) = cases() else { return };
+    let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
+    let bytes = prop::collection::vec(
+        prop_oneof![any::<u8>(), prop::sample::select(b"GXYZ#[]=.-+0123456789 \n()IFGOTOWHILEDOEND".to_vec())],
+        0..400,
+    );
+    runner.run(&bytes, |data| parse_and_run(&String::from_utf8_lossy(&data))).unwrap();
+}
