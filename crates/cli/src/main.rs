@@ -1,1 +1,90 @@
-fn main() {}
+//! `kezuri`: the command line. Only this crate touches files, the terminal,
+//! the clock and the environment; the libraries take values and return values.
+
+mod demo;
+mod files;
+mod machine;
+mod plot;
+mod program;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use program::{Emit, RunOptions};
+
+/// kezuri (削り): read, run, check and write NC programs — Fanuc Custom Macro B,
+/// LinuxCNC and GRBL — for NC routers and machining centres.
+#[derive(Parser, Debug)]
+#[command(name = "kezuri", version, about, long_about = None)]
+#[command(
+    after_help = "Examples:\n  kezuri demo\n  kezuri check part.nc\n  kezuri run texture.nc --clock-seed 7 --emit fanuc -o expanded.nc"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run every pipeline on the bundled samples and show what it made.
+    #[command(after_help = "Example:\n  kezuri demo --out kezuri-demo")]
+    Demo {
+        /// Folder for the outputs.
+        #[arg(long, default_value = "kezuri-demo")]
+        out: PathBuf,
+    },
+    /// Parse and run a program (macros and subprograms too) and report blocks,
+    /// motions, lengths, cycle time, bounds and warnings.
+    #[command(
+        after_help = "Examples:\n  kezuri check O1011.nc\n  kezuri check part.nc --json --machine mill.toml\n\n\
+Exit code 1 when the program has errors (each shown with file:line:column)."
+    )]
+    Check {
+        #[command(flatten)]
+        run: RunOptions,
+        /// Print one JSON object: blocks, motions, feed_length_mm,
+        /// rapid_length_mm, time_s, bounds, warnings.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Execute macros and subprograms and write the expanded motion program.
+    #[command(
+        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --emit csv -o moves.csv\n  kezuri run part.nc --emit linuxcnc --svg part.svg -o part.ngc"
+    )]
+    Run {
+        #[command(flatten)]
+        run: RunOptions,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "fanuc")]
+        emit: Emit,
+        /// Output file (default: standard output).
+        #[arg(short, long, value_name = "OUT")]
+        output: Option<PathBuf>,
+        /// Decimals written in the program (mm).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
+        digits: u8,
+        /// Also draw the toolpath (top and front view) to this SVG file.
+        #[arg(long, value_name = "FILE.svg")]
+        svg: Option<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Demo { out } => demo::run(out),
+        Command::Check { run, json } => program::check(run, *json),
+        Command::Run { run, emit, output, digits, svg } => {
+            program::run(run, *emit, output.as_deref(), *digits, svg.as_deref())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

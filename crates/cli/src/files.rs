@@ -1,0 +1,94 @@
+//! Files in and out: reading inputs (`-` is stdin), writing outputs whole or
+//! not at all, and the subprogram library folder.
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use kezuri_nc::interp::Library;
+use kezuri_nc::SourceFile;
+
+/// Reads a text input; `-` is stdin. Bytes that are not UTF-8 (Shift-JIS
+/// comments in old programs, say) become U+FFFD instead of failing.
+pub fn read_text(path: &Path) -> Result<String> {
+    let mut bytes = Vec::new();
+    if path == Path::new("-") {
+        std::io::stdin().read_to_end(&mut bytes).context("cannot read standard input")?;
+    } else {
+        bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    }
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+/// Writes `data` to `path`, or to stdout when `path` is `None` or `-`.
+/// A file is written to a temporary name in the same folder and renamed, so
+/// no half-written output is ever left behind.
+pub fn write_output(path: Option<&Path>, data: &[u8]) -> Result<()> {
+    match path {
+        None => write_stdout(data),
+        Some(p) if p == Path::new("-") => write_stdout(data),
+        Some(p) => write_atomic(p, data),
+    }
+}
+
+fn write_stdout(data: &[u8]) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(data).and_then(|_| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.context("cannot write to standard output"),
+    }
+}
+
+/// Writes a file through a temporary file and a rename.
+pub fn write_atomic(path: &Path, data: &[u8]) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+        f.write_all(data).with_context(|| format!("cannot write {}", tmp.display()))?;
+        f.sync_all().ok();
+        std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+    })();
+    if result.is_err() {
+        std::fs::remove_file(&tmp).ok();
+    }
+    result
+}
+
+/// A folder of subprogram files named `O1234.nc` (also `O1234`, `o1234.nc`,
+/// `O1234.NC`, `1234.nc`).
+pub struct Folder {
+    dir: PathBuf,
+}
+
+impl Folder {
+    /// The library in `dir`.
+    pub fn new(dir: PathBuf) -> Folder {
+        Folder { dir }
+    }
+}
+
+impl Library for Folder {
+    fn load(&mut self, number: u32) -> Option<SourceFile> {
+        let stems = [format!("O{number:04}"), format!("O{number}"), format!("{number:04}"), format!("{number}")];
+        let entries = std::fs::read_dir(&self.dir).ok()?;
+        let mut found: Vec<PathBuf> = entries
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.is_file())
+            .filter(|p| {
+                let stem = p.file_stem().map(|s| s.to_string_lossy().to_uppercase()).unwrap_or_default();
+                let ext = p.extension().map(|s| s.to_string_lossy().to_lowercase());
+                stems.contains(&stem) && matches!(ext.as_deref(), None | Some("nc") | Some("txt") | Some("min"))
+            })
+            .collect();
+        found.sort();
+        let path = found.into_iter().next()?;
+        let text = read_text(&path).ok()?;
+        Some(SourceFile::new(path.display().to_string(), text))
+    }
+}

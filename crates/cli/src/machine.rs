@@ -1,0 +1,169 @@
+//! The machine file (`--machine M.toml`): rapids, acceleration, tool table,
+//! work offsets and reference point.
+//!
+//! ```toml
+//! [motion]
+//! rapid_mm_min = [15000, 15000, 10000]   # X Y Z
+//! rapid_deg_min = 3600                   # A B C
+//! max_feed_mm_min = 10000
+//! acceleration_mm_s2 = 1000
+//! junction_deviation_mm = 0.01
+//!
+//! [tools]
+//! lengths = { 1 = 100.5, 21 = 87.25 }    # H registers, mm
+//! radii = { 1 = 3.0 }                    # D registers, mm
+//!
+//! [offsets]
+//! G54 = [0, 0, 0]                        # machine position of each work zero
+//! home = [0, 0, 0]                       # G28 reference point (machine)
+//! ```
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use kezuri_geom::{Axes, Dynamics};
+use kezuri_nc::interp::Settings;
+use serde::Deserialize;
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct File {
+    #[serde(default)]
+    motion: Motion,
+    #[serde(default)]
+    tools: Tools,
+    #[serde(default)]
+    offsets: BTreeMap<String, Vec<f64>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct Motion {
+    rapid_mm_min: Option<Vec<f64>>,
+    rapid_deg_min: Option<f64>,
+    max_feed_mm_min: Option<f64>,
+    acceleration_mm_s2: Option<f64>,
+    junction_deviation_mm: Option<f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct Tools {
+    #[serde(default)]
+    lengths: BTreeMap<String, f64>,
+    #[serde(default)]
+    radii: BTreeMap<String, f64>,
+}
+
+/// A machine: its dynamics and what it tells the interpreter.
+#[derive(Default)]
+pub struct Machine {
+    /// For the cycle time.
+    pub dynamics: Dynamics,
+    /// Tool table, offsets and reference point, on top of the defaults.
+    pub settings: Settings,
+}
+
+fn positive(name: &str, v: Option<f64>, default: f64) -> Result<f64> {
+    match v {
+        None => Ok(default),
+        Some(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Some(v) => bail!("{name} must be a positive number, got {v}"),
+    }
+}
+
+fn axes(name: &str, v: &[f64]) -> Result<Axes> {
+    if v.is_empty() || v.len() > 6 || v.iter().any(|x| !x.is_finite()) {
+        bail!("{name} must list 1 to 6 finite numbers (X Y Z A B C)");
+    }
+    let mut a = [0.0; 6];
+    a[..v.len()].copy_from_slice(v);
+    Ok(Axes::from_array(a))
+}
+
+fn registers(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f64>> {
+    map.iter()
+        .map(|(k, &v)| {
+            let n: u32 = k.parse().with_context(|| format!("{name}: '{k}' is not a register number"))?;
+            if !v.is_finite() {
+                bail!("{name}.{k} is not a finite number");
+            }
+            Ok((n, v))
+        })
+        .collect()
+}
+
+impl Machine {
+    /// Reads a machine file.
+    pub fn load(path: &Path) -> Result<Machine> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        Machine::parse(&text).with_context(|| format!("in machine file {}", path.display()))
+    }
+
+    fn parse(text: &str) -> Result<Machine> {
+        let file: File = toml::from_str(text)?;
+        let d = Dynamics::default();
+        let m = &file.motion;
+        let rapid = match &m.rapid_mm_min {
+            None => d.rapid_mm_min,
+            Some(v) if v.len() == 1 => [positive("rapid_mm_min", Some(v[0]), 0.0)?; 3],
+            Some(v) if v.len() == 3 => [
+                positive("rapid_mm_min", Some(v[0]), 0.0)?,
+                positive("rapid_mm_min", Some(v[1]), 0.0)?,
+                positive("rapid_mm_min", Some(v[2]), 0.0)?,
+            ],
+            Some(_) => bail!("rapid_mm_min takes one rate, or three (X Y Z)"),
+        };
+        let dynamics = Dynamics {
+            rapid_mm_min: rapid,
+            rapid_deg_min: positive("rapid_deg_min", m.rapid_deg_min, d.rapid_deg_min)?,
+            max_feed_mm_min: positive("max_feed_mm_min", m.max_feed_mm_min, d.max_feed_mm_min)?,
+            acceleration_mm_s2: positive("acceleration_mm_s2", m.acceleration_mm_s2, d.acceleration_mm_s2)?,
+            junction_deviation_mm: positive("junction_deviation_mm", m.junction_deviation_mm, d.junction_deviation_mm)?,
+        };
+        let mut settings = Settings {
+            tool_lengths: registers("tools.lengths", &file.tools.lengths)?,
+            tool_radii: registers("tools.radii", &file.tools.radii)?,
+            ..Settings::default()
+        };
+        for (name, v) in &file.offsets {
+            let a = axes(name, v)?;
+            match name.to_uppercase().as_str() {
+                "HOME" => settings.home = a,
+                g => match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
+                    Some(n @ 54..=59) => settings.work_offsets[n - 54] = a,
+                    _ => bail!("offsets: '{name}' is not G54 … G59 or home"),
+                },
+            }
+        }
+        Ok(Machine { dynamics, settings })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_the_documented_example() {
+        let doc = include_str!("machine.rs");
+        let example: String = doc
+            .lines()
+            .skip_while(|l| !l.contains("```toml"))
+            .skip(1)
+            .take_while(|l| !l.contains("```"))
+            .map(|l| l.trim_start_matches("//!").trim_start().to_string() + "\n")
+            .collect();
+        let m = Machine::parse(&example).unwrap();
+        assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
+        assert_eq!(m.settings.tool_lengths[&21], 87.25);
+    }
+
+    #[test]
+    fn rejects_nonsense() {
+        assert!(Machine::parse("[motion]\nacceleration_mm_s2 = -1").is_err());
+        assert!(Machine::parse("[motion]\nrapid = 1").is_err());
+        assert!(Machine::parse("[offsets]\nG60 = [1]").is_err());
+    }
+}

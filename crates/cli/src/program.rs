@@ -1,0 +1,239 @@
+//! `kezuri check` and `kezuri run`: read a program, run it, report or write.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use kezuri_geom::{cycle_time, MoveKind, Toolpath};
+use kezuri_nc::interp::{self, IntegerInput, Outcome, Settings};
+use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+use serde_json::json;
+
+use crate::files::{read_text, write_output, Folder};
+use crate::machine::Machine;
+
+/// How axis words without a decimal point are read.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum NoDecimal {
+    /// Counts of the least increment (0.001 mm): `X100` is 0.1 mm (Fanuc).
+    Increments,
+    /// Whole units: `X100` is 100 mm (LinuxCNC, GRBL).
+    Units,
+}
+
+/// Options shared by every command that runs a program.
+#[derive(Args, Debug)]
+pub struct RunOptions {
+    /// The program file (`-` for standard input).
+    pub file: PathBuf,
+    /// Folder of subprogram files `O1234.nc` [default: the program's folder].
+    #[arg(long, value_name = "DIR")]
+    pub lib: Option<PathBuf>,
+    /// Machine file (TOML): rapids, acceleration, tool table, offsets.
+    #[arg(long, value_name = "M.toml")]
+    pub machine: Option<PathBuf>,
+    /// How axis words without a decimal point are read.
+    #[arg(long, value_enum, default_value = "increments")]
+    pub no_decimal: NoDecimal,
+    /// Seed for the #3001 clock: each read advances it a reproducible
+    /// pseudo-random 1–1000 ms (default: one 16 ms tick per read).
+    #[arg(long, value_name = "N")]
+    pub clock_seed: Option<u64>,
+    /// Skip blocks that start with `/` (block delete switch on).
+    #[arg(long)]
+    pub block_delete: bool,
+    /// Most statements executed before a run is stopped as a runaway loop.
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub step_limit: u64,
+    /// Write DPRNT lines to this file (default: standard error).
+    #[arg(long, value_name = "FILE")]
+    pub dprnt: Option<PathBuf>,
+}
+
+/// A program read and run.
+pub struct Ran {
+    pub sources: Sources,
+    pub outcome: Outcome,
+    pub machine: Machine,
+    pub parse_errors: usize,
+}
+
+impl Ran {
+    /// Errors in the parse and in the run.
+    pub fn errors(&self) -> usize {
+        self.parse_errors + self.outcome.diagnostics.iter().filter(|d| d.is_error()).count()
+    }
+
+    /// Renders every diagnostic to standard error.
+    pub fn print_diagnostics(&self, parse_diagnostics: &[Diagnostic]) {
+        for d in parse_diagnostics.iter().chain(&self.outcome.diagnostics) {
+            eprintln!("{}\n", d.render(&self.sources));
+        }
+    }
+}
+
+/// Reads, parses and runs the program; returns parse diagnostics apart.
+pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
+    let text = read_text(&o.file)?;
+    let machine = match &o.machine {
+        Some(p) => Machine::load(p)?,
+        None => Machine::default(),
+    };
+    let settings = Settings {
+        integer_input: match o.no_decimal {
+            NoDecimal::Increments => IntegerInput::Increments,
+            NoDecimal::Units => IntegerInput::Units,
+        },
+        clock_seed: o.clock_seed,
+        step_limit: o.step_limit,
+        block_delete: o.block_delete,
+        ..machine.settings.clone()
+    };
+    let mut sources = Sources::default();
+    let name = if o.file == Path::new("-") { "<stdin>".to_string() } else { o.file.display().to_string() };
+    let id = sources.add(SourceFile::new(name, text));
+    let mut program = Program::default();
+    let text = sources.get(id).text.clone();
+    let parse_diagnostics = parse(&mut program, id, &text);
+    let parse_errors = parse_diagnostics.iter().filter(|d| d.is_error()).count();
+    let dir = o.lib.clone().unwrap_or_else(|| match o.file.parent() {
+        Some(p) if !p.as_os_str().is_empty() && o.file != Path::new("-") => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    });
+    let outcome = if parse_errors > 0 || program.units.is_empty() {
+        Outcome::default()
+    } else {
+        interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings)
+    };
+    if !outcome.prints.is_empty() {
+        match &o.dprnt {
+            Some(p) => write_output(Some(p), (outcome.prints.join("\n") + "\n").as_bytes())?,
+            None => outcome.prints.iter().for_each(|l| eprintln!("DPRNT: {l}")),
+        }
+    }
+    Ok((Ran { sources, outcome, machine, parse_errors }, parse_diagnostics))
+}
+
+/// The `check` report.
+pub struct Report {
+    pub blocks: u64,
+    pub statements: u64,
+    pub motions: usize,
+    pub feed_length_mm: f64,
+    pub rapid_length_mm: f64,
+    pub time_s: f64,
+    pub bounds: Option<([f64; 3], [f64; 3])>,
+}
+
+impl Report {
+    pub fn new(ran: &Ran) -> Report {
+        let path: &Toolpath = &ran.outcome.toolpath;
+        Report {
+            blocks: ran.outcome.blocks,
+            statements: ran.outcome.statements,
+            motions: path.moves.iter().filter(|m| !matches!(m.kind, MoveKind::Dwell(_))).count(),
+            feed_length_mm: path.feed_length(),
+            rapid_length_mm: path.rapid_length(),
+            time_s: cycle_time(path, &ran.machine.dynamics).0,
+            bounds: path.bounds(),
+        }
+    }
+}
+
+fn hms(s: f64) -> String {
+    let t = s.round() as u64;
+    format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+}
+
+/// `kezuri check`.
+pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
+    let (ran, parse_diagnostics) = read_and_run(o)?;
+    let report = Report::new(&ran);
+    let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
+    if as_json {
+        let (lo, hi) = report.bounds.unwrap_or(([0.0; 3], [0.0; 3]));
+        let headlines = |errors: bool| -> Vec<String> {
+            all.iter().filter(|d| d.is_error() == errors).map(|d| d.headline(&ran.sources)).collect()
+        };
+        let value = json!({
+            "file": o.file.display().to_string(),
+            "completed": ran.outcome.completed && ran.errors() == 0,
+            "blocks": report.blocks,
+            "statements": report.statements,
+            "motions": report.motions,
+            "feed_length_mm": report.feed_length_mm,
+            "rapid_length_mm": report.rapid_length_mm,
+            "time_s": report.time_s,
+            "bounds": {"min": lo, "max": hi},
+            "errors": headlines(true),
+            "warnings": headlines(false),
+        });
+        write_output(None, (value.to_string() + "\n").as_bytes())?;
+    } else {
+        ran.print_diagnostics(&parse_diagnostics);
+        let mut text = format!(
+            "{}: {} blocks ({} statements), {} motions\n  feed  {:.3} mm\n  rapid {:.3} mm\n  time  {} ({:.1} s)\n",
+            o.file.display(),
+            report.blocks,
+            report.statements,
+            report.motions,
+            report.feed_length_mm,
+            report.rapid_length_mm,
+            hms(report.time_s),
+            report.time_s
+        );
+        if let Some((lo, hi)) = report.bounds {
+            for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
+                text += &format!("  {axis} {:>10.3} … {:>10.3}\n", lo[k], hi[k]);
+            }
+        }
+        let warnings = all.iter().filter(|d| !d.is_error()).count();
+        text += &format!("  {} errors, {} warnings\n", ran.errors(), warnings);
+        write_output(None, text.as_bytes())?;
+    }
+    if ran.errors() > 0 {
+        bail!("{}: {} error(s)", o.file.display(), ran.errors());
+    }
+    Ok(())
+}
+
+/// What `run` writes.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Emit {
+    /// Fanuc G-code (`X10.` style, `%` and `O` framing).
+    Fanuc,
+    /// LinuxCNC G-code.
+    Linuxcnc,
+    /// GRBL G-code.
+    Grbl,
+    /// `line,kind,x,y,z,a,b,c,feed` rows, full precision.
+    Csv,
+}
+
+/// `kezuri run`.
+pub fn run(o: &RunOptions, emit: Emit, out: Option<&Path>, digits: u8, svg: Option<&Path>) -> Result<()> {
+    let (ran, parse_diagnostics) = read_and_run(o)?;
+    ran.print_diagnostics(&parse_diagnostics);
+    if ran.errors() > 0 {
+        bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
+    }
+    let path = &ran.outcome.toolpath;
+    let text = match emit {
+        Emit::Csv => kezuri_nc::write::csv(path),
+        Emit::Fanuc | Emit::Linuxcnc | Emit::Grbl => {
+            use kezuri_nc::write::{program, Dialect, WriteOptions};
+            let dialect = match emit {
+                Emit::Linuxcnc => Dialect::LinuxCnc,
+                Emit::Grbl => Dialect::Grbl,
+                _ => Dialect::Fanuc,
+            };
+            let title = o.file.file_name().map(|n| n.to_string_lossy().to_uppercase());
+            program(path, &WriteOptions { dialect, digits, title, ..WriteOptions::default() })?
+        }
+    };
+    write_output(out, text.as_bytes())?;
+    if let Some(svg) = svg {
+        write_output(Some(svg), crate::plot::svg(path, &o.file.display().to_string()).as_bytes())?;
+    }
+    Ok(())
+}

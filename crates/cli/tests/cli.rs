@@ -1,0 +1,143 @@
+//! The command line as a user runs it: exit codes, JSON keys, files.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn kezuri(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
+}
+
+fn kezuri_stdin(args: &[&str], input: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_kezuri"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("kezuri runs");
+    child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
+    child.wait_with_output().unwrap()
+}
+
+fn sample(name: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples").join(name);
+    root.to_string_lossy().into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn check_json_on_the_digitizing_program() {
+    let o = kezuri(&["check", &sample("o1011-digitize.nc"), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
+    // 85 x 105 plunges of three moves (step, down, up), 105 row returns, the
+    // approach (2) and G28 (intermediate point and home).
+    assert_eq!(v["motions"], 85 * 105 * 3 + 105 + 2 + 2);
+    // 100 mm of feed per plunge plus the 30 mm approach.
+    let feed = v["feed_length_mm"].as_f64().unwrap();
+    assert!((feed - (8925.0 * 100.0 + 30.0)).abs() < 1e-6, "{feed}");
+    // 1 mm steps, 105 returns of hypot(85, 1), 30 mm home.
+    let rapid = v["rapid_length_mm"].as_f64().unwrap();
+    let want = 8925.0 + 105.0 * (85.0f64.hypot(1.0)) + 30.0;
+    assert!((rapid - want).abs() < 1e-6, "{rapid} vs {want}");
+    assert_eq!(v["bounds"]["min"], serde_json::json!([0.0, 0.0, -20.0]));
+    assert_eq!(v["bounds"]["max"], serde_json::json!([85.0, 105.0, 30.0]));
+    // 8,925 dwells of 0.5 s alone are 4,462.5 s.
+    assert!(v["time_s"].as_f64().unwrap() > 4462.5);
+    assert!(v["warnings"].as_array().unwrap().is_empty(), "{}", v["warnings"]);
+    assert!(v["blocks"].as_u64().unwrap() > 8925 * 6);
+}
+
+#[test]
+fn check_reports_a_located_error_with_exit_code_1() {
+    let o = kezuri_stdin(&["check", "-"], "G01 X10. F100.\nG01 X[1+] Y2.\nM30\n");
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("<stdin>:2:"), "{err}");
+    assert!(err.contains('^'), "{err}");
+}
+
+#[test]
+fn warnings_carry_file_line_and_column_in_json() {
+    let o = kezuri_stdin(&["check", "-", "--json"], "G01 X100 F100.\nM30\n");
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let w = v["warnings"][0].as_str().unwrap();
+    assert!(w.starts_with("<stdin>:1:5: warning:"), "{w}");
+    assert_eq!(v["bounds"]["max"][0], 0.1);
+}
+
+#[test]
+fn bad_usage_exits_2() {
+    let o = kezuri(&["check"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = kezuri(&["run", "x.nc", "--emit", "nonsense"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn run_writes_csv_and_nothing_on_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out: PathBuf = dir.path().join("moves.csv");
+    let o = kezuri(&["run", &sample("o2007-thermal.nc"), "--emit", "csv", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.starts_with("line,kind,x,y,z,a,b,c,feed\n"));
+    assert!(text.lines().any(|l| l.contains(",-90,0,")), "B-90 indexing: {text}");
+
+    let bad = dir.path().join("bad.nc");
+    std::fs::write(&bad, "#1=1/0\nM30\n").unwrap();
+    let out2 = dir.path().join("never.nc");
+    let o = kezuri(&["run", bad.to_str().unwrap(), "-o", out2.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("division by zero"));
+    assert!(!out2.exists());
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn same_clock_seed_same_bytes() {
+    let a = kezuri(&["run", &sample("o7023-texture.nc"), "--clock-seed", "11"]);
+    let b = kezuri(&["run", &sample("o7023-texture.nc"), "--clock-seed", "11"]);
+    let c = kezuri(&["run", &sample("o7023-texture.nc"), "--clock-seed", "12"]);
+    assert!(a.status.success(), "{}", stderr(&a));
+    assert_eq!(a.stdout, b.stdout);
+    assert_ne!(a.stdout, c.stdout);
+    assert!(stdout(&a).starts_with('%'));
+}
+
+#[test]
+fn subprograms_come_from_the_library_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("O0100.nc"), "O0100\nG91 G01 X#24 F100.\nM99\n").unwrap();
+    let main = dir.path().join("main.nc");
+    std::fs::write(&main, "G90 G00 X0. Y0. Z0.\nG65 P100 X2.5 L2\nM30\n").unwrap();
+    let o = kezuri(&["run", main.to_str().unwrap(), "--emit", "csv"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let last = stdout(&o).lines().last().unwrap().to_string();
+    assert!(last.contains(",feed,5,0,0,"), "{last}");
+}
+
+#[test]
+fn demo_makes_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let o = kezuri(&["demo", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["o1011-digitize-expanded.nc", "o7023-texture.csv", "o2007-thermal.svg"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+}
