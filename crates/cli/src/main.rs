@@ -14,6 +14,10 @@ use clap::{Parser, Subcommand};
 
 use program::{Emit, RunOptions};
 
+/// Huge pages for million-move programs (see BENCHMARKS.md).
+#[global_allocator]
+static ALLOC: kezuri_geom::LargePages = kezuri_geom::LargePages;
+
 /// kezuri (削り): read, run, check and write NC programs — Fanuc Custom Macro B,
 /// LinuxCNC and GRBL — for NC routers and machining centres.
 #[derive(Parser, Debug)]

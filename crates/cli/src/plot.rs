@@ -1,6 +1,7 @@
 //! A picture of a toolpath: SVG, top view (XY) beside a front view (XZ).
 //! Cutting moves are solid and shaded by depth, rapids dashed red.
 
+use std::collections::{BTreeMap, HashSet};
 use std::fmt::Write;
 
 use kezuri_geom::{Axes, MoveKind, Toolpath};
@@ -17,6 +18,42 @@ fn points(m: &kezuri_geom::Move) -> Vec<Axes> {
         }
         _ => vec![m.start, m.end],
     }
+}
+
+/// Whether `c` continues the segment `a`→`b` in the same direction.
+fn straight_on(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> bool {
+    let (u, v) = ((b.0 - a.0, b.1 - a.1), (c.0 - b.0, c.1 - b.1));
+    u.0 * v.1 == u.1 * v.0 && u.0 * v.0 + u.1 * v.1 > 0
+}
+
+/// How a move is drawn: rapids dashed red, cuts blue, darker when deeper.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Stroke {
+    Rapid,
+    /// Red and green of the blue shade: 180 at the top, 0 at the bottom.
+    Cut(u8),
+}
+
+/// Writes `lines` (points in hundredths of a pixel) as one path drawn in
+/// `style`.
+fn draw(out: &mut String, style: Stroke, lines: Vec<Vec<(i64, i64)>>) {
+    let mut d = String::new();
+    for line in lines {
+        for (i, (x, y)) in line.into_iter().enumerate() {
+            let (x, y) = (x as f64 / 100.0, y as f64 / 100.0);
+            let _ = write!(d, "{}{x:.2} {y:.2} ", if i == 0 { 'M' } else { 'L' });
+        }
+    }
+    let _ = match style {
+        Stroke::Cut(s) => {
+            writeln!(out, r#"<path d="{}" fill="none" stroke="rgb({s},{s},255)" stroke-width="0.8"/>"#, d.trim_end())
+        }
+        Stroke::Rapid => writeln!(
+            out,
+            r##"<path d="{}" fill="none" stroke="#d33" stroke-dasharray="4 3" stroke-width="0.6"/>"##,
+            d.trim_end()
+        ),
+    };
 }
 
 /// The SVG text for `path`, titled `title`.
@@ -46,27 +83,53 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
             scale * span(v)
         );
         let depth = span(2);
+        // One path per style, cuts first and rapids over them; a segment
+        // already drawn in that style (a repeated plunge seen from the front)
+        // is drawn once, and steps on along a line lengthen it.
+        let mut drawn = HashSet::new();
+        let mut styles: BTreeMap<Stroke, Vec<Vec<(i64, i64)>>> = BTreeMap::new();
         for m in &path.moves {
             if matches!(m.kind, MoveKind::Dwell(_)) {
                 continue;
             }
-            let pts = points(m);
-            let mut d = String::with_capacity(pts.len() * 16);
-            for (i, p) in pts.iter().enumerate() {
-                let p = p.xyz();
-                let x = left + scale * (p[u] - lo[u]);
-                let y = base - scale * (p[v] - lo[v]);
-                let _ = write!(d, "{}{x:.2},{y:.2} ", if i == 0 { "M" } else { "L" });
-            }
-            let style = if m.is_rapid() {
-                r##"stroke="#d33" stroke-dasharray="4 3" stroke-width="0.6""##.to_string()
+            // Deeper cuts darker.
+            let next = if m.is_rapid() {
+                Stroke::Rapid
             } else {
-                // Deeper cuts darker.
-                let t = ((hi[2] - m.end.z) / depth).clamp(0.0, 1.0);
-                let shade = (180.0 * (1.0 - t)) as u8;
-                format!(r#"stroke="rgb({shade},{shade},255)" stroke-width="0.8""#)
+                Stroke::Cut((180.0 * (1.0 - ((hi[2] - m.end.z) / depth).clamp(0.0, 1.0))) as u8)
             };
-            let _ = writeln!(out, r#"<path d="{d}" fill="none" {style}/>"#);
+            let lines = styles.entry(next).or_default();
+            // Points in hundredths of a pixel.
+            let pts: Vec<(i64, i64)> = points(m)
+                .iter()
+                .map(|p| {
+                    let p = p.xyz();
+                    let x = left + scale * (p[u] - lo[u]);
+                    let y = base - scale * (p[v] - lo[v]);
+                    ((x * 100.0).round() as i64, (y * 100.0).round() as i64)
+                })
+                .collect();
+            for pair in pts.windows(2) {
+                let (a, b) = (pair[0], pair[1]);
+                if a == b || !drawn.insert((next, a.min(b), a.max(b))) {
+                    continue;
+                }
+                match lines.last_mut() {
+                    Some(line) if line.last() == Some(&a) => {
+                        // A step on along the same line moves its end.
+                        let n = line.len();
+                        if n >= 2 && straight_on(line[n - 2], a, b) {
+                            line[n - 1] = b;
+                        } else {
+                            line.push(b);
+                        }
+                    }
+                    _ => lines.push(vec![a, b]),
+                }
+            }
+        }
+        for (style, lines) in styles.into_iter().rev() {
+            draw(&mut out, style, lines);
         }
         let _ = writeln!(
             out,

@@ -22,8 +22,10 @@
 //! assert_eq!(path.feed_length(), 10.0);
 //! ```
 
+mod alloc;
 mod time;
 mod toolpath;
 
+pub use alloc::LargePages;
 pub use time::{cycle_time, Dynamics};
 pub use toolpath::{Arc, Axes, Coolant, Move, MoveKind, Plane, Spindle, Toolpath};

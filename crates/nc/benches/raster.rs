@@ -14,6 +14,10 @@ use std::time::Duration;
 use criterion::{criterion_group, BatchSize, Criterion, Throughput};
 use kezuri_nc::{interp, parse, Program, SourceFile, Sources};
 
+/// The allocator the `kezuri` binary uses: huge pages for large blocks.
+#[global_allocator]
+static ALLOC: kezuri_geom::LargePages = kezuri_geom::LargePages;
+
 /// Cutting blocks in the generated program.
 const BLOCKS: usize = 1_000_000;
 

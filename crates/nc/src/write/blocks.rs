@@ -135,7 +135,7 @@ impl Writer {
             step: o.line_numbers.unwrap_or(0),
             sequence: o.line_numbers.unwrap_or(0),
             used: [true, true, true, false, false, false],
-            pos: [None, None, None, Some(0), Some(0), Some(0)],
+            pos: [Some(0); 6],
             motion: None,
             plane: Some(Plane::Xy),
             feed: None,
@@ -162,7 +162,6 @@ impl Writer {
                             });
                         }
                         w.used[k] = true;
-                        w.pos[k] = None;
                     }
                 }
             }

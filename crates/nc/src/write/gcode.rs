@@ -10,11 +10,15 @@
 //! in mm (`G21`), absolute (`G90`), feed per minute (`G94`).
 //!
 //! Decisions a reader might not guess:
-//! - The first positioning move, and the first after a tool change, writes
-//!   every axis (X Y Z and each rotary axis the toolpath uses), because the
-//!   control's position is not known there. After a tool change the motion
-//!   code, the plane and `F` are written again too: the tool change macro of
-//!   a Fanuc control may have changed them.
+//! - The program starts where a reader of it assumes the tool is: at zero on
+//!   every axis, as kezuri's interpreter assumes. So the first move writes
+//!   only the axes it moves from there, and an axis the source program never
+//!   commanded is not commanded either (an expanded program whose first
+//!   block was `G00 X.. Y..` does not gain a `Z0.` that would dive from
+//!   wherever the spindle is). The first move after a tool change writes
+//!   every axis the program uses, and the motion code, the plane and `F`
+//!   again: a Fanuc tool change macro may have moved the axes and changed
+//!   modal words.
 //! - Straight moves (rapid, feed, probe) go from wherever the tool is to
 //!   their end: their start is not written. An arc needs its start, so an arc
 //!   that does not start where the tool is (as the first move, after a tool
@@ -208,9 +212,9 @@ impl std::error::Error for WriteError {}
 /// let (start, end) = (at(10.0, 0.0, 5.0), at(10.0, 0.0, -0.5));
 /// path.push(Move { kind: MoveKind::Feed, start, end, feed: 300.0, ..Move::default() });
 /// let text = program(&path, &WriteOptions::default()).unwrap();
-/// assert!(text.contains("G00 X10. Y0. Z5.\nG01 Z-0.5 F300.\n"));
+/// assert!(text.contains("G00 X10. Z5.\nG01 Z-0.5 F300.\n"));
 /// let grbl = program(&path, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
-/// assert!(grbl.contains("G0 X10 Y0 Z5\nG1 Z-0.5 F300\n"));
+/// assert!(grbl.contains("G0 X10 Z5\nG1 Z-0.5 F300\n"));
 /// ```
 pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, WriteError> {
     let mut w = Writer::new(toolpath, options)?;
