@@ -12,7 +12,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use program::{Emit, RunOptions};
+use program::{RunOptions, WriteArgs};
 
 /// Huge pages for million-move programs (see BENCHMARKS.md).
 #[global_allocator]
@@ -60,29 +60,25 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     Run {
         #[command(flatten)]
         run: RunOptions,
-        /// Output format.
-        #[arg(long, value_enum, default_value = "fanuc")]
-        emit: Emit,
-        /// Output file (default: standard output).
-        #[arg(short, long, value_name = "OUT")]
-        output: Option<PathBuf>,
-        /// Decimals written in the program (mm).
-        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
-        digits: u8,
-        /// Also draw the toolpath (top and front view) to this SVG file.
-        #[arg(long, value_name = "FILE.svg")]
-        svg: Option<PathBuf>,
+        #[command(flatten)]
+        write: WriteArgs,
     },
 }
 
 fn main() -> ExitCode {
+    // Die quietly when the reader of our output goes away (`kezuri … | head`),
+    // as command-line tools do, instead of panicking on a failed print.
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of SIGPIPE before any other
+    // thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Demo { out } => demo::run(out),
         Command::Check { run, json } => program::check(run, *json),
-        Command::Run { run, emit, output, digits, svg } => {
-            program::run(run, *emit, output.as_deref(), *digits, svg.as_deref())
-        }
+        Command::Run { run, write } => program::run(run, write),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

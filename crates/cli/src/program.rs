@@ -199,7 +199,7 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
 
 /// What `run` writes.
 #[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Emit {
+enum Emit {
     /// Fanuc G-code (`X10.` style, `%` and `O` framing).
     Fanuc,
     /// LinuxCNC G-code.
@@ -211,28 +211,60 @@ pub enum Emit {
 }
 
 /// `kezuri run`.
-pub fn run(o: &RunOptions, emit: Emit, out: Option<&Path>, digits: u8, svg: Option<&Path>) -> Result<()> {
+/// How `kezuri run` writes its result.
+#[derive(Args, Debug)]
+pub struct WriteArgs {
+    /// Output format.
+    #[arg(long, value_enum, default_value = "fanuc")]
+    emit: Emit,
+    /// Output file (default: standard output).
+    #[arg(short, long, value_name = "OUT")]
+    output: Option<PathBuf>,
+    /// Decimals written in the program [default: 3 in mm, 4 in inches].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
+    digits: Option<u8>,
+    /// Write the program in inches (G20) instead of mm (G21).
+    #[arg(long)]
+    inch: bool,
+    /// Number the blocks N10, N20, … (the step; 0 for none).
+    #[arg(long, value_name = "STEP", default_value_t = 0)]
+    line_numbers: u32,
+    /// Also draw the toolpath (top and front view) to this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    svg: Option<PathBuf>,
+}
+
+/// `kezuri run`: the motions of the program, as a program again or as CSV.
+pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     let (ran, parse_diagnostics) = read_and_run(o)?;
     ran.print_diagnostics(&parse_diagnostics);
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
     }
     let path = &ran.outcome.toolpath;
-    let text = match emit {
+    let text = match w.emit {
         Emit::Csv => kezuri_nc::write::csv(path),
         Emit::Fanuc | Emit::Linuxcnc | Emit::Grbl => {
             use kezuri_nc::write::{program, Dialect, WriteOptions};
-            let dialect = match emit {
+            let dialect = match w.emit {
                 Emit::Linuxcnc => Dialect::LinuxCnc,
                 Emit::Grbl => Dialect::Grbl,
                 _ => Dialect::Fanuc,
             };
             let title = o.file.file_name().map(|n| n.to_string_lossy().to_uppercase());
-            program(path, &WriteOptions { dialect, digits, title, ..WriteOptions::default() })?
+            let options = WriteOptions {
+                dialect,
+                digits: w.digits.unwrap_or(if w.inch { 4 } else { 3 }),
+                inch: w.inch,
+                line_numbers: (w.line_numbers > 0).then_some(w.line_numbers),
+                title,
+                ..WriteOptions::default()
+            };
+            program(path, &options)?
         }
     };
-    write_output(out, text.as_bytes())?;
-    if let Some(svg) = svg {
+    write_output(w.output.as_deref(), text.as_bytes())?;
+    if let Some(svg) = &w.svg {
         write_output(Some(svg), crate::plot::svg(path, &o.file.display().to_string()).as_bytes())?;
     }
     Ok(())

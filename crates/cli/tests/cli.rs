@@ -39,8 +39,8 @@ fn check_json_on_the_digitizing_program() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
     // 85 x 105 plunges of three moves (step, down, up), 105 row returns, the
-    // approach (2) and G28 (intermediate point and home).
-    assert_eq!(v["motions"], 85 * 105 * 3 + 105 + 2 + 2);
+    // approach (2) and G91 G28 Z0 (no intermediate move, then home).
+    assert_eq!(v["motions"], 85 * 105 * 3 + 105 + 2 + 1);
     // 100 mm of feed per plunge plus the 30 mm approach.
     let feed = v["feed_length_mm"].as_f64().unwrap();
     assert!((feed - (8925.0 * 100.0 + 30.0)).abs() < 1e-6, "{feed}");

@@ -28,4 +28,4 @@ mod toolpath;
 
 pub use alloc::LargePages;
 pub use time::{cycle_time, Dynamics};
-pub use toolpath::{Arc, Axes, Coolant, Move, MoveKind, Plane, Spindle, Toolpath};
+pub use toolpath::{Arc, Axes, AxisSet, Coolant, Frame, LengthOffset, Move, MoveKind, Plane, Spindle, Toolpath};

@@ -98,7 +98,7 @@ pub fn cycle_time(path: &Toolpath, machine: &Dynamics) -> (f64, usize) {
             entry[i] = v.min(cruise[i - 1]).min(cruise[i]);
         }
     }
-    let lengths: Vec<f64> = moves.iter().map(Move::length).collect();
+    let lengths: Vec<f64> = moves.iter().map(Move::feed_distance).collect();
     for i in (0..n).rev() {
         entry[i] = entry[i].min((entry[i + 1] * entry[i + 1] + 2.0 * a * lengths[i]).sqrt());
     }
@@ -110,7 +110,7 @@ pub fn cycle_time(path: &Toolpath, machine: &Dynamics) -> (f64, usize) {
     for (i, m) in moves.iter().enumerate() {
         seconds += match m.kind {
             MoveKind::Dwell(s) => s,
-            MoveKind::Rapid => {
+            MoveKind::Rapid | MoveKind::Home | MoveKind::Machine => {
                 let (s, e) = (m.start.to_array(), m.end.to_array());
                 (0..6)
                     .map(|k| {
@@ -142,7 +142,7 @@ mod tests {
     fn straight_line_is_a_trapezoid() {
         // 100 mm at 6000 mm/min = 100 mm/s with 1000 mm/s²: 0.1 s up, 0.1 s down,
         // 10 mm of ramps, 90 mm cruise = 0.9 s; total 1.1 s.
-        let path = Toolpath { moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)] };
+        let path = Toolpath { frames: Vec::new(), moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)] };
         let (t, unknown) = cycle_time(&path, &Dynamics::default());
         assert!((t - 1.1).abs() < 1e-9, "{t}");
         assert_eq!(unknown, 0);
@@ -150,8 +150,9 @@ mod tests {
 
     #[test]
     fn collinear_segments_do_not_stop() {
-        let one = Toolpath { moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)] };
+        let one = Toolpath { frames: Vec::new(), moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)] };
         let split = Toolpath {
+            frames: Vec::new(),
             moves: (0..100).map(|i| feed([i as f64, 0.0, 0.0], [i as f64 + 1.0, 0.0, 0.0], 6000.0)).collect(),
         };
         let d = Dynamics::default();
@@ -162,9 +163,23 @@ mod tests {
     fn a_reversal_stops_the_tool() {
         let d = Dynamics::default();
         let there_and_back = Toolpath {
+            frames: Vec::new(),
             moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0), feed([100.0, 0.0, 0.0], [0.0; 3], 6000.0)],
         };
         assert!((cycle_time(&there_and_back, &d).0 - 2.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn rotary_feed_is_in_degrees_per_minute() {
+        let d = Dynamics { acceleration_mm_s2: 1e12, ..Dynamics::default() };
+        let turn = |start: Axes, end: Axes| Move { kind: MoveKind::Feed, start, end, feed: 360.0, ..Move::default() };
+        // 45° at 360°/min: 7.5 s.
+        let a45 = turn(Axes::ZERO, Axes { a: 45.0, ..Axes::ZERO });
+        assert!((cycle_time(&Toolpath::from(vec![a45]), &d).0 - 7.5).abs() < 1e-6);
+        // X 1 mm with B -30° and C 15.5°: √(1 + 900 + 240.25) = 33.78 at 360/min.
+        let mixed = turn(Axes::ZERO, Axes { x: 1.0, b: -30.0, c: 15.5, ..Axes::ZERO });
+        let expected = (1.0f64 + 900.0 + 240.25).sqrt() / 6.0;
+        assert!((cycle_time(&Toolpath::from(vec![mixed]), &d).0 - expected).abs() < 1e-6);
     }
 
     #[test]
@@ -173,7 +188,7 @@ mod tests {
             Dynamics { rapid_mm_min: [60_000.0, 60_000.0, 6_000.0], acceleration_mm_s2: 1e9, ..Dynamics::default() };
         let mut m = feed([0.0; 3], [100.0, 100.0, 10.0], 0.0);
         m.kind = MoveKind::Rapid;
-        let (t, _) = cycle_time(&Toolpath { moves: vec![m] }, &d);
+        let (t, _) = cycle_time(&Toolpath::from(vec![m]), &d);
         assert!((t - 0.1).abs() < 1e-6, "{t}");
     }
 }

@@ -149,6 +149,83 @@ pub enum MoveKind {
     Probe,
     /// A pause at the start point, in seconds (G04); start equals end.
     Dwell(f64),
+    /// Return of the named axes ([`Move::named`]) to the machine's
+    /// reference point (G28) at rapid rate. `end` is where the machine model
+    /// puts the tool tip; the control knows the real point, so writers
+    /// command the return, not the position.
+    Home,
+    /// Positioning of the named axes in machine coordinates (G53) at rapid
+    /// rate. Writers command it in machine coordinates again.
+    Machine,
+}
+
+/// A set of the axes X Y Z A B C: bit k for the k-th. The default is all
+/// six.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AxisSet(pub u8);
+
+impl Default for AxisSet {
+    fn default() -> AxisSet {
+        AxisSet::ALL
+    }
+}
+
+impl AxisSet {
+    /// No axis.
+    pub const NONE: AxisSet = AxisSet(0);
+    /// X Y Z A B C.
+    pub const ALL: AxisSet = AxisSet(0b11_1111);
+
+    /// Whether axis `k` (0 = X … 5 = C) is in the set.
+    pub fn contains(self, k: usize) -> bool {
+        k < 6 && self.0 & (1 << k) != 0
+    }
+
+    /// The set with axis `k` added.
+    pub fn with(self, k: usize) -> AxisSet {
+        AxisSet(self.0 | (1 << k))
+    }
+}
+
+/// The coordinate frame the control had when it made a move: the work offset
+/// and the tool length offset in effect.
+///
+/// Toolpath positions are machine coordinates of the tool tip, so that
+/// moves made under different offsets share one frame (what a simulation
+/// needs). A writer gets program coordinates back by subtracting `origin`,
+/// and commands the offsets again so the control applies its own values.
+/// Shifts the program makes itself (G92, and the external offset) stay in
+/// the positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Frame {
+    /// Work offset: 0 to 5 for G54 to G59.
+    pub work: u8,
+    /// Machine coordinates of that work offset's zero.
+    pub origin: Axes,
+    /// Tool length offset (G43/G44 H); `None` for none (G49).
+    pub length: Option<LengthOffset>,
+}
+
+/// A tool length offset in effect.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LengthOffset {
+    /// The offset register, the H number.
+    pub register: u32,
+    /// `true` for G44 (subtract), `false` for G43 (add).
+    pub negative: bool,
+    /// The register's value in mm as the machine model has it.
+    pub value: f64,
+}
+
+impl LengthOffset {
+    /// How far the gauge line is above the tool tip, in mm.
+    pub fn signed(&self) -> f64 {
+        if self.negative {
+            -self.value
+        } else {
+            self.value
+        }
+    }
 }
 
 /// Spindle state.
@@ -193,6 +270,14 @@ pub struct Move {
     pub tool: u32,
     /// 1-based source line that made the move (0 when generated).
     pub line: u32,
+    /// Index of the move's [`Frame`] in [`Toolpath::frames`] (0, the
+    /// default frame, when there are none).
+    pub frame: u32,
+    /// The axes the block named. An axis it did not name stays wherever the
+    /// control has it, which a writer must not turn into a command: after a
+    /// tool change the model's position of an unnamed axis is only a guess.
+    /// Generated moves name every axis (the default).
+    pub named: AxisSet,
 }
 
 impl Move {
@@ -205,9 +290,24 @@ impl Move {
         }
     }
 
+    /// The distance the feed rate applies to: the tool tip's path with the
+    /// rotary axes' turns added as if degrees were millimetres,
+    /// `√(L² + ΔA² + ΔB² + ΔC²)`, as a Fanuc control feeds a move that turns
+    /// a rotary axis (F in mm/min and deg/min at once; a rotary-only move is
+    /// fed at F deg/min).
+    pub fn feed_distance(&self) -> f64 {
+        let (s, e) = (self.start, self.end);
+        let turn = (e.a - s.a).powi(2) + (e.b - s.b).powi(2) + (e.c - s.c).powi(2);
+        if turn == 0.0 {
+            self.length()
+        } else {
+            (self.length().powi(2) + turn).sqrt()
+        }
+    }
+
     /// `true` for rapids, `false` for every move that cuts or dwells.
     pub fn is_rapid(&self) -> bool {
-        matches!(self.kind, MoveKind::Rapid)
+        matches!(self.kind, MoveKind::Rapid | MoveKind::Home | MoveKind::Machine)
     }
 }
 
@@ -216,9 +316,23 @@ impl Move {
 pub struct Toolpath {
     /// The moves.
     pub moves: Vec<Move>,
+    /// The frames the moves refer to; empty means every move is in the
+    /// default frame (G54 at machine zero, no tool length offset).
+    pub frames: Vec<Frame>,
+}
+
+impl From<Vec<Move>> for Toolpath {
+    fn from(moves: Vec<Move>) -> Toolpath {
+        Toolpath { moves, frames: Vec::new() }
+    }
 }
 
 impl Toolpath {
+    /// The frame `m` was made in.
+    pub fn frame(&self, m: &Move) -> Frame {
+        self.frames.get(m.frame as usize).copied().unwrap_or_default()
+    }
+
     /// Appends a move.
     #[inline]
     pub fn push(&mut self, m: Move) {
@@ -227,12 +341,12 @@ impl Toolpath {
 
     /// Total length of non-rapid motion (feed, arc, probe), in mm.
     pub fn feed_length(&self) -> f64 {
-        self.moves.iter().filter(|m| !m.is_rapid()).map(Move::length).sum()
+        self.moves.iter().filter(|m| !m.is_rapid()).map(Move::length).fold(0.0, |a, b| a + b)
     }
 
     /// Total length of rapid motion, in mm.
     pub fn rapid_length(&self) -> f64 {
-        self.moves.iter().filter(|m| m.is_rapid()).map(Move::length).sum()
+        self.moves.iter().filter(|m| m.is_rapid()).map(Move::length).fold(0.0, |a, b| a + b)
     }
 
     /// Smallest box holding every point the tool tip passes through (arcs
@@ -292,12 +406,19 @@ mod tests {
     }
 
     #[test]
+    fn empty_lengths_are_plus_zero() {
+        // `Iterator::sum` of no floats is -0.0, which reports print as "-0".
+        let path = Toolpath::default();
+        assert!(path.feed_length().is_sign_positive() && path.rapid_length().is_sign_positive());
+    }
+
+    #[test]
     fn quarter_arc_length_and_bounds() {
         let arc = Arc { center: [0.0, 0.0, 0.0], plane: Plane::Xy, ccw: true, turns: 0 };
         let m =
             Move { kind: MoveKind::Arc(arc), start: at(10.0, 0.0, 0.0), end: at(0.0, 10.0, 0.0), ..Move::default() };
         assert!((m.length() - 5.0 * std::f64::consts::PI).abs() < 1e-12);
-        let path = Toolpath { moves: vec![m] };
+        let path = Toolpath::from(vec![m]);
         let (lo, hi) = path.bounds().unwrap();
         assert_eq!(lo, [0.0, 0.0, 0.0]);
         assert_eq!(hi, [10.0, 10.0, 0.0]);
@@ -309,7 +430,7 @@ mod tests {
         let m = Move { kind: MoveKind::Arc(arc), start: at(0.0, 0.0, 0.0), end: at(0.0, 0.0, -3.0), ..Move::default() };
         let len = m.length();
         assert!((len - (10.0 * std::f64::consts::PI).hypot(3.0)).abs() < 1e-9);
-        let (lo, hi) = Toolpath { moves: vec![m] }.bounds().unwrap();
+        let (lo, hi) = Toolpath::from(vec![m]).bounds().unwrap();
         assert!((lo[1] + 5.0).abs() < 1e-12 && (hi[1] - 5.0).abs() < 1e-12);
         assert!((hi[0] - 10.0).abs() < 1e-12 && lo[2] == -3.0);
     }

@@ -12,6 +12,10 @@ use crate::source::{Diagnostic, FileId, Span};
 /// Deepest bracket nesting accepted (Fanuc allows five).
 const MAX_DEPTH: u32 = 64;
 
+/// Most operators in one block's expressions. Evaluation recurses along a
+/// chain like `1+1+…+1`, so an unbounded chain would exhaust the stack.
+const MAX_OPERATORS: u32 = 1000;
+
 /// LinuxCNC O-word keywords (`o100 sub`, `o101 if [...]`).
 const OWORD_KEYWORDS: [&str; 15] = [
     "SUB",
@@ -54,7 +58,7 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
     while pos < bytes.len() {
         line += 1;
         let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |i| pos + i);
-        let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0 };
+        let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0, operators: 0 };
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
             percent_seen += 1;
@@ -119,6 +123,8 @@ struct LineParser<'a> {
     file: FileId,
     program: &'a mut Program,
     depth: u32,
+    /// Binary operators read so far in this block.
+    operators: u32,
 }
 
 type Result<T> = std::result::Result<T, Diagnostic>;
@@ -592,6 +598,10 @@ impl LineParser<'_> {
             if op.precedence() < min_prec.max(1) {
                 break;
             }
+            self.operators += 1;
+            if self.operators > MAX_OPERATORS {
+                return Err(self.error_here(format!("more than {MAX_OPERATORS} operators in one block")));
+            }
             self.pos += len;
             self.skip_blanks();
             let rhs = self.expr(op.precedence() + 1)?;
@@ -624,7 +634,10 @@ impl LineParser<'_> {
                 Ok(self.push(Expr::Neg(e)))
             }
             Some(b'+') => {
-                self.pos += 1;
+                while self.peek() == Some(b'+') {
+                    self.pos += 1;
+                    self.skip_blanks();
+                }
                 self.unary()
             }
             _ => self.primary(),

@@ -154,6 +154,9 @@ impl Diagnostic {
     }
 }
 
+/// Most characters of a source line shown under a diagnostic.
+const SNIPPET: usize = 100;
+
 struct RenderedDiagnostic<'a> {
     diagnostic: &'a Diagnostic,
     sources: &'a Sources,
@@ -165,14 +168,24 @@ impl fmt::Display for RenderedDiagnostic<'_> {
         let file = self.sources.get(d.span.file);
         let (line, col) = file.line_col(d.span.start);
         writeln!(f, "{}", d.headline(self.sources))?;
-        let text: String = file.line_text(line).chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
-        let gutter = line.to_string();
-        writeln!(f, "{} | {}", gutter, text)?;
-        let width = text.chars().count() as u32;
+        let text: Vec<char> = file.line_text(line).chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+        let width = text.len();
         let (end_line, end_col) = file.line_col(d.span.end.max(d.span.start));
+        let at = (col as usize - 1).min(width);
         let carets =
-            if end_line == line { end_col.saturating_sub(col).max(1) } else { (width + 1).saturating_sub(col).max(1) };
-        write!(f, "{} | {}{}", " ".repeat(gutter.len()), " ".repeat(col as usize - 1), "^".repeat(carets as usize))?;
+            if end_line == line { end_col.saturating_sub(col) as usize } else { (width + 1).saturating_sub(at + 1) };
+        // A long line (binary garbage, a generated expression) is shown as a
+        // window around the column.
+        let first = if width > SNIPPET { at.saturating_sub(SNIPPET * 2 / 3).min(width - SNIPPET) } else { 0 };
+        let last = width.min(first + SNIPPET);
+        let lead = if first > 0 { "…" } else { "" };
+        let tail = if last < width { "…" } else { "" };
+        let shown: String = text[first..last].iter().collect();
+        let gutter = line.to_string();
+        writeln!(f, "{gutter} | {lead}{shown}{tail}")?;
+        let offset = at - first + lead.chars().count();
+        let carets = carets.clamp(1, (last + 1).saturating_sub(at).max(1));
+        write!(f, "{} | {}{}", " ".repeat(gutter.len()), " ".repeat(offset), "^".repeat(carets))?;
         for (what, span) in d.call_chain.iter().rev() {
             let file = self.sources.get(span.file);
             let (l, c) = file.line_col(span.start);
@@ -196,5 +209,22 @@ mod tests {
             2 | G01 X[1+]
               |         ^"#]]
         .assert_eq(&d.render(&sources));
+    }
+
+    #[test]
+    fn long_lines_show_a_window_around_the_column() {
+        let mut sources = Sources::default();
+        let line = format!("#1=1{}@{}", "+1".repeat(200), "+1".repeat(200));
+        let id = sources.add(SourceFile::new("a.nc", line.clone()));
+        let at = line.find('@').unwrap();
+        let d = Diagnostic::error(Span::new(id, at, at + 1), "unexpected '@'");
+        let rendered = d.render(&sources);
+        let lines: Vec<&str> = rendered.lines().collect();
+        assert_eq!(lines[0], "a.nc:1:405: error: unexpected '@'");
+        assert!(lines[1].starts_with("1 | …+1+1") && lines[1].ends_with('…'), "{}", lines[1]);
+        assert_eq!(lines[1].chars().count(), 4 + 1 + SNIPPET + 1);
+        let caret = lines[2].find('^').unwrap();
+        assert_eq!(lines[1].chars().nth(caret), Some('@'));
+        assert_eq!(lines[2].matches('^').count(), 1);
     }
 }

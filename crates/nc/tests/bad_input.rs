@@ -130,3 +130,27 @@ fn endless_subprogram_loop_is_stopped_too() {
         "M99 in the main program restarts it on the control; the run stops here"
     );
 }
+
+#[test]
+fn long_operator_chains_are_an_error_not_a_stack_overflow() {
+    let settings = Settings::default();
+    for op in ["+", "*", " AND ", "-"] {
+        let fine = format!("#1=1{}\nM30\n", format!("{op}1").repeat(1000));
+        let (diagnostics, outcome) = parse_run(&fine, &settings);
+        assert!(diagnostics.is_empty(), "{:?}", diagnostics.first());
+        assert!(outcome.unwrap().completed);
+        let long = format!("G21\n#1=1{}\nM30\n", format!("{op}1").repeat(100_000));
+        let (diagnostics, _) = parse_run(&long, &settings);
+        let d = diagnostics.iter().find(|d| d.is_error()).expect("an error");
+        assert!(d.message.contains("more than 1000 operators"), "{}", d.message);
+        assert_eq!(d.headline(&sources_of(&long)).split(':').nth(1), Some("2"));
+    }
+    let signs = format!("#1={}1\nM30\n", "+".repeat(100_000));
+    assert!(parse_run(&signs, &settings).0.is_empty());
+}
+
+fn sources_of(text: &str) -> Sources {
+    let mut sources = Sources::default();
+    sources.add(SourceFile::new("bad.nc", text));
+    sources
+}

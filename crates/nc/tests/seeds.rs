@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-use kezuri_geom::{Axes, Move, MoveKind};
+use kezuri_geom::{Axes, AxisSet, Move, MoveKind};
 use kezuri_nc::interp::{self, Outcome, Settings};
 use kezuri_nc::{parse, Program, SourceFile, Sources};
 
@@ -88,8 +88,9 @@ fn o1011_measures_every_grid_point_once() {
     let last = moves.last().unwrap();
     assert!(last.is_rapid() && close(last.end.z, 0.0));
     assert_eq!((last.end.x, last.end.y), (10.0, 23.0), "G28 Z0 in G91 moves Z only");
+    assert_eq!((last.kind, last.named), (MoveKind::Home, AxisSet(0b100)), "a return of Z alone");
     let before = &moves[moves.len() - 2];
-    assert_eq!(before.start, before.end, "incremental G28 Z0: the intermediate point is where the tool is");
+    assert_ne!(before.start, before.end, "incremental G28 Z0: the intermediate point is where the tool is, no move");
 }
 
 // ---------------------------------------------------------------- seed 004
@@ -296,22 +297,19 @@ fn o2007_measures_at_the_programmed_positions() {
     assert_eq!(feeds, expected);
     let feed_of = |z: f64| moves.iter().find(|m| close(m.end.z - home.z, z)).unwrap().feed;
     assert_eq!((feed_of(-74.0), feed_of(-135.0)), (500.0, 100.0));
-    // The G91 G28 returns at the end, one axis group per block, in order.
-    let homing: Vec<Axes> = moves.iter().rev().take(8).rev().map(|m| m.end).collect();
+    // The G91 G28 returns at the end, one axis group per block, in order; in
+    // G91 the intermediate point is where the tool is, so no move goes there.
+    let homing: Vec<(Axes, AxisSet)> = moves.iter().rev().take(4).rev().map(|m| (m.end, m.named)).collect();
     let at = |x: f64, y: f64, z: f64, b: f64, c: f64| Axes { x, y, z, a: 0.0, b, c };
     let (x, y) = (120.0 - 165.0, 10.0);
     assert_eq!(
         homing,
         [
-            at(x, y, 200.0, -90.0, 30.0),
-            at(x, y, 200.0, -90.0, 30.0),
-            at(x, y, 200.0, -90.0, 30.0),
-            at(x, y, 200.0, 15.0, 30.0),
-            at(x, y, 200.0, 15.0, 30.0),
-            at(x, y, 200.0, 15.0, 30.0),
-            at(x, y, 200.0, 15.0, 30.0),
-            home,
+            (at(x, y, 200.0, -90.0, 30.0), AxisSet(0b100)),
+            (at(x, y, 200.0, 15.0, 30.0), AxisSet(0b1_0000)),
+            (at(x, y, 200.0, 15.0, 30.0), AxisSet(0b10_0000)),
+            (home, AxisSet(0b11)),
         ]
     );
-    assert!(moves.iter().rev().take(8).all(Move::is_rapid));
+    assert!(moves.iter().rev().take(4).all(|m| m.kind == MoveKind::Home));
 }

@@ -4,7 +4,7 @@
 use std::f64::consts::TAU;
 
 use expect_test::{expect_file, ExpectFile};
-use kezuri_geom::{Arc, Axes, Coolant, Move, MoveKind, Plane, Spindle, Toolpath};
+use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Move, MoveKind, Plane, Spindle, Toolpath};
 use kezuri_nc::interp::{self, IntegerInput, Outcome, Settings};
 use kezuri_nc::write::{program, Dialect, WriteError, WriteOptions};
 use kezuri_nc::{parse, Program, SourceFile, Sources};
@@ -31,7 +31,18 @@ impl Path {
     fn push(&mut self, kind: MoveKind, end: Axes) -> &mut Path {
         let line = self.path.moves.len() as u32 + 1;
         let (feed, speed, spindle, coolant, tool) = (self.feed, self.speed, self.spindle, self.coolant, self.tool);
-        self.path.push(Move { kind, start: self.at, end, feed, speed, spindle, coolant, tool, line });
+        self.path.push(Move {
+            kind,
+            start: self.at,
+            end,
+            feed,
+            speed,
+            spindle,
+            coolant,
+            tool,
+            line,
+            ..Move::default()
+        });
         self.at = end;
         self
     }
@@ -187,18 +198,18 @@ fn dialect(dialect: Dialect) -> WriteOptions {
 fn number_style_per_dialect() {
     let mut p = Path::default();
     p.rapid(10.0, -0.5, 0.0).feed(1.23456, -0.50049, 0.00049, 99.5).feed(-1.0004, -0.5, 0.1, 99.5);
-    assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 X10. Y-0.5", "G01 X1.235 F99.5", "X-1. Z0.1"]);
-    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["G0 X10 Y-0.5", "G1 X1.235 F99.5", "X-1 Z0.1"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 X10. Y-0.5 Z0.", "G01 X1.235 F99.5", "X-1. Z0.1"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["G0 X10 Y-0.5 Z0", "G1 X1.235 F99.5", "X-1 Z0.1"]);
     let o = WriteOptions { digits: 0, ..dialect(Dialect::Fanuc) };
-    assert_eq!(body(&p.path, &o), ["G00 X10. Y-1.", "G01 X1. F100.", "X-1."]);
+    assert_eq!(body(&p.path, &o), ["G00 X10. Y-1. Z0.", "G01 X1. F100.", "X-1."]);
 }
 
 #[test]
 fn rounding_to_zero_never_writes_minus_zero() {
     let mut p = Path::default();
-    p.rapid(1.0, 1.0, 1.0).rapid(-0.0004, -0.0, -1e-12);
-    assert_eq!(body(&p.path, &dialect(Dialect::Fanuc))[1..], ["X0. Y0. Z0."]);
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl))[1..], ["X0 Y0 Z0"]);
+    p.rapid(-0.0004, -0.0, -1e-12);
+    assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 X0. Y0. Z0."]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G0 X0 Y0 Z0"]);
 }
 
 #[test]
@@ -225,14 +236,27 @@ fn modal_words_and_unchanged_coordinates_are_not_repeated() {
 }
 
 #[test]
-fn first_move_writes_what_it_moves_and_the_move_after_a_tool_change_every_axis() {
+fn first_move_and_the_move_after_a_tool_change_write_every_axis() {
     let mut p = Path::default();
     p.feed(0.0, 0.0, -1.0, 100.0).tool(3).spindle(Spindle::Cw, 5000.0).coolant(false, true);
     p.feed(0.0, 0.0, -1.0, 100.0).feed(1.0, 0.0, -1.0, 100.0);
     assert_eq!(
         body(&p.path, &dialect(Dialect::Fanuc)),
-        ["G01 Z-1. F100.", "T3 M06", "S5000 M03", "M08", "G01 X0. Y0. Z-1. F100.", "X1."]
+        ["G01 X0. Y0. Z-1. F100.", "T3 M06", "S5000 M03", "M08", "G01 X0. Y0. Z-1. F100.", "X1."]
     );
+}
+
+#[test]
+fn where_the_position_is_unknown_only_the_named_axes_are_written() {
+    // As the interpreter records `G00 X5.` at the start and `Z-1.` after a
+    // tool change: the axes the source left alone stay where the control
+    // has them.
+    let mut p = Path::default();
+    p.rapid(5.0, 0.0, 0.0).tool(2).feed(5.0, 0.0, -1.0, 100.0).feed(6.0, 0.0, -1.0, 100.0);
+    p.path.moves[0].named = AxisSet(0b001);
+    p.path.moves[1].named = AxisSet(0b100);
+    p.path.moves[2].named = AxisSet(0b001);
+    assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 X5.", "T2 M06", "G01 Z-1. F100.", "X6."]);
 }
 
 #[test]
@@ -252,15 +276,18 @@ fn tool_change_stops_spindle_and_coolant_and_grbl_pauses() {
 fn coolant_off_then_on_again_for_a_partial_change() {
     let mut p = Path::default();
     p.coolant(true, true).rapid(0.0, 0.0, 1.0).coolant(false, true).rapid(0.0, 0.0, 2.0);
-    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["M7", "M8", "G0 Z1", "M9", "M8", "Z2"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["M7", "M8", "G0 X0 Y0 Z1", "M9", "M8", "Z2"]);
 }
 
 #[test]
 fn rapids_never_carry_feed_and_probes_rewrite_the_motion_code() {
     let mut p = Path::default();
     p.feed(0.0, 0.0, 0.0, 300.0).rapid(0.0, 0.0, 5.0).probe(0.0, 0.0, -5.0, 50.0).feed(0.0, 0.0, -4.0, 50.0);
-    assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 Z5.", "G31 Z-5. F50.", "G01 Z-4."]);
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl))[1..], ["G38.2 Z-5 F50", "G1 Z-4"]);
+    assert_eq!(
+        body(&p.path, &dialect(Dialect::Fanuc)),
+        ["G01 X0. Y0. Z0. F300.", "G00 Z5.", "G31 Z-5. F50.", "G01 Z-4."]
+    );
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl))[2..], ["G38.2 Z-5 F50", "G1 Z-4"]);
 }
 
 #[test]
@@ -283,7 +310,7 @@ fn arcs_write_plane_changes_and_full_circles_with_ijk() {
     assert_eq!(
         body(&p.path, &dialect(Dialect::Fanuc)),
         [
-            "G00 X10.",
+            "G00 X10. Y0. Z0.",
             "G02 I-10. J0. F100.",
             "G18 G03 Y-1. I-10. K0.",
             "G19 Z10. J0. K5.",
@@ -323,7 +350,7 @@ fn an_arc_away_from_the_tool_is_reached_by_a_feed_move() {
     let mut p = Path { feed: 100.0, ..Path::default() };
     p.arc(Plane::Xy, true, [0.0, 0.0, 0.0], [0.0, 5.0, 0.0]);
     p.path.moves[0].start = at(5.0, 0.0, 0.0);
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G1 X5 F100", "G3 X0 Y5 I-5 J0"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G1 X5 Y0 Z0 F100", "G3 X0 Y5 I-5 J0"]);
 }
 
 #[test]
@@ -347,21 +374,21 @@ fn rounded_arc_centre_keeps_the_end_on_the_circle() {
 fn line_numbers_count_by_their_step_and_wrap() {
     let mut p = Path::default();
     for k in 0..4 {
-        p.rapid(f64::from(k), 0.0, 1.0);
+        p.rapid(f64::from(k), 0.0, 0.0);
     }
     let text = written(&p.path, &WriteOptions { line_numbers: Some(40_000), ..dialect(Dialect::Fanuc) });
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[..4], ["%", "O0001", "N40000 G21 G90 G17 G94 G40 G80", "N80000 G00 Z1."]);
+    assert_eq!(lines[..4], ["%", "O0001", "N40000 G21 G90 G17 G94 G40 G49 G80 G54", "N80000 G00 X0. Y0. Z0."]);
     assert_eq!(lines[4..], ["N40000 X1.", "N80000 X2.", "N40000 X3.", "N80000 M30", "%"]);
 }
 
 #[test]
 fn framing_per_dialect() {
     let o = WriteOptions { title: Some("a (b) 100% é".into()), program_number: 42, ..dialect(Dialect::Fanuc) };
-    assert_eq!(written(&Toolpath::default(), &o), "%\nO0042 (a [b] 100_ _)\nG21 G90 G17 G94 G40 G80\nM30\n%\n");
+    assert_eq!(written(&Toolpath::default(), &o), "%\nO0042 (a [b] 100_ _)\nG21 G90 G17 G94 G40 G49 G80 G54\nM30\n%\n");
     let o = WriteOptions { dialect: Dialect::LinuxCnc, ..o };
-    assert_eq!(written(&Toolpath::default(), &o), "(a [b] 100_ _)\nG21 G90 G17 G94 G40 G80\nM2\n");
-    assert_eq!(written(&Toolpath::default(), &dialect(Dialect::Grbl)), "G21 G90 G17 G94 G40 G80\nM2\n");
+    assert_eq!(written(&Toolpath::default(), &o), "(a [b] 100_ _)\nG21 G90 G17 G94 G40 G49 G80 G54\nM2\n");
+    assert_eq!(written(&Toolpath::default(), &dialect(Dialect::Grbl)), "G21 G90 G17 G94 G40 G49 G80 G54\nM2\n");
 }
 
 #[test]
@@ -531,6 +558,8 @@ fn build(first: [f64; 3], steps: &[(Step, State)]) -> Toolpath {
 fn kind_name(k: &MoveKind) -> &'static str {
     match k {
         MoveKind::Rapid => "rapid",
+        MoveKind::Home => "home",
+        MoveKind::Machine => "machine",
         MoveKind::Feed => "feed",
         MoveKind::Probe => "probe",
         MoveKind::Dwell(_) => "dwell",

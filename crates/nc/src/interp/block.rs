@@ -1,6 +1,6 @@
 //! One NC block: evaluate its words, then apply it completely.
 
-use kezuri_geom::{Arc, Axes, Move, MoveKind, Spindle};
+use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 
 use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, RadiusComp, Units};
 use super::value::Value;
@@ -94,6 +94,11 @@ impl<'a> Words<'a> {
 
     fn any_axis(&self) -> bool {
         b"XYZABC".iter().any(|&l| self.has(l))
+    }
+
+    /// The axes the block names.
+    fn axes(&self) -> AxisSet {
+        b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k))
     }
 }
 
@@ -473,7 +478,11 @@ impl State {
         Axes::from_array(std::array::from_fn(|i| p[i] + o[i]))
     }
 
-    fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, line: u32) {
+    fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
+        let frame = self.frame();
+        if self.toolpath.frames.last() != Some(&frame) {
+            self.toolpath.frames.push(frame);
+        }
         let m = Move {
             kind,
             start: self.tip,
@@ -484,6 +493,8 @@ impl State {
             coolant: self.coolant,
             tool: self.tool,
             line,
+            frame: (self.toolpath.frames.len() - 1) as u32,
+            named,
         };
         self.toolpath.push(m);
         self.tip = end;
@@ -516,7 +527,7 @@ impl State {
                 if seconds < 0.0 {
                     return Err(Diagnostic::error(gspan, "a dwell time cannot be negative"));
                 }
-                self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, line);
+                self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
                 return Ok(false);
             }
             Some((GCode::Home, _)) => {
@@ -531,8 +542,11 @@ impl State {
                 }
                 home = Axes::from_array(v);
                 if w.any_axis() {
-                    self.push_move(MoveKind::Rapid, via, 0.0, line);
-                    self.push_move(MoveKind::Rapid, home, 0.0, line);
+                    // `G91 G28 Z0` has no intermediate move.
+                    if via != self.tip {
+                        self.push_move(MoveKind::Rapid, via, 0.0, w.axes(), line);
+                    }
+                    self.push_move(MoveKind::Home, home, 0.0, w.axes(), line);
                 }
                 return Ok(w.any_axis());
             }
@@ -563,7 +577,7 @@ impl State {
                 }
                 // G53 positions at rapid traverse whatever the group 1 mode.
                 if w.any_axis() {
-                    self.push_move(MoveKind::Rapid, Axes::from_array(p), 0.0, line);
+                    self.push_move(MoveKind::Machine, Axes::from_array(p), 0.0, w.axes(), line);
                 }
                 return Ok(w.any_axis());
             }
@@ -573,14 +587,15 @@ impl State {
                 }
                 let end = self.target(w);
                 let feed = self.feed_mm_min(span);
-                self.push_move(MoveKind::Probe, end, feed, line);
+                self.push_move(MoveKind::Probe, end, feed, w.axes(), line);
                 // #5061… include the tool length offset, as #5041… do.
                 let work = self.work_position();
                 self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
                 return Ok(true);
             }
             Some((GCode::SetOffsets, gspan)) => {
-                return Err(Diagnostic::error(gspan, "G10 (offsets by program) is not supported yet"))
+                self.set_offsets(w, gspan)?;
+                return Ok(false);
             }
             _ => {}
         }
@@ -590,18 +605,55 @@ impl State {
         }
         let end = self.target(w);
         match self.modal.motion {
-            Motion::Rapid => self.push_move(MoveKind::Rapid, end, 0.0, line),
+            Motion::Rapid => self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line),
             Motion::Linear => {
                 let feed = self.feed_mm_min(span);
-                self.push_move(MoveKind::Feed, end, feed, line);
+                self.push_move(MoveKind::Feed, end, feed, w.axes(), line);
             }
             Motion::Cw | Motion::Ccw => {
                 let arc = self.arc(w, end, span)?;
                 let feed = self.feed_mm_min(span);
-                self.push_move(MoveKind::Arc(arc), end, feed, line);
+                self.push_move(MoveKind::Arc(arc), end, feed, w.axes(), line);
             }
         }
         Ok(true)
+    }
+
+    /// G10 data setting: `L2 P0…6` a work offset (P0 the external offset,
+    /// P1 to P6 G54 to G59) from the axis words, `L10 P… R…` (and the older
+    /// `L1`) a tool length offset; in G91 the values are added.
+    fn set_offsets(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
+        let incremental = self.modal.distance == Distance::Incremental;
+        let whole = |v: Option<f64>| v.filter(|v| v.fract() == 0.0 && *v >= 0.0).map(|v| v as u32);
+        match (whole(w.get(b'L')), whole(w.get(b'P'))) {
+            (Some(2), Some(p @ 0..=6)) => {
+                let offset = if p == 0 { &mut self.external_offset } else { &mut self.work_offsets[p as usize - 1] };
+                let mut v = offset.to_array();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if let Some(value) = w.get(letter) {
+                        let value = if i < 3 && self.modal.units == Units::Inch { value * 25.4 } else { value };
+                        v[i] = if incremental { v[i] + value } else { value };
+                    }
+                }
+                *offset = Axes::from_array(v);
+                Ok(())
+            }
+            (Some(1 | 10), Some(h @ 1..=999)) => {
+                let Some(r) = w.get(b'R') else {
+                    return Err(Diagnostic::error(gspan, "G10 L10 needs the offset value in R"));
+                };
+                let r = self.mm(r);
+                let old = self.settings.tool_lengths.get(&h).copied().unwrap_or(0.0);
+                self.settings.tool_lengths.insert(h, if incremental { old + r } else { r });
+                Ok(())
+            }
+            (Some(2), _) => Err(Diagnostic::error(gspan, "G10 L2 needs P0 to P6 (P1 = G54 … P6 = G59)")),
+            (Some(1 | 10), _) => Err(Diagnostic::error(gspan, "G10 L10 needs the offset number P1 to P999")),
+            _ => Err(Diagnostic::error(
+                gspan,
+                "this G10 is not supported: L2 (work offsets) and L10/L1 (tool length offsets) are",
+            )),
+        }
     }
 
     fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {

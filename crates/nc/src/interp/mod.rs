@@ -18,7 +18,7 @@ mod vars;
 
 use std::collections::{BTreeMap, HashMap};
 
-use kezuri_geom::{Axes, Coolant, Spindle, Toolpath};
+use kezuri_geom::{Axes, Coolant, Frame, LengthOffset, Spindle, Toolpath};
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
@@ -234,6 +234,19 @@ impl State {
         match self.modal.length_comp {
             Some((sign, h)) => sign * self.settings.tool_lengths.get(&h).copied().unwrap_or(0.0),
             None => 0.0,
+        }
+    }
+
+    /// The work offset and tool length offset in effect, for the toolpath.
+    fn frame(&self) -> Frame {
+        Frame {
+            work: self.modal.work_offset as u8,
+            origin: self.work_offsets[self.modal.work_offset],
+            length: self.modal.length_comp.map(|(sign, register)| LengthOffset {
+                register,
+                negative: sign < 0.0,
+                value: self.settings.tool_lengths.get(&register).copied().unwrap_or(0.0),
+            }),
         }
     }
 

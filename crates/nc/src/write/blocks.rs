@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use kezuri_geom::{Arc, Axes, Coolant, Move, Plane, Spindle, Toolpath};
+use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
 
@@ -18,6 +18,9 @@ struct Codes {
     mist: &'static str,
     flood: &'static str,
     coolant_off: &'static str,
+    home: &'static str,
+    length: [&'static str; 2],
+    length_cancel: &'static str,
     end: &'static str,
 }
 
@@ -31,6 +34,9 @@ static FANUC: Codes = Codes {
     mist: "M07",
     flood: "M08",
     coolant_off: "M09",
+    home: "G28",
+    length: ["G43", "G44"],
+    length_cancel: "G49",
     end: "M30",
 };
 
@@ -44,12 +50,16 @@ static SHORT: Codes = Codes {
     mist: "M7",
     flood: "M8",
     coolant_off: "M9",
+    home: "G28",
+    length: ["G43", "G44"],
+    length_cancel: "G49",
     end: "M2",
 };
 
-/// The safe start block: mm, absolute, XY plane, feed per minute, no cutter
-/// compensation, no canned cycle.
-const SAFE_START: &str = "G21 G90 G17 G94 G40 G80";
+/// The safe start block after the units (`G21` or `G20`): absolute, XY
+/// plane, feed per minute, no cutter compensation, no tool length offset, no
+/// canned cycle, work offset G54 (the default [`Frame`]).
+const SAFE_START: &str = "G90 G17 G94 G40 G49 G80 G54";
 
 /// Largest `N` number a Fanuc control reads.
 const MAX_SEQUENCE: u32 = 99_999;
@@ -93,6 +103,11 @@ pub(super) struct Writer {
     spindle: Spindle,
     coolant: Coolant,
     tool: u32,
+    /// The frame the control is in.
+    frame: Option<Frame>,
+    /// The origin of each work offset as the control has it: first as the
+    /// toolpath shows it, then as the program's `G10` set it.
+    origins: [Option<Axes>; 6],
     /// Words in the block being written.
     words: u32,
     /// Index and source line of the move being written.
@@ -135,7 +150,7 @@ impl Writer {
             step: o.line_numbers.unwrap_or(0),
             sequence: o.line_numbers.unwrap_or(0),
             used: [true, true, true, false, false, false],
-            pos: [Some(0); 6],
+            pos: [None, None, None, Some(0), Some(0), Some(0)],
             motion: None,
             plane: Some(Plane::Xy),
             feed: None,
@@ -143,6 +158,8 @@ impl Writer {
             spindle: Spindle::Off,
             coolant: Coolant::default(),
             tool: 0,
+            frame: Some(Frame::default()),
+            origins: [None; 6],
             words: 0,
             at: (0, 0),
         };
@@ -162,6 +179,7 @@ impl Writer {
                             });
                         }
                         w.used[k] = true;
+                        w.pos[k] = None;
                     }
                 }
             }
@@ -184,6 +202,7 @@ impl Writer {
             self.out.push('\n');
         }
         self.block();
+        self.code(if o.inch { "G20" } else { "G21" });
         self.code(SAFE_START);
         self.out.push('\n');
     }
@@ -346,17 +365,126 @@ impl Writer {
         self.feed = None;
     }
 
-    /// A straight move to `end`: `motion` is `None` for a probe move; `feed`
-    /// is `None` for a rapid.
-    pub(super) fn straight(&mut self, motion: Option<Motion>, end: Axes, feed: Option<f64>) -> Result<(), WriteError> {
-        let t = self.target(end)?;
-        let feed = feed.map(|f| self.non_negative(f, 'F')).transpose()?;
-        self.straight_to(motion, t, feed);
+    /// Brings the control to frame `f`: the work offset (`G54`…`G59`, and a
+    /// `G10 L2` where the program changed an offset's origin) and the tool
+    /// length offset (`G43`/`G44 H`, `G43.1 Z` on GRBL, `G49`). `last` is the
+    /// tool tip in machine coordinates, to carry the known position over to
+    /// the new work offset.
+    pub(super) fn frame(&mut self, f: Frame, last: Option<Axes>) -> Result<(), WriteError> {
+        let old = self.frame;
+        if old == Some(f) {
+            return Ok(());
+        }
+        let work = f.work as usize;
+        let known = *self.origins[work].get_or_insert(f.origin);
+        if known != f.origin {
+            let v = f.origin.to_array();
+            self.block();
+            self.code("G10 L2");
+            self.space();
+            self.out.push('P');
+            push_uint(&mut self.out, work as u64 + 1);
+            let used = self.used;
+            for k in (0..6).filter(|&k| used[k]) {
+                let n = self.fixed(v[k], AXIS_LETTERS[k])?;
+                self.word(AXIS_LETTERS[k], n, self.point);
+            }
+            self.out.push('\n');
+            self.origins[work] = Some(f.origin);
+        }
+        let new_work = old.map(|o| o.work) != Some(f.work);
+        let new_length = old.map(|o| o.length) != Some(f.length);
+        if new_work || new_length {
+            self.block();
+            if new_work {
+                self.code(["G54", "G55", "G56", "G57", "G58", "G59"][work.min(5)]);
+            }
+            if new_length {
+                match f.length {
+                    None => self.code(self.codes.length_cancel),
+                    Some(l) if self.dialect == Dialect::Grbl => {
+                        // GRBL has no offset table: the offset itself.
+                        let n = self.fixed(l.signed(), 'Z')?;
+                        self.code("G43.1");
+                        self.word('Z', n, false);
+                    }
+                    Some(l) => {
+                        self.code(if l.negative { self.codes.length[1] } else { self.codes.length[0] });
+                        self.space();
+                        self.out.push('H');
+                        push_uint(&mut self.out, u64::from(l.register));
+                    }
+                }
+            }
+            self.out.push('\n');
+        }
+        if let (Some(o), Some(e)) = (old, last) {
+            if o.origin != f.origin {
+                let (e, origin) = (e.to_array(), f.origin.to_array());
+                for k in 0..6 {
+                    if self.pos[k].is_some() {
+                        self.pos[k] = Some(self.fixed(e[k] - origin[k], AXIS_LETTERS[k])?);
+                    }
+                }
+            }
+        }
+        self.frame = Some(f);
         Ok(())
     }
 
-    fn straight_to(&mut self, motion: Option<Motion>, t: [i64; 6], feed: Option<i64>) {
-        if (0..6).all(|k| self.pos[k] == Some(t[k])) {
+    /// A return to the reference point (`G91 G28` with the axes at zero
+    /// travel to the intermediate point, then `G90`); `end` is where the
+    /// toolpath puts the tool after it, in program coordinates.
+    pub(super) fn home(&mut self, axes: AxisSet, end: Axes) -> Result<(), WriteError> {
+        let t = self.target(end)?;
+        self.block();
+        self.code("G91");
+        self.code(self.codes.home);
+        let used = self.used;
+        for k in (0..6).filter(|&k| axes.contains(k) && used[k]) {
+            self.word(AXIS_LETTERS[k], 0, self.point);
+            self.pos[k] = Some(t[k]);
+        }
+        self.out.push('\n');
+        self.line("G90");
+        Ok(())
+    }
+
+    /// Positioning in machine coordinates (`G53` at rapid): `gauge` is the
+    /// spindle gauge line in machine coordinates, `end` the tool tip after
+    /// it in program coordinates.
+    pub(super) fn machine(&mut self, axes: AxisSet, gauge: Axes, end: Axes) -> Result<(), WriteError> {
+        let (g, t) = (self.target(gauge)?, self.target(end)?);
+        self.block();
+        self.code("G53");
+        self.code(self.codes.motion[Motion::Rapid as usize]);
+        self.motion = Some(Motion::Rapid);
+        let used = self.used;
+        for k in (0..6).filter(|&k| axes.contains(k) && used[k]) {
+            self.word(AXIS_LETTERS[k], g[k], self.point);
+            self.pos[k] = Some(t[k]);
+        }
+        self.out.push('\n');
+        Ok(())
+    }
+
+    /// A straight move to `end`: `motion` is `None` for a probe move; `feed`
+    /// is `None` for a rapid.
+    pub(super) fn straight(
+        &mut self,
+        motion: Option<Motion>,
+        end: Axes,
+        feed: Option<f64>,
+        named: AxisSet,
+    ) -> Result<(), WriteError> {
+        let t = self.target(end)?;
+        let feed = feed.map(|f| self.non_negative(f, 'F')).transpose()?;
+        self.straight_to(motion, t, feed, named);
+        Ok(())
+    }
+
+    fn straight_to(&mut self, motion: Option<Motion>, t: [i64; 6], feed: Option<i64>, named: AxisSet) {
+        if !(0..6).any(|k| self.writes(k, &t, named)) {
             return;
         }
         self.block();
@@ -371,18 +499,30 @@ impl Writer {
                 self.motion = None;
             }
         }
-        self.axis_words(&t);
+        self.axis_words(&t, named);
         if let Some(f) = feed {
             self.feed_word(f);
         }
         self.out.push('\n');
     }
 
-    /// The axis words of `t` that differ from the control's position, which
-    /// becomes `t`.
-    fn axis_words(&mut self, t: &[i64; 6]) {
+    /// Whether a move to `t` naming `named` writes axis `k`: where the
+    /// control's position is known, when it changes; where it is not (at the
+    /// start, after a tool change), when the move names the axis, so that an
+    /// axis the source program left alone is never commanded to the model's
+    /// guess of where it is.
+    fn writes(&self, k: usize, t: &[i64; 6], named: AxisSet) -> bool {
+        match self.pos[k] {
+            Some(p) => p != t[k],
+            None => self.used[k] && named.contains(k),
+        }
+    }
+
+    /// The axis words of `t` that [`Writer::writes`]; the control's position
+    /// becomes `t` on those axes.
+    fn axis_words(&mut self, t: &[i64; 6], named: AxisSet) {
         for k in 0..6 {
-            if self.pos[k] != Some(t[k]) {
+            if self.writes(k, t, named) {
                 self.word(AXIS_LETTERS[k], t[k], self.point);
                 self.pos[k] = Some(t[k]);
             }
@@ -420,7 +560,7 @@ impl Writer {
             None => true,
         });
         if away {
-            self.straight_to(Some(Motion::Linear), start, Some(feed));
+            self.straight_to(Some(Motion::Linear), start, Some(feed), AxisSet::ALL);
         }
         let single = Arc { turns: 0, ..arc };
         let mut from = m.start;
@@ -458,7 +598,7 @@ impl Writer {
         let full = t[i] == s[i] && t[j] == s[j];
         let offset = if full {
             if exact_sweep <= PI {
-                self.straight_to(Some(Motion::Linear), t, Some(feed));
+                self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
                 return Ok(());
             }
             plain
@@ -469,7 +609,7 @@ impl Writer {
             let written = self.written_sweep(arc, &s, &t, offset);
             if (written - exact_sweep).abs() > PI {
                 if exact_sweep <= PI {
-                    self.straight_to(Some(Motion::Linear), t, Some(feed));
+                    self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
                     return Ok(());
                 }
                 // Rounding closed a near-full circle: make it a full one.
@@ -482,7 +622,7 @@ impl Writer {
         };
         if offset[0] == 0 && offset[1] == 0 {
             // A radius below the last digit.
-            self.straight_to(Some(Motion::Linear), t, Some(feed));
+            self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
             return Ok(());
         }
         self.block();
@@ -500,7 +640,7 @@ impl Writer {
             self.code(self.codes.motion[g as usize]);
             self.motion = Some(g);
         }
-        self.axis_words(&t);
+        self.axis_words(&t, AxisSet::ALL);
         for (k, letter) in letters.into_iter().enumerate() {
             if k == i {
                 self.word(letter, offset[0], self.point);

@@ -18,7 +18,8 @@ pub fn csv(toolpath: &Toolpath) -> String {
     out.push('\n');
     for m in &toolpath.moves {
         let kind = match m.kind {
-            MoveKind::Rapid => "rapid",
+            // G28 and G53 moves are rapids too.
+            MoveKind::Rapid | MoveKind::Home | MoveKind::Machine => "rapid",
             MoveKind::Feed => "feed",
             MoveKind::Arc(arc) if arc.ccw => "ccw",
             MoveKind::Arc(_) => "cw",

@@ -7,18 +7,29 @@
 //! a Fanuc axis word always carries a decimal point (`X10.`, `X0.`), because
 //! a Fanuc control reads `X10` as 10 increments (0.010 mm); LinuxCNC and
 //! GRBL get `X10`. A rounded zero is written `0`, never `-0`. Programs are
-//! in mm (`G21`), absolute (`G90`), feed per minute (`G94`).
+//! in mm (`G21`) or inches (`G20`, [`WriteOptions::inch`]), absolute (`G90`),
+//! feed per minute (`G94`).
 //!
 //! Decisions a reader might not guess:
-//! - The program starts where a reader of it assumes the tool is: at zero on
-//!   every axis, as kezuri's interpreter assumes. So the first move writes
-//!   only the axes it moves from there, and an axis the source program never
-//!   commanded is not commanded either (an expanded program whose first
-//!   block was `G00 X.. Y..` does not gain a `Z0.` that would dive from
-//!   wherever the spindle is). The first move after a tool change writes
-//!   every axis the program uses, and the motion code, the plane and `F`
-//!   again: a Fanuc tool change macro may have moved the axes and changed
-//!   modal words.
+//! - Where the control's position is not known (at the start of the
+//!   program, and after a tool change, whose macro may move the axes), a
+//!   move writes the axes it names ([`kezuri_geom::Move::named`]): every
+//!   axis for a generated toolpath, only the axes of the source block for an
+//!   interpreted one, so an expanded `G00 X.. Y..` never gains a `Z` at the
+//!   model's guess of where the spindle is. After a tool change the motion
+//!   code, the plane and `F` are written again too: a Fanuc tool change
+//!   macro may have changed them.
+//! - Positions are written in program coordinates of the move's
+//!   [`kezuri_geom::Frame`]: its work offset (`G54`…`G59`) and tool length
+//!   offset (`G43`/`G44 H`, or `G43.1 Z` with the value on GRBL) are
+//!   commanded again when they change, so the control applies its own
+//!   offsets; a work offset the program changed (`G10 L2`, `#5221…`) is set
+//!   again with `G10 L2`. `G92` and external offset shifts are baked into
+//!   the positions.
+//! - A return to the reference point is `G91 G28` of its axes then `G90`;
+//!   a move in machine coordinates is `G53 G00` with the spindle gauge line's
+//!   machine position. Neither becomes a move to the model's idea of where
+//!   the reference point is.
 //! - Straight moves (rapid, feed, probe) go from wherever the tool is to
 //!   their end: their start is not written. An arc needs its start, so an arc
 //!   that does not start where the tool is (as the first move, after a tool
@@ -54,7 +65,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use kezuri_geom::{MoveKind, Toolpath};
+use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, Toolpath};
 
 use super::blocks::{Motion, Writer};
 
@@ -117,8 +128,11 @@ impl FromStr for Dialect {
 pub struct WriteOptions {
     /// The dialect.
     pub dialect: Dialect,
-    /// Decimals of mm (and degree) values, 0 to 6; trailing zeros are trimmed.
+    /// Decimals of length (and degree) values, 0 to 6; trailing zeros are
+    /// trimmed. 3 suits mm, 4 inch.
     pub digits: u8,
+    /// Write in inches (`G20`) instead of mm (`G21`).
+    pub inch: bool,
     /// `Some(step)`: number the blocks `N<step>`, `N<2·step>`, …;
     /// `None`: no `N` words.
     pub line_numbers: Option<u32>,
@@ -129,9 +143,16 @@ pub struct WriteOptions {
 }
 
 impl Default for WriteOptions {
-    /// Fanuc, 3 decimals, no `N` words, `O0001`, no title.
+    /// Fanuc, mm with 3 decimals, no `N` words, `O0001`, no title.
     fn default() -> WriteOptions {
-        WriteOptions { dialect: Dialect::Fanuc, digits: 3, line_numbers: None, program_number: 1, title: None }
+        WriteOptions {
+            dialect: Dialect::Fanuc,
+            digits: 3,
+            inch: false,
+            line_numbers: None,
+            program_number: 1,
+            title: None,
+        }
     }
 }
 
@@ -204,7 +225,7 @@ impl std::error::Error for WriteError {}
 /// Writes `toolpath` as a program in `options.dialect`.
 ///
 /// ```
-/// use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
+/// use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, Toolpath};
 /// use kezuri_nc::write::{program, Dialect, WriteOptions};
 /// let at = |x, y, z| Axes { x, y, z, ..Axes::ZERO };
 /// let mut path = Toolpath::default();
@@ -212,23 +233,68 @@ impl std::error::Error for WriteError {}
 /// let (start, end) = (at(10.0, 0.0, 5.0), at(10.0, 0.0, -0.5));
 /// path.push(Move { kind: MoveKind::Feed, start, end, feed: 300.0, ..Move::default() });
 /// let text = program(&path, &WriteOptions::default()).unwrap();
-/// assert!(text.contains("G00 X10. Z5.\nG01 Z-0.5 F300.\n"));
+/// assert!(text.contains("G00 X10. Y0. Z5.\nG01 Z-0.5 F300.\n"));
 /// let grbl = program(&path, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
-/// assert!(grbl.contains("G0 X10 Z5\nG1 Z-0.5 F300\n"));
+/// assert!(grbl.contains("G0 X10 Y0 Z5\nG1 Z-0.5 F300\n"));
 /// ```
 pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, WriteError> {
     let mut w = Writer::new(toolpath, options)?;
     w.header(options);
-    for (index, m) in toolpath.moves.iter().enumerate() {
-        w.at = (index, m.line);
-        w.state(m)?;
+    let unit = if options.inch { 1.0 / 25.4 } else { 1.0 };
+    let mut last = None;
+    for (index, machine) in toolpath.moves.iter().enumerate() {
+        w.at = (index, machine.line);
+        w.state(machine)?;
+        let frame = toolpath.frame(machine);
+        w.frame(in_units(frame, unit), last)?;
+        last = Some(scaled(machine.end, Axes::ZERO, unit));
+        let m = &in_program(machine, frame.origin, unit);
         match m.kind {
-            MoveKind::Rapid => w.straight(Some(Motion::Rapid), m.end, None)?,
-            MoveKind::Feed => w.straight(Some(Motion::Linear), m.end, Some(m.feed))?,
-            MoveKind::Probe => w.straight(None, m.end, Some(m.feed))?,
+            MoveKind::Rapid => w.straight(Some(Motion::Rapid), m.end, None, m.named)?,
+            MoveKind::Feed => w.straight(Some(Motion::Linear), m.end, Some(m.feed), m.named)?,
+            MoveKind::Probe => w.straight(None, m.end, Some(m.feed), m.named)?,
             MoveKind::Dwell(seconds) => w.dwell(seconds)?,
             MoveKind::Arc(arc) => w.arc(m, arc)?,
+            MoveKind::Home => w.home(m.named, m.end)?,
+            MoveKind::Machine => {
+                let lift = frame.length.map_or(0.0, |l| l.signed());
+                let gauge = Axes { z: machine.end.z + lift, ..machine.end };
+                w.machine(m.named, scaled(gauge, Axes::ZERO, unit), m.end)?
+            }
         }
     }
     Ok(w.finish())
+}
+
+/// `p - origin`, its linear axes times `unit` (rotary axes stay degrees).
+fn scaled(p: Axes, origin: Axes, unit: f64) -> Axes {
+    let (p, o) = (p.to_array(), origin.to_array());
+    Axes::from_array(std::array::from_fn(|k| (p[k] - o[k]) * if k < 3 { unit } else { 1.0 }))
+}
+
+/// `frame` with its lengths times `unit`.
+fn in_units(frame: Frame, unit: f64) -> Frame {
+    Frame {
+        origin: scaled(frame.origin, Axes::ZERO, unit),
+        length: frame.length.map(|l| LengthOffset { value: l.value * unit, ..l }),
+        ..frame
+    }
+}
+
+/// `m` in program coordinates: relative to the work offset's `origin`,
+/// lengths (and the feed of a move with linear travel) times `unit`.
+fn in_program(m: &Move, origin: Axes, unit: f64) -> Move {
+    if origin == Axes::ZERO && unit == 1.0 {
+        return *m;
+    }
+    let kind = match m.kind {
+        MoveKind::Arc(arc) => {
+            let c = arc.center;
+            let centre = scaled(Axes { x: c[0], y: c[1], z: c[2], ..Axes::ZERO }, origin, unit);
+            MoveKind::Arc(kezuri_geom::Arc { center: centre.xyz(), ..arc })
+        }
+        kind => kind,
+    };
+    let feed = if m.length() > 0.0 { m.feed * unit } else { m.feed };
+    Move { kind, start: scaled(m.start, origin, unit), end: scaled(m.end, origin, unit), feed, ..*m }
 }

@@ -1,0 +1,131 @@
+//! An expanded program (`kezuri run --emit`) run again on the same machine
+//! makes the same motions as the original: offsets are commanded again, not
+//! baked in, and returns to the reference point stay returns.
+
+use std::collections::BTreeMap;
+
+use kezuri_geom::{Axes, MoveKind, Toolpath};
+use kezuri_nc::interp::{self, IntegerInput, Settings};
+use kezuri_nc::write::{program, Dialect, WriteOptions};
+use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+
+fn run(text: &str, settings: &Settings) -> Toolpath {
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("t.nc", text));
+    let mut program = Program::default();
+    let diagnostics = parse(&mut program, file, text);
+    assert!(!diagnostics.iter().any(Diagnostic::is_error), "{}", diagnostics[0].render(&sources));
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
+    let errors: Vec<String> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.render(&sources)).collect();
+    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
+    outcome.toolpath
+}
+
+/// Settings to read a program of `dialect` with: LinuxCNC and GRBL read
+/// `X10` as 10 mm.
+fn read_back(dialect: Dialect, settings: &Settings) -> Settings {
+    let integer_input = if dialect == Dialect::Fanuc { IntegerInput::Increments } else { IntegerInput::Units };
+    Settings { integer_input, ..settings.clone() }
+}
+
+fn at(x: f64, y: f64, z: f64) -> Axes {
+    Axes { x, y, z, ..Axes::ZERO }
+}
+
+/// A machine whose offsets are all different and far from zero.
+fn machine() -> Settings {
+    let mut work_offsets = [Axes::ZERO; 6];
+    work_offsets[0] = at(10.0, 20.0, -100.0);
+    work_offsets[1] = at(200.0, 20.0, -100.0);
+    Settings {
+        tool_lengths: BTreeMap::from([(1, 100.0), (2, 80.0)]),
+        work_offsets,
+        home: at(-500.0, -400.0, 0.0),
+        ..Settings::default()
+    }
+}
+
+const PROGRAM: &str = "O0001
+G21 G90 G94 G17 G54
+T1 M06
+G43 H1 Z50.
+G00 X10. Y10.
+G01 Z-1. F100.
+X20.
+G02 X30. R5.
+G55
+G00 X0 Y0
+G01 Z-2.
+#5221=5.
+#5222=5.
+#5223=-90.
+G54 G00 X1. Y1.
+G92 X0 Y0
+G00 X2.
+G91 G28 Z0.
+G90
+T2 M06
+G44 H2 Z20.
+G53 G00 Z-10.
+G49
+G28 X0 Y0
+M30
+";
+
+fn same(want: &Toolpath, got: &Toolpath, written: &str) {
+    let kinds = |t: &Toolpath| t.moves.iter().map(|m| std::mem::discriminant(&m.kind)).collect::<Vec<_>>();
+    assert_eq!(kinds(want), kinds(got), "\n{written}");
+    for (k, (w, g)) in want.moves.iter().zip(&got.moves).enumerate() {
+        let (we, ge) = (w.end.to_array(), g.end.to_array());
+        assert!((0..6).all(|i| (we[i] - ge[i]).abs() < 6e-4), "move {k}: {:?} vs {:?}\n{written}", w.end, g.end);
+        assert_eq!(want.frame(w).length.map(|l| l.register), got.frame(g).length.map(|l| l.register));
+        assert_eq!(want.frame(w).work, got.frame(g).work);
+    }
+}
+
+#[test]
+fn expanded_program_makes_the_same_motions_on_the_same_machine() {
+    let settings = machine();
+    let original = run(PROGRAM, &settings);
+    assert!(original.moves.iter().any(|m| matches!(m.kind, MoveKind::Home)));
+    assert!(original.moves.iter().any(|m| matches!(m.kind, MoveKind::Machine)));
+    for dialect in [Dialect::Fanuc, Dialect::LinuxCnc] {
+        let written = program(&original, &WriteOptions { dialect, ..WriteOptions::default() }).unwrap();
+        same(&original, &run(&written, &read_back(dialect, &settings)), &written);
+    }
+}
+
+#[test]
+fn offsets_and_returns_are_commanded_not_baked_in() {
+    let written = program(&run(PROGRAM, &machine()), &WriteOptions::default()).unwrap();
+    let lines: Vec<&str> = written.lines().collect();
+    for expected in ["G43 H1", "G55", "G10 L2 P1 X5. Y5. Z-90.", "G54", "G91 G28 Z0.", "G44 H2", "G49"] {
+        assert!(lines.contains(&expected), "no '{expected}' in\n{written}");
+    }
+    // G53 Z-10. is the gauge line in machine coordinates, whatever the offset.
+    assert!(lines.contains(&"G53 G00 Z-10."), "{written}");
+    // No move goes to the work zero of Z that the original never commanded.
+    assert!(!lines.iter().any(|l| l.starts_with("G00") && l.ends_with(" Z0.")), "{written}");
+}
+
+#[test]
+fn grbl_writes_the_length_offset_itself() {
+    let text = "G21 G90\nG43 H1 Z5.\nG01 X1. F100.\nG49\nM30\n";
+    let settings = Settings { tool_lengths: BTreeMap::from([(1, 42.5)]), ..Settings::default() };
+    let written =
+        program(&run(text, &settings), &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
+    assert!(written.contains("G43.1 Z42.5\n"), "{written}");
+    // Read back without a tool table, the motions are the same.
+    let back = read_back(Dialect::Grbl, &settings);
+    same(&run(text, &settings), &run(&written.replace("G43.1 Z42.5", "G43 H1"), &back), &written);
+}
+
+#[test]
+fn inch_output_makes_the_same_motions() {
+    let settings = machine();
+    let original = run(PROGRAM, &settings);
+    let written = program(&original, &WriteOptions { inch: true, digits: 5, ..WriteOptions::default() }).unwrap();
+    assert!(written.lines().nth(2).unwrap().starts_with("G20 G90"), "{written}");
+    // 5 decimals of an inch are 0.000254 mm.
+    same(&original, &run(&written, &settings), &written);
+}
