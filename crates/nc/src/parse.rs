@@ -41,6 +41,7 @@ const OWORD_KEYWORDS: [&str; 15] = [
 pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     let bytes = text.as_bytes();
+    let units_before = program.units.len();
     // Room for the whole file up front (a block per line, a word per 8
     // bytes): growing the arenas step by step copies them. Capacity that is
     // never touched costs no memory.
@@ -102,6 +103,14 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
         pos = end + 1;
     }
     finish_unit(program, &mut unit);
+    let at_end = Span::new(file, bytes.len(), bytes.len());
+    if percent_seen == 1 && text.trim_start().starts_with('%') {
+        // A tape that opens with '%' ends with one (LinuxCNC refuses a file
+        // without it); a missing one means the file was cut short.
+        diagnostics.push(Diagnostic::error(at_end, "the file ends before its closing '%': is it complete?"));
+    } else if program.units.len() == units_before && !diagnostics.iter().any(Diagnostic::is_error) {
+        diagnostics.push(Diagnostic::error(at_end, "the file holds no program: no blocks to run"));
+    }
     diagnostics
 }
 
@@ -465,6 +474,11 @@ impl LineParser<'_> {
     #[inline]
     fn plain_number(&mut self) -> Option<WordValue> {
         let (value, len) = signed_number(&self.b[self.pos..self.end])?;
+        let decimal = matches!(value, WordValue::Number { decimal: true, .. });
+        if continues_after_blanks(&self.b[self.pos + len..self.end], decimal) {
+            // A number with blanks inside: `word_value` reads it.
+            return None;
+        }
         self.pos += len;
         Some(value)
     }
@@ -507,8 +521,11 @@ impl LineParser<'_> {
     fn number(&mut self) -> Result<Option<(f64, bool)>> {
         let start = self.pos;
         if let Some((value, decimal, len)) = short_number(&self.b[start..self.end]) {
-            self.pos += len;
-            return Ok(Some((value, decimal)));
+            if !continues_after_blanks(&self.b[start + len..self.end], decimal) {
+                self.pos += len;
+                return Ok(Some((value, decimal)));
+            }
+            return self.spaced_number(start).map(Some);
         }
         // No digit at all, or more than 15: the standard library rounds those.
         let s = &self.b[start..self.end];
@@ -527,6 +544,37 @@ impl LineParser<'_> {
             return Err(Diagnostic::error(self.span(start), "number is too large"));
         }
         Ok(Some((value, decimal)))
+    }
+
+    /// A number with blanks inside (`X1 0.5` is `X10.5`): a Fanuc control,
+    /// like LinuxCNC, ignores spaces between the characters of a number.
+    fn spaced_number(&mut self, start: usize) -> Result<(f64, bool)> {
+        let mut text = String::new();
+        let mut pos = start;
+        while let Some(&c) = self.b[..self.end].get(pos) {
+            match c {
+                b'0'..=b'9' => text.push(c as char),
+                b'.' if !text.contains('.') => text.push('.'),
+                b' ' | b'\t' => {}
+                _ => break,
+            }
+            pos += 1;
+        }
+        // Blanks after the last character belong to what follows.
+        while matches!(self.b[pos - 1], b' ' | b'\t') {
+            pos -= 1;
+        }
+        self.pos = pos;
+        let decimal = text.contains('.');
+        let value = text
+            .strip_suffix('.')
+            .unwrap_or(&text)
+            .parse::<f64>()
+            .map_err(|_| Diagnostic::error(self.span(start), "number cannot be read"))?;
+        if !value.is_finite() || value > 1e15 {
+            return Err(Diagnostic::error(self.span(start), "number is too large"));
+        }
+        Ok((value, decimal))
     }
 
     /// `#n`, `#[expr]` or `#<name>`: returns the variable-number expression
@@ -734,14 +782,36 @@ fn plain_words(line: &[u8], pos: usize, file: FileId, words: &mut Vec<Word>) -> 
             break;
         }
         let Some((value, len)) = signed_number(&line[pos + 1..]) else { break };
-        done = pos + 1 + len;
-        words.push(Word::new(letter, value, Span::new(file, pos, done)));
-        pos = done;
-        while line.get(pos) == Some(&b' ') {
-            pos += 1;
+        let end = pos + 1 + len;
+        let mut next = end;
+        while line.get(next) == Some(&b' ') {
+            next += 1;
         }
+        if next > end && matches!(line.get(next), Some(b'0'..=b'9' | b'.')) {
+            // A number with blanks inside (`X1 0.`): the general parser reads it.
+            break;
+        }
+        words.push(Word::new(letter, value, Span::new(file, pos, end)));
+        done = end;
+        pos = next;
     }
     done
+}
+
+/// Whether a number that `rest` follows goes on after blanks: a digit, or a
+/// decimal point when it has none yet.
+#[inline(always)]
+fn continues_after_blanks(rest: &[u8], decimal: bool) -> bool {
+    let mut i = 0;
+    while let Some(b' ' | b'\t') = rest.get(i) {
+        i += 1;
+    }
+    i > 0
+        && match rest.get(i) {
+            Some(b'0'..=b'9') => true,
+            Some(b'.') => !decimal,
+            _ => false,
+        }
 }
 
 /// A sign (or none) and a [`short_number`] at the start of `s`: the value as

@@ -190,7 +190,9 @@ impl State {
                         let counts =
                             if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 1000.0 } else { 10_000.0 };
                         if v != 0.0 {
+                            let dwell = letter == b'X' && w.g[..w.g_count].iter().any(|&(g, _)| g == 40);
                             let unit = match self.modal.units {
+                                _ if dwell => "s",
                                 _ if b"ABC".contains(&letter) => "deg",
                                 Units::Mm => "mm",
                                 Units::Inch => "inch",
@@ -381,7 +383,8 @@ impl State {
             GCode::LengthComp(positive) => {
                 let h = w.get(b'H').map_or(Ok(0), |h| whole(h, w.span(b'H'), "H number"))?;
                 if !self.settings.tool_lengths.contains_key(&h) {
-                    self.warn("offset", gspan, format!("tool length offset H{h} is not in the tool table: it reads 0"));
+                    let at = if w.has(b'H') { w.span(b'H') } else { gspan };
+                    self.warn("offset", at, format!("tool length offset H{h} is not in the tool table: it reads 0"));
                 }
                 self.last.h = f64::from(h);
                 self.modal.length_comp = Some((if positive { 1.0 } else { -1.0 }, h));

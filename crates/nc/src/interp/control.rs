@@ -147,7 +147,7 @@ impl<'a> Interp<'a> {
         if pc >= end {
             let span = self.program.units[unit].span;
             if self.frames.len() == 1 {
-                self.st.warn("end", span, "the program ends without M30 or M02");
+                self.st.warn("end", span, "the program ends without M30 or M02: is the file complete?");
                 return Ok(false);
             }
             self.st.warn("end", span, "the subprogram ends without M99; returning");
@@ -254,6 +254,22 @@ impl<'a> Interp<'a> {
             return Err(Diagnostic::error(span, format!("{what}{n}: there is no block N{n} in {number}")));
         };
         let from = self.frames.last().map_or(0, |f| f.pc);
+        // The jumping block is `from - 1`. A Fanuc control alarms on a jump
+        // from outside a DO loop into its body.
+        let into = self.unit_index(unit).loops.iter().find_map(|(&start, end)| match end {
+            Ok(end) if start < *end && start < to && to <= *end && !(start < from && from - 1 <= *end) => Some(start),
+            _ => None,
+        });
+        if let Some(start) = into {
+            let label = match self.program.blocks[start as usize].statement {
+                Statement::While { label, .. } | Statement::Do { label } => label,
+                _ => 0,
+            };
+            return Err(Diagnostic::error(
+                span,
+                format!("{what}{n} jumps into the DO{label} loop from outside it; a jump may only leave a loop"),
+            ));
+        }
         if to < from {
             self.last_back_jump = Some(from - 1);
         }
@@ -493,7 +509,10 @@ impl State {
                 &PrintItem::Var { var, frac_digits, .. } => {
                     let number = self.var_number(program, var)?;
                     let v = self.read_var(number)?.num();
-                    line.push_str(&format!("{:.*}", frac_digits as usize, v));
+                    let text = format!("{:.*}", frac_digits as usize, v);
+                    // A value that rounds to zero prints without a sign.
+                    let negative_zero = text.starts_with('-') && text[1..].bytes().all(|b| b == b'0' || b == b'.');
+                    line.push_str(if negative_zero { &text[1..] } else { &text });
                 }
             }
         }

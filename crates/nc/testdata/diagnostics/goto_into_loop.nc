@@ -1,0 +1,7 @@
+G21
+GOTO 10
+WHILE [#1 LT 2] DO 1
+N10 #1=#1+1
+END 1
+G0 X#1
+M30
