@@ -22,6 +22,8 @@
 //! assert_eq!(path.feed_length(), 10.0);
 //! ```
 
+#![warn(missing_docs)]
+
 mod alloc;
 mod time;
 mod toolpath;

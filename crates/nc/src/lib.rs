@@ -27,6 +27,8 @@
 //! assert_eq!(outcome.toolpath.moves[0].end.y, 5.0);
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod ast;
 pub mod interp;
 mod parse;
