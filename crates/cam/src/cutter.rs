@@ -1,0 +1,310 @@
+//! Cutter shapes and the tool SPEC notation (`ball:6`, `oval:16,24`, …).
+//!
+//! A cutter is a surface of revolution about the Z axis with its tip at the
+//! origin. [`Profile`] is all a shape provides: its radius `R`, the height of
+//! its lower surface above the tip at radial distance `r` (`0 ≤ r ≤ R`),
+//! that height's slope, and the radius where a tilted plane touches it.
+//! Above the profile the cutter is a cylinder of radius `R`.
+//!
+//! Every profile is convex and non-decreasing with `height(0) = 0`. The
+//! drop-cutter and envelope solvers rely on that: the height of the cutter
+//! along any straight line in XY is then convex, so each contact is the one
+//! maximum of a concave function.
+
+mod ball;
+mod bull;
+mod flat;
+mod oval;
+mod vee;
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use ball::Ball;
+pub use bull::Bull;
+pub use flat::Flat;
+pub use oval::Oval;
+pub use vee::Vee;
+
+/// What a cutter shape provides. Lengths in mm.
+pub trait Profile {
+    /// Radius `R` of the cylindrical shank (half the diameter).
+    fn radius(&self) -> f64;
+
+    /// Height of the cutter's lower surface above the tip at radial
+    /// distance `r`, for `0 ≤ r ≤ R`; convex and non-decreasing, 0 at 0.
+    fn height(&self, r: f64) -> f64;
+
+    /// `d height / d r` at `r` (`0 ≤ r ≤ R`); `f64::INFINITY` where the
+    /// profile turns vertical (the rim of a ball or an egg).
+    fn slope(&self, r: f64) -> f64;
+
+    /// The radius at which a plane rising by `gradient` (mm per mm, ≥ 0)
+    /// touches the cutter: the `r` in `[0, R]` that maximises
+    /// `gradient·r − height(r)`. Where several do (a flat bottom on a level
+    /// plane), the smallest.
+    fn facet_radius(&self, gradient: f64) -> f64;
+}
+
+/// A cutter: one of the shapes of the tool SPEC notation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cutter {
+    /// `flat:D`: flat end mill.
+    Flat(Flat),
+    /// `ball:D`: ball end mill.
+    Ball(Ball),
+    /// `bull:D,R`: bull-nose (torus) end mill with corner radius `R`.
+    Bull(Bull),
+    /// `oval:D,RL`: the egg-type oval end mill of seed 001, a half-ellipsoid
+    /// tip with radial semi-axis `D/2` and axial semi-axis `RL`.
+    Oval(Oval),
+    /// `v:D,ANGLE`: V-bit (cone) with the included angle in degrees.
+    Vee(Vee),
+}
+
+macro_rules! each_shape {
+    ($self:ident, $s:ident => $e:expr) => {
+        match $self {
+            Cutter::Flat($s) => $e,
+            Cutter::Ball($s) => $e,
+            Cutter::Bull($s) => $e,
+            Cutter::Oval($s) => $e,
+            Cutter::Vee($s) => $e,
+        }
+    };
+}
+
+impl Cutter {
+    /// The cutter's profile.
+    pub fn profile(&self) -> &dyn Profile {
+        each_shape!(self, s => s)
+    }
+
+    /// Radius `R` of the shank.
+    #[inline]
+    pub fn radius(&self) -> f64 {
+        each_shape!(self, s => s.radius())
+    }
+
+    /// Height above the tip at radial distance `r`; beyond `R` the shank is
+    /// vertical, so this is the height of the rim, `height(R)`.
+    #[inline]
+    pub fn height(&self, r: f64) -> f64 {
+        let r = r.clamp(0.0, self.radius());
+        each_shape!(self, s => s.height(r))
+    }
+
+    /// `d height / d r` at `r` in `[0, R]`.
+    #[inline]
+    pub fn slope(&self, r: f64) -> f64 {
+        each_shape!(self, s => s.slope(r.clamp(0.0, self.radius())))
+    }
+
+    /// See [`Profile::facet_radius`].
+    #[inline]
+    pub fn facet_radius(&self, gradient: f64) -> f64 {
+        each_shape!(self, s => s.facet_radius(gradient.max(0.0)))
+    }
+
+    /// Radius of the cutter at height `z` above the tip: the inverse of the
+    /// profile (0 below the tip, `R` from the rim up).
+    pub fn radius_at(&self, z: f64) -> f64 {
+        let radius = self.radius();
+        if z <= 0.0 {
+            return 0.0;
+        }
+        if z >= self.height(radius) {
+            return radius;
+        }
+        // The profile is non-decreasing: bisection to the last bit.
+        let (mut lo, mut hi) = (0.0, radius);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if self.height(mid) < z {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    }
+}
+
+/// A tool SPEC that cannot be a cutter.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SpecError {
+    /// The SPEC as given.
+    pub spec: String,
+    /// What is wrong with it.
+    pub reason: String,
+}
+
+impl fmt::Display for SpecError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "tool '{}': {}", self.spec, self.reason)
+    }
+}
+
+impl std::error::Error for SpecError {}
+
+impl FromStr for Cutter {
+    type Err = SpecError;
+
+    /// `flat:D`, `ball:D`, `bull:D,R`, `oval:D,RL`, `v:D,ANGLE` (mm, degrees).
+    fn from_str(spec: &str) -> Result<Cutter, SpecError> {
+        let fail = |reason: String| SpecError { spec: spec.to_string(), reason };
+        let (kind, numbers) = spec.trim().split_once(':').ok_or_else(|| {
+            fail("expected SHAPE:NUMBERS, e.g. ball:6, bull:10,1, oval:16,24, v:6,90 or flat:3".into())
+        })?;
+        let values: Vec<f64> = numbers
+            .split(',')
+            .map(|n| n.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect::<Option<_>>()
+            .ok_or_else(|| fail(format!("'{numbers}' is not a list of numbers")))?;
+        let count = |n: usize, names: &str| {
+            if values.len() == n {
+                Ok(())
+            } else {
+                Err(fail(format!("{} takes {names}", kind.to_lowercase())))
+            }
+        };
+        let positive = |v: f64, what: &str| {
+            if v > 0.0 {
+                Ok(v)
+            } else {
+                Err(fail(format!("the {what} must be positive, got {v}")))
+            }
+        };
+        match kind.trim().to_lowercase().as_str() {
+            "flat" => {
+                count(1, "the diameter: flat:D")?;
+                Ok(Cutter::Flat(Flat::new(positive(values[0], "diameter")?)))
+            }
+            "ball" => {
+                count(1, "the diameter: ball:D")?;
+                Ok(Cutter::Ball(Ball::new(positive(values[0], "diameter")?)))
+            }
+            "bull" => {
+                count(2, "the diameter and corner radius: bull:D,R")?;
+                let d = positive(values[0], "diameter")?;
+                let r = values[1];
+                if !(0.0..=d / 2.0).contains(&r) {
+                    return Err(fail(format!("the corner radius must be from 0 to D/2 = {}, got {r}", d / 2.0)));
+                }
+                Ok(Cutter::Bull(Bull::new(d, r)))
+            }
+            "oval" => {
+                count(2, "the diameter and the tip's axial semi-axis: oval:D,RL")?;
+                let d = positive(values[0], "diameter")?;
+                Ok(Cutter::Oval(Oval::new(d, positive(values[1], "axial semi-axis RL")?)))
+            }
+            "v" => {
+                count(2, "the diameter and the included angle in degrees: v:D,ANGLE")?;
+                let d = positive(values[0], "diameter")?;
+                let angle = values[1];
+                if !(angle > 0.0 && angle < 180.0) {
+                    return Err(fail(format!("the included angle must be between 0 and 180 degrees, got {angle}")));
+                }
+                Ok(Cutter::Vee(Vee::new(d, angle)))
+            }
+            other => Err(fail(format!("unknown shape '{other}': expected flat, ball, bull, oval or v"))),
+        }
+    }
+}
+
+impl fmt::Display for Cutter {
+    /// The SPEC: `ball:6`, `bull:10,1`, …
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let d = 2.0 * self.radius();
+        match self {
+            Cutter::Flat(_) => write!(f, "flat:{d}"),
+            Cutter::Ball(_) => write!(f, "ball:{d}"),
+            Cutter::Bull(b) => write!(f, "bull:{d},{}", b.corner),
+            Cutter::Oval(o) => write!(f, "oval:{d},{}", o.axial),
+            Cutter::Vee(v) => write!(f, "v:{d},{}", v.angle_deg),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all() -> Vec<Cutter> {
+        ["flat:6", "ball:6", "bull:10,2", "bull:10,0", "bull:10,5", "oval:16,24", "oval:16,4", "v:6,90", "v:10,30"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn specs_round_trip_and_bad_specs_say_why() {
+        for c in all() {
+            assert_eq!(c.to_string().parse::<Cutter>().unwrap(), c);
+        }
+        for (bad, why) in [
+            ("ball:-3", "positive"),
+            ("oval:16,0", "positive"),
+            ("bull:10,6", "corner radius"),
+            ("v:6,180", "angle"),
+            ("ball", "SHAPE:NUMBERS"),
+            ("ball:6,1", "takes"),
+            ("cone:6", "unknown shape"),
+            ("ball:NaN", "not a list"),
+        ] {
+            let e = bad.parse::<Cutter>().unwrap_err().to_string();
+            assert!(e.contains(why), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn profiles_are_convex_non_decreasing_and_slopes_match() {
+        for c in all() {
+            let r = c.radius();
+            assert_eq!(c.height(0.0), 0.0, "{c}");
+            let n = 2000;
+            let h: Vec<f64> = (0..=n).map(|k| c.height(r * k as f64 / n as f64)).collect();
+            for k in 1..n {
+                assert!(h[k] >= h[k - 1] - 1e-12, "{c}: non-decreasing");
+                assert!(h[k + 1] - 2.0 * h[k] + h[k - 1] >= -1e-9, "{c}: convex at {k}");
+            }
+            for k in 1..n - 1 {
+                let x = r * k as f64 / n as f64;
+                let e = 1e-6;
+                let fd = (c.height(x + e) - c.height(x - e)) / (2.0 * e);
+                let s = c.slope(x);
+                assert!((fd - s).abs() <= 1e-4 * (1.0 + s.abs()), "{c}: slope at {x}: {s} vs {fd}");
+            }
+        }
+    }
+
+    #[test]
+    fn facet_radius_maximises_against_dense_sampling() {
+        for c in all() {
+            let r = c.radius();
+            for g in [0.0, 0.1, 0.5, 1.0, 1.5, 3.0, 20.0] {
+                let best = c.facet_radius(g);
+                let score = |x: f64| g * x - c.height(x);
+                let sampled = (0..=100_000).map(|k| score(r * k as f64 / 100_000.0)).fold(f64::MIN, f64::max);
+                assert!(score(best) >= sampled - 1e-9, "{c} g={g}: r={best}");
+            }
+        }
+    }
+
+    #[test]
+    fn radius_at_inverts_the_profile() {
+        for c in all() {
+            for k in 1..10 {
+                let r = c.radius() * k as f64 / 10.0;
+                let z = c.height(r);
+                if z > 0.0 && c.slope(r) > 0.0 {
+                    assert!((c.radius_at(z) - r).abs() < 1e-9, "{c} at r={r}");
+                }
+            }
+            assert_eq!(c.radius_at(1e9), c.radius());
+        }
+    }
+}

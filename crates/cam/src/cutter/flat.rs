@@ -1,0 +1,39 @@
+//! Flat end mill: the profile is the bottom face, height 0 out to the rim.
+
+use super::Profile;
+
+/// `flat:D`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flat {
+    radius: f64,
+}
+
+impl Flat {
+    /// A flat end mill of diameter `d` (> 0).
+    pub fn new(d: f64) -> Flat {
+        Flat { radius: d / 2.0 }
+    }
+}
+
+impl Profile for Flat {
+    fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    fn height(&self, _r: f64) -> f64 {
+        0.0
+    }
+
+    fn slope(&self, _r: f64) -> f64 {
+        0.0
+    }
+
+    fn facet_radius(&self, gradient: f64) -> f64 {
+        // A tilted plane touches the rim; a level one the whole face.
+        if gradient > 0.0 {
+            self.radius
+        } else {
+            0.0
+        }
+    }
+}
