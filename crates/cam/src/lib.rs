@@ -25,5 +25,6 @@
 #![warn(missing_docs)]
 
 pub mod cutter;
+pub mod mill;
 
 pub use cutter::{Cutter, SpecError};

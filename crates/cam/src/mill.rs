@@ -1,0 +1,502 @@
+//! Raster finishing: rows of cutter-location (CL) points over a surface,
+//! sampled finely where the path bends and merged where it is straight.
+//!
+//! [`raster`] knows nothing of meshes: it asks a CL function — "where is
+//! the tip of the cutter when it rests on the surface at (x, y)?", which is
+//! drop-cutter — and builds the [`Toolpath`]. So the same pattern serves an
+//! STL, a height grid or a probed model.
+//!
+//! # Rows
+//! Rows run along X (stepping over in Y), along Y, or both (a cross-hatch:
+//! the X rows, then the Y rows). Zig-zag rows are linked at the row ends by
+//! a feed move that follows the surface (it is sampled like a row); one-way
+//! rows retract to the safe height, rapid back and plunge at the plunge
+//! feed. Where the CL function has no answer (off the surface) a row is cut
+//! in pieces with a retract between them.
+//!
+//! # Tolerance
+//! Along a row the CL curve is sampled every `step`; an interval whose
+//! midpoint lies more than `tolerance / 2` off the chord is halved, down to
+//! `step / 1024`. The sampled polyline is then merged (Douglas–Peucker)
+//! within `tolerance / 2`. So the path stays within about `tolerance` of the
+//! true CL curve, on either side: a gouge of at most that much, where the
+//! chord passes under a bump narrower than the midpoint test can see.
+//!
+//! # Pick-feed control (`cusp`)
+//! Seed 001's pick-feed control, generalised: with a target cusp height,
+//! each next row goes as far as the cusp between the two rows stays within
+//! it. The slope across the rows is measured on the CL surface at every
+//! sample of the row; the caller's `pick_feed(angle)` gives the largest pick
+//! feed in the inclined plane for that slope, and `pick_feed · cos(angle)`
+//! is the stepover in plan. The row goes at the smallest of these over the
+//! row, and never beyond `stepover`.
+
+use kezuri_geom::{Axes, AxisSet, Move, MoveKind, Spindle, Toolpath};
+
+/// Which way the rows run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Rows along X, stepping over in Y.
+    X,
+    /// Rows along Y, stepping over in X.
+    Y,
+    /// X rows, then Y rows.
+    Both,
+}
+
+/// How rows are linked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pattern {
+    /// Every other row runs backwards; rows are linked along the surface.
+    ZigZag,
+    /// Every row runs the same way; retract, rapid back, plunge.
+    OneWay,
+}
+
+/// The area to cover, in plan: `[x0, x1] × [y0, y1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    /// Smallest X.
+    pub x0: f64,
+    /// Smallest Y.
+    pub y0: f64,
+    /// Largest X.
+    pub x1: f64,
+    /// Largest Y.
+    pub y1: f64,
+}
+
+/// What [`raster`] makes. Lengths mm, feeds mm/min.
+#[derive(Clone, Copy, Debug)]
+pub struct RasterOptions {
+    /// Row direction.
+    pub direction: Direction,
+    /// Row linking.
+    pub pattern: Pattern,
+    /// Distance between rows in plan (the largest, with pick-feed control).
+    pub stepover: f64,
+    /// Sampling step along a row.
+    pub step: f64,
+    /// How far the path may stray from the CL curve.
+    pub tolerance: f64,
+    /// Height for rapids, above everything.
+    pub safe_z: f64,
+    /// Cutting feed.
+    pub feed: f64,
+    /// Feed of plunges from the safe height.
+    pub plunge_feed: f64,
+    /// Spindle speed, rpm.
+    pub speed: f64,
+    /// Tool number.
+    pub tool: u32,
+}
+
+/// Why no toolpath could be made.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MillError {
+    /// An option out of its range.
+    Option(String),
+    /// The CL function has no point anywhere in the region.
+    NothingToCut,
+}
+
+impl std::fmt::Display for MillError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MillError::Option(m) => f.write_str(m),
+            MillError::NothingToCut => f.write_str("the surface lies nowhere under the region: nothing to cut"),
+        }
+    }
+}
+
+impl std::error::Error for MillError {}
+
+/// The CL function: the tip's z over (x, y), `None` off the surface.
+pub type ClFn<'a> = dyn Fn(f64, f64) -> Option<f64> + Sync + 'a;
+
+/// The pick feed (in the inclined plane) for a surface inclined at `angle`
+/// radians across the rows, `None` where no pick feed meets the target.
+pub type PickFeedFn<'a> = dyn Fn(f64) -> Option<f64> + Sync + 'a;
+
+/// A raster finishing toolpath over `region`; `pick_feed` turns on
+/// pick-feed control (see the module docs).
+pub fn raster(
+    cl: &ClFn,
+    region: Region,
+    o: &RasterOptions,
+    pick_feed: Option<&PickFeedFn>,
+) -> Result<Toolpath, MillError> {
+    check(region, o)?;
+    let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
+    let passes: &[bool] = match o.direction {
+        Direction::X => &[false],
+        Direction::Y => &[true],
+        Direction::Both => &[false, true],
+    };
+    for &along_y in passes {
+        // In a frame where rows run along u and step over in v.
+        let (u0, u1, v0, v1) = if along_y {
+            (region.y0, region.y1, region.x0, region.x1)
+        } else {
+            (region.x0, region.x1, region.y0, region.y1)
+        };
+        let at = |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
+        let point = |u: f64, v: f64, z: f64| {
+            if along_y {
+                Axes { x: v, y: u, z, ..Axes::ZERO }
+            } else {
+                Axes { x: u, y: v, z, ..Axes::ZERO }
+            }
+        };
+        let mut v = v0;
+        let mut forward = true;
+        let mut last_row_end: Option<(f64, f64)> = None;
+        loop {
+            let (from, to) = if forward { (u0, u1) } else { (u1, u0) };
+            let pieces = sample_row(&|u| at(u, v), from, to, o);
+            for (k, piece) in pieces.iter().enumerate() {
+                let first = piece[0];
+                let linked = k == 0
+                    && o.pattern == Pattern::ZigZag
+                    && last_row_end.is_some_and(|(pu, pv)| {
+                        // Link along the surface from the last row's end.
+                        (pu - first.0).abs() < 1e-9 && link_is_whole(&|w| at(pu, w), pv, v, o)
+                    });
+                if linked {
+                    let (pu, pv) = last_row_end.unwrap();
+                    for (w, z) in sample_row(&|w| at(pu, w), pv, v, o).remove(0).into_iter().skip(1) {
+                        path.feed_to(point(pu, w, z), o.feed);
+                    }
+                } else {
+                    path.approach(point(first.0, v, first.1));
+                }
+                for &(u, z) in &piece[1..] {
+                    path.feed_to(point(u, v, z), o.feed);
+                }
+            }
+            last_row_end = pieces.last().map(|p| (p[p.len() - 1].0, v));
+            if last_row_end.is_some() && (o.pattern == Pattern::OneWay || pieces.len() > 1) {
+                path.retract();
+                last_row_end = None;
+            }
+            if v >= v1 {
+                break;
+            }
+            let step = match pick_feed {
+                Some(pf) => controlled_step(&at, u0, u1, v, v1, o, pf),
+                None => o.stepover,
+            };
+            v = (v + step).min(v1);
+            if v1 - v < 1e-9 {
+                v = v1;
+            }
+            if o.pattern == Pattern::ZigZag {
+                forward = !forward;
+            }
+        }
+        path.retract();
+    }
+    if path.toolpath.moves.is_empty() {
+        return Err(MillError::NothingToCut);
+    }
+    Ok(path.toolpath)
+}
+
+fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
+    let positive = |v: f64, what: &str| {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(MillError::Option(format!("{what} must be a positive number, got {v}")))
+        }
+    };
+    positive(o.stepover, "the stepover")?;
+    positive(o.step, "the sampling step")?;
+    positive(o.tolerance, "the tolerance")?;
+    positive(o.feed, "the feed")?;
+    positive(o.plunge_feed, "the plunge feed")?;
+    if ![r.x0, r.y0, r.x1, r.y1, o.safe_z, o.speed].iter().all(|v| v.is_finite()) || r.x1 < r.x0 || r.y1 < r.y0 {
+        return Err(MillError::Option(format!("the region {r:?} must be finite with x0 ≤ x1 and y0 ≤ y1")));
+    }
+    let rows = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.stepover).ceil();
+    let samples = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.step).ceil();
+    if rows * samples > 1e9 {
+        return Err(MillError::Option(format!(
+            "{rows} rows of {samples} samples is more than a billion CL points: raise the stepover or the step"
+        )));
+    }
+    Ok(())
+}
+
+/// The CL points of one row from `from` to `to`, as (u, z), in pieces
+/// where the surface is; refined and merged (module docs).
+fn sample_row(at: &dyn Fn(f64) -> Option<f64>, from: f64, to: f64, o: &RasterOptions) -> Vec<Vec<(f64, f64)>> {
+    let length = (to - from).abs();
+    let n = ((length / o.step).ceil() as usize).max(1);
+    let u_at = |k: usize| if k == n { to } else { from + (to - from) * k as f64 / n as f64 };
+    let mut pieces = Vec::new();
+    let mut piece: Vec<(f64, f64)> = Vec::new();
+    let min_gap = o.step / 1024.0;
+    for k in 0..=n {
+        let u = u_at(k);
+        match at(u) {
+            Some(z) => {
+                if let Some(&(pu, pz)) = piece.last() {
+                    refine(at, (pu, pz), (u, z), o.tolerance / 2.0, min_gap, &mut piece);
+                }
+                piece.push((u, z));
+            }
+            None => {
+                if !piece.is_empty() {
+                    pieces.push(merge(std::mem::take(&mut piece), o.tolerance / 2.0));
+                }
+            }
+        }
+    }
+    if !piece.is_empty() {
+        pieces.push(merge(piece, o.tolerance / 2.0));
+    }
+    pieces
+}
+
+/// Pushes the points strictly between `a` and `b` that halving finds where
+/// the midpoint is more than `tol` off the chord.
+fn refine(
+    at: &dyn Fn(f64) -> Option<f64>,
+    a: (f64, f64),
+    b: (f64, f64),
+    tol: f64,
+    min_gap: f64,
+    out: &mut Vec<(f64, f64)>,
+) {
+    if (b.0 - a.0).abs() <= min_gap {
+        return;
+    }
+    let u = 0.5 * (a.0 + b.0);
+    // Off the surface in the middle: keep the chord (the row is cut there
+    // only where a sample misses).
+    let Some(z) = at(u) else { return };
+    if (z - 0.5 * (a.1 + b.1)).abs() > tol {
+        refine(at, a, (u, z), tol, min_gap, out);
+        out.push((u, z));
+        refine(at, (u, z), b, tol, min_gap, out);
+    }
+}
+
+/// Douglas–Peucker: the fewest points of `points` whose polyline stays
+/// within `tol` (in z, as the cutter sees it) of every dropped point.
+fn merge(points: Vec<(f64, f64)>, tol: f64) -> Vec<(f64, f64)> {
+    if points.len() <= 2 {
+        return points;
+    }
+    let mut keep = vec![false; points.len()];
+    keep[0] = true;
+    keep[points.len() - 1] = true;
+    let mut stack = vec![(0, points.len() - 1)];
+    while let Some((i, j)) = stack.pop() {
+        let (a, b) = (points[i], points[j]);
+        let mut worst = (0.0, 0);
+        for (k, p) in points.iter().enumerate().take(j).skip(i + 1) {
+            let t = (p.0 - a.0) / (b.0 - a.0);
+            let off = (p.1 - (a.1 + t * (b.1 - a.1))).abs();
+            if off > worst.0 {
+                worst = (off, k);
+            }
+        }
+        if worst.0 > tol {
+            keep[worst.1] = true;
+            stack.push((i, worst.1));
+            stack.push((worst.1, j));
+        }
+    }
+    points.into_iter().zip(keep).filter_map(|(p, k)| k.then_some(p)).collect()
+}
+
+/// Whether the surface is there all along a link from `v_from` to `v_to`.
+fn link_is_whole(at: &dyn Fn(f64) -> Option<f64>, v_from: f64, v_to: f64, o: &RasterOptions) -> bool {
+    let n = (((v_to - v_from).abs() / o.step).ceil() as usize).max(1);
+    (0..=n).all(|k| at(v_from + (v_to - v_from) * k as f64 / n as f64).is_some())
+}
+
+/// The stepover from the row at `v` under pick-feed control.
+fn controlled_step(
+    at: &dyn Fn(f64, f64) -> Option<f64>,
+    u0: f64,
+    u1: f64,
+    v: f64,
+    v1: f64,
+    o: &RasterOptions,
+    pick_feed: &PickFeedFn,
+) -> f64 {
+    let n = (((u1 - u0) / o.step).ceil() as usize).max(1);
+    let here: Vec<(f64, Option<f64>)> =
+        (0..=n).map(|k| u0 + (u1 - u0) * k as f64 / n as f64).map(|u| (u, at(u, v))).collect();
+    let mut step = o.stepover.min(v1 - v).max(1e-6);
+    // The slope between this row and the next depends on where the next row
+    // is: shrink the step until the cusp over it is within the target.
+    for _ in 0..8 {
+        let mut allowed = step;
+        for &(u, z) in &here {
+            let (Some(z), Some(z2)) = (z, at(u, v + step)) else { continue };
+            let angle = ((z2 - z) / step).atan().abs();
+            let plan = pick_feed(angle).map_or(o.step / 1024.0, |pf| pf * angle.cos());
+            allowed = allowed.min(plan);
+        }
+        if allowed >= step * 0.999 {
+            return step;
+        }
+        step = allowed.max(o.step / 1024.0);
+    }
+    step
+}
+
+/// The toolpath being built and where the tool is.
+struct Path {
+    toolpath: Toolpath,
+    at: Option<Axes>,
+    o: RasterOptions,
+}
+
+impl Path {
+    fn push(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet) {
+        let start = self.at.unwrap_or(end);
+        self.toolpath.push(Move {
+            kind,
+            start,
+            end,
+            feed,
+            speed: self.o.speed,
+            spindle: Spindle::Cw,
+            tool: self.o.tool,
+            named,
+            ..Move::default()
+        });
+        self.at = Some(end);
+    }
+
+    /// Up to the safe height (first Z alone, as the tool may be anywhere),
+    /// across at rapid, then down at the plunge feed to `p`.
+    fn approach(&mut self, p: Axes) {
+        let safe = Axes { z: self.o.safe_z, ..p };
+        match self.at {
+            None => {
+                self.push(MoveKind::Rapid, safe, 0.0, AxisSet(0b100));
+                self.push(MoveKind::Rapid, safe, 0.0, AxisSet(0b011));
+            }
+            Some(a) => {
+                if a.z < self.o.safe_z {
+                    self.push(MoveKind::Rapid, Axes { z: self.o.safe_z, ..a }, 0.0, AxisSet::ALL);
+                }
+                self.push(MoveKind::Rapid, safe, 0.0, AxisSet::ALL);
+            }
+        }
+        self.push(MoveKind::Feed, p, self.o.plunge_feed, AxisSet::ALL);
+    }
+
+    fn feed_to(&mut self, p: Axes, feed: f64) {
+        self.push(MoveKind::Feed, p, feed, AxisSet::ALL);
+    }
+
+    fn retract(&mut self) {
+        if let Some(a) = self.at {
+            if a.z < self.o.safe_z {
+                self.push(MoveKind::Rapid, Axes { z: self.o.safe_z, ..a }, 0.0, AxisSet::ALL);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options() -> RasterOptions {
+        RasterOptions {
+            direction: Direction::X,
+            pattern: Pattern::ZigZag,
+            stepover: 1.0,
+            step: 0.5,
+            tolerance: 0.01,
+            safe_z: 10.0,
+            feed: 1000.0,
+            plunge_feed: 200.0,
+            speed: 10000.0,
+            tool: 1,
+        }
+    }
+
+    const SQUARE: Region = Region { x0: 0.0, y0: 0.0, x1: 10.0, y1: 4.0 };
+
+    fn cuts(path: &Toolpath) -> Vec<&Move> {
+        path.moves.iter().filter(|m| m.kind == MoveKind::Feed).collect()
+    }
+
+    #[test]
+    fn a_plane_is_cut_in_straight_rows_linked_along_the_surface() {
+        let path = raster(&|x, y| Some(0.1 * x + 0.2 * y), SQUARE, &options(), None).unwrap();
+        // Plunge, then per row one straight move (merged), links between rows.
+        let feeds = cuts(&path);
+        assert_eq!(feeds.len(), 1 + 5 + 4, "{feeds:#?}");
+        assert!(feeds.iter().all(|m| (m.end.z - (0.1 * m.end.x + 0.2 * m.end.y)).abs() < 1e-12));
+        // Rapids only at the start and the end: Z alone first.
+        assert_eq!(path.moves[0].named, AxisSet(0b100));
+        assert_eq!(path.moves.last().unwrap().end.z, 10.0);
+    }
+
+    #[test]
+    fn curved_rows_stay_within_the_tolerance() {
+        let surface = |x: f64, y: f64| Some((x * 0.7).sin() * 2.0 + 0.1 * y);
+        let o = RasterOptions { tolerance: 0.002, ..options() };
+        let path = raster(&surface, SQUARE, &o, None).unwrap();
+        for m in cuts(&path).iter().filter(|m| m.start.y == m.end.y && m.feed == o.feed) {
+            for k in 1..50 {
+                let t = k as f64 / 50.0;
+                let x = m.start.x + t * (m.end.x - m.start.x);
+                let z = m.start.z + t * (m.end.z - m.start.z);
+                let off = (z - surface(x, m.end.y).unwrap()).abs();
+                assert!(off <= o.tolerance * 1.01, "{off} at x={x}");
+            }
+        }
+    }
+
+    #[test]
+    fn one_way_rows_retract_and_plunge() {
+        let o = RasterOptions { pattern: Pattern::OneWay, ..options() };
+        let path = raster(&|_, _| Some(0.0), SQUARE, &o, None).unwrap();
+        let plunges = path.moves.iter().filter(|m| m.kind == MoveKind::Feed && m.feed == o.plunge_feed).count();
+        assert_eq!(plunges, 5);
+        assert!(cuts(&path).iter().filter(|m| m.feed == o.feed).all(|m| m.end.x > m.start.x));
+    }
+
+    #[test]
+    fn holes_in_the_surface_split_rows() {
+        let surface = |x: f64, _y: f64| (!(4.0..6.0).contains(&x)).then_some(0.0);
+        let path = raster(&surface, SQUARE, &options(), None).unwrap();
+        // No cut crosses the hole.
+        assert!(cuts(&path).iter().all(|m| !(m.start.x < 4.5 && m.end.x > 5.5 || m.end.x < 4.5 && m.start.x > 5.5)));
+        assert!(raster(&|_, _| None, SQUARE, &options(), None) == Err(MillError::NothingToCut));
+    }
+
+    #[test]
+    fn pick_feed_control_narrows_rows_where_the_slope_asks() {
+        // Level for y < 2, a 45° ramp beyond; the pick feed allowed in the
+        // plane is 1.0 on the level and 0.2 on the ramp.
+        let surface = |_x: f64, y: f64| Some(if y < 2.0 { 0.0 } else { y - 2.0 });
+        let pf = |angle: f64| Some(if angle > 0.1 { 0.2 } else { 1.0 });
+        let region = Region { x0: 0.0, y0: 0.0, x1: 1.0, y1: 4.0 };
+        let path = raster(&surface, region, &options(), Some(&pf)).unwrap();
+        let mut rows: Vec<f64> = cuts(&path).iter().filter(|m| m.start.y == m.end.y).map(|m| m.end.y).collect();
+        rows.dedup();
+        let on_ramp = rows.windows(2).filter(|w| w[0] >= 2.0).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+        assert!(on_ramp <= 0.2 * (std::f64::consts::FRAC_PI_4).cos() + 1e-9, "{rows:?}");
+        assert!((rows[1] - rows[0] - 1.0).abs() < 1e-9, "{rows:?}");
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        let bad = RasterOptions { stepover: 0.0, ..options() };
+        assert!(matches!(raster(&|_, _| Some(0.0), SQUARE, &bad, None), Err(MillError::Option(_))));
+        let nan = RasterOptions { tolerance: f64::NAN, ..options() };
+        assert!(raster(&|_, _| Some(0.0), SQUARE, &nan, None).is_err());
+    }
+}
