@@ -5,6 +5,12 @@
 //! [`Toolpath`]: the one motion model that the NC interpreter produces, the CAM
 //! pipelines will produce, and every writer and transform reads.
 //!
+//! The surfaces CAM places cutters on live here too: [`Mesh`] (an indexed
+//! triangle mesh, read from binary or ASCII STL by [`Mesh::from_stl`], whose
+//! typed [`StlError`] says what is wrong with a bad file), [`XyIndex`] (a
+//! uniform XY grid of its triangles, cells sized from the median triangle)
+//! and [`Heightfield`] (z over a regular grid, a triangulated surface).
+//!
 //! # Units and frames
 //! One internal unit per quantity: millimetres for linear axes, degrees for
 //! rotary axes A, B, C (as on the control), mm/min for feed, rpm for spindle
@@ -25,9 +31,17 @@
 #![warn(missing_docs)]
 
 mod alloc;
+mod heightfield;
+mod index;
+mod mesh;
+mod stl;
 mod time;
 mod toolpath;
 
 pub use alloc::LargePages;
+pub use heightfield::{Heightfield, HeightfieldError};
+pub use index::XyIndex;
+pub use mesh::{Mesh, Triangle, Vec3};
+pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, StlError};
 pub use time::{cycle_time, Dynamics};
 pub use toolpath::{Arc, Axes, AxisSet, Coolant, Frame, LengthOffset, Move, MoveKind, Plane, Spindle, Toolpath};

@@ -1,0 +1,228 @@
+//! A height grid: z over a regular XY grid (an image, probe data, a
+//! simulated part), and the triangulated surface it stands for.
+//!
+//! Node `(i, j)` lies at `x = x0 + i·step`, `y = y0 + j·step`. Each cell
+//! `(i, j)`–`(i+1, j+1)` is two triangles split along the diagonal from
+//! `(i, j)` to `(i+1, j+1)`; [`Heightfield::to_mesh`] builds exactly those
+//! triangles, and [`Heightfield::z_at`] interpolates on them.
+
+use std::fmt;
+
+use crate::mesh::{Mesh, Triangle, Vec3};
+
+/// A regular grid of heights, row by row (`y` outer, `x` inner).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Heightfield {
+    x0: f64,
+    y0: f64,
+    step: f64,
+    nx: usize,
+    ny: usize,
+    z: Vec<f64>,
+}
+
+/// Why some numbers are not a height grid.
+#[derive(Clone, Debug, PartialEq)]
+pub enum HeightfieldError {
+    /// Fewer than 2 × 2 nodes.
+    TooSmall {
+        /// Nodes along X.
+        nx: usize,
+        /// Nodes along Y.
+        ny: usize,
+    },
+    /// The step is not a positive finite number, or the origin not finite.
+    BadStep(f64),
+    /// `z` does not hold `nx·ny` heights.
+    WrongLength {
+        /// `nx·ny`.
+        expected: usize,
+        /// Heights given.
+        found: usize,
+    },
+    /// A NaN or infinite height.
+    NonFinite {
+        /// Column of the node.
+        i: usize,
+        /// Row of the node.
+        j: usize,
+    },
+}
+
+impl fmt::Display for HeightfieldError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            HeightfieldError::TooSmall { nx, ny } => {
+                write!(f, "a height grid needs at least 2 x 2 nodes, got {nx} x {ny}")
+            }
+            HeightfieldError::BadStep(s) => {
+                write!(f, "the grid step must be positive and the origin finite, got step {s}")
+            }
+            HeightfieldError::WrongLength { expected, found } => {
+                write!(f, "the height grid needs {expected} heights, got {found}")
+            }
+            HeightfieldError::NonFinite { i, j } => write!(f, "height at column {i}, row {j} is NaN or infinite"),
+        }
+    }
+}
+
+impl std::error::Error for HeightfieldError {}
+
+impl Heightfield {
+    /// A grid of `nx × ny` nodes from `(x0, y0)` at `step` mm, with heights
+    /// `z` row by row (`z[j·nx + i]`).
+    pub fn new(
+        x0: f64,
+        y0: f64,
+        step: f64,
+        nx: usize,
+        ny: usize,
+        z: Vec<f64>,
+    ) -> Result<Heightfield, HeightfieldError> {
+        if nx < 2 || ny < 2 {
+            return Err(HeightfieldError::TooSmall { nx, ny });
+        }
+        if !(step > 0.0 && step.is_finite() && x0.is_finite() && y0.is_finite()) {
+            return Err(HeightfieldError::BadStep(step));
+        }
+        if nx.checked_mul(ny) != Some(z.len()) {
+            return Err(HeightfieldError::WrongLength { expected: nx.saturating_mul(ny), found: z.len() });
+        }
+        if let Some(k) = z.iter().position(|v| !v.is_finite()) {
+            return Err(HeightfieldError::NonFinite { i: k % nx, j: k / nx });
+        }
+        Ok(Heightfield { x0, y0, step, nx, ny, z })
+    }
+
+    /// Samples `f(x, y)` on the grid (non-finite values become errors).
+    pub fn from_fn(
+        x0: f64,
+        y0: f64,
+        step: f64,
+        nx: usize,
+        ny: usize,
+        f: impl Fn(f64, f64) -> f64,
+    ) -> Result<Heightfield, HeightfieldError> {
+        let z = (0..nx * ny).map(|k| f(x0 + (k % nx) as f64 * step, y0 + (k / nx) as f64 * step)).collect();
+        Heightfield::new(x0, y0, step, nx, ny, z)
+    }
+
+    /// Nodes along X.
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+
+    /// Nodes along Y.
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+
+    /// Grid step, mm.
+    pub fn step(&self) -> f64 {
+        self.step
+    }
+
+    /// X of column `i`.
+    #[inline]
+    pub fn x(&self, i: usize) -> f64 {
+        self.x0 + i as f64 * self.step
+    }
+
+    /// Y of row `j`.
+    #[inline]
+    pub fn y(&self, j: usize) -> f64 {
+        self.y0 + j as f64 * self.step
+    }
+
+    /// Height of node `(i, j)`.
+    #[inline]
+    pub fn z(&self, i: usize, j: usize) -> f64 {
+        self.z[j * self.nx + i]
+    }
+
+    /// All heights, row by row.
+    pub fn heights(&self) -> &[f64] {
+        &self.z
+    }
+
+    /// Node `(i, j)` as a point.
+    #[inline]
+    pub fn node(&self, i: usize, j: usize) -> Vec3 {
+        Vec3::new(self.x(i), self.y(j), self.z(i, j))
+    }
+
+    /// XY extent `[min x, min y, max x, max y]`.
+    pub fn xy_box(&self) -> [f64; 4] {
+        [self.x0, self.y0, self.x(self.nx - 1), self.y(self.ny - 1)]
+    }
+
+    /// The two triangles of cell `(i, j)` (`i < nx − 1`, `j < ny − 1`): below
+    /// and above the diagonal from node `(i, j)` to `(i+1, j+1)`.
+    #[inline]
+    pub fn cell_triangles(&self, i: usize, j: usize) -> [Triangle; 2] {
+        let (a, b, c, d) = (self.node(i, j), self.node(i + 1, j), self.node(i + 1, j + 1), self.node(i, j + 1));
+        [Triangle::new(a, b, c), Triangle::new(a, c, d)]
+    }
+
+    /// The surface as a mesh of `2·(nx−1)·(ny−1)` triangles.
+    pub fn to_mesh(&self) -> Mesh {
+        Mesh::from_triangles(
+            (0..self.ny - 1).flat_map(|j| (0..self.nx - 1).flat_map(move |i| self.cell_triangles(i, j))),
+        )
+    }
+
+    /// The surface's height at `(x, y)`, linear on the triangles; `None`
+    /// outside the grid.
+    pub fn z_at(&self, x: f64, y: f64) -> Option<f64> {
+        let u = (x - self.x0) / self.step;
+        let v = (y - self.y0) / self.step;
+        let (last_i, last_j) = ((self.nx - 1) as f64, (self.ny - 1) as f64);
+        if !(u >= 0.0 && v >= 0.0 && u <= last_i && v <= last_j) {
+            return None;
+        }
+        let i = (u.floor() as usize).min(self.nx - 2);
+        let j = (v.floor() as usize).min(self.ny - 2);
+        let (fu, fv) = (u - i as f64, v - j as f64);
+        let (a, b, c, d) = (self.z(i, j), self.z(i + 1, j), self.z(i + 1, j + 1), self.z(i, j + 1));
+        Some(if fu >= fv { a + (b - a) * fu + (c - b) * fv } else { a + (c - d) * fu + (d - a) * fv })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mesh_and_interpolation_agree() {
+        let h = Heightfield::from_fn(-1.0, 2.0, 0.5, 5, 4, |x, y| (x * 1.3).sin() + y * y * 0.1).unwrap();
+        let m = h.to_mesh();
+        assert_eq!((m.len(), m.vertices().len(), m.skipped()), (2 * 4 * 3, 20, 0));
+        for t in m.iter() {
+            let c = (t.v[0] + t.v[1] + t.v[2]) * (1.0 / 3.0);
+            assert!((h.z_at(c.x, c.y).unwrap() - c.z).abs() < 1e-12);
+            for p in t.v {
+                assert!((h.z_at(p.x, p.y).unwrap() - p.z).abs() < 1e-12);
+            }
+        }
+        assert_eq!(h.z_at(-1.01, 2.5), None);
+        assert_eq!(h.xy_box(), [-1.0, 2.0, 1.0, 3.5]);
+    }
+
+    #[test]
+    fn bad_grids_say_why() {
+        let e = |r: Result<Heightfield, HeightfieldError>| r.unwrap_err().to_string();
+        assert_eq!(
+            e(Heightfield::new(0., 0., 1., 1, 5, vec![0.; 5])),
+            "a height grid needs at least 2 x 2 nodes, got 1 x 5"
+        );
+        assert_eq!(
+            e(Heightfield::new(0., 0., 0., 2, 2, vec![0.; 4])),
+            "the grid step must be positive and the origin finite, got step 0"
+        );
+        assert_eq!(e(Heightfield::new(0., 0., 1., 2, 2, vec![0.; 3])), "the height grid needs 4 heights, got 3");
+        assert_eq!(
+            e(Heightfield::new(0., 0., 1., 2, 2, vec![0., 0., 0., f64::NAN])),
+            "height at column 1, row 1 is NaN or infinite"
+        );
+    }
+}

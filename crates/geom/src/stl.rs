@@ -1,0 +1,295 @@
+//! STL, binary and ASCII: bytes in, triangles or a [`Mesh`] out.
+//!
+//! A binary file is recognised by its size (84 bytes plus 50 a triangle, as
+//! its header count says); a file that does not fit and begins with `solid`
+//! (and has no NUL byte) is read as ASCII. Facet normals are ignored: the
+//! corners say which way a triangle faces, and drop-cutter does not care.
+
+use std::fmt;
+
+use crate::mesh::{Mesh, Triangle, Vec3};
+
+/// Why some bytes are not an STL mesh.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StlError {
+    /// A binary file shorter than its header, or than its triangle count
+    /// requires.
+    Truncated {
+        /// Triangle count in the header (0 when the header itself is cut).
+        triangles: u32,
+        /// Bytes the count requires.
+        expected: u64,
+        /// Bytes there are.
+        found: u64,
+    },
+    /// A binary file longer than its triangle count says.
+    WrongSize {
+        /// Triangle count in the header.
+        triangles: u32,
+        /// Bytes the count requires.
+        expected: u64,
+        /// Bytes there are.
+        found: u64,
+    },
+    /// An ASCII file that ends inside a facet.
+    UnexpectedEnd {
+        /// The last line (1-based).
+        line: usize,
+    },
+    /// An ASCII line that cannot be read.
+    Syntax {
+        /// The line (1-based).
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A NaN or infinite coordinate.
+    NonFinite {
+        /// The triangle (1-based, in file order).
+        triangle: usize,
+    },
+    /// No triangle with an area.
+    Empty {
+        /// Degenerate triangles skipped.
+        skipped: usize,
+    },
+}
+
+impl fmt::Display for StlError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StlError::Truncated { triangles: 0, expected, found } if *expected == 84 => {
+                write!(f, "truncated STL: {found} bytes, shorter than the 84-byte binary header")
+            }
+            StlError::Truncated { triangles, expected, found } => write!(
+                f,
+                "truncated binary STL: the header announces {triangles} triangles ({expected} bytes), the file has {found} bytes"
+            ),
+            StlError::WrongSize { triangles, expected, found } => write!(
+                f,
+                "binary STL of the wrong size: the header announces {triangles} triangles ({expected} bytes), the file has {found} bytes"
+            ),
+            StlError::UnexpectedEnd { line } => write!(f, "truncated ASCII STL: the file ends inside a facet (line {line})"),
+            StlError::Syntax { line, message } => write!(f, "ASCII STL line {line}: {message}"),
+            StlError::NonFinite { triangle } => write!(f, "STL triangle {triangle} has a NaN or infinite coordinate"),
+            StlError::Empty { skipped: 0 } => write!(f, "empty STL: no triangles"),
+            StlError::Empty { skipped } => {
+                write!(f, "empty STL: all {skipped} triangles are degenerate (zero area)")
+            }
+        }
+    }
+}
+
+impl std::error::Error for StlError {}
+
+/// The triangles of an STL file, binary or ASCII, in file order (degenerate
+/// ones included). Fails on a truncated or mis-sized file, an unreadable
+/// ASCII line, or a non-finite coordinate.
+pub fn parse_stl(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
+    let binary_size = |n: u32| 84 + 50 * u64::from(n);
+    let count = bytes.get(80..84).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    if let Some(n) = count {
+        if binary_size(n) == bytes.len() as u64 {
+            return parse_binary(&bytes[84..], n as usize);
+        }
+    }
+    if looks_ascii(bytes) {
+        return parse_ascii(bytes);
+    }
+    let found = bytes.len() as u64;
+    match count {
+        None => Err(StlError::Truncated { triangles: 0, expected: 84, found }),
+        Some(n) if binary_size(n) > found => Err(StlError::Truncated { triangles: n, expected: binary_size(n), found }),
+        Some(n) => Err(StlError::WrongSize { triangles: n, expected: binary_size(n), found }),
+    }
+}
+
+impl Mesh {
+    /// Reads an STL file (see [`parse_stl`]) into a mesh, skipping
+    /// degenerate triangles; a mesh with no triangle left is an error.
+    pub fn from_stl(bytes: &[u8]) -> Result<Mesh, StlError> {
+        let mesh = Mesh::from_triangles(parse_stl(bytes)?);
+        if mesh.is_empty() {
+            return Err(StlError::Empty { skipped: mesh.skipped() });
+        }
+        Ok(mesh)
+    }
+}
+
+fn looks_ascii(bytes: &[u8]) -> bool {
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
+    let head = &bytes[start..];
+    head.len() >= 5 && head[..5].eq_ignore_ascii_case(b"solid") && !bytes.contains(&0)
+}
+
+fn parse_binary(body: &[u8], n: usize) -> Result<Vec<Triangle>, StlError> {
+    let mut out = Vec::with_capacity(n);
+    for (k, rec) in body.chunks_exact(50).enumerate() {
+        let f = |i: usize| {
+            let b = &rec[12 + 4 * i..16 + 4 * i];
+            f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        };
+        let p = |c: usize| Vec3::new(f(3 * c), f(3 * c + 1), f(3 * c + 2));
+        let t = Triangle::new(p(0), p(1), p(2));
+        if !t.v.iter().all(|v| v.is_finite()) {
+            return Err(StlError::NonFinite { triangle: k + 1 });
+        }
+        out.push(t);
+    }
+    Ok(out)
+}
+
+fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut out = Vec::new();
+    let mut corners: Vec<Vec3> = Vec::with_capacity(3);
+    let mut in_facet = false;
+    let mut last = 0;
+    for (k, line) in text.lines().enumerate() {
+        let line_no = k + 1;
+        last = line_no;
+        let mut words = line.split_whitespace();
+        let syntax = |message: String| StlError::Syntax { line: line_no, message };
+        match words.next().map(|w| w.to_ascii_lowercase()).as_deref() {
+            Some("facet") => {
+                if in_facet {
+                    return Err(syntax("'facet' inside a facet (missing 'endfacet')".into()));
+                }
+                in_facet = true;
+                corners.clear();
+            }
+            Some("vertex") => {
+                if !in_facet {
+                    return Err(syntax("'vertex' outside a facet".into()));
+                }
+                let mut xyz = [0.0f64; 3];
+                for v in &mut xyz {
+                    let w = words.next().ok_or_else(|| syntax("'vertex' needs three coordinates".into()))?;
+                    *v = w.parse().map_err(|_| syntax(format!("'{w}' is not a number")))?;
+                }
+                if corners.len() == 3 {
+                    return Err(syntax("a facet with more than three vertices".into()));
+                }
+                if !xyz.iter().all(|v| v.is_finite()) {
+                    return Err(StlError::NonFinite { triangle: out.len() + 1 });
+                }
+                corners.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
+            }
+            Some("endfacet") => {
+                if !in_facet || corners.len() != 3 {
+                    return Err(syntax(format!("a facet with {} vertices, not 3", corners.len())));
+                }
+                out.push(Triangle::new(corners[0], corners[1], corners[2]));
+                in_facet = false;
+            }
+            // solid, outer loop, endloop, endsolid, blank lines.
+            _ => {}
+        }
+    }
+    if in_facet {
+        return Err(StlError::UnexpectedEnd { line: last });
+    }
+    Ok(out)
+}
+
+/// A binary STL of `triangles` (an 80-byte header of spaces; normals from
+/// the corners; coordinates rounded to `f32`, as the format stores them).
+pub fn write_binary_stl(triangles: &[Triangle]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(84 + 50 * triangles.len());
+    out.extend_from_slice(&[b' '; 80]);
+    out.extend_from_slice(&(triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        let n = t.normal();
+        let len = n.norm();
+        let n = if len > 0.0 { n * (1.0 / len) } else { n };
+        for p in [n, t.v[0], t.v[1], t.v[2]] {
+            for c in [p.x, p.y, p.z] {
+                out.extend_from_slice(&(c as f32).to_le_bytes());
+            }
+        }
+        out.extend_from_slice(&[0, 0]);
+    }
+    out
+}
+
+/// An ASCII STL of `triangles` (full `f64` precision).
+pub fn write_ascii_stl(name: &str, triangles: &[Triangle]) -> String {
+    let mut s = format!("solid {name}\n");
+    for t in triangles {
+        let n = t.normal();
+        s += &format!("  facet normal {} {} {}\n    outer loop\n", n.x, n.y, n.z);
+        for p in t.v {
+            s += &format!("      vertex {} {} {}\n", p.x, p.y, p.z);
+        }
+        s += "    endloop\n  endfacet\n";
+    }
+    s + &format!("endsolid {name}\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Vec<Triangle> {
+        let p = Vec3::new;
+        vec![
+            Triangle::new(p(0., 0., 1.), p(2., 0., 1.), p(2., 2., 1.5)),
+            Triangle::new(p(0., 0., 1.), p(2., 2., 1.5), p(0., 2., 1.)),
+        ]
+    }
+
+    #[test]
+    fn binary_and_ascii_round_trip() {
+        let b = write_binary_stl(&square());
+        assert_eq!(b.len(), 84 + 100);
+        assert_eq!(parse_stl(&b).unwrap(), square());
+        let a = write_ascii_stl("sq", &square());
+        assert_eq!(parse_stl(a.as_bytes()).unwrap(), square());
+        let m = Mesh::from_stl(a.as_bytes()).unwrap();
+        assert_eq!((m.len(), m.vertices().len(), m.edges().len()), (2, 4, 5));
+        // A binary file whose header starts with "solid" is still binary.
+        let mut b2 = b.clone();
+        b2[..5].copy_from_slice(b"solid");
+        assert_eq!(parse_stl(&b2).unwrap(), square());
+    }
+
+    #[test]
+    fn bad_files_say_what_is_wrong() {
+        let b = write_binary_stl(&square());
+        let err = |bytes: &[u8]| parse_stl(bytes).unwrap_err().to_string();
+        assert_eq!(err(&b[..40]), "truncated STL: 40 bytes, shorter than the 84-byte binary header");
+        assert_eq!(
+            err(&b[..150]),
+            "truncated binary STL: the header announces 2 triangles (184 bytes), the file has 150 bytes"
+        );
+        let mut long = b.clone();
+        long.extend_from_slice(&[0; 7]);
+        assert_eq!(
+            err(&long),
+            "binary STL of the wrong size: the header announces 2 triangles (184 bytes), the file has 191 bytes"
+        );
+        let mut nan = b.clone();
+        nan[84 + 50 + 12 + 4..84 + 50 + 12 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert_eq!(err(&nan), "STL triangle 2 has a NaN or infinite coordinate");
+        let a = write_ascii_stl("sq", &square());
+        assert_eq!(
+            err(a.replacen("vertex 2 2 1.5", "vertex 2 nan 1.5", 1).as_bytes()),
+            "STL triangle 1 has a NaN or infinite coordinate"
+        );
+        assert_eq!(
+            err(a.replacen("vertex 2 0 1", "vertex 2 x 1", 1).as_bytes()),
+            "ASCII STL line 5: 'x' is not a number"
+        );
+        let cut: String = a.lines().take(12).collect::<Vec<_>>().join("\n");
+        assert_eq!(err(cut.as_bytes()), "truncated ASCII STL: the file ends inside a facet (line 12)");
+        assert_eq!(
+            Mesh::from_stl(b"solid empty\nendsolid empty\n").unwrap_err().to_string(),
+            "empty STL: no triangles"
+        );
+        let flat = [Triangle::new(Vec3::new(0., 0., 0.), Vec3::new(1., 1., 1.), Vec3::new(2., 2., 2.))];
+        assert_eq!(
+            Mesh::from_stl(&write_binary_stl(&flat)).unwrap_err().to_string(),
+            "empty STL: all 1 triangles are degenerate (zero area)"
+        );
+    }
+}
