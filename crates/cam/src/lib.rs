@@ -25,6 +25,10 @@
 #![warn(missing_docs)]
 
 pub mod cutter;
+pub mod dropcut;
 pub mod mill;
+pub mod scallop;
+pub mod sim;
 
 pub use cutter::{Cutter, SpecError};
+pub use dropcut::{drop_cutter, drop_cutter_grid, Grid, MeshSurface, Surface};

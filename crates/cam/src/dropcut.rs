@@ -1,0 +1,341 @@
+//! Drop-cutter: the lowest tip z at which a cutter held at `(x, y)` rests
+//! on a surface without cutting into it (the CL point's z).
+//!
+//! Every surface is triangles; the contact with one triangle is the highest
+//! of three exact contacts (see `contact.rs`): the profile on a vertex, a
+//! tilted plane on the profile (facet), and the profile along an edge,
+//! solved in closed form for flat, ball, oval and V-bit and by a bracketed
+//! root finder for the bull's torus. A point where no triangle comes within
+//! the cutter's radius has no answer: `None`, never a made-up z.
+//!
+//! Three [`Surface`]s: a [`MeshSurface`] (a mesh with its [`XyIndex`]; each
+//! query visits only the triangles whose box meets the cutter's disk and
+//! tests each shared vertex and edge once), a [`Heightfield`] (the fast path:
+//! the grid is its own index), and a plain slice of triangles (brute force,
+//! the reference the tests compare the others with). Each query first tests
+//! the vertices, then skips every triangle that cannot beat the best z so
+//! far (its top minus the profile's height at its nearest possible point).
+//!
+//! # Example
+//! ```
+//! use kezuri_cam::dropcut::{drop_cutter, MeshSurface};
+//! use kezuri_cam::Cutter;
+//! use kezuri_geom::{Mesh, Triangle, Vec3};
+//! // A plane rising 0.5 mm per mm along X.
+//! let p = |x: f64, y: f64| Vec3::new(x, y, 0.5 * x);
+//! let mesh = Mesh::from_triangles([
+//!     Triangle::new(p(-10., -10.), p(10., -10.), p(10., 10.)),
+//!     Triangle::new(p(-10., -10.), p(10., 10.), p(-10., 10.)),
+//! ]);
+//! let surface = MeshSurface::new(mesh);
+//! let ball: Cutter = "ball:6".parse().unwrap();
+//! // The ball touches the plane off-centre: R·(√(1 + 0.5²) − 1) above it.
+//! let z = drop_cutter(&ball, &surface, 0.0, 0.0).unwrap();
+//! assert!((z - 3.0 * (1.25f64.sqrt() - 1.0)).abs() < 1e-12);
+//! assert_eq!(drop_cutter(&ball, &surface, 50.0, 0.0), None);
+//! ```
+
+mod contact;
+mod heightfield;
+
+use std::fmt;
+use std::str::FromStr;
+
+use kezuri_geom::{Mesh, Triangle, XyIndex};
+use rayon::prelude::*;
+
+use crate::cutter::Cutter;
+use contact::Probe;
+
+/// Something a cutter can be dropped on.
+pub trait Surface: Sync {
+    /// Working memory of one thread's queries.
+    type Scratch: Send;
+
+    /// Fresh working memory for [`Surface::drop_cutter_with`].
+    fn scratch(&self) -> Self::Scratch;
+
+    /// The tip z of `cutter` dropped at `(x, y)`; `None` where no part of the
+    /// surface lies within the cutter's radius (or `x`, `y` are not finite).
+    fn drop_cutter_with(&self, cutter: &Cutter, x: f64, y: f64, scratch: &mut Self::Scratch) -> Option<f64>;
+}
+
+/// The tip z of `cutter` dropped at `(x, y)` on `surface`; `None` where no
+/// part of the surface lies within the cutter's radius.
+pub fn drop_cutter<S: Surface + ?Sized>(cutter: &Cutter, surface: &S, x: f64, y: f64) -> Option<f64> {
+    surface.drop_cutter_with(cutter, x, y, &mut surface.scratch())
+}
+
+/// Brute force: every triangle's vertices, edges and facet.
+impl Surface for [Triangle] {
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn drop_cutter_with(&self, cutter: &Cutter, x: f64, y: f64, _: &mut ()) -> Option<f64> {
+        if !(x.is_finite() && y.is_finite()) {
+            return None;
+        }
+        let mut probe = Probe::new(cutter, x, y);
+        for t in self {
+            for k in 0..3 {
+                probe.vertex(t.v[k]);
+            }
+            probe.facet(t);
+            for k in 0..3 {
+                probe.edge(t.v[k], t.v[(k + 1) % 3]);
+            }
+        }
+        probe.result()
+    }
+}
+
+/// A mesh with its XY index, ready for drop-cutter queries.
+#[derive(Clone, Debug)]
+pub struct MeshSurface {
+    mesh: Mesh,
+    index: XyIndex,
+    /// Highest z of each triangle.
+    top: Vec<f64>,
+}
+
+impl MeshSurface {
+    /// Indexes `mesh` (cells sized from its median triangle).
+    pub fn new(mesh: Mesh) -> MeshSurface {
+        let index = XyIndex::new(&mesh);
+        MeshSurface::with_index(mesh, index)
+    }
+
+    /// `mesh` with an index built for it.
+    pub fn with_index(mesh: Mesh, index: XyIndex) -> MeshSurface {
+        let top = mesh.iter().map(|t| t.max_z()).collect();
+        MeshSurface { mesh, index, top }
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The index.
+    pub fn index(&self) -> &XyIndex {
+        &self.index
+    }
+}
+
+/// Working memory of [`MeshSurface`] queries: the candidate triangles and a
+/// "seen in query n" stamp per vertex and per edge.
+#[derive(Debug)]
+pub struct MeshScratch {
+    candidates: Vec<u32>,
+    vertex_seen: Vec<u32>,
+    edge_seen: Vec<u32>,
+    query: u32,
+}
+
+impl MeshScratch {
+    fn next_query(&mut self) -> u32 {
+        self.query = self.query.wrapping_add(1);
+        if self.query == 0 {
+            self.vertex_seen.fill(0);
+            self.edge_seen.fill(0);
+            self.query = 1;
+        }
+        self.query
+    }
+}
+
+impl Surface for MeshSurface {
+    type Scratch = MeshScratch;
+
+    fn scratch(&self) -> MeshScratch {
+        MeshScratch {
+            candidates: Vec::new(),
+            vertex_seen: vec![0; self.mesh.vertices().len()],
+            edge_seen: vec![0; self.mesh.edges().len()],
+            query: 0,
+        }
+    }
+
+    fn drop_cutter_with(&self, cutter: &Cutter, x: f64, y: f64, scratch: &mut MeshScratch) -> Option<f64> {
+        if !(x.is_finite() && y.is_finite()) {
+            return None;
+        }
+        let mut probe = Probe::new(cutter, x, y);
+        let query = scratch.next_query();
+        let MeshScratch { candidates, vertex_seen, edge_seen, .. } = scratch;
+        candidates.clear();
+        self.index.for_each_in_disk(probe.centre(), probe.radius(), |t| candidates.push(t));
+        let (vertices, triangles, edges) = (self.mesh.vertices(), self.mesh.triangles(), self.mesh.edges());
+        for &t in candidates.iter() {
+            for &v in &triangles[t as usize] {
+                if vertex_seen[v as usize] != query {
+                    vertex_seen[v as usize] = query;
+                    probe.vertex(vertices[v as usize]);
+                }
+            }
+        }
+        for &t in candidates.iter() {
+            if !probe.may_win(&self.index.triangle_box(t), self.top[t as usize]) {
+                continue;
+            }
+            probe.facet(&self.mesh.triangle(t as usize));
+            for &e in &self.mesh.triangle_edges()[t as usize] {
+                if edge_seen[e as usize] != query {
+                    edge_seen[e as usize] = query;
+                    let [a, b] = edges[e as usize];
+                    probe.edge(vertices[a as usize], vertices[b as usize]);
+                }
+            }
+        }
+        probe.result()
+    }
+}
+
+/// A regular grid of cutter positions: `x = x0 + i·step` for
+/// `i = 0..nx`, `y = y0 + j·step` for `j = 0..ny`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    /// X of the first column.
+    pub x0: f64,
+    /// Y of the first row.
+    pub y0: f64,
+    /// Spacing, mm.
+    pub step: f64,
+    /// Columns.
+    pub nx: usize,
+    /// Rows.
+    pub ny: usize,
+}
+
+/// Why numbers are not a [`Grid`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GridError(String);
+
+impl fmt::Display for GridError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for GridError {}
+
+impl Grid {
+    /// Most points a grid may have.
+    pub const MAX_POINTS: usize = 100_000_000;
+
+    /// The grid from `(x0, y0)` to `(x1, y1)` at `step`: `round((x1 − x0) /
+    /// step) + 1` columns, likewise rows.
+    pub fn new(x0: f64, y0: f64, x1: f64, y1: f64, step: f64) -> Result<Grid, GridError> {
+        if ![x0, y0, x1, y1, step].iter().all(|v| v.is_finite()) {
+            return Err(GridError("grid numbers must be finite".into()));
+        }
+        if step <= 0.0 {
+            return Err(GridError(format!("the grid step must be positive, got {step}")));
+        }
+        if x1 < x0 || y1 < y0 {
+            return Err(GridError(format!(
+                "the grid must run from low to high: X1 ≥ X0 and Y1 ≥ Y0, got {x0},{y0} to {x1},{y1}"
+            )));
+        }
+        let (cols, rows) = (((x1 - x0) / step).round() + 1.0, ((y1 - y0) / step).round() + 1.0);
+        if cols * rows > Grid::MAX_POINTS as f64 {
+            return Err(GridError(format!(
+                "the grid has {cols} x {rows} points, more than {} million; use a larger step",
+                Grid::MAX_POINTS / 1_000_000
+            )));
+        }
+        Ok(Grid { x0, y0, step, nx: cols as usize, ny: rows as usize })
+    }
+
+    /// X of column `i`.
+    #[inline]
+    pub fn x(&self, i: usize) -> f64 {
+        self.x0 + i as f64 * self.step
+    }
+
+    /// Y of row `j`.
+    #[inline]
+    pub fn y(&self, j: usize) -> f64 {
+        self.y0 + j as f64 * self.step
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.nx * self.ny
+    }
+
+    /// Whether the grid has no point (never, for a grid from [`Grid::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl FromStr for Grid {
+    type Err = GridError;
+
+    /// `X0,Y0,X1,Y1,STEP`.
+    fn from_str(s: &str) -> Result<Grid, GridError> {
+        let v: Vec<f64> = s
+            .split(',')
+            .map(|w| w.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| GridError(format!("'{s}' is not X0,Y0,X1,Y1,STEP (five numbers)")))?;
+        match v[..] {
+            [x0, y0, x1, y1, step] => Grid::new(x0, y0, x1, y1, step),
+            _ => Err(GridError(format!("'{s}' is not X0,Y0,X1,Y1,STEP (five numbers, got {})", v.len()))),
+        }
+    }
+}
+
+/// Drops `cutter` at every point of `grid`, rows in parallel; the result is
+/// row by row (`y` outer, `x` inner). `on_row` is called after each row
+/// (from any thread), for progress.
+pub fn drop_cutter_grid<S: Surface + ?Sized>(
+    cutter: &Cutter,
+    surface: &S,
+    grid: &Grid,
+    on_row: &(dyn Fn() + Sync),
+) -> Vec<Option<f64>> {
+    let mut out = vec![None; grid.len()];
+    if grid.nx == 0 {
+        return out;
+    }
+    out.par_chunks_mut(grid.nx).enumerate().for_each_init(
+        || surface.scratch(),
+        |scratch, (j, row)| {
+            let y = grid.y(j);
+            for (i, z) in row.iter_mut().enumerate() {
+                *z = surface.drop_cutter_with(cutter, grid.x(i), y, scratch);
+            }
+            on_row();
+        },
+    );
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grids_parse_and_count_like_the_cli_says() {
+        let g: Grid = "0,0,10,5,0.5".parse().unwrap();
+        assert_eq!((g.nx, g.ny, g.x(20), g.y(10)), (21, 11, 10.0, 5.0));
+        // round((X1 − X0)/STEP): 10/3 → 3 intervals, the last x is 9.
+        let g: Grid = "0,0,10,0,3".parse().unwrap();
+        assert_eq!((g.nx, g.ny, g.x(3)), (4, 1, 9.0));
+        for (bad, why) in [
+            ("0,0,1,1", "five numbers"),
+            ("0,0,1,1,0", "positive"),
+            ("0,0,1,1,-1", "positive"),
+            ("1,0,0,1,0.1", "low to high"),
+            ("0,0,1,nan,0.1", "finite"),
+            ("0,0,1e6,1e6,0.01", "more than"),
+            ("a,0,1,1,1", "five numbers"),
+        ] {
+            let e = bad.parse::<Grid>().unwrap_err().to_string();
+            assert!(e.contains(why), "{bad}: {e}");
+        }
+    }
+}
