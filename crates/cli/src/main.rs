@@ -2,10 +2,13 @@
 //! the clock and the environment; the libraries take values and return values.
 
 mod demo;
+mod dropcut;
 mod files;
 mod machine;
 mod plot;
 mod program;
+mod scallop;
+mod sim;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -63,6 +66,13 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
         #[command(flatten)]
         write: WriteArgs,
     },
+    /// Cusp between neighbouring passes on an inclined plane, or the pick feed for a target cusp.
+    Scallop(scallop::ScallopArgs),
+    /// Cutter-location z over a grid of points on an STL mesh (drop-cutter).
+    Dropcut(dropcut::DropcutArgs),
+    /// Material-removal simulation (Z-map) of a program: picture, STL, rapids into the stock,
+    /// comparison with the intended surface.
+    Sim(Box<sim::SimArgs>),
 }
 
 fn main() -> ExitCode {
@@ -79,6 +89,9 @@ fn main() -> ExitCode {
         Command::Demo { out } => demo::run(out),
         Command::Check { run, json } => program::check(run, *json),
         Command::Run { run, write } => program::run(run, write),
+        Command::Scallop(args) => scallop::run(args),
+        Command::Dropcut(args) => dropcut::run(args),
+        Command::Sim(args) => sim::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,139 @@
+//! `kezuri dropcut`: cutter-location z over a grid of points on an STL.
+
+use std::fmt::Write as _;
+use std::io::{IsTerminal, Read};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use kezuri_cam::dropcut::{drop_cutter_grid, Grid, MeshSurface};
+use kezuri_cam::Cutter;
+use kezuri_geom::Mesh;
+
+use crate::files::write_output;
+
+/// Options of `kezuri dropcut`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+For every grid point (x, y) the cutter is lowered onto the mesh until it touches: the output is
+the tip's z (the lowest point of the cutter, as OpenCAMLib's CL points), exact for every shape
+(vertex, facet and edge contacts). Points run x = X0 + i·STEP for i = 0..round((X1−X0)/STEP),
+y likewise; one line `x y z` a point, no header, y outer, x inner, numbers in full precision
+(shortest round-trip). Binary and ASCII STL are read; degenerate triangles are skipped.
+
+Points with no triangle within the cutter's radius (off the mesh) get no line, and a warning
+on stderr says how many; --fill Z writes Z for them instead. A grid entirely off the mesh is
+an error.
+
+Examples:
+  kezuri dropcut part.stl --tool ball:6 --grid 0,0,100,100,2 -o part.cl
+  kezuri dropcut part.stl --tool bull:10,1 --grid -5,-5,105,105,0.5 --fill 20 > part.cl
+  cat part.stl | kezuri dropcut - --tool oval:16,24 --grid 0,0,50,50,1
+
+Exit code 1 for an unreadable or empty STL, a NaN coordinate, a bad tool or grid.")]
+pub struct DropcutArgs {
+    /// The STL mesh (binary or ASCII); `-` reads stdin.
+    #[arg(value_name = "MESH")]
+    pub mesh: PathBuf,
+    /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
+    #[arg(long, value_name = "SPEC")]
+    pub tool: String,
+    /// The grid of cutter positions: X0,Y0,X1,Y1,STEP (mm).
+    #[arg(long, value_name = "X0,Y0,X1,Y1,STEP", allow_hyphen_values = true)]
+    pub grid: String,
+    /// Write this z for points with no triangle under the cutter (default:
+    /// leave them out).
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    pub fill: Option<f64>,
+    /// Output file; `-` or none for stdout.
+    #[arg(short, long, value_name = "CL")]
+    pub output: Option<PathBuf>,
+}
+
+/// Runs `kezuri dropcut`.
+pub fn run(args: &DropcutArgs) -> Result<()> {
+    let cutter: Cutter = args.tool.parse()?;
+    let grid: Grid = args.grid.parse().with_context(|| "--grid")?;
+    if let Some(z) = args.fill {
+        if !z.is_finite() {
+            bail!("--fill must be a finite number, got {z}");
+        }
+    }
+    let bytes = read_bytes(&args.mesh)?;
+    let mesh = Mesh::from_stl(&bytes).with_context(|| format!("{}", args.mesh.display()))?;
+    drop(bytes);
+    if mesh.skipped() > 0 {
+        eprintln!("warning: {}: skipped {} degenerate (zero-area) triangles", args.mesh.display(), mesh.skipped());
+    }
+    let surface = MeshSurface::new(mesh);
+
+    let bar = progress(&grid);
+    let rows_done = AtomicU64::new(0);
+    let on_row = || {
+        let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Some(bar) = &bar {
+            bar.set_position(done);
+        }
+    };
+    let z = drop_cutter_grid(&cutter, &surface, &grid, &on_row);
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+
+    let missing = z.iter().filter(|z| z.is_none()).count();
+    if missing == z.len() {
+        let (lo, hi) = surface.mesh().bounds().expect("a mesh from an STL has triangles");
+        bail!(
+            "no grid point has a triangle within the cutter's radius: the grid x {}..{}, y {}..{} lies off the mesh \
+             (x {}..{}, y {}..{})",
+            grid.x(0),
+            grid.x(grid.nx - 1),
+            grid.y(0),
+            grid.y(grid.ny - 1),
+            lo.x,
+            hi.x,
+            lo.y,
+            hi.y
+        );
+    }
+    let mut out = String::with_capacity(z.len() * 32);
+    for (k, z) in z.iter().enumerate() {
+        if let Some(z) = z.or(args.fill) {
+            // `+ 0.0` turns a -0 into 0.
+            let (x, y) = (grid.x(k % grid.nx) + 0.0, grid.y(k / grid.nx) + 0.0);
+            writeln!(out, "{x} {y} {}", z + 0.0).expect("writing to a String");
+        }
+    }
+    write_output(args.output.as_deref(), out.as_bytes())?;
+    if missing > 0 {
+        let what = if args.fill.is_some() { "written with --fill" } else { "left out (use --fill Z to write them)" };
+        eprintln!(
+            "warning: {missing} of {} grid points have no triangle within the cutter's radius: {what}",
+            grid.len()
+        );
+    }
+    Ok(())
+}
+
+/// A progress bar on stderr for a long run, when stderr is a terminal.
+fn progress(grid: &Grid) -> Option<indicatif::ProgressBar> {
+    if grid.len() < 200_000 || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(grid.ny as u64);
+    let style = indicatif::ProgressStyle::with_template("dropcut {bar:40} {pos}/{len} rows, {eta} left")
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    bar.set_style(style);
+    Some(bar)
+}
+
+fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    if path == Path::new("-") {
+        let mut bytes = Vec::new();
+        std::io::stdin().read_to_end(&mut bytes).context("cannot read standard input")?;
+        Ok(bytes)
+    } else {
+        std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
+    }
+}

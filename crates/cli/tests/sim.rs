@@ -1,0 +1,219 @@
+//! `kezuri sim` as a user runs it: JSON keys, pictures, STL, comparison,
+//! rapids into the stock, bad input.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn kezuri(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", stderr(o));
+    serde_json::from_str(&stdout(o)).expect("one JSON object")
+}
+
+fn write(dir: &Path, name: &str, data: &[u8]) -> String {
+    let p: PathBuf = dir.join(name);
+    std::fs::write(&p, data).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+/// Level raster rows along X at Y = 0, 1, …, 6 and Z −1: a 1 mm pick feed.
+fn raster(rows: usize) -> String {
+    let mut s = String::from("G90 G21 G17\nG00 Z5.\nG00 X0. Y0.\nG01 Z-1. F600\n");
+    for k in 0..rows {
+        let x = if k % 2 == 0 { 10 } else { 0 };
+        writeln!(s, "G01 X{x}.").unwrap();
+        if k + 1 < rows {
+            writeln!(s, "G01 Y{}.", k + 1).unwrap();
+        }
+    }
+    s + "G00 Z5.\nM30\n"
+}
+
+/// A binary STL of the level plane z = `z` over a box.
+fn plane_stl(x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Vec<u8> {
+    let mut out = vec![0u8; 80];
+    out.extend_from_slice(&2u32.to_le_bytes());
+    for t in [[[x0, y0], [x1, y0], [x1, y1]], [[x0, y0], [x1, y1], [x0, y1]]] {
+        for v in [0.0, 0.0, 1.0] {
+            out.extend_from_slice(&(v as f32).to_le_bytes());
+        }
+        for p in t {
+            for v in [p[0], p[1], z] {
+                out.extend_from_slice(&(v as f32).to_le_bytes());
+            }
+        }
+        out.extend_from_slice(&[0, 0]);
+    }
+    out
+}
+
+#[test]
+fn json_keys_and_the_trough() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "line.nc", b"G90 G21\nG00 Z5.\nG00 X2. Y5.\nG01 Z-1. F300\nG01 X8.\nG00 Z5.\nM30\n");
+    let v = json(&kezuri(&["sim", &nc, "--tool", "ball:4", "--res", "0.5", "--stock", "0,0,10,10,0", "--json"]));
+    assert_eq!(v["cells"], 400);
+    assert_eq!(v["moves"], 5);
+    // The cells nearest the line are 0.25 mm off its axis.
+    let want = -1.0 + 2.0 - (4.0f64 - 0.0625).sqrt();
+    assert!((v["min_z_mm"].as_f64().unwrap() - want).abs() < 1e-12, "{v}");
+    assert_eq!(v["rapids_into_stock"], 0);
+    assert!(v["first_rapid_into_stock_line"].is_null());
+    assert!(v.get("max_gouge_mm").is_none());
+}
+
+#[test]
+fn comparison_with_the_plane_finds_the_scallop() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "raster.nc", raster(7).as_bytes());
+    let stl = write(dir.path(), "plane.stl", &plane_stl(-10.0, -10.0, 20.0, 20.0, -1.0));
+    let png = dir.path().join("h.png");
+    let surface = dir.path().join("cut.stl");
+    // Cells on the cusps: centres at 2 + 0.01·(i + ½) and y = 1 + 0.01·j
+    // (the stock starts half a cell below 1).
+    let o = kezuri(&[
+        "sim",
+        &nc,
+        "--tool",
+        "ball:6",
+        "--res",
+        "0.01",
+        "--stock",
+        "2,0.995,8,5.005,0",
+        "--compare",
+        &stl,
+        "-o",
+        png.to_str().unwrap(),
+        "--stl",
+        surface.to_str().unwrap(),
+        "--json",
+    ]);
+    let v = json(&o);
+    let h = 3.0 - (9.0f64 - 0.25).sqrt();
+    let left = v["max_left_mm"].as_f64().unwrap();
+    // The target is stored in f32: −1 is exact.
+    assert!((left - h).abs() < 1e-9, "{left} vs {h}");
+    assert_eq!(v["max_gouge_mm"].as_f64().unwrap(), 0.0);
+    let mean = v["mean_abs_dev_mm"].as_f64().unwrap();
+    assert!(mean > 0.2 * h && mean < 0.6 * h, "{mean}");
+    let counts: u64 = v["histogram"]["counts"].as_array().unwrap().iter().map(|c| c.as_u64().unwrap()).sum();
+    assert_eq!(counts, v["cells"].as_u64().unwrap());
+    assert_eq!(v["histogram"]["edges_mm"].as_array().unwrap().len(), 11);
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert_eq!(&std::fs::read(dir.path().join("h-deviation.png")).unwrap()[1..4], b"PNG");
+    let cut = std::fs::read(&surface).unwrap();
+    let (nx, ny) = (v["nx"].as_u64().unwrap(), v["ny"].as_u64().unwrap());
+    assert_eq!(cut.len() as u64, 84 + 50 * 2 * (nx - 1) * (ny - 1));
+
+    // The text report has the legend and the histogram.
+    let o = kezuri(&[
+        "sim",
+        &nc,
+        "--tool",
+        "ball:6",
+        "--res",
+        "0.05",
+        "--compare",
+        &stl,
+        "--deviation-png",
+        dir.path().join("d.png").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for want in ["max gouge", "max left", "mean |dev|", "red = below the target", "…"] {
+        assert!(text.contains(want), "{want}: {text}");
+    }
+}
+
+#[test]
+fn a_height_grid_is_a_target_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "raster.nc", raster(7).as_bytes());
+    let mut grid = String::from("x,y,z\n");
+    for j in 0..=6 {
+        for i in 0..=10 {
+            writeln!(grid, "{i},{j},-1.02").unwrap();
+        }
+    }
+    let target = write(dir.path(), "grid.csv", grid.as_bytes());
+    let v = json(&kezuri(&["sim", &nc, "--tool", "ball:6", "--res", "0.05", "--compare", &target, "--json"]));
+    // Nowhere below −1: 0.02 mm left at least where the target is.
+    assert_eq!(v["max_gouge_mm"].as_f64().unwrap(), 0.0);
+    assert!(v["cells_without_target"].as_u64().unwrap() > 0);
+    let lowest = v["deviation_range_mm"][0].as_f64().unwrap();
+    // 0.02 mm, plus the ball's rise at the nearest cell centres, 0.025 mm
+    // off the passes.
+    assert!((0.02 - 1e-9..0.0202).contains(&lowest), "{lowest}");
+}
+
+#[test]
+fn a_rapid_into_the_stock_is_reported_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(
+        dir.path(),
+        "crash.nc",
+        b"G90 G21\nG00 Z5.\nG00 X0. Y0.\nG01 Z-1. F300\nG01 X10.\nG00 Z1.\nG00 Y10.\nG00 Z-0.5\nG00 X0.\nG00 Z5.\nM30\n",
+    );
+    let args = ["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--stock", "-5,-5,15,15,0", "--json"];
+    let o = kezuri(&args);
+    let v = json(&o);
+    // The lift to Z1 (line 6) and the move across above the stock are air;
+    // the rapid down into it and the one across inside it are not.
+    assert_eq!(v["rapids_into_stock"], 2);
+    assert_eq!(v["first_rapid_into_stock_line"], 8);
+    assert_eq!(v["rapid_hits"][1]["line"], 9);
+    assert!(stderr(&o).contains("line 8"), "{}", stderr(&o));
+    let o = kezuri(&[&args[..], &["--fail-on-rapid"]].concat());
+    assert_eq!(o.status.code(), Some(1));
+    // Without --stock the top is the highest cutting point, Z5 (the plunge
+    // starts there) and the box is the cut's, Y −3 to 3: the move across
+    // at Z1 is inside that stock, the later ones are beyond it.
+    let v = json(&kezuri(&["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--json"]));
+    assert_eq!(v["stock"], serde_json::json!({"x0": -3.0, "y0": -3.0, "x1": 13.0, "y1": 3.0, "top": 5.0}));
+    assert_eq!(v["rapids_into_stock"], 1);
+    assert_eq!(v["first_rapid_into_stock_line"], 7);
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "line.nc", b"G00 Z5.\nG01 X10. Z-1. F100\nM30\n");
+    let empty = write(dir.path(), "empty.nc", b"%\nO0001\nM30\n%\n");
+    let junk = write(dir.path(), "junk.txt", b"hello\nworld\n");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0"], "--res must be a positive number"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "-1"], "--res must be a positive number"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "NaN"], "--res must be a positive number"),
+        (vec!["sim", &nc, "--tool", "ball:-6", "--res", "0.1"], "positive"),
+        (vec!["sim", &empty, "--tool", "ball:6", "--res", "0.1"], "no motion"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--stock", "0,0,10"], "five numbers"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--stock", "10,0,0,10,0"], "X0 < X1"),
+        (
+            vec!["sim", &nc, "--tool", "ball:6", "--res", "0.0001", "--stock", "0,0,1000,1000,0"],
+            "10000000 × 10000000 = 100000000000000 cells",
+        ),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--compare", &junk], "not an STL and not a height grid"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--compare", "/no/such/file.stl"], "cannot read"),
+    ];
+    for (args, want) in cases {
+        let o = kezuri(&args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
+        assert!(stdout(&o).is_empty(), "{args:?}");
+    }
+    // Bad usage: exit code 2.
+    assert_eq!(kezuri(&["sim", &nc, "--tool", "ball:6"]).status.code(), Some(2));
+}
