@@ -239,6 +239,11 @@ pub struct SimReport {
     pub rotary_moves: usize,
     /// Rapids (G00, G28, G53) that lowered the stock, in program order.
     pub rapid_hits: Vec<RapidHit>,
+    /// Moves not simulated because they start where the tool's position is
+    /// not known ([`Toolpath::unknown_start`]): before the program has named
+    /// X, Y and Z, and after a return to the reference point until it names
+    /// them again.
+    pub unplaced_moves: usize,
 }
 
 /// Why a simulation cannot run.
@@ -379,6 +384,9 @@ fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
 fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, SimReport), SimError> {
     let mut out = Vec::with_capacity(path.moves.len());
     let mut report = SimReport::default();
+    // Axes (X Y Z bits) whose position is known: none at the start of an
+    // NC program, where the start is only the interpreter's assumption.
+    let mut known = if path.unknown_start { 0u8 } else { 0b111 };
     for (index, m) in path.moves.iter().enumerate() {
         if matches!(m.kind, MoveKind::Dwell(_)) {
             continue;
@@ -387,6 +395,16 @@ fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, S
             return Err(SimError::NonFinite { index, line: m.line });
         }
         report.moves += 1;
+        let placed = known & 0b111 == 0b111;
+        known = match m.kind {
+            // The reference point is the machine's, not the model's.
+            MoveKind::Home => known & !m.named.0,
+            _ => known | m.named.0,
+        };
+        if !placed {
+            report.unplaced_moves += 1;
+            continue;
+        }
         if (m.start.a, m.start.b, m.start.c) != (m.end.a, m.end.b, m.end.c) {
             report.rotary_moves += 1;
         }

@@ -1,8 +1,8 @@
 //! `kezuri dropcut`: cutter-location z over a grid of points on an STL.
 
 use std::fmt::Write as _;
-use std::io::{IsTerminal, Read};
-use std::path::{Path, PathBuf};
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{bail, Context, Result};
@@ -11,7 +11,7 @@ use kezuri_cam::dropcut::{drop_cutter_grid, Grid, MeshSurface};
 use kezuri_cam::Cutter;
 use kezuri_geom::Mesh;
 
-use crate::files::write_output;
+use crate::files::{read_bytes, write_output};
 
 /// Options of `kezuri dropcut`.
 #[derive(Args, Debug)]
@@ -126,14 +126,4 @@ fn progress(grid: &Grid) -> Option<indicatif::ProgressBar> {
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
     bar.set_style(style);
     Some(bar)
-}
-
-fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    if path == Path::new("-") {
-        let mut bytes = Vec::new();
-        std::io::stdin().read_to_end(&mut bytes).context("cannot read standard input")?;
-        Ok(bytes)
-    } else {
-        std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
-    }
 }

@@ -8,16 +8,21 @@ use anyhow::{Context, Result};
 use kezuri_nc::interp::Library;
 use kezuri_nc::SourceFile;
 
+/// Reads an input whole; `-` is stdin.
+pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    if path == Path::new("-") {
+        let mut bytes = Vec::new();
+        std::io::stdin().read_to_end(&mut bytes).context("cannot read standard input")?;
+        Ok(bytes)
+    } else {
+        std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
+    }
+}
+
 /// Reads a text input; `-` is stdin. Bytes that are not UTF-8 (Shift-JIS
 /// comments in old programs, say) become U+FFFD instead of failing.
 pub fn read_text(path: &Path) -> Result<String> {
-    let mut bytes = Vec::new();
-    if path == Path::new("-") {
-        std::io::stdin().read_to_end(&mut bytes).context("cannot read standard input")?;
-    } else {
-        bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    }
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+    Ok(String::from_utf8_lossy(&read_bytes(path)?).into_owned())
 }
 
 /// Writes `data` to `path`, or to stdout when `path` is `None` or `-`.

@@ -5,10 +5,12 @@ mod demo;
 mod dropcut;
 mod files;
 mod machine;
+mod mill;
 mod plot;
 mod program;
 mod scallop;
 mod sim;
+mod surface;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -70,6 +72,8 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     Scallop(scallop::ScallopArgs),
     /// Cutter-location z over a grid of points on an STL mesh (drop-cutter).
     Dropcut(dropcut::DropcutArgs),
+    /// Raster finishing program over an STL or a height grid, with pick-feed control.
+    Mill(Box<mill::MillArgs>),
     /// Material-removal simulation (Z-map) of a program: picture, STL, rapids into the stock,
     /// comparison with the intended surface.
     Sim(Box<sim::SimArgs>),
@@ -91,6 +95,7 @@ fn main() -> ExitCode {
         Command::Run { run, write } => program::run(run, write),
         Command::Scallop(args) => scallop::run(args),
         Command::Dropcut(args) => dropcut::run(args),
+        Command::Mill(args) => mill::run(args),
         Command::Sim(args) => sim::run(args),
     };
     match result {

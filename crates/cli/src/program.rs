@@ -241,7 +241,12 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
     }
-    let path = &ran.outcome.toolpath;
+    let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+    write_toolpath(&ran.outcome.toolpath, &title, w)
+}
+
+/// Writes `path` as `w` asks: a program in a dialect or CSV, and the SVG.
+pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
     let text = match w.emit {
         Emit::Csv => kezuri_nc::write::csv(path),
         Emit::Fanuc | Emit::Linuxcnc | Emit::Grbl => {
@@ -251,13 +256,12 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
                 Emit::Grbl => Dialect::Grbl,
                 _ => Dialect::Fanuc,
             };
-            let title = o.file.file_name().map(|n| n.to_string_lossy().to_uppercase());
             let options = WriteOptions {
                 dialect,
                 digits: w.digits.unwrap_or(if w.inch { 4 } else { 3 }),
                 inch: w.inch,
                 line_numbers: (w.line_numbers > 0).then_some(w.line_numbers),
-                title,
+                title: Some(title.to_string()),
                 ..WriteOptions::default()
             };
             program(path, &options)?
@@ -265,7 +269,7 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     };
     write_output(w.output.as_deref(), text.as_bytes())?;
     if let Some(svg) = &w.svg {
-        write_output(Some(svg), crate::plot::svg(path, &o.file.display().to_string()).as_bytes())?;
+        write_output(Some(svg), crate::plot::svg(path, title).as_bytes())?;
     }
     Ok(())
 }

@@ -133,7 +133,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
 
     let comparison = match &args.compare {
         Some(target) => {
-            let triangles = read_target(target)?;
+            let triangles = crate::surface::read_surface(target)?.triangles();
             let heights = target_heights(&zmap, triangles);
             let c = compare(&zmap, &heights, args.bins);
             if c.compared == 0 {
@@ -227,6 +227,7 @@ fn json_report(
         "moves": report.moves,
         "segments": report.segments,
         "rotary_moves": report.rotary_moves,
+        "unplaced_moves": report.unplaced_moves,
         "chord_tol_mm": args.chord_tol,
         "min_z_mm": lo,
         "max_z_mm": hi,
@@ -283,6 +284,13 @@ fn text_report(
     );
     let _ = writeln!(t, "  moves      {} ({} straight segments), {:.2} s", report.moves, report.segments, seconds);
     let _ = writeln!(t, "  surface    {lo:.4} … {hi:.4} mm");
+    if report.unplaced_moves > 0 {
+        let _ = writeln!(
+            t,
+            "  unplaced   {} moves before the program names X, Y and Z (or after G28) are not simulated",
+            report.unplaced_moves
+        );
+    }
     if report.rotary_moves > 0 {
         let _ = writeln!(t, "  rotary     {} moves turn A/B/C (simulated in X Y Z only)", report.rotary_moves);
     }
@@ -317,76 +325,6 @@ fn text_report(
 }
 
 /// The target's triangles: STL by content, else a height grid.
-fn read_target(path: &Path) -> Result<Vec<[[f64; 3]; 3]>> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let is_stl = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
-        || bytes.trim_ascii_start().get(..5).is_some_and(|h| h.eq_ignore_ascii_case(b"solid"))
-        || bytes
-            .get(80..84)
-            .is_some_and(|c| 84 + 50 * u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])) == bytes.len() as u64);
-    if is_stl {
-        let triangles = kezuri_geom::parse_stl(&bytes).with_context(|| path.display().to_string())?;
-        if triangles.is_empty() {
-            bail!("{}: empty STL: no triangles", path.display());
-        }
-        return Ok(triangles.iter().map(|t| t.v.map(|p| [p.x, p.y, p.z])).collect());
-    }
-    grid_triangles(&String::from_utf8_lossy(&bytes)).with_context(|| path.display().to_string())
-}
-
-/// A regular height grid of `x y z` (or `x,y,z`) lines as triangles, two
-/// per grid square split along the diagonal from its lowest corner. Lines
-/// that are not three numbers (headers, comments) are skipped.
-fn grid_triangles(text: &str) -> Result<Vec<[[f64; 3]; 3]>> {
-    let mut points = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let fields: Vec<&str> = line.split(|c: char| c == ',' || c.is_whitespace()).filter(|f| !f.is_empty()).collect();
-        let Ok(v) = fields.iter().map(|f| f.parse::<f64>()).collect::<Result<Vec<f64>, _>>() else { continue };
-        if v.len() != 3 {
-            continue;
-        }
-        if !v.iter().all(|v| v.is_finite()) {
-            bail!("line {}: a coordinate is not a finite number", n + 1);
-        }
-        points.push([v[0], v[1], v[2]]);
-    }
-    if points.len() < 4 {
-        bail!("not an STL and not a height grid: {} `x y z` lines, need a grid of at least 2 × 2", points.len());
-    }
-    let axis = |k: usize| {
-        let mut v: Vec<f64> = points.iter().map(|p| p[k]).collect();
-        v.sort_by(f64::total_cmp);
-        v.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * (1.0 + b.abs()));
-        v
-    };
-    let (xs, ys) = (axis(0), axis(1));
-    let (nx, ny) = (xs.len(), ys.len());
-    if nx < 2 || ny < 2 || nx * ny != points.len() {
-        bail!("the {} points are not a regular grid ({nx} distinct X by {ny} distinct Y)", points.len());
-    }
-    let find = |v: &[f64], x: f64| {
-        let k = v.partition_point(|a| *a < x - 1e-9 * (1.0 + x.abs()));
-        k.min(v.len() - 1)
-    };
-    let mut z = vec![f64::NAN; nx * ny];
-    for p in &points {
-        let k = find(&ys, p[1]) * nx + find(&xs, p[0]);
-        if !z[k].is_nan() {
-            bail!("two heights at ({}, {}): not a grid", p[0], p[1]);
-        }
-        z[k] = p[2];
-    }
-    let mut out = Vec::with_capacity(2 * (nx - 1) * (ny - 1));
-    for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            let p = |i: usize, j: usize| [xs[i], ys[j], z[j * nx + i]];
-            out.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
-            out.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
-        }
-    }
-    Ok(out)
-}
-
 /// Largest picture side; bigger grids are sampled every k-th cell.
 const MAX_SIDE: usize = 4096;
 

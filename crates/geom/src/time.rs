@@ -142,7 +142,7 @@ mod tests {
     fn straight_line_is_a_trapezoid() {
         // 100 mm at 6000 mm/min = 100 mm/s with 1000 mm/s²: 0.1 s up, 0.1 s down,
         // 10 mm of ramps, 90 mm cruise = 0.9 s; total 1.1 s.
-        let path = Toolpath { frames: Vec::new(), moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)] };
+        let path = Toolpath::from(vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)]);
         let (t, unknown) = cycle_time(&path, &Dynamics::default());
         assert!((t - 1.1).abs() < 1e-9, "{t}");
         assert_eq!(unknown, 0);
@@ -150,9 +150,10 @@ mod tests {
 
     #[test]
     fn collinear_segments_do_not_stop() {
-        let one = Toolpath { frames: Vec::new(), moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)] };
+        let one = Toolpath::from(vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)]);
         let split = Toolpath {
             frames: Vec::new(),
+            unknown_start: false,
             moves: (0..100).map(|i| feed([i as f64, 0.0, 0.0], [i as f64 + 1.0, 0.0, 0.0], 6000.0)).collect(),
         };
         let d = Dynamics::default();
@@ -164,6 +165,7 @@ mod tests {
         let d = Dynamics::default();
         let there_and_back = Toolpath {
             frames: Vec::new(),
+            unknown_start: false,
             moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0), feed([100.0, 0.0, 0.0], [0.0; 3], 6000.0)],
         };
         assert!((cycle_time(&there_and_back, &d).0 - 2.2).abs() < 1e-9);

@@ -319,11 +319,16 @@ pub struct Toolpath {
     /// The frames the moves refer to; empty means every move is in the
     /// default frame (G54 at machine zero, no tool length offset).
     pub frames: Vec<Frame>,
+    /// `true` when the first move's start is only an assumption (an NC
+    /// program starts wherever the machine is; the interpreter puts it at
+    /// zero): an axis is then where it is said to be only once a move has
+    /// named it ([`Move::named`]). Generated toolpaths start where they say.
+    pub unknown_start: bool,
 }
 
 impl From<Vec<Move>> for Toolpath {
     fn from(moves: Vec<Move>) -> Toolpath {
-        Toolpath { moves, frames: Vec::new() }
+        Toolpath { moves, ..Toolpath::default() }
     }
 }
 

@@ -206,7 +206,7 @@ impl State {
             level: 0,
             common: Box::new([Value::Vacant; 100]),
             persistent: Box::new([Value::Vacant; 500]),
-            toolpath: Toolpath::default(),
+            toolpath: Toolpath { unknown_start: true, ..Toolpath::default() },
             diagnostics: Vec::new(),
             warned: HashMap::new(),
             prints: Vec::new(),

@@ -1,0 +1,170 @@
+//! `kezuri mill`: a raster finishing program over an STL or a height grid.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
+use kezuri_cam::{scallop, Cutter};
+
+use crate::program::{write_toolpath, WriteArgs};
+use crate::surface::read_surface;
+
+/// Options of `kezuri mill`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+The cutter is placed on the surface with drop-cutter (exact contact for every shape), so the
+program never cuts into the surface by more than --tolerance: rows are sampled every --step,
+halved where the path bends more than --tolerance/2, and merged where it is straight within
+--tolerance/2. Rows run over the surface's XY box (or --region); where the surface is absent
+under the cutter the row is cut in pieces, with a retract between.
+
+--cusp H is seed 001's pick-feed control: each next row goes as far as the theoretical cusp
+between the rows, from the slope across them, stays within H (the pick feed in the inclined
+plane from `kezuri scallop`, converted to the stepover in plan); --stepover is then the widest
+it may be.
+
+Examples:
+  kezuri mill part.stl --tool ball:6 --stepover 0.5 -o part.nc
+  kezuri mill part.stl --tool oval:16,24 --stepover 1.5 --cusp 0.01 --direction both -o egg.nc
+  kezuri mill relief.xyz --tool ball:3 --stepover 0.3 --pattern oneway --emit grbl -o relief.gcode")]
+pub struct MillArgs {
+    /// The surface: an STL (binary or ASCII), or a height grid of `x y z`
+    /// lines; `-` reads stdin.
+    #[arg(value_name = "SURFACE")]
+    pub surface: std::path::PathBuf,
+    /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
+    #[arg(long, value_name = "SPEC")]
+    pub tool: String,
+    /// Distance between rows in plan, mm (the widest, with --cusp).
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    pub stepover: f64,
+    /// Pick-feed control: the largest cusp between rows, mm.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    pub cusp: Option<f64>,
+    /// Row direction.
+    #[arg(long, value_enum, default_value = "x")]
+    pub direction: RowDirection,
+    /// Row linking: zigzag rows are linked along the surface; oneway rows
+    /// retract, return and plunge.
+    #[arg(long, value_enum, default_value = "zigzag")]
+    pub pattern: RowPattern,
+    /// Sampling step along a row, mm [default: a quarter of the cutter radius].
+    #[arg(long, value_name = "MM")]
+    pub step: Option<f64>,
+    /// How far the path may stray from the exact cutter locations, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    pub tolerance: f64,
+    /// Area to cover in plan [default: the surface's XY box].
+    #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true)]
+    pub region: Option<String>,
+    /// Height for rapids [default: 5 mm above the surface's top].
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    pub safe_z: Option<f64>,
+    /// Cutting feed, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1000.0)]
+    pub feed: f64,
+    /// Plunge feed, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 300.0)]
+    pub plunge_feed: f64,
+    /// Spindle speed, rpm.
+    #[arg(long, value_name = "RPM", default_value_t = 10000.0)]
+    pub speed: f64,
+    /// Tool number for the tool change.
+    #[arg(long, value_name = "T", default_value_t = 1)]
+    pub tool_number: u32,
+    #[command(flatten)]
+    pub write: WriteArgs,
+}
+
+/// Row directions on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum RowDirection {
+    /// Rows along X.
+    X,
+    /// Rows along Y.
+    Y,
+    /// X rows, then Y rows.
+    Both,
+}
+
+/// Row linking on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum RowPattern {
+    /// Alternate directions, linked along the surface.
+    Zigzag,
+    /// One direction, retract between rows.
+    Oneway,
+}
+
+/// Runs `kezuri mill`.
+pub fn run(args: &MillArgs) -> Result<()> {
+    let cutter: Cutter = args.tool.parse()?;
+    let surface = read_surface(&args.surface)?;
+    let [x0, y0, x1, y1] = match &args.region {
+        Some(text) => parse_region(text)?,
+        None => surface.xy_box(),
+    };
+    let options = RasterOptions {
+        direction: match args.direction {
+            RowDirection::X => Direction::X,
+            RowDirection::Y => Direction::Y,
+            RowDirection::Both => Direction::Both,
+        },
+        pattern: match args.pattern {
+            RowPattern::Zigzag => Pattern::ZigZag,
+            RowPattern::Oneway => Pattern::OneWay,
+        },
+        stepover: args.stepover,
+        step: args.step.unwrap_or(cutter.radius() / 4.0),
+        tolerance: args.tolerance,
+        safe_z: args.safe_z.unwrap_or(surface.top() + 5.0),
+        feed: args.feed,
+        plunge_feed: args.plunge_feed,
+        speed: args.speed,
+        tool: args.tool_number,
+    };
+    let pick_feeds = args.cusp.map(|h| pick_feed_table(&cutter, h)).transpose()?;
+    let pick_feed = pick_feeds.as_ref().map(|table| {
+        move |angle: f64| {
+            // The smaller of the two tabulated angles around `angle`.
+            let k = angle.to_degrees() * 10.0;
+            let (lo, hi) = ((k.floor() as usize).min(table.len() - 1), (k.ceil() as usize).min(table.len() - 1));
+            match (table[lo], table[hi]) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                _ => None,
+            }
+        }
+    });
+    let cl = |x: f64, y: f64| surface.drop_cutter(&cutter, x, y);
+    let path = raster(
+        &cl,
+        Region { x0, y0, x1, y1 },
+        &options,
+        pick_feed.as_ref().map(|f| f as &kezuri_cam::mill::PickFeedFn),
+    )
+    .with_context(|| args.surface.display().to_string())?;
+    let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
+    write_toolpath(&path, &title, &args.write)
+}
+
+/// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of
+/// a degree from 0 to 89.9°.
+fn pick_feed_table(cutter: &Cutter, cusp: f64) -> Result<Vec<Option<f64>>> {
+    if !(cusp.is_finite() && cusp > 0.0) {
+        bail!("--cusp must be a positive number of mm, got {cusp}");
+    }
+    Ok((0..900)
+        .map(|k| scallop::pick_feed(cutter, (k as f64 / 10.0).to_radians(), cusp).ok().map(|s| s.pick_feed))
+        .collect())
+}
+
+fn parse_region(text: &str) -> Result<[f64; 4]> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .with_context(|| format!("--region '{text}': expected X0,Y0,X1,Y1"))?;
+    if v.len() != 4 || v[2] < v[0] || v[3] < v[1] {
+        bail!("--region '{text}': expected X0,Y0,X1,Y1 with X0 ≤ X1 and Y0 ≤ Y1");
+    }
+    Ok([v[0], v[1], v[2], v[3]])
+}

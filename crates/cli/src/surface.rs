@@ -1,0 +1,130 @@
+//! Surfaces from files: an STL mesh, or a height grid of `x y z` lines.
+
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use kezuri_cam::dropcut::{drop_cutter, MeshSurface};
+use kezuri_cam::Cutter;
+use kezuri_geom::{Heightfield, Mesh, Triangle, Vec3};
+
+use crate::files::read_bytes;
+
+/// A surface to cut or to compare with.
+pub enum Surface {
+    /// Triangles with their XY index.
+    Mesh(MeshSurface),
+    /// A regular grid of square cells (the drop-cutter fast path).
+    Grid(Heightfield),
+}
+
+impl Surface {
+    /// The tip z of `cutter` resting on the surface at `(x, y)`.
+    pub fn drop_cutter(&self, cutter: &Cutter, x: f64, y: f64) -> Option<f64> {
+        match self {
+            Surface::Mesh(m) => drop_cutter(cutter, m, x, y),
+            Surface::Grid(g) => drop_cutter(cutter, g, x, y),
+        }
+    }
+
+    /// `[min x, min y, max x, max y]`.
+    pub fn xy_box(&self) -> [f64; 4] {
+        match self {
+            Surface::Mesh(m) => {
+                let (lo, hi) = m.mesh().bounds().expect("a surface has triangles");
+                [lo.x, lo.y, hi.x, hi.y]
+            }
+            Surface::Grid(g) => g.xy_box(),
+        }
+    }
+
+    /// The highest point.
+    pub fn top(&self) -> f64 {
+        match self {
+            Surface::Mesh(m) => m.mesh().bounds().expect("a surface has triangles").1.z,
+            Surface::Grid(g) => g.heights().iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        }
+    }
+
+    /// The triangles, as corner coordinates.
+    pub fn triangles(&self) -> Vec<[[f64; 3]; 3]> {
+        let corners = |t: Triangle| t.v.map(|p| [p.x, p.y, p.z]);
+        match self {
+            Surface::Mesh(m) => m.mesh().iter().map(corners).collect(),
+            Surface::Grid(g) => g.to_mesh().iter().map(corners).collect(),
+        }
+    }
+}
+
+/// Reads an STL (binary or ASCII) or a height grid (`x y z` or `x,y,z`
+/// lines on a regular grid; other lines, headers and comments, are skipped).
+pub fn read_surface(path: &Path) -> Result<Surface> {
+    let bytes = read_bytes(path)?;
+    let name = path.display().to_string();
+    let is_stl = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
+        || bytes.trim_ascii_start().get(..5).is_some_and(|h| h.eq_ignore_ascii_case(b"solid"))
+        || bytes
+            .get(80..84)
+            .is_some_and(|c| 84 + 50 * u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])) == bytes.len() as u64);
+    if is_stl {
+        let mesh = Mesh::from_stl(&bytes).with_context(|| name.clone())?;
+        if mesh.skipped() > 0 {
+            eprintln!("warning: {name}: skipped {} degenerate (zero-area) triangles", mesh.skipped());
+        }
+        return Ok(Surface::Mesh(MeshSurface::new(mesh)));
+    }
+    grid(&String::from_utf8_lossy(&bytes)).with_context(|| name)
+}
+
+/// A regular height grid: a [`Heightfield`] when its cells are square,
+/// otherwise its triangles (each cell split along the diagonal from its
+/// lowest corner, as the heightfield does).
+fn grid(text: &str) -> Result<Surface> {
+    let mut points = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line.split(|c: char| c == ',' || c.is_whitespace()).filter(|f| !f.is_empty()).collect();
+        let Ok(v) = fields.iter().map(|f| f.parse::<f64>()).collect::<Result<Vec<f64>, _>>() else { continue };
+        if v.len() != 3 {
+            continue;
+        }
+        if !v.iter().all(|v| v.is_finite()) {
+            bail!("line {}: a coordinate is not a finite number", n + 1);
+        }
+        points.push([v[0], v[1], v[2]]);
+    }
+    if points.len() < 4 {
+        bail!("not an STL and not a height grid: {} `x y z` lines, need a grid of at least 2 × 2", points.len());
+    }
+    let axis = |k: usize| {
+        let mut v: Vec<f64> = points.iter().map(|p| p[k]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * (1.0 + b.abs()));
+        v
+    };
+    let (xs, ys) = (axis(0), axis(1));
+    let (nx, ny) = (xs.len(), ys.len());
+    if nx < 2 || ny < 2 || nx * ny != points.len() {
+        bail!("the {} points are not a regular grid ({nx} distinct X by {ny} distinct Y)", points.len());
+    }
+    let find = |v: &[f64], x: f64| v.partition_point(|a| *a < x - 1e-9 * (1.0 + x.abs())).min(v.len() - 1);
+    let mut z = vec![f64::NAN; nx * ny];
+    for p in &points {
+        let k = find(&ys, p[1]) * nx + find(&xs, p[0]);
+        if !z[k].is_nan() {
+            bail!("two heights at ({}, {}): not a grid", p[0], p[1]);
+        }
+        z[k] = p[2];
+    }
+    let step = xs[1] - xs[0];
+    let even = |v: &[f64]| v.windows(2).all(|w| ((w[1] - w[0]) - step).abs() <= 1e-9 * (1.0 + step));
+    if even(&xs) && even(&ys) {
+        return Ok(Surface::Grid(Heightfield::new(xs[0], ys[0], step, nx, ny, z)?));
+    }
+    let node = |i: usize, j: usize| Vec3::new(xs[i], ys[j], z[j * nx + i]);
+    let triangles = (0..ny - 1).flat_map(|j| {
+        (0..nx - 1).flat_map(move |i| {
+            let (a, b, c, d) = (node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1));
+            [Triangle::new(a, b, c), Triangle::new(a, c, d)]
+        })
+    });
+    Ok(Surface::Mesh(MeshSurface::new(Mesh::from_triangles(triangles.collect::<Vec<_>>()))))
+}

@@ -1,0 +1,93 @@
+//! `kezuri mill` as a user runs it, proven with `kezuri sim --compare`: the
+//! program never cuts into the surface by more than its tolerance, and with
+//! `--cusp` the material left between rows stays within the target.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn kezuri(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("one JSON object")
+}
+
+/// A height grid `x y z` of `f` over `[-size, size]²` at `step`.
+fn grid(dir: &Path, name: &str, size: f64, step: f64, f: impl Fn(f64, f64) -> f64) -> String {
+    let n = (2.0 * size / step).round() as usize;
+    let mut text = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (-size + i as f64 * step, -size + j as f64 * step);
+            writeln!(text, "{x} {y} {}", f(x, y)).unwrap();
+        }
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+fn sim(program: &str, tool: &str, target: &str, res: &str) -> serde_json::Value {
+    json(&kezuri(&["sim", program, "--tool", tool, "--res", res, "--compare", target, "--json"]))
+}
+
+#[test]
+fn a_dome_is_milled_within_the_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let dome = grid(dir.path(), "dome.xyz", 20.0, 0.5, |x, y| ((625.0 - x * x - y * y).max(0.0)).sqrt() - 15.0);
+    let nc = dir.path().join("dome.nc").to_string_lossy().into_owned();
+    for tool in ["ball:6", "bull:6,1", "flat:4", "oval:6,5"] {
+        let o = kezuri(&["mill", &dome, "--tool", tool, "--stepover", "0.8", "--tolerance", "0.01", "-o", &nc]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v = sim(&nc, tool, &dome, "0.1");
+        let gouge = v["max_gouge_mm"].as_f64().unwrap();
+        assert!(gouge <= 0.01, "{tool}: gouge {gouge}");
+        assert_eq!(v["rapids_into_stock"], 0, "{tool}");
+    }
+}
+
+#[test]
+fn pick_feed_control_keeps_the_cusp_on_a_slope() {
+    // A plane rising 30° across the rows: a ball's cusp of 0.02 mm square
+    // to the plane is 0.02 / cos 30° measured vertically.
+    let dir = tempfile::tempdir().unwrap();
+    let slope = 30f64.to_radians().tan();
+    let plane = grid(dir.path(), "plane.xyz", 10.0, 0.5, |_, y| y * slope);
+    // Compared away from the edges, where the ball touches the plane
+    // 1.5 mm uphill of its centre and the first row cannot reach down.
+    let inside = grid(dir.path(), "inside.xyz", 6.0, 0.5, |_, y| y * slope);
+    let nc = dir.path().join("plane.nc").to_string_lossy().into_owned();
+    let o = kezuri(&["mill", &plane, "--tool", "ball:6", "--stepover", "3", "--cusp", "0.02", "-o", &nc]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v = sim(&nc, "ball:6", &inside, "0.05");
+    let left = v["max_left_mm"].as_f64().unwrap();
+    let vertical = 0.02 / 30f64.to_radians().cos();
+    assert!(left <= vertical * 1.02 && left > vertical * 0.7, "cusp {left} vs {vertical}");
+    // Without control, the 3 mm stepover leaves far more.
+    let o = kezuri(&["mill", &plane, "--tool", "ball:6", "--stepover", "3", "-o", &nc]);
+    assert!(o.status.success());
+    assert!(sim(&nc, "ball:6", &inside, "0.05")["max_left_mm"].as_f64().unwrap() > 5.0 * vertical);
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let flat = grid(dir.path(), "flat.xyz", 5.0, 1.0, |_, _| 0.0);
+    for (args, why) in [
+        (vec!["--tool", "ball:6", "--stepover", "0"], "stepover"),
+        (vec!["--tool", "ball:-6", "--stepover", "1"], "positive"),
+        (vec!["--tool", "ball:6", "--stepover", "1", "--cusp", "-1"], "--cusp"),
+        (vec!["--tool", "ball:6", "--stepover", "1", "--region", "50,50,60,60"], "nothing to cut"),
+    ] {
+        let mut all = vec!["mill", flat.as_str()];
+        all.extend(args);
+        let o = kezuri(&all);
+        assert_eq!(o.status.code(), Some(1), "{all:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(why), "{all:?}: {}", String::from_utf8_lossy(&o.stderr));
+    }
+    let o = kezuri(&["mill", "/nonexistent.stl", "--tool", "ball:6", "--stepover", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+}
