@@ -40,6 +40,7 @@ mod heightfield;
 
 use std::fmt;
 use std::str::FromStr;
+use std::sync::Mutex;
 
 use kezuri_geom::{Mesh, Triangle, XyIndex};
 use rayon::prelude::*;
@@ -58,12 +59,18 @@ pub trait Surface: Sync {
     /// The tip z of `cutter` dropped at `(x, y)`; `None` where no part of the
     /// surface lies within the cutter's radius (or `x`, `y` are not finite).
     fn drop_cutter_with(&self, cutter: &Cutter, x: f64, y: f64, scratch: &mut Self::Scratch) -> Option<f64>;
+
+    /// [`Surface::drop_cutter_with`] for one query, with working memory the
+    /// surface finds itself (a fresh one unless the surface keeps a pool).
+    fn drop_cutter_once(&self, cutter: &Cutter, x: f64, y: f64) -> Option<f64> {
+        self.drop_cutter_with(cutter, x, y, &mut self.scratch())
+    }
 }
 
 /// The tip z of `cutter` dropped at `(x, y)` on `surface`; `None` where no
 /// part of the surface lies within the cutter's radius.
 pub fn drop_cutter<S: Surface + ?Sized>(cutter: &Cutter, surface: &S, x: f64, y: f64) -> Option<f64> {
-    surface.drop_cutter_with(cutter, x, y, &mut surface.scratch())
+    surface.drop_cutter_once(cutter, x, y)
 }
 
 /// Brute force: every triangle's vertices, edges and facet.
@@ -91,12 +98,16 @@ impl Surface for [Triangle] {
 }
 
 /// A mesh with its XY index, ready for drop-cutter queries.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct MeshSurface {
     mesh: Mesh,
     index: XyIndex,
     /// Highest z of each triangle.
     top: Vec<f64>,
+    /// Working memory of finished single queries, for the next ones: a
+    /// scratch holds a stamp per vertex and edge, too big to make afresh
+    /// for every point.
+    pool: Mutex<Vec<MeshScratch>>,
 }
 
 impl MeshSurface {
@@ -109,7 +120,7 @@ impl MeshSurface {
     /// `mesh` with an index built for it.
     pub fn with_index(mesh: Mesh, index: XyIndex) -> MeshSurface {
         let top = mesh.iter().map(|t| t.max_z()).collect();
-        MeshSurface { mesh, index, top }
+        MeshSurface { mesh, index, top, pool: Mutex::new(Vec::new()) }
     }
 
     /// The mesh.
@@ -155,6 +166,16 @@ impl Surface for MeshSurface {
             edge_seen: vec![0; self.mesh.edges().len()],
             query: 0,
         }
+    }
+
+    fn drop_cutter_once(&self, cutter: &Cutter, x: f64, y: f64) -> Option<f64> {
+        let pooled = self.pool.lock().ok().and_then(|mut p| p.pop());
+        let mut scratch = pooled.unwrap_or_else(|| self.scratch());
+        let z = self.drop_cutter_with(cutter, x, y, &mut scratch);
+        if let Ok(mut pool) = self.pool.lock() {
+            pool.push(scratch);
+        }
+        z
     }
 
     fn drop_cutter_with(&self, cutter: &Cutter, x: f64, y: f64, scratch: &mut MeshScratch) -> Option<f64> {

@@ -12,7 +12,7 @@ use crate::files::read_bytes;
 /// A surface to cut or to compare with.
 pub enum Surface {
     /// Triangles with their XY index.
-    Mesh(MeshSurface),
+    Mesh(Box<MeshSurface>),
     /// A regular grid of square cells (the drop-cutter fast path).
     Grid(Heightfield),
 }
@@ -21,7 +21,7 @@ impl Surface {
     /// The tip z of `cutter` resting on the surface at `(x, y)`.
     pub fn drop_cutter(&self, cutter: &Cutter, x: f64, y: f64) -> Option<f64> {
         match self {
-            Surface::Mesh(m) => drop_cutter(cutter, m, x, y),
+            Surface::Mesh(m) => drop_cutter(cutter, m.as_ref(), x, y),
             Surface::Grid(g) => drop_cutter(cutter, g, x, y),
         }
     }
@@ -70,7 +70,7 @@ pub fn read_surface(path: &Path) -> Result<Surface> {
         if mesh.skipped() > 0 {
             eprintln!("warning: {name}: skipped {} degenerate (zero-area) triangles", mesh.skipped());
         }
-        return Ok(Surface::Mesh(MeshSurface::new(mesh)));
+        return Ok(Surface::Mesh(Box::new(MeshSurface::new(mesh))));
     }
     grid(&String::from_utf8_lossy(&bytes)).with_context(|| name)
 }
@@ -126,5 +126,5 @@ fn grid(text: &str) -> Result<Surface> {
             [Triangle::new(a, b, c), Triangle::new(a, c, d)]
         })
     });
-    Ok(Surface::Mesh(MeshSurface::new(Mesh::from_triangles(triangles.collect::<Vec<_>>()))))
+    Ok(Surface::Mesh(Box::new(MeshSurface::new(Mesh::from_triangles(triangles.collect::<Vec<_>>())))))
 }
