@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use kezuri_geom::{write_binary_stl, Heightfield};
 use kezuri_nc::write::{csv, program, WriteOptions};
 
 use crate::files::write_atomic;
@@ -66,5 +67,70 @@ pub fn run(out: &Path) -> Result<()> {
         );
         println!("  wrote {stem}-expanded.nc (Fanuc, macros expanded), {stem}.csv (motions), {stem}.svg (picture)");
     }
+    geometry(out)
+}
+
+/// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
+/// radius 45 mm rising 12 mm with ripples, on a flat floor.
+fn dome(x: f64, y: f64) -> f64 {
+    let (u, v) = (x - 30.0, y - 30.0);
+    let cap = (45.0f64.powi(2) - u * u - v * v).max(0.0).sqrt() - 33.0;
+    let ripple = 0.4 * (u / 3.0).sin() * (v / 4.0).cos();
+    (cap + ripple).max(0.0)
+}
+
+/// The geometry core on a surface: the seed 001 pick feeds, a finishing
+/// program with pick-feed control, its simulation against the surface, and
+/// a grid of CL points — each as the `kezuri` command a user would type.
+fn geometry(out: &Path) -> Result<()> {
+    let surface = Heightfield::from_fn(0.0, 0.0, 0.5, 121, 121, dome)?;
+    let stl = out.join("samples").join("dome.stl");
+    write_atomic(&stl, &write_binary_stl(&surface.to_mesh().iter().collect::<Vec<_>>()))?;
+    let at = |name: &str| out.join(name).to_string_lossy().into_owned();
+    let stl = stl.to_string_lossy().into_owned();
+    println!("\nsamples/dome.stl  (a 60 x 60 mm rippled dome, 28,800 triangles)");
+    let commands: [Vec<String>; 5] = [
+        words(&["scallop", "--tool", "oval:16,24", "--angle", "15", "--target", "0.010"]),
+        words(&["scallop", "--tool", "oval:16,24", "--angle", "60", "--target", "0.010"]),
+        words(&[
+            "mill",
+            &stl,
+            "--tool",
+            "ball:6",
+            "--stepover",
+            "1.5",
+            "--cusp",
+            "0.005",
+            "-o",
+            &at("dome-ball.nc"),
+            "--svg",
+            &at("dome-ball.svg"),
+        ]),
+        words(&[
+            "sim",
+            &at("dome-ball.nc"),
+            "--tool",
+            "ball:6",
+            "--res",
+            "0.1",
+            "--compare",
+            &stl,
+            "-o",
+            &at("dome-ball.png"),
+        ]),
+        words(&["dropcut", &stl, "--tool", "oval:16,24", "--grid", "0,0,60,60,2", "-o", &at("dome-oval.cl")]),
+    ];
+    for command in &commands {
+        let shown: Vec<String> = command.iter().map(|w| w.replace(&format!("{}/", out.display()), "")).collect();
+        println!("\n$ kezuri {}", shown.join(" "));
+        let command: Vec<&str> = command.iter().map(String::as_str).collect();
+        crate::run_words(&command)?;
+    }
+    println!("\nwrote dome-ball.nc (ball:6, pick-feed control), dome-ball.svg, dome-ball.png and");
+    println!("dome-ball-deviation.png (simulated cut against the surface), dome-oval.cl (CL points)");
     Ok(())
+}
+
+fn words(w: &[&str]) -> Vec<String> {
+    w.iter().map(|s| s.to_string()).collect()
 }

@@ -79,6 +79,26 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     Sim(Box<sim::SimArgs>),
 }
 
+/// Runs one command.
+fn dispatch(command: &Command) -> anyhow::Result<()> {
+    match command {
+        Command::Demo { out } => demo::run(out),
+        Command::Check { run, json } => program::check(run, *json),
+        Command::Run { run, write } => program::run(run, write),
+        Command::Scallop(args) => scallop::run(args),
+        Command::Dropcut(args) => dropcut::run(args),
+        Command::Mill(args) => mill::run(args),
+        Command::Sim(args) => sim::run(args),
+    }
+}
+
+/// Runs `kezuri ARGS…` in this process, as the demo does: the words are
+/// parsed exactly as on the command line.
+fn run_words(words: &[&str]) -> anyhow::Result<()> {
+    let cli = Cli::try_parse_from(std::iter::once("kezuri").chain(words.iter().copied()))?;
+    dispatch(&cli.command)
+}
+
 fn main() -> ExitCode {
     // Die quietly when the reader of our output goes away (`kezuri … | head`),
     // as command-line tools do, instead of panicking on a failed print.
@@ -88,17 +108,7 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Demo { out } => demo::run(out),
-        Command::Check { run, json } => program::check(run, *json),
-        Command::Run { run, write } => program::run(run, write),
-        Command::Scallop(args) => scallop::run(args),
-        Command::Dropcut(args) => dropcut::run(args),
-        Command::Mill(args) => mill::run(args),
-        Command::Sim(args) => sim::run(args),
-    };
-    match result {
+    match dispatch(&Cli::parse().command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");

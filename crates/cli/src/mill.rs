@@ -14,8 +14,10 @@ use crate::surface::read_surface;
 The cutter is placed on the surface with drop-cutter (exact contact for every shape), so the
 program never cuts into the surface by more than --tolerance: rows are sampled every --step,
 halved where the path bends more than --tolerance/2, and merged where it is straight within
---tolerance/2. Rows run over the surface's XY box (or --region); where the surface is absent
-under the cutter the row is cut in pieces, with a retract between.
+--tolerance/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
+it, so nothing outside the surface is cut; within a radius of the edges the cutter cannot
+reach down everywhere, and material is left there. Where no part of the surface is under
+the cutter the row is cut in pieces, with a retract between.
 
 --cusp H is seed 001's pick-feed control: each next row goes as far as the theoretical cusp
 between the rows, from the slope across them, stays within H (the pick feed in the inclined
@@ -53,7 +55,9 @@ pub struct MillArgs {
     /// How far the path may stray from the exact cutter locations, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.01)]
     pub tolerance: f64,
-    /// Area to cover in plan [default: the surface's XY box].
+    /// Area the cutter's centre covers in plan [default: the surface's XY box;
+    /// a larger one finishes the edges, with the cutter resting on the
+    /// surface's edge beyond them, lower than the surface].
     #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true)]
     pub region: Option<String>,
     /// Height for rapids [default: 5 mm above the surface's top].

@@ -137,7 +137,25 @@ fn demo_makes_its_files() {
     let out = dir.path().join("demo");
     let o = kezuri(&["demo", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    for f in ["o1011-digitize-expanded.nc", "o7023-texture.csv", "o2007-thermal.svg"] {
+    for f in [
+        "o1011-digitize-expanded.nc",
+        "o7023-texture.csv",
+        "o2007-thermal.svg",
+        "samples/dome.stl",
+        "dome-ball.nc",
+        "dome-ball.png",
+        "dome-ball-deviation.png",
+        "dome-oval.cl",
+    ] {
         assert!(out.join(f).exists(), "{f}");
     }
+    // The finishing program on the dome cuts it within its 0.01 mm tolerance.
+    let report = stdout(&o);
+    let gouge: f64 = report
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("max gouge"))
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .expect("the sim report gives the max gouge");
+    assert!(gouge <= 0.01, "{gouge}");
 }
