@@ -31,7 +31,10 @@
 //! is the stepover in plan. The row goes at the smallest of these over the
 //! row, and never beyond `stepover`.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use kezuri_geom::{Axes, AxisSet, Move, MoveKind, Spindle, Toolpath};
+use rayon::prelude::*;
 
 /// Which way the rows run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -118,13 +121,20 @@ pub type ClFn<'a> = dyn Fn(f64, f64) -> Option<f64> + Sync + 'a;
 /// radians across the rows, `None` where no pick feed meets the target.
 pub type PickFeedFn<'a> = dyn Fn(f64) -> Option<f64> + Sync + 'a;
 
+/// Most rows in one pass.
+const MAX_ROWS: usize = 1_000_000;
+
+/// Called as rows are done: rows done so far, rows in all.
+pub type Progress<'a> = dyn Fn(usize, usize) + Sync + 'a;
+
 /// A raster finishing toolpath over `region`; `pick_feed` turns on
-/// pick-feed control (see the module docs).
+/// pick-feed control (see the module docs). Rows are sampled in parallel.
 pub fn raster(
     cl: &ClFn,
     region: Region,
     o: &RasterOptions,
     pick_feed: Option<&PickFeedFn>,
+    on_row: &Progress,
 ) -> Result<Toolpath, MillError> {
     check(region, o)?;
     let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
@@ -133,6 +143,9 @@ pub fn raster(
         Direction::Y => &[true],
         Direction::Both => &[false, true],
     };
+    // Where the rows go, pass by pass (pick-feed control measures the
+    // surface for each next row), then the rows themselves in parallel.
+    let mut plans = Vec::new();
     for &along_y in passes {
         // In a frame where rows run along u and step over in v.
         let (u0, u1, v0, v1) = if along_y {
@@ -140,7 +153,27 @@ pub fn raster(
         } else {
             (region.x0, region.x1, region.y0, region.y1)
         };
-        let at = |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
+        let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
+        let mut rows = vec![v0];
+        while let Some(&v) = rows.last().filter(|&&v| v < v1) {
+            let step = match pick_feed {
+                Some(pf) => controlled_step(&at, u0, u1, v, v1, o, pf),
+                None => o.stepover,
+            };
+            rows.push(if v1 - (v + step) < 1e-9 { v1 } else { v + step });
+            if rows.len() > MAX_ROWS {
+                return Err(MillError::Option(format!(
+                    "more than {MAX_ROWS} rows: the pick feed that meets the cusp target near {} = {v:.3} is {step:.2e} mm",
+                    if along_y { "x" } else { "y" }
+                )));
+            }
+        }
+        plans.push((along_y, u0, u1, rows));
+    }
+    let total: usize = plans.iter().map(|p| p.3.len()).sum();
+    let done = AtomicUsize::new(0);
+    for (along_y, u0, u1, rows) in plans {
+        let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
         let point = |u: f64, v: f64, z: f64| {
             if along_y {
                 Axes { x: v, y: u, z, ..Axes::ZERO }
@@ -148,12 +181,19 @@ pub fn raster(
                 Axes { x: u, y: v, z, ..Axes::ZERO }
             }
         };
-        let mut v = v0;
-        let mut forward = true;
+        let forward = |k: usize| o.pattern == Pattern::OneWay || k % 2 == 0;
+        let sampled: Vec<Vec<Vec<(f64, f64)>>> = rows
+            .par_iter()
+            .enumerate()
+            .map(|(k, &v)| {
+                let (from, to) = if forward(k) { (u0, u1) } else { (u1, u0) };
+                let pieces = sample_row(&|u| at(u, v), from, to, o);
+                on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                pieces
+            })
+            .collect();
         let mut last_row_end: Option<(f64, f64)> = None;
-        loop {
-            let (from, to) = if forward { (u0, u1) } else { (u1, u0) };
-            let pieces = sample_row(&|u| at(u, v), from, to, o);
+        for (&v, pieces) in rows.iter().zip(&sampled) {
             for (k, piece) in pieces.iter().enumerate() {
                 let first = piece[0];
                 let linked = k == 0
@@ -178,20 +218,6 @@ pub fn raster(
             if last_row_end.is_some() && (o.pattern == Pattern::OneWay || pieces.len() > 1) {
                 path.retract();
                 last_row_end = None;
-            }
-            if v >= v1 {
-                break;
-            }
-            let step = match pick_feed {
-                Some(pf) => controlled_step(&at, u0, u1, v, v1, o, pf),
-                None => o.stepover,
-            };
-            v = (v + step).min(v1);
-            if v1 - v < 1e-9 {
-                v = v1;
-            }
-            if o.pattern == Pattern::ZigZag {
-                forward = !forward;
             }
         }
         path.retract();
@@ -437,7 +463,7 @@ mod tests {
 
     #[test]
     fn a_plane_is_cut_in_straight_rows_linked_along_the_surface() {
-        let path = raster(&|x, y| Some(0.1 * x + 0.2 * y), SQUARE, &options(), None).unwrap();
+        let path = raster(&|x, y| Some(0.1 * x + 0.2 * y), SQUARE, &options(), None, &|_, _| {}).unwrap();
         // Plunge, then per row one straight move (merged), links between rows.
         let feeds = cuts(&path);
         assert_eq!(feeds.len(), 1 + 5 + 4, "{feeds:#?}");
@@ -451,7 +477,7 @@ mod tests {
     fn curved_rows_stay_within_the_tolerance() {
         let surface = |x: f64, y: f64| Some((x * 0.7).sin() * 2.0 + 0.1 * y);
         let o = RasterOptions { tolerance: 0.002, ..options() };
-        let path = raster(&surface, SQUARE, &o, None).unwrap();
+        let path = raster(&surface, SQUARE, &o, None, &|_, _| {}).unwrap();
         for m in cuts(&path).iter().filter(|m| m.start.y == m.end.y && m.feed == o.feed) {
             for k in 1..50 {
                 let t = k as f64 / 50.0;
@@ -466,7 +492,7 @@ mod tests {
     #[test]
     fn one_way_rows_retract_and_plunge() {
         let o = RasterOptions { pattern: Pattern::OneWay, ..options() };
-        let path = raster(&|_, _| Some(0.0), SQUARE, &o, None).unwrap();
+        let path = raster(&|_, _| Some(0.0), SQUARE, &o, None, &|_, _| {}).unwrap();
         let plunges = path.moves.iter().filter(|m| m.kind == MoveKind::Feed && m.feed == o.plunge_feed).count();
         assert_eq!(plunges, 5);
         assert!(cuts(&path).iter().filter(|m| m.feed == o.feed).all(|m| m.end.x > m.start.x));
@@ -475,10 +501,10 @@ mod tests {
     #[test]
     fn holes_in_the_surface_split_rows() {
         let surface = |x: f64, _y: f64| (!(4.0..6.0).contains(&x)).then_some(0.0);
-        let path = raster(&surface, SQUARE, &options(), None).unwrap();
+        let path = raster(&surface, SQUARE, &options(), None, &|_, _| {}).unwrap();
         // No cut crosses the hole.
         assert!(cuts(&path).iter().all(|m| !(m.start.x < 4.5 && m.end.x > 5.5 || m.end.x < 4.5 && m.start.x > 5.5)));
-        assert!(raster(&|_, _| None, SQUARE, &options(), None) == Err(MillError::NothingToCut));
+        assert!(raster(&|_, _| None, SQUARE, &options(), None, &|_, _| {}) == Err(MillError::NothingToCut));
     }
 
     #[test]
@@ -488,7 +514,7 @@ mod tests {
         let surface = |_x: f64, y: f64| Some(if y < 2.0 { 0.0 } else { y - 2.0 });
         let pf = |angle: f64| Some(if angle > 0.1 { 0.2 } else { 1.0 });
         let region = Region { x0: 0.0, y0: 0.0, x1: 1.0, y1: 4.0 };
-        let path = raster(&surface, region, &options(), Some(&pf)).unwrap();
+        let path = raster(&surface, region, &options(), Some(&pf), &|_, _| {}).unwrap();
         let mut rows: Vec<f64> = cuts(&path).iter().filter(|m| m.start.y == m.end.y).map(|m| m.end.y).collect();
         rows.dedup();
         let on_ramp = rows.windows(2).filter(|w| w[0] >= 2.0).map(|w| w[1] - w[0]).fold(0.0, f64::max);
@@ -499,8 +525,8 @@ mod tests {
     #[test]
     fn bad_options_are_errors() {
         let bad = RasterOptions { stepover: 0.0, ..options() };
-        assert!(matches!(raster(&|_, _| Some(0.0), SQUARE, &bad, None), Err(MillError::Option(_))));
+        assert!(matches!(raster(&|_, _| Some(0.0), SQUARE, &bad, None, &|_, _| {}), Err(MillError::Option(_))));
         let nan = RasterOptions { tolerance: f64::NAN, ..options() };
-        assert!(raster(&|_, _| Some(0.0), SQUARE, &nan, None).is_err());
+        assert!(raster(&|_, _| Some(0.0), SQUARE, &nan, None, &|_, _| {}).is_err());
     }
 }

@@ -1,7 +1,6 @@
 //! `kezuri dropcut`: cutter-location z over a grid of points on an STL.
 
 use std::fmt::Write as _;
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -68,7 +67,8 @@ pub fn run(args: &DropcutArgs) -> Result<()> {
     }
     let surface = MeshSurface::new(mesh);
 
-    let bar = progress(&grid);
+    // Long runs only: a quarter of a million points take a second or so.
+    let bar = crate::progress::bar("dropcut", "rows", grid.ny as u64, if grid.len() < 200_000 { u64::MAX } else { 0 });
     let rows_done = AtomicU64::new(0);
     let on_row = || {
         let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -114,16 +114,4 @@ pub fn run(args: &DropcutArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// A progress bar on stderr for a long run, when stderr is a terminal.
-fn progress(grid: &Grid) -> Option<indicatif::ProgressBar> {
-    if grid.len() < 200_000 || !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(grid.ny as u64);
-    let style = indicatif::ProgressStyle::with_template("dropcut {bar:40} {pos}/{len} rows, {eta} left")
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
-    bar.set_style(style);
-    Some(bar)
 }

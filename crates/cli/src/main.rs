@@ -8,6 +8,7 @@ mod machine;
 mod mill;
 mod plot;
 mod program;
+mod progress;
 mod scallop;
 mod sim;
 mod surface;

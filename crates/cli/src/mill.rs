@@ -139,13 +139,24 @@ pub fn run(args: &MillArgs) -> Result<()> {
         }
     });
     let cl = |x: f64, y: f64| surface.drop_cutter(&cutter, x, y);
+    let bar = std::sync::OnceLock::new();
+    let on_row = |done: usize, total: usize| {
+        // Long jobs only: some hundreds of rows.
+        if let Some(bar) = bar.get_or_init(|| crate::progress::bar("mill", "rows", total as u64, 200)) {
+            bar.set_position(done as u64);
+        }
+    };
     let path = raster(
         &cl,
         Region { x0, y0, x1, y1 },
         &options,
         pick_feed.as_ref().map(|f| f as &kezuri_cam::mill::PickFeedFn),
+        &on_row,
     )
     .with_context(|| args.surface.display().to_string())?;
+    if let Some(Some(bar)) = bar.get() {
+        bar.finish_and_clear();
+    }
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
     write_toolpath(&path, &title, &args.write)
 }
