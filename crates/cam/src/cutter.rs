@@ -133,6 +133,10 @@ impl Cutter {
     }
 }
 
+/// Largest cutter dimension accepted, mm: ten metres, far beyond any tool,
+/// and far enough below overflow for every formula.
+const MAX_SIZE: f64 = 10_000.0;
+
 /// A tool SPEC that cannot be a cutter.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SpecError {
@@ -172,8 +176,10 @@ impl FromStr for Cutter {
             }
         };
         let positive = |v: f64, what: &str| {
-            if v > 0.0 {
+            if v > 0.0 && v <= MAX_SIZE {
                 Ok(v)
+            } else if v > MAX_SIZE {
+                Err(fail(format!("the {what} must be at most {MAX_SIZE} mm, got {v}")))
             } else {
                 Err(fail(format!("the {what} must be positive, got {v}")))
             }
@@ -254,6 +260,7 @@ mod tests {
             ("ball:6,1", "takes"),
             ("cone:6", "unknown shape"),
             ("ball:NaN", "not a list"),
+            ("ball:1e308", "at most"),
         ] {
             let e = bad.parse::<Cutter>().unwrap_err().to_string();
             assert!(e.contains(why), "{bad}: {e}");

@@ -225,6 +225,13 @@ pub fn raster(
     if path.toolpath.moves.is_empty() {
         return Err(MillError::NothingToCut);
     }
+    // Rapids run at the safe height: every cut must be below it.
+    if let Some(m) = path.toolpath.moves.iter().filter(|m| !m.is_rapid()).find(|m| m.end.z >= o.safe_z) {
+        return Err(MillError::Option(format!(
+            "the safe height {} is not above the cut at ({:.3}, {:.3}, {:.3}): rapids would run into the part",
+            o.safe_z, m.end.x, m.end.y, m.end.z
+        )));
+    }
     Ok(path.toolpath)
 }
 
@@ -241,7 +248,13 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
     positive(o.tolerance, "the tolerance")?;
     positive(o.feed, "the feed")?;
     positive(o.plunge_feed, "the plunge feed")?;
-    if ![r.x0, r.y0, r.x1, r.y1, o.safe_z, o.speed].iter().all(|v| v.is_finite()) || r.x1 < r.x0 || r.y1 < r.y0 {
+    if !(o.safe_z.is_finite() && o.speed.is_finite() && o.speed >= 0.0) {
+        return Err(MillError::Option(format!(
+            "the safe height ({}) and the spindle speed ({}) must be finite numbers",
+            o.safe_z, o.speed
+        )));
+    }
+    if ![r.x0, r.y0, r.x1, r.y1].iter().all(|v| v.is_finite()) || r.x1 < r.x0 || r.y1 < r.y0 {
         return Err(MillError::Option(format!("the region {r:?} must be finite with x0 ≤ x1 and y0 ≤ y1")));
     }
     let rows = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.stepover).ceil();
@@ -520,6 +533,16 @@ mod tests {
         let on_ramp = rows.windows(2).filter(|w| w[0] >= 2.0).map(|w| w[1] - w[0]).fold(0.0, f64::max);
         assert!(on_ramp <= 0.2 * (std::f64::consts::FRAC_PI_4).cos() + 1e-9, "{rows:?}");
         assert!((rows[1] - rows[0] - 1.0).abs() < 1e-9, "{rows:?}");
+    }
+
+    #[test]
+    fn a_safe_height_below_the_cut_is_an_error() {
+        let low = RasterOptions { safe_z: 0.5, ..options() };
+        let e = raster(&|x, _| Some(x * 0.1), SQUARE, &low, None, &|_, _| {}).unwrap_err();
+        assert!(e.to_string().contains("not above the cut"), "{e}");
+        let nan = RasterOptions { safe_z: f64::NAN, ..options() };
+        let e = raster(&|_, _| Some(0.0), SQUARE, &nan, None, &|_, _| {}).unwrap_err();
+        assert!(e.to_string().contains("safe height"), "{e}");
     }
 
     #[test]

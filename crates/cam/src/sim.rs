@@ -381,12 +381,16 @@ fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
 }
 
 /// Splits the toolpath into straight segments (program order).
-fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, SimReport), SimError> {
+/// The straight segments to simulate, the report so far, and the rapids
+/// whose start is not known (see [`SimReport::unplaced_moves`]).
+#[allow(clippy::type_complexity)]
+fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, SimReport, Vec<usize>), SimError> {
     let mut out = Vec::with_capacity(path.moves.len());
     let mut report = SimReport::default();
     // Axes (X Y Z bits) whose position is known: none at the start of an
     // NC program, where the start is only the interpreter's assumption.
     let mut known = if path.unknown_start { 0u8 } else { 0b111 };
+    let mut unplaced_rapids = Vec::new();
     for (index, m) in path.moves.iter().enumerate() {
         if matches!(m.kind, MoveKind::Dwell(_)) {
             continue;
@@ -403,6 +407,9 @@ fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, S
         };
         if !placed {
             report.unplaced_moves += 1;
+            if m.is_rapid() {
+                unplaced_rapids.push(index);
+            }
             continue;
         }
         if (m.start.a, m.start.b, m.start.c) != (m.end.a, m.end.b, m.end.c) {
@@ -436,7 +443,7 @@ fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, S
     }
     report.segments = out.len();
     continuations(&mut out, shape);
-    Ok((out, report))
+    Ok((out, report, unplaced_rapids))
 }
 
 /// Runs the toolpath over `zmap`, lowering it; reports rapids that cut.
@@ -451,7 +458,7 @@ pub fn simulate(
     }
     let shape = Shape::of(cutter);
     let r = shape.radius();
-    let (segs, mut report) = segments(path, &shape, options.chord_tolerance)?;
+    let (segs, mut report, unplaced_rapids) = segments(path, &shape, options.chord_tolerance)?;
     let (nx, ny, res, x0, y0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0);
     if nx == 0 || ny == 0 {
         return Ok(report);
@@ -526,6 +533,15 @@ pub fn simulate(
 
     // Merge the bands' hits: one per move, the deepest.
     let mut all: Vec<(u32, f64)> = hits.into_iter().flatten().collect();
+    // A rapid from an unknown position is not simulated, but if it ends
+    // inside the stock it went through it.
+    for index in unplaced_rapids {
+        let e = path.moves[index].end;
+        let (i, j) = (((e.x - x0) / res).floor(), ((e.y - y0) / res).floor());
+        if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny && e.z < top - options.rapid_tolerance {
+            all.push((index as u32, top - e.z));
+        }
+    }
     all.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
     all.dedup_by_key(|h| h.0);
     report.rapid_hits = all

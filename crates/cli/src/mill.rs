@@ -126,6 +126,21 @@ pub fn run(args: &MillArgs) -> Result<()> {
         speed: args.speed,
         tool: args.tool_number,
     };
+    let top = surface.top();
+    if options.safe_z <= top {
+        bail!(
+            "--safe-z {} is not above the surface's top, z = {top}: rapids between rows would run into the part",
+            options.safe_z
+        );
+    }
+    let digits = args.write.digits.unwrap_or(if args.write.inch { 4 } else { 3 });
+    let rounding = 0.5 * 10f64.powi(-i32::from(digits)) * if args.write.inch { 25.4 } else { 1.0 };
+    if rounding > args.tolerance {
+        eprintln!(
+            "warning: {digits} decimals round positions by up to {rounding} mm, more than --tolerance {} mm",
+            args.tolerance
+        );
+    }
     let pick_feeds = args.cusp.map(|h| pick_feed_table(&cutter, h)).transpose()?;
     let pick_feed = pick_feeds.as_ref().map(|table| {
         move |angle: f64| {

@@ -222,10 +222,10 @@ pub struct WriteArgs {
     output: Option<PathBuf>,
     /// Decimals written in the program [default: 3 in mm, 4 in inches].
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
-    digits: Option<u8>,
+    pub digits: Option<u8>,
     /// Write the program in inches (G20) instead of mm (G21).
     #[arg(long)]
-    inch: bool,
+    pub inch: bool,
     /// Number the blocks N10, N20, … (the step; 0 for none).
     #[arg(long, value_name = "STEP", default_value_t = 0)]
     line_numbers: u32,

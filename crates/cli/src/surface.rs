@@ -56,7 +56,8 @@ impl Surface {
 }
 
 /// Reads an STL (binary or ASCII) or a height grid (`x y z` or `x,y,z`
-/// lines on a regular grid; other lines, headers and comments, are skipped).
+/// lines on a regular grid; lines that do not start with a number, headers
+/// and comments, are skipped; a line that starts with one must be `x y z`).
 pub fn read_surface(path: &Path) -> Result<Surface> {
     let bytes = read_bytes(path)?;
     let name = path.display().to_string();
@@ -82,9 +83,13 @@ fn grid(text: &str) -> Result<Surface> {
     let mut points = Vec::new();
     for (n, line) in text.lines().enumerate() {
         let fields: Vec<&str> = line.split(|c: char| c == ',' || c.is_whitespace()).filter(|f| !f.is_empty()).collect();
-        let Ok(v) = fields.iter().map(|f| f.parse::<f64>()).collect::<Result<Vec<f64>, _>>() else { continue };
-        if v.len() != 3 {
+        // Headers and comments: lines that do not start with a number.
+        if fields.first().is_none_or(|f| f.parse::<f64>().is_err()) {
             continue;
+        }
+        let v: Vec<f64> = fields.iter().filter_map(|f| f.parse::<f64>().ok()).collect();
+        if v.len() != 3 || fields.len() != 3 {
+            bail!("line {}: expected three numbers `x y z`, got `{}`", n + 1, line.trim());
         }
         if !v.iter().all(|v| v.is_finite()) {
             bail!("line {}: a coordinate is not a finite number", n + 1);

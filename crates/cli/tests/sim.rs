@@ -217,3 +217,16 @@ fn bad_input_is_a_clear_error() {
     // Bad usage: exit code 2.
     assert_eq!(kezuri(&["sim", &nc, "--tool", "ball:6"]).status.code(), Some(2));
 }
+
+#[test]
+fn a_rapid_from_the_unknown_start_into_the_stock_is_caught() {
+    // The first moves start wherever the machine is, so they are not
+    // simulated; but G00 Z-5. ends 5 mm inside a stock whose top is 0.
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "dive.nc", b"G21 G90\nG00 Z-5.\nX10. Y10.\nG01 Z0. F100\nX20.\nM30\n");
+    let o = kezuri(&["sim", &nc, "--tool", "ball:6", "--res", "0.2", "--stock", "0,0,30,30,0", "--json"]);
+    let v = json(&o);
+    assert_eq!(v["rapids_into_stock"], 2);
+    assert_eq!(v["first_rapid_into_stock_line"], 2);
+    assert_eq!(v["unplaced_moves"], 2);
+}

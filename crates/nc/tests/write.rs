@@ -199,7 +199,7 @@ fn number_style_per_dialect() {
     let mut p = Path::default();
     p.rapid(10.0, -0.5, 0.0).feed(1.23456, -0.50049, 0.00049, 99.5).feed(-1.0004, -0.5, 0.1, 99.5);
     assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 X10. Y-0.5 Z0.", "G01 X1.235 F99.5", "X-1. Z0.1"]);
-    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["G0 X10 Y-0.5 Z0", "G1 X1.235 F99.5", "X-1 Z0.1"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["G0 X10. Y-0.5 Z0.", "G1 X1.235 F99.5", "X-1. Z0.1"]);
     let o = WriteOptions { digits: 0, ..dialect(Dialect::Fanuc) };
     assert_eq!(body(&p.path, &o), ["G00 X10. Y-1. Z0.", "G01 X1. F100.", "X-1."]);
 }
@@ -209,7 +209,7 @@ fn rounding_to_zero_never_writes_minus_zero() {
     let mut p = Path::default();
     p.rapid(-0.0004, -0.0, -1e-12);
     assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), ["G00 X0. Y0. Z0."]);
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G0 X0 Y0 Z0"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G0 X0. Y0. Z0."]);
 }
 
 #[test]
@@ -276,7 +276,7 @@ fn tool_change_stops_spindle_and_coolant_and_grbl_pauses() {
 fn coolant_off_then_on_again_for_a_partial_change() {
     let mut p = Path::default();
     p.coolant(true, true).rapid(0.0, 0.0, 1.0).coolant(false, true).rapid(0.0, 0.0, 2.0);
-    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["M7", "M8", "G0 X0 Y0 Z1", "M9", "M8", "Z2"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::LinuxCnc)), ["M7", "M8", "G0 X0. Y0. Z1.", "M9", "M8", "Z2."]);
 }
 
 #[test]
@@ -287,7 +287,7 @@ fn rapids_never_carry_feed_and_probes_rewrite_the_motion_code() {
         body(&p.path, &dialect(Dialect::Fanuc)),
         ["G01 X0. Y0. Z0. F300.", "G00 Z5.", "G31 Z-5. F50.", "G01 Z-4."]
     );
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl))[2..], ["G38.2 Z-5 F50", "G1 Z-4"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl))[2..], ["G38.2 Z-5. F50.", "G1 Z-4."]);
 }
 
 #[test]
@@ -341,7 +341,7 @@ fn extra_helical_turns_are_full_circles() {
     p.push(MoveKind::Arc(arc), at(0.0, 10.0, -9.0));
     assert_eq!(
         body(&p.path, &dialect(Dialect::LinuxCnc))[1..],
-        ["G3 Z-4 I-10 J0 F100", "Z-8 I-10 J0", "X0 Y10 Z-9 I-10 J0"]
+        ["G3 Z-4. I-10. J0. F100.", "Z-8. I-10. J0.", "X0. Y10. Z-9. I-10. J0."]
     );
 }
 
@@ -350,7 +350,7 @@ fn an_arc_away_from_the_tool_is_reached_by_a_feed_move() {
     let mut p = Path { feed: 100.0, ..Path::default() };
     p.arc(Plane::Xy, true, [0.0, 0.0, 0.0], [0.0, 5.0, 0.0]);
     p.path.moves[0].start = at(5.0, 0.0, 0.0);
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G1 X5 Y0 Z0 F100", "G3 X0 Y5 I-5 J0"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G1 X5. Y0. Z0. F100.", "G3 X0. Y5. I-5. J0."]);
 }
 
 #[test]
@@ -423,7 +423,7 @@ fn errors_name_the_move_and_the_problem() {
 fn grbl_accepts_rotary_axes_that_stay_at_zero() {
     let mut p = Path::default();
     p.push(MoveKind::Rapid, Axes { a: 0.0004, c: -0.0, ..at(1.0, 2.0, 3.0) });
-    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G0 X1 Y2 Z3"]);
+    assert_eq!(body(&p.path, &dialect(Dialect::Grbl)), ["G0 X1. Y2. Z3."]);
 }
 
 #[test]

@@ -146,7 +146,7 @@ impl Writer {
             codes: o.dialect.codes(),
             digits,
             scale: POW10[digits as usize] as f64,
-            point: o.dialect == Dialect::Fanuc,
+            point: true,
             step: o.line_numbers.unwrap_or(0),
             sequence: o.line_numbers.unwrap_or(0),
             used: [true, true, true, false, false, false],

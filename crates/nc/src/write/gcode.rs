@@ -4,9 +4,11 @@
 //! (the motion G code, the plane, `F`, `S`) are written when their value
 //! changes, axis words when the rounded coordinate changes. Numbers are
 //! rounded to [`WriteOptions::digits`] decimals and trailing zeros trimmed;
-//! a Fanuc axis word always carries a decimal point (`X10.`, `X0.`), because
-//! a Fanuc control reads `X10` as 10 increments (0.010 mm); LinuxCNC and
-//! GRBL get `X10`. A rounded zero is written `0`, never `-0`. Programs are
+//! every axis and feed word carries a decimal point (`X10.`, `X0.`), in every
+//! dialect: a Fanuc control reads `X10` as 10 increments (0.010 mm), and a
+//! program written for LinuxCNC or GRBL is often read by a Fanuc or by a
+//! tool set for one; LinuxCNC and GRBL read `X10.` as 10 mm. A rounded zero
+//! is written `0.`, never `-0.`. Programs are
 //! in mm (`G21`) or inches (`G20`, [`WriteOptions::inch`]), absolute (`G90`),
 //! feed per minute (`G94`).
 //!
@@ -72,8 +74,8 @@ use super::blocks::{Motion, Writer};
 /// An NC dialect the writer speaks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Dialect {
-    /// Fanuc (ISO): `%` first and last line, `O` number, a decimal point on
-    /// every axis word, two-digit codes (`G01`, `M03`), `G04 P` in ms, `G31`.
+    /// Fanuc (ISO): `%` first and last line, `O` number, two-digit codes
+    /// (`G01`, `M03`), `G04 P` in ms, `G31`.
     #[default]
     Fanuc,
     /// LinuxCNC: short codes (`G1`, `M3`), `G4 P` in seconds, `G38.2`.
@@ -235,7 +237,7 @@ impl std::error::Error for WriteError {}
 /// let text = program(&path, &WriteOptions::default()).unwrap();
 /// assert!(text.contains("G00 X10. Y0. Z5.\nG01 Z-0.5 F300.\n"));
 /// let grbl = program(&path, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
-/// assert!(grbl.contains("G0 X10 Y0 Z5\nG1 Z-0.5 F300\n"));
+/// assert!(grbl.contains("G0 X10. Y0. Z5.\nG1 Z-0.5 F300.\n"));
 /// ```
 pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, WriteError> {
     let mut w = Writer::new(toolpath, options)?;
