@@ -27,6 +27,7 @@
 pub mod cutter;
 pub mod dropcut;
 pub mod mill;
+pub mod probe;
 pub mod scallop;
 pub mod sim;
 

@@ -7,6 +7,7 @@ mod files;
 mod machine;
 mod mill;
 mod plot;
+mod probe;
 mod program;
 mod progress;
 mod scallop;
@@ -78,6 +79,9 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     /// Material-removal simulation (Z-map) of a program: picture, STL, rapids into the stock,
     /// comparison with the intended surface.
     Sim(Box<sim::SimArgs>),
+    /// Digitize a model on a grid and copy-mill it: plan, capture, level, export, mill.
+    #[command(subcommand)]
+    Probe(probe::ProbeCommand),
 }
 
 /// Runs one command.
@@ -90,6 +94,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Dropcut(args) => dropcut::run(args),
         Command::Mill(args) => mill::run(args),
         Command::Sim(args) => sim::run(args),
+        Command::Probe(command) => probe::run(command),
     }
 }
 

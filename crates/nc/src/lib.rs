@@ -32,6 +32,7 @@
 pub mod ast;
 pub mod interp;
 mod parse;
+pub mod probe_plan;
 pub mod source;
 pub mod write;
 

@@ -1,0 +1,239 @@
+//! The surface a stylus's readings imply, and flat margins to cross at
+//! rapid.
+//!
+//! # Readings are CL points of the stylus
+//! A reading is where the stylus's tip (its lowest point, the same
+//! convention as a cutter's) stopped on the model: the stylus rested on the
+//! surface there without entering it. So with `c_i` the point's XY, `z_i`
+//! its height and `h` the stylus profile (`h(r)` above the tip at radius
+//! `r`, [`Cutter::height`]), the real surface `S` lies below every stylus
+//! position:
+//!
+//! ```text
+//! S(p) ≤ U(p) = min over i with |p − c_i| ≤ R of  z_i + h(|p − c_i|)
+//! ```
+//!
+//! `U` is the highest surface consistent with the readings, and it touches
+//! each stylus: where the stylus rested on `S` at `p_i`, `S(p_i)` equals that
+//! stylus's bound and no other bound is lower (`S ≤ U`). Hence:
+//!
+//! - any cutter placed on `U` with drop-cutter is at or above the same
+//!   cutter placed on `S`: it **never gouges the real surface**;
+//! - the stylus itself placed on `U` at a measured point comes back to
+//!   exactly `z_i`: with the same ball as cutter and a stepover equal to
+//!   the pitch the program passes through the measured data.
+//!
+//! [`reconstruct`] samples `U` on a fine [`Heightfield`] (node spacing
+//! `pitch / m`, so every measured point is a node) that drop-cutter then
+//! uses as any surface. Between the nodes the triangles lie above `U` on
+//! each stylus's piece (a ball's chord, at most `δ²/(8·r)` for node
+//! spacing `δ`) and below it by at most `δ·|Δslope|/4` across the crease
+//! where two styli's pieces meet — where `U` is normally well above `S`
+//! (the crease is the top of the cusp between two readings).
+//!
+//! # How far the copy can be from the model
+//! Between readings the model can be anywhere below `U`: on a flat, the
+//! cusp between neighbouring stylus positions is `h(p/2)` along the rows
+//! and `h(p/√2)` at the middle of a cell (for a 10 mm ball at 1 mm pitch,
+//! 0.025 and 0.050 mm), which the copy leaves as material.
+
+use kezuri_geom::{Axes, Heightfield, Move, MoveKind, Toolpath};
+use rayon::prelude::*;
+
+use super::ProbeGrid;
+use crate::cutter::Cutter;
+
+/// Why no surface could be made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StylusError(pub String);
+
+impl std::fmt::Display for StylusError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for StylusError {}
+
+/// Most nodes of the fine grid.
+pub const MAX_NODES: usize = 60_000_000;
+
+/// The fine grid's subdivision of the pitch for a node spacing of at most
+/// `resolution`.
+pub fn subdivision(pitch: f64, resolution: f64) -> usize {
+    ((pitch / resolution) - 1e-9).ceil().max(1.0) as usize
+}
+
+/// The highest surface consistent with the stylus readings `data` (module
+/// docs), sampled every `pitch / m` with `m` the smallest whole number
+/// making the spacing at most `resolution`.
+pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
+    let g = &data.grid;
+    if !(resolution.is_finite() && resolution > 0.0) {
+        return Err(StylusError(format!("the resolution must be a positive number of mm, got {resolution}")));
+    }
+    let r = stylus.radius();
+    // Every point of the grid's box must be under some stylus.
+    if r < g.pitch * std::f64::consts::FRAC_1_SQRT_2 {
+        return Err(StylusError(format!(
+            "the stylus ({stylus}) is narrower than the grid's diagonal half-pitch ({:.3} mm): \
+             the surface between the points is unknown",
+            g.pitch * std::f64::consts::FRAC_1_SQRT_2
+        )));
+    }
+    let m = subdivision(g.pitch, resolution);
+    let (fx, fy) = ((g.nx - 1) * m + 1, (g.ny - 1) * m + 1);
+    if fx.saturating_mul(fy) > MAX_NODES {
+        return Err(StylusError(format!(
+            "a fine grid of {fx} × {fy} nodes is too large: raise the resolution (now {resolution} mm)"
+        )));
+    }
+    let step = g.pitch / m as f64;
+    // The stylus height at every offset (di, dj) fine steps from its tip.
+    let k = (r / step).floor() as usize;
+    let w = 2 * k + 1;
+    let table: Vec<f64> = (0..w * w)
+        .map(|t| {
+            let (di, dj) = ((t % w) as f64 - k as f64, (t / w) as f64 - k as f64);
+            let d = (di * di + dj * dj).sqrt() * step;
+            if d <= r {
+                stylus.height(d)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
+    // Measured points within k fine steps of fine index f: [lo, hi].
+    let span = |f: usize, n: usize| ((f.saturating_sub(k)).div_ceil(m), ((f + k) / m).min(n - 1));
+    let rows: Vec<Vec<f64>> = (0..fy)
+        .into_par_iter()
+        .map(|fj| {
+            let (j0, j1) = span(fj, g.ny);
+            (0..fx)
+                .map(|fi| {
+                    let (i0, i1) = span(fi, g.nx);
+                    let mut best = f64::INFINITY;
+                    for j in j0..=j1 {
+                        let dj = j * m + k - fj;
+                        for i in i0..=i1 {
+                            let h = table[dj * w + i * m + k - fi];
+                            best = best.min(data.z(i, j) + h);
+                        }
+                    }
+                    best
+                })
+                .collect()
+        })
+        .collect();
+    let z: Vec<f64> = rows.into_iter().flatten().collect();
+    if z.iter().any(|v| !v.is_finite()) {
+        return Err(StylusError("a point of the grid is under no stylus position".into()));
+    }
+    Heightfield::new(g.origin[0], g.origin[1], step, fx, fy, z).map_err(|e| StylusError(e.to_string()))
+}
+
+/// The height of a flat margin at the top of the data: the highest height
+/// shared (within `tol`) by at least `share` of the points, if any.
+pub fn detect_flat(data: &ProbeGrid, tol: f64, share: f64) -> Option<f64> {
+    let (_, top) = data.range();
+    let on: Vec<f64> = data.z.iter().copied().filter(|z| *z >= top - tol).collect();
+    (on.len() as f64 >= share * data.z.len() as f64).then(|| on.iter().sum::<f64>() / on.len() as f64)
+}
+
+/// What [`rapid_margins`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Margins {
+    /// Runs of cuts turned into rapids.
+    pub runs: usize,
+    /// Length of cutting moves turned into rapids, mm.
+    pub length: f64,
+}
+
+/// Turns runs of cutting moves that stay on the flat at `flat_z` (each end
+/// no lower than `flat_z − tol`, so nothing below the flat is left
+/// uncut by more than `tol`, and no higher than `clearance / 2` above it —
+/// a cutter on the readings rides over the cusps between stylus positions)
+/// and are at least `min_length` long into rapids
+/// `clearance` above it along the same path: lift, traverse, and a plunge
+/// at `plunge_feed` back onto the path (the paper did this by hand for the
+/// rows over the margin, where there is nothing to cut).
+pub fn rapid_margins(
+    path: &Toolpath,
+    flat_z: f64,
+    tol: f64,
+    clearance: f64,
+    min_length: f64,
+    plunge_feed: f64,
+) -> (Toolpath, Margins) {
+    let on = |z: f64| z >= flat_z - tol && z <= flat_z + 0.5 * clearance;
+    let flat = |m: &Move| m.kind == MoveKind::Feed && on(m.start.z) && on(m.end.z);
+    let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
+    let mut report = Margins::default();
+    let moves = &path.moves;
+    let mut k = 0;
+    while k < moves.len() {
+        if !flat(&moves[k]) {
+            out.moves.push(moves[k]);
+            k += 1;
+            continue;
+        }
+        let end = (k..moves.len()).find(|&e| !flat(&moves[e])).unwrap_or(moves.len());
+        let length: f64 = moves[k..end].iter().map(|m| m.length()).sum();
+        if length < min_length {
+            out.moves.extend_from_slice(&moves[k..end]);
+        } else {
+            let high = flat_z + clearance;
+            let lift = |p: Axes| Axes { z: high, ..p };
+            let first = moves[k];
+            let vertical = |m: &Move| m.start.x == m.end.x && m.start.y == m.end.y;
+            // A plunge onto the run's start stops at the traverse height.
+            match out.moves.last_mut() {
+                Some(p) if p.kind == MoveKind::Feed && vertical(p) && p.end == first.start && p.start.z > high => {
+                    p.end = lift(first.start);
+                }
+                _ => {
+                    out.moves.push(Move { kind: MoveKind::Rapid, start: first.start, end: lift(first.start), ..first })
+                }
+            }
+            for m in &moves[k..end] {
+                let (a, b) = (lift(m.start), lift(m.end));
+                // Collinear traverses in the same direction become one.
+                match out.moves.last_mut() {
+                    Some(p) if p.kind == MoveKind::Rapid && p.end == a && same_direction(p.start, a, b) => p.end = b,
+                    _ => out.moves.push(Move { kind: MoveKind::Rapid, start: a, end: b, ..*m }),
+                }
+            }
+            let last = moves[end - 1];
+            // A retract after the run starts from the traverse height.
+            match moves.get(end) {
+                Some(next) if next.is_rapid() && vertical(next) && next.end.z >= high => {
+                    out.moves.push(Move { start: lift(last.end), ..*next });
+                    k = end + 1;
+                }
+                _ => {
+                    out.moves.push(Move {
+                        kind: MoveKind::Feed,
+                        start: lift(last.end),
+                        end: last.end,
+                        feed: plunge_feed,
+                        ..last
+                    });
+                    k = end;
+                }
+            }
+            report.runs += 1;
+            report.length += length;
+            continue;
+        }
+        k = end;
+    }
+    (out, report)
+}
+
+/// Whether `b − a` runs the same way as `a − p` (in plan, at one height).
+fn same_direction(p: Axes, a: Axes, b: Axes) -> bool {
+    let (u, v) = ([a.x - p.x, a.y - p.y], [b.x - a.x, b.y - a.y]);
+    let cross = u[0] * v[1] - u[1] * v[0];
+    let dot = u[0] * v[0] + u[1] * v[1];
+    p.z == a.z && a.z == b.z && dot > 0.0 && cross.abs() <= 1e-12 * (dot.abs() + 1.0)
+}

@@ -1,0 +1,98 @@
+//! `kezuri probe export`: DXF cross sections, STL surface, shaded PNG, CSV.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use image::codecs::png::PngEncoder;
+use image::{ExtendedColorType, ImageEncoder};
+use kezuri_cam::probe::data::{self, Format};
+use kezuri_cam::probe::export::{dxf, mirror, shade, triangles, Mirror};
+use kezuri_geom::write_binary_stl;
+
+use super::DataArgs;
+use crate::files::write_output;
+
+/// Options of `kezuri probe export`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+--dxf writes AutoCAD R12 ASCII: one 3D POLYLINE per row on layer ROWS (the paper's cross
+sections), with --columns one per column on layer COLS too. --stl is the surface through the
+points (two triangles per cell, not a closed solid). --mirror x reflects the data in the last
+column (the largest X, the symmetry line, kept once), --mirror y in the last row: a model
+measured on one half is completed before anything is written.
+
+Examples:
+  kezuri probe export ume-2.txt --count 85,105 --pitch 1 --dxf ume.dxf --png ume.png
+  kezuri probe export half.txt --mirror x --stl whole.stl --csv whole.csv")]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// DXF (R12 ASCII) cross sections, one polyline per row.
+    #[arg(long, value_name = "F.dxf")]
+    pub dxf: Option<PathBuf>,
+    /// Also a polyline per column in the DXF.
+    #[arg(long)]
+    pub columns: bool,
+    /// Binary STL of the surface.
+    #[arg(long, value_name = "F.stl")]
+    pub stl: Option<PathBuf>,
+    /// Shaded picture (PNG).
+    #[arg(long, value_name = "F.png")]
+    pub png: Option<PathBuf>,
+    /// Pixels per pitch in the PNG.
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    pub png_scale: usize,
+    /// `x,y,z` CSV.
+    #[arg(long, value_name = "F.csv")]
+    pub csv: Option<PathBuf>,
+    /// Complete a half-measured model by its mirror image.
+    #[arg(long, value_enum)]
+    pub mirror: Option<MirrorAxis>,
+}
+
+/// `--mirror`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum MirrorAxis {
+    /// In the last column.
+    X,
+    /// In the last row.
+    Y,
+}
+
+/// Runs `kezuri probe export`.
+pub fn run(args: &ExportArgs) -> Result<()> {
+    if args.dxf.is_none() && args.stl.is_none() && args.png.is_none() && args.csv.is_none() {
+        bail!("nothing to export: give --dxf, --stl, --png or --csv");
+    }
+    if !(1..=64).contains(&args.png_scale) {
+        bail!("--png-scale must be 1 to 64, got {}", args.png_scale);
+    }
+    let mut grid = args.data.read()?.grid;
+    if let Some(axis) = args.mirror {
+        grid = mirror(&grid, if matches!(axis, MirrorAxis::X) { Mirror::X } else { Mirror::Y });
+    }
+    // Everything is made before anything is written.
+    let mut outputs: Vec<(&PathBuf, Vec<u8>)> = Vec::new();
+    if let Some(p) = &args.dxf {
+        outputs.push((p, dxf(&grid, args.columns).into_bytes()));
+    }
+    if let Some(p) = &args.stl {
+        outputs.push((p, write_binary_stl(&triangles(&grid))));
+    }
+    if let Some(p) = &args.png {
+        let (w, h, rgb) = shade(&grid, args.png_scale);
+        let mut png = Vec::new();
+        PngEncoder::new(&mut png)
+            .write_image(&rgb, w as u32, h as u32, ExtendedColorType::Rgb8)
+            .context("cannot encode the PNG")?;
+        outputs.push((p, png));
+    }
+    if let Some(p) = &args.csv {
+        outputs.push((p, data::write(&grid, &Format::Csv).into_bytes()));
+    }
+    for (path, bytes) in outputs {
+        write_output(Some(path), &bytes)?;
+    }
+    Ok(())
+}

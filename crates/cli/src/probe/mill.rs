@@ -1,0 +1,424 @@
+//! `kezuri probe mill`: the copy-milling program from ball-stylus readings.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use kezuri_cam::dropcut::drop_cutter;
+use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
+use kezuri_cam::probe::stylus::{detect_flat, rapid_margins, reconstruct};
+use kezuri_cam::Cutter;
+use kezuri_geom::{cycle_time, Axes, AxisSet, Move, MoveKind, Toolpath};
+use kezuri_nc::write::{program, Dialect, WriteOptions};
+
+use super::DataArgs;
+use crate::files::write_output;
+use crate::machine::Machine;
+
+/// Options of `kezuri probe mill`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+The data are the positions of the stylus's tip (its lowest point) where it rested on the model.
+The real surface lies below every stylus position, so the highest surface the readings allow is
+the lowest of the stylus shapes over each point; it is sampled every --resolution and the cutter
+is placed on it with drop-cutter: the program never cuts below any stylus position, so never
+into the model (within --tolerance and the sampling, see the docs). With the stylus's own ball
+as cutter, --stepover and --step equal to the pitch, the program passes through the readings.
+
+Rows run along X in zig-zag, over the data's XY box. Cuts that run along the flat top of the
+data (--floor-z: auto finds a flat margin at the top, held by 5% of the points or more) are
+crossed at rapid --clearance above it. --incremental writes the moves after the first
+positioning in G91; --split-bytes N writes parts OUT-1, OUT-2, … of at most N bytes each, each
+a whole program that starts from the safe height. The report (stderr) gives the program size,
+moves and cycle time.
+
+Examples:
+  kezuri probe mill ume-2.txt --count 85,105 --pitch 1 --stylus ball:10 --tool ball:10 -o ume.nc
+  kezuri probe mill capture.txt --stylus ball:10 --tool ball:6 --stepover 0.5 --split-bytes 250000 -o part.nc")]
+pub struct MillArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// The stylus that took the readings (ball:10 for the paper's 10 mm bead).
+    #[arg(long, value_name = "SPEC")]
+    pub stylus: String,
+    /// The cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
+    #[arg(long, value_name = "SPEC")]
+    pub tool: String,
+    /// Distance between rows, mm [default: the pitch].
+    #[arg(long, value_name = "MM")]
+    pub stepover: Option<f64>,
+    /// Sampling step along a row, mm [default: the pitch].
+    #[arg(long, value_name = "MM")]
+    pub step: Option<f64>,
+    /// How far the path may stray from the exact cutter locations, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    pub tolerance: f64,
+    /// Node spacing of the reconstructed surface, mm [default: pitch / 8].
+    #[arg(long, value_name = "MM")]
+    pub resolution: Option<f64>,
+    /// Height for rapids [default: 5 mm above the highest cut].
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    pub safe_z: Option<f64>,
+    /// The flat top to cross at rapid: auto, off or a height.
+    #[arg(long, value_name = "auto|off|Z", default_value = "auto", allow_hyphen_values = true)]
+    pub floor_z: String,
+    /// Height of rapids over the flat top, mm.
+    #[arg(long, value_name = "MM", default_value_t = 1.0)]
+    pub clearance: f64,
+    /// Cutting feed, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1800.0)]
+    pub feed: f64,
+    /// Plunge feed, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0)]
+    pub plunge_feed: f64,
+    /// Spindle speed, rpm.
+    #[arg(long, value_name = "RPM", default_value_t = 15000.0)]
+    pub speed: f64,
+    /// Tool number.
+    #[arg(long, value_name = "T", default_value_t = 1)]
+    pub tool_number: u32,
+    /// Machine file (TOML) for the cycle time.
+    #[arg(long, value_name = "M.toml")]
+    pub machine: Option<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "fanuc")]
+    pub emit: Emit,
+    /// The program (`-` for stdout).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Decimals written [default: 3].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
+    pub digits: Option<u8>,
+    /// Fanuc program number (parts count on from it).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub program_number: u32,
+    /// Moves after the first positioning in incremental coordinates (G91).
+    #[arg(long)]
+    pub incremental: bool,
+    /// Split into parts of at most this many bytes (controls with little memory).
+    #[arg(long, value_name = "N")]
+    pub split_bytes: Option<usize>,
+    /// Also draw the toolpath to this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub svg: Option<PathBuf>,
+}
+
+/// `--emit`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Emit {
+    /// Fanuc (`%` framing, `O` number).
+    Fanuc,
+    /// LinuxCNC.
+    Linuxcnc,
+    /// GRBL.
+    Grbl,
+}
+
+fn positive(name: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        bail!("{name} must be a positive number, got {v}")
+    }
+}
+
+/// Runs `kezuri probe mill`.
+pub fn run(args: &MillArgs) -> Result<()> {
+    let stylus: Cutter = args.stylus.parse().context("--stylus")?;
+    let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let data = args.data.read()?;
+    let grid = &data.grid;
+    let pitch = grid.grid.pitch;
+    let stepover = positive("--stepover", args.stepover.unwrap_or(pitch))?;
+    let step = positive("--step", args.step.unwrap_or(pitch))?;
+    let resolution = positive("--resolution", args.resolution.unwrap_or(pitch / 8.0))?;
+    positive("--clearance", args.clearance)?;
+    let machine = match &args.machine {
+        Some(p) => Machine::load(p)?,
+        None => Machine::default(),
+    };
+    let t0 = std::time::Instant::now();
+    let field = reconstruct(grid, &stylus, resolution).with_context(|| args.data.data.display().to_string())?;
+    let [x0, y0, x1, y1] = field.xy_box();
+    let top = grid.range().1;
+    let options = RasterOptions {
+        direction: Direction::X,
+        pattern: Pattern::ZigZag,
+        stepover,
+        step,
+        tolerance: args.tolerance,
+        safe_z: args.safe_z.unwrap_or(top + 5.0),
+        feed: args.feed,
+        plunge_feed: args.plunge_feed,
+        speed: args.speed,
+        tool: args.tool_number,
+    };
+    if options.safe_z <= top {
+        bail!("--safe-z {} is not above the data's top, z = {top}: rapids would run into the part", options.safe_z);
+    }
+    let cl = |x: f64, y: f64| drop_cutter(&cutter, &field, x, y);
+    let path = raster(&cl, Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
+    let flat = match args.floor_z.trim() {
+        "off" | "none" => None,
+        "auto" => detect_flat(grid, 0.01, 0.05),
+        z => Some(
+            z.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("--floor-z '{z}': expected auto, off or a height"))?,
+        ),
+    };
+    let (path, margins) = match flat {
+        Some(z) => {
+            rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
+        }
+        None => (path, Default::default()),
+    };
+    if path.moves.iter().any(|m| m.kind == MoveKind::Rapid && m.end.z > options.safe_z + 1e-9) {
+        bail!("--clearance {} lifts rapids above --safe-z {}", args.clearance, options.safe_z);
+    }
+    let seconds_cam = t0.elapsed().as_secs_f64();
+    let title = format!("COPY {} {} STYLUS {} STEPOVER {}", args.data.data.display(), cutter, stylus, stepover);
+    let digits = args.digits.unwrap_or(3);
+    let write_options = |k: usize, of: usize| WriteOptions {
+        dialect: match args.emit {
+            Emit::Fanuc => Dialect::Fanuc,
+            Emit::Linuxcnc => Dialect::LinuxCnc,
+            Emit::Grbl => Dialect::Grbl,
+        },
+        digits,
+        program_number: args.program_number + k as u32,
+        title: Some(if of > 1 { format!("{title} PART {}/{of}", k + 1) } else { title.clone() }),
+        ..WriteOptions::default()
+    };
+    let text_of = |path: &Toolpath, k: usize, of: usize| -> Result<String> {
+        let text = program(path, &write_options(k, of))?;
+        Ok(if args.incremental { incremental(&text, digits) } else { text })
+    };
+    let parts: Vec<String> = match args.split_bytes {
+        None => vec![text_of(&path, 0, 1)?],
+        Some(limit) => split(&path, limit, options.safe_z, args.plunge_feed, &text_of)?,
+    };
+    let (time, _) = cycle_time(&path, &machine.dynamics);
+    // Everything is made before anything is written.
+    if parts.len() == 1 {
+        write_output(Some(&args.output), parts[0].as_bytes())?;
+    } else {
+        if args.output == Path::new("-") {
+            bail!("--split-bytes writes files: give -o FILE");
+        }
+        for (k, text) in parts.iter().enumerate() {
+            write_output(Some(&part_name(&args.output, k + 1)), text.as_bytes())?;
+        }
+    }
+    if let Some(svg) = &args.svg {
+        write_output(Some(svg), crate::plot::svg(&path, &title).as_bytes())?;
+    }
+    let bytes: usize = parts.iter().map(|p| p.len()).sum();
+    let lines: usize = parts.iter().map(|p| p.lines().count()).sum();
+    let mut report = format!(
+        "{}: {} × {} points, pitch {pitch} mm; surface {} × {} nodes at {:.4} mm\n\
+         program: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm\n\
+         cycle time {} ({time:.1} s); computed in {seconds_cam:.2} s\n",
+        args.data.data.display(),
+        grid.grid.nx,
+        grid.grid.ny,
+        field.nx(),
+        field.ny(),
+        field.step(),
+        parts.len(),
+        path.moves.len(),
+        path.feed_length(),
+        path.rapid_length(),
+        hms(time),
+    );
+    if let Some(z) = flat {
+        let _ = writeln!(
+            report,
+            "flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid",
+            margins.runs, margins.length
+        );
+    }
+    eprint!("{report}");
+    Ok(())
+}
+
+fn hms(s: f64) -> String {
+    let t = s.round() as u64;
+    format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+}
+
+/// `part.nc` → `part-3.nc`.
+fn part_name(path: &Path, k: usize) -> PathBuf {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = match path.extension() {
+        Some(e) => format!("{stem}-{k}.{}", e.to_string_lossy()),
+        None => format!("{stem}-{k}"),
+    };
+    path.with_file_name(name)
+}
+
+/// The toolpath in parts whose programs are at most `limit` bytes: each
+/// part after the first starts at the safe height, over its first point,
+/// and plunges to it; each ends at the safe height.
+fn split(
+    path: &Toolpath,
+    limit: usize,
+    safe_z: f64,
+    plunge_feed: f64,
+    text_of: &dyn Fn(&Toolpath, usize, usize) -> Result<String>,
+) -> Result<Vec<String>> {
+    let whole = text_of(path, 0, 1)?;
+    if whole.len() <= limit {
+        return Ok(vec![whole]);
+    }
+    let overhead = text_of(&Toolpath::from(path.moves[..1].to_vec()), 0, 1)?.len() + 200;
+    if limit <= overhead + 200 {
+        bail!("--split-bytes {limit} is too small: a part's frame alone takes about {overhead} bytes");
+    }
+    let per_move = whole.len() as f64 / path.moves.len() as f64;
+    let mut factor = 0.95;
+    for _ in 0..20 {
+        let chunk = (((limit - overhead) as f64 / per_move * factor) as usize).max(1);
+        let pieces: Vec<&[Move]> = path.moves.chunks(chunk).collect();
+        let n = pieces.len();
+        let mut texts = Vec::with_capacity(n);
+        for (k, piece) in pieces.iter().enumerate() {
+            let mut moves = Vec::with_capacity(piece.len() + 4);
+            let first = piece[0];
+            if k > 0 {
+                let start = first.start;
+                let up = Axes { z: safe_z, ..start };
+                let base = Move { kind: MoveKind::Rapid, feed: 0.0, ..first };
+                moves.push(Move { start: up, end: up, named: AxisSet(0b100), ..base });
+                moves.push(Move { start: up, end: up, named: AxisSet(0b011), ..base });
+                if start.z < safe_z {
+                    moves.push(Move { kind: MoveKind::Feed, start: up, end: start, feed: plunge_feed, ..first });
+                }
+            }
+            moves.extend_from_slice(piece);
+            let last = *moves.last().expect("a part has moves");
+            if last.end.z < safe_z {
+                let up = Axes { z: safe_z, ..last.end };
+                moves.push(Move { kind: MoveKind::Rapid, start: last.end, end: up, feed: 0.0, ..last });
+            }
+            let text = text_of(&Toolpath::from(moves), k, n)?;
+            if text.len() > limit {
+                texts.clear();
+                break;
+            }
+            texts.push(text);
+        }
+        if texts.len() == n {
+            return Ok(texts);
+        }
+        factor *= 0.85;
+    }
+    bail!("cannot split the program into parts of {limit} bytes")
+}
+
+/// The program with every motion after the first complete positioning
+/// (X, Y and Z known) in incremental coordinates: `G91` there, `G90` back
+/// before the end. Increments are differences of the written (rounded)
+/// absolute positions, so they add up exactly.
+fn incremental(text: &str, digits: u8) -> String {
+    let scale = 10f64.powi(i32::from(digits));
+    let mut at: [Option<i64>; 3] = [None; 3];
+    let mut relative = false;
+    let mut finished = false;
+    let mut out = String::with_capacity(text.len());
+    for line in text.lines() {
+        let upper = line.trim().to_ascii_uppercase();
+        let ends = upper.starts_with("M30") || upper.starts_with("M02") || upper.starts_with("M2 ") || upper == "M2";
+        if relative && (ends || upper == "%") {
+            out.push_str("G90\n");
+            relative = false;
+            finished = true;
+        }
+        // Words of a motion block: letters and numbers, comments kept aside.
+        let (code, comment) = match line.find('(') {
+            Some(k) => (&line[..k], &line[k..]),
+            None => (line, ""),
+        };
+        let words: Vec<(char, &str)> = split_words(code);
+        let has_axis = words.iter().any(|(c, _)| matches!(c, 'X' | 'Y' | 'Z'));
+        if !has_axis || ends {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        let mut kept = Vec::new();
+        for (c, v) in words {
+            let axis = match c {
+                'X' => 0,
+                'Y' => 1,
+                'Z' => 2,
+                _ => {
+                    kept.push(format!("{c}{v}"));
+                    continue;
+                }
+            };
+            let value = (v.parse::<f64>().unwrap_or(0.0) * scale).round() as i64;
+            if relative {
+                let delta = value - at[axis].unwrap_or(value);
+                if delta != 0 {
+                    kept.push(format!("{c}{}", decimal(delta, digits)));
+                }
+            } else {
+                kept.push(format!("{c}{v}"));
+            }
+            at[axis] = Some(value);
+        }
+        if !kept.is_empty() || !comment.is_empty() {
+            out.push_str(&kept.join(" "));
+            out.push_str(comment);
+            out.push('\n');
+        }
+        if !relative && !finished && at.iter().all(|a| a.is_some()) {
+            out.push_str("G91\n");
+            relative = true;
+        }
+    }
+    out
+}
+
+/// `N123` style words of a block.
+fn split_words(code: &str) -> Vec<(char, &str)> {
+    let mut words = Vec::new();
+    let bytes = code.as_bytes();
+    let mut k = 0;
+    while k < bytes.len() {
+        let c = bytes[k] as char;
+        if c.is_ascii_alphabetic() {
+            let start = k + 1;
+            let mut e = start;
+            while e < bytes.len() && (bytes[e].is_ascii_digit() || matches!(bytes[e], b'.' | b'-' | b'+')) {
+                e += 1;
+            }
+            words.push((c.to_ascii_uppercase(), &code[start..e]));
+            k = e;
+        } else {
+            k += 1;
+        }
+    }
+    words
+}
+
+/// `counts` units of 10^-digits mm as a decimal with a point (`-1.25`, `3.`).
+fn decimal(counts: i64, digits: u8) -> String {
+    let sign = if counts < 0 { "-" } else { "" };
+    let a = counts.unsigned_abs();
+    let unit = 10u64.pow(u32::from(digits));
+    let (whole, frac) = (a / unit, a % unit);
+    if frac == 0 {
+        return format!("{sign}{whole}.");
+    }
+    let f = format!("{frac:0width$}", width = usize::from(digits));
+    let f = f.trim_end_matches('0');
+    if whole == 0 {
+        format!("{sign}.{f}").replacen(".", "0.", 1)
+    } else {
+        format!("{sign}{whole}.{f}")
+    }
+}

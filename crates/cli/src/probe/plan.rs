@@ -1,0 +1,275 @@
+//! `kezuri probe plan`: the measuring program for digitizing a model on a
+//! grid (seed 000's O1011/O1012/O1013), as repeated subprograms, every point
+//! written out, or G31 skip-signal probing.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use kezuri_nc::probe_plan::{self, Pattern, Plan, Style};
+
+use crate::files::write_output;
+
+/// Options of `kezuri probe plan`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+The stylus travels at --z-safe and plunges by --plunge at each point (the paper's G01 Z-50.
+stroke): the bottom is z-safe - plunge. Rows run along X stepping +Y, the first row toward +X;
+zigzag (default) runs every other row back toward -X, oneway returns at z-safe. Points are
+numbered 1, 2, ... in that order, the order `probe capture` stores them in.
+
+Styles:
+  subprogram  the paper's shape: the main program positions in G90 at the origin and z-safe,
+              then G91 and M98 P<row> L<rows>; the row subprogram measures its first point and
+              repeats the point subprogram (a pitch in X, plunge, trigger, retract) nx-1 times.
+              Zigzag repeats a pair of rows (+X, then -X); an odd last row is in the main
+              program. Subprograms are numbered after the main one (O n+1 row or row pair,
+              O n+2 the +X point, O n+3 the -X point). Load them all into the control's memory.
+  expanded    every point written out in absolute coordinates (long: for DNC or small grids).
+  g31         for a touch probe: at each point G31 goes down toward the bottom and stops at the
+              touch; the control writes one line `x y z` per point with DPRNT to the device
+              opened by POPEN (the RS-232 port): #5061, #5062 and the tip Z (#5063 - #5083,
+              the skip position less the length offset). No touch above the bottom: the line
+              gives the bottom. No trigger (the skip signal is the trigger).
+
+The trigger (subprogram and expanded) is given at every bottom: the paper's M07 (air blow on:
+the PC reads the indicator), G04 X0.5, M09 by default. Each block may hold no motion and no G
+code but G04. Every program retracts with G91 G28 Z0. before it positions and at the end, and
+is framed by %. Lengths must be whole numbers of 10^-digits mm, so every grid point is written
+exactly and the incremental steps add up to it.
+
+Examples:
+  kezuri probe plan --origin 0,0 --count 85,105 --pitch 1 --z-safe 30 --plunge 50 -o O1011.nc
+  kezuri probe plan --origin 10,20 --count 40,30 --pitch 0.5 --z-safe -80 --plunge 25 \\
+      --style expanded --pattern oneway --feed 3000 -o grid.nc
+  kezuri probe plan --origin 0,0 --count 60,40 --pitch 1 --z-safe 5 --plunge 30 --style g31 \\
+      --plunge-feed 150 -o probe.nc
+  kezuri probe plan --origin 0,0 --count 4,3 --pitch 1 --z-safe 30 --plunge 50 \\
+      --trigger \"M08,G04 X1.,M09\" --program 2000 -o -
+
+Exit code 1 for a count below 1, a pitch or plunge that is not positive, a length with more
+decimals than --digits, a trigger block that moves or changes modes, or a program number or
+repeat count the control cannot take; nothing is written then.")]
+pub struct PlanArgs {
+    /// X and Y of the first point (grid index 0,0), mm.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub origin: String,
+    /// Points along X and along Y.
+    #[arg(long, value_name = "NX,NY")]
+    pub count: String,
+    /// Distance between points, in X and in Y, mm.
+    #[arg(long, value_name = "MM")]
+    pub pitch: f64,
+    /// Height the stylus travels at, mm (work coordinates).
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    pub z_safe: f64,
+    /// Depth of each plunge below --z-safe, mm.
+    #[arg(long, value_name = "MM")]
+    pub plunge: f64,
+    /// How the program is written.
+    #[arg(long, value_enum, default_value = "subprogram")]
+    pub style: PlanStyle,
+    /// How rows follow each other.
+    #[arg(long, value_enum, default_value = "zigzag")]
+    pub pattern: PlanPattern,
+    /// Feed of the plunge (G01, or G31), mm/min [default: 6000, the paper's;
+    /// 200 for g31].
+    #[arg(long, value_name = "MM/MIN")]
+    pub plunge_feed: Option<f64>,
+    /// Feed of the retract and the moves between points, mm/min [default:
+    /// rapid, G00, as the paper's G00 X1.].
+    #[arg(long, value_name = "MM/MIN")]
+    pub feed: Option<f64>,
+    /// Number of the main program (subprograms take the next three).
+    #[arg(long, value_name = "N", default_value_t = probe_plan::DEFAULT_PROGRAM)]
+    pub program: u32,
+    /// Blocks given at each plunge bottom, separated by commas [default:
+    /// "M07,G04 X0.5,M09"]; not for --style g31.
+    #[arg(long, value_name = "BLOCKS")]
+    pub trigger: Option<String>,
+    /// Decimals of the coordinates (0 to 4).
+    #[arg(long, value_name = "N", default_value_t = 3)]
+    pub digits: u32,
+    /// The program file to write (`-`: standard output).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+}
+
+/// Program styles on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum PlanStyle {
+    /// The paper's main program and repeated incremental subprograms.
+    Subprogram,
+    /// Every point written out, absolute.
+    Expanded,
+    /// Skip-signal probing, touch points written with DPRNT.
+    G31,
+}
+
+/// Row patterns on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum PlanPattern {
+    /// Every other row runs back toward -X.
+    Zigzag,
+    /// Every row runs toward +X.
+    Oneway,
+}
+
+/// Two numbers `A,B`.
+fn pair<T: std::str::FromStr>(text: &str, option: &str, what: &str) -> Result<[T; 2]> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if let [a, b] = parts[..] {
+        if let (Ok(a), Ok(b)) = (a.parse(), b.parse()) {
+            return Ok([a, b]);
+        }
+    }
+    bail!("{option} takes {what}, got '{text}'")
+}
+
+/// The plan the arguments describe (not yet validated).
+pub fn plan(args: &PlanArgs) -> Result<Plan> {
+    let origin: [f64; 2] = pair(&args.origin, "--origin", "two numbers X,Y (mm)")?;
+    let count: [u32; 2] = pair(&args.count, "--count", "two whole numbers NX,NY")?;
+    let style = match args.style {
+        PlanStyle::Subprogram => Style::Subprogram,
+        PlanStyle::Expanded => Style::Expanded,
+        PlanStyle::G31 => Style::G31,
+    };
+    let mut plan = Plan::new(origin, count, args.pitch, args.z_safe, args.plunge);
+    plan.style = style;
+    plan.pattern = match args.pattern {
+        PlanPattern::Zigzag => Pattern::Zigzag,
+        PlanPattern::Oneway => Pattern::OneWay,
+    };
+    plan.plunge_feed = args.plunge_feed.unwrap_or(if style == Style::G31 {
+        probe_plan::DEFAULT_PROBE_FEED
+    } else {
+        probe_plan::DEFAULT_PLUNGE_FEED
+    });
+    plan.feed = args.feed;
+    plan.program = args.program;
+    plan.digits = args.digits;
+    if let Some(t) = &args.trigger {
+        if style == Style::G31 {
+            bail!("--trigger is for the subprogram and expanded styles: g31 records with the skip signal");
+        }
+        plan.trigger = t.split(',').map(|b| b.trim().to_string()).collect();
+    }
+    Ok(plan)
+}
+
+/// Runs `kezuri probe plan`.
+pub fn run(args: &PlanArgs) -> Result<()> {
+    let plan = plan(args)?;
+    let text = plan.program().context("cannot write the measuring program")?;
+    write_output(Some(&args.output), text.as_bytes())?;
+    let [nx, ny] = plan.count;
+    let name =
+        if args.output.as_os_str() == "-" { "standard output".into() } else { args.output.display().to_string() };
+    eprintln!(
+        "{name}: O{:04}, {nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
+        plan.program,
+        u64::from(nx) * u64::from(ny),
+        plan.pitch,
+        plan.style.name(),
+        plan.pattern.name(),
+        plan.bottom()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        plan: PlanArgs,
+    }
+
+    fn args(line: &[&str]) -> PlanArgs {
+        Cli::try_parse_from(std::iter::once("plan").chain(line.iter().copied())).unwrap().plan
+    }
+
+    #[test]
+    fn writes_the_paper_program() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("O1011.nc");
+        let o = out.to_str().unwrap();
+        let line =
+            ["--origin", "0,0", "--count", "85,105", "--pitch", "1", "--z-safe", "30", "--plunge", "50", "-o", o];
+        run(&args(&line)).unwrap();
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(text.starts_with("%\nO1011 ") && text.ends_with("%\n"), "{text}");
+        assert!(text.contains("M98 P1012 L52") && text.contains("G01 Z-50. F6000.\nM07\nG04 X0.5\nM09\n"));
+    }
+
+    #[test]
+    fn options_reach_the_plan() {
+        let a = args(&[
+            "--origin=-5.5,2",
+            "--count",
+            "4, 3",
+            "--pitch",
+            "0.5",
+            "--z-safe",
+            "-80",
+            "--plunge",
+            "20",
+            "--style",
+            "expanded",
+            "--pattern",
+            "oneway",
+            "--feed",
+            "3000",
+            "--trigger",
+            "M08, G04 X1., M09",
+            "--program",
+            "2000",
+            "-o",
+            "-",
+        ]);
+        let p = plan(&a).unwrap();
+        assert_eq!((p.origin, p.count, p.pitch, p.z_safe, p.plunge), ([-5.5, 2.0], [4, 3], 0.5, -80.0, 20.0));
+        assert_eq!(
+            (p.style, p.pattern, p.feed, p.plunge_feed, p.program),
+            (Style::Expanded, Pattern::OneWay, Some(3000.0), 6000.0, 2000)
+        );
+        assert_eq!(p.trigger, ["M08", "G04 X1.", "M09"]);
+        let g = args(
+            &["--origin", "0,0", "--count", "2,2", "--pitch", "1", "--z-safe", "5", "--plunge", "30"]
+                .into_iter()
+                .chain(["--style", "g31", "-o", "-"])
+                .collect::<Vec<_>>(),
+        );
+        assert_eq!(plan(&g).unwrap().plunge_feed, 200.0);
+    }
+
+    #[test]
+    fn bad_input_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("bad.nc");
+        let o = out.to_str().unwrap();
+        let base = ["--pitch", "1", "--z-safe", "30", "--plunge", "50", "-o", o];
+        for (extra, want) in [
+            (["--origin", "0", "--count", "4,3"], "--origin takes two numbers"),
+            (["--origin", "0,0", "--count", "4,x"], "--count takes two whole numbers"),
+            (["--origin", "0,0", "--count", "0,3"], "at least 1 point"),
+            (["--origin", "0,0.0001", "--count", "4,3"], "not a whole number"),
+        ] {
+            let line: Vec<&str> = extra.iter().chain(base.iter()).copied().collect();
+            let e = format!("{:#}", run(&args(&line)).unwrap_err());
+            assert!(e.contains(want), "{want:?} in {e:?}");
+            assert!(!out.exists(), "nothing written");
+        }
+        let line: Vec<&str> = ["--origin", "0,0", "--count", "4,3", "--style", "g31", "--trigger", "M07"]
+            .iter()
+            .chain(&base)
+            .copied()
+            .collect();
+        assert!(run(&args(&line)).unwrap_err().to_string().contains("--trigger is for"));
+        assert!(!out.exists());
+    }
+}

@@ -1,0 +1,663 @@
+//! Measuring programs for digitizing a model on a grid (seed 000,
+//! `kezuri probe plan`).
+//!
+//! A [`Plan`] is a grid of `nx × ny` points at one pitch from an origin, a
+//! travel height (`z_safe`) and a plunge depth: the stylus travels at
+//! `z_safe` and goes down by `plunge` at every point, so the bottom of each
+//! plunge is `z_safe − plunge`. Rows run along X and step +Y; the first row
+//! runs toward +X, and with [`Pattern::Zigzag`] every other row runs back
+//! toward −X ([`order`] gives the points in the order they are measured: the
+//! order a capture numbers them, 1-based).
+//!
+//! [`Plan::program`] writes the program in one of three [`Style`]s, Fanuc
+//! text with a decimal point on every axis word and `%` framing:
+//!
+//! - [`Style::Subprogram`]: the paper's O1011/O1012/O1013 shape. The main
+//!   program positions at the origin and `z_safe` in G90, then switches to
+//!   G91 and repeats a row subprogram with `M98 P… L…`; the row subprogram
+//!   measures its first point and repeats a point subprogram (step one pitch,
+//!   plunge, trigger, retract) `nx − 1` times, so every repeat really steps.
+//!   Zig-zag repeats a row-pair subprogram (a +X row, a −X row); an odd last
+//!   row is written in the main program. Subprograms are numbered after the
+//!   main one: `O n+1` row (one-way) or row pair (zig-zag), `O n+2` the +X
+//!   point, `O n+3` the −X point (zig-zag).
+//! - [`Style::Expanded`]: every point written out in absolute coordinates.
+//! - [`Style::G31`]: for a touch probe. At each point `G31` goes down toward
+//!   the bottom and stops at the touch; the control then writes the touch
+//!   point with `DPRNT` to the I/O device opened by `POPEN` (the RS-232 port
+//!   a capture listens on), one line `x y z` per point: `#5061`, `#5062` and
+//!   the tip's Z, `#5063 − #5083` (the skip position less the tool length
+//!   offset). Where the probe meets nothing the line gives the bottom.
+//!
+//! The subprogram and expanded styles give the trigger at every bottom (by
+//! default the paper's `M07`, `G04 X0.5`, `M09`: the air-blow signal tells
+//! the PC to read the indicator). Every program retracts with `G91 G28 Z0.`
+//! before it positions (the start is unknown) and at the end.
+//!
+//! All coordinates are integers of `10^-digits` mm inside, so the grid points
+//! are written exactly and the incremental steps add up to them.
+
+use std::fmt;
+
+use crate::{interp, parse, Program, SourceFile, Sources};
+
+/// The paper's trigger at each plunge bottom: air blow on, dwell, off.
+pub const DEFAULT_TRIGGER: [&str; 3] = ["M07", "G04 X0.5", "M09"];
+/// The paper's main program number.
+pub const DEFAULT_PROGRAM: u32 = 1011;
+/// The paper's plunge feed (mm/min), for an indicator stylus.
+pub const DEFAULT_PLUNGE_FEED: f64 = 6000.0;
+/// The default probing feed (mm/min) of [`Style::G31`], for a touch probe.
+pub const DEFAULT_PROBE_FEED: f64 = 200.0;
+/// The largest repeat count of `M98 P… L…` on a Fanuc control.
+pub const MAX_REPEATS: u32 = 9999;
+/// The most points a plan may have.
+pub const MAX_POINTS: u64 = 1_000_000;
+/// The most decimals of a coordinate.
+pub const MAX_DIGITS: u32 = 4;
+
+/// How the program is written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Style {
+    /// The paper's main program and repeated subprograms, incremental moves.
+    #[default]
+    Subprogram,
+    /// Every point written out, absolute.
+    Expanded,
+    /// Skip-signal probing (`G31`), touch points written with `DPRNT`.
+    G31,
+}
+
+impl Style {
+    /// `subprogram`, `expanded` or `g31`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Style::Subprogram => "subprogram",
+            Style::Expanded => "expanded",
+            Style::G31 => "g31",
+        }
+    }
+}
+
+/// How rows follow each other.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Pattern {
+    /// Every other row runs back toward −X.
+    #[default]
+    Zigzag,
+    /// Every row runs toward +X; the stylus returns at `z_safe`.
+    OneWay,
+}
+
+impl Pattern {
+    /// `zigzag` or `oneway`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Pattern::Zigzag => "zigzag",
+            Pattern::OneWay => "oneway",
+        }
+    }
+}
+
+/// Grid indices `[i, j]` (column along X, row along Y, from 0) of the
+/// `nx × ny` points in the order they are measured.
+pub fn order(count: [u32; 2], pattern: Pattern) -> impl Iterator<Item = [u32; 2]> {
+    let [nx, ny] = count;
+    (0..ny).flat_map(move |j| {
+        (0..nx).map(move |k| {
+            let back = pattern == Pattern::Zigzag && j % 2 == 1;
+            [if back { nx - 1 - k } else { k }, j]
+        })
+    })
+}
+
+/// Grid indices `[i, j]` of the `k`-th point measured (from 0), or `None`
+/// past the last.
+pub fn grid_index(k: u64, count: [u32; 2], pattern: Pattern) -> Option<[u32; 2]> {
+    let [nx, ny] = count;
+    if nx == 0 || k >= u64::from(nx) * u64::from(ny) {
+        return None;
+    }
+    let (j, c) = ((k / u64::from(nx)) as u32, (k % u64::from(nx)) as u32);
+    let back = pattern == Pattern::Zigzag && j % 2 == 1;
+    Some([if back { nx - 1 - c } else { c }, j])
+}
+
+/// A measuring program to write.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// X and Y of the first point (grid index `[0, 0]`), mm.
+    pub origin: [f64; 2],
+    /// Points along X and along Y.
+    pub count: [u32; 2],
+    /// Distance between neighbouring points, mm, in X and in Y.
+    pub pitch: f64,
+    /// Height the stylus travels at, mm.
+    pub z_safe: f64,
+    /// Depth of each plunge below `z_safe`, mm.
+    pub plunge: f64,
+    /// How the program is written.
+    pub style: Style,
+    /// How rows follow each other.
+    pub pattern: Pattern,
+    /// Feed of the plunge (`G01` or `G31`), mm/min.
+    pub plunge_feed: f64,
+    /// Feed of the retract and of the moves between points, mm/min; `None`:
+    /// rapid (`G00`), as the paper's `G00 X1.`.
+    pub feed: Option<f64>,
+    /// Number of the main program; subprograms take the next numbers.
+    pub program: u32,
+    /// Blocks given at each plunge bottom (not used by [`Style::G31`]).
+    pub trigger: Vec<String>,
+    /// Decimals of the coordinates, 0 to [`MAX_DIGITS`]: every given length
+    /// must be a whole number of `10^-digits` mm.
+    pub digits: u32,
+}
+
+/// Why a plan cannot be written.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PlanError(pub String);
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+fn err<T>(message: impl Into<String>) -> Result<T, PlanError> {
+    Err(PlanError(message.into()))
+}
+
+/// The largest magnitude of a coordinate: eight digits, as a Fanuc control.
+const MAX_UNITS: i64 = 99_999_999;
+
+impl Plan {
+    /// A plan with the defaults: subprogram style, zig-zag, the paper's feed,
+    /// program number and trigger, 3 decimals.
+    pub fn new(origin: [f64; 2], count: [u32; 2], pitch: f64, z_safe: f64, plunge: f64) -> Plan {
+        Plan {
+            origin,
+            count,
+            pitch,
+            z_safe,
+            plunge,
+            style: Style::default(),
+            pattern: Pattern::default(),
+            plunge_feed: DEFAULT_PLUNGE_FEED,
+            feed: None,
+            program: DEFAULT_PROGRAM,
+            trigger: DEFAULT_TRIGGER.iter().map(|s| s.to_string()).collect(),
+            digits: 3,
+        }
+    }
+
+    /// Z of every plunge bottom: `z_safe − plunge`.
+    pub fn bottom(&self) -> f64 {
+        self.z_safe - self.plunge
+    }
+
+    /// The plunge bottoms `[x, y, z]` in the order they are measured.
+    pub fn points(&self) -> Vec<[f64; 3]> {
+        let (x0, y0, p, z) = (self.origin[0], self.origin[1], self.pitch, self.bottom());
+        order(self.count, self.pattern).map(|[i, j]| [x0 + f64::from(i) * p, y0 + f64::from(j) * p, z]).collect()
+    }
+
+    /// Checks the plan; the error says which value is wrong and why.
+    pub fn validate(&self) -> Result<(), PlanError> {
+        self.layout().map(|_| ())
+    }
+
+    /// The program text (`%`-framed, `\n` line ends).
+    pub fn program(&self) -> Result<String, PlanError> {
+        let g = self.layout()?;
+        let mut w = Writer { out: String::new(), digits: self.digits, plan: self, g };
+        match self.style {
+            Style::Subprogram => w.subprogram(),
+            Style::Expanded => w.expanded(),
+            Style::G31 => w.g31(),
+        }
+        Ok(w.out)
+    }
+
+    /// Validates and converts to integer units.
+    fn layout(&self) -> Result<Grid, PlanError> {
+        let [nx, ny] = self.count;
+        if nx < 1 || ny < 1 {
+            return err(format!("the grid needs at least 1 point each way, got {nx} x {ny}"));
+        }
+        let total = u64::from(nx) * u64::from(ny);
+        if total > MAX_POINTS {
+            return err(format!("{nx} x {ny} = {total} points is more than {MAX_POINTS}"));
+        }
+        if self.digits > MAX_DIGITS {
+            return err(format!("digits must be 0 to {MAX_DIGITS}, got {}", self.digits));
+        }
+        let scale = 10i64.pow(self.digits);
+        let units = |v: f64, what: &str| -> Result<i64, PlanError> {
+            if !v.is_finite() {
+                return err(format!("{what} must be a finite number, got {v}"));
+            }
+            let u = v * scale as f64;
+            if u.abs() > MAX_UNITS as f64 {
+                return err(format!("{what} {v} has more than 8 digits at {} decimals", self.digits));
+            }
+            let r = u.round();
+            if (u - r).abs() > 1e-6 {
+                return err(format!(
+                    "{what} {v} is not a whole number of {} mm: give it with at most {} decimals (or raise the digits)",
+                    1.0 / scale as f64,
+                    self.digits
+                ));
+            }
+            Ok(r as i64)
+        };
+        let x0 = units(self.origin[0], "origin X")?;
+        let y0 = units(self.origin[1], "origin Y")?;
+        if !(self.pitch.is_finite() && self.pitch > 0.0) {
+            return err(format!("the pitch must be a positive number, got {}", self.pitch));
+        }
+        if !(self.plunge.is_finite() && self.plunge > 0.0) {
+            return err(format!("the plunge depth must be a positive number, got {}", self.plunge));
+        }
+        let pitch = units(self.pitch, "the pitch")?;
+        let plunge = units(self.plunge, "the plunge depth")?;
+        let z_safe = units(self.z_safe, "z-safe")?;
+        let check = |u: i64, what: &str| -> Result<i64, PlanError> {
+            if u.abs() > MAX_UNITS {
+                return err(format!("{what} is beyond 8 digits at {} decimals", self.digits));
+            }
+            Ok(u)
+        };
+        // The farthest the stylus goes: one pitch past the last row and column
+        // (the return moves of the subprogram style) and the bottom.
+        check(x0 + i64::from(nx) * pitch, "the last column (X)")?;
+        check(y0 + i64::from(ny) * pitch, "the last row (Y)")?;
+        check(i64::from(nx) * pitch, "a row's length")?;
+        let bottom = check(z_safe - plunge, "the plunge bottom")?;
+        for (feed, what) in [(Some(self.plunge_feed), "the plunge feed"), (self.feed, "the feed")] {
+            if let Some(f) = feed {
+                if !(f.is_finite() && f > 0.0 && f < 100_000.0) {
+                    return err(format!("{what} must be above 0 and below 100000 mm/min, got {f}"));
+                }
+            }
+        }
+        let last = match self.style {
+            Style::Subprogram => self.program.checked_add(3),
+            _ => Some(self.program),
+        };
+        if self.program < 1 || !matches!(last, Some(l) if l <= 9999) {
+            let what = if self.style == Style::Subprogram { " (it and the 3 after it)" } else { "" };
+            return err(format!("the program number{what} must be 1 to 9999, got {}", self.program));
+        }
+        if self.style == Style::Subprogram {
+            let rows = if self.pattern == Pattern::Zigzag { ny / 2 } else { ny };
+            if rows > MAX_REPEATS || nx - 1 > MAX_REPEATS {
+                return err(format!(
+                    "M98 repeats at most L{MAX_REPEATS}: {nx} x {ny} points need the expanded or g31 style"
+                ));
+            }
+        }
+        if self.style != Style::G31 {
+            if self.trigger.is_empty() {
+                return err("the trigger needs at least one block (default M07, G04 X0.5, M09)");
+            }
+            for (k, block) in self.trigger.iter().enumerate() {
+                check_trigger(block).map_err(|m| PlanError(format!("trigger block {} '{block}': {m}", k + 1)))?;
+            }
+        }
+        Ok(Grid { x0, y0, pitch, plunge, z_safe, bottom })
+    }
+}
+
+/// The plan in integer units of `10^-digits` mm.
+#[derive(Clone, Copy, Debug)]
+struct Grid {
+    x0: i64,
+    y0: i64,
+    pitch: i64,
+    plunge: i64,
+    z_safe: i64,
+    bottom: i64,
+}
+
+/// A trigger block must be one plain block that does not move the stylus,
+/// change a modal G code or end, call or leave the program: only `G04` may
+/// appear as a G code, and the block is run between two moves to prove it.
+fn check_trigger(block: &str) -> Result<(), String> {
+    let b = block.trim();
+    if b.is_empty() {
+        return Err("an empty block".into());
+    }
+    if let Some(c) = b.chars().find(|&c| !(c == ' ' || c.is_ascii_graphic()) || matches!(c, '%' | ';')) {
+        return Err(format!("the character {c:?} cannot be in a block"));
+    }
+    if b.starts_with(['O', 'o', ':']) {
+        return Err("a program number starts a new program".into());
+    }
+    // G codes outside comments: G04 only.
+    let bytes = b.as_bytes();
+    let mut depth = 0;
+    for (k, &c) in bytes.iter().enumerate() {
+        match c {
+            b'(' => depth += 1,
+            b')' => depth -= 1,
+            b'G' | b'g' if depth == 0 => {
+                let number: String = bytes[k + 1..]
+                    .iter()
+                    .skip_while(|c| **c == b' ')
+                    .take_while(|c| c.is_ascii_digit() || **c == b'.')
+                    .map(|&c| c as char)
+                    .collect();
+                if number.parse::<f64>() != Ok(4.0) {
+                    return Err(format!("only G04 may be in a trigger block, found G{number}"));
+                }
+            }
+            _ => {}
+        }
+    }
+    // Run it between two absolute moves: it must neither move nor change how
+    // the next move is read, and the program must go on to its M30.
+    let text = format!("G90 G00 X5. Y0. Z0.\n{b}\nG00 X1.\nM30\n");
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("trigger", text.clone()));
+    let mut program = Program::default();
+    if let Some(d) = parse(&mut program, file, &text).first() {
+        return Err(d.message.clone());
+    }
+    let settings = interp::Settings::default();
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, &settings);
+    if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
+        return Err(d.message.clone());
+    }
+    let moves = &outcome.toolpath.moves;
+    let between = moves.get(1..moves.len().saturating_sub(1)).unwrap_or(&[]);
+    let last = moves.last().map(|m| (m.end.x, m.end.y, m.end.z));
+    if !outcome.completed || outcome.blocks != 4 || moves.len() < 2 || last != Some((1.0, 0.0, 0.0)) {
+        return Err("it must not end, call or leave the program, or change how positions are read".into());
+    }
+    if between.iter().any(|m| !matches!(m.kind, kezuri_geom::MoveKind::Dwell(_))) {
+        return Err("it moves the stylus".into());
+    }
+    Ok(())
+}
+
+struct Writer<'a> {
+    out: String,
+    digits: u32,
+    plan: &'a Plan,
+    g: Grid,
+}
+
+impl Writer<'_> {
+    /// A length in units as Fanuc text: always a decimal point, trailing
+    /// zeros trimmed (`1.`, `-0.5`, `0.`).
+    fn n(&self, units: i64) -> String {
+        let scale = 10u64.pow(self.digits);
+        let a = units.unsigned_abs();
+        let sign = if units < 0 { "-" } else { "" };
+        let frac = format!("{:0w$}", a % scale, w = self.digits as usize);
+        format!("{sign}{}.{}", a / scale, frac.trim_end_matches('0'))
+    }
+
+    /// A feed: a decimal point, at most one decimal.
+    fn f(feed: f64) -> String {
+        let tenths = (feed * 10.0).round() as i64;
+        if tenths % 10 == 0 {
+            format!("{}.", tenths / 10)
+        } else {
+            format!("{}.{}", tenths / 10, tenths % 10)
+        }
+    }
+
+    fn line(&mut self, s: &str) {
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    /// Header: `%`, the program number and comments that say what it does.
+    fn header(&mut self) {
+        let p = self.plan;
+        let g = self.g;
+        let [nx, ny] = p.count;
+        let style = match p.style {
+            Style::Subprogram => "SUBPROGRAM",
+            Style::Expanded => "EXPANDED",
+            Style::G31 => "G31",
+        };
+        self.line("%");
+        self.line(&format!("O{:04} (KEZURI PROBE PLAN, {style} STYLE)", p.program));
+        self.line(&format!(
+            "(GRID {nx} X {ny} = {} POINTS AT PITCH {}, FIRST X{} Y{})",
+            u64::from(nx) * u64::from(ny),
+            self.n(g.pitch),
+            self.n(g.x0),
+            self.n(g.y0)
+        ));
+        self.line(&format!(
+            "(THE STYLUS TRAVELS AT Z{} AND PLUNGES {} TO Z{} AT EACH POINT)",
+            self.n(g.z_safe),
+            self.n(g.plunge),
+            self.n(g.bottom)
+        ));
+        let rows = match p.pattern {
+            Pattern::Zigzag => "ZIGZAG, EVERY OTHER ROW BACK TOWARD -X",
+            Pattern::OneWay => "ONE WAY, EVERY ROW TOWARD +X",
+        };
+        self.line(&format!("(ROWS ALONG X STEPPING +Y, THE FIRST ROW TOWARD +X, {rows})"));
+    }
+
+    /// Retract, position at the origin, go down to z-safe.
+    fn approach(&mut self) {
+        let g = self.g;
+        self.line("G91 G28 Z0. (RETRACT FIRST, THE START IS UNKNOWN)");
+        self.line(&format!("G90 G00 X{} Y{}", self.n(g.x0), self.n(g.y0)));
+        self.line(&format!("G00 Z{}", self.n(g.z_safe)));
+    }
+
+    fn finish(&mut self) {
+        self.line("G91 G28 Z0.");
+        self.line("G90");
+        self.line("M30");
+    }
+
+    /// A move between points (or the retract): `G00`, or `G01` at the feed.
+    fn travel(&self, words: &str) -> String {
+        match self.plan.feed {
+            None => format!("G00 {words}"),
+            Some(f) => format!("G01 {words} F{}", Self::f(f)),
+        }
+    }
+
+    /// Plunge, trigger, retract. `incremental`: in G91.
+    fn touch(&mut self, incremental: bool) {
+        let g = self.g;
+        let (down, up) = if incremental { (-g.plunge, g.plunge) } else { (g.bottom, g.z_safe) };
+        self.line(&format!("G01 Z{} F{}", self.n(down), Self::f(self.plan.plunge_feed)));
+        for t in &self.plan.trigger {
+            self.line(t.trim());
+        }
+        let up = self.travel(&format!("Z{}", self.n(up)));
+        self.line(&up);
+    }
+
+    fn subprogram(&mut self) {
+        let p = self.plan;
+        let g = self.g;
+        let [nx, ny] = p.count;
+        let (row, fwd, back) = (p.program + 1, p.program + 2, p.program + 3);
+        self.header();
+        self.line("(THE SUBPROGRAMS MOVE INCREMENTALLY, SO G91 FOLLOWS THE POSITIONING)");
+        self.approach();
+        self.line("G91");
+        let past = match p.pattern {
+            Pattern::OneWay => {
+                self.line(&format!("M98 P{row:04} L{ny}"));
+                true
+            }
+            Pattern::Zigzag => {
+                if ny >= 2 {
+                    self.line(&format!("M98 P{row:04} L{}", ny / 2));
+                }
+                if ny % 2 == 1 {
+                    self.line("(THE LAST ROW, TOWARD +X)");
+                    self.touch(true);
+                    if nx > 1 {
+                        self.line(&format!("M98 P{fwd:04} L{}", nx - 1));
+                    }
+                }
+                ny % 2 == 0
+            }
+        };
+        if past {
+            self.line("(THE STYLUS IS ONE PITCH PAST THE LAST ROW, AT Z-SAFE)");
+        }
+        self.finish();
+        let step = self.n(g.pitch);
+        match p.pattern {
+            Pattern::OneWay => {
+                self.line(&format!("O{row:04} (ONE ROW TOWARD +X, THEN BACK TO ITS START AND ONE PITCH IN Y)"));
+                self.touch(true);
+                if nx > 1 {
+                    self.line(&format!("M98 P{fwd:04} L{}", nx - 1));
+                    let ret = format!("X{} Y{step}", self.n(-i64::from(nx - 1) * g.pitch));
+                    let ret = self.travel(&ret);
+                    self.line(&ret);
+                } else {
+                    let ret = self.travel(&format!("Y{step}"));
+                    self.line(&ret);
+                }
+                self.line("M99");
+            }
+            Pattern::Zigzag if ny >= 2 => {
+                self.line(&format!("O{row:04} (TWO ROWS, TOWARD +X AND BACK TOWARD -X, EACH THEN ONE PITCH IN Y)"));
+                for sub in [fwd, back] {
+                    self.touch(true);
+                    if nx > 1 {
+                        self.line(&format!("M98 P{sub:04} L{}", nx - 1));
+                    }
+                    let y = self.travel(&format!("Y{step}"));
+                    self.line(&y);
+                }
+                self.line("M99");
+            }
+            Pattern::Zigzag => {}
+        }
+        if nx > 1 {
+            let mut subs = vec![(fwd, g.pitch, "+X")];
+            if p.pattern == Pattern::Zigzag && ny >= 2 {
+                subs.push((back, -g.pitch, "-X"));
+            }
+            for (sub, dx, dir) in subs {
+                self.line(&format!("O{sub:04} (ONE POINT, A PITCH TOWARD {dir}, PLUNGE, TRIGGER, RETRACT)"));
+                let s = self.travel(&format!("X{}", self.n(dx)));
+                self.line(&s);
+                self.touch(true);
+                self.line("M99");
+            }
+        }
+        self.line("%");
+    }
+
+    /// Each point's `[x, y]` in units, in order.
+    fn grid_points(&self) -> impl Iterator<Item = [i64; 2]> + '_ {
+        let g = self.g;
+        order(self.plan.count, self.plan.pattern)
+            .map(move |[i, j]| [g.x0 + i64::from(i) * g.pitch, g.y0 + i64::from(j) * g.pitch])
+    }
+
+    /// The move to the next point: only the words that change.
+    fn position(&mut self, at: &mut [i64; 2], to: [i64; 2]) {
+        let mut words = Vec::new();
+        if to[0] != at[0] {
+            words.push(format!("X{}", self.n(to[0])));
+        }
+        if to[1] != at[1] {
+            words.push(format!("Y{}", self.n(to[1])));
+        }
+        if !words.is_empty() {
+            let s = self.travel(&words.join(" "));
+            self.line(&s);
+        }
+        *at = to;
+    }
+
+    fn expanded(&mut self) {
+        self.header();
+        self.line("(EVERY POINT WRITTEN OUT IN ABSOLUTE COORDINATES)");
+        self.approach();
+        let mut at = [self.g.x0, self.g.y0];
+        let points: Vec<[i64; 2]> = self.grid_points().collect();
+        for to in points {
+            self.position(&mut at, to);
+            self.touch(false);
+        }
+        self.finish();
+        self.line("%");
+    }
+
+    fn g31(&mut self) {
+        let g = self.g;
+        let frac = self.digits.max(3);
+        let fmt = format!("[{}{}]", 8 - frac, frac);
+        self.header();
+        self.line("(SKIP-SIGNAL PROBING, G31 STOPS AT THE TOUCH AND THE CONTROL RECORDS IT)");
+        self.line("(DPRNT WRITES ONE LINE X Y Z PER POINT TO THE DEVICE OPENED BY POPEN)");
+        self.line("(X AND Y ARE VARIABLES 5061 AND 5062, Z IS THE TIP, 5063 LESS THE LENGTH OFFSET 5083)");
+        self.line(&format!("(NO TOUCH ABOVE THE BOTTOM, THE LINE GIVES Z{})", self.n(g.bottom)));
+        self.approach();
+        self.line("POPEN");
+        let mut at = [g.x0, g.y0];
+        let points: Vec<[i64; 2]> = self.grid_points().collect();
+        for to in points {
+            self.position(&mut at, to);
+            self.line(&format!("G31 Z{} F{}", self.n(g.bottom), Self::f(self.plan.plunge_feed)));
+            self.line("#1=#5063-#5083");
+            self.line(&format!("DPRNT[#5061{fmt}*#5062{fmt}*#1{fmt}]"));
+            self.line(&format!("G00 Z{}", self.n(g.z_safe)));
+        }
+        self.line("PCLOS");
+        self.finish();
+        self.line("%");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_have_a_decimal_point() {
+        let plan = Plan::new([0.0, 0.0], [1, 1], 1.0, 30.0, 50.0);
+        let g = plan.layout().unwrap();
+        let w = Writer { out: String::new(), digits: 3, plan: &plan, g };
+        let got: Vec<String> = [0, 1000, -500, 1, -1_234_567, 120].iter().map(|&u| w.n(u)).collect();
+        assert_eq!(got, ["0.", "1.", "-0.5", "0.001", "-1234.567", "0.12"]);
+        assert_eq!(Writer::f(6000.0), "6000.");
+        assert_eq!(Writer::f(12.25), "12.3");
+    }
+
+    #[test]
+    fn grid_index_follows_order() {
+        for pattern in [Pattern::Zigzag, Pattern::OneWay] {
+            let all: Vec<[u32; 2]> = order([4, 3], pattern).collect();
+            for (k, ij) in all.iter().enumerate() {
+                assert_eq!(grid_index(k as u64, [4, 3], pattern), Some(*ij));
+            }
+            assert_eq!(grid_index(12, [4, 3], pattern), None);
+        }
+        let zig: Vec<[u32; 2]> = order([3, 2], Pattern::Zigzag).collect();
+        assert_eq!(zig, [[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]]);
+    }
+
+    #[test]
+    fn triggers_are_checked() {
+        for ok in ["M07", "G04 X0.5", "M09", "G4 P500", "M00", "M07 (AIR ON)"] {
+            assert_eq!(check_trigger(ok), Ok(()), "{ok}");
+        }
+        for bad in ["", "G91", "G01 X1.", "M07 X5.", "M30", "M98 P1234", "O1234", "M99", "G20", "G04 X0.5 %"] {
+            assert!(check_trigger(bad).is_err(), "{bad} is refused");
+        }
+    }
+}
