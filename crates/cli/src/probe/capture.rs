@@ -75,7 +75,7 @@ Examples:
   kezuri probe capture --port /dev/ttyUSB0 --count 85,105 -o ume.csv
   kezuri probe capture --port /dev/ttyUSB0 --baud 9600 --count 85,105 --pitch 1 \\
       --bottom -70 --sign 1 --zero 0 --range 0,50 -o ume.csv
-  kezuri probe capture --port /dev/ttyUSB0 --count 85,105 --bottom -70 --range 0,50 -o ume.csv --resume")]
+  kezuri probe capture --port /dev/ttyUSB0 --count 85,105 --bottom -70 -o ume.csv --resume")]
 pub struct CaptureArgs {
     /// Serial port of the indicator interface (e.g. /dev/ttyUSB0, COM3).
     #[arg(long, value_name = "DEV")]
