@@ -44,6 +44,101 @@ pub trait Profile {
     /// `gradient·r − height(r)`. Where several do (a flat bottom on a level
     /// plane), the smallest.
     fn facet_radius(&self, gradient: f64) -> f64;
+
+    /// The `x` in `[lo, hi]` (a part of `[−s, s]`, `s = √(R² − d²)`) that
+    /// maximises `m·x − height(√(x² + d²))`: where the cutter touches an
+    /// edge of slope `m` whose line passes at distance `d` from the axis.
+    /// Shapes whose vertical slice is a conic give a closed form (flat: a
+    /// segment; ball: a circle; oval: an ellipse; V-bit: a hyperbola); the
+    /// default is [`edge_argmax_numeric`].
+    fn edge_argmax(&self, d: f64, s: f64, m: f64, lo: f64, hi: f64) -> f64 {
+        let _ = s;
+        edge_argmax_numeric(self, d, m, lo, hi)
+    }
+}
+
+/// [`Profile::edge_argmax`] for any convex profile: the root of the
+/// non-decreasing derivative `g(x) = height′(ρ)·x/ρ − m` (ρ = √(x² + d²))
+/// bracketed in `[lo, hi]`, by regula falsi with the Illinois modification,
+/// falling back to bisection where `g` is infinite (the rim of a ball or a
+/// torus) or the bracket shrinks too slowly; stops at a bracket of 1e-12 mm
+/// (relative to the size of `x`).
+pub fn edge_argmax_numeric<P: Profile + ?Sized>(profile: &P, d: f64, m: f64, lo: f64, hi: f64) -> f64 {
+    let radius = profile.radius();
+    let g = |x: f64| {
+        let rho = (x * x + d * d).sqrt();
+        if rho > 0.0 {
+            profile.slope(rho.min(radius)) * (x / rho) - m
+        } else {
+            -m
+        }
+    };
+    let (mut a, mut b) = (lo, hi);
+    let (mut ga, mut gb) = (g(a), g(b));
+    if ga.is_nan() || ga >= 0.0 {
+        return a;
+    }
+    if gb.is_nan() || gb <= 0.0 {
+        return b;
+    }
+    let mut last_side = 0i8;
+    for step in 0..200 {
+        let width = b - a;
+        if width <= 1e-12 * (1.0 + a.abs().max(b.abs())) {
+            break;
+        }
+        let mid = 0.5 * (a + b);
+        let mut x = if ga.is_finite() && gb.is_finite() && step % 4 != 3 { (a * gb - b * ga) / (gb - ga) } else { mid };
+        if !(x > a && x < b) {
+            x = mid;
+        }
+        let gx = g(x);
+        if gx < 0.0 {
+            a = x;
+            ga = gx;
+            if last_side == -1 {
+                gb *= 0.5;
+            }
+            last_side = -1;
+        } else if gx > 0.0 {
+            b = x;
+            gb = gx;
+            if last_side == 1 {
+                ga *= 0.5;
+            }
+            last_side = 1;
+        } else {
+            return x;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// The upper end of the bracket of `profile`'s inverse at height `z` after
+/// at most `halvings` bisections: 0 below the tip, `R` from the rim up.
+#[inline]
+pub fn radius_above<P: Profile + ?Sized>(profile: &P, z: f64, halvings: usize) -> f64 {
+    let radius = profile.radius();
+    if z <= 0.0 {
+        return 0.0;
+    }
+    if z >= profile.height(radius) {
+        return radius;
+    }
+    // The profile is non-decreasing.
+    let (mut lo, mut hi) = (0.0, radius);
+    for _ in 0..halvings {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if profile.height(mid) < z {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
 }
 
 /// A cutter: one of the shapes of the tool SPEC notation.
@@ -62,6 +157,8 @@ pub enum Cutter {
     Vee(Vee),
 }
 
+/// `$e` with `$s` bound to the cutter's shape, for code generic over
+/// [`Profile`].
 macro_rules! each_shape {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
@@ -73,6 +170,7 @@ macro_rules! each_shape {
         }
     };
 }
+pub(crate) use each_shape;
 
 impl Cutter {
     /// The cutter's profile.
@@ -109,27 +207,19 @@ impl Cutter {
     /// Radius of the cutter at height `z` above the tip: the inverse of the
     /// profile (0 below the tip, `R` from the rim up).
     pub fn radius_at(&self, z: f64) -> f64 {
-        let radius = self.radius();
-        if z <= 0.0 {
-            return 0.0;
-        }
-        if z >= self.height(radius) {
-            return radius;
-        }
-        // The profile is non-decreasing: bisection to the last bit.
-        let (mut lo, mut hi) = (0.0, radius);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if self.height(mid) < z {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        hi
+        each_shape!(self, s => radius_above(s, z, 200))
+    }
+
+    /// A radius at least [`Cutter::radius_at`]`(z)` and at most `R/4096`
+    /// above it: how far from the axis a point `z` above the tip can
+    /// touch the cutter, cheaply.
+    pub fn reach(&self, z: f64) -> f64 {
+        each_shape!(self, s => radius_above(s, z, 12))
+    }
+
+    /// See [`Profile::edge_argmax`]; the result is clamped to `[lo, hi]`.
+    pub fn edge_argmax(&self, d: f64, s: f64, m: f64, lo: f64, hi: f64) -> f64 {
+        each_shape!(self, p => p.edge_argmax(d, s, m, lo, hi)).clamp(lo, hi)
     }
 }
 
@@ -301,6 +391,33 @@ mod tests {
         }
     }
 
+    /// The closed forms of [`Profile::edge_argmax`] and the generic solver
+    /// find the same maximum, and no sample beats them.
+    #[test]
+    fn edge_closed_forms_agree_with_the_numeric_solver() {
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for c in all() {
+            let r = c.radius();
+            for _ in 0..2000 {
+                let d = r * next();
+                let s = ((r - d) * (r + d)).sqrt();
+                let m = (next() - 0.5) * 8.0;
+                let (u, v) = (-s + 2.0 * s * next(), -s + 2.0 * s * next());
+                let (lo, hi) = (u.min(v), u.max(v));
+                let f = |x: f64| m * x - c.height(x.hypot(d));
+                let exact = f(c.edge_argmax(d, s, m, lo, hi));
+                let numeric = f(edge_argmax_numeric(c.profile(), d, m, lo, hi));
+                assert!((exact - numeric).abs() < 1e-9, "{c} d={d} m={m} [{lo}, {hi}]: {exact} vs {numeric}");
+                let sampled = (0..=1000).map(|k| f(lo + (hi - lo) * k as f64 / 1000.0)).fold(f64::MIN, f64::max);
+                assert!(exact >= sampled - 1e-12, "{c}: {exact} < {sampled}");
+            }
+        }
+    }
+
     #[test]
     fn radius_at_inverts_the_profile() {
         for c in all() {
@@ -310,6 +427,8 @@ mod tests {
                 if z > 0.0 && c.slope(r) > 0.0 {
                     assert!((c.radius_at(z) - r).abs() < 1e-9, "{c} at r={r}");
                 }
+                let (exact, reach) = (c.radius_at(0.7 * z), c.reach(0.7 * z));
+                assert!(reach >= exact && reach <= exact + c.radius() / 4096.0, "{c}: reach {reach}, {exact}");
             }
             assert_eq!(c.radius_at(1e9), c.radius());
         }

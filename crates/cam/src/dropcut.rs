@@ -45,7 +45,7 @@ use std::sync::Mutex;
 use kezuri_geom::{Mesh, Triangle, XyIndex};
 use rayon::prelude::*;
 
-use crate::cutter::Cutter;
+use crate::cutter::{each_shape, Cutter, Profile};
 use contact::Probe;
 
 /// Something a cutter can be dropped on.
@@ -83,8 +83,14 @@ impl Surface for [Triangle] {
         if !(x.is_finite() && y.is_finite()) {
             return None;
         }
-        let mut probe = Probe::new(cutter, x, y);
-        for t in self {
+        each_shape!(cutter, shape => brute_force(self, Probe::new(shape, x, y)))
+    }
+}
+
+/// [`Surface::drop_cutter_with`] on every triangle.
+fn brute_force<P: Profile>(triangles: &[Triangle], mut probe: Probe<P>) -> Option<f64> {
+    {
+        for t in triangles {
             for k in 0..3 {
                 probe.vertex(t.v[k]);
             }
@@ -182,7 +188,13 @@ impl Surface for MeshSurface {
         if !(x.is_finite() && y.is_finite()) {
             return None;
         }
-        let mut probe = Probe::new(cutter, x, y);
+        each_shape!(cutter, shape => self.drop(Probe::new(shape, x, y), scratch))
+    }
+}
+
+impl MeshSurface {
+    /// [`Surface::drop_cutter_with`] with the cutter's shape known.
+    fn drop<P: Profile>(&self, mut probe: Probe<P>, scratch: &mut MeshScratch) -> Option<f64> {
         let query = scratch.next_query();
         let MeshScratch { candidates, vertex_seen, edge_seen, .. } = scratch;
         candidates.clear();

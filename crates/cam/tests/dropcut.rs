@@ -325,30 +325,43 @@ fn the_index_finds_what_brute_force_finds() {
 
 #[test]
 fn the_height_grid_fast_path_is_the_same_surface_as_its_mesh() {
-    let h = Heightfield::from_fn(-3.0, 1.0, 0.4, 31, 23, |x, y| (x * 0.7).sin() + (y * 1.3).cos() * 0.8 + 0.05 * x * y)
-        .unwrap();
-    let surface = MeshSurface::new(h.to_mesh());
-    let tris: Vec<Triangle> = h.to_mesh().iter().collect();
-    // A grid that runs past the edges on every side.
-    let grid = Grid::new(-7.0, -3.0, 13.5, 14.0, 0.37).unwrap();
-    for c in shapes() {
-        let fast = drop_cutter_grid(&c, &h, &grid, &|| {});
-        let mesh = drop_cutter_grid(&c, &surface, &grid, &|| {});
-        for (k, (a, b)) in fast.iter().zip(&mesh).enumerate() {
-            let (x, y) = (grid.x(k % grid.nx), grid.y(k / grid.nx));
-            match (a, b) {
-                (Some(a), Some(b)) => assert!((a - b).abs() < 1e-12, "{c} at ({x}, {y}): {a} vs {b}"),
-                _ => assert_eq!(a, b, "{c} at ({x}, {y})"),
-            }
-            if k % 7 == 0 {
-                let brute = drop_cutter(&c, &tris[..], x, y);
-                assert_eq!(brute.is_some(), b.is_some(), "{c} at ({x}, {y})");
-                if let (Some(p), Some(q)) = (brute, b) {
-                    assert!((p - q).abs() < 1e-12, "{c} at ({x}, {y}): {p} vs {q}");
+    let wavy =
+        Heightfield::from_fn(-3.0, 1.0, 0.4, 31, 23, |x, y| (x * 0.7).sin() + (y * 1.3).cos() * 0.8 + 0.05 * x * y)
+            .unwrap();
+    // Whole blocks of 8 × 8 cells, with lone spikes that only the block
+    // tops know of, some on block boundaries.
+    let spiky = Heightfield::from_fn(-2.0, 0.0, 0.25, 65, 41, |x, y| {
+        let (i, j) = (((x + 2.0) * 4.0).round() as i64, (y * 4.0).round() as i64);
+        let spike = if (i * 7 + j * 13) % 53 == 0 || (i % 8 == 0 && j % 16 == 8) { 1.5 } else { 0.0 };
+        0.2 * (x * 0.5).sin() + spike
+    })
+    .unwrap();
+    for (h, grid) in [
+        // Grids that run past the edges on every side.
+        (wavy, Grid::new(-7.0, -3.0, 13.5, 14.0, 0.37).unwrap()),
+        (spiky, Grid::new(-5.0, -3.0, 17.0, 13.0, 0.29).unwrap()),
+    ] {
+        let surface = MeshSurface::new(h.to_mesh());
+        let tris: Vec<Triangle> = h.to_mesh().iter().collect();
+        for c in shapes() {
+            let fast = drop_cutter_grid(&c, &h, &grid, &|| {});
+            let mesh = drop_cutter_grid(&c, &surface, &grid, &|| {});
+            for (k, (a, b)) in fast.iter().zip(&mesh).enumerate() {
+                let (x, y) = (grid.x(k % grid.nx), grid.y(k / grid.nx));
+                match (a, b) {
+                    (Some(a), Some(b)) => assert!((a - b).abs() < 1e-12, "{c} at ({x}, {y}): {a} vs {b}"),
+                    _ => assert_eq!(a, b, "{c} at ({x}, {y})"),
+                }
+                if k % 7 == 0 {
+                    let brute = drop_cutter(&c, &tris[..], x, y);
+                    assert_eq!(brute.is_some(), b.is_some(), "{c} at ({x}, {y})");
+                    if let (Some(p), Some(q)) = (brute, b) {
+                        assert!((p - q).abs() < 1e-12, "{c} at ({x}, {y}): {p} vs {q}");
+                    }
                 }
             }
+            assert!(fast.iter().any(|z| z.is_none()) && fast.iter().any(|z| z.is_some()));
         }
-        assert!(fast.iter().any(|z| z.is_none()) && fast.iter().any(|z| z.is_some()));
     }
 }
 

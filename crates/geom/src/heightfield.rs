@@ -10,6 +10,9 @@ use std::fmt;
 
 use crate::mesh::{Mesh, Triangle, Vec3};
 
+/// Cells along each side of a block of [`Heightfield::block_top`].
+pub const BLOCK: usize = 8;
+
 /// A regular grid of heights, row by row (`y` outer, `x` inner).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Heightfield {
@@ -19,6 +22,9 @@ pub struct Heightfield {
     nx: usize,
     ny: usize,
     z: Vec<f64>,
+    /// The highest node of each block of [`BLOCK`] × [`BLOCK`] cells, row
+    /// by row.
+    tops: Vec<f64>,
 }
 
 /// Why some numbers are not a height grid.
@@ -91,7 +97,19 @@ impl Heightfield {
         if let Some(k) = z.iter().position(|v| !v.is_finite()) {
             return Err(HeightfieldError::NonFinite { i: k % nx, j: k / nx });
         }
-        Ok(Heightfield { x0, y0, step, nx, ny, z })
+        let (bx, by) = ((nx - 1).div_ceil(BLOCK), (ny - 1).div_ceil(BLOCK));
+        let mut tops = vec![f64::NEG_INFINITY; bx * by];
+        for (j, row) in z.chunks_exact(nx).enumerate() {
+            // Node rows on a block boundary belong to the blocks on both sides.
+            for bj in [j / BLOCK, (j.max(1) - 1) / BLOCK] {
+                let tops = &mut tops[bj.min(by - 1) * bx..][..bx];
+                for (bi, top) in tops.iter_mut().enumerate() {
+                    let nodes = &row[bi * BLOCK..=((bi + 1) * BLOCK).min(nx - 1)];
+                    *top = nodes.iter().fold(*top, |t, &v| t.max(v));
+                }
+            }
+        }
+        Ok(Heightfield { x0, y0, step, nx, ny, z, tops })
     }
 
     /// Samples `f(x, y)` on the grid (non-finite values become errors).
@@ -143,6 +161,19 @@ impl Heightfield {
     /// All heights, row by row.
     pub fn heights(&self) -> &[f64] {
         &self.z
+    }
+
+    /// Blocks of [`BLOCK`] × [`BLOCK`] cells along X and Y (the last ones
+    /// may be smaller).
+    pub fn blocks(&self) -> (usize, usize) {
+        ((self.nx - 1).div_ceil(BLOCK), (self.ny - 1).div_ceil(BLOCK))
+    }
+
+    /// The highest node of block `(bi, bj)`: cells `bi·BLOCK …` and
+    /// `bj·BLOCK …`, nodes up to and including their far corners.
+    #[inline]
+    pub fn block_top(&self, bi: usize, bj: usize) -> f64 {
+        self.tops[bj * self.blocks().0 + bi]
     }
 
     /// Node `(i, j)` as a point.
@@ -206,6 +237,26 @@ mod tests {
         }
         assert_eq!(h.z_at(-1.01, 2.5), None);
         assert_eq!(h.xy_box(), [-1.0, 2.0, 1.0, 3.5]);
+    }
+
+    #[test]
+    fn block_tops_are_the_highest_node_of_each_block() {
+        for (nx, ny) in [(2, 2), (9, 9), (10, 17), (23, 8)] {
+            let h = Heightfield::from_fn(0.0, 0.0, 1.0, nx, ny, |x, y| (x * 12.9898 + y * 78.233).sin()).unwrap();
+            let (bx, by) = h.blocks();
+            assert_eq!((bx, by), ((nx - 1).div_ceil(BLOCK), (ny - 1).div_ceil(BLOCK)));
+            for bj in 0..by {
+                for bi in 0..bx {
+                    let mut top = f64::NEG_INFINITY;
+                    for j in bj * BLOCK..=((bj + 1) * BLOCK).min(ny - 1) {
+                        for i in bi * BLOCK..=((bi + 1) * BLOCK).min(nx - 1) {
+                            top = top.max(h.z(i, j));
+                        }
+                    }
+                    assert_eq!(h.block_top(bi, bj), top, "{nx} x {ny}, block ({bi}, {bj})");
+                }
+            }
+        }
     }
 
     #[test]

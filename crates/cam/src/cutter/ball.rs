@@ -41,4 +41,9 @@ impl Profile for Ball {
         // r = R sin θ with tan θ = gradient.
         self.radius * gradient / (1.0 + gradient * gradient).sqrt()
     }
+
+    fn edge_argmax(&self, _d: f64, s: f64, m: f64, _lo: f64, _hi: f64) -> f64 {
+        // m·x + √(s² − x²): x = m·s / √(1 + m²).
+        m * s / (1.0 + m * m).sqrt()
+    }
 }

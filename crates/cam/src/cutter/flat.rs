@@ -36,4 +36,15 @@ impl Profile for Flat {
             0.0
         }
     }
+
+    fn edge_argmax(&self, _d: f64, _s: f64, m: f64, lo: f64, hi: f64) -> f64 {
+        // m·x on a level bottom: the end the edge rises toward.
+        if m > 0.0 {
+            hi
+        } else if m < 0.0 {
+            lo
+        } else {
+            0.0
+        }
+    }
 }

@@ -47,4 +47,10 @@ impl Profile for Oval {
         let k = self.axial / self.radius;
         self.radius * gradient / (k * k + gradient * gradient).sqrt()
     }
+
+    fn edge_argmax(&self, _d: f64, s: f64, m: f64, _lo: f64, _hi: f64) -> f64 {
+        // m·x + (b/a)·√(s² − x²): the ball's case with m scaled by a/b.
+        let k = m * self.radius / self.axial;
+        k * s / (1.0 + k * k).sqrt()
+    }
 }

@@ -40,4 +40,16 @@ impl Profile for Vee {
             0.0
         }
     }
+
+    fn edge_argmax(&self, d: f64, _s: f64, m: f64, lo: f64, hi: f64) -> f64 {
+        // m·x − rise·√(x² + d²): x/ρ = m/rise inside the cone, else an end.
+        let q = m / self.rise;
+        if q >= 1.0 {
+            hi
+        } else if q <= -1.0 {
+            lo
+        } else {
+            d * q / ((1.0 - q) * (1.0 + q)).sqrt()
+        }
+    }
 }
