@@ -1,5 +1,6 @@
 //! `kezuri demo`: every pipeline on bundled samples, into one folder.
 
+use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
@@ -67,7 +68,8 @@ pub fn run(out: &Path) -> Result<()> {
         );
         println!("  wrote {stem}-expanded.nc (Fanuc, macros expanded), {stem}.csv (motions), {stem}.svg (picture)");
     }
-    geometry(out)
+    geometry(out)?;
+    copy_milling(out)
 }
 
 /// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
@@ -120,14 +122,117 @@ fn geometry(out: &Path) -> Result<()> {
         ]),
         words(&["dropcut", &stl, "--tool", "oval:16,24", "--grid", "0,0,60,60,2", "-o", &at("dome-oval.cl")]),
     ];
-    for command in &commands {
+    run_shown(out, &commands)?;
+    println!("\nwrote dome-ball.nc (ball:6, pick-feed control), dome-ball.svg, dome-ball.png and");
+    println!("dome-ball-deviation.png (simulated cut against the surface), dome-oval.cl (CL points)");
+    Ok(())
+}
+
+/// The master model of the copy-milling demo, after seed 000's rice mould
+/// (物相御飯木型, the "UME" type): an 84 × 104 mm block with a flat top at
+/// z = 30 and a five-petal plum-blossom pocket up to 20 mm deep, its walls
+/// no steeper than 45°.
+fn plum_mould(x: f64, y: f64) -> f64 {
+    let (u, v) = (x - 42.0, (y - 52.0) / 1.2);
+    let petals = 32.0 * (1.0 + 0.12 * (5.0 * v.atan2(u)).cos());
+    let s = (u * u + v * v).sqrt() / petals;
+    30.0 - if s < 1.0 { 20.0 * (1.0 - s * s).powf(1.5) } else { 0.0 }
+}
+
+/// Seed 000's pipeline on a simulated capture of the plum mould: readings
+/// of a 10 mm ball stylus on the 85 × 105 grid at 1 mm (the paper's), set
+/// down out of level and with noise; levelling on the border; cross
+/// sections, mesh and picture; the copy with the paper's 10 mm ball end
+/// mill; and its simulation against the model.
+fn copy_milling(out: &Path) -> Result<()> {
+    let model = out.join("samples").join("plum-mould.xyz");
+    let mut text = String::with_capacity(1 << 20);
+    for j in 0..=208 {
+        for i in 0..=168 {
+            let (x, y) = (f64::from(i) * 0.5, f64::from(j) * 0.5);
+            let _ = writeln!(text, "{x} {y} {:.4}", plum_mould(x, y));
+        }
+    }
+    write_atomic(&model, text.as_bytes())?;
+    println!("\nsamples/plum-mould.xyz  (seed 000's rice mould: 84 x 104 mm, a plum-blossom pocket 20 mm deep)");
+    let at = |name: &str| out.join(name).to_string_lossy().into_owned();
+    let model = model.to_string_lossy().into_owned();
+    let commands: [Vec<String>; 5] = [
+        words(&[
+            "probe",
+            "simulate",
+            &model,
+            "--count",
+            "85,105",
+            "--pitch",
+            "1",
+            "--origin",
+            "0,0",
+            "--stylus",
+            "ball:10",
+            "--tilt",
+            "0.004,-0.003",
+            "--noise",
+            "0.003",
+            "-o",
+            &at("plum.txt"),
+        ]),
+        words(&["probe", "level", &at("plum.txt"), "--reference", "border", "-o", &at("plum-level.txt")]),
+        words(&[
+            "probe",
+            "export",
+            &at("plum-level.txt"),
+            "--dxf",
+            &at("plum.dxf"),
+            "--stl",
+            &at("plum.stl"),
+            "--png",
+            &at("plum.png"),
+        ]),
+        words(&[
+            "probe",
+            "mill",
+            &at("plum-level.txt"),
+            "--stylus",
+            "ball:10",
+            "--tool",
+            "ball:10",
+            "-o",
+            &at("plum-copy.nc"),
+            "--svg",
+            &at("plum-copy.svg"),
+        ]),
+        words(&[
+            "sim",
+            &at("plum-copy.nc"),
+            "--tool",
+            "ball:10",
+            "--res",
+            "0.2",
+            "--stock",
+            "0,0,84,104,30",
+            "--compare",
+            &model,
+            "-o",
+            &at("plum-copy.png"),
+        ]),
+    ];
+    run_shown(out, &commands)?;
+    println!("\nwrote plum.txt (the capture), plum-level.txt (levelled), plum.dxf (a polyline per row),");
+    println!("plum.stl, plum.png, plum-copy.nc (the copy), plum-copy.svg, plum-copy.png and");
+    println!("plum-copy-deviation.png (the simulated copy against the model)");
+    Ok(())
+}
+
+/// Runs each command as `kezuri` would, showing it first without the
+/// output folder's prefix.
+fn run_shown(out: &Path, commands: &[Vec<String>]) -> Result<()> {
+    for command in commands {
         let shown: Vec<String> = command.iter().map(|w| w.replace(&format!("{}/", out.display()), "")).collect();
         println!("\n$ kezuri {}", shown.join(" "));
         let command: Vec<&str> = command.iter().map(String::as_str).collect();
         crate::run_words(&command)?;
     }
-    println!("\nwrote dome-ball.nc (ball:6, pick-feed control), dome-ball.svg, dome-ball.png and");
-    println!("dome-ball-deviation.png (simulated cut against the surface), dome-oval.cl (CL points)");
     Ok(())
 }
 

@@ -7,8 +7,10 @@ mod export;
 mod level;
 mod mill;
 mod plan;
+mod simulate;
 
 use std::path::PathBuf;
+use std::str::FromStr;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
@@ -32,6 +34,9 @@ pub enum ProbeCommand {
     Export(Box<export::ExportArgs>),
     /// Copy-milling program: the surface the ball-stylus readings imply, with any cutter on it.
     Mill(Box<mill::MillArgs>),
+    /// The readings a ball stylus would give on a model (STL or height grid), with tilt and
+    /// noise: a capture file to try the pipeline on.
+    Simulate(Box<simulate::SimulateArgs>),
 }
 
 /// Runs one `kezuri probe` subcommand.
@@ -42,6 +47,7 @@ pub fn run(command: &ProbeCommand) -> Result<()> {
         ProbeCommand::Level(args) => level::run(args),
         ProbeCommand::Export(args) => export::run(args),
         ProbeCommand::Mill(args) => mill::run(args),
+        ProbeCommand::Simulate(args) => simulate::run(args),
     }
 }
 
@@ -70,32 +76,8 @@ pub struct DataArgs {
 impl DataArgs {
     /// Reads the data.
     pub fn read(&self) -> Result<Data> {
-        let count = match &self.count {
-            None => None,
-            Some(t) => {
-                let v: Vec<usize> = t
-                    .split(',')
-                    .map(|s| s.trim().parse::<usize>())
-                    .collect::<Result<_, _>>()
-                    .ok()
-                    .filter(|v: &Vec<usize>| v.len() == 2)
-                    .with_context(|| format!("--count '{t}': expected NX,NY"))?;
-                Some([v[0], v[1]])
-            }
-        };
-        let origin = match &self.origin {
-            None => None,
-            Some(t) => {
-                let v: Vec<f64> = t
-                    .split(',')
-                    .map(|s| s.trim().parse::<f64>())
-                    .collect::<Result<_, _>>()
-                    .ok()
-                    .filter(|v: &Vec<f64>| v.len() == 2 && v.iter().all(|x| x.is_finite()))
-                    .with_context(|| format!("--origin '{t}': expected X,Y"))?;
-                Some([v[0], v[1]])
-            }
-        };
+        let count = self.count.as_deref().map(|t| pair::<usize>("--count", t)).transpose()?;
+        let origin = self.origin.as_deref().map(|t| pair::<f64>("--origin", t)).transpose()?;
         let order = self.pattern.as_deref().map(str::parse::<Order>).transpose().map_err(anyhow::Error::msg)?;
         let hint = Hint { count, pitch: self.pitch, origin, order };
         let text = read_text(&self.data)?;
@@ -106,4 +88,16 @@ impl DataArgs {
         }
         Ok(data)
     }
+}
+
+/// `A,B` of a flag (`--count 85,105`, `--origin -10,5`): two finite numbers.
+fn pair<T: FromStr + Copy>(flag: &str, text: &str) -> Result<[T; 2]> {
+    let number = |s: &str| s.trim().parse::<f64>().is_ok_and(f64::is_finite).then(|| s.trim().parse::<T>().ok())?;
+    let v: Vec<T> = text
+        .split(',')
+        .map(number)
+        .collect::<Option<_>>()
+        .filter(|v: &Vec<T>| v.len() == 2)
+        .with_context(|| format!("{flag} '{text}': expected two numbers, A,B"))?;
+    Ok([v[0], v[1]])
 }

@@ -1,0 +1,134 @@
+//! `kezuri probe simulate`: the readings a ball stylus would give on a
+//! model, for trying the pipeline (level, export, mill, sim) before a
+//! night on the machine, and for the demo and benchmarks.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use kezuri_cam::probe::data::{grid_header, num};
+use kezuri_cam::probe::{Grid, Order};
+use kezuri_cam::Cutter;
+
+use super::pair;
+use crate::files::write_output;
+use crate::surface::read_surface;
+
+/// Options of `kezuri probe simulate`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+Each reading is where the stylus's tip (its lowest point) stops when it is lowered onto the model
+at a grid point: drop-cutter of the stylus on the model, the same convention as a real capture.
+--tilt adds a plane through the grid's centre (mm per mm along X and Y, the model set down out of
+level); --noise adds uniform noise of ± that many mm, repeatable with --seed. The file is a capture
+file (header with the grid, then No,Z in capture order) that every other probe command reads.
+
+Examples:
+  kezuri probe simulate mould.stl --count 85,105 --pitch 1 --stylus ball:10 -o mould.txt
+  kezuri probe simulate part.xyz --count 41,41 --pitch 0.5 --origin 10,10 --stylus ball:6 \\
+      --tilt 0.002,-0.001 --noise 0.003 --seed 7 -o part-readings.txt")]
+pub struct SimulateArgs {
+    /// The model: STL (binary or ASCII) or an `x y z` height grid.
+    #[arg(value_name = "MODEL")]
+    pub model: PathBuf,
+    /// Points along X and Y.
+    #[arg(long, value_name = "NX,NY")]
+    pub count: String,
+    /// Grid pitch, mm.
+    #[arg(long, value_name = "MM")]
+    pub pitch: f64,
+    /// The first point's X,Y [default: the grid centred on the model].
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub origin: Option<String>,
+    /// Capture order.
+    #[arg(long, value_name = "zigzag|oneway", default_value = "zigzag")]
+    pub pattern: String,
+    /// The stylus (ball:10 for the paper's 10 mm bead).
+    #[arg(long, value_name = "SPEC")]
+    pub stylus: String,
+    /// Slope of the model's base along X and Y, mm per mm.
+    #[arg(long, value_name = "AX,AY", allow_hyphen_values = true, default_value = "0,0")]
+    pub tilt: String,
+    /// Uniform noise added to each reading, ± mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    pub noise: f64,
+    /// Seed of the noise.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// The capture file (`-` for stdout).
+    #[arg(short, long, value_name = "DATA")]
+    pub output: PathBuf,
+}
+
+/// Runs `kezuri probe simulate`.
+pub fn run(args: &SimulateArgs) -> Result<()> {
+    let stylus: Cutter = args.stylus.parse().context("--stylus")?;
+    let [nx, ny] = pair::<usize>("--count", &args.count)?;
+    if nx < 2 || ny < 2 || nx.saturating_mul(ny) > 100_000_000 {
+        bail!("--count {nx},{ny}: the grid needs 2 to 10,000 points a side and at most 100 million in all");
+    }
+    if !(args.pitch.is_finite() && args.pitch > 0.0) {
+        bail!("--pitch must be a positive number of mm, got {}", args.pitch);
+    }
+    let tilt = pair::<f64>("--tilt", &args.tilt)?;
+    if !(args.noise.is_finite() && args.noise >= 0.0) {
+        bail!("--noise must be zero or a positive number of mm, got {}", args.noise);
+    }
+    let order: Order = args.pattern.parse().map_err(anyhow::Error::msg)?;
+    let model = read_surface(&args.model)?;
+    let [x0, y0, x1, y1] = model.xy_box();
+    let (width, depth) = ((nx - 1) as f64 * args.pitch, (ny - 1) as f64 * args.pitch);
+    let origin = match &args.origin {
+        Some(t) => pair::<f64>("--origin", t)?,
+        None => [0.5 * (x0 + x1 - width), 0.5 * (y0 + y1 - depth)],
+    };
+    let grid = Grid { nx, ny, pitch: args.pitch, origin, order };
+    let centre = [origin[0] + 0.5 * width, origin[1] + 0.5 * depth];
+    let mut noise = Noise(args.seed);
+    let mut text = format!(
+        "# kezuri probe simulate\n{}\n# simulated: stylus {stylus} on {}, tilt {},{} mm/mm, noise ±{} mm, seed {}\n\
+         # z: the stylus tip's height (its lowest point), mm\nNo,Z\n",
+        grid_header(&grid),
+        args.model.display(),
+        num(tilt[0], 9),
+        num(tilt[1], 9),
+        num(args.noise, 6),
+        args.seed,
+    );
+    for k in 0..grid.len() {
+        let (i, j) = grid.node(k);
+        let (x, y) = (grid.x(i), grid.y(j));
+        let Some(z) = model.drop_cutter(&stylus, x, y) else {
+            bail!(
+                "point {} at ({}, {}) is off the model ({}): the stylus would find nothing there",
+                k + 1,
+                num(x, 4),
+                num(y, 4),
+                args.model.display()
+            );
+        };
+        let z = z + tilt[0] * (x - centre[0]) + tilt[1] * (y - centre[1]) + args.noise * noise.next();
+        let _ = writeln!(text, "{},{}", k + 1, num(z, 4));
+    }
+    write_output(Some(&args.output), text.as_bytes())?;
+    eprintln!(
+        "{}: {nx} × {ny} readings of {stylus} at pitch {} mm from ({}, {})",
+        args.output.display(),
+        num(args.pitch, 6),
+        num(origin[0], 4),
+        num(origin[1], 4)
+    );
+    Ok(())
+}
+
+/// Uniform numbers in [−1, 1) from a 64-bit linear congruential generator
+/// (Knuth's MMIX constants): the same seed, the same readings.
+struct Noise(u64);
+
+impl Noise {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
