@@ -10,7 +10,7 @@
 //!
 //! Three [`Surface`]s: a [`MeshSurface`] (a mesh with its [`XyIndex`]; each
 //! query visits only the triangles whose box meets the cutter's disk and
-//! tests each shared vertex and edge once), a [`Heightfield`] (the fast path:
+//! tests each shared vertex and edge once), a [`Heightfield`](kezuri_geom::Heightfield) (the fast path:
 //! the grid is its own index), and a plain slice of triangles (brute force,
 //! the reference the tests compare the others with). Each query first tests
 //! the vertices, then skips every triangle that cannot beat the best z so
