@@ -28,6 +28,8 @@ pub mod cutter;
 pub mod dropcut;
 pub mod mill;
 pub mod probe;
+pub mod relief;
+pub mod rough;
 pub mod scallop;
 pub mod sim;
 

@@ -16,11 +16,13 @@
 //!
 //! # Tolerance
 //! Along a row the CL curve is sampled every `step`; an interval whose
-//! middle or quarter points lie more than `tolerance / 2` off the chord is
-//! halved, down to `step / 1024`. The sampled polyline is then merged (Douglas–Peucker)
-//! within `tolerance / 2`. So the path stays within about `tolerance` of the
-//! true CL curve, on either side: a gouge of at most that much, where the
-//! chord passes under a bump narrower than the midpoint test can see.
+//! middle or quarter points lie more than `tolerance / 2` above the chord,
+//! or more than `gouge / 2` below it, is halved, down to `step / 1024`. The
+//! sampled polyline is then merged (Douglas–Peucker) within the same
+//! halves. So the path stays within `tolerance` above the true CL curve
+//! (material left) and `gouge` below it (cut into the surface) at every
+//! point the tests saw; a bump narrower than the midpoint and quarter
+//! tests can see is the one way past that.
 //!
 //! # Pick-feed control (`cusp`)
 //! Seed 001's pick-feed control, generalised: with a target cusp height,
@@ -80,8 +82,15 @@ pub struct RasterOptions {
     pub stepover: f64,
     /// Sampling step along a row.
     pub step: f64,
-    /// How far the path may stray from the CL curve.
+    /// How far the path may stray from the CL curve, above it.
     pub tolerance: f64,
+    /// How far the path may go below the CL curve, into the surface (at
+    /// most `tolerance`; `tolerance` for a symmetric band).
+    pub gouge: f64,
+    /// The program's smallest increment, mm (0: not rounded). Positions
+    /// are sampled on its grid and heights rounded up to it, so the
+    /// program as written keeps the band.
+    pub quantum: f64,
     /// Height for rapids, above everything.
     pub safe_z: f64,
     /// Cutting feed.
@@ -168,6 +177,7 @@ pub fn raster(
                 )));
             }
         }
+        let rows = rows.into_iter().map(|v| Quantum(o.quantum).snap(v)).collect::<Vec<_>>();
         plans.push((along_y, u0, u1, rows));
     }
     let total: usize = plans.iter().map(|p| p.3.len()).sum();
@@ -246,6 +256,13 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
     positive(o.stepover, "the stepover")?;
     positive(o.step, "the sampling step")?;
     positive(o.tolerance, "the tolerance")?;
+    positive(o.gouge, "the gouge tolerance")?;
+    if !(o.quantum.is_finite() && o.quantum >= 0.0 && o.quantum <= o.step) {
+        return Err(MillError::Option(format!(
+            "the output increment must be between 0 and the step, got {}",
+            o.quantum
+        )));
+    }
     positive(o.feed, "the feed")?;
     positive(o.plunge_feed, "the plunge feed")?;
     if !(o.safe_z.is_finite() && o.speed.is_finite() && o.speed >= 0.0) {
@@ -270,65 +287,136 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
 /// The CL points of one row from `from` to `to`, as (u, z), in pieces
 /// where the surface is; refined and merged (module docs).
 fn sample_row(at: &dyn Fn(f64) -> Option<f64>, from: f64, to: f64, o: &RasterOptions) -> Vec<Vec<(f64, f64)>> {
+    let q = Quantum(o.quantum);
+    let at = |u: f64| at(u).map(|z| q.up(z));
     let length = (to - from).abs();
     let n = ((length / o.step).ceil() as usize).max(1);
-    let u_at = |k: usize| if k == n { to } else { from + (to - from) * k as f64 / n as f64 };
+    let u_at = |k: usize| q.snap(if k == n { to } else { from + (to - from) * k as f64 / n as f64 });
     let mut pieces = Vec::new();
     let mut piece: Vec<(f64, f64)> = Vec::new();
-    let min_gap = o.step / 1024.0;
+    let refining = Refining { band: Band::half(o), min_gap: o.step / 1024.0, quantum: q };
     for k in 0..=n {
         let u = u_at(k);
+        if piece.last().is_some_and(|p| p.0 == u) {
+            continue;
+        }
         match at(u) {
             Some(z) => {
                 if let Some(&(pu, pz)) = piece.last() {
-                    refine(at, (pu, pz), (u, z), o.tolerance / 2.0, min_gap, &mut piece);
+                    refine(&at, (pu, pz), (u, z), refining, &mut piece);
                 }
                 piece.push((u, z));
             }
             None => {
                 if !piece.is_empty() {
-                    pieces.push(merge(std::mem::take(&mut piece), o.tolerance / 2.0));
+                    pieces.push(merge(std::mem::take(&mut piece), Band::half(o)));
                 }
             }
         }
     }
     if !piece.is_empty() {
-        pieces.push(merge(piece, o.tolerance / 2.0));
+        pieces.push(merge(piece, Band::half(o)));
     }
     pieces
 }
 
-/// Pushes the points strictly between `a` and `b` that halving finds where
-/// the midpoint is more than `tol` off the chord.
-fn refine(
-    at: &dyn Fn(f64) -> Option<f64>,
-    a: (f64, f64),
-    b: (f64, f64),
-    tol: f64,
+/// The output grid of [`RasterOptions::quantum`].
+#[derive(Clone, Copy, Debug)]
+struct Quantum(f64);
+
+impl Quantum {
+    /// The nearest grid position.
+    fn snap(self, v: f64) -> f64 {
+        if self.0 > 0.0 {
+            (v / self.0).round() * self.0
+        } else {
+            v
+        }
+    }
+
+    /// The grid height at or above `z` (within a millionth of a step).
+    fn up(self, z: f64) -> f64 {
+        if self.0 > 0.0 {
+            ((z / self.0) - 1e-6).ceil() * self.0
+        } else {
+            z
+        }
+    }
+}
+
+/// How [`refine`] halves.
+#[derive(Clone, Copy, Debug)]
+struct Refining {
+    band: Band,
+    /// No interval narrower than this is halved.
     min_gap: f64,
-    out: &mut Vec<(f64, f64)>,
-) {
-    if (b.0 - a.0).abs() <= min_gap {
+    /// Points lie on this grid.
+    quantum: Quantum,
+}
+
+/// Pushes the points strictly between `a` and `b` that halving finds where
+/// the middle or a quarter point is outside the band about the chord.
+fn refine(at: &dyn Fn(f64) -> Option<f64>, a: (f64, f64), b: (f64, f64), r: Refining, out: &mut Vec<(f64, f64)>) {
+    if (b.0 - a.0).abs() <= r.min_gap {
         return;
     }
-    let u = 0.5 * (a.0 + b.0);
+    let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
+    let u = r.quantum.snap(0.5 * (a.0 + b.0));
+    if !within(u) {
+        return; // no grid position in between
+    }
     // Off the surface in the middle: keep the chord (the row is cut there
     // only where a sample misses).
     let Some(z) = at(u) else { return };
     // The chord is tried at its middle and quarters: a narrow bump between
     // samples shows at one of them more often than at the middle alone.
-    let off = |t: f64, z: f64| (z - (a.1 + t * (b.1 - a.1))).abs() > tol;
-    let quarter = |t: f64| at(a.0 + t * (b.0 - a.0)).is_some_and(|z| off(t, z));
-    if off(0.5, z) || quarter(0.25) || quarter(0.75) {
-        refine(at, a, (u, z), tol, min_gap, out);
+    let off = |u: f64, z: f64| band_off(r.band, a, b, u, z);
+    let quarter = |t: f64| {
+        let u = r.quantum.snap(a.0 + t * (b.0 - a.0));
+        within(u) && at(u).is_some_and(|z| off(u, z))
+    };
+    if off(u, z) || quarter(0.25) || quarter(0.75) {
+        refine(at, a, (u, z), r, out);
         out.push((u, z));
-        refine(at, (u, z), b, tol, min_gap, out);
+        refine(at, (u, z), b, r, out);
+    }
+}
+
+/// Whether the CL point `(u, z)` is outside `band` about the chord `a b`.
+fn band_off(band: Band, a: (f64, f64), b: (f64, f64), u: f64, z: f64) -> bool {
+    let t = (u - a.0) / (b.0 - a.0);
+    band.outside(z, a.1 + t * (b.1 - a.1))
+}
+
+/// How far a chord may pass above and below the CL points it stands for.
+#[derive(Clone, Copy, Debug)]
+struct Band {
+    /// The chord above the CL point (material left).
+    above: f64,
+    /// The chord below the CL point (into the surface).
+    below: f64,
+}
+
+impl Band {
+    /// Half of each side: one half for sampling, one for merging.
+    fn half(o: &RasterOptions) -> Band {
+        Band { above: o.tolerance / 2.0, below: o.gouge.min(o.tolerance) / 2.0 }
+    }
+
+    /// How far the chord height `chord` is outside the band about the CL
+    /// height `z` (0 inside it), measured against the side it is on.
+    fn excess(self, z: f64, chord: f64) -> f64 {
+        if chord >= z { (chord - z) - self.above } else { (z - chord) - self.below }.max(0.0)
+    }
+
+    fn outside(self, z: f64, chord: f64) -> bool {
+        self.excess(z, chord) > 0.0
     }
 }
 
 /// Douglas–Peucker: the fewest points of `points` whose polyline stays
-/// within `tol` (in z, as the cutter sees it) of every dropped point.
-fn merge(points: Vec<(f64, f64)>, tol: f64) -> Vec<(f64, f64)> {
+/// within `band` (in z, as the cutter sees it) of every dropped point.
+fn merge(points: Vec<(f64, f64)>, band: Band) -> Vec<(f64, f64)> {
     if points.len() <= 2 {
         return points;
     }
@@ -341,12 +429,12 @@ fn merge(points: Vec<(f64, f64)>, tol: f64) -> Vec<(f64, f64)> {
         let mut worst = (0.0, 0);
         for (k, p) in points.iter().enumerate().take(j).skip(i + 1) {
             let t = (p.0 - a.0) / (b.0 - a.0);
-            let off = (p.1 - (a.1 + t * (b.1 - a.1))).abs();
+            let off = band.excess(p.1, a.1 + t * (b.1 - a.1));
             if off > worst.0 {
                 worst = (off, k);
             }
         }
-        if worst.0 > tol {
+        if worst.0 > 0.0 {
             keep[worst.1] = true;
             stack.push((i, worst.1));
             stack.push((worst.1, j));
@@ -460,6 +548,8 @@ mod tests {
             stepover: 1.0,
             step: 0.5,
             tolerance: 0.01,
+            gouge: 0.01,
+            quantum: 0.0,
             safe_z: 10.0,
             feed: 1000.0,
             plunge_feed: 200.0,
@@ -489,16 +579,25 @@ mod tests {
     #[test]
     fn curved_rows_stay_within_the_tolerance() {
         let surface = |x: f64, y: f64| Some((x * 0.7).sin() * 2.0 + 0.1 * y);
-        let o = RasterOptions { tolerance: 0.002, ..options() };
-        let path = raster(&surface, SQUARE, &o, None, &|_, _| {}).unwrap();
-        for m in cuts(&path).iter().filter(|m| m.start.y == m.end.y && m.feed == o.feed) {
-            for k in 1..50 {
-                let t = k as f64 / 50.0;
-                let x = m.start.x + t * (m.end.x - m.start.x);
-                let z = m.start.z + t * (m.end.z - m.start.z);
-                let off = (z - surface(x, m.end.y).unwrap()).abs();
-                assert!(off <= o.tolerance * 1.01, "{off} at x={x}");
+        // Symmetric, and one-sided: 0.02 mm of material left allowed but
+        // only 0.0005 mm into the surface.
+        for (tolerance, gouge) in [(0.002, 0.002), (0.02, 0.0005)] {
+            let o = RasterOptions { tolerance, gouge, ..options() };
+            let path = raster(&surface, SQUARE, &o, None, &|_, _| {}).unwrap();
+            let (mut deepest, mut highest) = (0.0f64, 0.0f64);
+            for m in cuts(&path).iter().filter(|m| m.start.y == m.end.y && m.feed == o.feed) {
+                for k in 1..50 {
+                    let t = k as f64 / 50.0;
+                    let x = m.start.x + t * (m.end.x - m.start.x);
+                    let z = m.start.z + t * (m.end.z - m.start.z);
+                    let off = z - surface(x, m.end.y).unwrap();
+                    assert!(off <= tolerance * 1.01 && -off <= gouge * 1.01, "{off} at x={x}");
+                    (deepest, highest) = (deepest.max(-off), highest.max(off));
+                }
             }
+            // The band is used, not just respected.
+            assert!(highest > 0.3 * tolerance, "{tolerance}: {highest}");
+            assert!(deepest > 0.1 * gouge, "{gouge}: {deepest}");
         }
     }
 

@@ -10,6 +10,7 @@ mod plot;
 mod probe;
 mod program;
 mod progress;
+mod relief;
 mod scallop;
 mod sim;
 mod surface;
@@ -82,6 +83,8 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     /// Digitize a model on a grid and copy-mill it: plan, capture, level, export, mill.
     #[command(subcommand)]
     Probe(probe::ProbeCommand),
+    /// Carve a grayscale sketch as a relief: heights from gray, drop-cutter, roughing.
+    Relief(Box<relief::ReliefArgs>),
 }
 
 /// Runs one command.
@@ -95,6 +98,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Mill(args) => mill::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Probe(command) => probe::run(command),
+        Command::Relief(args) => relief::run(args),
     }
 }
 

@@ -120,6 +120,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         stepover: args.stepover,
         step: args.step.unwrap_or(cutter.radius() / 4.0),
         tolerance: args.tolerance,
+        gouge: args.tolerance,
+        quantum: args.write.quantum(),
         safe_z: args.safe_z.unwrap_or(surface.top() + 5.0),
         feed: args.feed,
         plunge_feed: args.plunge_feed,

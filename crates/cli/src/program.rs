@@ -273,3 +273,12 @@ pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()>
     }
     Ok(())
 }
+
+impl WriteArgs {
+    /// The program's smallest increment in mm: a unit of the last decimal
+    /// written (`--digits`, in inches with `--inch`).
+    pub fn quantum(&self) -> f64 {
+        let digits = self.digits.unwrap_or(if self.inch { 4 } else { 3 });
+        10f64.powi(-i32::from(digits)) * if self.inch { 25.4 } else { 1.0 }
+    }
+}

@@ -65,7 +65,8 @@ fn pick_feed_control_keeps_the_cusp_on_a_slope() {
     let v = sim(&nc, "ball:6", &inside, "0.05");
     let left = v["max_left_mm"].as_f64().unwrap();
     let vertical = 0.02 / 30f64.to_radians().cos();
-    assert!(left <= vertical * 1.02 && left > vertical * 0.7, "cusp {left} vs {vertical}");
+    // Heights are rounded up to the program's 0.001 mm, never down.
+    assert!(left <= vertical * 1.02 + 0.001 && left > vertical * 0.7, "cusp {left} vs {vertical}");
     // Without control, the 3 mm stepover leaves far more.
     let o = kezuri(&["mill", &plane, "--tool", "ball:6", "--stepover", "3", "-o", &nc]);
     assert!(o.status.success());

@@ -148,6 +148,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         stepover,
         step,
         tolerance: args.tolerance,
+        gouge: args.tolerance,
+        quantum: 10f64.powi(-i32::from(args.digits.unwrap_or(3))),
         safe_z: args.safe_z.unwrap_or(top + 5.0),
         feed: args.feed,
         plunge_feed: args.plunge_feed,

@@ -1,0 +1,283 @@
+//! `kezuri relief`: a grayscale sketch carved as a relief (seed 002).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use kezuri_cam::dropcut::drop_cutter;
+use kezuri_cam::mill::{raster, RasterOptions, Region};
+use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
+use kezuri_cam::rough::{levels, Levels};
+use kezuri_cam::Cutter;
+use kezuri_geom::{write_binary_stl, Heightfield, Toolpath};
+
+use crate::files::write_output;
+use crate::mill::{RowDirection, RowPattern};
+use crate::program::{write_toolpath, WriteArgs};
+
+/// Most pixels of a picture (8 bytes of height each, and the picture).
+pub const MAX_PIXELS: u64 = 64_000_000;
+
+/// How far the finishing path may dip below the exact cutter locations,
+/// mm: the chord between samples is refined until it stays this close.
+const GOUGE: f64 = 0.001;
+
+/// Options of `kezuri relief`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+The picture (PNG, JPEG, BMP, TIFF or PGM, 8 or 16 bit; colour is read as luma) becomes heights
+below the stock top z = 0: white at the top and black --depth below (--invert: the other way),
+with --gamma on the gray value; or --levels gives ranges of gray explicit heights above the
+floor, as the paper set a height per region (the highest level is the stock top). --smooth
+rounds the steps (a Gaussian of that many pixels); --mask IMAGE cuts only where the mask is
+light. The picture's top row is the largest Y; --width (or --pixel) sets the size, --origin
+puts the lower-left corner (corner) or the centre (centre) at X0 Y0.
+
+The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
+relief: rows are sampled every --step and refined until the path stays within 0.001 mm below
+and --tolerance above the exact cutter locations (steep steps included). --rough SPEC first
+clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
+--surface-stl writes the relief surface for `kezuri sim --compare`.
+
+Examples:
+  kezuri relief sketch.png --width 120 --depth 5 --tool ball:3 --stepover 0.3 -o sketch.nc
+  kezuri relief logo.png --pixel 0.1 --levels 0-63:0,64-191:2.5,192-255:5 --tool ball:6 \\
+      --stepover 0.4 --rough flat:6 --step-down 2 --allowance 0.3 --surface-stl logo.stl -o logo.nc
+  kezuri relief face.jpg --width 80 --depth 8 --invert --gamma 0.8 --smooth 1.5 --mask face-mask.png \\
+      --tool ball:2 --stepover 0.2 --direction both --emit linuxcnc -o face.ngc")]
+pub struct ReliefArgs {
+    /// The sketch: PNG, JPEG, BMP, TIFF or PGM.
+    #[arg(value_name = "IMAGE")]
+    pub image: PathBuf,
+    /// Width of the carving, mm (the height follows the picture's aspect).
+    #[arg(
+        long,
+        value_name = "MM",
+        required_unless_present = "pixel",
+        conflicts_with = "pixel",
+        allow_negative_numbers = true
+    )]
+    pub width: Option<f64>,
+    /// Size of one pixel, mm.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    pub pixel: Option<f64>,
+    /// Depth of black (white with --invert) below the stock top, mm.
+    #[arg(
+        long,
+        value_name = "MM",
+        required_unless_present = "levels",
+        conflicts_with = "levels",
+        allow_negative_numbers = true
+    )]
+    pub depth: Option<f64>,
+    /// Dark high, light low.
+    #[arg(long)]
+    pub invert: bool,
+    /// Exponent on the gray value before it becomes a depth.
+    #[arg(long, value_name = "G", default_value_t = 1.0, allow_negative_numbers = true)]
+    pub gamma: f64,
+    /// Heights per range of gray: FROM-TO:HEIGHT,… over 0–255, e.g. 0-63:0,64-191:2.5,192-255:5.
+    #[arg(long, value_name = "RANGES")]
+    pub levels: Option<String>,
+    /// Cut only where this picture (same size) is light.
+    #[arg(long, value_name = "IMAGE")]
+    pub mask: Option<PathBuf>,
+    /// Gaussian smoothing of the heights, pixels.
+    #[arg(long, value_name = "PX", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub smooth: f64,
+    /// Which point of the picture lies at X0 Y0.
+    #[arg(long, value_enum, default_value = "corner")]
+    pub origin: Origin,
+    /// Finishing cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
+    #[arg(long, value_name = "SPEC")]
+    pub tool: String,
+    /// Distance between finishing rows, mm.
+    #[arg(long, value_name = "MM")]
+    pub stepover: f64,
+    /// Row direction.
+    #[arg(long, value_enum, default_value = "x")]
+    pub direction: RowDirection,
+    /// Row linking.
+    #[arg(long, value_enum, default_value = "zigzag")]
+    pub pattern: RowPattern,
+    /// Sampling step along a row, mm [default: the pixel size].
+    #[arg(long, value_name = "MM")]
+    pub step: Option<f64>,
+    /// How much material the path may leave above the exact cutter locations, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    pub tolerance: f64,
+    /// Roughing cutter: clear the stock in levels first.
+    #[arg(long, value_name = "SPEC")]
+    pub rough: Option<String>,
+    /// Depth of each roughing level, mm.
+    #[arg(long, value_name = "MM", default_value_t = 2.0)]
+    pub step_down: f64,
+    /// Material the roughing leaves on the relief, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.3)]
+    pub allowance: f64,
+    /// Distance between roughing rows, mm [default: 40 % of the roughing cutter's diameter].
+    #[arg(long, value_name = "MM")]
+    pub rough_stepover: Option<f64>,
+    /// Height for rapids, above the stock top.
+    #[arg(long, value_name = "Z", default_value_t = 5.0)]
+    pub safe_z: f64,
+    /// Cutting feed, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1500.0)]
+    pub feed: f64,
+    /// Plunge feed, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 300.0)]
+    pub plunge_feed: f64,
+    /// Spindle speed, rpm.
+    #[arg(long, value_name = "RPM", default_value_t = 10000.0)]
+    pub speed: f64,
+    /// Also write the relief surface as a binary STL (for `kezuri sim --compare`).
+    #[arg(long, value_name = "FILE.stl")]
+    pub surface_stl: Option<PathBuf>,
+    #[command(flatten)]
+    pub write: WriteArgs,
+}
+
+/// `--origin`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Origin {
+    /// The picture's lower-left corner at X0 Y0.
+    Corner,
+    /// The picture's centre at X0 Y0.
+    Centre,
+}
+
+/// Reads a picture as gray values, refusing one too large to hold before
+/// decoding it.
+pub fn read_gray(path: &Path) -> Result<Gray> {
+    let name = path.display();
+    let reader = image::ImageReader::open(path)
+        .with_context(|| format!("cannot open {name}"))?
+        .with_guessed_format()
+        .with_context(|| format!("cannot read {name}"))?;
+    let (w, h) = reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))?;
+    let pixels = u64::from(w) * u64::from(h);
+    if pixels > MAX_PIXELS {
+        bail!(
+            "{name}: {w} × {h} = {pixels} pixels is more than {MAX_PIXELS}: scale the picture down \
+             (0.1 mm pixels over 800 × 800 mm is 64 million)"
+        );
+    }
+    let mut reader = image::ImageReader::open(path)?.with_guessed_format()?;
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(MAX_PIXELS * 8);
+    reader.limits(limits);
+    let picture = reader.decode().with_context(|| format!("{name}: not a picture kezuri can read"))?;
+    let luma = picture.to_luma16();
+    Ok(Gray {
+        width: w as usize,
+        height: h as usize,
+        v: luma.as_raw().iter().map(|&v| f64::from(v) / 65535.0).collect(),
+    })
+}
+
+/// Runs `kezuri relief`.
+pub fn run(args: &ReliefArgs) -> Result<()> {
+    let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let rough: Option<Cutter> = args.rough.as_deref().map(str::parse).transpose().context("--rough")?;
+    let mapping = match (&args.levels, args.depth) {
+        (Some(text), _) => Mapping::Levels(parse_levels(text)?),
+        (None, Some(depth)) => Mapping::Depth { depth, invert: args.invert, gamma: args.gamma },
+        (None, None) => bail!("give --depth or --levels"),
+    };
+    mapping.check()?;
+    if !(args.safe_z.is_finite() && args.safe_z > 0.0) {
+        bail!("--safe-z {} must be above the stock top, z = 0", args.safe_z);
+    }
+    let picture = read_gray(&args.image)?;
+    let mask = args.mask.as_deref().map(read_gray).transpose()?;
+    let pixel = match (args.width, args.pixel) {
+        (Some(width), _) => width / picture.width as f64,
+        (None, Some(pixel)) => pixel,
+        (None, None) => bail!("give --width or --pixel"),
+    };
+    if !(pixel.is_finite() && pixel > 0.0 && pixel <= 1000.0) {
+        bail!("the pixel size must be a positive number of mm, got {pixel}");
+    }
+    let size = [picture.width as f64 * pixel, picture.height as f64 * pixel];
+    let origin = match args.origin {
+        Origin::Corner => [0.0, 0.0],
+        Origin::Centre => [-0.5 * size[0], -0.5 * size[1]],
+    };
+    let placement = Placement { pixel, origin };
+    let name = args.image.display().to_string();
+    let field = surface(&picture, &mapping, args.smooth, mask.as_ref(), placement).context(name.clone())?;
+    let [x0, y0, x1, y1] = field.xy_box();
+    let region = Region { x0, y0, x1, y1 };
+    let finish = RasterOptions {
+        direction: match args.direction {
+            RowDirection::X => kezuri_cam::mill::Direction::X,
+            RowDirection::Y => kezuri_cam::mill::Direction::Y,
+            RowDirection::Both => kezuri_cam::mill::Direction::Both,
+        },
+        pattern: match args.pattern {
+            RowPattern::Zigzag => kezuri_cam::mill::Pattern::ZigZag,
+            RowPattern::Oneway => kezuri_cam::mill::Pattern::OneWay,
+        },
+        stepover: args.stepover,
+        step: args.step.unwrap_or(pixel),
+        tolerance: args.tolerance,
+        gouge: GOUGE.min(args.tolerance),
+        quantum: args.write.quantum(),
+        safe_z: args.safe_z,
+        feed: args.feed,
+        plunge_feed: args.plunge_feed,
+        speed: args.speed,
+        tool: if rough.is_some() { 2 } else { 1 },
+    };
+    let masked = mask.as_ref();
+    let cl_of = |c: Cutter| {
+        let field = &field;
+        move |x: f64, y: f64| if inside(masked, placement, x, y) { drop_cutter(&c, field, x, y) } else { None }
+    };
+    let t0 = std::time::Instant::now();
+    let mut path = Toolpath::default();
+    if let Some(r) = rough {
+        let options = RasterOptions { stepover: args.rough_stepover.unwrap_or(0.8 * r.radius()), tool: 1, ..finish };
+        let l = Levels { top: 0.0, step_down: args.step_down, allowance: args.allowance };
+        path = with_bar("rough", |on_row| levels(&cl_of(r), region, &options, l, on_row))?;
+    }
+    let finishing = with_bar("finish", |on_row| raster(&cl_of(cutter), region, &finish, None, on_row))?;
+    path.moves.extend(finishing.moves);
+    eprintln!(
+        "{name}: {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm; {} moves in {:.2} s",
+        picture.width,
+        picture.height,
+        size[0],
+        size[1],
+        path.moves.len(),
+        t0.elapsed().as_secs_f64()
+    );
+    if let Some(stl) = &args.surface_stl {
+        write_output(Some(stl), &surface_stl(&field))?;
+    }
+    let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
+    write_toolpath(&path, &title, &args.write)
+}
+
+/// A raster with a progress bar on long jobs.
+fn with_bar(
+    label: &str,
+    work: impl FnOnce(&kezuri_cam::mill::Progress) -> Result<Toolpath, kezuri_cam::mill::MillError>,
+) -> Result<Toolpath> {
+    let bar = std::sync::OnceLock::new();
+    let on_row = |done: usize, total: usize| {
+        if let Some(bar) = bar.get_or_init(|| crate::progress::bar(label, "rows", total as u64, 200)) {
+            bar.set_position(done as u64);
+        }
+    };
+    let path = work(&on_row);
+    if let Some(Some(bar)) = bar.get() {
+        bar.finish_and_clear();
+    }
+    Ok(path?)
+}
+
+/// The relief surface as binary STL.
+fn surface_stl(field: &Heightfield) -> Vec<u8> {
+    write_binary_stl(&field.to_mesh().iter().collect::<Vec<_>>())
+}
