@@ -69,7 +69,8 @@ pub fn run(out: &Path) -> Result<()> {
         println!("  wrote {stem}-expanded.nc (Fanuc, macros expanded), {stem}.csv (motions), {stem}.svg (picture)");
     }
     geometry(out)?;
-    copy_milling(out)
+    copy_milling(out)?;
+    relief_carving(out)
 }
 
 /// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
@@ -221,6 +222,59 @@ fn copy_milling(out: &Path) -> Result<()> {
     println!("\nwrote plum.txt (the capture), plum-level.txt (levelled), plum.dxf (a polyline per row),");
     println!("plum.stl, plum.png, plum-copy.nc (the copy), plum-copy.svg, plum-copy.png and");
     println!("plum-copy-deviation.png (the simulated copy against the model)");
+    Ok(())
+}
+
+/// Seed 002: the bundled sketch of a plum blossom carved as a relief 64 mm
+/// wide and 3 mm deep, roughed with a 6 mm flat end mill and finished with
+/// a 2 mm ball, and its simulation against the relief surface.
+fn relief_carving(out: &Path) -> Result<()> {
+    let sketch = out.join("samples").join("plum-sketch.png");
+    write_atomic(&sketch, include_bytes!("../../../samples/plum-sketch.png"))?;
+    println!("\nsamples/plum-sketch.png  (seed 002: a grayscale sketch, 256 x 192 pixels)");
+    let at = |name: &str| out.join(name).to_string_lossy().into_owned();
+    let sketch = sketch.to_string_lossy().into_owned();
+    let commands: [Vec<String>; 2] = [
+        words(&[
+            "relief",
+            &sketch,
+            "--width",
+            "64",
+            "--depth",
+            "3",
+            "--tool",
+            "ball:2",
+            "--stepover",
+            "0.25",
+            "--rough",
+            "flat:6",
+            "--step-down",
+            "1.5",
+            "--allowance",
+            "0.3",
+            "--surface-stl",
+            &at("plum-relief.stl"),
+            "-o",
+            &at("plum-relief.nc"),
+        ]),
+        words(&[
+            "sim",
+            &at("plum-relief.nc"),
+            "--tool",
+            "ball:2",
+            "--res",
+            "0.1",
+            "--stock",
+            "0,0,64,48,0",
+            "--compare",
+            &at("plum-relief.stl"),
+            "-o",
+            &at("plum-relief.png"),
+        ]),
+    ];
+    run_shown(out, &commands)?;
+    println!("\nwrote plum-relief.nc (roughing T1, finishing T2), plum-relief.stl (the relief surface),");
+    println!("plum-relief.png (the simulated carving) and plum-relief-deviation.png");
     Ok(())
 }
 

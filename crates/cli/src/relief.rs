@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use kezuri_cam::dropcut::drop_cutter;
 use kezuri_cam::mill::{raster, RasterOptions, Region};
 use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
@@ -85,9 +85,10 @@ pub struct ReliefArgs {
     /// Gaussian smoothing of the heights, pixels.
     #[arg(long, value_name = "PX", default_value_t = 0.0, allow_negative_numbers = true)]
     pub smooth: f64,
-    /// Which point of the picture lies at X0 Y0.
-    #[arg(long, value_enum, default_value = "corner")]
-    pub origin: Origin,
+    /// Where the picture goes: corner (its lower-left corner at X0 Y0), centre, or X,Y (its
+    /// lower-left corner there).
+    #[arg(long, value_name = "corner|centre|X,Y", default_value = "corner", allow_hyphen_values = true)]
+    pub origin: String,
     /// Finishing cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
     #[arg(long, value_name = "SPEC")]
     pub tool: String,
@@ -135,15 +136,6 @@ pub struct ReliefArgs {
     pub surface_stl: Option<PathBuf>,
     #[command(flatten)]
     pub write: WriteArgs,
-}
-
-/// `--origin`.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Origin {
-    /// The picture's lower-left corner at X0 Y0.
-    Corner,
-    /// The picture's centre at X0 Y0.
-    Centre,
 }
 
 /// Reads a picture as gray values, refusing one too large to hold before
@@ -199,9 +191,17 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         bail!("the pixel size must be a positive number of mm, got {pixel}");
     }
     let size = [picture.width as f64 * pixel, picture.height as f64 * pixel];
-    let origin = match args.origin {
-        Origin::Corner => [0.0, 0.0],
-        Origin::Centre => [-0.5 * size[0], -0.5 * size[1]],
+    let origin = match args.origin.trim() {
+        "corner" => [0.0, 0.0],
+        "centre" | "center" => [-0.5 * size[0], -0.5 * size[1]],
+        xy => {
+            let v: Vec<f64> =
+                xy.split(',').filter_map(|t| t.trim().parse().ok()).filter(|v: &f64| v.is_finite()).collect();
+            if v.len() != 2 || xy.split(',').count() != 2 {
+                bail!("--origin '{xy}': expected corner, centre or X,Y");
+            }
+            [v[0], v[1]]
+        }
     };
     let placement = Placement { pixel, origin };
     let name = args.image.display().to_string();

@@ -154,17 +154,22 @@ fn demo_makes_its_files() {
         "plum.png",
         "plum-copy.nc",
         "plum-copy-deviation.png",
+        "samples/plum-sketch.png",
+        "plum-relief.nc",
+        "plum-relief.stl",
+        "plum-relief.png",
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
-    // The finishing program on the dome and the copy of the plum mould (from
-    // readings with ±0.003 mm of noise) cut within the 0.01 mm tolerance.
+    // The finishing program on the dome, the copy of the plum mould (from
+    // readings with ±0.003 mm of noise) and the relief carving cut within
+    // the 0.01 mm tolerance.
     let report = stdout(&o);
     let gouges: Vec<f64> = report
         .lines()
         .filter_map(|l| l.trim().strip_prefix("max gouge"))
         .filter_map(|rest| rest.split_whitespace().next()?.parse().ok())
         .collect();
-    assert_eq!(gouges.len(), 2, "{report}");
+    assert_eq!(gouges.len(), 3, "{report}");
     assert!(gouges.iter().all(|g| *g <= 0.01), "{gouges:?}");
 }

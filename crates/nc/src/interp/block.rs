@@ -392,6 +392,7 @@ impl State {
             GCode::LengthCompOff => self.modal.length_comp = None,
             GCode::WorkOffset(i) => self.modal.work_offset = i,
             GCode::CycleOff => {}
+            GCode::PathMode(g) => self.modal.path_mode = g,
             GCode::CannedCycle => {
                 return Err(Diagnostic::error(gspan, "canned drilling cycles (G73–G89) are not supported yet"))
             }

@@ -105,6 +105,10 @@ pub enum GCode {
     FeedMode(FeedMode),
     /// G73 … G89 canned cycles, not supported yet
     CannedCycle,
+    /// G61 exact stop, G61.1, G62, G63 tapping, G64 cutting mode (LinuxCNC:
+    /// path blending within `P`, `Q`): how the control joins moves, not
+    /// where they go; kept for `#4015`. The value is the G number × 10.
+    PathMode(u32),
 }
 
 impl GCode {
@@ -139,6 +143,7 @@ impl GCode {
             670 => ModalCallOff,
             800 => CycleOff,
             730 | 740 | 760 | 810..=890 if tenths.is_multiple_of(10) => CannedCycle,
+            610 | 611 | 620 | 630 | 640 => PathMode(tenths),
             900 => Distance(self::Distance::Absolute),
             910 => Distance(self::Distance::Incremental),
             920 => SetPosition,
@@ -162,6 +167,7 @@ impl GCode {
             CycleOff | CannedCycle => 9,
             ModalCall(_) | ModalCallOff => 12,
             WorkOffset(_) => 14,
+            PathMode(_) => 15,
             Dwell | SetOffsets | Home | Skip | MachineCoords | MacroCall | SetPosition => 0,
         }
     }
@@ -188,6 +194,8 @@ pub struct Modal {
     pub work_offset: usize,
     /// Group 12: the active modal macro call kind.
     pub modal_call: Option<ModalCallKind>,
+    /// Group 15: G61 … G64, as the G number × 10.
+    pub path_mode: u32,
 }
 
 impl Default for Modal {
@@ -202,6 +210,7 @@ impl Default for Modal {
             length_comp: None,
             work_offset: 0,
             modal_call: None,
+            path_mode: 640,
         }
     }
 }
@@ -254,7 +263,7 @@ impl Modal {
             },
             13 => 97.0,
             14 => 54.0 + self.work_offset as f64,
-            15 => 64.0,
+            15 => f64::from(self.path_mode) / 10.0,
             16 => 69.0,
             17 => 15.0,
             18 => 40.1,
