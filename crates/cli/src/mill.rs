@@ -90,6 +90,16 @@ pub enum RowDirection {
     Both,
 }
 
+impl From<RowDirection> for Direction {
+    fn from(d: RowDirection) -> Direction {
+        match d {
+            RowDirection::X => Direction::X,
+            RowDirection::Y => Direction::Y,
+            RowDirection::Both => Direction::Both,
+        }
+    }
+}
+
 /// Row linking on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum RowPattern {
@@ -97,6 +107,15 @@ pub enum RowPattern {
     Zigzag,
     /// One direction, retract between rows.
     Oneway,
+}
+
+impl From<RowPattern> for Pattern {
+    fn from(p: RowPattern) -> Pattern {
+        match p {
+            RowPattern::Zigzag => Pattern::ZigZag,
+            RowPattern::Oneway => Pattern::OneWay,
+        }
+    }
 }
 
 /// Runs `kezuri mill`.
@@ -108,15 +127,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         None => surface.xy_box(),
     };
     let options = RasterOptions {
-        direction: match args.direction {
-            RowDirection::X => Direction::X,
-            RowDirection::Y => Direction::Y,
-            RowDirection::Both => Direction::Both,
-        },
-        pattern: match args.pattern {
-            RowPattern::Zigzag => Pattern::ZigZag,
-            RowPattern::Oneway => Pattern::OneWay,
-        },
+        direction: args.direction.into(),
+        pattern: args.pattern.into(),
         stepover: args.stepover,
         step: args.step.unwrap_or(cutter.radius() / 4.0),
         tolerance: args.tolerance,

@@ -209,15 +209,8 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     let [x0, y0, x1, y1] = field.xy_box();
     let region = Region { x0, y0, x1, y1 };
     let finish = RasterOptions {
-        direction: match args.direction {
-            RowDirection::X => kezuri_cam::mill::Direction::X,
-            RowDirection::Y => kezuri_cam::mill::Direction::Y,
-            RowDirection::Both => kezuri_cam::mill::Direction::Both,
-        },
-        pattern: match args.pattern {
-            RowPattern::Zigzag => kezuri_cam::mill::Pattern::ZigZag,
-            RowPattern::Oneway => kezuri_cam::mill::Pattern::OneWay,
-        },
+        direction: args.direction.into(),
+        pattern: args.pattern.into(),
         stepover: args.stepover,
         step: args.step.unwrap_or(pixel),
         tolerance: args.tolerance,
