@@ -2,7 +2,7 @@
 
 use kezuri_cam::probe::data::{read, write, Hint};
 use kezuri_cam::probe::level::{level, Method, Reference};
-use kezuri_cam::probe::stylus::reconstruct;
+use kezuri_cam::probe::stylus::{reconstruct, OverFlat};
 use kezuri_cam::probe::{Grid, Order, ProbeGrid};
 use kezuri_cam::{drop_cutter, Cutter};
 
@@ -52,4 +52,44 @@ fn the_stylus_on_its_own_surface_returns_the_readings() {
             assert!(cl >= data.z(i, j) - 1e-9 && cl - data.z(i, j) < 0.002, "({i}, {j}): {cl} vs {}", data.z(i, j));
         }
     }
+}
+
+#[test]
+fn over_the_flat_the_bound_is_above_the_exact_location_and_in_the_band() {
+    // A flat top at 10 (noise ±0.004) with a 6 mm deep bowl in the middle.
+    let g = Grid { nx: 41, ny: 31, pitch: 1.0, origin: [0.0, 0.0], order: Order::ZigZag };
+    let z: Vec<f64> = (0..g.len())
+        .map(|k| {
+            let (x, y) = ((k % 41) as f64, (k / 41) as f64);
+            let r2 = (x - 20.0).powi(2) + (y - 15.0).powi(2);
+            10.0 - (6.0 - r2 / 12.0).max(0.0) + 0.004 * (k as f64 * 1.7).sin()
+        })
+        .collect();
+    let data = ProbeGrid { grid: g, z };
+    let stylus: Cutter = "ball:10".parse().unwrap();
+    let field = reconstruct(&data, &stylus, 0.125).unwrap();
+    let over = OverFlat::new(&data, &stylus, 10.0, 0.01);
+    let (mut clear, mut not) = (0, 0);
+    for tool in ["ball:10", "ball:4", "flat:6"] {
+        let cutter: Cutter = tool.parse().unwrap();
+        for j in 0..=120 {
+            for i in 0..=160 {
+                let (x, y) = (i as f64 * 0.25, j as f64 * 0.25);
+                let exact = drop_cutter(&cutter, &field, x, y).unwrap();
+                match over.height(x, y) {
+                    Some(bound) => {
+                        clear += 1;
+                        assert!(bound >= exact - 1e-9, "{tool} ({x}, {y}): bound {bound} < {exact}");
+                        assert!(exact >= 10.0 - 0.01, "{tool} ({x}, {y}): {exact} is below the flat band");
+                    }
+                    None => not += 1,
+                }
+            }
+        }
+    }
+    // Both kinds of places are there; the bowl (r ≤ 8.5) and a stylus
+    // radius and a pitch around it are never clear.
+    assert!(clear > 1000 && not > 1000, "{clear} {not}");
+    assert_eq!(over.height(20.0, 15.0 + 14.0), None);
+    assert!(over.height(1.0, 1.0).is_some());
 }

@@ -250,3 +250,71 @@ fn same_direction(p: Axes, a: Axes, b: Axes) -> bool {
     let dot = u[0] * v[0] + u[1] * v[1];
     p.z == a.z && a.z == b.z && dot > 0.0 && cross.abs() <= 1e-12 * (dot.abs() + 1.0)
 }
+
+/// Where a cutter's exact location on a flat margin does not matter,
+/// because a program that crosses the flat at rapid turns it into a
+/// traverse: a safe bound of it serves, with no drop-cutter.
+///
+/// With every reading at most `flat_z + tol` (the flat is the top), the
+/// surface `U` the readings imply is nowhere above `flat_z + tol + h(p/√2)`
+/// (the stylus's cusp in the middle of a cell, `p` the pitch), and a
+/// cutter resting on `U` is no higher than the highest point under it:
+/// that height is a cutter location never below the exact one. Where every
+/// reading within the stylus's radius plus a pitch of the cutter's axis is
+/// within `tol` of `flat_z`, `U` under the axis is at least `flat_z − tol`,
+/// so the exact location lies in the band [`rapid_margins`] turns into
+/// rapids, and the bound does too. On a flat run too short to become a
+/// rapid the bound leaves at most `tol + h(p/√2)` more material than the
+/// exact location; it never cuts deeper.
+#[derive(Clone, Debug)]
+pub struct OverFlat {
+    grid: super::Grid,
+    /// Node by node: every reading near enough to shape the surface there
+    /// is flat.
+    clear: Vec<bool>,
+    /// The bound returned there.
+    z: f64,
+}
+
+impl OverFlat {
+    /// The nodes of `data` whose readings within the stylus's radius plus a
+    /// pitch are all on the flat at `flat_z` (within `tol`).
+    pub fn new(data: &ProbeGrid, stylus: &Cutter, flat_z: f64, tol: f64) -> OverFlat {
+        let g = data.grid;
+        let reach = stylus.radius() + g.pitch;
+        let k = (reach / g.pitch).ceil() as isize;
+        let mut clear = vec![true; g.len()];
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                if (data.z(i, j) - flat_z).abs() <= tol {
+                    continue;
+                }
+                // A reading off the flat: no node within reach is clear.
+                for dj in -k..=k {
+                    for di in -k..=k {
+                        let (a, b) = (i as isize + di, j as isize + dj);
+                        let near = ((di * di + dj * dj) as f64).sqrt() * g.pitch <= reach;
+                        if near && a >= 0 && b >= 0 && (a as usize) < g.nx && (b as usize) < g.ny {
+                            clear[b as usize * g.nx + a as usize] = false;
+                        }
+                    }
+                }
+            }
+        }
+        let z = flat_z + tol + stylus.height(g.pitch * std::f64::consts::FRAC_1_SQRT_2);
+        OverFlat { grid: g, clear, z }
+    }
+
+    /// The bound at `(x, y)` where only flat readings shape the surface
+    /// under the axis (judged at the nearest node, within the pitch the
+    /// reach allows for); `None` elsewhere.
+    pub fn height(&self, x: f64, y: f64) -> Option<f64> {
+        let g = &self.grid;
+        let i = ((x - g.origin[0]) / g.pitch).round();
+        let j = ((y - g.origin[1]) / g.pitch).round();
+        if !(i >= 0.0 && j >= 0.0 && i < g.nx as f64 && j < g.ny as f64) {
+            return None;
+        }
+        self.clear[j as usize * g.nx + i as usize].then_some(self.z)
+    }
+}

@@ -7,7 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::dropcut::drop_cutter;
 use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
-use kezuri_cam::probe::stylus::{detect_flat, rapid_margins, reconstruct};
+use kezuri_cam::probe::stylus::{detect_flat, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Axes, AxisSet, Move, MoveKind, Toolpath};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
@@ -123,6 +123,9 @@ fn positive(name: &str, v: f64) -> Result<f64> {
     }
 }
 
+/// How far from the flat top a reading may be and still be on it, mm.
+const FLAT_TOLERANCE: f64 = 0.01;
+
 /// Runs `kezuri probe mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
     let stylus: Cutter = args.stylus.parse().context("--stylus")?;
@@ -159,11 +162,9 @@ pub fn run(args: &MillArgs) -> Result<()> {
     if options.safe_z <= top {
         bail!("--safe-z {} is not above the data's top, z = {top}: rapids would run into the part", options.safe_z);
     }
-    let cl = |x: f64, y: f64| drop_cutter(&cutter, &field, x, y);
-    let path = raster(&cl, Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
     let flat = match args.floor_z.trim() {
         "off" | "none" => None,
-        "auto" => detect_flat(grid, 0.01, 0.05),
+        "auto" => detect_flat(grid, FLAT_TOLERANCE, 0.05),
         z => Some(
             z.parse::<f64>()
                 .ok()
@@ -171,6 +172,12 @@ pub fn run(args: &MillArgs) -> Result<()> {
                 .with_context(|| format!("--floor-z '{z}': expected auto, off or a height"))?,
         ),
     };
+    // Over the flat margin, which becomes rapids, a bound of the cutter's
+    // location serves: no drop-cutter there.
+    let over_flat = flat.map(|z| OverFlat::new(grid, &stylus, z, FLAT_TOLERANCE));
+    let cl =
+        |x: f64, y: f64| over_flat.as_ref().and_then(|f| f.height(x, y)).or_else(|| drop_cutter(&cutter, &field, x, y));
+    let path = raster(&cl, Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
     let (path, margins) = match flat {
         Some(z) => {
             rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
@@ -192,12 +199,10 @@ pub fn run(args: &MillArgs) -> Result<()> {
         digits,
         program_number: args.program_number + k as u32,
         title: Some(if of > 1 { format!("{title} PART {}/{of}", k + 1) } else { title.clone() }),
+        incremental: args.incremental,
         ..WriteOptions::default()
     };
-    let text_of = |path: &Toolpath, k: usize, of: usize| -> Result<String> {
-        let text = program(path, &write_options(k, of))?;
-        Ok(if args.incremental { incremental(&text, digits) } else { text })
-    };
+    let text_of = |path: &Toolpath, k: usize, of: usize| -> Result<String> { Ok(program(path, &write_options(k, of))?) };
     let parts: Vec<String> = match args.split_bytes {
         None => vec![text_of(&path, 0, 1)?],
         Some(limit) => split(&path, limit, options.safe_z, args.plunge_feed, &text_of)?,
@@ -318,109 +323,4 @@ fn split(
         factor *= 0.85;
     }
     bail!("cannot split the program into parts of {limit} bytes")
-}
-
-/// The program with every motion after the first complete positioning
-/// (X, Y and Z known) in incremental coordinates: `G91` there, `G90` back
-/// before the end. Increments are differences of the written (rounded)
-/// absolute positions, so they add up exactly.
-fn incremental(text: &str, digits: u8) -> String {
-    let scale = 10f64.powi(i32::from(digits));
-    let mut at: [Option<i64>; 3] = [None; 3];
-    let mut relative = false;
-    let mut finished = false;
-    let mut out = String::with_capacity(text.len());
-    for line in text.lines() {
-        let upper = line.trim().to_ascii_uppercase();
-        let ends = upper.starts_with("M30") || upper.starts_with("M02") || upper.starts_with("M2 ") || upper == "M2";
-        if relative && (ends || upper == "%") {
-            out.push_str("G90\n");
-            relative = false;
-            finished = true;
-        }
-        // Words of a motion block: letters and numbers, comments kept aside.
-        let (code, comment) = match line.find('(') {
-            Some(k) => (&line[..k], &line[k..]),
-            None => (line, ""),
-        };
-        let words: Vec<(char, &str)> = split_words(code);
-        let has_axis = words.iter().any(|(c, _)| matches!(c, 'X' | 'Y' | 'Z'));
-        if !has_axis || ends {
-            out.push_str(line);
-            out.push('\n');
-            continue;
-        }
-        let mut kept = Vec::new();
-        for (c, v) in words {
-            let axis = match c {
-                'X' => 0,
-                'Y' => 1,
-                'Z' => 2,
-                _ => {
-                    kept.push(format!("{c}{v}"));
-                    continue;
-                }
-            };
-            let value = (v.parse::<f64>().unwrap_or(0.0) * scale).round() as i64;
-            if relative {
-                let delta = value - at[axis].unwrap_or(value);
-                if delta != 0 {
-                    kept.push(format!("{c}{}", decimal(delta, digits)));
-                }
-            } else {
-                kept.push(format!("{c}{v}"));
-            }
-            at[axis] = Some(value);
-        }
-        if !kept.is_empty() || !comment.is_empty() {
-            out.push_str(&kept.join(" "));
-            out.push_str(comment);
-            out.push('\n');
-        }
-        if !relative && !finished && at.iter().all(|a| a.is_some()) {
-            out.push_str("G91\n");
-            relative = true;
-        }
-    }
-    out
-}
-
-/// `N123` style words of a block.
-fn split_words(code: &str) -> Vec<(char, &str)> {
-    let mut words = Vec::new();
-    let bytes = code.as_bytes();
-    let mut k = 0;
-    while k < bytes.len() {
-        let c = bytes[k] as char;
-        if c.is_ascii_alphabetic() {
-            let start = k + 1;
-            let mut e = start;
-            while e < bytes.len() && (bytes[e].is_ascii_digit() || matches!(bytes[e], b'.' | b'-' | b'+')) {
-                e += 1;
-            }
-            words.push((c.to_ascii_uppercase(), &code[start..e]));
-            k = e;
-        } else {
-            k += 1;
-        }
-    }
-    words
-}
-
-/// `counts` units of 10^-digits mm as a decimal with a point (`-1.25`, `3.`).
-fn decimal(counts: i64, digits: u8) -> String {
-    let sign = if counts < 0 { "-" } else { "" };
-    let a = counts.unsigned_abs();
-    let unit = 10u64.pow(u32::from(digits));
-    let (whole, frac) = (a / unit, a % unit);
-    if frac == 0 {
-        return format!("{sign}{whole}.");
-    }
-    let f = format!("{frac:0width$}", width = usize::from(digits));
-    let f = f.trim_end_matches('0');
-    if whole == 0 {
-        format!("{sign}.{f}").replacen(".", "0.", 1)
-    } else {
-        format!("{sign}{whole}.{f}")
-    }
 }
