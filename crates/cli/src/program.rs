@@ -229,6 +229,10 @@ pub struct WriteArgs {
     /// Number the blocks N10, N20, … (the step; 0 for none).
     #[arg(long, value_name = "STEP", default_value_t = 0)]
     line_numbers: u32,
+    /// Write the moves after the first complete positioning in incremental
+    /// coordinates (G91); G90 again before the end.
+    #[arg(long)]
+    incremental: bool,
     /// Also draw the toolpath (top and front view) to this SVG file.
     #[arg(long, value_name = "FILE.svg")]
     svg: Option<PathBuf>,
@@ -262,6 +266,7 @@ pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()>
                 inch: w.inch,
                 line_numbers: (w.line_numbers > 0).then_some(w.line_numbers),
                 title: Some(title.to_string()),
+                incremental: w.incremental,
                 ..WriteOptions::default()
             };
             program(path, &options)?

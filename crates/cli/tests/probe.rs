@@ -228,11 +228,19 @@ fn bare_files_flat_margins_incremental_and_split() {
             })
             .collect()
     };
-    let (a, b) = (ends(&moves), ends(&moves_inc));
-    assert_eq!(a.len(), b.len());
-    for (p, q) in a.iter().zip(&b) {
-        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-9), "{p:?} {q:?}");
-    }
+    let same_ends = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+        assert_eq!(a.len(), b.len());
+        for (p, q) in a.iter().zip(b) {
+            assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-9), "{p:?} {q:?}");
+        }
+    };
+    same_ends(&ends(&moves), &ends(&moves_inc));
+    // `kezuri run --incremental` makes the same motions from the absolute program.
+    let (abs, again) = (path(dir.path(), "absolute.nc"), path(dir.path(), "again.nc"));
+    std::fs::write(&abs, &absolute).unwrap();
+    ok(&kezuri(&["run", &abs, "--incremental", "-o", &again]));
+    assert!(std::fs::read_to_string(&again).unwrap().contains("G91"));
+    same_ends(&ends(&moves), &ends(&ok(&kezuri(&["run", &again, "--emit", "csv"]))));
 
     // Split: parts under the limit, each a whole program.
     let limit = absolute.len() / 3;

@@ -202,7 +202,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         incremental: args.incremental,
         ..WriteOptions::default()
     };
-    let text_of = |path: &Toolpath, k: usize, of: usize| -> Result<String> { Ok(program(path, &write_options(k, of))?) };
+    let text_of =
+        |path: &Toolpath, k: usize, of: usize| -> Result<String> { Ok(program(path, &write_options(k, of))?) };
     let parts: Vec<String> = match args.split_bytes {
         None => vec![text_of(&path, 0, 1)?],
         Some(limit) => split(&path, limit, options.safe_z, args.plunge_feed, &text_of)?,

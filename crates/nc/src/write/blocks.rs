@@ -96,6 +96,16 @@ pub(super) struct Writer {
     used: [bool; 6],
     /// The control's position in units of the last digit (`None`: unknown).
     pos: [Option<i64>; 6],
+    /// Write motions in `G91` where every position is exact.
+    incremental: bool,
+    /// Whether the control is in `G91` (`None`: unknown, after a tool
+    /// change in an incremental program).
+    relative: Option<bool>,
+    /// Whether the control's position on each axis is exactly `pos`: the
+    /// program wrote it, and nothing the writer cannot follow to the digit
+    /// (a return to the reference point, `G53`, a probe, a new frame, a tool
+    /// change) moved it since. Only incremental programs look at it.
+    exact: [bool; 6],
     motion: Option<Motion>,
     plane: Option<Plane>,
     feed: Option<i64>,
@@ -151,6 +161,9 @@ impl Writer {
             sequence: o.line_numbers.unwrap_or(0),
             used: [true, true, true, false, false, false],
             pos: [None, None, None, Some(0), Some(0), Some(0)],
+            incremental: o.incremental,
+            relative: Some(false),
+            exact: [false; 6],
             motion: None,
             plane: Some(Plane::Xy),
             feed: None,
@@ -207,8 +220,10 @@ impl Writer {
         self.out.push('\n');
     }
 
-    /// The last block and the closing line; the program text.
+    /// The last block and the closing line; the program text. An
+    /// incremental program goes back to `G90` first.
     pub(super) fn finish(mut self) -> String {
+        self.absolute_line();
         self.block();
         self.code(self.codes.end);
         self.out.push('\n');
@@ -289,6 +304,38 @@ impl Writer {
         self.out.push('\n');
     }
 
+    /// In the block being written, `G91` (`relative`) or `G90` where the
+    /// control is not in that mode already.
+    fn distance(&mut self, relative: bool) {
+        if self.relative != Some(relative) {
+            self.code(if relative { "G91" } else { "G90" });
+            self.relative = Some(relative);
+        }
+    }
+
+    /// A `G90` block where the control may be in `G91`.
+    fn absolute_line(&mut self) {
+        if self.relative != Some(false) {
+            self.block();
+            self.distance(false);
+            self.out.push('\n');
+        }
+    }
+
+    /// Whether the next motion block is written in `G91`: in an incremental
+    /// program, where the position on every axis the program writes is
+    /// known and exact.
+    fn wants_relative(&self) -> bool {
+        self.incremental && (0..6).all(|k| !self.used[k] || (self.pos[k].is_some() && self.exact[k]))
+    }
+
+    /// Starts a motion block: its `N` word and the `G90`/`G91` it needs.
+    fn motion_block(&mut self) {
+        self.block();
+        let relative = self.wants_relative();
+        self.distance(relative);
+    }
+
     /// Tool, spindle and coolant blocks that bring the control to the state
     /// of move `m`.
     pub(super) fn state(&mut self, m: &Move) -> Result<(), WriteError> {
@@ -332,6 +379,8 @@ impl Writer {
     }
 
     fn tool_change(&mut self, tool: u32) {
+        // The macro runs in absolute.
+        self.absolute_line();
         if self.spindle != Spindle::Off {
             self.line(self.codes.spindle[0]);
             self.spindle = Spindle::Off;
@@ -363,6 +412,11 @@ impl Writer {
         self.motion = None;
         self.plane = None;
         self.feed = None;
+        self.exact = [false; 6];
+        if self.incremental {
+            // The macro may leave the control in G91: G90 is written again.
+            self.relative = None;
+        }
     }
 
     /// Brings the control to frame `f`: the work offset (`G54`…`G59`, and a
@@ -375,11 +429,16 @@ impl Writer {
         if old == Some(f) {
             return Ok(());
         }
+        // Positions in the new frame are the writer's reckoning, not what
+        // the program wrote: absolute until every axis is written again.
+        self.exact = [false; 6];
         let work = f.work as usize;
         let known = *self.origins[work].get_or_insert(f.origin);
         if known != f.origin {
             let v = f.origin.to_array();
             self.block();
+            // In G91, G10 L2 adds to the offset.
+            self.distance(false);
             self.code("G10 L2");
             self.space();
             self.out.push('P');
@@ -396,6 +455,7 @@ impl Writer {
         let new_length = old.map(|o| o.length) != Some(f.length);
         if new_work || new_length {
             self.block();
+            self.distance(false);
             if new_work {
                 self.code(["G54", "G55", "G56", "G57", "G58", "G59"][work.min(5)]);
             }
@@ -433,20 +493,25 @@ impl Writer {
     }
 
     /// A return to the reference point (`G91 G28` with the axes at zero
-    /// travel to the intermediate point, then `G90`); `end` is where the
-    /// toolpath puts the tool after it, in program coordinates.
+    /// travel to the intermediate point, then `G90`; an incremental program
+    /// stays in `G91`); `end` is where the toolpath puts the tool after it,
+    /// in program coordinates.
     pub(super) fn home(&mut self, axes: AxisSet, end: Axes) -> Result<(), WriteError> {
         let t = self.target(end)?;
         self.block();
         self.code("G91");
+        self.relative = Some(true);
         self.code(self.codes.home);
         let used = self.used;
         for k in (0..6).filter(|&k| axes.contains(k) && used[k]) {
             self.word(AXIS_LETTERS[k], 0, self.point);
             self.pos[k] = Some(t[k]);
+            self.exact[k] = false;
         }
         self.out.push('\n');
-        self.line("G90");
+        if !self.incremental {
+            self.absolute_line();
+        }
         Ok(())
     }
 
@@ -456,6 +521,7 @@ impl Writer {
     pub(super) fn machine(&mut self, axes: AxisSet, gauge: Axes, end: Axes) -> Result<(), WriteError> {
         let (g, t) = (self.target(gauge)?, self.target(end)?);
         self.block();
+        self.distance(false);
         self.code("G53");
         self.code(self.codes.motion[Motion::Rapid as usize]);
         self.motion = Some(Motion::Rapid);
@@ -463,6 +529,7 @@ impl Writer {
         for k in (0..6).filter(|&k| axes.contains(k) && used[k]) {
             self.word(AXIS_LETTERS[k], g[k], self.point);
             self.pos[k] = Some(t[k]);
+            self.exact[k] = false;
         }
         self.out.push('\n');
         Ok(())
@@ -487,7 +554,7 @@ impl Writer {
         if !(0..6).any(|k| self.writes(k, &t, named)) {
             return;
         }
-        self.block();
+        self.motion_block();
         match motion {
             Some(g) if self.motion != Some(g) => {
                 self.code(self.codes.motion[g as usize]);
@@ -499,7 +566,13 @@ impl Writer {
                 self.motion = None;
             }
         }
-        self.axis_words(&t, named);
+        let moved = self.axis_words(&t, named);
+        if motion.is_none() {
+            // A probe stops where it touches, not at its end.
+            for k in (0..6).filter(|&k| moved[k]) {
+                self.exact[k] = false;
+            }
+        }
         if let Some(f) = feed {
             self.feed_word(f);
         }
@@ -518,15 +591,27 @@ impl Writer {
         }
     }
 
-    /// The axis words of `t` that [`Writer::writes`]; the control's position
-    /// becomes `t` on those axes.
-    fn axis_words(&mut self, t: &[i64; 6], named: AxisSet) {
+    /// The axis words of `t` that [`Writer::writes`], absolute or, in
+    /// `G91`, as the difference from the control's position; the control's
+    /// position becomes `t` on those axes, exactly. Returns which axes were
+    /// written.
+    fn axis_words(&mut self, t: &[i64; 6], named: AxisSet) -> [bool; 6] {
+        let relative = self.relative == Some(true);
+        let mut moved = [false; 6];
         for k in 0..6 {
             if self.writes(k, t, named) {
-                self.word(AXIS_LETTERS[k], t[k], self.point);
+                let n = match self.pos[k] {
+                    // G91 is written only where every position is known.
+                    Some(p) if relative => t[k] - p,
+                    _ => t[k],
+                };
+                self.word(AXIS_LETTERS[k], n, self.point);
                 self.pos[k] = Some(t[k]);
+                self.exact[k] = true;
+                moved[k] = true;
             }
         }
+        moved
     }
 
     fn feed_word(&mut self, f: i64) {
@@ -625,7 +710,7 @@ impl Writer {
             self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
             return Ok(());
         }
-        self.block();
+        self.motion_block();
         if Some(arc.plane) != self.plane {
             let code = match arc.plane {
                 Plane::Xy => self.codes.plane[0],

@@ -9,8 +9,9 @@
 //! program written for LinuxCNC or GRBL is often read by a Fanuc or by a
 //! tool set for one; LinuxCNC and GRBL read `X10.` as 10 mm. A rounded zero
 //! is written `0.`, never `-0.`. Programs are
-//! in mm (`G21`) or inches (`G20`, [`WriteOptions::inch`]), absolute (`G90`),
-//! feed per minute (`G94`).
+//! in mm (`G21`) or inches (`G20`, [`WriteOptions::inch`]), absolute (`G90`)
+//! or incremental (`G91`, [`WriteOptions::incremental`], below), feed per
+//! minute (`G94`).
 //!
 //! Decisions a reader might not guess:
 //! - Where the control's position is not known (at the start of the
@@ -63,6 +64,35 @@
 //! - Dwells are `G04 P<milliseconds>` (Fanuc) or `G4 P<seconds>`.
 //! - `N` numbers, when asked for, count up by their step and start again at
 //!   the step after 99999, the largest a Fanuc control reads.
+//!
+//! Incremental programs ([`WriteOptions::incremental`]) write the same
+//! motions as absolute ones, block for block, with the axis words of the
+//! motion blocks as increments while the control is in `G91`:
+//! - A motion block is written in `G91` only where the control's position on
+//!   every axis the program writes is exact: it was written by the program
+//!   (absolute, or as increments from an exact position) and nothing moved
+//!   it since. Elsewhere the block is written in `G90`, exactly as the
+//!   absolute program writes it. So the first positioning is absolute, and
+//!   `G91` comes on the first motion block after the one that made X, Y and
+//!   Z (and any rotary axis the program turns) known; the `G90` or `G91` is
+//!   written on the motion block that needs it, not on a block of its own.
+//! - An increment is the difference of the rounded absolute positions the
+//!   absolute program writes, counted in units of the last digit, so the
+//!   increments add up to those positions exactly, with no drift however
+//!   many moves there are; an axis with a zero increment is not written.
+//!   Arcs in `G91` have incremental end points; `I J K` are relative to the
+//!   start in both modes.
+//! - What leaves a position inexact, and so the next motion block in `G90`:
+//!   a return to the reference point (`G91 G28`, which leaves the control in
+//!   `G91`), a `G53` move (written `G90 G53 G00`: a control reads `G53` in
+//!   absolute only), a probe move (it stops where it touches, not at its
+//!   end; it is written in the mode the control is in), a change of frame
+//!   (its `G10 L2` and `G54`…/`G43` blocks are written in `G90`: in `G91` a
+//!   `G10 L2` adds to the offset) and a tool change (written after a `G90`
+//!   block, and `G90` is written again after it, as the macro may change the
+//!   mode). Absolute blocks follow until every axis has been written again.
+//! - `G90` is written before the program end, to leave the control in
+//!   absolute.
 
 use std::fmt;
 use std::str::FromStr;
@@ -142,10 +172,14 @@ pub struct WriteOptions {
     pub program_number: u32,
     /// A title: the comment on the `O` line (Fanuc) or the first line.
     pub title: Option<String>,
+    /// Write the motions in incremental coordinates (`G91`) from the first
+    /// block at which every axis is known on: see the module documentation.
+    pub incremental: bool,
 }
 
 impl Default for WriteOptions {
-    /// Fanuc, mm with 3 decimals, no `N` words, `O0001`, no title.
+    /// Fanuc, mm with 3 decimals, absolute, no `N` words, `O0001`, no
+    /// title.
     fn default() -> WriteOptions {
         WriteOptions {
             dialect: Dialect::Fanuc,
@@ -154,6 +188,7 @@ impl Default for WriteOptions {
             line_numbers: None,
             program_number: 1,
             title: None,
+            incremental: false,
         }
     }
 }
