@@ -31,6 +31,7 @@ pub mod probe;
 pub mod relief;
 pub mod rough;
 pub mod scallop;
+pub mod shorten;
 pub mod sim;
 
 pub use cutter::{Cutter, SpecError};

@@ -1,6 +1,7 @@
 //! `kezuri`: the command line. Only this crate touches files, the terminal,
 //! the clock and the environment; the libraries take values and return values.
 
+mod convert;
 mod demo;
 mod dropcut;
 mod files;
@@ -85,6 +86,8 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     Probe(probe::ProbeCommand),
     /// Carve a grayscale sketch as a relief: heights from gray, drop-cutter, roughing.
     Relief(Box<relief::ReliefArgs>),
+    /// Convert between G-code dialects and Roland RML-1: units, scaling, shortening.
+    Convert(Box<convert::ConvertArgs>),
 }
 
 /// Runs one command.
@@ -99,6 +102,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Sim(args) => sim::run(args),
         Command::Probe(command) => probe::run(command),
         Command::Relief(args) => relief::run(args),
+        Command::Convert(args) => convert::run(args),
     }
 }
 

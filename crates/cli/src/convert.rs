@@ -1,0 +1,570 @@
+//! `kezuri convert`: G-code dialects and Roland RML-1 into each other,
+//! scaled and shortened (seed 002's converter, with units).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use kezuri_cam::shorten::{shorten, ShortenOptions};
+use kezuri_cam::Cutter;
+use kezuri_geom::{Axes, Move, MoveKind, Plane, Spindle, Toolpath};
+use kezuri_nc::interp::{self, IntegerInput};
+use kezuri_nc::rml::{self, RmlOptions};
+use kezuri_nc::write::{program, Dialect, WriteOptions};
+use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+
+use crate::files::{read_text, write_output, Folder};
+use crate::machine::Machine;
+
+/// A program format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Fanuc G-code (axis words without a decimal point are 0.001 mm).
+    Fanuc,
+    /// LinuxCNC G-code (axis words without a decimal point are mm).
+    Linuxcnc,
+    /// GRBL G-code (axis words without a decimal point are mm).
+    Grbl,
+    /// Roland RML-1 (CAMM-3, MODELA MDX): steps of --rml-unit.
+    Rml,
+}
+
+/// Options of `kezuri convert`.
+#[derive(Args, Debug)]
+#[command(after_help = "\
+The input is a G-code program, run through kezuri's interpreter (macros, subprograms and loops
+are expanded), or a Roland RML-1 program (CAMM-3, MODELA MDX). The output is one command per
+move of the input: nothing is merged unless --shorten.
+
+--from defaults from the input: .rml and .prn files, or a text that starts with ^IN, ;;^IN or
+another RML-1 command, are RML-1; .ngc and .tap are LinuxCNC and .gcode and .gc GRBL (axis
+words without a decimal point are whole millimetres); anything else is Fanuc (X100 is 0.1 mm).
+Standard input (-) is guessed from its text. --to defaults from the output's extension the same
+way (.rml/.prn, .ngc/.tap, .gcode/.gc), else fanuc.
+
+RML-1 coordinates are steps of --rml-unit mm (0.01; the MDX-20 steps 0.025): seed 002's listing
+line Z39,0,-240 is X0.39 Z-2.4, not X39. Z240. Reading RML-1, Z x,y,z is a G01, ^PU x,y a G00 at
+the tool-up height (--safe-z, else the program's !PZ), ^PD a feed at the current down Z; V and
+^VS are mm/s, and --feed gives the feed where the program sets none. Device commands (!RC, !NR,
+...) are reported, not converted. Writing RML-1, rapids travel with the tool up (^PU) at
+--safe-z (default: the highest point a rapid ends at), a rapid down is a fed Z plunge, arcs are
+chords within half a step, and dwells and probing moves are errors.
+
+--scale-xy K --scale-z S scale about the program zero. A program made for a cutter of diameter
+D needs one of D x K once scaled: name the cutter (--tool ball:14, or a comment in a G-code
+program such as (ball:14), (D=14), (DIA 14), (DIAMETER=14) or (φ14)) and kezuri warns when the
+needed diameter is not a whole millimetre, or when a shaped tip is scaled unevenly.
+
+--shorten TOL merges consecutive moves of one kind, feed and tool (never across a rapid, a feed
+change, an arc or a tool or spindle change) while the merged path stays within TOL mm of the
+original, both ways; --arcs also fits G02/G03 arcs in the XY plane at constant Z (G-code only).
+
+Nothing is written when the input has an error.
+
+Examples:
+  kezuri convert camm3.rml --safe-z 5 --feed 600 -o relief.nc
+  kezuri convert relief.rml --scale-xy 2 --scale-z 1.5 --tool ball:7 --shorten 0.005 -o big.nc
+  kezuri convert part.nc --safe-z 3 -o part.rml
+  kezuri convert part.ngc --to fanuc --shorten 0.002 --arcs -o part.nc
+  kezuri convert mdx20.prn --rml-unit 0.025 --to grbl -o mdx20.gcode")]
+pub struct ConvertArgs {
+    /// The program to convert (`-` for standard input).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Output file (default: standard output).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Format of the input [default: from its extension and text].
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub from: Option<Format>,
+    /// Format of the output [default: from its extension, else fanuc].
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub to: Option<Format>,
+    /// Millimetres per RML-1 step.
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = positive)]
+    pub rml_unit: f64,
+    /// Scale factor for X and Y (about the program zero).
+    #[arg(long, value_name = "K", default_value_t = 1.0, value_parser = positive)]
+    pub scale_xy: f64,
+    /// Scale factor for Z (about the program zero).
+    #[arg(long, value_name = "S", default_value_t = 1.0, value_parser = positive)]
+    pub scale_z: f64,
+    /// Merge consecutive moves while the path stays within TOL mm of the original.
+    #[arg(long, value_name = "TOL", value_parser = non_negative)]
+    pub shorten: Option<f64>,
+    /// With --shorten: also fit G02/G03 arcs (XY plane, constant Z).
+    #[arg(long, requires = "shorten")]
+    pub arcs: bool,
+    /// Tool-up height, mm: where RML-1 ^PU travels (read) and where rapids travel (written).
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = finite)]
+    pub safe_z: Option<f64>,
+    /// Feed, mm/min, for cutting moves whose program sets none.
+    #[arg(long, value_name = "MM/MIN", value_parser = positive)]
+    pub feed: Option<f64>,
+    /// Spindle speed, rpm, where the spindle runs and the program gives no speed (RML-1 !MC1).
+    #[arg(long, value_name = "RPM", value_parser = positive)]
+    pub speed: Option<f64>,
+    /// The cutter the program was made for (flat:D, ball:D, bull:D,R, oval:D,RL, v:D,ANGLE).
+    #[arg(long, value_name = "SPEC", value_parser = cutter)]
+    pub tool: Option<Cutter>,
+    /// Decimals written in a G-code program.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
+    pub digits: u8,
+    /// Folder of subprogram files `O1234.nc` [default: the input's folder].
+    #[arg(long, value_name = "DIR")]
+    pub lib: Option<PathBuf>,
+}
+
+fn number(s: &str) -> Result<f64, String> {
+    s.trim().parse::<f64>().map_err(|_| format!("'{s}' is not a number"))
+}
+
+fn positive(s: &str) -> Result<f64, String> {
+    let v = number(s)?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} must be a number more than 0"))
+    }
+}
+
+fn non_negative(s: &str) -> Result<f64, String> {
+    let v = number(s)?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} must be a number of at least 0"))
+    }
+}
+
+fn finite(s: &str) -> Result<f64, String> {
+    let v = number(s)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{s} must be a finite number"))
+    }
+}
+
+fn cutter(s: &str) -> Result<Cutter, String> {
+    s.parse::<Cutter>().map_err(|e| e.to_string())
+}
+
+/// Ends the run as bad usage: the message on stderr, exit code 2.
+fn usage(message: &str) -> ! {
+    clap::Error::raw(clap::error::ErrorKind::ArgumentConflict, format!("{message}\n")).exit()
+}
+
+/// The lower-case extension of a path.
+fn extension(path: &Path) -> String {
+    path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default()
+}
+
+/// The format an extension names, if it names one.
+fn format_of(extension: &str) -> Option<Format> {
+    match extension {
+        "rml" | "prn" => Some(Format::Rml),
+        "ngc" | "tap" => Some(Format::Linuxcnc),
+        "gcode" | "gc" => Some(Format::Grbl),
+        _ => None,
+    }
+}
+
+/// `--from` by default: the extension, else the text.
+fn guess_from(input: &Path, text: &str) -> Format {
+    match format_of(&extension(input)) {
+        Some(f) => f,
+        None if rml::looks_like_rml(text) => Format::Rml,
+        None => Format::Fanuc,
+    }
+}
+
+/// `--to` by default: the output's extension, else fanuc.
+fn guess_to(output: Option<&Path>) -> Format {
+    output.and_then(|p| format_of(&extension(p))).unwrap_or(Format::Fanuc)
+}
+
+/// `kezuri convert`.
+pub fn run(a: &ConvertArgs) -> Result<()> {
+    let text = read_text(&a.input)?;
+    let name = if a.input == Path::new("-") { "<stdin>".to_string() } else { a.input.display().to_string() };
+    let from = a.from.unwrap_or_else(|| guess_from(&a.input, &text));
+    let to = a.to.unwrap_or_else(|| guess_to(a.output.as_deref()));
+    if a.arcs && to == Format::Rml {
+        usage("--arcs fits G02/G03 arcs, which RML-1 has not: drop --arcs, or write G-code (--to fanuc)");
+    }
+    let mut sources = Sources::default();
+    let id = sources.add(SourceFile::new(name.clone(), text));
+    let mut path = match from {
+        Format::Rml => read_rml(a, &sources, id)?,
+        _ => run_gcode(a, from, &mut sources, id)?,
+    };
+    if !path.moves.iter().any(|m| !matches!(m.kind, MoveKind::Dwell(_))) {
+        bail!("{name}: the program has no motion to convert; nothing written");
+    }
+    fill_feed_and_speed(&mut path, a.feed, a.speed);
+    if a.scale_xy != 1.0 || a.scale_z != 1.0 {
+        let comments = if from == Format::Rml { Vec::new() } else { comment_cutters(&sources.get(id).text) };
+        for line in cutter_warnings(a.tool, &comments, a.scale_xy, a.scale_z) {
+            eprintln!("{line}");
+        }
+        path = scale(&path, a.scale_xy, a.scale_z);
+    }
+    if let Some(tolerance) = a.shorten {
+        let before = path.moves.len();
+        path = shorten(&path, &ShortenOptions { tolerance, arcs: a.arcs });
+        eprintln!("shortened within {tolerance} mm: {before} moves -> {}", path.moves.len());
+    }
+    let out = match to {
+        Format::Rml => {
+            let options = RmlOptions { unit: a.rml_unit, safe_z: a.safe_z, feed: a.feed, tolerance: a.rml_unit / 2.0 };
+            rml::write_rml(&path, &options)?
+        }
+        Format::Fanuc | Format::Linuxcnc | Format::Grbl => {
+            let dialect = match to {
+                Format::Linuxcnc => Dialect::LinuxCnc,
+                Format::Grbl => Dialect::Grbl,
+                _ => Dialect::Fanuc,
+            };
+            let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+            let options = WriteOptions { dialect, digits: a.digits, title: Some(title), ..WriteOptions::default() };
+            program(&path, &options)?
+        }
+    };
+    write_output(a.output.as_deref(), out.as_bytes())
+}
+
+fn print_diagnostics<'a>(sources: &Sources, diagnostics: impl IntoIterator<Item = &'a Diagnostic>) -> usize {
+    let mut errors = 0;
+    for d in diagnostics {
+        eprintln!("{}\n", d.render(sources));
+        errors += usize::from(d.is_error());
+    }
+    errors
+}
+
+/// Reads the RML-1 input; its diagnostics go to stderr.
+fn read_rml(a: &ConvertArgs, sources: &Sources, id: u32) -> Result<Toolpath> {
+    let file = sources.get(id);
+    let options = RmlOptions { unit: a.rml_unit, safe_z: a.safe_z, feed: a.feed, ..RmlOptions::default() };
+    let read = rml::read_rml(id, &file.text, &options);
+    let errors = print_diagnostics(sources, &read.diagnostics);
+    if errors > 0 {
+        bail!("{}: {errors} error(s); nothing written", file.name);
+    }
+    Ok(read.toolpath)
+}
+
+/// Parses and runs the G-code input as `kezuri run` does; diagnostics and
+/// DPRNT lines go to stderr.
+fn run_gcode(a: &ConvertArgs, from: Format, sources: &mut Sources, id: u32) -> Result<Toolpath> {
+    let machine = Machine::default();
+    let settings = interp::Settings {
+        integer_input: if from == Format::Fanuc { IntegerInput::Increments } else { IntegerInput::Units },
+        ..machine.settings.clone()
+    };
+    let text = sources.get(id).text.clone();
+    let name = sources.get(id).name.clone();
+    let mut program = Program::default();
+    let parse_diagnostics = parse(&mut program, id, &text);
+    if print_diagnostics(sources, &parse_diagnostics) > 0 {
+        bail!("{name}: parse errors; nothing written");
+    }
+    if program.units.is_empty() {
+        return Ok(Toolpath::default());
+    }
+    let dir = a.lib.clone().unwrap_or_else(|| match a.input.parent() {
+        Some(p) if !p.as_os_str().is_empty() && a.input != Path::new("-") => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    });
+    let outcome = interp::run(&mut program, sources, 0, &mut Folder::new(dir), &settings);
+    for line in &outcome.prints {
+        eprintln!("DPRNT: {line}");
+    }
+    let errors = print_diagnostics(sources, &outcome.diagnostics);
+    if errors > 0 {
+        bail!("{name}: {errors} error(s); nothing written");
+    }
+    Ok(outcome.toolpath)
+}
+
+/// `--feed` for cutting moves with no feed, `--speed` for a running spindle
+/// with no speed.
+fn fill_feed_and_speed(path: &mut Toolpath, feed: Option<f64>, speed: Option<f64>) {
+    for m in &mut path.moves {
+        if let Some(f) = feed {
+            if m.feed == 0.0 && matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_) | MoveKind::Probe) {
+                m.feed = f;
+            }
+        }
+        if let Some(s) = speed {
+            if m.speed == 0.0 && m.spindle != Spindle::Off {
+                m.speed = s;
+            }
+        }
+    }
+}
+
+/// `path` scaled by `k` in X and Y and `s` in Z about each move's program
+/// zero. An arc outside the XY plane scaled unevenly is no longer an arc:
+/// it becomes chords within 0.0005 mm of the scaled curve. Returns to the
+/// reference point and machine-coordinate moves are machine positions and
+/// keep theirs.
+pub fn scale(path: &Toolpath, k: f64, s: f64) -> Toolpath {
+    let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
+    out.moves.clear();
+    let mut fixed_end: Option<Axes> = None;
+    for m in &path.moves {
+        let o = path.frame(m).origin;
+        let sc = |p: Axes| Axes { x: o.x + (p.x - o.x) * k, y: o.y + (p.y - o.y) * k, z: o.z + (p.z - o.z) * s, ..p };
+        let start = match fixed_end {
+            Some(e) if e == m.start => m.start,
+            _ => sc(m.start),
+        };
+        fixed_end = None;
+        match m.kind {
+            MoveKind::Home | MoveKind::Machine => {
+                out.moves.push(Move { start, ..*m });
+                fixed_end = Some(m.end);
+            }
+            MoveKind::Arc(arc) if arc.plane != Plane::Xy && k != s => {
+                let mut from = start;
+                for p in rml::linearize(m, 0.0005 / k.max(s)) {
+                    let end = sc(p);
+                    out.moves.push(Move { kind: MoveKind::Feed, start: from, end, ..*m });
+                    from = end;
+                }
+            }
+            MoveKind::Arc(arc) => {
+                let c = arc.center;
+                let centre = sc(Axes { x: c[0], y: c[1], z: c[2], ..Axes::ZERO });
+                let arc = kezuri_geom::Arc { center: centre.xyz(), ..arc };
+                out.moves.push(Move { kind: MoveKind::Arc(arc), start, end: sc(m.end), ..*m });
+            }
+            _ => out.moves.push(Move { start, end: sc(m.end), ..*m }),
+        }
+    }
+    out
+}
+
+/// A cutter a program names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedCutter {
+    /// Diameter, mm.
+    pub diameter: f64,
+    /// The shape when known (`None`: a diameter alone).
+    pub shape: Option<Cutter>,
+    /// Where it was named: `--tool ball:14`, `line 3`.
+    pub source: String,
+}
+
+/// The cutters named in the comments of a G-code program: a tool SPEC
+/// (`ball:14`), `D=14`, `DIA 14`, `DIA=14`, `DIAMETER 14`, `Ø14`, `φ14` or
+/// `⌀14` (an `mm` after the number is allowed), in `( … )` comments or
+/// after `;`; the first form found in a comment counts; a comment that
+/// says BALL makes a bare diameter a ball.
+pub fn comment_cutters(text: &str) -> Vec<NamedCutter> {
+    let mut out: Vec<NamedCutter> = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let mut comments = Vec::new();
+        let mut rest = line;
+        while let Some(open) = rest.find(['(', ';']) {
+            if rest[open..].starts_with(';') {
+                comments.push(&rest[open + 1..]);
+                break;
+            }
+            let body = &rest[open + 1..];
+            let close = body.find(')').unwrap_or(body.len());
+            comments.push(&body[..close]);
+            rest = &body[(close + 1).min(body.len())..];
+        }
+        for c in comments {
+            if let Some(found) = cutter_in(c) {
+                let named = NamedCutter { source: format!("line {}", n + 1), ..found };
+                if !out.iter().any(|o| o.diameter == named.diameter && o.shape == named.shape) {
+                    out.push(named);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The number at the start of `s` (after blanks, `=` or `:`).
+fn leading_number(s: &str) -> Option<f64> {
+    let s = s.trim_start_matches([' ', '=', ':', '\t']);
+    let len = s.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(s.len());
+    s[..len].parse::<f64>().ok().filter(|d| d.is_finite() && *d > 0.0 && *d < 1000.0)
+}
+
+fn cutter_in(comment: &str) -> Option<NamedCutter> {
+    let upper = comment.to_uppercase();
+    let ball = upper.contains("BALL");
+    // A SPEC: SHAPE:NUMBERS.
+    for shape in ["FLAT:", "BALL:", "BULL:", "OVAL:", "V:"] {
+        let mut from = 0;
+        while let Some(at) = upper[from..].find(shape).map(|p| p + from) {
+            let word_start = at == 0 || !upper[..at].chars().next_back().is_some_and(char::is_alphanumeric);
+            let numbers = &comment[at + shape.len()..];
+            let len = numbers.find(|c: char| !(c.is_ascii_digit() || c == '.' || c == ',')).unwrap_or(numbers.len());
+            let spec = format!("{}{}", shape.to_lowercase(), numbers[..len].trim_end_matches(','));
+            if word_start {
+                if let Ok(c) = spec.parse::<Cutter>() {
+                    return Some(NamedCutter { diameter: 2.0 * c.radius(), shape: Some(c), source: String::new() });
+                }
+            }
+            from = at + shape.len();
+        }
+    }
+    let bare = |d: f64| {
+        let shape = if ball { format!("ball:{d}").parse::<Cutter>().ok() } else { None };
+        NamedCutter { diameter: d, shape, source: String::new() }
+    };
+    for sign in ['Ø', 'ø', 'φ', 'Φ', '⌀'] {
+        if let Some(at) = comment.find(sign) {
+            if let Some(d) = leading_number(&comment[at + sign.len_utf8()..]) {
+                return Some(bare(d));
+            }
+        }
+    }
+    for word in ["DIAMETER", "DIA", "D"] {
+        let mut from = 0;
+        while let Some(at) = upper[from..].find(word).map(|p| p + from) {
+            let before = upper[..at].chars().next_back();
+            let after = &upper[at + word.len()..];
+            let word_start = !before.is_some_and(char::is_alphanumeric);
+            let separated = if word == "D" { after.starts_with('=') } else { after.starts_with([' ', '=', ':', '.']) };
+            if word_start && separated {
+                if let Some(d) = leading_number(after.trim_start_matches('.')) {
+                    return Some(bare(d));
+                }
+            }
+            from = at + word.len();
+        }
+    }
+    None
+}
+
+/// Millimetres for a message: at most three decimals, no trailing zeros.
+fn mm(v: f64) -> String {
+    let s = format!("{:.3}", v);
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Seed 002's warning: what cutter the scaled program needs.
+pub fn cutter_warnings(tool: Option<Cutter>, comments: &[NamedCutter], k: f64, s: f64) -> Vec<String> {
+    let mut named: Vec<NamedCutter> = Vec::new();
+    if let Some(c) = tool {
+        named.push(NamedCutter { diameter: 2.0 * c.radius(), shape: Some(c), source: "--tool".into() });
+    }
+    named.extend(comments.iter().cloned());
+    if named.is_empty() {
+        return vec![format!(
+            "note: the program names no cutter (--tool SPEC, or a comment such as (D=14)): scaled by {} in X/Y, \
+             it needs a cutter {} times the diameter it was made for",
+            mm(k),
+            mm(k)
+        )];
+    }
+    let mut out = Vec::new();
+    for c in named {
+        let needed = c.diameter * k;
+        let made_for = match c.shape {
+            Some(shape) => shape.to_string(),
+            None => format!("φ{}", mm(c.diameter)),
+        };
+        if (needed - needed.round()).abs() > 1e-6 {
+            let (lo, hi) = (needed.floor(), needed.ceil());
+            let nearest = if lo >= 1.0 { format!("φ{} and φ{}", mm(lo), mm(hi)) } else { format!("φ{}", mm(hi)) };
+            out.push(format!(
+                "warning: scaled by {} in X/Y, the program made for a {made_for} cutter ({}) needs a φ{} mm cutter, \
+                 which is not a standard whole-millimetre diameter (nearest: {nearest})",
+                mm(k),
+                c.source,
+                mm(needed)
+            ));
+        } else {
+            out.push(format!(
+                "note: scaled by {} in X/Y, the program made for a {made_for} cutter ({}) needs a φ{} mm cutter",
+                mm(k),
+                c.source,
+                mm(needed)
+            ));
+        }
+        let shaped = c.shape.is_some_and(|shape| !matches!(shape, Cutter::Flat(_)));
+        if shaped && k != s {
+            out.push(format!(
+                "warning: scaled by {} in X/Y and {} in Z, the {made_for} cutter's tip is stretched: no cutter of \
+                 that shape cuts the scaled program's surface exactly",
+                mm(k),
+                mm(s)
+            ));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cutters_named_in_comments() {
+        let text = "(T1 D=6. CR=0. - FLAT END MILL)\nG00 X0 ; ball:14 for the relief\n(DIA 8MM)\n(TOOL Ø3 BALL)\n\
+                    (ID=5)(DIAMETER: 12.5)\n(HEIGHT 10)\n(φ14)\n";
+        let found: Vec<(f64, bool, String)> = comment_cutters(text)
+            .into_iter()
+            .map(|c| (c.diameter, matches!(c.shape, Some(Cutter::Ball(_))), c.source))
+            .collect();
+        let want = [
+            (6.0, false, "line 1"),
+            (14.0, true, "line 2"),
+            (8.0, false, "line 3"),
+            (3.0, true, "line 4"),
+            (12.5, false, "line 5"),
+            (14.0, false, "line 7"),
+        ];
+        let want: Vec<(f64, bool, String)> = want.iter().map(|(d, b, s)| (*d, *b, s.to_string())).collect();
+        assert_eq!(found, want);
+    }
+
+    #[test]
+    fn the_paper_warning() {
+        let ball: Cutter = "ball:14".parse().unwrap();
+        let w = cutter_warnings(Some(ball), &[], 1.3, 1.3);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].starts_with("warning:") && w[0].contains("needs a φ18.2 mm cutter") && w[0].contains("φ18 and φ19")
+        );
+        let w = cutter_warnings(Some(ball), &[], 1.5, 1.0);
+        assert!(w[0].starts_with("note:") && w[0].contains("φ21 mm"), "{w:?}");
+        assert!(w[1].contains("stretched"));
+        let flat: Cutter = "flat:3".parse().unwrap();
+        assert_eq!(cutter_warnings(Some(flat), &[], 2.0, 0.5).len(), 1);
+        assert!(cutter_warnings(None, &[], 2.0, 1.0)[0].starts_with("note: the program names no cutter"));
+    }
+
+    #[test]
+    fn scaling_keeps_arcs_and_home_moves() {
+        let at = |x, y, z| Axes { x, y, z, ..Axes::ZERO };
+        let arc = kezuri_geom::Arc { center: [5.0, 0.0, -1.0], plane: Plane::Xy, ccw: true, turns: 0 };
+        let zx = kezuri_geom::Arc { center: [10.0, 0.0, -2.0], plane: Plane::Zx, ccw: true, turns: 0 };
+        let path = Toolpath::from(vec![
+            Move { kind: MoveKind::Arc(arc), start: at(0.0, 0.0, -1.0), end: at(10.0, 0.0, -1.0), ..Move::default() },
+            Move { kind: MoveKind::Arc(zx), start: at(10.0, 0.0, -1.0), end: at(10.0, 0.0, -3.0), ..Move::default() },
+            Move { kind: MoveKind::Home, start: at(10.0, 0.0, -3.0), end: at(10.0, 0.0, 100.0), ..Move::default() },
+            Move { kind: MoveKind::Rapid, start: at(10.0, 0.0, 100.0), end: at(1.0, 1.0, 100.0), ..Move::default() },
+        ]);
+        let scaled = scale(&path, 2.0, 0.5);
+        let MoveKind::Arc(a) = scaled.moves[0].kind else { panic!() };
+        assert_eq!((a.center, scaled.moves[0].end), ([10.0, 0.0, -0.5], at(20.0, 0.0, -0.5)));
+        // The ZX arc is chords of the scaled ellipse.
+        let chords: Vec<&Move> = scaled.moves.iter().filter(|m| m.kind == MoveKind::Feed).collect();
+        assert!(chords.len() > 10);
+        assert_eq!(chords.last().unwrap().end, at(20.0, 0.0, -1.5));
+        let home = scaled.moves.iter().find(|m| m.kind == MoveKind::Home).unwrap();
+        assert_eq!(home.end, at(10.0, 0.0, 100.0));
+        let last = scaled.moves.last().unwrap();
+        assert_eq!((last.start, last.end), (at(10.0, 0.0, 100.0), at(2.0, 2.0, 50.0)));
+    }
+}

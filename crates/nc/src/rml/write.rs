@@ -1,0 +1,392 @@
+//! A toolpath to RML-1 text (see the module documentation for the rules).
+
+use std::fmt;
+use std::fmt::Write as _;
+
+use kezuri_geom::{Axes, Move, MoveKind, Spindle, Toolpath};
+
+use super::{RmlOptions, MAX_STEPS};
+
+/// Why a toolpath could not be written as RML-1.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RmlWriteError {
+    /// An [`RmlOptions`] field out of range.
+    Option {
+        /// The field.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A number RML-1 cannot hold: a coordinate beyond ±2³¹ steps or not
+    /// finite, a feed that is not positive.
+    Number {
+        /// Index of the move in [`Toolpath::moves`].
+        index: usize,
+        /// Source line of the move (0 when generated).
+        line: u32,
+        /// What the number is (`X`, `feed`, …).
+        what: &'static str,
+        /// The number.
+        value: f64,
+    },
+    /// A move RML-1 has no command for.
+    Unsupported {
+        /// Index of the move in [`Toolpath::moves`].
+        index: usize,
+        /// Source line of the move (0 when generated).
+        line: u32,
+        /// What it is.
+        what: &'static str,
+    },
+    /// The toolpath turns a rotary axis.
+    RotaryAxis {
+        /// Index of the move in [`Toolpath::moves`].
+        index: usize,
+        /// Source line of the move (0 when generated).
+        line: u32,
+        /// `A`, `B` or `C`.
+        axis: char,
+    },
+    /// The toolpath changes work offset; RML-1 has none.
+    WorkOffsets {
+        /// Index of the move in [`Toolpath::moves`].
+        index: usize,
+        /// Source line of the move (0 when generated).
+        line: u32,
+    },
+    /// A rapid down needs a `Z` feed, and the toolpath has no cutting feed
+    /// (and the options none) to give it its `V`.
+    NoFeed {
+        /// Index of the move in [`Toolpath::moves`].
+        index: usize,
+        /// Source line of the move (0 when generated).
+        line: u32,
+    },
+    /// A cutting move before the program has named X and Y: a `Z` command
+    /// names all three.
+    UnknownPosition {
+        /// Index of the move in [`Toolpath::moves`].
+        index: usize,
+        /// Source line of the move (0 when generated).
+        line: u32,
+    },
+}
+
+impl fmt::Display for RmlWriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let at = |f: &mut fmt::Formatter<'_>, index: usize, line: u32| {
+            write!(f, "move {}", index + 1)?;
+            if line > 0 {
+                write!(f, " (line {line})")?;
+            }
+            f.write_str(": ")
+        };
+        match self {
+            RmlWriteError::Option { name, value } => write!(f, "RML option {name} {value} is out of range"),
+            RmlWriteError::Number { index, line, what, value } => {
+                at(f, *index, *line)?;
+                write!(f, "{what} {value} cannot be written in RML-1")
+            }
+            RmlWriteError::Unsupported { index, line, what } => {
+                at(f, *index, *line)?;
+                write!(f, "{what} has no RML-1 command; remove it from the program to convert it")
+            }
+            RmlWriteError::RotaryAxis { index, line, axis } => {
+                at(f, *index, *line)?;
+                write!(f, "the toolpath turns axis {axis}; RML-1 moves X, Y and Z only")
+            }
+            RmlWriteError::WorkOffsets { index, line } => {
+                at(f, *index, *line)?;
+                f.write_str("the toolpath changes work offset; RML-1 has one work origin")
+            }
+            RmlWriteError::NoFeed { index, line } => {
+                at(f, *index, *line)?;
+                f.write_str(
+                    "a rapid down needs a speed (V) for its Z move, and the toolpath has no cutting feed; give a feed",
+                )
+            }
+            RmlWriteError::UnknownPosition { index, line } => {
+                at(f, *index, *line)?;
+                f.write_str("a cutting move before the program names X and Y; an RML-1 Z command needs all three")
+            }
+        }
+    }
+}
+
+impl std::error::Error for RmlWriteError {}
+
+/// The points a move passes through as straight pieces, its end last: an
+/// arc as the fewest equal chords that stay within `tolerance` of it (its
+/// rotary axes and helical axis vary linearly), any other move as its end.
+/// A tolerance that is not positive, or an arc that would need more than a
+/// million chords, is taken at the tolerance of a million.
+pub fn linearize(m: &Move, tolerance: f64) -> Vec<Axes> {
+    let MoveKind::Arc(arc) = m.kind else { return vec![m.end] };
+    let r = arc.radius(m.start);
+    let sweep = arc.sweep(m.start, m.end);
+    let n = if tolerance > 0.0 && r > tolerance {
+        let step = 2.0 * (1.0 - tolerance / r).acos();
+        (sweep / step).ceil()
+    } else if tolerance > 0.0 {
+        // Every chord of a circle this small is within the tolerance.
+        (sweep / std::f64::consts::FRAC_PI_2).ceil()
+    } else {
+        f64::INFINITY
+    };
+    let n = if n.is_finite() { n.clamp(1.0, 1e6) as usize } else { 1_000_000 };
+    let mut points: Vec<Axes> = (1..n).map(|k| arc.point_at(m.start, m.end, k as f64 / n as f64)).collect();
+    points.push(m.end);
+    points
+}
+
+/// Writes `path` as an RML-1 program in absolute steps of `options.unit`
+/// mm (see the module documentation).
+///
+/// ```
+/// use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
+/// use kezuri_nc::rml::{write_rml, RmlOptions};
+/// let at = |x, y, z| Axes { x, y, z, ..Axes::ZERO };
+/// let mut path = Toolpath::default();
+/// path.push(Move { kind: MoveKind::Rapid, start: at(0.0, 0.0, 5.0), end: at(10.0, 0.0, 5.0), ..Move::default() });
+/// let (start, end) = (at(10.0, 0.0, 5.0), at(10.0, 0.0, -2.4));
+/// path.push(Move { kind: MoveKind::Feed, start, end, feed: 600.0, ..Move::default() });
+/// let text = write_rml(&path, &RmlOptions::default()).unwrap();
+/// assert_eq!(text, ";;^IN;\n^PA;\n!PZ0,500;\n^PU1000,0;\nV10.0;\nZ1000,0,-240;\n^PU;\n^IN;\n");
+/// ```
+pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, RmlWriteError> {
+    if let Some((name, value)) = options.invalid() {
+        return Err(RmlWriteError::Option { name, value });
+    }
+    let origin = path.moves.first().map_or(Axes::ZERO, |m| path.frame(m).origin);
+    let rotary = path.moves.first().map_or(Axes::ZERO, |m| m.start);
+    let mut w = Writer {
+        out: String::with_capacity(path.moves.len() * 18 + 64),
+        unit: options.unit,
+        tolerance: options.tolerance,
+        default_feed: options.feed,
+        origin,
+        up: 0,
+        pos: [None; 3],
+        v: None,
+        spindle_on: false,
+        tool: 0,
+        named: [false; 3],
+        at: (0, 0),
+        path,
+    };
+    for (index, m) in path.moves.iter().enumerate() {
+        w.at = (index, m.line);
+        if path.frame(m).origin != origin {
+            return Err(RmlWriteError::WorkOffsets { index, line: m.line });
+        }
+        for (k, axis) in [(3, 'A'), (4, 'B'), (5, 'C')] {
+            let base = rotary.to_array()[k];
+            if m.start.to_array()[k] != base || m.end.to_array()[k] != base {
+                return Err(RmlWriteError::RotaryAxis { index, line: m.line, axis });
+            }
+        }
+    }
+    let up = match options.safe_z {
+        Some(z) => Some(z),
+        None => {
+            let highest = |rapids: bool| {
+                path.moves
+                    .iter()
+                    .filter(|m| !rapids || m.kind == MoveKind::Rapid)
+                    .flat_map(|m| [m.start.z, m.end.z].into_iter().skip(usize::from(rapids)))
+                    .map(|z| z - origin.z)
+                    .fold(None, |a: Option<f64>, z| Some(a.map_or(z, |a| a.max(z))))
+            };
+            highest(true).or_else(|| highest(false))
+        }
+    };
+    w.out.push_str(";;^IN;\n^PA;\n");
+    if let Some(up) = up {
+        w.up = w.step(up, "safe Z")?;
+        let _ = writeln!(w.out, "!PZ0,{};", w.up);
+    }
+    for (index, m) in path.moves.iter().enumerate() {
+        w.at = (index, m.line);
+        if m.tool != w.tool {
+            if w.tool != 0 {
+                w.tool_change();
+            }
+            w.tool = m.tool;
+        }
+        w.spindle(m.spindle != Spindle::Off);
+        match m.kind {
+            MoveKind::Dwell(_) => return Err(w.unsupported("a dwell (G04)")),
+            MoveKind::Probe => return Err(w.unsupported("a probing move (G31)")),
+            MoveKind::Home | MoveKind::Machine => w.lift(),
+            MoveKind::Rapid => w.rapid(m, index)?,
+            MoveKind::Feed => w.feed_to(m.end, m.feed, m)?,
+            MoveKind::Arc(_) => {
+                let start = w.steps(m.start)?;
+                if w.pos.iter().zip(start).any(|(p, s)| *p != Some(s)) {
+                    w.feed_to(m.start, m.feed, m)?;
+                }
+                for p in linearize(m, w.tolerance) {
+                    w.feed_to(p, m.feed, m)?;
+                }
+            }
+        }
+        for k in 0..3 {
+            w.named[k] |= m.named.contains(k);
+        }
+    }
+    if w.pos[2].is_some_and(|z| z != w.up) {
+        w.lift();
+    }
+    w.spindle(false);
+    w.out.push_str("^IN;\n");
+    Ok(w.out)
+}
+
+struct Writer<'a> {
+    out: String,
+    unit: f64,
+    tolerance: f64,
+    default_feed: Option<f64>,
+    /// Program zero in machine coordinates.
+    origin: Axes,
+    /// Tool-up height, steps.
+    up: i64,
+    /// The machine's position in steps, where known.
+    pos: [Option<i64>; 3],
+    /// The `V` last written.
+    v: Option<String>,
+    spindle_on: bool,
+    tool: u32,
+    /// Axes some move has named: the toolpath's position of the others is
+    /// only the interpreter's assumption.
+    named: [bool; 3],
+    at: (usize, u32),
+    path: &'a Toolpath,
+}
+
+impl Writer<'_> {
+    fn unsupported(&self, what: &'static str) -> RmlWriteError {
+        RmlWriteError::Unsupported { index: self.at.0, line: self.at.1, what }
+    }
+
+    /// A length in program mm as whole steps.
+    fn step(&self, mm: f64, what: &'static str) -> Result<i64, RmlWriteError> {
+        let v = mm / self.unit;
+        if !v.is_finite() || v.abs() > MAX_STEPS {
+            return Err(RmlWriteError::Number { index: self.at.0, line: self.at.1, what, value: mm });
+        }
+        Ok(v.round() as i64)
+    }
+
+    /// A machine position as program steps.
+    fn steps(&self, p: Axes) -> Result<[i64; 3], RmlWriteError> {
+        let o = self.origin;
+        Ok([self.step(p.x - o.x, "X")?, self.step(p.y - o.y, "Y")?, self.step(p.z - o.z, "Z")?])
+    }
+
+    fn spindle(&mut self, on: bool) {
+        if on != self.spindle_on {
+            self.out.push_str(if on { "!MC1;\n" } else { "!MC0;\n" });
+            self.spindle_on = on;
+        }
+    }
+
+    /// `^PU;`: the tool up where it is.
+    fn lift(&mut self) {
+        if self.pos[2] != Some(self.up) {
+            self.out.push_str("^PU;\n");
+            self.pos[2] = Some(self.up);
+        }
+    }
+
+    fn tool_change(&mut self) {
+        self.lift();
+        self.spindle(false);
+        self.out.push_str("!NR;\n");
+    }
+
+    /// Writes `V` for `feed` mm/min where it changes.
+    fn speed(&mut self, feed: f64) -> Result<(), RmlWriteError> {
+        if !(feed.is_finite() && feed > 0.0 && feed < 1e9) {
+            return Err(RmlWriteError::Number { index: self.at.0, line: self.at.1, what: "feed", value: feed });
+        }
+        let mut text = format!("{:.2}", feed / 60.0);
+        while text.ends_with('0') && !text.ends_with(".0") {
+            text.pop();
+        }
+        if self.v.as_deref() != Some(text.as_str()) {
+            let _ = writeln!(self.out, "V{text};");
+            self.v = Some(text);
+        }
+        Ok(())
+    }
+
+    /// `Z x,y,z;` to `p` at `feed`, where the rounded position changes.
+    fn feed_to(&mut self, p: Axes, feed: f64, m: &Move) -> Result<(), RmlWriteError> {
+        let t = self.steps(p)?;
+        if self.pos == t.map(Some) {
+            return Ok(());
+        }
+        if (0..3).any(|k| !self.named[k] && !m.named.contains(k)) {
+            return Err(RmlWriteError::UnknownPosition { index: self.at.0, line: self.at.1 });
+        }
+        self.speed(feed)?;
+        self.z(t);
+        Ok(())
+    }
+
+    fn z(&mut self, t: [i64; 3]) {
+        let _ = writeln!(self.out, "Z{},{},{};", t[0], t[1], t[2]);
+        self.pos = t.map(Some);
+    }
+
+    /// The feed for the `Z` of a rapid: the current `V`, else the next
+    /// cutting feed of the toolpath, else the options' feed.
+    fn plunge_speed(&mut self, index: usize) -> Result<(), RmlWriteError> {
+        if self.v.is_some() {
+            return Ok(());
+        }
+        let ahead = self.path.moves[index..]
+            .iter()
+            .find(|m| matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_)) && m.feed > 0.0)
+            .map(|m| m.feed);
+        match ahead.or(self.default_feed) {
+            Some(f) => self.speed(f),
+            None => Err(RmlWriteError::NoFeed { index, line: self.at.1 }),
+        }
+    }
+
+    fn rapid(&mut self, m: &Move, index: usize) -> Result<(), RmlWriteError> {
+        let t = self.steps(m.end)?;
+        let known = |k: usize| self.named[k] || m.named.contains(k);
+        if !known(0) || !known(1) {
+            // Before the program names X and Y only a lift can be written;
+            // a rapid of X or Y alone is written with the first that knows
+            // both.
+            if m.named.contains(2) {
+                self.lift();
+            }
+            return Ok(());
+        }
+        let moves_xy = self.pos[0] != Some(t[0]) || self.pos[1] != Some(t[1]);
+        if moves_xy {
+            let _ = writeln!(self.out, "^PU{},{};", t[0], t[1]);
+            self.pos = [Some(t[0]), Some(t[1]), Some(self.up)];
+        } else if t[2] == self.up {
+            // The next rapid's ^PU lifts first anyway.
+            let next_moves_xy = self.path.moves.get(index + 1).is_some_and(|n| {
+                n.kind == MoveKind::Rapid
+                    && self.steps(n.end).is_ok_and(|e| Some(e[0]) != self.pos[0] || Some(e[1]) != self.pos[1])
+            });
+            if !next_moves_xy {
+                self.lift();
+            }
+            return Ok(());
+        }
+        if t[2] != self.up && known(2) && self.pos[2] != Some(t[2]) {
+            self.plunge_speed(index)?;
+            self.z(t);
+        }
+        Ok(())
+    }
+}
