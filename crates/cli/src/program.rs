@@ -208,14 +208,17 @@ enum Emit {
     Grbl,
     /// `line,kind,x,y,z,a,b,c,feed` rows, full precision.
     Csv,
+    /// Roland RML-1 (CAMM-3, MODELA), steps of 0.01 mm; rapids travel tool-up at the
+    /// highest point a rapid ends at.
+    Rml,
 }
 
 /// `kezuri run`.
 /// How `kezuri run` writes its result.
 #[derive(Args, Debug)]
 pub struct WriteArgs {
-    /// Output format.
-    #[arg(long, value_enum, default_value = "fanuc")]
+    /// Output format (--to is the same).
+    #[arg(long, alias = "to", value_enum, default_value = "fanuc")]
     emit: Emit,
     /// Output file (default: standard output).
     #[arg(short, long, value_name = "OUT")]
@@ -253,6 +256,7 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
 pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
     let text = match w.emit {
         Emit::Csv => kezuri_nc::write::csv(path),
+        Emit::Rml => kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?,
         Emit::Fanuc | Emit::Linuxcnc | Emit::Grbl => {
             use kezuri_nc::write::{program, Dialect, WriteOptions};
             let dialect = match w.emit {
@@ -281,8 +285,11 @@ pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()>
 
 impl WriteArgs {
     /// The program's smallest increment in mm: a unit of the last decimal
-    /// written (`--digits`, in inches with `--inch`).
+    /// written (`--digits`, in inches with `--inch`), or RML-1's step.
     pub fn quantum(&self) -> f64 {
+        if let Emit::Rml = self.emit {
+            return kezuri_nc::rml::RmlOptions::default().unit;
+        }
         let digits = self.digits.unwrap_or(if self.inch { 4 } else { 3 });
         10f64.powi(-i32::from(digits)) * if self.inch { 25.4 } else { 1.0 }
     }

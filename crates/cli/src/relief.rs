@@ -35,7 +35,8 @@ puts the lower-left corner (corner) or the centre (centre) at X0 Y0.
 
 The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
 relief: rows are sampled every --step and refined until the path stays within 0.001 mm below
-and --tolerance above the exact cutter locations (steep steps included). --rough SPEC first
+and --tolerance above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
+--to rml, hold it to about 0.003 mm). --rough SPEC first
 clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
 --surface-stl writes the relief surface for `kezuri sim --compare`.
 

@@ -106,6 +106,31 @@ fn the_carving_never_cuts_into_the_relief_and_stays_within_the_cusp() {
     assert!(left <= 0.060, "left {left}: {v}");
     assert!(left >= 0.010, "left {left}: the cusp is there");
 
+    // RML-1 for a CAMM-3 (steps of 0.01 mm), read back by `kezuri convert`:
+    // the same carving within the coarser step.
+    let (rml, back) = (path(dir.path(), "waves.rml"), path(dir.path(), "waves-back.nc"));
+    ok(&kezuri(&[
+        "relief",
+        &png,
+        "--pixel",
+        "0.5",
+        "--depth",
+        "4",
+        "--tool",
+        "ball:3",
+        "--stepover",
+        "0.4",
+        "--to",
+        "rml",
+        "-o",
+        &rml,
+    ]));
+    assert!(std::fs::read_to_string(&rml).unwrap().contains("^PA;"));
+    ok(&kezuri(&["convert", &rml, "--safe-z", "5", "-o", &back]));
+    let v = sim_json(&back, "ball:3", &stl);
+    assert!(v["max_gouge_mm"].as_f64().unwrap() <= 0.003, "{v}");
+    assert!(v["max_left_mm"].as_f64().unwrap() <= 0.070, "{v}");
+
     // Roughing first, with a flat cutter: still no cut into the relief,
     // and the roughing levels are 2 mm apart.
     let rough = path(dir.path(), "rough.nc");
