@@ -55,6 +55,8 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use kezuri_cam::probe::data::grid_header;
+use kezuri_cam::probe::{Grid, Order};
 
 /// Reads one dial-indicator value per plunge from a serial port into a `No,Z` data file.
 #[derive(Args, Debug, Clone)]
@@ -134,11 +136,11 @@ pub enum Pattern {
     Oneway,
 }
 
-impl Pattern {
-    fn name(self) -> &'static str {
-        match self {
-            Pattern::Zigzag => "zigzag",
-            Pattern::Oneway => "oneway",
+impl From<Pattern> for Order {
+    fn from(p: Pattern) -> Order {
+        match p {
+            Pattern::Zigzag => Order::ZigZag,
+            Pattern::Oneway => Order::OneWay,
         }
     }
 }
@@ -361,15 +363,13 @@ impl CaptureArgs {
     fn header_fixed(&self) -> [String; 3] {
         [
             "# kezuri probe capture".to_string(),
-            format!(
-                "# grid nx={} ny={} pitch={} origin={},{} pattern={}",
-                self.count.0,
-                self.count.1,
-                self.pitch,
-                self.origin.0,
-                self.origin.1,
-                self.pattern.name()
-            ),
+            grid_header(&Grid {
+                nx: self.count.0,
+                ny: self.count.1,
+                pitch: self.pitch,
+                origin: [self.origin.0, self.origin.1],
+                order: self.pattern.into(),
+            }),
             format!(
                 "# tip_z = bottom + sign * (reading - zero): bottom={} sign={} zero={}",
                 self.bottom, self.sign, self.zero
@@ -395,7 +395,7 @@ impl CaptureArgs {
             self.pitch,
             self.origin.0,
             self.origin.1,
-            self.pattern.name(),
+            Order::from(self.pattern).name(),
             self.format.name()
         );
         if let Some(ch) = self.channel {
