@@ -35,6 +35,22 @@ pub trait Profile {
     /// distance `r`, for `0 ≤ r ≤ R`; convex and non-decreasing, 0 at 0.
     fn height(&self, r: f64) -> f64;
 
+    /// [`Profile::height`] at the radius whose square is `r2`; a shape
+    /// may skip the square root.
+    #[inline]
+    fn height_sq(&self, r2: f64) -> f64 {
+        self.height(r2.sqrt())
+    }
+
+    /// A radius at least the profile's inverse at height `z` above the tip
+    /// and at most `R/4096` beyond it (0 below the tip, `R` from the rim
+    /// up): how far from the axis a point `z` above the tip can touch.
+    /// The default bisects; a shape with a closed form gives it.
+    #[inline]
+    fn reach(&self, z: f64) -> f64 {
+        radius_above(self, z, 12)
+    }
+
     /// `d height / d r` at `r` (`0 ≤ r ≤ R`); `f64::INFINITY` where the
     /// profile turns vertical (the rim of a ball or an egg).
     fn slope(&self, r: f64) -> f64;
@@ -214,7 +230,7 @@ impl Cutter {
     /// above it: how far from the axis a point `z` above the tip can
     /// touch the cutter, cheaply.
     pub fn reach(&self, z: f64) -> f64 {
-        each_shape!(self, s => radius_above(s, z, 12))
+        each_shape!(self, s => s.reach(z))
     }
 
     /// See [`Profile::edge_argmax`]; the result is clamped to `[lo, hi]`.
@@ -431,6 +447,17 @@ mod tests {
                 assert!(reach >= exact && reach <= exact + c.radius() / 4096.0, "{c}: reach {reach}, {exact}");
             }
             assert_eq!(c.radius_at(1e9), c.radius());
+        }
+    }
+
+    #[test]
+    fn height_of_the_squared_radius_is_the_height() {
+        for c in all() {
+            for k in 0..=100 {
+                let r = c.radius() * k as f64 / 100.0;
+                let (z, z2) = (c.height(r), each_shape!(c, s => s.height_sq(r * r)));
+                assert!((z - z2).abs() <= 1e-12 * c.radius(), "{c} at r={r}: {z} vs {z2}");
+            }
         }
     }
 }

@@ -303,7 +303,7 @@ fn sample_row(at: &dyn Fn(f64) -> Option<f64>, from: f64, to: f64, o: &RasterOpt
         match at(u) {
             Some(z) => {
                 if let Some(&(pu, pz)) = piece.last() {
-                    refine(&at, (pu, pz), (u, z), refining, &mut piece);
+                    refine(&at, (pu, pz), (u, z), None, refining, &mut piece);
                 }
                 piece.push((u, z));
             }
@@ -356,29 +356,45 @@ struct Refining {
 
 /// Pushes the points strictly between `a` and `b` that halving finds where
 /// the middle or a quarter point is outside the band about the chord.
-fn refine(at: &dyn Fn(f64) -> Option<f64>, a: (f64, f64), b: (f64, f64), r: Refining, out: &mut Vec<(f64, f64)>) {
+/// `known` is a CL point already asked for (a quarter point of the parent
+/// interval, which is often this one's middle): it is not asked again.
+fn refine(
+    at: &dyn Fn(f64) -> Option<f64>,
+    a: (f64, f64),
+    b: (f64, f64),
+    known: Option<(f64, Option<f64>)>,
+    r: Refining,
+    out: &mut Vec<(f64, f64)>,
+) {
     if (b.0 - a.0).abs() <= r.min_gap {
         return;
     }
     let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
+    let ask = |u: f64| match known {
+        Some((v, z)) if v == u => z,
+        _ => at(u),
+    };
     let u = r.quantum.snap(0.5 * (a.0 + b.0));
     if !within(u) {
         return; // no grid position in between
     }
     // Off the surface in the middle: keep the chord (the row is cut there
     // only where a sample misses).
-    let Some(z) = at(u) else { return };
+    let Some(z) = ask(u) else { return };
     // The chord is tried at its middle and quarters: a narrow bump between
     // samples shows at one of them more often than at the middle alone.
     let off = |u: f64, z: f64| band_off(r.band, a, b, u, z);
     let quarter = |t: f64| {
         let u = r.quantum.snap(a.0 + t * (b.0 - a.0));
-        within(u) && at(u).is_some_and(|z| off(u, z))
+        within(u).then(|| (u, at(u)))
     };
-    if off(u, z) || quarter(0.25) || quarter(0.75) {
-        refine(at, a, (u, z), r, out);
+    let middle_off = off(u, z);
+    let (q1, q3) = if middle_off { (None, None) } else { (quarter(0.25), quarter(0.75)) };
+    let quarter_off = |q: Option<(f64, Option<f64>)>| q.is_some_and(|(u, z)| z.is_some_and(|z| off(u, z)));
+    if middle_off || quarter_off(q1) || quarter_off(q3) {
+        refine(at, a, (u, z), q1, r, out);
         out.push((u, z));
-        refine(at, (u, z), b, r, out);
+        refine(at, (u, z), b, q3, r, out);
     }
 }
 

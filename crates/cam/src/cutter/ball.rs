@@ -27,6 +27,22 @@ impl Profile for Ball {
         r2 / (rr + ((rr - r) * (rr + r)).max(0.0).sqrt())
     }
 
+    fn height_sq(&self, r2: f64) -> f64 {
+        let rr = self.radius;
+        r2 / (rr + (rr * rr - r2).max(0.0).sqrt())
+    }
+
+    fn reach(&self, z: f64) -> f64 {
+        // r² = z (2R − z), widened by a hair against rounding.
+        if z <= 0.0 {
+            0.0
+        } else if z >= self.radius {
+            self.radius
+        } else {
+            ((z * (2.0 * self.radius - z)).sqrt() * (1.0 + 1e-12)).min(self.radius)
+        }
+    }
+
     fn slope(&self, r: f64) -> f64 {
         let rest = ((self.radius - r) * (self.radius + r)).max(0.0).sqrt();
         if rest == 0.0 {

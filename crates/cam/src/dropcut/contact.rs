@@ -11,7 +11,15 @@
 
 use kezuri_geom::{Triangle, Vec3};
 
-use crate::cutter::{radius_above, Profile};
+use crate::cutter::Profile;
+
+/// The cutter resting on a whole plane: see [`Probe::plane`].
+pub(crate) struct Plane {
+    /// Where it touches, in XY.
+    pub touch: [f64; 2],
+    /// The tip's z.
+    pub tip: f64,
+}
 
 /// A cutter of shape `P` held at `(x, y)` and the highest tip z found so
 /// far.
@@ -58,7 +66,7 @@ impl<'a, P: Profile> Probe<'a, P> {
         let dx = (b[0] - self.x).max(self.x - b[2]).max(0.0);
         let dy = (b[1] - self.y).max(self.y - b[3]).max(0.0);
         let d2 = dx * dx + dy * dy;
-        (d2 <= self.r2).then(|| top - self.height(d2.sqrt()))
+        (d2 <= self.r2).then(|| top - self.cutter.height_sq(d2))
     }
 
     /// Whether a part of the surface whose XY box is `b` and whose highest
@@ -72,12 +80,13 @@ impl<'a, P: Profile> Probe<'a, P> {
     /// no higher than `top` can still raise the cutter above `best`.
     #[inline]
     pub fn reach2(&self, top: f64) -> f64 {
-        let r = radius_above(self.cutter, top - self.best, 12);
+        let r = self.cutter.reach(top - self.best);
         r * r
     }
 
+    /// A contact found: the tip at `z`.
     #[inline]
-    fn offer(&mut self, z: f64) {
+    pub fn offer(&mut self, z: f64) {
         if z > self.best {
             self.best = z;
         }
@@ -92,7 +101,7 @@ impl<'a, P: Profile> Probe<'a, P> {
         let (dx, dy) = (p.x - self.x, p.y - self.y);
         let d2 = dx * dx + dy * dy;
         if d2 <= self.r2 {
-            self.offer(p.z - self.height(d2.sqrt()));
+            self.offer(p.z - self.cutter.height_sq(d2));
         }
     }
 
@@ -107,24 +116,37 @@ impl<'a, P: Profile> Probe<'a, P> {
         if n.z.is_nan() || n.z <= 0.0 {
             return; // a vertical wall: its edges and vertices hold the cutter
         }
-        // z = v0.z + a (x − v0.x) + b (y − v0.y), rising by g along (a, b).
+        // z = v0.z + a (x − v0.x) + b (y − v0.y).
         let (a, b) = (-n.x / n.z, -n.y / n.z);
-        let g = (a * a + b * b).sqrt();
-        if !g.is_finite() {
+        let [p0, p1, p2] = t.v;
+        let Some(plane) = self.plane(a, b, p0.z + a * (self.x - p0.x) + b * (self.y - p0.y)) else {
             return; // vertical to within rounding: as a wall
-        }
-        let r = self.cutter.facet_radius(g);
-        let (qx, qy) = if g > 0.0 && r > 0.0 { (self.x + a * (r / g), self.y + b * (r / g)) } else { (self.x, self.y) };
+        };
         // Inside (or on the boundary): on the same side of all three edges,
         // whichever way the corners turn.
-        let [p0, p1, p2] = t.v;
+        let [qx, qy] = plane.touch;
         let side = |u: Vec3, v: Vec3| (v.x - u.x) * (qy - u.y) - (v.y - u.y) * (qx - u.x);
         let (s0, s1, s2) = (side(p0, p1), side(p1, p2), side(p2, p0));
-        let inside = (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0);
-        if inside {
-            let z = p0.z + a * (qx - p0.x) + b * (qy - p0.y);
-            self.offer(z - self.height(r));
+        if (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0) {
+            self.offer(plane.tip);
         }
+    }
+
+    /// The cutter on the whole plane `z = z0 + a (x − x) + b (y − y)` (`z0`
+    /// its height on the axis): where it touches and the tip's z there.
+    /// No part of the plane within the cutter's radius holds the tip
+    /// higher (`tip` is the largest `z0 + g·r − height(r)`, `g` the
+    /// plane's gradient), so it bounds every contact of a triangle in that
+    /// plane. `None` for a plane too steep to be finite.
+    #[inline]
+    pub fn plane(&self, a: f64, b: f64, z0: f64) -> Option<Plane> {
+        let g = (a * a + b * b).sqrt();
+        if !(g.is_finite() && z0.is_finite()) {
+            return None;
+        }
+        let r = self.cutter.facet_radius(g);
+        let touch = if g > 0.0 && r > 0.0 { [self.x + a * (r / g), self.y + b * (r / g)] } else { [self.x, self.y] };
+        Some(Plane { touch, tip: z0 + g * r - self.height(r) })
     }
 
     /// Edge contact: the highest tip z over the points of the segment

@@ -85,33 +85,77 @@ fn drop_on_cells<P: Profile>(h: &Heightfield, probe: &mut Probe<P>, [i0, i1, j0,
             }
         }
     }
+    let step = h.step();
     for j in j0..=j1 {
         for i in i0..=i1 {
             if !near(h.x(i), h.y(j), h.x(i + 1), h.y(j + 1)) {
                 continue;
             }
-            let (a, b, c, d) = (h.z(i, j), h.z(i + 1, j), h.z(i + 1, j + 1), h.z(i, j + 1));
-            let top = a.max(b).max(c).max(d);
+            let (za, zb, zc, zd) = (h.z(i, j), h.z(i + 1, j), h.z(i + 1, j + 1), h.z(i, j + 1));
+            let top = za.max(zb).max(zc).max(zd);
             let bx = [h.x(i), h.y(j), h.x(i + 1), h.y(j + 1)];
             if !probe.may_win(&bx, top) {
                 continue;
             }
-            let [lower, upper] = h.cell_triangles(i, j);
-            probe.facet(&lower);
-            probe.facet(&upper);
-            let [na, nb, nc] = lower.v;
-            let nd = upper.v[2];
+            let (na, nb, nc, nd) = (h.node(i, j), h.node(i + 1, j), h.node(i + 1, j + 1), h.node(i, j + 1));
+            // The lower triangle a b c rises (zb − za)/step along X and
+            // (zc − zb)/step along Y, the upper a c d (zc − zd)/step and
+            // (zd − za)/step. The cutter on a triangle's whole plane bounds
+            // every contact of the triangle (facet, edges, corners), and is
+            // the facet contact where it touches inside: then the
+            // triangle's edges need no look.
+            let (dx, dy) = (x - na.x, y - na.y);
+            let lower = [(zb - za) / step, (zc - zb) / step];
+            let upper = [(zc - zd) / step, (zd - za) / step];
+            let lower_open = open_triangle(probe, lower, za + lower[0] * dx + lower[1] * dy, na, step, true);
+            let upper_open = open_triangle(probe, upper, za + upper[0] * dx + upper[1] * dy, na, step, false);
             // Each cell owns its bottom, left and diagonal edges; the
             // last column and row of the range also their right and top.
-            probe.edge(na, nb);
-            probe.edge(na, nd);
-            probe.edge(na, nc);
-            if i == i1 {
-                probe.edge(nb, nc);
+            if lower_open {
+                probe.edge(na, nb);
+                if i == i1 {
+                    probe.edge(nb, nc);
+                }
             }
-            if j == j1 {
-                probe.edge(nd, nc);
+            if upper_open {
+                probe.edge(na, nd);
+                if j == j1 {
+                    probe.edge(nd, nc);
+                }
+            }
+            if lower_open && upper_open {
+                probe.edge(na, nc);
             }
         }
     }
+}
+
+/// The cutter on the plane of one triangle of a cell whose corner `(i, j)`
+/// is `corner`: offers the facet contact where it touches inside the
+/// triangle (lower: `0 ≤ v ≤ u ≤ 1` in cell units, upper: `0 ≤ u ≤ v ≤
+/// 1`), and says whether the triangle's edges could still hold the cutter
+/// higher than the best so far. `gradient` is the plane's rise along X and
+/// Y, `z_axis` its height on the cutter's axis.
+#[inline]
+fn open_triangle<P: Profile>(
+    probe: &mut Probe<P>,
+    gradient: [f64; 2],
+    z_axis: f64,
+    corner: kezuri_geom::Vec3,
+    step: f64,
+    lower: bool,
+) -> bool {
+    let Some(plane) = probe.plane(gradient[0], gradient[1], z_axis) else {
+        return true;
+    };
+    if plane.tip <= probe.best {
+        return false;
+    }
+    let (u, v) = ((plane.touch[0] - corner.x) / step, (plane.touch[1] - corner.y) / step);
+    let inside = if lower { 0.0 <= v && v <= u && u <= 1.0 } else { 0.0 <= u && u <= v && v <= 1.0 };
+    if inside {
+        probe.offer(plane.tip);
+        return false;
+    }
+    true
 }
