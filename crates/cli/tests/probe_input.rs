@@ -269,3 +269,20 @@ fn level_writes_the_format_it_read() {
         assert!(written.starts_with(start), "{name}: {written}");
     }
 }
+
+/// A picture too large to make (a 112 × 112 grid at 64 pixels per pitch is
+/// 7105 × 7105 pixels) is refused before anything is written.
+#[test]
+fn a_picture_too_large_is_refused_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let data = path(dir.path(), "big.txt");
+    let text: String = (1..=112 * 112).map(|k| format!("{k},{}\n", k % 7)).collect();
+    std::fs::write(&data, text).unwrap();
+    let (png, csv) = (path(&out, "big.png"), path(&out, "big.csv"));
+    let args = ["probe", "export", &data, "--count", "112,112", "--pitch", "1", "--csv", &csv, "--png", &png];
+    refused(&[&args[..], &["--png-scale", "64"]].concat(), "--png: 7105 × 7105 pixels is more than 50000000", &out);
+    ok(&kezuri(&[&args[..], &["--png-scale", "2"]].concat()));
+    assert_eq!(listing(&out), ["big.csv", "big.png"]);
+}
