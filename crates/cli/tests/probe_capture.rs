@@ -455,3 +455,57 @@ fn binary_killed_and_resumed() {
     log.wait_for("capture complete");
     check_final(&data, &port1);
 }
+
+/// Through the binary with its stderr on a terminal: the progress bar runs
+/// from the first point to the last, between the messages.
+#[test]
+fn binary_draws_a_progress_bar_on_a_terminal() {
+    use std::io::Read;
+    use std::sync::{Arc, Mutex};
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("ume.csv");
+    let mut instrument = pty();
+    let terminal = pty();
+    let mut child = kezuri()
+        .args(["probe", "capture"])
+        .args(capture_words(&instrument.path, &data, false))
+        .stdout(Stdio::null())
+        .stderr(Stdio::from(terminal._slave.try_clone().unwrap()))
+        .spawn()
+        .expect("spawn kezuri");
+    // Everything the terminal shows, bar redraws (CR, escapes) and all.
+    let shown = Arc::new(Mutex::new(String::new()));
+    let mut screen = terminal.master.as_ref().unwrap().try_clone().unwrap();
+    let sink = Arc::clone(&shown);
+    thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = screen.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            sink.lock().unwrap().push_str(&String::from_utf8_lossy(&buf[..n]));
+        }
+    });
+    let wait_shown = |what: &str| {
+        let end = Instant::now() + Duration::from_secs(20);
+        while !shown.lock().unwrap().contains(what) {
+            assert!(Instant::now() < end, "{what:?} never shown: {:?}", shown.lock().unwrap());
+            thread::sleep(Duration::from_millis(10));
+        }
+    };
+    wait_shown("waiting for readings");
+    wait_shown("0/15 points");
+    for no in 1..=NX * NY {
+        instrument.send(&plunge(no));
+        // The bar redraws at most every 50 ms.
+        thread::sleep(Duration::from_millis(60));
+    }
+    assert!(wait_child(&mut child).success());
+    wait_shown("capture complete: 15 points");
+    let text = shown.lock().unwrap().clone();
+    // One redraw per point but for the rate limit and the bar cleared at the end.
+    let drawn = (1..15).filter(|k| text.contains(&format!(" {k}/15 points"))).count();
+    assert!(drawn >= 10, "the bar showed {drawn} of the points 1..14: {text:?}");
+    assert!(text.contains("predicted end"), "{text:?}");
+    assert_eq!(points(&data).len(), NX * NY);
+}
