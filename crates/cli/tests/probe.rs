@@ -290,10 +290,10 @@ fn bad_input_is_a_clear_error_and_nothing_is_written() {
     let grid = ["--count", "3,2", "--pitch", "1"];
     let cases = [
         ("1,0\n2,0\n3,0\n4,0\n5,0\n", "5 points, but the 3 × 2 grid has 6", "border"),
-        ("1,0\n2,0\n3,abc\n4,0\n5,0\n6,0\n", "line 3: 'abc' is not a number", "border"),
-        ("1,0\n2,0\n3,0\n4,NaN\n5,0\n6,0\n", "line 4: 'NaN' is not a finite number", "border"),
+        ("1,0\n2,0\n3,abc\n4,0\n5,0\n6,0\n", "line 3, column 3: 'abc' is not a number", "border"),
+        ("1,0\n2,0\n3,0\n4,NaN\n5,0\n6,0\n", "line 4, column 3: 'NaN' is not a finite number", "border"),
         ("1,0\n2,0\n4,0\n", "line 3: point No 4 where No 3", "border"),
-        ("1,0\n2,0\n3,0\n4,0\n5,0\n6,0\n", "rows 3 is outside the grid's rows 1..2", "rows:1,3"),
+        ("1,0\n2,0\n3,0\n4,0\n5,0\n6,0\n", "row 3 is outside the grid's rows 1..2", "rows:1,3"),
     ];
     for (text, message, reference) in cases {
         let data = path(dir.path(), "bad.txt");

@@ -5,9 +5,9 @@
 //! the grid's points, in order, equal to what the instrument sent minus the
 //! rejected lines. Also the line parser on a table of formats.
 //!
-//! The module is compiled into this test by path, so it is tested through
-//! its functions whether or not the `probe` command group is wired yet; the
-//! binary is driven too once `kezuri probe capture` exists.
+//! The module is compiled into this test by path, so its functions are
+//! driven directly (messages collected, no progress bar); the binary is
+//! driven too, and killed mid-run.
 
 #![cfg(unix)]
 
@@ -350,7 +350,8 @@ fn disconnect_and_resume_lose_and_duplicate_nothing() {
     // Readings after the last point are not stored.
     p2.send("01A+00001.000\r");
     join(job).expect("capture completes");
-    log.wait_for("predicted end");
+    let eta = log.wait_for("predicted end");
+    assert!(eta.starts_with("started 20") && eta.contains("; predicted end 20"), "{eta}");
     log.wait_for("capture complete: 15 points");
     eprintln!("session 2 messages:\n{}", log.drain().join("\n"));
     check_final(&data, &port1);
@@ -391,10 +392,6 @@ fn kezuri() -> Command {
     Command::new(env!("CARGO_BIN_EXE_kezuri"))
 }
 
-fn binary_has_capture() -> bool {
-    kezuri().args(["probe", "capture", "--help"]).output().is_ok_and(|o| o.status.success())
-}
-
 /// Runs `kezuri probe capture WORDS`, its stderr lines into a channel.
 fn spawn_capture(words: &[String]) -> (std::process::Child, Log) {
     let mut child = kezuri()
@@ -419,10 +416,6 @@ fn spawn_capture(words: &[String]) -> (std::process::Child, Log) {
 /// Through the binary: cut by killing kezuri mid-run, then resume.
 #[test]
 fn binary_killed_and_resumed() {
-    if !binary_has_capture() {
-        eprintln!("`kezuri probe capture` is not wired into the binary yet; tested through the module only");
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
     let data: PathBuf = dir.path().join("ume.csv");
     let mut p1 = pty();
@@ -461,4 +454,58 @@ fn binary_killed_and_resumed() {
     assert!(wait_child(&mut child).success());
     log.wait_for("capture complete");
     check_final(&data, &port1);
+}
+
+/// Through the binary with its stderr on a terminal: the progress bar runs
+/// from the first point to the last, between the messages.
+#[test]
+fn binary_draws_a_progress_bar_on_a_terminal() {
+    use std::io::Read;
+    use std::sync::{Arc, Mutex};
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("ume.csv");
+    let mut instrument = pty();
+    let terminal = pty();
+    let mut child = kezuri()
+        .args(["probe", "capture"])
+        .args(capture_words(&instrument.path, &data, false))
+        .stdout(Stdio::null())
+        .stderr(Stdio::from(terminal._slave.try_clone().unwrap()))
+        .spawn()
+        .expect("spawn kezuri");
+    // Everything the terminal shows, bar redraws (CR, escapes) and all.
+    let shown = Arc::new(Mutex::new(String::new()));
+    let mut screen = terminal.master.as_ref().unwrap().try_clone().unwrap();
+    let sink = Arc::clone(&shown);
+    thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = screen.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            sink.lock().unwrap().push_str(&String::from_utf8_lossy(&buf[..n]));
+        }
+    });
+    let wait_shown = |what: &str| {
+        let end = Instant::now() + Duration::from_secs(20);
+        while !shown.lock().unwrap().contains(what) {
+            assert!(Instant::now() < end, "{what:?} never shown: {:?}", shown.lock().unwrap());
+            thread::sleep(Duration::from_millis(10));
+        }
+    };
+    wait_shown("waiting for readings");
+    wait_shown("0/15 points");
+    for no in 1..=NX * NY {
+        instrument.send(&plunge(no));
+        // The bar redraws at most every 50 ms.
+        thread::sleep(Duration::from_millis(60));
+    }
+    assert!(wait_child(&mut child).success());
+    wait_shown("capture complete: 15 points");
+    let text = shown.lock().unwrap().clone();
+    // One redraw per point but for the rate limit and the bar cleared at the end.
+    let drawn = (1..15).filter(|k| text.contains(&format!(" {k}/15 points"))).count();
+    assert!(drawn >= 10, "the bar showed {drawn} of the points 1..14: {text:?}");
+    assert!(text.contains("predicted end"), "{text:?}");
+    assert_eq!(points(&data).len(), NX * NY);
 }

@@ -13,8 +13,10 @@
 //!   between, further numbers ignored): the points themselves, which must
 //!   lie on a regular grid of square cells, in any order.
 //!
-//! Every error names the line it is on (from 1), or says what does not
-//! add up (a point count that does not match the grid).
+//! Every error names the line it is on (from 1) and, for a bad field, the
+//! column (in characters, from 1), or says what does not add up (a point
+//! count that does not match the grid). A UTF-8 byte-order mark (what
+//! spreadsheet programs put first in a CSV file) is ignored.
 
 use std::fmt::Write as _;
 
@@ -81,15 +83,18 @@ pub struct Data {
 pub struct DataError {
     /// The line (from 1), where one is to blame.
     pub line: Option<usize>,
+    /// The column (in characters, from 1) of the field to blame, if one is.
+    pub column: Option<usize>,
     /// What is wrong.
     pub message: String,
 }
 
 impl std::fmt::Display for DataError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.line {
-            Some(n) => write!(f, "line {n}: {}", self.message),
-            None => f.write_str(&self.message),
+        match (self.line, self.column) {
+            (Some(n), Some(c)) => write!(f, "line {n}, column {c}: {}", self.message),
+            (Some(n), None) => write!(f, "line {n}: {}", self.message),
+            _ => f.write_str(&self.message),
         }
     }
 }
@@ -97,29 +102,61 @@ impl std::fmt::Display for DataError {
 impl std::error::Error for DataError {}
 
 fn err<T>(line: Option<usize>, message: impl Into<String>) -> Result<T, DataError> {
-    Err(DataError { line, message: message.into() })
+    Err(DataError { line, column: None, message: message.into() })
 }
 
+/// Blank lines, comments (`#`, `;`, `(`) and lines of nothing but control
+/// characters and `%` (the DC2/DC4 and tape marks a control may send around
+/// its DPRNT output, a DOS end-of-file mark).
 fn is_comment(line: &str) -> bool {
-    let t = line.trim_start();
-    t.is_empty() || t.starts_with('#') || t.starts_with(';') || t.starts_with('(')
+    let t = line.trim_start_matches(|c: char| c.is_whitespace() || c.is_control());
+    t.starts_with('#') || t.starts_with(';') || t.starts_with('(') || t.chars().all(|c| c == '%' || c.is_control())
 }
 
-fn fields(line: &str) -> Vec<&str> {
-    line.split(|c: char| c == ',' || c.is_whitespace()).filter(|f| !f.is_empty()).collect()
+/// A field of a line and the column (in characters, from 1) it starts at.
+#[derive(Clone, Copy)]
+struct Field<'a> {
+    text: &'a str,
+    column: usize,
 }
 
-/// A finite number, or an error naming the line.
-fn number(field: &str, n: usize) -> Result<f64, DataError> {
-    match field.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => err(Some(n), format!("'{field}' is not a finite number")),
-        Err(_) => err(Some(n), format!("'{field}' is not a number")),
+/// The fields of a line, separated by commas, white space and control
+/// characters.
+fn fields(line: &str) -> Vec<Field<'_>> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for (k, (at, c)) in line.char_indices().chain(std::iter::once((line.len(), ','))).enumerate() {
+        let separator = c == ',' || c.is_whitespace() || c.is_control();
+        match (start, separator) {
+            (None, false) => start = Some((at, k + 1)),
+            (Some((from, column)), true) => {
+                out.push(Field { text: &line[from..at], column });
+                start = None;
+            }
+            _ => {}
+        }
     }
+    out
+}
+
+/// The texts of `fields`.
+fn texts<'a>(fields: &[Field<'a>]) -> Vec<&'a str> {
+    fields.iter().map(|f| f.text).collect()
+}
+
+/// A finite number, or an error naming the line and column.
+fn number(field: Field<'_>, n: usize) -> Result<f64, DataError> {
+    let message = match field.text.parse::<f64>() {
+        Ok(v) if v.is_finite() => return Ok(v),
+        Ok(_) => format!("'{}' is not a finite number", field.text),
+        Err(_) => format!("'{}' is not a number", field.text),
+    };
+    Err(DataError { line: Some(n), column: Some(field.column), message })
 }
 
 /// Reads a data file of any of the formats (module docs).
 pub fn read(text: &str, hint: &Hint) -> Result<Data, DataError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let lines: Vec<&str> = text.lines().collect();
     let grid_line = lines.iter().position(|l| {
         let t = l.trim_start();
@@ -135,7 +172,7 @@ pub fn read(text: &str, hint: &Hint) -> Result<Data, DataError> {
     let Some((first, line)) = lines.iter().enumerate().find(|(_, l)| !is_comment(l)) else {
         return err(None, "no data: the file has no points");
     };
-    let f = fields(line);
+    let f = texts(&fields(line));
     let numeric = f.first().is_some_and(|v| v.parse::<f64>().is_ok());
     let names: String = f.iter().map(|s| s.to_ascii_lowercase()).collect::<Vec<_>>().join(",");
     let bare = if numeric { f.len() == 2 } else { names == "no,z" };
@@ -203,8 +240,13 @@ fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, DataError> {
     let body = line.trim_start().trim_start_matches('#').trim_start();
     for token in body.split_whitespace().skip(1) {
         let Some((key, value)) = token.split_once('=') else { continue };
-        let bad =
-            |what: &str| DataError { line: Some(n), message: format!("grid header: {key}={value} is not {what}") };
+        // `token` lies in `line`: its column is the characters before it, plus one.
+        let column = Some(line[..token.as_ptr() as usize - line.as_ptr() as usize].chars().count() + 1);
+        let bad = |what: &str| DataError {
+            line: Some(n),
+            column,
+            message: format!("grid header: {key}={value} is not {what}"),
+        };
         match key.to_ascii_lowercase().as_str() {
             "nx" => nx = Some(value.parse::<usize>().map_err(|_| bad("a count"))?),
             "ny" => ny = Some(value.parse::<usize>().map_err(|_| bad("a count"))?),
@@ -217,7 +259,9 @@ fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, DataError> {
                 }
                 origin = Some([v[0], v[1]]);
             }
-            "pattern" | "order" => order = Some(value.parse::<Order>().or_else(|e| err(Some(n), e))?),
+            "pattern" | "order" => {
+                order = Some(value.parse::<Order>().map_err(|message| DataError { line: Some(n), column, message })?)
+            }
             _ => {}
         }
     }
@@ -253,16 +297,16 @@ fn records(lines: &[&str], grid: &Grid) -> Result<(Vec<f64>, bool, bool), DataEr
             continue;
         }
         let f = fields(line);
-        if !title && count == 0 && !zero_record && f.len() == 2 && f[0].eq_ignore_ascii_case("no") {
+        if !title && count == 0 && !zero_record && f.len() == 2 && f[0].text.eq_ignore_ascii_case("no") {
             title = true;
             continue;
         }
         if f.len() != 2 {
             return err(Some(n), format!("expected a record No,Z, got '{}'", line.trim()));
         }
-        let no: usize = match f[0].parse() {
-            Ok(v) => v,
-            Err(_) => return err(Some(n), format!("point number '{}' is not a whole number", f[0])),
+        let Ok(no) = f[0].text.parse::<usize>() else {
+            let message = format!("point number '{}' is not a whole number", f[0].text);
+            return Err(DataError { line: Some(n), column: Some(f[0].column), message });
         };
         let value = number(f[1], n)?;
         if no == 0 && count == 0 && !zero_record {

@@ -119,12 +119,20 @@ pub fn triangles(data: &ProbeGrid) -> Vec<Triangle> {
     out
 }
 
+/// Width and height in pixels of [`shade`]'s picture at `scale` pixels
+/// per pitch; `None` when they overflow.
+pub fn shade_size(data: &ProbeGrid, scale: usize) -> Option<(usize, usize)> {
+    let side = |n: usize| n.checked_sub(1)?.checked_mul(scale.max(1))?.checked_add(1);
+    Some((side(data.grid.nx)?, side(data.grid.ny)?))
+}
+
 /// A hill-shaded picture (light from the north-west, 45° up, tinted by
 /// height), `scale` pixels per pitch, +Y up: `(width, height, RGB bytes)`.
+/// The caller bounds the size ([`shade_size`]).
 pub fn shade(data: &ProbeGrid, scale: usize) -> (usize, usize, Vec<u8>) {
     let g = &data.grid;
     let scale = scale.max(1);
-    let (w, h) = ((g.nx - 1) * scale + 1, (g.ny - 1) * scale + 1);
+    let (w, h) = shade_size(data, scale).unwrap_or((1, 1));
     let (lo, hi) = data.range();
     let span = (hi - lo).max(1e-12);
     // Bilinear height at fractional node coordinates.

@@ -185,16 +185,14 @@ impl std::error::Error for LevelError {}
 pub fn reference_mask(grid: &Grid, reference: &Reference) -> Result<Vec<bool>, LevelError> {
     let (nx, ny) = (grid.nx, grid.ny);
     let mut mask = vec![false; nx * ny];
-    let check = |a: usize, b: usize, n: usize, what: &str| {
+    let check = |a: usize, b: usize, n: usize, (one, what): (&str, &str)| {
         for v in [a, b] {
             if v == 0 || v > n {
-                return Err(LevelError(format!(
-                    "reference {what} {a},{b}: {what} {v} is outside the grid's {what} 1..{n}"
-                )));
+                return Err(LevelError(format!("{one} {v} is outside the grid's {what} 1..{n}")));
             }
         }
         if a == b {
-            return Err(LevelError(format!("reference {what} {a},{b}: two different {what} are needed")));
+            return Err(LevelError(format!("{what} {a},{b}: two different {what} are needed")));
         }
         Ok(())
     };
@@ -212,13 +210,13 @@ pub fn reference_mask(grid: &Grid, reference: &Reference) -> Result<Vec<bool>, L
             }
         }
         Reference::Rows(a, b) => {
-            check(*a, *b, ny, "rows")?;
+            check(*a, *b, ny, ("row", "rows"))?;
             for j in [a - 1, b - 1] {
                 mask[j * nx..(j + 1) * nx].iter_mut().for_each(|m| *m = true);
             }
         }
         Reference::Cols(a, b) => {
-            check(*a, *b, nx, "columns")?;
+            check(*a, *b, nx, ("column", "columns"))?;
             for j in 0..ny {
                 mask[j * nx + a - 1] = true;
                 mask[j * nx + b - 1] = true;

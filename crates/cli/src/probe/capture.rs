@@ -46,17 +46,30 @@
 //! ends the capture with the number of points stored and the command that
 //! resumes it.
 
+// By path, so that the test that compiles this file by path
+// (tests/probe_capture.rs) finds them too.
+#[path = "capture/clock.rs"]
+mod clock;
+#[path = "capture/port.rs"]
+mod port;
+#[path = "capture/reading.rs"]
+mod reading;
+
 use std::fmt::Write as _;
 use std::fs::{File, OpenOptions};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime};
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use kezuri_cam::probe::data::grid_header;
 use kezuri_cam::probe::{Grid, Order};
+
+use clock::{human, local_time, utc_iso};
+use port::{Got, Port};
+pub use reading::{parse_reading, TipZ};
 
 /// Reads one dial-indicator value per plunge from a serial port into a `No,Z` data file.
 #[derive(Args, Debug, Clone)]
@@ -208,148 +221,6 @@ fn parse_sign(s: &str) -> Result<i32, String> {
     }
 }
 
-/// One indicator reading, in mm.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Reading {
-    /// The value in mm.
-    pub mm: f64,
-    /// Decimals the instrument gave (the result is rounded to them).
-    pub decimals: u32,
-    /// Multiplexer channel, for lines that carry one.
-    pub channel: Option<u32>,
-}
-
-/// Parses one line (without its terminator) in `format`; `Err` says why it
-/// is not a reading.
-pub fn parse_reading(line: &str, format: Format) -> Result<Reading, String> {
-    let t = line.trim_matches(|c: char| c.is_ascii_whitespace());
-    if t.is_empty() {
-        return Err("empty line".into());
-    }
-    let digimatic = || parse_mitutoyo(t).or_else(|| parse_nibbles(t));
-    let number = || parse_number(t);
-    let found = match format {
-        Format::Digimatic => digimatic(),
-        Format::Number => number(),
-        Format::Auto => digimatic().or_else(number),
-    };
-    match found {
-        Some(Ok(r)) => Ok(r),
-        Some(Err(e)) => Err(e),
-        None => Err(match format {
-            Format::Auto => "not a Mitutoyo line, Digimatic frame or number".into(),
-            Format::Digimatic => "not a Mitutoyo line (01A+00012.345) or Digimatic frame".into(),
-            Format::Number => "not a number".into(),
-        }),
-    }
-}
-
-/// `[+-]digits[.digits]` with at least one digit: (value, decimals).
-fn decimal(s: &str) -> Option<(f64, u32)> {
-    let body = s.strip_prefix(['+', '-']).unwrap_or(s);
-    let (int, frac) = body.split_once('.').unwrap_or((body, ""));
-    let digits = |p: &str| p.bytes().all(|b| b.is_ascii_digit());
-    if int.len() + frac.len() == 0 || !digits(int) || !digits(frac) || frac.len() > 12 {
-        return None;
-    }
-    let v: f64 = s.parse().ok()?;
-    v.is_finite().then_some((v, frac.len() as u32))
-}
-
-/// Mitutoyo multiplexer / USB line: `01A+00012.345`. `None` when the line
-/// does not look like one at all, `Some(Err)` when it does but is damaged.
-fn parse_mitutoyo(t: &str) -> Option<Result<Reading, String>> {
-    let b = t.as_bytes();
-    if b.len() < 4 || !b[0].is_ascii_digit() || !b[1].is_ascii_digit() || b[2] != b'A' {
-        return None;
-    }
-    if b[3] != b'+' && b[3] != b'-' {
-        return Some(Err("Mitutoyo line without a sign after the channel".into()));
-    }
-    let channel = u32::from(b[0] - b'0') * 10 + u32::from(b[1] - b'0');
-    let data = &t[4..];
-    if data.len() > 13 {
-        return Some(Err("Mitutoyo line with too many digits".into()));
-    }
-    match decimal(data) {
-        Some((v, decimals)) if !data.starts_with(['+', '-']) => {
-            Some(Ok(Reading { mm: if b[3] == b'-' { -v } else { v }, decimals, channel: Some(channel) }))
-        }
-        _ => Some(Err("Mitutoyo line with a damaged value".into())),
-    }
-}
-
-/// Digimatic frame as 13 hex nibbles `FFFF s dddddd p u` (spaces allowed).
-fn parse_nibbles(t: &str) -> Option<Result<Reading, String>> {
-    let n: Vec<u8> = t.bytes().filter(|b| *b != b' ').collect();
-    if n.len() != 13 || !n[..4].iter().all(|b| b.eq_ignore_ascii_case(&b'F')) {
-        return None;
-    }
-    let sign = match n[4] {
-        b'0' => 1.0,
-        b'8' => -1.0,
-        _ => return Some(Err("Digimatic frame with a bad sign nibble".into())),
-    };
-    if !n[5..12].iter().all(u8::is_ascii_digit) || n[11] > b'5' {
-        return Some(Err("Digimatic frame with a bad digit or decimal point".into()));
-    }
-    let digits: u64 = std::str::from_utf8(&n[5..11]).ok()?.parse().ok()?;
-    let point = u32::from(n[11] - b'0');
-    let value = sign * digits as f64 / 10f64.powi(point as i32);
-    match n[12] {
-        b'0' => Some(Ok(Reading { mm: value, decimals: point, channel: None })),
-        b'1' => Some(Ok(Reading { mm: value * 25.4, decimals: point + 1, channel: None })),
-        _ => Some(Err("Digimatic frame with an unknown unit nibble".into())),
-    }
-}
-
-/// Plain number, optionally followed by `mm`.
-fn parse_number(t: &str) -> Option<Result<Reading, String>> {
-    let s = t.strip_suffix("mm").or_else(|| t.strip_suffix("MM")).unwrap_or(t).trim_end();
-    let s = match s.as_bytes().first() {
-        Some(b'+' | b'-') => format!("{}{}", &s[..1], s[1..].trim_start()),
-        _ => s.to_string(),
-    };
-    decimal(&s).map(|(mm, decimals)| Ok(Reading { mm, decimals, channel: None }))
-}
-
-/// How a reading becomes the tip Z: `bottom + sign * (reading - zero)`.
-#[derive(Debug, Clone, Copy)]
-pub struct TipZ {
-    /// Tip Z at the plunge bottom with the indicator at `zero`.
-    pub bottom: f64,
-    /// +1 or -1.
-    pub sign: i32,
-    /// Reading with the tip at `bottom`.
-    pub zero: f64,
-}
-
-impl TipZ {
-    /// The tip Z of a reading, rounded to the decimals of the reading,
-    /// `bottom` and `zero` (so no binary noise like `-32.344999999999999`).
-    pub fn tip_z(&self, r: &Reading) -> f64 {
-        let z = self.bottom + f64::from(self.sign) * (r.mm - self.zero);
-        let k = r.decimals.max(decimals_of(self.bottom)).max(decimals_of(self.zero));
-        let rounded = if k <= 9 && z.abs() < 1e6 {
-            let p = 10f64.powi(k as i32);
-            (z * p).round() / p
-        } else {
-            z
-        };
-        if rounded == 0.0 {
-            0.0
-        } else {
-            rounded
-        }
-    }
-}
-
-/// Decimals of the shortest round-trip form of `v`.
-fn decimals_of(v: f64) -> u32 {
-    let s = format!("{v}");
-    s.find('.').map_or(0, |p| (s.len() - p - 1) as u32)
-}
-
 impl CaptureArgs {
     fn total(&self) -> usize {
         self.count.0 * self.count.1
@@ -416,65 +287,6 @@ fn quote(s: &str) -> String {
         s.to_string()
     } else {
         format!("'{}'", s.replace('\'', r"'\''"))
-    }
-}
-
-/// `2026-11-23T19:45:00Z`.
-fn utc_iso(t: SystemTime) -> String {
-    let secs = t.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs()) as i64;
-    let (y, m, d) = civil_from_days(secs.div_euclid(86_400));
-    let s = secs.rem_euclid(86_400);
-    format!("{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z", s / 3600, s / 60 % 60, s % 60)
-}
-
-/// Proleptic Gregorian date of a day count from 1970-01-01 (H. Hinnant's algorithm).
-fn civil_from_days(days: i64) -> (i64, u32, u32) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
-}
-
-/// Local wall-clock time for messages (`2026-11-24 05:58:10 +0900`); UTC
-/// where the local zone is unknown.
-fn local_time(t: SystemTime) -> String {
-    #[cfg(unix)]
-    {
-        let secs = t.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs()) as libc::time_t;
-        // SAFETY: localtime_r writes only the `tm` we hand it.
-        let mut tm: libc::tm = unsafe { std::mem::zeroed() };
-        if !unsafe { libc::localtime_r(&secs, &mut tm) }.is_null() {
-            let off = tm.tm_gmtoff / 60;
-            let sign = if off < 0 { '-' } else { '+' };
-            return format!(
-                "{:04}-{:02}-{:02} {:02}:{:02}:{:02} {sign}{:02}{:02}",
-                tm.tm_year + 1900,
-                tm.tm_mon + 1,
-                tm.tm_mday,
-                tm.tm_hour,
-                tm.tm_min,
-                tm.tm_sec,
-                off.abs() / 60,
-                off.abs() % 60
-            );
-        }
-    }
-    utc_iso(t)
-}
-
-fn human(d: Duration) -> String {
-    let s = d.as_secs();
-    if s >= 3600 {
-        format!("{}h{:02}m", s / 3600, s / 60 % 60)
-    } else if s >= 60 {
-        format!("{}m{:02}s", s / 60, s % 60)
-    } else {
-        format!("{:.1} s", d.as_secs_f64())
     }
 }
 
@@ -565,99 +377,6 @@ fn sync_dir(path: &Path) {
     }
     #[cfg(not(unix))]
     let _ = path;
-}
-
-/// What one wait on the port gave.
-enum Got {
-    Data(usize),
-    Quiet,
-    Gone(String),
-}
-
-/// The serial port, read with a bounded wait.
-struct Port {
-    #[cfg(unix)]
-    port: serialport::TTYPort,
-    #[cfg(not(unix))]
-    port: Box<dyn serialport::SerialPort>,
-}
-
-impl Port {
-    fn open(path: &str, baud: u32) -> Result<Port> {
-        let builder = serialport::new(path, baud)
-            .data_bits(serialport::DataBits::Eight)
-            .parity(serialport::Parity::None)
-            .stop_bits(serialport::StopBits::One)
-            .flow_control(serialport::FlowControl::None)
-            .timeout(Duration::from_millis(200));
-        #[cfg(unix)]
-        {
-            let port = builder.open_native().with_context(|| format!("cannot open serial port {path}"))?;
-            // Non-blocking reads: a hang-up must never leave us blocked in read().
-            use std::os::unix::io::AsRawFd;
-            let fd = port.as_raw_fd();
-            // SAFETY: fcntl on a descriptor we own.
-            unsafe {
-                let flags = libc::fcntl(fd, libc::F_GETFL);
-                if flags >= 0 {
-                    libc::fcntl(fd, libc::F_SETFL, flags | libc::O_NONBLOCK);
-                }
-            }
-            Ok(Port { port })
-        }
-        #[cfg(not(unix))]
-        {
-            let port = builder.open().with_context(|| format!("cannot open serial port {path}"))?;
-            Ok(Port { port })
-        }
-    }
-
-    #[cfg(unix)]
-    fn read(&mut self, buf: &mut [u8], wait: Duration) -> Got {
-        use std::os::unix::io::AsRawFd;
-        let fd = self.port.as_raw_fd();
-        let mut pfd = libc::pollfd { fd, events: libc::POLLIN, revents: 0 };
-        let ms = wait.as_millis().clamp(1, 60_000) as libc::c_int;
-        // SAFETY: one valid pollfd.
-        let r = unsafe { libc::poll(&mut pfd, 1, ms) };
-        if r < 0 {
-            let e = std::io::Error::last_os_error();
-            return if e.kind() == std::io::ErrorKind::Interrupted { Got::Quiet } else { Got::Gone(e.to_string()) };
-        }
-        if r == 0 {
-            return Got::Quiet;
-        }
-        // Readable, hung up or in error: read() tells which (data still
-        // buffered is read before a hang-up is reported).
-        // SAFETY: reading into a buffer we own, at most its length.
-        let n = unsafe { libc::read(fd, buf.as_mut_ptr().cast(), buf.len()) };
-        match n {
-            n if n > 0 => Got::Data(n as usize),
-            0 => Got::Gone("end of file".into()),
-            _ => {
-                let e = std::io::Error::last_os_error();
-                let hung = pfd.revents & (libc::POLLHUP | libc::POLLERR | libc::POLLNVAL) != 0;
-                match e.kind() {
-                    std::io::ErrorKind::Interrupted => Got::Quiet,
-                    std::io::ErrorKind::WouldBlock if !hung => Got::Quiet,
-                    std::io::ErrorKind::WouldBlock => Got::Gone("hang-up".into()),
-                    _ => Got::Gone(e.to_string()),
-                }
-            }
-        }
-    }
-
-    #[cfg(not(unix))]
-    fn read(&mut self, buf: &mut [u8], wait: Duration) -> Got {
-        let _ = self.port.set_timeout(wait);
-        match std::io::Read::read(&mut self.port, buf) {
-            Ok(0) => Got::Gone("end of file".into()),
-            Ok(n) => Got::Data(n),
-            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => Got::Quiet,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => Got::Quiet,
-            Err(e) => Got::Gone(e.to_string()),
-        }
-    }
 }
 
 /// Messages go through `log`, above the progress bar when there is one.
@@ -853,26 +572,4 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     result?;
     (out.log)(&format!("capture complete: {total} points in {name}"));
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn dates() {
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(20_513), (2026, 3, 1));
-        assert_eq!(utc_iso(UNIX_EPOCH + Duration::from_secs(1_795_463_100)), "2026-11-23T19:45:00Z");
-    }
-
-    #[test]
-    fn tip_z_rounds_to_the_inputs_decimals() {
-        let t = TipZ { bottom: -20.0, sign: -1, zero: 0.0 };
-        let r = parse_reading("01A+00012.345", Format::Auto).unwrap();
-        assert_eq!(t.tip_z(&r).to_string(), "-32.345");
-        let t = TipZ { bottom: -70.5, sign: 1, zero: 0.01 };
-        let r = parse_reading("19.16", Format::Auto).unwrap();
-        assert_eq!(t.tip_z(&r).to_string(), "-51.35");
-    }
 }

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use image::codecs::png::PngEncoder;
 use image::{ExtendedColorType, ImageEncoder};
 use kezuri_cam::probe::data::{self, Format};
-use kezuri_cam::probe::export::{dxf, mirror, shade, triangles, Mirror};
+use kezuri_cam::probe::export::{dxf, mirror, shade, shade_size, triangles, Mirror};
 use kezuri_geom::write_binary_stl;
 
 use super::DataArgs;
@@ -60,6 +60,9 @@ pub enum MirrorAxis {
     Y,
 }
 
+/// The most pixels a --png may have (150 MB of RGB).
+const MAX_PIXELS: usize = 50_000_000;
+
 /// Runs `kezuri probe export`.
 pub fn run(args: &ExportArgs) -> Result<()> {
     if args.dxf.is_none() && args.stl.is_none() && args.png.is_none() && args.csv.is_none() {
@@ -81,6 +84,15 @@ pub fn run(args: &ExportArgs) -> Result<()> {
         outputs.push((p, write_binary_stl(&triangles(&grid))));
     }
     if let Some(p) = &args.png {
+        let pixels = shade_size(&grid, args.png_scale).and_then(|(w, h)| Some((w, h, w.checked_mul(h)?)));
+        match pixels {
+            Some((_, _, n)) if n <= MAX_PIXELS => {}
+            Some((w, h, _)) => bail!(
+                "--png: {w} × {h} pixels is more than {MAX_PIXELS}: give a smaller --png-scale (now {})",
+                args.png_scale
+            ),
+            None => bail!("--png: the picture is too large: give a smaller --png-scale"),
+        }
         let (w, h, rgb) = shade(&grid, args.png_scale);
         let mut png = Vec::new();
         PngEncoder::new(&mut png)

@@ -72,9 +72,10 @@ fn read_mask(path: &Path, nx: usize, ny: usize) -> Result<Vec<bool>> {
         if t.is_empty() || t.starts_with('#') {
             continue;
         }
-        let cells: Vec<char> = t.chars().filter(|c| !(c.is_whitespace() || *c == ',')).collect();
-        if let Some(c) = cells.iter().find(|c| !matches!(c, '0' | '1')) {
-            bail!("{name}: line {}: '{c}' is not 0 or 1", n + 1);
+        let cells: Vec<(usize, char)> =
+            line.chars().enumerate().filter(|(_, c)| !(c.is_whitespace() || *c == ',')).collect();
+        if let Some((column, c)) = cells.iter().find(|(_, c)| !matches!(c, '0' | '1')) {
+            bail!("{name}: line {}, column {}: '{c}' is not 0 or 1", n + 1, column + 1);
         }
         if cells.len() != nx {
             bail!("{name}: line {}: {} points, a row of the grid has {nx}", n + 1, cells.len());
@@ -83,7 +84,7 @@ fn read_mask(path: &Path, nx: usize, ny: usize) -> Result<Vec<bool>> {
         if rows > ny {
             bail!("{name}: line {}: more rows than the grid's {ny}", n + 1);
         }
-        mask.extend(cells.iter().map(|&c| c == '1'));
+        mask.extend(cells.iter().map(|&(_, c)| c == '1'));
     }
     if rows != ny {
         bail!("{name}: {rows} rows, the grid has {ny}");

@@ -1,0 +1,161 @@
+//! One indicator reading from a line the instrument sent (the formats are
+//! in the parent module's docs), and how it becomes the tip Z.
+
+use super::Format;
+
+/// One indicator reading, in mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reading {
+    /// The value in mm.
+    pub mm: f64,
+    /// Decimals the instrument gave (the result is rounded to them).
+    pub decimals: u32,
+    /// Multiplexer channel, for lines that carry one.
+    pub channel: Option<u32>,
+}
+
+/// Parses one line (without its terminator) in `format`; `Err` says why it
+/// is not a reading.
+pub fn parse_reading(line: &str, format: Format) -> Result<Reading, String> {
+    let t = line.trim_matches(|c: char| c.is_ascii_whitespace());
+    if t.is_empty() {
+        return Err("empty line".into());
+    }
+    let digimatic = || parse_mitutoyo(t).or_else(|| parse_nibbles(t));
+    let number = || parse_number(t);
+    let found = match format {
+        Format::Digimatic => digimatic(),
+        Format::Number => number(),
+        Format::Auto => digimatic().or_else(number),
+    };
+    match found {
+        Some(Ok(r)) => Ok(r),
+        Some(Err(e)) => Err(e),
+        None => Err(match format {
+            Format::Auto => "not a Mitutoyo line, Digimatic frame or number".into(),
+            Format::Digimatic => "not a Mitutoyo line (01A+00012.345) or Digimatic frame".into(),
+            Format::Number => "not a number".into(),
+        }),
+    }
+}
+
+/// `[+-]digits[.digits]` with at least one digit: (value, decimals).
+fn decimal(s: &str) -> Option<(f64, u32)> {
+    let body = s.strip_prefix(['+', '-']).unwrap_or(s);
+    let (int, frac) = body.split_once('.').unwrap_or((body, ""));
+    let digits = |p: &str| p.bytes().all(|b| b.is_ascii_digit());
+    if int.len() + frac.len() == 0 || !digits(int) || !digits(frac) || frac.len() > 12 {
+        return None;
+    }
+    let v: f64 = s.parse().ok()?;
+    v.is_finite().then_some((v, frac.len() as u32))
+}
+
+/// Mitutoyo multiplexer / USB line: `01A+00012.345`. `None` when the line
+/// does not look like one at all, `Some(Err)` when it does but is damaged.
+fn parse_mitutoyo(t: &str) -> Option<Result<Reading, String>> {
+    let b = t.as_bytes();
+    if b.len() < 4 || !b[0].is_ascii_digit() || !b[1].is_ascii_digit() || b[2] != b'A' {
+        return None;
+    }
+    if b[3] != b'+' && b[3] != b'-' {
+        return Some(Err("Mitutoyo line without a sign after the channel".into()));
+    }
+    let channel = u32::from(b[0] - b'0') * 10 + u32::from(b[1] - b'0');
+    let data = &t[4..];
+    if data.len() > 13 {
+        return Some(Err("Mitutoyo line with too many digits".into()));
+    }
+    match decimal(data) {
+        Some((v, decimals)) if !data.starts_with(['+', '-']) => {
+            Some(Ok(Reading { mm: if b[3] == b'-' { -v } else { v }, decimals, channel: Some(channel) }))
+        }
+        _ => Some(Err("Mitutoyo line with a damaged value".into())),
+    }
+}
+
+/// Digimatic frame as 13 hex nibbles `FFFF s dddddd p u` (spaces allowed).
+fn parse_nibbles(t: &str) -> Option<Result<Reading, String>> {
+    let n: Vec<u8> = t.bytes().filter(|b| *b != b' ').collect();
+    if n.len() != 13 || !n[..4].iter().all(|b| b.eq_ignore_ascii_case(&b'F')) {
+        return None;
+    }
+    let sign = match n[4] {
+        b'0' => 1.0,
+        b'8' => -1.0,
+        _ => return Some(Err("Digimatic frame with a bad sign nibble".into())),
+    };
+    if !n[5..12].iter().all(u8::is_ascii_digit) || n[11] > b'5' {
+        return Some(Err("Digimatic frame with a bad digit or decimal point".into()));
+    }
+    let digits: u64 = std::str::from_utf8(&n[5..11]).ok()?.parse().ok()?;
+    let point = u32::from(n[11] - b'0');
+    let value = sign * digits as f64 / 10f64.powi(point as i32);
+    match n[12] {
+        b'0' => Some(Ok(Reading { mm: value, decimals: point, channel: None })),
+        b'1' => Some(Ok(Reading { mm: value * 25.4, decimals: point + 1, channel: None })),
+        _ => Some(Err("Digimatic frame with an unknown unit nibble".into())),
+    }
+}
+
+/// Plain number, optionally followed by `mm`.
+fn parse_number(t: &str) -> Option<Result<Reading, String>> {
+    let s = t.strip_suffix("mm").or_else(|| t.strip_suffix("MM")).unwrap_or(t).trim_end();
+    let s = match s.as_bytes().first() {
+        Some(b'+' | b'-') => format!("{}{}", &s[..1], s[1..].trim_start()),
+        _ => s.to_string(),
+    };
+    decimal(&s).map(|(mm, decimals)| Ok(Reading { mm, decimals, channel: None }))
+}
+
+/// How a reading becomes the tip Z: `bottom + sign * (reading - zero)`.
+#[derive(Debug, Clone, Copy)]
+pub struct TipZ {
+    /// Tip Z at the plunge bottom with the indicator at `zero`.
+    pub bottom: f64,
+    /// +1 or -1.
+    pub sign: i32,
+    /// Reading with the tip at `bottom`.
+    pub zero: f64,
+}
+
+impl TipZ {
+    /// The tip Z of a reading, rounded to the decimals of the reading,
+    /// `bottom` and `zero` (so no binary noise like `-32.344999999999999`).
+    pub fn tip_z(&self, r: &Reading) -> f64 {
+        let z = self.bottom + f64::from(self.sign) * (r.mm - self.zero);
+        let k = r.decimals.max(decimals_of(self.bottom)).max(decimals_of(self.zero));
+        let rounded = if k <= 9 && z.abs() < 1e6 {
+            let p = 10f64.powi(k as i32);
+            (z * p).round() / p
+        } else {
+            z
+        };
+        if rounded == 0.0 {
+            0.0
+        } else {
+            rounded
+        }
+    }
+}
+
+/// Decimals of the shortest round-trip form of `v`.
+fn decimals_of(v: f64) -> u32 {
+    let s = format!("{v}");
+    s.find('.').map_or(0, |p| (s.len() - p - 1) as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tip_z_rounds_to_the_inputs_decimals() {
+        let t = TipZ { bottom: -20.0, sign: -1, zero: 0.0 };
+        let r = parse_reading("01A+00012.345", Format::Auto).unwrap();
+        assert_eq!(t.tip_z(&r).to_string(), "-32.345");
+        let t = TipZ { bottom: -70.5, sign: 1, zero: 0.01 };
+        let r = parse_reading("19.16", Format::Auto).unwrap();
+        assert_eq!(t.tip_z(&r).to_string(), "-51.35");
+    }
+}
