@@ -391,7 +391,18 @@ pub fn num(v: f64, digits: usize) -> String {
     }
 }
 
-/// Writes `grid` in `format` (heights to 4 decimals, 0.1 µm).
+/// `v` as the shortest text that reads back to it (`0` for `-0`).
+fn full(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        v.to_string()
+    }
+}
+
+/// Writes `grid` in `format`: heights at full precision (the shortest
+/// text that reads back to the same number, as ../shared/CLI.md asks of
+/// data outputs), X and Y of the nominal grid to 6 decimals.
 pub fn write(grid: &ProbeGrid, format: &Format) -> String {
     let mut out = String::new();
     let g = &grid.grid;
@@ -416,7 +427,7 @@ pub fn write(grid: &ProbeGrid, format: &Format) -> String {
                 _ => unreachable!(),
             }
             for (k, z) in grid.in_capture_order().into_iter().enumerate() {
-                let _ = writeln!(out, "{},{}", k + 1, num(z, 4));
+                let _ = writeln!(out, "{},{}", k + 1, full(z));
             }
         }
         Format::Csv | Format::LinuxCnc => {
@@ -426,7 +437,7 @@ pub fn write(grid: &ProbeGrid, format: &Format) -> String {
             }
             for j in 0..g.ny {
                 for i in 0..g.nx {
-                    let (x, y, z) = (num(g.x(i), 6), num(g.y(j), 6), num(grid.z(i, j), 4));
+                    let (x, y, z) = (num(g.x(i), 6), num(g.y(j), 6), full(grid.z(i, j)));
                     let _ = if csv { writeln!(out, "{x},{y},{z}") } else { writeln!(out, "{x} {y} {z}") };
                 }
             }
