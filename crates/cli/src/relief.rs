@@ -9,9 +9,9 @@ use kezuri_cam::mill::{raster, RasterOptions, Region};
 use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
-use kezuri_geom::{write_binary_stl, Heightfield, Toolpath};
+use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
 
-use crate::files::write_output;
+use crate::files::write_output_with;
 use crate::mill::{RowDirection, RowPattern};
 use crate::program::{write_toolpath, WriteArgs};
 
@@ -246,11 +246,12 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         path.moves.len(),
         t0.elapsed().as_secs_f64()
     );
-    if let Some(stl) = &args.surface_stl {
-        write_output(Some(stl), &surface_stl(&field))?;
-    }
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write)
+    write_toolpath(&path, &title, &args.write)?;
+    match &args.surface_stl {
+        Some(stl) => write_surface_stl(stl, &field),
+        None => Ok(()),
+    }
 }
 
 /// A raster with a progress bar on long jobs.
@@ -271,7 +272,9 @@ fn with_bar(
     Ok(path?)
 }
 
-/// The relief surface as binary STL.
-fn surface_stl(field: &Heightfield) -> Vec<u8> {
-    write_binary_stl(&field.to_mesh().iter().collect::<Vec<_>>())
+/// Writes the surface of `field` as a binary STL, a triangle at a time (a
+/// 64-million-pixel relief is 128 million triangles, 6.4 GB of STL, and
+/// never in memory).
+pub fn write_surface_stl(path: &Path, field: &Heightfield) -> Result<()> {
+    write_output_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
 }
