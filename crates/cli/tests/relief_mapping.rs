@@ -278,3 +278,54 @@ fn rows_along_x_y_or_both_in_every_dialect() {
         assert!(text.contains(says), "{dialect}: {}", &text[..text.len().min(400)]);
     }
 }
+
+#[test]
+fn roughing_leaves_the_allowance_in_levels_step_down_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    // A dome on a floor 3 mm down, 20 × 15 mm.
+    let dome = GrayImage::from_fn(40, 30, |c, r| {
+        let (x, y) = ((f64::from(c) - 19.5) / 12.0, (f64::from(r) - 14.5) / 10.0);
+        Luma([(255.0 * (1.0 - x * x - y * y).clamp(0.0, 1.0)).round() as u8])
+    });
+    let (png, nc, stl) = (path(dir.path(), "dome.png"), path(dir.path(), "dome.nc"), path(dir.path(), "dome.stl"));
+    dome.save(&png).unwrap();
+    ok(&kezuri(&[
+        "relief",
+        &png,
+        "--pixel",
+        "0.5",
+        "--depth",
+        "3",
+        "--tool",
+        "ball:2",
+        "--stepover",
+        "1",
+        "--rough",
+        "flat:4",
+        "--step-down",
+        "1",
+        "--allowance",
+        "0.4",
+        "--surface-stl",
+        &stl,
+        "-o",
+        &nc,
+    ]));
+    // The roughing alone: the program up to the tool change.
+    let text = std::fs::read_to_string(&nc).unwrap();
+    let (rough, _) = text.split_once("\nT2").expect("a tool change to the finishing cutter");
+    let rough_nc = path(dir.path(), "rough.nc");
+    std::fs::write(&rough_nc, format!("{rough}\nM30\n%\n")).unwrap();
+    // Its levels 1 mm apart, the last one on the floor plus the allowance.
+    let mut levels: Vec<i64> =
+        feeds(&rough_nc).iter().filter(|[a, b]| a[2] == b[2]).map(|[_, b]| (b[2] * 1000.0).round() as i64).collect();
+    levels.sort_unstable();
+    levels.dedup();
+    assert_eq!((levels.first(), levels.contains(&-1000), levels.contains(&-2000)), (Some(&-2600), true, true));
+    // Never closer to the relief than the allowance, and that close on the
+    // floor.
+    let o = kezuri(&["sim", &rough_nc, "--tool", "flat:4", "--res", "0.1", "--compare", &stl, "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
+    let closest = v["deviation_range_mm"][0].as_f64().unwrap();
+    assert!((0.4 - 1e-3..=0.4 + 1e-3).contains(&closest), "{v}");
+}
