@@ -93,8 +93,15 @@ pub fn parse_levels(text: &str) -> Result<Vec<Level>, ReliefError> {
         levels.push(Level { from: f64::from(from), to: f64::from(to), height });
     }
     levels.sort_by(|a, b| a.from.total_cmp(&b.from));
+    cover(&levels)?;
+    Ok(levels)
+}
+
+/// Checks that `levels`, sorted by `from`, give every gray from 0 to 255
+/// one height.
+fn cover(levels: &[Level]) -> Result<(), ReliefError> {
     let mut next = 0.0;
-    for l in &levels {
+    for l in levels {
         if l.from != next {
             return error(if l.from > next {
                 format!("--levels leaves gray {next}–{} without a height", l.from - 1.0)
@@ -102,12 +109,15 @@ pub fn parse_levels(text: &str) -> Result<Vec<Level>, ReliefError> {
                 format!("--levels gives gray {} two heights", l.from)
             });
         }
+        if !(l.to >= l.from && l.height.is_finite()) {
+            return error(format!("level {}-{}:{}: not a range of gray and a height", l.from, l.to, l.height));
+        }
         next = l.to + 1.0;
     }
     if next != 256.0 {
         return error(format!("--levels leaves gray {next}–255 without a height"));
     }
-    Ok(levels)
+    Ok(())
 }
 
 impl Mapping {
@@ -124,7 +134,11 @@ impl Mapping {
                 Ok(())
             }
             Mapping::Levels(levels) if levels.is_empty() => error("--levels is empty".into()),
-            Mapping::Levels(_) => Ok(()),
+            Mapping::Levels(levels) => {
+                let mut sorted = levels.clone();
+                sorted.sort_by(|a, b| a.from.total_cmp(&b.from));
+                cover(&sorted)
+            }
         }
     }
 
@@ -138,8 +152,9 @@ impl Mapping {
             Mapping::Levels(levels) => {
                 let top = levels.iter().map(|l| l.height).fold(f64::NEG_INFINITY, f64::max);
                 let g = (v.clamp(0.0, 1.0) * 255.0).round();
-                let level = levels.iter().find(|l| g >= l.from && g <= l.to).expect("levels cover 0–255");
-                level.height - top
+                // A gray no level covers (check() refuses such levels)
+                // stays at the stock top.
+                levels.iter().find(|l| g >= l.from && g <= l.to).map_or(0.0, |l| l.height - top)
             }
         }
     }
@@ -247,6 +262,13 @@ mod tests {
         assert_eq!(e("0-200:0"), "--levels leaves gray 201–255 without a height");
         assert!(e("0-300:1").starts_with("level '0-300:1': expected"));
         assert!(e("a-b:1").starts_with("level 'a-b:1'"));
+        // Levels made in code are checked as those read: an error, not a
+        // panic, for a gray without a height.
+        let partial = Mapping::Levels(vec![Level { from: 0.0, to: 100.0, height: 1.0 }]);
+        assert_eq!(partial.check().unwrap_err().0, "--levels leaves gray 101–255 without a height");
+        let g = Gray { width: 2, height: 2, v: vec![1.0; 4] };
+        assert!(surface(&g, &partial, 0.0, None, Placement { pixel: 1.0, origin: [0.0, 0.0] }).is_err());
+        assert_eq!((partial.z(0.0), partial.z(1.0)), (0.0, 0.0));
     }
 
     #[test]

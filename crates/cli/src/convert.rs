@@ -203,6 +203,12 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
         bail!("{name}: the program has no motion to convert; nothing written");
     }
     fill_feed_and_speed(&mut path, a.feed, a.speed);
+    if to != Format::Rml && path.moves.iter().any(|m| m.spindle != Spindle::Off && m.speed == 0.0) {
+        eprintln!(
+            "warning: {name}: the spindle is turned on with no speed (RML-1 !MC1, or M03 without S): the program \
+             says M03 without S, so the control's S stands; give --speed RPM for one"
+        );
+    }
     if a.scale_xy != 1.0 || a.scale_z != 1.0 {
         let comments = if from == Format::Rml { Vec::new() } else { comment_cutters(&sources.get(id).text) };
         for line in cutter_warnings(a.tool, &comments, a.scale_xy, a.scale_z) {

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use kezuri_geom::{write_binary_stl, Heightfield};
+use kezuri_geom::Heightfield;
 use kezuri_nc::write::{csv, program, WriteOptions};
 
 use crate::files::write_atomic;
@@ -88,7 +88,7 @@ fn dome(x: f64, y: f64) -> f64 {
 fn geometry(out: &Path) -> Result<()> {
     let surface = Heightfield::from_fn(0.0, 0.0, 0.5, 121, 121, dome)?;
     let stl = out.join("samples").join("dome.stl");
-    write_atomic(&stl, &write_binary_stl(&surface.to_mesh().iter().collect::<Vec<_>>()))?;
+    crate::relief::write_surface_stl(&stl, &surface)?;
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let stl = stl.to_string_lossy().into_owned();
     println!("\nsamples/dome.stl  (a 60 x 60 mm rippled dome, 28,800 triangles)");

@@ -29,16 +29,23 @@ pub fn read_text(path: &Path) -> Result<String> {
 /// A file is written to a temporary name in the same folder and renamed, so
 /// no half-written output is ever left behind.
 pub fn write_output(path: Option<&Path>, data: &[u8]) -> Result<()> {
+    write_output_with(path, |w| w.write_all(data))
+}
+
+/// As [`write_output`], with the bytes made by `fill` as it goes (through
+/// a buffer): an output larger than memory, a large surface's STL, is never
+/// held whole.
+pub fn write_output_with(path: Option<&Path>, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     match path {
-        None => write_stdout(data),
-        Some(p) if p == Path::new("-") => write_stdout(data),
-        Some(p) => write_atomic(p, data),
+        None => write_stdout(fill),
+        Some(p) if p == Path::new("-") => write_stdout(fill),
+        Some(p) => write_atomic_with(p, fill),
     }
 }
 
-fn write_stdout(data: &[u8]) -> Result<()> {
-    let mut out = std::io::stdout().lock();
-    match out.write_all(data).and_then(|_| out.flush()) {
+fn write_stdout(fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    match fill(&mut out).and_then(|_| out.flush()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         r => r.context("cannot write to standard output"),
     }
@@ -46,6 +53,13 @@ fn write_stdout(data: &[u8]) -> Result<()> {
 
 /// Writes a file through a temporary file and a rename.
 pub fn write_atomic(path: &Path, data: &[u8]) -> Result<()> {
+    write_atomic_with(path, |w| w.write_all(data))
+}
+
+/// Writes a file through a temporary file and a rename, its bytes made by
+/// `fill` as it goes; when `fill` fails, the temporary file is removed and
+/// `path` is left as it was.
+pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -53,8 +67,11 @@ pub fn write_atomic(path: &Path, data: &[u8]) -> Result<()> {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
-        let mut f = std::fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-        f.write_all(data).with_context(|| format!("cannot write {}", tmp.display()))?;
+        let f = std::fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+        let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
+        fill(&mut w).and_then(|_| w.flush()).with_context(|| format!("cannot write {}", tmp.display()))?;
+        let f =
+            w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("cannot write {}", tmp.display()))?;
         f.sync_all().ok();
         std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
     })();

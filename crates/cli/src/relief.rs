@@ -9,9 +9,9 @@ use kezuri_cam::mill::{raster, RasterOptions, Region};
 use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
-use kezuri_geom::{write_binary_stl, Heightfield, Toolpath};
+use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
 
-use crate::files::write_output;
+use crate::files::write_output_with;
 use crate::mill::{RowDirection, RowPattern};
 use crate::program::{write_toolpath, WriteArgs};
 
@@ -31,7 +31,8 @@ with --gamma on the gray value; or --levels gives ranges of gray explicit height
 floor, as the paper set a height per region (the highest level is the stock top). --smooth
 rounds the steps (a Gaussian of that many pixels); --mask IMAGE cuts only where the mask is
 light. The picture's top row is the largest Y; --width (or --pixel) sets the size, --origin
-puts the lower-left corner (corner) or the centre (centre) at X0 Y0.
+puts a corner (corner or lower-left, lower-right, upper-left, upper-right) or the centre
+(centre) at X0 Y0, or the lower-left corner at X,Y.
 
 The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
 relief: rows are sampled every --step and refined until the path stays within 0.001 mm below
@@ -86,9 +87,9 @@ pub struct ReliefArgs {
     /// Gaussian smoothing of the heights, pixels.
     #[arg(long, value_name = "PX", default_value_t = 0.0, allow_negative_numbers = true)]
     pub smooth: f64,
-    /// Where the picture goes: corner (its lower-left corner at X0 Y0), centre, or X,Y (its
-    /// lower-left corner there).
-    #[arg(long, value_name = "corner|centre|X,Y", default_value = "corner", allow_hyphen_values = true)]
+    /// Where the picture goes: a corner at X0 Y0 (corner is lower-left; lower-right, upper-left,
+    /// upper-right), its centre there (centre), or its lower-left corner at X,Y.
+    #[arg(long, value_name = "CORNER|centre|X,Y", default_value = "corner", allow_hyphen_values = true)]
     pub origin: String,
     /// Finishing cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
     #[arg(long, value_name = "SPEC")]
@@ -192,18 +193,7 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         bail!("the pixel size must be a positive number of mm, got {pixel}");
     }
     let size = [picture.width as f64 * pixel, picture.height as f64 * pixel];
-    let origin = match args.origin.trim() {
-        "corner" => [0.0, 0.0],
-        "centre" | "center" => [-0.5 * size[0], -0.5 * size[1]],
-        xy => {
-            let v: Vec<f64> =
-                xy.split(',').filter_map(|t| t.trim().parse().ok()).filter(|v: &f64| v.is_finite()).collect();
-            if v.len() != 2 || xy.split(',').count() != 2 {
-                bail!("--origin '{xy}': expected corner, centre or X,Y");
-            }
-            [v[0], v[1]]
-        }
-    };
+    let origin = origin_of(&args.origin, size)?;
     let placement = Placement { pixel, origin };
     let name = args.image.display().to_string();
     let field = surface(&picture, &mapping, args.smooth, mask.as_ref(), placement).context(name.clone())?;
@@ -246,11 +236,36 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         path.moves.len(),
         t0.elapsed().as_secs_f64()
     );
-    if let Some(stl) = &args.surface_stl {
-        write_output(Some(stl), &surface_stl(&field))?;
-    }
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write)
+    write_toolpath(&path, &title, &args.write)?;
+    match &args.surface_stl {
+        Some(stl) => write_surface_stl(stl, &field),
+        None => Ok(()),
+    }
+}
+
+/// The picture's lower-left corner for `--origin`: the named corner (or
+/// the centre) of the `size` carving at X0 Y0, or the lower-left corner at
+/// X,Y.
+fn origin_of(text: &str, size: [f64; 2]) -> Result<[f64; 2]> {
+    Ok(match text.trim() {
+        "corner" | "lower-left" => [0.0, 0.0],
+        "lower-right" => [-size[0], 0.0],
+        "upper-left" => [0.0, -size[1]],
+        "upper-right" => [-size[0], -size[1]],
+        "centre" | "center" => [-0.5 * size[0], -0.5 * size[1]],
+        xy => {
+            let v: Vec<f64> =
+                xy.split(',').filter_map(|t| t.trim().parse().ok()).filter(|v: &f64| v.is_finite()).collect();
+            if v.len() != 2 || xy.split(',').count() != 2 {
+                bail!(
+                    "--origin '{xy}': expected corner (lower-left), lower-right, upper-left, upper-right, centre \
+                     or X,Y"
+                );
+            }
+            [v[0], v[1]]
+        }
+    })
 }
 
 /// A raster with a progress bar on long jobs.
@@ -271,7 +286,9 @@ fn with_bar(
     Ok(path?)
 }
 
-/// The relief surface as binary STL.
-fn surface_stl(field: &Heightfield) -> Vec<u8> {
-    write_binary_stl(&field.to_mesh().iter().collect::<Vec<_>>())
+/// Writes the surface of `field` as a binary STL, a triangle at a time (a
+/// 64-million-pixel relief is 128 million triangles, 6.4 GB of STL, and
+/// never in memory).
+pub fn write_surface_stl(path: &Path, field: &Heightfield) -> Result<()> {
+    write_output_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
 }

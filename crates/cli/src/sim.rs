@@ -13,9 +13,10 @@ use image::{ExtendedColorType, ImageEncoder};
 use kezuri_cam::sim::compare::{compare, target_heights, Comparison};
 use kezuri_cam::sim::{simulate, SimOptions, SimReport, Stock, ZMap};
 use kezuri_cam::Cutter;
+use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
 use serde_json::json;
 
-use crate::files::write_output;
+use crate::files::{write_output, write_output_with};
 use crate::program::{read_and_run, RunOptions};
 
 /// Options of `kezuri sim`.
@@ -148,7 +149,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         write_output(Some(out), &height_png(&zmap)?)?;
     }
     if let Some(out) = &args.stl {
-        write_output(Some(out), &surface_stl(&zmap))?;
+        write_surface_stl(out, &zmap)?;
     }
     let mut deviation_note = None;
     if let Some((c, heights)) = &comparison {
@@ -398,38 +399,23 @@ fn deviation_png(zmap: &ZMap, target: &[f64], scale: f64) -> Result<Vec<u8>> {
     png(&rgb, w, h)
 }
 
-/// The simulated surface as a binary STL: two triangles per square of four
-/// neighbouring cell centres, facing up.
-fn surface_stl(zmap: &ZMap) -> Vec<u8> {
-    let (nx, ny) = (zmap.nx, zmap.ny);
-    let count = 2 * nx.saturating_sub(1) * ny.saturating_sub(1);
-    let mut out = Vec::with_capacity(84 + 50 * count);
-    let mut header = [b' '; 80];
-    let title = b"kezuri sim surface";
-    header[..title.len()].copy_from_slice(title);
-    out.extend_from_slice(&header);
-    out.extend_from_slice(&(count.min(u32::MAX as usize) as u32).to_le_bytes());
+/// Writes the simulated surface as a binary STL, a triangle at a time:
+/// two per square of four neighbouring cell centres, facing up, split as a
+/// height grid's cells are.
+fn write_surface_stl(path: &Path, zmap: &ZMap) -> Result<()> {
+    let (cx, cy) = (zmap.nx.saturating_sub(1), zmap.ny.saturating_sub(1));
     let p = |i: usize, j: usize| {
         let [x, y] = zmap.centre(i, j);
-        [x, y, zmap.height(i, j)]
+        Vec3::new(x, y, zmap.height(i, j))
     };
-    let mut facet = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
-        for q in [n.map(|x| x / len), a, b, c] {
-            for x in q {
-                out.extend_from_slice(&(x as f32).to_le_bytes());
-            }
+    let triangles = (0..2 * cx * cy).map(|k| {
+        let (i, j) = ((k / 2) % cx, k / 2 / cx);
+        let (a, c) = (p(i, j), p(i + 1, j + 1));
+        if k % 2 == 0 {
+            Triangle::new(a, p(i + 1, j), c)
+        } else {
+            Triangle::new(a, c, p(i, j + 1))
         }
-        out.extend_from_slice(&[0, 0]);
-    };
-    for j in 0..ny.saturating_sub(1) {
-        for i in 0..nx.saturating_sub(1) {
-            facet(p(i, j), p(i + 1, j), p(i + 1, j + 1));
-            facet(p(i, j), p(i + 1, j + 1), p(i, j + 1));
-        }
-    }
-    out
+    });
+    write_output_with(Some(path), |w| write_binary_stl_to(w, triangles))
 }

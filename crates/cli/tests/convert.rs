@@ -272,3 +272,24 @@ fn help_explains_with_examples() {
         assert!(help.contains(want), "{want}");
     }
 }
+
+#[test]
+fn a_spindle_turned_on_without_a_speed_is_never_s0() {
+    let dir = tempfile::tempdir().unwrap();
+    // RML-1's !MC1 and G-code's M03 without S: no speed is known, and S0
+    // would stop the spindle.
+    let rml = write(dir.path(), "on.rml", "^IN;^PA;!MC1;V10;Z0,0,0;Z100,0,-50;!MC0;");
+    let nc = write(dir.path(), "on.nc", "G00 X0. Y0. Z5.\nM03\nG01 Z-1. F100.\nX10.\nM05\nM30\n");
+    for input in [&rml, &nc] {
+        let o = kezuri(&["convert", input]);
+        let out = ok(&o);
+        assert!(out.contains("\nM03\n") && !out.contains("S0"), "{out}");
+        assert!(stderr(&o).contains("the spindle is turned on with no speed"), "{}", stderr(&o));
+        let o = kezuri(&["convert", input, "--speed", "12000"]);
+        assert!(ok(&o).contains("\nS12000 M03\n") && !stderr(&o).contains("no speed"), "{}", stderr(&o));
+    }
+    // A speed the program sets is kept, and no warning.
+    let set = write(dir.path(), "set.nc", "S8000 M03\nG00 X0. Y0. Z5.\nG01 Z-1. F100.\nM30\n");
+    let o = kezuri(&["convert", &set]);
+    assert!(ok(&o).contains("\nS8000 M03\n") && !stderr(&o).contains("no speed"), "{}", stderr(&o));
+}

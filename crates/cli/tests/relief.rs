@@ -163,6 +163,43 @@ fn the_carving_never_cuts_into_the_relief_and_stays_within_the_cusp() {
     assert!(v["max_gouge_mm"].as_f64().unwrap() <= 0.002, "{v}");
 }
 
+/// Both sides at steep steps. Straight down, rows of one direction cannot
+/// reach the foot of a wall parallel to them (the ball rides its edge), so
+/// the bound is for rows along X and then Y (`--direction both`), against
+/// what a ball can reach at all: the same carving at a quarter of the
+/// stepover, simulated.
+#[test]
+fn steep_steps_cut_both_ways_stay_within_the_cusp_of_what_the_ball_reaches() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = path(dir.path(), "sketch.png");
+    sketch().save(&png).unwrap();
+    let (coarse, fine) = (path(dir.path(), "coarse.nc"), path(dir.path(), "fine.nc"));
+    let (stl, reach) = (path(dir.path(), "relief.stl"), path(dir.path(), "reach.stl"));
+    let common = ["--pixel", "0.5", "--depth", "4", "--tool", "ball:3", "--direction", "both"];
+    ok(&kezuri(
+        &[&["relief", png.as_str()][..], &common, &["--stepover", "0.4", "--surface-stl", &stl, "-o", &coarse]]
+            .concat(),
+    ));
+    ok(&kezuri(
+        &[&["relief", png.as_str()][..], &common, &["--stepover", "0.1", "--tolerance", "0.002", "-o", &fine]].concat(),
+    ));
+    let o = kezuri(&["sim", &fine, "--tool", "ball:3", "--res", "0.1", "--stl", &reach, "--compare", &stl, "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
+    assert!(v["max_gouge_mm"].as_f64().unwrap() <= 0.002, "the reference: {v}");
+    let v = sim_json(&coarse, "ball:3", &stl);
+    assert!(v["max_gouge_mm"].as_f64().unwrap() <= 0.002, "{v}");
+    // Against the reachable surface: no deeper, and above it by no more
+    // than the cusp between rows 0.4 mm apart, R − √(R² − (s/2)²) = 0.0134
+    // mm across the surface, which is 0.0866 mm in z on the steepest facet
+    // of the relief (the plateau's wall, 3.2 mm over 0.5 mm), plus the
+    // 0.01 mm path tolerance: 0.097 mm. (Measured: 0.058.)
+    let v = sim_json(&coarse, "ball:3", &reach);
+    let (gouge, left) = (v["max_gouge_mm"].as_f64().unwrap(), v["max_left_mm"].as_f64().unwrap());
+    assert!(gouge <= 0.002, "gouge {gouge} below what the ball reaches: {v}");
+    assert!((0.01..=0.097).contains(&left), "left {left}: {v}");
+    assert!(v["mean_abs_dev_mm"].as_f64().unwrap() <= 0.01, "{v}");
+}
+
 #[test]
 fn every_picture_format_gives_the_same_relief() {
     let dir = tempfile::tempdir().unwrap();

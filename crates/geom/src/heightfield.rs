@@ -195,11 +195,17 @@ impl Heightfield {
         [Triangle::new(a, b, c), Triangle::new(a, c, d)]
     }
 
+    /// The `2·(nx−1)·(ny−1)` triangles of the surface, cell by cell (`j`
+    /// outer, `i` inner), made as they are asked for: a large grid's surface
+    /// can be written out without holding its triangles.
+    pub fn triangles(&self) -> impl ExactSizeIterator<Item = Triangle> + '_ {
+        let cells = (self.nx - 1) * (self.ny - 1);
+        (0..2 * cells).map(move |k| self.cell_triangles((k / 2) % (self.nx - 1), k / 2 / (self.nx - 1))[k % 2])
+    }
+
     /// The surface as a mesh of `2·(nx−1)·(ny−1)` triangles.
     pub fn to_mesh(&self) -> Mesh {
-        Mesh::from_triangles(
-            (0..self.ny - 1).flat_map(|j| (0..self.nx - 1).flat_map(move |i| self.cell_triangles(i, j))),
-        )
+        Mesh::from_triangles(self.triangles())
     }
 
     /// The surface's height at `(x, y)`, linear on the triangles; `None`
@@ -237,6 +243,20 @@ mod tests {
         }
         assert_eq!(h.z_at(-1.01, 2.5), None);
         assert_eq!(h.xy_box(), [-1.0, 2.0, 1.0, 3.5]);
+    }
+
+    #[test]
+    fn triangles_come_cell_by_cell_and_stream_as_the_mesh_writes() {
+        let h = Heightfield::from_fn(-1.0, 2.0, 0.5, 5, 4, |x, y| (x * 1.3).sin() + y * y * 0.1).unwrap();
+        let streamed: Vec<Triangle> = h.triangles().collect();
+        assert_eq!(h.triangles().len(), 24);
+        assert_eq!(streamed, h.to_mesh().iter().collect::<Vec<_>>());
+        // Cell (i, j) = (3, 2) is triangles 2·(2·4 + 3) and the next.
+        assert_eq!(streamed[22..24], h.cell_triangles(3, 2));
+        let mut bytes = Vec::new();
+        crate::write_binary_stl_to(&mut bytes, h.triangles()).unwrap();
+        assert_eq!(bytes, crate::write_binary_stl(&streamed));
+        assert_eq!(bytes.len(), 84 + 50 * 24);
     }
 
     #[test]

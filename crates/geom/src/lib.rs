@@ -42,6 +42,6 @@ pub use alloc::LargePages;
 pub use heightfield::{Heightfield, HeightfieldError, BLOCK};
 pub use index::XyIndex;
 pub use mesh::{Mesh, Triangle, Vec3};
-pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, StlError};
+pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlError};
 pub use time::{cycle_time, Dynamics};
 pub use toolpath::{Arc, Axes, AxisSet, Coolant, Frame, LengthOffset, Move, MoveKind, Plane, Spindle, Toolpath};

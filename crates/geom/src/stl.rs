@@ -6,6 +6,7 @@
 //! corners say which way a triangle faces, and drop-cutter does not care.
 
 use std::fmt;
+use std::io::Write;
 
 use crate::mesh::{Mesh, Triangle, Vec3};
 
@@ -196,20 +197,41 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
 /// the corners; coordinates rounded to `f32`, as the format stores them).
 pub fn write_binary_stl(triangles: &[Triangle]) -> Vec<u8> {
     let mut out = Vec::with_capacity(84 + 50 * triangles.len());
-    out.extend_from_slice(&[b' '; 80]);
-    out.extend_from_slice(&(triangles.len() as u32).to_le_bytes());
+    write_binary_stl_to(&mut out, triangles.iter().copied()).expect("a Vec takes every byte");
+    out
+}
+
+/// Writes the binary STL of `triangles` to `out` as they come, one at a
+/// time (the same bytes as [`write_binary_stl`]): a surface of a hundred
+/// million triangles needs no more memory than one. More than `u32::MAX`
+/// triangles, which the format cannot count, is an `InvalidInput` error
+/// before anything is written.
+pub fn write_binary_stl_to<W: Write + ?Sized>(
+    out: &mut W,
+    triangles: impl ExactSizeIterator<Item = Triangle>,
+) -> std::io::Result<()> {
+    let count = u32::try_from(triangles.len()).map_err(|_| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{} triangles: a binary STL holds at most {}", triangles.len(), u32::MAX),
+        )
+    })?;
+    out.write_all(&[b' '; 80])?;
+    out.write_all(&count.to_le_bytes())?;
+    let mut record = [0u8; 50];
     for t in triangles {
         let n = t.normal();
         let len = n.norm();
         let n = if len > 0.0 { n * (1.0 / len) } else { n };
-        for p in [n, t.v[0], t.v[1], t.v[2]] {
-            for c in [p.x, p.y, p.z] {
-                out.extend_from_slice(&(c as f32).to_le_bytes());
+        for (k, p) in [n, t.v[0], t.v[1], t.v[2]].into_iter().enumerate() {
+            for (c, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+                let at = 12 * k + 4 * c;
+                record[at..at + 4].copy_from_slice(&(v as f32).to_le_bytes());
             }
         }
-        out.extend_from_slice(&[0, 0]);
+        out.write_all(&record)?;
     }
-    out
+    Ok(())
 }
 
 /// An ASCII STL of `triangles` (full `f64` precision).

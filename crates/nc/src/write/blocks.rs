@@ -344,9 +344,12 @@ impl Writer {
         }
         let speed = self.non_negative(m.speed, 'S')?;
         let turns_on = m.spindle != Spindle::Off && m.spindle != self.spindle;
-        if turns_on || Some(speed) != self.speed || m.spindle != self.spindle {
+        // A speed of 0 is no speed (an M03 without S, RML-1's !MC1): S0
+        // would stop the spindle, so the control keeps the S it has.
+        let new_speed = speed != 0 && (turns_on || Some(speed) != self.speed);
+        if new_speed || m.spindle != self.spindle {
             self.block();
-            if turns_on || Some(speed) != self.speed {
+            if new_speed {
                 self.word('S', speed, false);
                 self.speed = Some(speed);
             }
