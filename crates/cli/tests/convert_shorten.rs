@@ -4,16 +4,9 @@
 //! is crates/cam/tests/shorten.rs.)
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+mod common;
+use common::{kezuri, ok};
 
 /// A small deterministic generator (splitmix64), numbers in [0, 1).
 struct Random(u64);

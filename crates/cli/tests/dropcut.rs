@@ -1,12 +1,11 @@
 //! `kezuri dropcut` as a user runs it, on STL files made here.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use kezuri_geom::{write_ascii_stl, write_binary_stl, Triangle, Vec3};
 
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
+mod common;
+use common::kezuri;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -5,27 +5,17 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use kezuri_cam::dropcut::drop_cutter;
 use kezuri_cam::Cutter;
 use kezuri_geom::Heightfield;
 
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+mod common;
+use common::{kezuri, ok, path};
 
 fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&ok(o)).expect("one JSON object")
-}
-
-fn path(dir: &Path, name: &str) -> String {
-    dir.join(name).to_string_lossy().into_owned()
 }
 
 const N: usize = 51;

@@ -6,20 +6,9 @@
 //! one.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn path(dir: &Path, name: &str) -> String {
-    dir.join(name).to_string_lossy().into_owned()
-}
+mod common;
+use common::{kezuri, ok, path};
 
 /// The names in `dir`, sorted.
 fn listing(dir: &Path) -> Vec<String> {

@@ -2,11 +2,9 @@
 //! checked against the closed form for a sphere.
 
 use std::fmt::Write as _;
-use std::process::{Command, Output};
 
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
+mod common;
+use common::kezuri;
 
 /// A sphere of radius 20 about (0, 0, 0), its cap over ±10 mm sampled
 /// every 0.1 mm as an `x y z` grid.

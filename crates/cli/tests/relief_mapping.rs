@@ -6,22 +6,11 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output};
 
 use image::{GrayImage, ImageBuffer, Luma, Rgb, RgbImage};
 
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn path(dir: &Path, name: &str) -> String {
-    dir.join(name).to_string_lossy().into_owned()
-}
+mod common;
+use common::{kezuri, ok, path};
 
 /// The 4 × 3 picture, top row first.
 const GRAYS: [[u8; 4]; 3] = [[0, 64, 128, 255], [255, 200, 100, 10], [30, 60, 90, 120]];

@@ -1,10 +1,7 @@
 //! `kezuri scallop` as a user runs it: seed 001's figures, JSON keys, exit codes.
 
-use std::process::{Command, Output};
-
-fn kezuri(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kezuri")).args(args).output().expect("kezuri runs")
-}
+mod common;
+use common::kezuri;
 
 fn json(args: &[&str]) -> serde_json::Value {
     let o = kezuri(args);
