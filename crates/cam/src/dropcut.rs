@@ -37,12 +37,13 @@
 
 mod contact;
 mod heightfield;
+mod rows;
 
 use std::fmt;
 use std::str::FromStr;
 use std::sync::Mutex;
 
-use kezuri_geom::{Mesh, Triangle, XyIndex};
+use kezuri_geom::{Heightfield, Mesh, Triangle, XyIndex};
 use rayon::prelude::*;
 
 use crate::cutter::{each_shape, Cutter, Profile};
@@ -345,6 +346,33 @@ pub fn drop_cutter_grid<S: Surface + ?Sized>(
         },
     );
     out
+}
+
+/// The tip z of `cutter` on a height grid at every `u` of every row `(v,
+/// us)`: rows along X at `y = v`, or along Y at `x = v` when `along_y`;
+/// each row's `us` ascending. The same as a query of its own at every point
+/// ([`Surface::drop_cutter_with`]), to rounding. A ball end mill is placed
+/// on whole rows at once, piece by piece of the surface (`rows.rs`: about
+/// one contact per point instead of the thousands of cells under the
+/// cutter); other shapes point by point, rows in parallel.
+pub fn drop_cutter_rows(
+    cutter: &Cutter,
+    field: &Heightfield,
+    along_y: bool,
+    rows: &[(f64, &[f64])],
+) -> Vec<Vec<Option<f64>>> {
+    if let Cutter::Ball(ball) = cutter {
+        return rows::ball_rows(field, ball, along_y, rows);
+    }
+    rows.par_iter()
+        .map_init(
+            || field.scratch(),
+            |scratch, &(v, us)| {
+                let at = |u: f64| if along_y { (v, u) } else { (u, v) };
+                us.iter().map(|&u| field.drop_cutter_with(cutter, at(u).0, at(u).1, scratch)).collect()
+            },
+        )
+        .collect()
 }
 
 #[cfg(test)]

@@ -126,6 +126,17 @@ impl std::error::Error for MillError {}
 /// The CL function: the tip's z over (x, y), `None` off the surface.
 pub type ClFn<'a> = dyn Fn(f64, f64) -> Option<f64> + Sync + 'a;
 
+/// The CL function asked for whole rows at once: `(along_y, rows)` with
+/// each row `(v, us)` — rows along X at `y = v`, or along Y at `x = v` —
+/// gives the z at every `u` (ascending) of every row. The same answers as
+/// the [`ClFn`], faster where a surface can place the cutter row by row
+/// (`kezuri_cam::dropcut::drop_cutter_rows`).
+pub type ClRowsFn<'a> = dyn Fn(bool, &[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> + Sync + 'a;
+
+/// Most CL points asked of a [`ClRowsFn`] at once (their positions and
+/// answers take 24 bytes each).
+const BATCH_POINTS: usize = 4 << 20;
+
 /// The pick feed (in the inclined plane) for a surface inclined at `angle`
 /// radians across the rows, `None` where no pick feed meets the target.
 pub type PickFeedFn<'a> = dyn Fn(f64) -> Option<f64> + Sync + 'a;
@@ -140,6 +151,21 @@ pub type Progress<'a> = dyn Fn(usize, usize) + Sync + 'a;
 /// pick-feed control (see the module docs). Rows are sampled in parallel.
 pub fn raster(
     cl: &ClFn,
+    region: Region,
+    o: &RasterOptions,
+    pick_feed: Option<&PickFeedFn>,
+    on_row: &Progress,
+) -> Result<Toolpath, MillError> {
+    raster_with(cl, None, region, o, pick_feed, on_row)
+}
+
+/// [`raster`], with the samples of each row and the middle and quarter
+/// points between them asked of `rows_at` for many rows at once where it is
+/// given (the points that refining adds below those, the links between
+/// rows and pick-feed control still ask `cl`).
+pub fn raster_with(
+    cl: &ClFn,
+    rows_at: Option<&ClRowsFn>,
     region: Region,
     o: &RasterOptions,
     pick_feed: Option<&PickFeedFn>,
@@ -192,16 +218,10 @@ pub fn raster(
             }
         };
         let forward = |k: usize| o.pattern == Pattern::OneWay || k % 2 == 0;
-        let sampled: Vec<Vec<Vec<(f64, f64)>>> = rows
-            .par_iter()
-            .enumerate()
-            .map(|(k, &v)| {
-                let (from, to) = if forward(k) { (u0, u1) } else { (u1, u0) };
-                let pieces = sample_row(&|u| at(u, v), from, to, o);
-                on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                pieces
-            })
-            .collect();
+        let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
+        let progress = || on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+        let rows_at = rows_at.map(|f| move |asked: &[(f64, &[f64])]| f(along_y, asked));
+        let sampled = sample_rows(&at, rows_at.as_ref().map(|f| f as &AskRows), &rows, &ends, o, &progress);
         let mut last_row_end: Option<(f64, f64)> = None;
         for (&v, pieces) in rows.iter().zip(&sampled) {
             for (k, piece) in pieces.iter().enumerate() {
@@ -284,22 +304,100 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
     Ok(())
 }
 
+/// Rows of one pass asked at once: `(v, us)` to the z at each `u`.
+type AskRows<'a> = dyn Fn(&[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> + Sync + 'a;
+
+/// [`sample_row`] for every row `v` of `rows`, from `ends(k).0` to
+/// `ends(k).1`, in parallel; with `rows_at`, each row's samples and the
+/// middle and quarter points between them are asked of it first, for a
+/// batch of rows at a time.
+fn sample_rows(
+    at: &(dyn Fn(f64, f64) -> Option<f64> + Sync),
+    rows_at: Option<&AskRows>,
+    rows: &[f64],
+    ends: &(dyn Fn(usize) -> (f64, f64) + Sync),
+    o: &RasterOptions,
+    progress: &(dyn Fn() + Sync),
+) -> Vec<Vec<Vec<(f64, f64)>>> {
+    let row = |k: usize, at: &dyn Fn(f64) -> Option<f64>| {
+        let (from, to) = ends(k);
+        let pieces = sample_row(at, from, to, o);
+        progress();
+        pieces
+    };
+    let Some(rows_at) = rows_at else {
+        return rows.par_iter().enumerate().map(|(k, &v)| row(k, &|u| at(u, v))).collect();
+    };
+    if rows.is_empty() {
+        return Vec::new();
+    }
+    let (from, to) = ends(0);
+    let per_row = first_level(from, to, o).len().max(1);
+    let batch = (BATCH_POINTS / per_row).max(1);
+    let mut sampled = Vec::with_capacity(rows.len());
+    for (b, chunk) in rows.chunks(batch).enumerate() {
+        let k0 = b * batch;
+        let positions: Vec<Vec<f64>> = (0..chunk.len())
+            .into_par_iter()
+            .map(|k| {
+                let (from, to) = ends(k0 + k);
+                first_level(from, to, o)
+            })
+            .collect();
+        let asked: Vec<(f64, &[f64])> = chunk.iter().zip(&positions).map(|(&v, us)| (v, &us[..])).collect();
+        let known = rows_at(&asked);
+        sampled.par_extend(chunk.par_iter().enumerate().map(|(k, &v)| {
+            let (us, zs) = (&positions[k], &known[k]);
+            let lookup = |u: f64| match us.binary_search_by(|p| p.total_cmp(&u)) {
+                Ok(i) => zs[i],
+                Err(_) => at(u, v),
+            };
+            row(k0 + k, &lookup)
+        }));
+    }
+    sampled
+}
+
+/// The positions [`sample_row`] asks first on a row from `from` to `to`:
+/// its samples and the middle and quarter points [`refine`] tries between
+/// each two, ascending.
+fn first_level(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
+    let q = Quantum(o.quantum);
+    let samples = row_samples(from, to, o);
+    let mut us = samples.clone();
+    for w in samples.windows(2) {
+        us.extend(checks(w[0], w[1], q));
+    }
+    us.sort_by(f64::total_cmp);
+    us.dedup();
+    us
+}
+
+/// The samples of a row from `from` to `to`, every `step` or less, on the
+/// output grid, each once.
+fn row_samples(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
+    let q = Quantum(o.quantum);
+    let n = (((to - from).abs() / o.step).ceil() as usize).max(1);
+    let mut us: Vec<f64> =
+        (0..=n).map(|k| q.snap(if k == n { to } else { from + (to - from) * k as f64 / n as f64 })).collect();
+    us.dedup();
+    us
+}
+
+/// The middle and the quarter points [`refine`] tries between `a` and `b`.
+fn checks(a: f64, b: f64, q: Quantum) -> [f64; 3] {
+    [q.snap(0.5 * (a + b)), q.snap(a + 0.25 * (b - a)), q.snap(a + 0.75 * (b - a))]
+}
+
 /// The CL points of one row from `from` to `to`, as (u, z), in pieces
 /// where the surface is; refined and merged (module docs).
 fn sample_row(at: &dyn Fn(f64) -> Option<f64>, from: f64, to: f64, o: &RasterOptions) -> Vec<Vec<(f64, f64)>> {
     let q = Quantum(o.quantum);
     let at = |u: f64| at(u).map(|z| q.up(z));
-    let length = (to - from).abs();
-    let n = ((length / o.step).ceil() as usize).max(1);
-    let u_at = |k: usize| q.snap(if k == n { to } else { from + (to - from) * k as f64 / n as f64 });
     let mut pieces = Vec::new();
     let mut piece: Vec<(f64, f64)> = Vec::new();
     let refining = Refining { band: Band::half(o), min_gap: o.step / 1024.0, quantum: q };
-    for k in 0..=n {
-        let u = u_at(k);
-        if piece.last().is_some_and(|p| p.0 == u) {
-            continue;
-        }
+    for u in row_samples(from, to, o) {
         match at(u) {
             Some(z) => {
                 if let Some(&(pu, pz)) = piece.last() {
@@ -374,7 +472,7 @@ fn refine(
         Some((v, z)) if v == u => z,
         _ => at(u),
     };
-    let u = r.quantum.snap(0.5 * (a.0 + b.0));
+    let [u, u1, u3] = checks(a.0, b.0, r.quantum);
     if !within(u) {
         return; // no grid position in between
     }
@@ -384,12 +482,9 @@ fn refine(
     // The chord is tried at its middle and quarters: a narrow bump between
     // samples shows at one of them more often than at the middle alone.
     let off = |u: f64, z: f64| band_off(r.band, a, b, u, z);
-    let quarter = |t: f64| {
-        let u = r.quantum.snap(a.0 + t * (b.0 - a.0));
-        within(u).then(|| (u, at(u)))
-    };
+    let quarter = |u: f64| within(u).then(|| (u, at(u)));
     let middle_off = off(u, z);
-    let (q1, q3) = if middle_off { (None, None) } else { (quarter(0.25), quarter(0.75)) };
+    let (q1, q3) = if middle_off { (None, None) } else { (quarter(u1), quarter(u3)) };
     let quarter_off = |q: Option<(f64, Option<f64>)>| q.is_some_and(|(u, z)| z.is_some_and(|z| off(u, z)));
     if middle_off || quarter_off(q1) || quarter_off(q3) {
         refine(at, a, (u, z), q1, r, out);

@@ -4,7 +4,7 @@
 //! suite through brute force, the spatial index and the height-grid fast
 //! path.
 
-use kezuri_cam::dropcut::{drop_cutter, drop_cutter_grid, Grid, MeshSurface};
+use kezuri_cam::dropcut::{drop_cutter, drop_cutter_grid, drop_cutter_rows, Grid, MeshSurface};
 use kezuri_cam::Cutter;
 use kezuri_geom::{Heightfield, Mesh, Triangle, Vec3};
 use proptest::prelude::*;
@@ -363,6 +363,72 @@ fn the_height_grid_fast_path_is_the_same_surface_as_its_mesh() {
             assert!(fast.iter().any(|z| z.is_none()) && fast.iter().any(|z| z.is_some()));
         }
     }
+}
+
+/// Whole rows at once (the ball's piece-by-piece placement) against a
+/// query of its own at every point: smooth, noisy, stepped and tiny grids;
+/// balls larger and smaller than a cell; rows along X and Y running past
+/// every border, at node lines and between them; the other shapes through
+/// their point-by-point fallback.
+#[test]
+fn rows_at_once_are_the_same_as_one_query_per_point() {
+    let mut rng = Rng(7);
+    let noise: Vec<f64> = (0..23 * 17).map(|_| rng.next()).collect();
+    let wavy = Heightfield::from_fn(-3.0, 1.0, 0.4, 31, 23, |x, y| (x * 0.7).sin() + (y * 1.3).cos() * 0.8).unwrap();
+    let noisy = Heightfield::new(0.5, -1.0, 0.3, 23, 17, noise.iter().map(|v| 2.0 * v).collect()).unwrap();
+    // Flat-topped blocks with vertical-ish steps, a lone spike and a pit.
+    let stepped = Heightfield::from_fn(0.0, 0.0, 0.1, 60, 45, |x, y| {
+        let block = if (1.0..3.5).contains(&x) && (0.8..2.0).contains(&y) { 2.0 } else { 0.0 };
+        let spike = if (x - 4.5).abs() < 0.05 && (y - 3.0).abs() < 0.05 { 1.0 } else { 0.0 };
+        let pit = if (x - 5.0).hypot(y - 1.0) < 0.3 { -0.8 } else { 0.0 };
+        block + spike + pit + 0.1 * (y * 2.0).sin()
+    })
+    .unwrap();
+    let tiny = Heightfield::new(1.0, 1.0, 1.0, 2, 2, vec![0.0, 1.0, 0.5, -0.5]).unwrap();
+    let cutters: Vec<Cutter> =
+        ["ball:3", "ball:0.25", "ball:1", "flat:1", "bull:2,0.5"].iter().map(|s| cutter(s)).collect();
+    let (mut total, mut equator) = (0, 0);
+    for (name, h) in [("wavy", wavy), ("noisy", noisy), ("stepped", stepped), ("tiny", tiny)] {
+        let [x0, y0, x1, y1] = h.xy_box();
+        for c in &cutters {
+            let reach = c.radius() + 0.3;
+            for along_y in [false, true] {
+                let (u0, u1, v0, v1) = if along_y { (y0, y1, x0, x1) } else { (x0, x1, y0, y1) };
+                let mut rows: Vec<(f64, Vec<f64>)> = Vec::new();
+                let mut v = v0 - reach;
+                while v < v1 + reach {
+                    let mut us: Vec<f64> = (0..80).map(|_| u0 - reach + rng.next() * (u1 - u0 + 2.0 * reach)).collect();
+                    // Node positions and a regular run, as a raster asks.
+                    us.extend((0..=40).map(|k| u0 + (u1 - u0) * k as f64 / 40.0));
+                    us.sort_by(f64::total_cmp);
+                    rows.push((v, us));
+                    // Every third row on a node line.
+                    v += if rows.len() % 3 == 0 { h.step() } else { 0.37 * h.step() + 0.05 };
+                    if rows.len() % 3 == 0 {
+                        v = v0 + ((v - v0) / h.step()).round() * h.step();
+                    }
+                }
+                let asked: Vec<(f64, &[f64])> = rows.iter().map(|(v, us)| (*v, &us[..])).collect();
+                let got = drop_cutter_rows(c, &h, along_y, &asked);
+                for ((v, us), zs) in rows.iter().zip(&got) {
+                    assert_eq!(us.len(), zs.len());
+                    for (&u, &z) in us.iter().zip(zs) {
+                        let (x, y) = if along_y { (*v, u) } else { (u, *v) };
+                        let one = drop_cutter(c, &h, x, y);
+                        total += 1;
+                        match (z, one) {
+                            (Some(a), Some(b)) if (a - b).abs() < 1e-9 => {}
+                            // A ball touching at its equator: a rounding of the
+                            // distance by 1e-16 moves the tip by √(2R·1e-16).
+                            (Some(a), Some(b)) if (a - b).abs() < 1e-6 * c.radius() => equator += 1,
+                            _ => assert_eq!(z, one, "{name} {c} along_y {along_y} at ({x}, {y})"),
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(total > 100_000 && equator * 1000 < total, "{equator} of {total} points differ by more than 1e-9 mm");
 }
 
 #[test]

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::dropcut::drop_cutter;
-use kezuri_cam::mill::{raster, RasterOptions, Region};
+use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows};
+use kezuri_cam::mill::{raster_with, RasterOptions, Region};
 use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
@@ -218,6 +218,22 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         let field = &field;
         move |x: f64, y: f64| if inside(masked, placement, x, y) { drop_cutter(&c, field, x, y) } else { None }
     };
+    // The same, whole rows at once (drop_cutter_rows: a ball row by row).
+    let rows_of = |c: Cutter| {
+        let field = &field;
+        move |along_y: bool, asked: &[(f64, &[f64])]| {
+            let mut found = drop_cutter_rows(&c, field, along_y, asked);
+            for (&(v, us), zs) in asked.iter().zip(&mut found) {
+                for (&u, z) in us.iter().zip(zs) {
+                    let (x, y) = if along_y { (v, u) } else { (u, v) };
+                    if !inside(masked, placement, x, y) {
+                        *z = None;
+                    }
+                }
+            }
+            found
+        }
+    };
     let t0 = std::time::Instant::now();
     let mut path = Toolpath::default();
     if let Some(r) = rough {
@@ -225,7 +241,9 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         let l = Levels { top: 0.0, step_down: args.step_down, allowance: args.allowance };
         path = with_bar("rough", |on_row| levels(&cl_of(r), region, &options, l, on_row))?;
     }
-    let finishing = with_bar("finish", |on_row| raster(&cl_of(cutter), region, &finish, None, on_row))?;
+    let finishing = with_bar("finish", |on_row| {
+        raster_with(&cl_of(cutter), Some(&rows_of(cutter)), region, &finish, None, on_row)
+    })?;
     path.moves.extend(finishing.moves);
     eprintln!(
         "{name}: {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm; {} moves in {:.2} s",

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use kezuri_cam::dropcut::drop_cutter;
-use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
+use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows};
+use kezuri_cam::mill::{raster_with, Direction, Pattern, RasterOptions, Region};
 use kezuri_cam::probe::stylus::{detect_flat, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Axes, AxisSet, Move, MoveKind, Toolpath};
@@ -177,7 +177,19 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let over_flat = flat.map(|z| OverFlat::new(grid, &stylus, z, FLAT_TOLERANCE));
     let cl =
         |x: f64, y: f64| over_flat.as_ref().and_then(|f| f.height(x, y)).or_else(|| drop_cutter(&cutter, &field, x, y));
-    let path = raster(&cl, Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
+    let rows = |along_y: bool, asked: &[(f64, &[f64])]| {
+        let mut found = drop_cutter_rows(&cutter, &field, along_y, asked);
+        if let Some(flat) = &over_flat {
+            for (&(v, us), zs) in asked.iter().zip(&mut found) {
+                for (&u, z) in us.iter().zip(zs) {
+                    let (x, y) = if along_y { (v, u) } else { (u, v) };
+                    *z = flat.height(x, y).or(*z);
+                }
+            }
+        }
+        found
+    };
+    let path = raster_with(&cl, Some(&rows), Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
     let (path, margins) = match flat {
         Some(z) => {
             rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
