@@ -33,6 +33,8 @@
 //! is the stepover in plan. The row goes at the smallest of these over the
 //! row, and never beyond `stepover`.
 
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use kezuri_geom::{Axes, AxisSet, Move, MoveKind, Spindle, Toolpath};
@@ -219,9 +221,20 @@ pub fn raster_with(
         };
         let forward = |k: usize| o.pattern == Pattern::OneWay || k % 2 == 0;
         let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
-        let progress = || on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-        let rows_at = rows_at.map(|f| move |asked: &[(f64, &[f64])]| f(along_y, asked));
-        let sampled = sample_rows(&at, rows_at.as_ref().map(|f| f as &AskRows), &rows, &ends, o, &progress);
+        let ask = |asked: &[(f64, &[f64])]| match rows_at {
+            Some(f) => f(along_y, asked),
+            None => point_by_point(&at, asked),
+        };
+        let mut sampled = Vec::with_capacity(rows.len());
+        let per_row = first_level(&row_samples(u0, u1, o), Quantum(o.quantum)).len().max(1);
+        let batch = (BATCH_POINTS / per_row).max(1);
+        for (b, chunk) in rows.chunks(batch).enumerate() {
+            let jobs: Vec<Job> = chunk.iter().enumerate().map(|(k, &v)| (v, ends(b * batch + k))).collect();
+            sampled.extend(sample_rows(&ask, &jobs, o));
+            for _ in chunk {
+                on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+            }
+        }
         let mut last_row_end: Option<(f64, f64)> = None;
         for (&v, pieces) in rows.iter().zip(&sampled) {
             for (k, piece) in pieces.iter().enumerate() {
@@ -234,7 +247,8 @@ pub fn raster_with(
                     });
                 if linked {
                     let (pu, pv) = last_row_end.unwrap();
-                    for (w, z) in sample_row(&|w| at(pu, w), pv, v, o).remove(0).into_iter().skip(1) {
+                    let along = |asked: &[(f64, &[f64])]| point_by_point(&|w, _| at(pu, w), asked);
+                    for (w, z) in sample_rows(&along, &[(0.0, (pv, v))], o).remove(0).remove(0).into_iter().skip(1) {
                         path.feed_to(point(pu, w, z), o.feed);
                     }
                 } else {
@@ -304,67 +318,68 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
     Ok(())
 }
 
-/// Rows of one pass asked at once: `(v, us)` to the z at each `u`.
+/// Many rows' CL points asked at once: `(v, us)` to the z at each `u`.
 type AskRows<'a> = dyn Fn(&[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> + Sync + 'a;
 
-/// [`sample_row`] for every row `v` of `rows`, from `ends(k).0` to
-/// `ends(k).1`, in parallel; with `rows_at`, each row's samples and the
-/// middle and quarter points between them are asked of it first, for a
-/// batch of rows at a time.
-fn sample_rows(
-    at: &(dyn Fn(f64, f64) -> Option<f64> + Sync),
-    rows_at: Option<&AskRows>,
-    rows: &[f64],
-    ends: &(dyn Fn(usize) -> (f64, f64) + Sync),
-    o: &RasterOptions,
-    progress: &(dyn Fn() + Sync),
-) -> Vec<Vec<Vec<(f64, f64)>>> {
-    let row = |k: usize, at: &dyn Fn(f64) -> Option<f64>| {
-        let (from, to) = ends(k);
-        let pieces = sample_row(at, from, to, o);
-        progress();
-        pieces
-    };
-    let Some(rows_at) = rows_at else {
-        return rows.par_iter().enumerate().map(|(k, &v)| row(k, &|u| at(u, v))).collect();
-    };
-    if rows.is_empty() {
-        return Vec::new();
-    }
-    let (from, to) = ends(0);
-    let per_row = first_level(from, to, o).len().max(1);
-    let batch = (BATCH_POINTS / per_row).max(1);
-    let mut sampled = Vec::with_capacity(rows.len());
-    for (b, chunk) in rows.chunks(batch).enumerate() {
-        let k0 = b * batch;
-        let positions: Vec<Vec<f64>> = (0..chunk.len())
-            .into_par_iter()
-            .map(|k| {
-                let (from, to) = ends(k0 + k);
-                first_level(from, to, o)
-            })
-            .collect();
-        let asked: Vec<(f64, &[f64])> = chunk.iter().zip(&positions).map(|(&v, us)| (v, &us[..])).collect();
-        let known = rows_at(&asked);
-        sampled.par_extend(chunk.par_iter().enumerate().map(|(k, &v)| {
-            let (us, zs) = (&positions[k], &known[k]);
-            let lookup = |u: f64| match us.binary_search_by(|p| p.total_cmp(&u)) {
-                Ok(i) => zs[i],
-                Err(_) => at(u, v),
-            };
-            row(k0 + k, &lookup)
-        }));
-    }
-    sampled
+/// A row to sample: its `v` and the ends `(from, to)` it runs between.
+type Job = (f64, (f64, f64));
+
+/// [`AskRows`] of a CL function of `(u, v)`, point by point in parallel.
+fn point_by_point(at: &(dyn Fn(f64, f64) -> Option<f64> + Sync), asked: &[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> {
+    asked.par_iter().map(|&(v, us)| us.par_iter().map(|&u| at(u, v)).collect()).collect()
 }
 
-/// The positions [`sample_row`] asks first on a row from `from` to `to`:
-/// its samples and the middle and quarter points [`refine`] tries between
-/// each two, ascending.
-fn first_level(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
+/// The CL points of each row, as (u, z) from its `from` to its `to`, in
+/// pieces where the surface is; refined and merged (module docs). Refining
+/// goes level by level over all the rows, and each level's new positions
+/// are asked of `ask` at once.
+fn sample_rows(ask: &AskRows, jobs: &[Job], o: &RasterOptions) -> Vec<Vec<Vec<(f64, f64)>>> {
     let q = Quantum(o.quantum);
-    let samples = row_samples(from, to, o);
-    let mut us = samples.clone();
+    let r = Refining { band: Band::half(o), min_gap: o.step / 1024.0, quantum: q };
+    let mut rows: Vec<RowSampling> = jobs
+        .par_iter()
+        .map(|&(v, (from, to))| {
+            let samples = row_samples(from, to, o);
+            let wanted = first_level(&samples, q);
+            RowSampling {
+                v,
+                ascending: to >= from,
+                samples,
+                found: HashMap::default(),
+                wanted,
+                open: Vec::new(),
+                added: Vec::new(),
+            }
+        })
+        .collect();
+    ask_wanted(ask, &mut rows);
+    rows.par_iter_mut().for_each(|row| row.open_between_samples(q));
+    while rows.iter().any(|row| !row.open.is_empty()) {
+        rows.par_iter_mut().for_each(|row| row.want_checks(r));
+        ask_wanted(ask, &mut rows);
+        rows.par_iter_mut().for_each(|row| row.halve(r));
+    }
+    rows.into_par_iter().map(|row| row.pieces(o)).collect()
+}
+
+/// Asks every row's wanted positions at once and files the answers.
+fn ask_wanted(ask: &AskRows, rows: &mut [RowSampling]) {
+    if rows.iter().all(|row| row.wanted.is_empty()) {
+        return;
+    }
+    let asked: Vec<(f64, &[f64])> = rows.iter().map(|row| (row.v, &row.wanted[..])).collect();
+    let answers = ask(&asked);
+    rows.par_iter_mut().zip(answers).for_each(|(row, zs)| {
+        for (u, z) in std::mem::take(&mut row.wanted).into_iter().zip(zs) {
+            row.found.insert(u.to_bits(), z);
+        }
+    });
+}
+
+/// The positions a row asks first: its samples and the middle and quarter
+/// points [`RowSampling::halve`] tries between each two, ascending.
+fn first_level(samples: &[f64], q: Quantum) -> Vec<f64> {
+    let mut us = samples.to_vec();
     for w in samples.windows(2) {
         us.extend(checks(w[0], w[1], q));
     }
@@ -384,38 +399,121 @@ fn row_samples(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
     us
 }
 
-/// The middle and the quarter points [`refine`] tries between `a` and `b`.
+/// The middle and the quarter points tried between `a` and `b`.
 fn checks(a: f64, b: f64, q: Quantum) -> [f64; 3] {
     [q.snap(0.5 * (a + b)), q.snap(a + 0.25 * (b - a)), q.snap(a + 0.75 * (b - a))]
 }
 
-/// The CL points of one row from `from` to `to`, as (u, z), in pieces
-/// where the surface is; refined and merged (module docs).
-fn sample_row(at: &dyn Fn(f64) -> Option<f64>, from: f64, to: f64, o: &RasterOptions) -> Vec<Vec<(f64, f64)>> {
-    let q = Quantum(o.quantum);
-    let at = |u: f64| at(u).map(|z| q.up(z));
-    let mut pieces = Vec::new();
-    let mut piece: Vec<(f64, f64)> = Vec::new();
-    let refining = Refining { band: Band::half(o), min_gap: o.step / 1024.0, quantum: q };
-    for u in row_samples(from, to, o) {
-        match at(u) {
-            Some(z) => {
-                if let Some(&(pu, pz)) = piece.last() {
-                    refine(&at, (pu, pz), (u, z), None, refining, &mut piece);
-                }
-                piece.push((u, z));
+/// Hashes the bits of a position: one multiplication (the keys are
+/// positions of one row, not chosen by anyone).
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl Hasher for BitsHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, bits: u64) {
+        self.0 = (self.0 ^ bits).wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(29);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// One row being sampled.
+struct RowSampling {
+    v: f64,
+    /// Whether the row runs towards larger `u`.
+    ascending: bool,
+    /// Its samples, in the row's order.
+    samples: Vec<f64>,
+    /// CL z (as the CL function gave it) by the bits of `u`.
+    found: HashMap<u64, Option<f64>, BuildHasherDefault<BitsHasher>>,
+    /// Positions to ask next.
+    wanted: Vec<f64>,
+    /// Chords still to try: their ends, (u, z) on the output grid.
+    open: Vec<[(f64, f64); 2]>,
+    /// Points refining added.
+    added: Vec<(f64, f64)>,
+}
+
+impl RowSampling {
+    /// The CL z at `u` on the output grid; `None` off the surface (or not
+    /// asked).
+    fn z(&self, u: f64, q: Quantum) -> Option<f64> {
+        self.found.get(&u.to_bits()).copied().flatten().map(|z| q.up(z))
+    }
+
+    /// The chords between samples on the surface.
+    fn open_between_samples(&mut self, q: Quantum) {
+        let points: Vec<Option<(f64, f64)>> = self.samples.iter().map(|&u| self.z(u, q).map(|z| (u, z))).collect();
+        self.open = points.windows(2).filter_map(|w| Some([w[0]?, w[1]?])).collect();
+    }
+
+    /// The middle and quarter points of the open chords not asked yet.
+    fn want_checks(&mut self, r: Refining) {
+        for &[a, b] in &self.open {
+            if (b.0 - a.0).abs() <= r.min_gap {
+                continue;
             }
-            None => {
-                if !piece.is_empty() {
-                    pieces.push(merge(std::mem::take(&mut piece), Band::half(o)));
+            let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
+            for u in checks(a.0, b.0, r.quantum) {
+                if within(u) && !self.found.contains_key(&u.to_bits()) {
+                    self.wanted.push(u);
                 }
             }
         }
+        self.wanted.sort_by(f64::total_cmp);
+        self.wanted.dedup();
     }
-    if !piece.is_empty() {
-        pieces.push(merge(piece, Band::half(o)));
+
+    /// Halves each open chord whose middle or a quarter point is outside
+    /// the band about it, down to `min_gap`; the middle is kept and its two
+    /// halves are tried next. A chord whose middle is off the surface is
+    /// kept (the row is cut there only where a sample misses).
+    fn halve(&mut self, r: Refining) {
+        let q = r.quantum;
+        let mut next = Vec::new();
+        for [a, b] in std::mem::take(&mut self.open) {
+            if (b.0 - a.0).abs() <= r.min_gap {
+                continue;
+            }
+            let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
+            let [u, u1, u3] = checks(a.0, b.0, q);
+            if !within(u) {
+                continue; // no grid position in between
+            }
+            let Some(z) = self.z(u, q) else { continue };
+            // The chord is tried at its middle and quarters: a narrow bump
+            // between samples shows at one of them more often than at the
+            // middle alone.
+            let off = |u: f64| within(u) && self.z(u, q).is_some_and(|z| band_off(r.band, a, b, u, z));
+            if band_off(r.band, a, b, u, z) || off(u1) || off(u3) {
+                self.added.push((u, z));
+                next.push([a, (u, z)]);
+                next.push([(u, z), b]);
+            }
+        }
+        self.open = next;
     }
-    pieces
+
+    /// The samples and the added points in the row's order, in pieces where
+    /// the surface is, each merged.
+    fn pieces(self, o: &RasterOptions) -> Vec<Vec<(f64, f64)>> {
+        let q = Quantum(o.quantum);
+        let mut all: Vec<(f64, Option<f64>)> = self.samples.iter().map(|&u| (u, self.z(u, q))).collect();
+        all.extend(self.added.iter().map(|&(u, z)| (u, Some(z))));
+        all.sort_by(|a, b| if self.ascending { a.0.total_cmp(&b.0) } else { b.0.total_cmp(&a.0) });
+        all.split(|p| p.1.is_none())
+            .filter(|piece| !piece.is_empty())
+            .map(|piece| merge(piece.iter().map(|&(u, z)| (u, z.unwrap_or_default())).collect(), Band::half(o)))
+            .collect()
+    }
 }
 
 /// The output grid of [`RasterOptions::quantum`].
@@ -442,7 +540,7 @@ impl Quantum {
     }
 }
 
-/// How [`refine`] halves.
+/// How [`RowSampling::halve`] halves.
 #[derive(Clone, Copy, Debug)]
 struct Refining {
     band: Band,
@@ -450,47 +548,6 @@ struct Refining {
     min_gap: f64,
     /// Points lie on this grid.
     quantum: Quantum,
-}
-
-/// Pushes the points strictly between `a` and `b` that halving finds where
-/// the middle or a quarter point is outside the band about the chord.
-/// `known` is a CL point already asked for (a quarter point of the parent
-/// interval, which is often this one's middle): it is not asked again.
-fn refine(
-    at: &dyn Fn(f64) -> Option<f64>,
-    a: (f64, f64),
-    b: (f64, f64),
-    known: Option<(f64, Option<f64>)>,
-    r: Refining,
-    out: &mut Vec<(f64, f64)>,
-) {
-    if (b.0 - a.0).abs() <= r.min_gap {
-        return;
-    }
-    let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
-    let ask = |u: f64| match known {
-        Some((v, z)) if v == u => z,
-        _ => at(u),
-    };
-    let [u, u1, u3] = checks(a.0, b.0, r.quantum);
-    if !within(u) {
-        return; // no grid position in between
-    }
-    // Off the surface in the middle: keep the chord (the row is cut there
-    // only where a sample misses).
-    let Some(z) = ask(u) else { return };
-    // The chord is tried at its middle and quarters: a narrow bump between
-    // samples shows at one of them more often than at the middle alone.
-    let off = |u: f64, z: f64| band_off(r.band, a, b, u, z);
-    let quarter = |u: f64| within(u).then(|| (u, at(u)));
-    let middle_off = off(u, z);
-    let (q1, q3) = if middle_off { (None, None) } else { (quarter(u1), quarter(u3)) };
-    let quarter_off = |q: Option<(f64, Option<f64>)>| q.is_some_and(|(u, z)| z.is_some_and(|z| off(u, z)));
-    if middle_off || quarter_off(q1) || quarter_off(q3) {
-        refine(at, a, (u, z), q1, r, out);
-        out.push((u, z));
-        refine(at, (u, z), b, q3, r, out);
-    }
 }
 
 /// Whether the CL point `(u, z)` is outside `band` about the chord `a b`.

@@ -25,6 +25,50 @@ pub struct Heightfield {
     /// The highest node of each block of [`BLOCK`] × [`BLOCK`] cells, row
     /// by row.
     tops: Vec<f64>,
+    /// The slopes of each block's triangles: see [`Heightfield::block_slopes`].
+    slopes: Vec<Slopes>,
+}
+
+/// The range of the gradients of some triangles: smallest and largest rise
+/// along X and along Y (mm per mm), and the largest squared length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slopes {
+    /// Smallest `[dz/dx, dz/dy]`.
+    pub lo: [f64; 2],
+    /// Largest `[dz/dx, dz/dy]`.
+    pub hi: [f64; 2],
+    /// Largest `|∇z|²`.
+    pub len2: f64,
+}
+
+impl Slopes {
+    /// No gradient yet.
+    pub const NONE: Slopes = Slopes { lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2], len2: 0.0 };
+
+    /// Widened to hold the gradient `g`.
+    #[inline]
+    pub fn with(mut self, g: [f64; 2]) -> Slopes {
+        for (k, &gk) in g.iter().enumerate() {
+            self.lo[k] = self.lo[k].min(gk);
+            self.hi[k] = self.hi[k].max(gk);
+        }
+        self.len2 = self.len2.max(g[0] * g[0] + g[1] * g[1]);
+        self
+    }
+
+    /// Both ranges.
+    pub fn union(self, o: Slopes) -> Slopes {
+        Slopes {
+            lo: [self.lo[0].min(o.lo[0]), self.lo[1].min(o.lo[1])],
+            hi: [self.hi[0].max(o.hi[0]), self.hi[1].max(o.hi[1])],
+            len2: self.len2.max(o.len2),
+        }
+    }
+
+    /// X and Y exchanged.
+    pub fn transposed(self) -> Slopes {
+        Slopes { lo: [self.lo[1], self.lo[0]], hi: [self.hi[1], self.hi[0]], len2: self.len2 }
+    }
 }
 
 /// Why some numbers are not a height grid.
@@ -109,7 +153,17 @@ impl Heightfield {
                 }
             }
         }
-        Ok(Heightfield { x0, y0, step, nx, ny, z, tops })
+        let mut slopes = vec![Slopes::NONE; bx * by];
+        for j in 0..ny - 1 {
+            let block_row = &mut slopes[j / BLOCK * bx..][..bx];
+            let (row, next) = (&z[j * nx..][..nx], &z[(j + 1) * nx..][..nx]);
+            for i in 0..nx - 1 {
+                let (za, zb, zc, zd) = (row[i], row[i + 1], next[i + 1], next[i]);
+                let b = &mut block_row[i / BLOCK];
+                *b = b.with([(zb - za) / step, (zc - zb) / step]).with([(zc - zd) / step, (zd - za) / step]);
+            }
+        }
+        Ok(Heightfield { x0, y0, step, nx, ny, z, tops, slopes })
     }
 
     /// Samples `f(x, y)` on the grid (non-finite values become errors).
@@ -174,6 +228,13 @@ impl Heightfield {
     #[inline]
     pub fn block_top(&self, bi: usize, bj: usize) -> f64 {
         self.tops[bj * self.blocks().0 + bi]
+    }
+
+    /// The gradients of the triangles of block `(bi, bj)` (its cells, as
+    /// [`Heightfield::block_top`]).
+    #[inline]
+    pub fn block_slopes(&self, bi: usize, bj: usize) -> Slopes {
+        self.slopes[bj * self.blocks().0 + bi]
     }
 
     /// Node `(i, j)` as a point.

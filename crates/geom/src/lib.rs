@@ -39,7 +39,7 @@ mod time;
 mod toolpath;
 
 pub use alloc::LargePages;
-pub use heightfield::{Heightfield, HeightfieldError, BLOCK};
+pub use heightfield::{Heightfield, HeightfieldError, Slopes, BLOCK};
 pub use index::XyIndex;
 pub use mesh::{Mesh, Triangle, Vec3};
 pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlError};

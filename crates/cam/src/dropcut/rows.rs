@@ -33,7 +33,7 @@
 //! contact per CL point and one region per grid primitive, against
 //! thousands of cells under the ball for a query of its own.
 
-use kezuri_geom::{Heightfield, Vec3};
+use kezuri_geom::{Heightfield, Slopes, Vec3, BLOCK};
 use rayon::prelude::*;
 
 use super::contact::Probe;
@@ -66,17 +66,27 @@ pub(crate) fn ball_rows(
     let starts: Vec<usize> = (0..grid.nv()).step_by(CHUNK).collect();
     let parts: Vec<(usize, Vec<Vec<f64>>)> =
         starts.par_iter().map(|&ja| draw_chunk(&grid, ball, &targets, ja, (ja + CHUNK).min(grid.nv()))).collect();
-    let mut z: Vec<Vec<f64>> = targets.iter().map(|t| vec![f64::NEG_INFINITY; t.us.len()]).collect();
-    for (first, part) in parts {
-        for (row, drawn) in z[first..].iter_mut().zip(part) {
-            for (a, b) in row.iter_mut().zip(drawn) {
-                *a = a.max(b);
+    // Each row: the highest of what every chunk drew on it.
+    let drawn: Vec<Vec<Option<f64>>> = (0..targets.len())
+        .into_par_iter()
+        .map(|k| {
+            let mut z = vec![f64::NEG_INFINITY; targets[k].us.len()];
+            for (first, part) in &parts {
+                if let Some(row) = k.checked_sub(*first).and_then(|i| part.get(i)) {
+                    for (a, &b) in z.iter_mut().zip(row) {
+                        *a = a.max(b);
+                    }
+                }
             }
-        }
+            z.into_iter().map(|z| (z > f64::NEG_INFINITY).then_some(z)).collect()
+        })
+        .collect();
+    let mut out: Vec<Vec<Option<f64>>> = rows.iter().map(|_| Vec::new()).collect();
+    for (&k, row) in order.iter().zip(drawn) {
+        out[k] = row;
     }
-    let mut out: Vec<Vec<Option<f64>>> = rows.iter().map(|(_, us)| vec![None; us.len()]).collect();
-    for (&k, row) in order.iter().zip(z) {
-        out[k] = row.into_iter().map(|z| (z > f64::NEG_INFINITY).then_some(z)).collect();
+    for (row, (_, us)) in out.iter_mut().zip(rows) {
+        row.resize(us.len(), None);
     }
     out
 }
@@ -134,6 +144,29 @@ impl View<'_> {
         Vec3::new(self.u(i), self.v(j), self.z(i, j))
     }
 
+    /// Where the pieces of nodes `i0..i1`, `j0..j1` (their vertices, edges
+    /// and cells) may hold a ball of radius `r`: the box of their nodes
+    /// moved by the offsets of every gradient of the cells around them.
+    fn block_region(&self, [i0, i1]: [usize; 2], [j0, j1]: [usize; 2], r: f64) -> [[f64; 2]; 2] {
+        let (nu, nv) = (self.nu(), self.nv());
+        let (cells_u, cells_v) = ((nu - 1).div_ceil(BLOCK), (nv - 1).div_ceil(BLOCK));
+        let (bu, bv) = (i0 / BLOCK, j0 / BLOCK);
+        let mut s = Slopes::NONE;
+        for b in [bv.wrapping_sub(1), bv] {
+            for a in [bu.wrapping_sub(1), bu] {
+                if a < cells_u && b < cells_v {
+                    s = s.union(if self.along_y {
+                        self.field.block_slopes(b, a).transposed()
+                    } else {
+                        self.field.block_slopes(a, b)
+                    });
+                }
+            }
+        }
+        let [du, dv] = reach(borders(s, [i0 == 0, i1 == nu, j0 == 0, j1 == nv]), r);
+        [[self.u(i0) + du[0], self.u(i1.min(nu - 1)) + du[1]], [self.v(j0) + dv[0], self.v(j1.min(nv - 1)) + dv[1]]]
+    }
+
     /// Gradient of the triangle `(i, j) (i+1, j) (i+1, j+1)` of cell `(i, j)`.
     /// (The grid's diagonal runs from `(i, j)` to `(i+1, j+1)` in either
     /// frame, so the triangles are the grid's own.)
@@ -175,17 +208,24 @@ impl<'a> Target<'a> {
     fn first_at(&self, u: f64) -> usize {
         let n = self.us.len();
         let guess = ((u - self.u0) * self.per_mm).floor();
-        let mut k = if guess.is_nan() || guess <= 0.0 { 0 } else { (guess as usize).min(n) };
+        let k = if guess.is_nan() || guess <= 0.0 { 0 } else { (guess as usize).min(n) };
+        self.first_near(u, k).unwrap_or_else(|| self.us.partition_point(|&x| x < u))
+    }
+
+    /// [`Target::first_at`] found within 8 steps of index `k`.
+    #[inline]
+    fn first_near(&self, u: f64, mut k: usize) -> Option<usize> {
+        let n = self.us.len();
         for _ in 0..8 {
             if k > 0 && self.us[k - 1] >= u {
                 k -= 1;
             } else if k < n && self.us[k] < u {
                 k += 1;
             } else {
-                return k;
+                return Some(k);
             }
         }
-        self.us.partition_point(|&x| x < u)
+        None
     }
 }
 
@@ -193,9 +233,22 @@ impl<'a> Target<'a> {
 struct Canvas<'t, 'a> {
     targets: &'t [Target<'a>],
     z: Vec<Vec<f64>>,
+    /// Where the last piece drawn on each row began: the next, its
+    /// neighbour, begins near it.
+    near: Vec<usize>,
 }
 
 impl Canvas<'_, '_> {
+    /// Whether a CL point lies in the box `[[ulo, uhi], [vlo, vhi]]`
+    /// (widened by [`SLACK`]).
+    fn any(&self, [[ulo, uhi], [vlo, vhi]]: [[f64; 2]; 2]) -> bool {
+        let first = self.targets.partition_point(|t| t.v < vlo - SLACK);
+        self.targets[first..].iter().take_while(|t| t.v <= vhi + SLACK).any(|t| {
+            let k = t.first_at(ulo - SLACK);
+            k < t.us.len() && t.us[k] <= uhi + SLACK
+        })
+    }
+
     /// For every CL point of the rows with `v` in `[vlo, vhi]` whose `u` is
     /// in `span(v)` (both widened by [`SLACK`]): `offer(u, v, z)`.
     #[inline]
@@ -207,12 +260,14 @@ impl Canvas<'_, '_> {
     ) {
         let (vlo, vhi) = (vlo - SLACK, vhi + SLACK);
         let first = self.targets.partition_point(|t| t.v < vlo);
-        for (t, z) in self.targets[first..].iter().zip(&mut self.z[first..]) {
+        for ((t, z), near) in self.targets[first..].iter().zip(&mut self.z[first..]).zip(&mut self.near[first..]) {
             if t.v > vhi {
                 break;
             }
             let [ulo, uhi] = span(t.v);
-            let mut k = t.first_at(ulo - SLACK);
+            let u = ulo - SLACK;
+            let mut k = t.first_near(u, *near).unwrap_or_else(|| t.first_at(u));
+            *near = k;
             while k < t.us.len() && t.us[k] <= uhi + SLACK {
                 offer(t.us[k], t.v, &mut z[k]);
                 k += 1;
@@ -221,57 +276,51 @@ impl Canvas<'_, '_> {
     }
 }
 
-/// The gradients a piece may take, as a box: each component's range and
-/// the largest squared length.
-#[derive(Clone, Copy)]
-struct Gradients {
-    lo: [f64; 2],
-    hi: [f64; 2],
-    len2: f64,
+/// The grid ends on this side of a piece (`axis` 0: u, 1: v; `up`: the
+/// grid lies towards larger values): a cliff, so the piece's gradient may
+/// grow without end towards the grid.
+fn open(mut s: Slopes, axis: usize, up: bool) -> Slopes {
+    if up {
+        s.hi[axis] = f64::INFINITY;
+    } else {
+        s.lo[axis] = f64::NEG_INFINITY;
+    }
+    s.len2 = f64::INFINITY;
+    s
 }
 
-impl Gradients {
-    fn of(gs: &[[f64; 2]]) -> Gradients {
-        let mut b = Gradients { lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2], len2: 0.0 };
-        for g in gs {
-            for (k, &gk) in g.iter().enumerate() {
-                b.lo[k] = b.lo[k].min(gk);
-                b.hi[k] = b.hi[k].max(gk);
-            }
-            b.len2 = b.len2.max(g[0] * g[0] + g[1] * g[1]);
+/// The range of the axis's offset `φ_k(g) = −R·g_k / √(1 + |g|²)` over
+/// the gradients `s` holds.
+fn offsets(s: Slopes, r: f64, axis: usize) -> [f64; 2] {
+    let (a, b) = (s.lo[axis], s.hi[axis]);
+    // g / √(1 + g²) bounds g_k / √(1 + |g|²) away from zero, g_k / √(1 + len2) towards it.
+    let far = |g: f64| if g.is_infinite() { g.signum() } else { g / (1.0 + g * g).sqrt() };
+    let near = |g: f64| if s.len2.is_infinite() { 0.0 } else { g / (1.0 + s.len2).sqrt() };
+    let lo = if a >= 0.0 { near(a) } else { far(a) };
+    let hi = if b <= 0.0 { near(b) } else { far(b) };
+    [-r * hi, -r * lo]
+}
+
+/// `s` opened (see [`open`]) where a piece lies on the grid's first or
+/// last column, first or last row.
+fn borders(s: Slopes, [first_u, last_u, first_v, last_v]: [bool; 4]) -> Slopes {
+    let mut s = s;
+    for (border, axis, up) in [(first_u, 0, true), (last_u, 0, false), (first_v, 1, true), (last_v, 1, false)] {
+        if border {
+            s = open(s, axis, up);
         }
-        b
     }
+    s
+}
 
-    /// The grid ends on this side of the piece (`axis` 0: u, 1: v; `up`:
-    /// the grid lies towards larger values): a cliff, so the gradient may
-    /// grow without end towards the grid.
-    fn open(mut self, axis: usize, up: bool) -> Gradients {
-        if up {
-            self.hi[axis] = f64::INFINITY;
-        } else {
-            self.lo[axis] = f64::NEG_INFINITY;
-        }
-        self.len2 = f64::INFINITY;
-        self
-    }
+/// Both axes' offset ranges.
+fn reach(s: Slopes, r: f64) -> [[f64; 2]; 2] {
+    [offsets(s, r, 0), offsets(s, r, 1)]
+}
 
-    /// The range of the axis's offset `φ_k(g) = −R·g_k / √(1 + |g|²)` over
-    /// the box.
-    fn offsets(&self, r: f64, axis: usize) -> [f64; 2] {
-        let (a, b) = (self.lo[axis], self.hi[axis]);
-        // g / √(1 + g²) bounds g_k / √(1 + |g|²) away from zero, g_k / √(1 + len2) towards it.
-        let far = |g: f64| if g.is_infinite() { g.signum() } else { g / (1.0 + g * g).sqrt() };
-        let near = |g: f64| if self.len2.is_infinite() { 0.0 } else { g / (1.0 + self.len2).sqrt() };
-        let lo = if a >= 0.0 { near(a) } else { far(a) };
-        let hi = if b <= 0.0 { near(b) } else { far(b) };
-        [-r * hi, -r * lo]
-    }
-
-    /// Both axes' offset ranges.
-    fn reach(&self, r: f64) -> [[f64; 2]; 2] {
-        [self.offsets(r, 0), self.offsets(r, 1)]
-    }
+/// The gradients of some triangles.
+fn slopes(gs: &[[f64; 2]]) -> Slopes {
+    gs.iter().fold(Slopes::NONE, |s, &g| s.with(g))
 }
 
 /// Draws every piece of node rows `ja..jb` (their vertices and edges along
@@ -285,7 +334,8 @@ fn draw_chunk(grid: &View, ball: &Ball, targets: &[Target], ja: usize, jb: usize
     let first = targets.partition_point(|t| t.v < vlo);
     let end = first + targets[first..].partition_point(|t| t.v <= vhi);
     let targets = &targets[first..end];
-    let mut canvas = Canvas { targets, z: targets.iter().map(|t| vec![f64::NEG_INFINITY; t.us.len()]).collect() };
+    let z = targets.iter().map(|t| vec![f64::NEG_INFINITY; t.us.len()]).collect();
+    let mut canvas = Canvas { targets, z, near: vec![0; targets.len()] };
     if targets.is_empty() {
         return (first, canvas.z);
     }
@@ -308,110 +358,113 @@ fn draw_chunk(grid: &View, ball: &Ball, targets: &[Target], ja: usize, jb: usize
             *z = probe.best;
         }
     };
-    for j in ja..jb {
-        let (vj, cell_row) = (grid.v(j), j + 1 < nv);
-        for i in 0..nu {
-            let ui = grid.u(i);
-            let p = grid.node(i, j);
-            // The vertex: the gradients of its up to six triangles.
-            let mut around = [[0.0; 2]; 6];
-            let mut n = 0;
-            let mut put = |g: [f64; 2]| {
-                around[n] = g;
-                n += 1;
-            };
-            if i > 0 && j > 0 {
-                put(grid.lower(i - 1, j - 1));
-                put(grid.upper(i - 1, j - 1));
-            }
-            if j > 0 && i + 1 < nu {
-                put(grid.upper(i, j - 1));
-            }
-            if i > 0 && cell_row {
-                put(grid.lower(i - 1, j));
-            }
-            if i + 1 < nu && cell_row {
-                put(grid.lower(i, j));
-                put(grid.upper(i, j));
-            }
-            let mut cone = Gradients::of(&around[..n]);
-            for (border, axis, up) in
-                [(i == 0, 0, true), (i + 1 == nu, 0, false), (j == 0, 1, true), (!cell_row, 1, false)]
-            {
-                if border {
-                    cone = cone.open(axis, up);
-                }
-            }
-            let [du, dv] = cone.reach(r);
-            canvas.draw([vj + dv[0], vj + dv[1]], |_| [ui + du[0], ui + du[1]], vertex_at(p));
-            // The edge along the row to (i+1, j): triangles below and above.
-            if i + 1 < nu {
-                let below = (j > 0).then(|| grid.upper(i, j - 1));
-                let above = cell_row.then(|| grid.lower(i, j));
-                let cone = match (below, above) {
-                    (Some(b), Some(a)) => (a[1] <= b[1]).then(|| Gradients::of(&[a, b])),
-                    (None, Some(a)) => Some(Gradients::of(&[a]).open(1, true)),
-                    (Some(b), None) => Some(Gradients::of(&[b]).open(1, false)),
-                    (None, None) => None,
-                };
-                if let Some(cone) = cone {
-                    let [du, dv] = cone.reach(r);
-                    let q = grid.node(i + 1, j);
-                    canvas.draw([vj + dv[0], vj + dv[1]], |_| [ui + du[0], ui + s + du[1]], edge_at(p, q));
-                }
-            }
-            if !cell_row {
+    for j0 in (ja..jb).step_by(BLOCK) {
+        let j1 = (j0 + BLOCK).min(jb);
+        for i0 in (0..nu).step_by(BLOCK) {
+            let i1 = (i0 + BLOCK).min(nu);
+            // Nothing to draw where no CL point is in reach of the block.
+            if !canvas.any(grid.block_region([i0, i1], [j0, j1], r)) {
                 continue;
             }
-            // The edge across the rows to (i, j+1): triangles left and right.
-            let left = (i > 0).then(|| grid.lower(i - 1, j));
-            let right = (i + 1 < nu).then(|| grid.upper(i, j));
-            let cone = match (left, right) {
-                (Some(l), Some(rt)) => (rt[0] <= l[0]).then(|| Gradients::of(&[l, rt])),
-                (None, Some(rt)) => Some(Gradients::of(&[rt]).open(0, true)),
-                (Some(l), None) => Some(Gradients::of(&[l]).open(0, false)),
-                (None, None) => None,
-            };
-            let q = grid.node(i, j + 1);
-            if let Some(cone) = cone {
-                let [du, dv] = cone.reach(r);
-                canvas.draw([vj + dv[0], vj + s + dv[1]], |_| [ui + du[0], ui + du[1]], edge_at(p, q));
-            }
-            if i + 1 == nu {
-                continue;
-            }
-            let (lower, upper) = (grid.lower(i, j), grid.upper(i, j));
-            // The diagonal to (i+1, j+1): a ridge when the slope across it,
-            // from the upper triangle to the lower, falls.
-            if (lower[0] - upper[0]) - (lower[1] - upper[1]) <= 0.0 {
-                let [du, dv] = Gradients::of(&[lower, upper]).reach(r);
-                let c = grid.node(i + 1, j + 1);
-                let along = |v: f64, dv: f64| (v - vj - dv).clamp(0.0, s);
-                canvas.draw(
-                    [vj + dv[0], vj + s + dv[1]],
-                    |v| [ui + along(v, dv[1]) + du[0], ui + along(v, dv[0]) + du[1]],
-                    edge_at(p, c),
-                );
-            }
-            // The two facets, each over its triangle moved by φ(g).
-            for (g, is_lower) in [(lower, true), (upper, false)] {
-                let len2 = g[0] * g[0] + g[1] * g[1];
-                let root = (1.0 + len2).sqrt();
-                let (ou, ov) = (-r * g[0] / root, -r * g[1] / root);
-                // R·(√(1 + |g|²) − 1), written to keep its digits.
-                let lift = r * len2 / (root + 1.0);
-                let across = |v: f64| (v - vj - ov).clamp(0.0, s);
-                canvas.draw(
-                    [vj + ov, vj + s + ov],
-                    |v| {
-                        if is_lower {
-                            [ui + ou + across(v), ui + ou + s]
-                        } else {
-                            [ui + ou, ui + ou + across(v)]
+            for j in j0..j1 {
+                let (vj, cell_row) = (grid.v(j), j + 1 < nv);
+                for i in i0..i1 {
+                    let ui = grid.u(i);
+                    let p = grid.node(i, j);
+                    // The vertex: the gradients of its up to six triangles.
+                    let mut around = [[0.0; 2]; 6];
+                    let mut n = 0;
+                    let mut put = |g: [f64; 2]| {
+                        around[n] = g;
+                        n += 1;
+                    };
+                    if i > 0 && j > 0 {
+                        put(grid.lower(i - 1, j - 1));
+                        put(grid.upper(i - 1, j - 1));
+                    }
+                    if j > 0 && i + 1 < nu {
+                        put(grid.upper(i, j - 1));
+                    }
+                    if i > 0 && cell_row {
+                        put(grid.lower(i - 1, j));
+                    }
+                    if i + 1 < nu && cell_row {
+                        put(grid.lower(i, j));
+                        put(grid.upper(i, j));
+                    }
+                    let cone = borders(slopes(&around[..n]), [i == 0, i + 1 == nu, j == 0, !cell_row]);
+                    let [du, dv] = reach(cone, r);
+                    canvas.draw([vj + dv[0], vj + dv[1]], |_| [ui + du[0], ui + du[1]], vertex_at(p));
+                    // The edge along the row to (i+1, j): triangles below and above.
+                    if i + 1 < nu {
+                        let below = (j > 0).then(|| grid.upper(i, j - 1));
+                        let above = cell_row.then(|| grid.lower(i, j));
+                        let cone = match (below, above) {
+                            (Some(b), Some(a)) => (a[1] <= b[1]).then(|| slopes(&[a, b])),
+                            (None, Some(a)) => Some(open(slopes(&[a]), 1, true)),
+                            (Some(b), None) => Some(open(slopes(&[b]), 1, false)),
+                            (None, None) => None,
+                        };
+                        if let Some(cone) = cone {
+                            let [du, dv] = reach(cone, r);
+                            let q = grid.node(i + 1, j);
+                            canvas.draw([vj + dv[0], vj + dv[1]], |_| [ui + du[0], ui + s + du[1]], edge_at(p, q));
                         }
-                    },
-                    |u, v, z| *z = z.max(p.z + g[0] * (u - ui) + g[1] * (v - vj) + lift),
-                );
+                    }
+                    if !cell_row {
+                        continue;
+                    }
+                    // The edge across the rows to (i, j+1): triangles left and right.
+                    let left = (i > 0).then(|| grid.lower(i - 1, j));
+                    let right = (i + 1 < nu).then(|| grid.upper(i, j));
+                    let cone = match (left, right) {
+                        (Some(l), Some(rt)) => (rt[0] <= l[0]).then(|| slopes(&[l, rt])),
+                        (None, Some(rt)) => Some(open(slopes(&[rt]), 0, true)),
+                        (Some(l), None) => Some(open(slopes(&[l]), 0, false)),
+                        (None, None) => None,
+                    };
+                    let q = grid.node(i, j + 1);
+                    if let Some(cone) = cone {
+                        let [du, dv] = reach(cone, r);
+                        canvas.draw([vj + dv[0], vj + s + dv[1]], |_| [ui + du[0], ui + du[1]], edge_at(p, q));
+                    }
+                    if i + 1 == nu {
+                        continue;
+                    }
+                    let (lower, upper) = (grid.lower(i, j), grid.upper(i, j));
+                    // The diagonal to (i+1, j+1): a ridge when the slope across it,
+                    // from the upper triangle to the lower, falls.
+                    if (lower[0] - upper[0]) - (lower[1] - upper[1]) <= 0.0 {
+                        let [du, dv] = reach(slopes(&[lower, upper]), r);
+                        let c = grid.node(i + 1, j + 1);
+                        let along = |v: f64, dv: f64| (v - vj - dv).clamp(0.0, s);
+                        canvas.draw(
+                            [vj + dv[0], vj + s + dv[1]],
+                            |v| [ui + along(v, dv[1]) + du[0], ui + along(v, dv[0]) + du[1]],
+                            edge_at(p, c),
+                        );
+                    }
+                    // The two facets, each over its triangle moved by φ(g).
+                    for (g, is_lower) in [(lower, true), (upper, false)] {
+                        let len2 = g[0] * g[0] + g[1] * g[1];
+                        let root = (1.0 + len2).sqrt();
+                        let (ou, ov) = (-r * g[0] / root, -r * g[1] / root);
+                        // R·(√(1 + |g|²) − 1), written to keep its digits.
+                        let lift = r * len2 / (root + 1.0);
+                        let across = |v: f64| (v - vj - ov).clamp(0.0, s);
+                        canvas.draw(
+                            [vj + ov, vj + s + ov],
+                            |v| {
+                                if is_lower {
+                                    [ui + ou + across(v), ui + ou + s]
+                                } else {
+                                    [ui + ou, ui + ou + across(v)]
+                                }
+                            },
+                            |u, v, z| *z = z.max(p.z + g[0] * (u - ui) + g[1] * (v - vj) + lift),
+                        );
+                    }
+                }
             }
         }
     }
