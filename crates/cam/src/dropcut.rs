@@ -348,6 +348,12 @@ pub fn drop_cutter_grid<S: Surface + ?Sized>(
     out
 }
 
+/// Whether [`drop_cutter_rows`] places `cutter` whole rows at once (a ball
+/// end mill) rather than point by point.
+pub fn rows_at_once(cutter: &Cutter) -> bool {
+    matches!(cutter, Cutter::Ball(_))
+}
+
 /// The tip z of `cutter` on a height grid at every `u` of every row `(v,
 /// us)`: rows along X at `y = v`, or along Y at `x = v` when `along_y`;
 /// each row's `us` ascending. The same as a query of its own at every point
@@ -364,6 +370,7 @@ pub fn drop_cutter_rows(
     if let Cutter::Ball(ball) = cutter {
         return rows::ball_rows(field, ball, along_y, rows);
     }
+    debug_assert!(!rows_at_once(cutter));
     rows.par_iter()
         .map_init(
             || field.scratch(),

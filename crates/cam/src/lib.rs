@@ -35,4 +35,4 @@ pub mod shorten;
 pub mod sim;
 
 pub use cutter::{Cutter, SpecError};
-pub use dropcut::{drop_cutter, drop_cutter_grid, drop_cutter_rows, Grid, MeshSurface, Surface};
+pub use dropcut::{drop_cutter, drop_cutter_grid, drop_cutter_rows, rows_at_once, Grid, MeshSurface, Surface};

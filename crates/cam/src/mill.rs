@@ -230,7 +230,7 @@ pub fn raster_with(
         let batch = (BATCH_POINTS / per_row).max(1);
         for (b, chunk) in rows.chunks(batch).enumerate() {
             let jobs: Vec<Job> = chunk.iter().enumerate().map(|(k, &v)| (v, ends(b * batch + k))).collect();
-            sampled.extend(sample_rows(&ask, &jobs, o));
+            sampled.extend(sample_rows(&ask, rows_at.is_some(), &jobs, o));
             for _ in chunk {
                 on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             }
@@ -248,7 +248,9 @@ pub fn raster_with(
                 if linked {
                     let (pu, pv) = last_row_end.unwrap();
                     let along = |asked: &[(f64, &[f64])]| point_by_point(&|w, _| at(pu, w), asked);
-                    for (w, z) in sample_rows(&along, &[(0.0, (pv, v))], o).remove(0).remove(0).into_iter().skip(1) {
+                    for (w, z) in
+                        sample_rows(&along, false, &[(0.0, (pv, v))], o).remove(0).remove(0).into_iter().skip(1)
+                    {
                         path.feed_to(point(pu, w, z), o.feed);
                     }
                 } else {
@@ -332,15 +334,17 @@ fn point_by_point(at: &(dyn Fn(f64, f64) -> Option<f64> + Sync), asked: &[(f64, 
 /// The CL points of each row, as (u, z) from its `from` to its `to`, in
 /// pieces where the surface is; refined and merged (module docs). Refining
 /// goes level by level over all the rows, and each level's new positions
-/// are asked of `ask` at once.
-fn sample_rows(ask: &AskRows, jobs: &[Job], o: &RasterOptions) -> Vec<Vec<Vec<(f64, f64)>>> {
+/// are asked of `ask` at once: the middles, then the quarters the
+/// middles leave in doubt, as halving asks them one by one; or where
+/// `ahead`, every check two levels at a time (see [`Want`]).
+fn sample_rows(ask: &AskRows, ahead: bool, jobs: &[Job], o: &RasterOptions) -> Vec<Vec<Vec<(f64, f64)>>> {
     let q = Quantum(o.quantum);
     let r = Refining { band: Band::half(o), min_gap: o.step / 1024.0, quantum: q };
     let mut rows: Vec<RowSampling> = jobs
         .par_iter()
         .map(|&(v, (from, to))| {
             let samples = row_samples(from, to, o);
-            let wanted = first_level(&samples, q);
+            let wanted = if ahead { first_level(&samples, q) } else { samples.clone() };
             RowSampling {
                 v,
                 ascending: to >= from,
@@ -354,9 +358,12 @@ fn sample_rows(ask: &AskRows, jobs: &[Job], o: &RasterOptions) -> Vec<Vec<Vec<(f
         .collect();
     ask_wanted(ask, &mut rows);
     rows.par_iter_mut().for_each(|row| row.open_between_samples(q));
+    let stages: &[Want] = if ahead { &[Want::TwoLevels] } else { &[Want::Middles, Want::Quarters] };
     while rows.iter().any(|row| !row.open.is_empty()) {
-        rows.par_iter_mut().for_each(|row| row.want_checks(r));
-        ask_wanted(ask, &mut rows);
+        for &stage in stages {
+            rows.par_iter_mut().for_each(|row| row.want(r, stage));
+            ask_wanted(ask, &mut rows);
+        }
         rows.par_iter_mut().for_each(|row| row.halve(r));
     }
     rows.into_par_iter().map(|row| row.pieces(o)).collect()
@@ -425,6 +432,20 @@ impl Hasher for BitsHasher {
     }
 }
 
+/// What a pass of halving asks.
+#[derive(Clone, Copy, Debug)]
+enum Want {
+    /// The middles of the open chords.
+    Middles,
+    /// Their quarters, where the middle is on the surface and within the
+    /// band (where it is not, the chord is halved whatever they are).
+    Quarters,
+    /// Middles and quarters of the open chords and of their halves: for a
+    /// CL function that answers rows at once, asking two levels together
+    /// halves the passes, each of which costs more than the points it asks.
+    TwoLevels,
+}
+
 /// One row being sampled.
 struct RowSampling {
     v: f64,
@@ -456,20 +477,47 @@ impl RowSampling {
     }
 
     /// The middle and quarter points of the open chords not asked yet.
-    fn want_checks(&mut self, r: Refining) {
-        for &[a, b] in &self.open {
-            if (b.0 - a.0).abs() <= r.min_gap {
-                continue;
+    /// The positions `stage` asks of the open chords that are not known
+    /// yet.
+    fn want(&mut self, r: Refining, stage: Want) {
+        let q = r.quantum;
+        let unknown = |u: f64| !self.found.contains_key(&u.to_bits());
+        // The unknown checks of the chord `a b` that `pick` keeps; its middle.
+        let want = |a: f64, b: f64, pick: [bool; 3], wanted: &mut Vec<f64>| {
+            let within = |u: f64| (u - a) * (b - u) > 0.0;
+            if (b - a).abs() <= r.min_gap {
+                return None;
             }
-            let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
-            for u in checks(a.0, b.0, r.quantum) {
-                if within(u) && !self.found.contains_key(&u.to_bits()) {
-                    self.wanted.push(u);
+            let points = checks(a, b, q);
+            let picked = points.into_iter().zip(pick).filter(|&(u, p)| p && within(u) && unknown(u));
+            wanted.extend(picked.map(|(u, _)| u));
+            within(points[0]).then_some(points[0])
+        };
+        let mut wanted = Vec::new();
+        for &[a, b] in &self.open {
+            match stage {
+                Want::Middles => {
+                    want(a.0, b.0, [true, false, false], &mut wanted);
+                }
+                Want::Quarters => {
+                    let [m, ..] = checks(a.0, b.0, q);
+                    let z = self.z(m, q);
+                    if z.is_some_and(|z| !band_off(r.band, a, b, m, z)) {
+                        want(a.0, b.0, [false, true, true], &mut wanted);
+                    }
+                }
+                Want::TwoLevels => {
+                    let before = wanted.len();
+                    if let Some(m) = want(a.0, b.0, [true; 3], &mut wanted).filter(|_| wanted.len() > before) {
+                        want(a.0, m, [true; 3], &mut wanted);
+                        want(m, b.0, [true; 3], &mut wanted);
+                    }
                 }
             }
         }
-        self.wanted.sort_by(f64::total_cmp);
-        self.wanted.dedup();
+        wanted.sort_by(f64::total_cmp);
+        wanted.dedup();
+        self.wanted = wanted;
     }
 
     /// Halves each open chord whose middle or a quarter point is outside

@@ -385,10 +385,23 @@ fn rows_at_once_are_the_same_as_one_query_per_point() {
     })
     .unwrap();
     let tiny = Heightfield::new(1.0, 1.0, 1.0, 2, 2, vec![0.0, 1.0, 0.5, -0.5]).unwrap();
+    // Wide flat and tilted planes (whole blocks of cells in one plane, drawn
+    // at once), a curved step between them and a post.
+    let planes = Heightfield::from_fn(0.0, 0.0, 0.125, 70, 60, |x, y| {
+        let post = if (x - 1.5).abs() < 0.2 && (y - 5.0).abs() < 0.2 { 0.75 } else { 0.0 };
+        post + if x < 3.0 {
+            1.0
+        } else if x < 4.0 {
+            1.0 + (x - 3.0) * (x - 3.0)
+        } else {
+            2.0 + 0.25 * (x - 4.0) + 0.5 * y
+        }
+    })
+    .unwrap();
     let cutters: Vec<Cutter> =
         ["ball:3", "ball:0.25", "ball:1", "flat:1", "bull:2,0.5"].iter().map(|s| cutter(s)).collect();
     let (mut total, mut equator) = (0, 0);
-    for (name, h) in [("wavy", wavy), ("noisy", noisy), ("stepped", stepped), ("tiny", tiny)] {
+    for (name, h) in [("wavy", wavy), ("noisy", noisy), ("stepped", stepped), ("tiny", tiny), ("planes", planes)] {
         let [x0, y0, x1, y1] = h.xy_box();
         for c in &cutters {
             let reach = c.radius() + 0.3;

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows};
-use kezuri_cam::mill::{raster_with, RasterOptions, Region};
+use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
+use kezuri_cam::mill::{raster_with, ClRowsFn, RasterOptions, Region};
 use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
@@ -242,7 +242,9 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         path = with_bar("rough", |on_row| levels(&cl_of(r), region, &options, l, on_row))?;
     }
     let finishing = with_bar("finish", |on_row| {
-        raster_with(&cl_of(cutter), Some(&rows_of(cutter)), region, &finish, None, on_row)
+        let rows = rows_of(cutter);
+        let rows_at = rows_at_once(&cutter).then_some(&rows as &ClRowsFn);
+        raster_with(&cl_of(cutter), rows_at, region, &finish, None, on_row)
     })?;
     path.moves.extend(finishing.moves);
     eprintln!(

@@ -144,10 +144,10 @@ impl View<'_> {
         Vec3::new(self.u(i), self.v(j), self.z(i, j))
     }
 
-    /// Where the pieces of nodes `i0..i1`, `j0..j1` (their vertices, edges
-    /// and cells) may hold a ball of radius `r`: the box of their nodes
-    /// moved by the offsets of every gradient of the cells around them.
-    fn block_region(&self, [i0, i1]: [usize; 2], [j0, j1]: [usize; 2], r: f64) -> [[f64; 2]; 2] {
+    /// The gradients the pieces of nodes `i0..i1`, `j0..j1` (their
+    /// vertices, edges and cells) may take: those of the blocks of cells
+    /// around them, opened on the grid's border.
+    fn block_cone(&self, [i0, i1]: [usize; 2], [j0, j1]: [usize; 2]) -> Cone {
         let (nu, nv) = (self.nu(), self.nv());
         let (cells_u, cells_v) = ((nu - 1).div_ceil(BLOCK), (nv - 1).div_ceil(BLOCK));
         let (bu, bv) = (i0 / BLOCK, j0 / BLOCK);
@@ -163,8 +163,13 @@ impl View<'_> {
                 }
             }
         }
-        let [du, dv] = reach(borders(s, [i0 == 0, i1 == nu, j0 == 0, j1 == nv]), r);
-        [[self.u(i0) + du[0], self.u(i1.min(nu - 1)) + du[1]], [self.v(j0) + dv[0], self.v(j1.min(nv - 1)) + dv[1]]]
+        Cone::of_slopes(s).borders([i0 == 0, i1 == nu, j0 == 0, j1 == nv])
+    }
+
+    /// The box the nodes `i0..i1`, `j0..j1` and their cells cover.
+    fn block_box(&self, [i0, i1]: [usize; 2], [j0, j1]: [usize; 2]) -> [[f64; 2]; 2] {
+        let (nu, nv) = (self.nu(), self.nv());
+        [[self.u(i0), self.u(i1.min(nu - 1))], [self.v(j0), self.v(j1.min(nv - 1))]]
     }
 
     /// Gradient of the triangle `(i, j) (i+1, j) (i+1, j+1)` of cell `(i, j)`.
@@ -276,51 +281,162 @@ impl Canvas<'_, '_> {
     }
 }
 
-/// The grid ends on this side of a piece (`axis` 0: u, 1: v; `up`: the
-/// grid lies towards larger values): a cliff, so the piece's gradient may
-/// grow without end towards the grid.
-fn open(mut s: Slopes, axis: usize, up: bool) -> Slopes {
-    if up {
-        s.hi[axis] = f64::INFINITY;
-    } else {
-        s.lo[axis] = f64::NEG_INFINITY;
+/// A triangle of the grid: its gradient and what the offsets need of it.
+#[derive(Clone, Copy)]
+struct Facet {
+    /// Rise along u and v.
+    g: [f64; 2],
+    /// `g_k / √(1 + g_k²)` of each axis.
+    sat: [f64; 2],
+    /// `√(1 + |g|²)`.
+    root: f64,
+}
+
+impl Facet {
+    fn new(g: [f64; 2]) -> Facet {
+        let sat = |g: f64| g / (1.0 + g * g).sqrt();
+        Facet { g, sat: [sat(g[0]), sat(g[1])], root: (1.0 + g[0] * g[0] + g[1] * g[1]).sqrt() }
     }
-    s.len2 = f64::INFINITY;
-    s
 }
 
-/// The range of the axis's offset `φ_k(g) = −R·g_k / √(1 + |g|²)` over
-/// the gradients `s` holds.
-fn offsets(s: Slopes, r: f64, axis: usize) -> [f64; 2] {
-    let (a, b) = (s.lo[axis], s.hi[axis]);
-    // g / √(1 + g²) bounds g_k / √(1 + |g|²) away from zero, g_k / √(1 + len2) towards it.
-    let far = |g: f64| if g.is_infinite() { g.signum() } else { g / (1.0 + g * g).sqrt() };
-    let near = |g: f64| if s.len2.is_infinite() { 0.0 } else { g / (1.0 + s.len2).sqrt() };
-    let lo = if a >= 0.0 { near(a) } else { far(a) };
-    let hi = if b <= 0.0 { near(b) } else { far(b) };
-    [-r * hi, -r * lo]
+/// The gradients a piece may take, as a box: each axis's range (and its
+/// `g / √(1 + g²)`), and the largest `√(1 + |g|²)`.
+#[derive(Clone, Copy)]
+struct Cone {
+    lo: [f64; 2],
+    hi: [f64; 2],
+    sat_lo: [f64; 2],
+    sat_hi: [f64; 2],
+    root: f64,
 }
 
-/// `s` opened (see [`open`]) where a piece lies on the grid's first or
-/// last column, first or last row.
-fn borders(s: Slopes, [first_u, last_u, first_v, last_v]: [bool; 4]) -> Slopes {
-    let mut s = s;
-    for (border, axis, up) in [(first_u, 0, true), (last_u, 0, false), (first_v, 1, true), (last_v, 1, false)] {
-        if border {
-            s = open(s, axis, up);
+impl Cone {
+    const EMPTY: Cone = Cone {
+        lo: [f64::INFINITY; 2],
+        hi: [f64::NEG_INFINITY; 2],
+        sat_lo: [f64::INFINITY; 2],
+        sat_hi: [f64::NEG_INFINITY; 2],
+        root: 1.0,
+    };
+
+    /// Widened to hold the triangle's gradient.
+    #[inline]
+    fn with(mut self, f: Facet) -> Cone {
+        for k in 0..2 {
+            self.lo[k] = self.lo[k].min(f.g[k]);
+            self.hi[k] = self.hi[k].max(f.g[k]);
+            self.sat_lo[k] = self.sat_lo[k].min(f.sat[k]);
+            self.sat_hi[k] = self.sat_hi[k].max(f.sat[k]);
+        }
+        self.root = self.root.max(f.root);
+        self
+    }
+
+    /// The one gradient the box holds, if it holds one (a plane; never on
+    /// the grid's border).
+    fn single(&self) -> Option<[f64; 2]> {
+        (self.lo == self.hi && self.root.is_finite()).then_some(self.lo)
+    }
+
+    /// The gradients in a box of slopes.
+    fn of_slopes(s: Slopes) -> Cone {
+        let sat = |g: f64| g / (1.0 + g * g).sqrt();
+        Cone {
+            lo: s.lo,
+            hi: s.hi,
+            sat_lo: [sat(s.lo[0]), sat(s.lo[1])],
+            sat_hi: [sat(s.hi[0]), sat(s.hi[1])],
+            root: (1.0 + s.len2).sqrt(),
         }
     }
-    s
+
+    /// The gradients of an edge between triangles `a` and `b`, which lie on
+    /// the smaller and the larger side of `axis` across it (the diagonal
+    /// apart, the grid's edges run along the axes): between theirs where it
+    /// is a ridge, none where it is a valley; one-sided on the grid's
+    /// border.
+    #[inline]
+    fn of_edge(a: Option<Facet>, b: Option<Facet>, axis: usize) -> Option<Cone> {
+        match (a, b) {
+            (Some(a), Some(b)) => (b.g[axis] <= a.g[axis]).then(|| Cone::EMPTY.with(a).with(b)),
+            (None, Some(b)) => Some(Cone::EMPTY.with(b).open(axis, true)),
+            (Some(a), None) => Some(Cone::EMPTY.with(a).open(axis, false)),
+            (None, None) => None,
+        }
+    }
+
+    /// The grid ends on this side of the piece (`axis` 0: u, 1: v; `up`:
+    /// the grid lies towards larger values): a cliff, so the gradient may
+    /// grow without end towards the grid.
+    fn open(mut self, axis: usize, up: bool) -> Cone {
+        if up {
+            (self.hi[axis], self.sat_hi[axis]) = (f64::INFINITY, 1.0);
+        } else {
+            (self.lo[axis], self.sat_lo[axis]) = (f64::NEG_INFINITY, -1.0);
+        }
+        self.root = f64::INFINITY;
+        self
+    }
+
+    /// Opened (see [`Cone::open`]) where the piece lies on the grid's
+    /// first or last column, first or last row.
+    #[inline]
+    fn borders(self, [first_u, last_u, first_v, last_v]: [bool; 4]) -> Cone {
+        let mut c = self;
+        for (border, axis, up) in [(first_u, 0, true), (last_u, 0, false), (first_v, 1, true), (last_v, 1, false)] {
+            if border {
+                c = c.open(axis, up);
+            }
+        }
+        c
+    }
+
+    /// Each axis's range of the offset `φ_k(g) = −R·g_k / √(1 + |g|²)`
+    /// over the box: `g_k / √(1 + g_k²)` bounds `g_k / √(1 + |g|²)` away
+    /// from zero, `g_k / √(1 + max |g|²)` towards it.
+    #[inline]
+    fn reach(&self, r: f64) -> [[f64; 2]; 2] {
+        let damp = 1.0 / self.root;
+        let axis = |k: usize| {
+            let lo = if self.lo[k] >= 0.0 { self.lo[k] * damp } else { self.sat_lo[k] };
+            let hi = if self.hi[k] <= 0.0 { self.hi[k] * damp } else { self.sat_hi[k] };
+            [-r * hi, -r * lo]
+        };
+        [axis(0), axis(1)]
+    }
 }
 
-/// Both axes' offset ranges.
-fn reach(s: Slopes, r: f64) -> [[f64; 2]; 2] {
-    [offsets(s, r, 0), offsets(s, r, 1)]
+/// The triangles of the cells around a block of nodes.
+struct Cells {
+    /// Cell `(i0 − 1 + a, j0 − 1 + b)` at `[b][a]`; `None` off the grid.
+    cells: [[Option<[Facet; 2]>; BLOCK + 1]; BLOCK + 1],
+    i0: usize,
+    j0: usize,
 }
 
-/// The gradients of some triangles.
-fn slopes(gs: &[[f64; 2]]) -> Slopes {
-    gs.iter().fold(Slopes::NONE, |s, &g| s.with(g))
+impl Cells {
+    /// The cells of nodes `i0..i1`, `j0..j1` (the block's and those to the
+    /// left and below).
+    fn around(grid: &View, [i0, i1]: [usize; 2], [j0, j1]: [usize; 2]) -> Cells {
+        let mut cells = [[None; BLOCK + 1]; BLOCK + 1];
+        let (nu, nv) = (grid.nu(), grid.nv());
+        for (b, row) in cells.iter_mut().enumerate().take(j1 - j0 + 1) {
+            let Some(cj) = (j0 + b).checked_sub(1).filter(|&cj| cj + 1 < nv) else { continue };
+            for (a, cell) in row.iter_mut().enumerate().take(i1 - i0 + 1) {
+                if let Some(ci) = (i0 + a).checked_sub(1).filter(|&ci| ci + 1 < nu) {
+                    *cell = Some([Facet::new(grid.lower(ci, cj)), Facet::new(grid.upper(ci, cj))]);
+                }
+            }
+        }
+        Cells { cells, i0, j0 }
+    }
+
+    /// The cell `back_i` columns left and `back_j` rows below node `(i, j)`'s
+    /// own cell (each 0 or 1).
+    #[inline]
+    fn at(&self, i: usize, j: usize, back_i: usize, back_j: usize) -> Option<[Facet; 2]> {
+        self.cells[j + 1 - back_j - self.j0][i + 1 - back_i - self.i0]
+    }
 }
 
 /// Draws every piece of node rows `ja..jb` (their vertices and edges along
@@ -362,51 +478,59 @@ fn draw_chunk(grid: &View, ball: &Ball, targets: &[Target], ja: usize, jb: usize
         let j1 = (j0 + BLOCK).min(jb);
         for i0 in (0..nu).step_by(BLOCK) {
             let i1 = (i0 + BLOCK).min(nu);
+            let cone = grid.block_cone([i0, i1], [j0, j1]);
+            let [[u0, u1], [v0, v1]] = grid.block_box([i0, i1], [j0, j1]);
+            let [du, dv] = cone.reach(r);
             // Nothing to draw where no CL point is in reach of the block.
-            if !canvas.any(grid.block_region([i0, i1], [j0, j1], r)) {
+            if !canvas.any([[u0 + du[0], u1 + du[1]], [v0 + dv[0], v1 + dv[1]]]) {
                 continue;
             }
+            // A block in one plane (so are the cells around it): its facets,
+            // edges and vertices all hold the ball on that plane, over the
+            // block moved by the plane's offset.
+            if let Some(g) = cone.single() {
+                let f = Facet::new(g);
+                let (ou, ov) = (-r * g[0] / f.root, -r * g[1] / f.root);
+                let lift = r * (g[0] * g[0] + g[1] * g[1]) / (f.root + 1.0);
+                let corner = grid.node(i0, j0);
+                canvas.draw(
+                    [v0 + ov, v1 + ov],
+                    |_| [u0 + ou, u1 + ou],
+                    |u, v, z| *z = z.max(corner.z + g[0] * (u - u0) + g[1] * (v - v0) + lift),
+                );
+                continue;
+            }
+            let cells = Cells::around(grid, [i0, i1], [j0, j1]);
             for j in j0..j1 {
                 let (vj, cell_row) = (grid.v(j), j + 1 < nv);
                 for i in i0..i1 {
                     let ui = grid.u(i);
                     let p = grid.node(i, j);
-                    // The vertex: the gradients of its up to six triangles.
-                    let mut around = [[0.0; 2]; 6];
-                    let mut n = 0;
-                    let mut put = |g: [f64; 2]| {
-                        around[n] = g;
-                        n += 1;
-                    };
-                    if i > 0 && j > 0 {
-                        put(grid.lower(i - 1, j - 1));
-                        put(grid.upper(i - 1, j - 1));
+                    // The cells around the node: left below, below, left, own.
+                    let [lb, b, l, own] =
+                        [cells.at(i, j, 1, 1), cells.at(i, j, 0, 1), cells.at(i, j, 1, 0), cells.at(i, j, 0, 0)];
+                    // The vertex: its up to six triangles.
+                    let mut cone = Cone::EMPTY;
+                    for f in [
+                        lb.map(|c| c[0]),
+                        lb.map(|c| c[1]),
+                        b.map(|c| c[1]),
+                        l.map(|c| c[0]),
+                        own.map(|c| c[0]),
+                        own.map(|c| c[1]),
+                    ]
+                    .into_iter()
+                    .flatten()
+                    {
+                        cone = cone.with(f);
                     }
-                    if j > 0 && i + 1 < nu {
-                        put(grid.upper(i, j - 1));
-                    }
-                    if i > 0 && cell_row {
-                        put(grid.lower(i - 1, j));
-                    }
-                    if i + 1 < nu && cell_row {
-                        put(grid.lower(i, j));
-                        put(grid.upper(i, j));
-                    }
-                    let cone = borders(slopes(&around[..n]), [i == 0, i + 1 == nu, j == 0, !cell_row]);
-                    let [du, dv] = reach(cone, r);
+                    let [du, dv] = cone.borders([i == 0, i + 1 == nu, j == 0, !cell_row]).reach(r);
                     canvas.draw([vj + dv[0], vj + dv[1]], |_| [ui + du[0], ui + du[1]], vertex_at(p));
                     // The edge along the row to (i+1, j): triangles below and above.
                     if i + 1 < nu {
-                        let below = (j > 0).then(|| grid.upper(i, j - 1));
-                        let above = cell_row.then(|| grid.lower(i, j));
-                        let cone = match (below, above) {
-                            (Some(b), Some(a)) => (a[1] <= b[1]).then(|| slopes(&[a, b])),
-                            (None, Some(a)) => Some(open(slopes(&[a]), 1, true)),
-                            (Some(b), None) => Some(open(slopes(&[b]), 1, false)),
-                            (None, None) => None,
-                        };
-                        if let Some(cone) = cone {
-                            let [du, dv] = reach(cone, r);
+                        let (below, above) = (b.map(|c| c[1]), own.map(|c| c[0]));
+                        if let Some(cone) = Cone::of_edge(below, above, 1) {
+                            let [du, dv] = cone.reach(r);
                             let q = grid.node(i + 1, j);
                             canvas.draw([vj + dv[0], vj + dv[1]], |_| [ui + du[0], ui + s + du[1]], edge_at(p, q));
                         }
@@ -415,27 +539,17 @@ fn draw_chunk(grid: &View, ball: &Ball, targets: &[Target], ja: usize, jb: usize
                         continue;
                     }
                     // The edge across the rows to (i, j+1): triangles left and right.
-                    let left = (i > 0).then(|| grid.lower(i - 1, j));
-                    let right = (i + 1 < nu).then(|| grid.upper(i, j));
-                    let cone = match (left, right) {
-                        (Some(l), Some(rt)) => (rt[0] <= l[0]).then(|| slopes(&[l, rt])),
-                        (None, Some(rt)) => Some(open(slopes(&[rt]), 0, true)),
-                        (Some(l), None) => Some(open(slopes(&[l]), 0, false)),
-                        (None, None) => None,
-                    };
-                    let q = grid.node(i, j + 1);
-                    if let Some(cone) = cone {
-                        let [du, dv] = reach(cone, r);
+                    let (left, right) = (l.map(|c| c[0]), own.map(|c| c[1]));
+                    if let Some(cone) = Cone::of_edge(left, right, 0) {
+                        let [du, dv] = cone.reach(r);
+                        let q = grid.node(i, j + 1);
                         canvas.draw([vj + dv[0], vj + s + dv[1]], |_| [ui + du[0], ui + du[1]], edge_at(p, q));
                     }
-                    if i + 1 == nu {
-                        continue;
-                    }
-                    let (lower, upper) = (grid.lower(i, j), grid.upper(i, j));
+                    let Some([lower, upper]) = own else { continue };
                     // The diagonal to (i+1, j+1): a ridge when the slope across it,
                     // from the upper triangle to the lower, falls.
-                    if (lower[0] - upper[0]) - (lower[1] - upper[1]) <= 0.0 {
-                        let [du, dv] = reach(slopes(&[lower, upper]), r);
+                    if (lower.g[0] - upper.g[0]) - (lower.g[1] - upper.g[1]) <= 0.0 {
+                        let [du, dv] = Cone::EMPTY.with(lower).with(upper).reach(r);
                         let c = grid.node(i + 1, j + 1);
                         let along = |v: f64, dv: f64| (v - vj - dv).clamp(0.0, s);
                         canvas.draw(
@@ -445,12 +559,11 @@ fn draw_chunk(grid: &View, ball: &Ball, targets: &[Target], ja: usize, jb: usize
                         );
                     }
                     // The two facets, each over its triangle moved by φ(g).
-                    for (g, is_lower) in [(lower, true), (upper, false)] {
-                        let len2 = g[0] * g[0] + g[1] * g[1];
-                        let root = (1.0 + len2).sqrt();
-                        let (ou, ov) = (-r * g[0] / root, -r * g[1] / root);
+                    for (f, is_lower) in [(lower, true), (upper, false)] {
+                        let g = f.g;
+                        let (ou, ov) = (-r * g[0] / f.root, -r * g[1] / f.root);
                         // R·(√(1 + |g|²) − 1), written to keep its digits.
-                        let lift = r * len2 / (root + 1.0);
+                        let lift = r * (g[0] * g[0] + g[1] * g[1]) / (f.root + 1.0);
                         let across = |v: f64| (v - vj - ov).clamp(0.0, s);
                         canvas.draw(
                             [vj + ov, vj + s + ov],

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows};
-use kezuri_cam::mill::{raster_with, Direction, Pattern, RasterOptions, Region};
+use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
+use kezuri_cam::mill::{raster_with, ClRowsFn, Direction, Pattern, RasterOptions, Region};
 use kezuri_cam::probe::stylus::{detect_flat, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Axes, AxisSet, Move, MoveKind, Toolpath};
@@ -189,7 +189,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         }
         found
     };
-    let path = raster_with(&cl, Some(&rows), Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
+    let rows_at = rows_at_once(&cutter).then_some(&rows as &ClRowsFn);
+    let path = raster_with(&cl, rows_at, Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
     let (path, margins) = match flat {
         Some(z) => {
             rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
