@@ -467,7 +467,12 @@ impl RowSampling {
     /// The CL z at `u` on the output grid; `None` off the surface (or not
     /// asked).
     fn z(&self, u: f64, q: Quantum) -> Option<f64> {
-        self.found.get(&u.to_bits()).copied().flatten().map(|z| q.up(z))
+        self.cl(u).map(|z| q.up(z))
+    }
+
+    /// The CL z at `u` as the CL function gave it.
+    fn cl(&self, u: f64) -> Option<f64> {
+        self.found.get(&u.to_bits()).copied().flatten()
     }
 
     /// The chords between samples on the surface.
@@ -501,7 +506,7 @@ impl RowSampling {
                 }
                 Want::Quarters => {
                     let [m, ..] = checks(a.0, b.0, q);
-                    let z = self.z(m, q);
+                    let z = self.cl(m);
                     if z.is_some_and(|z| !band_off(r.band, a, b, m, z)) {
                         want(a.0, b.0, [false, true, true], &mut wanted);
                     }
@@ -536,12 +541,14 @@ impl RowSampling {
             if !within(u) {
                 continue; // no grid position in between
             }
-            let Some(z) = self.z(u, q) else { continue };
+            let Some(z) = self.cl(u) else { continue };
             // The chord is tried at its middle and quarters: a narrow bump
             // between samples shows at one of them more often than at the
-            // middle alone.
-            let off = |u: f64| within(u) && self.z(u, q).is_some_and(|z| band_off(r.band, a, b, u, z));
+            // middle alone. The chord joins points as written (rounded up
+            // to the output grid); it is held against the CL curve itself.
+            let off = |u: f64| within(u) && self.cl(u).is_some_and(|z| band_off(r.band, a, b, u, z));
             if band_off(r.band, a, b, u, z) || off(u1) || off(u3) {
+                let z = q.up(z);
                 self.added.push((u, z));
                 next.push([a, (u, z)]);
                 next.push([(u, z), b]);
