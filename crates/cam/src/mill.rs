@@ -17,12 +17,19 @@
 //! # Tolerance
 //! Along a row the CL curve is sampled every `step`; an interval whose
 //! middle or quarter points lie more than `tolerance / 2` above the chord,
-//! or more than `gouge / 2` below it, is halved, down to `step / 1024`. The
+//! or more than `gouge / 2` below it, is halved, down to `step / 1024`.
+//! The chord joins the points as they will be written (heights rounded up
+//! to the output grid) and is held against the CL curve itself. The
 //! sampled polyline is then merged (Douglas–Peucker) within the same
 //! halves. So the path stays within `tolerance` above the true CL curve
 //! (material left) and `gouge` below it (cut into the surface) at every
 //! point the tests saw; a bump narrower than the midpoint and quarter
 //! tests can see is the one way past that.
+//!
+//! Halving goes level by level over all the rows of a pass, so that each
+//! level's new points can be asked of the CL function at once
+//! ([`raster_with`] and a [`ClRowsFn`]: a ball on a height grid is placed
+//! on whole rows far faster than point by point).
 //!
 //! # Pick-feed control (`cusp`)
 //! Seed 001's pick-feed control, generalised: with a target cusp height,
