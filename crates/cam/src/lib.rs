@@ -33,6 +33,7 @@ pub mod rough;
 pub mod scallop;
 pub mod shorten;
 pub mod sim;
+pub mod texture;
 
 pub use cutter::{Cutter, SpecError};
 pub use dropcut::{drop_cutter, drop_cutter_grid, drop_cutter_rows, rows_at_once, Grid, MeshSurface, Surface};

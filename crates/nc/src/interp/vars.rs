@@ -2,7 +2,7 @@
 
 use super::value::Value;
 use super::State;
-use kezuri_geom::Axes;
+use kezuri_geom::{Axes, SplitMix64};
 
 /// Local variables #1–#33 of one call level.
 pub type Locals = [Value; 33];
@@ -139,18 +139,18 @@ impl State {
 #[derive(Clone, Debug)]
 pub(super) struct Clock {
     ms: f64,
-    rng: Option<u64>,
+    rng: Option<SplitMix64>,
 }
 
 impl Clock {
     pub(super) fn new(seed: Option<u64>) -> Clock {
-        Clock { ms: 0.0, rng: seed.map(|s| s ^ 0x9E37_79B9_7F4A_7C15) }
+        Clock { ms: 0.0, rng: seed.map(|s| SplitMix64::new(s ^ 0x9E37_79B9_7F4A_7C15)) }
     }
 
     fn read_ms(&mut self) -> f64 {
         let step = match &mut self.rng {
             None => 16.0,
-            Some(state) => 1.0 + (splitmix64(state) % 1000) as f64,
+            Some(rng) => 1.0 + (rng.next_u64() % 1000) as f64,
         };
         self.ms = (self.ms + step) % 65_536.0;
         self.ms
@@ -159,14 +159,4 @@ impl Clock {
     fn set_ms(&mut self, v: f64) {
         self.ms = v.rem_euclid(65_536.0);
     }
-}
-
-/// SplitMix64: a small, well-studied generator; each call gives an
-/// independent 64-bit value from the running state.
-fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }

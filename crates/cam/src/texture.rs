@@ -1,0 +1,345 @@
+//! Seed 004's random "hand-carved" texture, baked into a toolpath.
+//!
+//! Along the cutting path, every `segment` mm of XY travel ends at a
+//! *knot* with a random depth offset; between knots the offset runs
+//! linearly, so each segment is one chisel stroke from the last depth to
+//! the next, as the paper's macro cuts it. A long move is split at its
+//! knots; consecutive short moves (a 3D finishing program's) are measured
+//! together, so they are textured too. The offset is added to the
+//! program's own Z there (or, with `base`, to a fixed depth, the paper's
+//! −2.0 mm), and never goes below `max_depth`.
+//!
+//! Only straight cutting moves with XY travel are textured. Rapids, arcs,
+//! Z-only moves and the rest pass as the control would run them under the
+//! paper's macro: the axes their block names go where it says, the others
+//! stay where the tool is (so an arc with no Z stays at the depth the last
+//! stroke left, as on the paper's nameplate). A run of textured moves
+//! starts from wherever the tool is; its knots count from its first move.
+//!
+//! The offsets: `digits` is the paper's distribution as the authors meant
+//! it (a digit 0–9: 0–4 shallower by 0, ¼ … 1 spread, 5–9 deeper by the
+//! same, so ten digits fall on nine depths and the base is twice as
+//! likely; the printed macro's `GT 5` made 5 a tenth depth); `uniform`,
+//! `normal` (σ = spread / 2, clamped to the spread) and `smooth` (value
+//! noise over XY with the segment as its wavelength, so neighbouring passes
+//! look like related strokes). All are rounded to `quantum`. `step_range`
+//! keeps successive knots apart by the authors' design rule (0.2–1.6 mm).
+
+use std::fmt;
+
+use kezuri_geom::{Axes, Move, MoveKind, Plane, SplitMix64, Toolpath};
+
+/// How the knots' offsets are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dist {
+    /// The paper's: a digit 0–9 onto nine depths, the middle twice as likely.
+    Digits,
+    /// Every multiple of `quantum` within the spread equally likely.
+    Uniform,
+    /// Normal with σ = spread / 2, clamped to the spread.
+    Normal,
+    /// Smooth value noise over XY (wavelength: the segment).
+    Smooth,
+}
+
+/// What [`bake`] does. Lengths in mm.
+#[derive(Clone, Copy, Debug)]
+pub struct TextureOptions {
+    /// XY travel per knot (the paper: 20).
+    pub segment: f64,
+    /// A fixed depth the offsets are added to (the paper: −2.0); `None`:
+    /// the program's own Z on the move.
+    pub base: Option<f64>,
+    /// Largest offset either way (the paper: 0.8).
+    pub spread: f64,
+    /// Offsets are multiples of this (the paper: 0.2); 0: not rounded.
+    pub quantum: f64,
+    /// How offsets are drawn.
+    pub dist: Dist,
+    /// Successive knots differ by at least and at most these.
+    pub step_range: Option<[f64; 2]>,
+    /// No point of the textured path goes below this Z.
+    pub max_depth: Option<f64>,
+    /// The same seed gives the same path.
+    pub seed: u64,
+}
+
+impl Default for TextureOptions {
+    /// The paper's numbers, relative to the program's Z.
+    fn default() -> TextureOptions {
+        TextureOptions {
+            segment: 20.0,
+            base: None,
+            spread: 0.8,
+            quantum: 0.2,
+            dist: Dist::Digits,
+            step_range: None,
+            max_depth: None,
+            seed: 0,
+        }
+    }
+}
+
+/// Why no texture could be made.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TextureError {
+    /// An option out of its range.
+    Option(String),
+    /// An arc outside the XY plane would start at a textured depth (its
+    /// radius would change): the 1-based source line.
+    ArcOffPlane(u32),
+}
+
+impl fmt::Display for TextureError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TextureError::Option(m) => f.write_str(m),
+            TextureError::ArcOffPlane(line) => write!(
+                f,
+                "line {line}: an arc in the XZ or YZ plane would start at a textured depth, which changes its radius"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for TextureError {}
+
+/// A textured toolpath and what was done.
+#[derive(Clone, Debug)]
+pub struct Textured {
+    /// The toolpath.
+    pub toolpath: Toolpath,
+    /// Cutting moves textured (before splitting).
+    pub moves: usize,
+    /// Knots placed (each a new random depth).
+    pub knots: usize,
+}
+
+/// Whether the texture applies to `m`: a straight cutting move with XY
+/// travel.
+pub fn is_textured(m: &Move) -> bool {
+    m.kind == MoveKind::Feed && (m.end.x - m.start.x).hypot(m.end.y - m.start.y) > 1e-9
+}
+
+/// Checks the options.
+pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
+    let bad = |m: String| Err(TextureError::Option(m));
+    if !(o.segment.is_finite() && o.segment > 0.0) {
+        return bad(format!("--segment must be a positive length, got {}", o.segment));
+    }
+    if !(o.spread.is_finite() && o.spread >= 0.0) {
+        return bad(format!("--spread must be zero or a positive length, got {}", o.spread));
+    }
+    if !(o.quantum.is_finite() && o.quantum >= 0.0) {
+        return bad(format!("--quantum must be zero or a positive length, got {}", o.quantum));
+    }
+    if o.quantum > o.spread && o.spread > 0.0 {
+        return bad(format!(
+            "--quantum {} is larger than --spread {}: every offset would round to 0",
+            o.quantum, o.spread
+        ));
+    }
+    if o.base.is_some_and(|b| !b.is_finite()) || o.max_depth.is_some_and(|z| !z.is_finite()) {
+        return bad("--base and --max-depth must be finite heights".into());
+    }
+    if let Some([lo, hi]) = o.step_range {
+        if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo <= hi) {
+            return bad(format!("--step-range needs 0 ≤ MIN ≤ MAX, got {lo},{hi}"));
+        }
+        if o.dist == Dist::Smooth {
+            return bad("--step-range needs a random distribution (digits, uniform, normal), not smooth noise".into());
+        }
+        if lo > 2.0 * o.spread + 1e-9 {
+            return bad(format!("--step-range {lo},{hi}: knots within ±{} can never differ by {lo}", o.spread));
+        }
+    }
+    Ok(())
+}
+
+/// The texture of seed 004 on `path` (see the module docs).
+pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureError> {
+    check(o)?;
+    let mut depths = Depths::new(o);
+    let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
+    let (mut moves, mut knots) = (0, 0);
+    // Where the tool is (the program's position but for a textured Z).
+    let mut at: Option<Axes> = None;
+    let mut run: Option<Run> = None;
+    for m in &path.moves {
+        let start = at.unwrap_or(m.start);
+        if !is_textured(m) {
+            run = None;
+            let lifted = start.z != m.start.z;
+            let mut m = *m;
+            m.start = start;
+            if !m.named.contains(2) && !matches!(m.kind, MoveKind::Home) {
+                m.end.z = start.z;
+            }
+            match &mut m.kind {
+                MoveKind::Arc(arc) if arc.plane == Plane::Xy => arc.center[2] = start.z,
+                MoveKind::Arc(_) if lifted => return Err(TextureError::ArcOffPlane(m.line)),
+                MoveKind::Dwell(_) => m.end = start,
+                _ => {}
+            }
+            at = Some(m.end);
+            out.moves.push(m);
+            continue;
+        }
+        moves += 1;
+        let reference = |p: Axes| o.base.unwrap_or(p.z);
+        let depth = |p: Axes, offset: f64| {
+            let z = reference(p) + offset;
+            o.max_depth.map_or(z, |floor| z.max(floor))
+        };
+        let run = run.get_or_insert_with(|| {
+            let prev = start.z - reference(m.start);
+            knots += 1;
+            Run { travel: 0.0, prev, next: depths.next(prev, [start.x, start.y]) }
+        });
+        let length = (m.end.x - m.start.x).hypot(m.end.y - m.start.y);
+        let mut done = 0.0;
+        let mut from = start;
+        loop {
+            let to_knot = o.segment - run.travel;
+            if done + to_knot < length - 1e-9 {
+                done += to_knot;
+                let mut p = lerp(m.start, m.end, done / length);
+                p.z = depth(p, run.next);
+                out.moves.push(Move { start: from, end: p, ..*m });
+                from = p;
+                run.advance(&mut depths, [p.x, p.y]);
+                knots += 1;
+            } else {
+                run.travel += length - done;
+                let offset = run.prev + (run.next - run.prev) * (run.travel / o.segment).min(1.0);
+                let mut p = m.end;
+                p.z = depth(p, offset);
+                out.moves.push(Move { start: from, end: p, ..*m });
+                if run.travel >= o.segment - 1e-9 {
+                    run.advance(&mut depths, [p.x, p.y]);
+                    knots += 1;
+                }
+                at = Some(p);
+                break;
+            }
+        }
+    }
+    Ok(Textured { toolpath: out, moves, knots })
+}
+
+/// A run of textured moves: XY travel since the last knot, the offset
+/// there and at the next knot.
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    travel: f64,
+    prev: f64,
+    next: f64,
+}
+
+impl Run {
+    /// At a knot at `xy`: its offset is the last, a new one is drawn.
+    fn advance(&mut self, depths: &mut Depths, xy: [f64; 2]) {
+        self.prev = self.next;
+        self.travel = 0.0;
+        self.next = depths.next(self.prev, xy);
+    }
+}
+
+/// `a + (b − a)·t` on every axis.
+fn lerp(a: Axes, b: Axes, t: f64) -> Axes {
+    let (a, b) = (a.to_array(), b.to_array());
+    Axes::from_array(std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t))
+}
+
+/// The knots' offsets, drawn as the options say.
+#[derive(Clone, Debug)]
+pub struct Depths {
+    o: TextureOptions,
+    rng: SplitMix64,
+}
+
+impl Depths {
+    /// Offsets for `o`, seeded by `o.seed`.
+    pub fn new(o: &TextureOptions) -> Depths {
+        Depths { o: *o, rng: SplitMix64::new(o.seed) }
+    }
+
+    /// The offset of a knot at `xy` after one of `prev`, within the step
+    /// range if there is one.
+    pub fn next(&mut self, prev: f64, xy: [f64; 2]) -> f64 {
+        let Some([lo, hi]) = self.o.step_range else { return self.draw(xy) };
+        // `check` saw to it that some offset is within range of any `prev`
+        // within the spread; a start outside the spread (a tool entering
+        // high) takes the nearest.
+        let mut nearest = self.draw(xy);
+        for _ in 0..10_000 {
+            let d = self.draw(xy);
+            let step = (d - prev).abs();
+            if (lo - 1e-9..=hi + 1e-9).contains(&step) {
+                return d;
+            }
+            let miss = |s: f64| (lo - s).max(s - hi);
+            if miss(step) < miss((nearest - prev).abs()) {
+                nearest = d;
+            }
+        }
+        nearest
+    }
+
+    /// One offset, before the step range.
+    pub fn draw(&mut self, xy: [f64; 2]) -> f64 {
+        let s = self.o.spread;
+        let v = match self.o.dist {
+            Dist::Digits => {
+                let d = self.rng.below(10) as f64;
+                if d < 5.0 {
+                    d * s / 4.0
+                } else {
+                    -(d - 5.0) * s / 4.0
+                }
+            }
+            Dist::Uniform => match self.steps() {
+                Some(n) => (self.rng.below(2 * n + 1) as f64 - n as f64) * self.o.quantum,
+                None => (2.0 * self.rng.next_f64() - 1.0) * s,
+            },
+            Dist::Normal => {
+                let (u1, u2) = (1.0 - self.rng.next_f64(), self.rng.next_f64());
+                (0.5 * s * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()).clamp(-s, s)
+            }
+            Dist::Smooth => s * value_noise(self.o.seed, xy[0] / self.o.segment, xy[1] / self.o.segment),
+        };
+        self.round(v)
+    }
+
+    /// Whole quanta within the spread.
+    fn steps(&self) -> Option<u64> {
+        (self.o.quantum > 0.0).then(|| (self.o.spread / self.o.quantum + 1e-9).floor() as u64)
+    }
+
+    /// `v` to a whole number of quanta, within the spread.
+    fn round(&self, v: f64) -> f64 {
+        match self.steps() {
+            Some(n) => {
+                let k = (v / self.o.quantum).round().clamp(-(n as f64), n as f64);
+                k * self.o.quantum
+            }
+            None => v,
+        }
+    }
+}
+
+/// Smooth noise in `[−1, 1]` over the plane: random values on the integer
+/// lattice, blended with a smoothstep.
+fn value_noise(seed: u64, x: f64, y: f64) -> f64 {
+    let lattice = |i: f64, j: f64| {
+        let key = (i as i64 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ (j as i64 as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+        2.0 * SplitMix64::new(seed ^ key).next_f64() - 1.0
+    };
+    let (i, j) = (x.floor(), y.floor());
+    let smooth = |t: f64| t * t * (3.0 - 2.0 * t);
+    let (u, v) = (smooth(x - i), smooth(y - j));
+    let bottom = lattice(i, j) + (lattice(i + 1.0, j) - lattice(i, j)) * u;
+    let top = lattice(i, j + 1.0) + (lattice(i + 1.0, j + 1.0) - lattice(i, j + 1.0)) * u;
+    bottom + (top - bottom) * v
+}
