@@ -15,6 +15,7 @@ mod relief;
 mod scallop;
 mod sim;
 mod surface;
+mod texture;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -88,6 +89,9 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     Relief(Box<relief::ReliefArgs>),
     /// Convert between G-code dialects and Roland RML-1: units, scaling, shortening.
     Convert(Box<convert::ConvertArgs>),
+    /// Random "hand-carved" texture on the cutting moves of a program: baked in, or as a Fanuc
+    /// macro that draws each depth from the control's clock.
+    Texture(Box<texture::TextureArgs>),
 }
 
 /// Runs one command.
@@ -103,6 +107,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Probe(command) => probe::run(command),
         Command::Relief(args) => relief::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Texture(args) => texture::run(args),
     }
 }
 

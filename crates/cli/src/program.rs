@@ -241,6 +241,18 @@ pub struct WriteArgs {
     svg: Option<PathBuf>,
 }
 
+impl WriteArgs {
+    /// Whether the output is Fanuc G-code.
+    pub fn is_fanuc(&self) -> bool {
+        matches!(self.emit, Emit::Fanuc)
+    }
+
+    /// The output file (`None`: standard output).
+    pub fn output(&self) -> Option<&Path> {
+        self.output.as_deref()
+    }
+}
+
 /// `kezuri run`: the motions of the program, as a program again or as CSV.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     let (ran, parse_diagnostics) = read_and_run(o)?;

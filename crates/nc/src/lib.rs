@@ -35,6 +35,7 @@ mod parse;
 pub mod probe_plan;
 pub mod rml;
 pub mod source;
+pub mod texture_macro;
 pub mod write;
 
 pub use ast::Program;

@@ -1,0 +1,236 @@
+//! `kezuri texture`: seed 004's random "hand-carved" texture on the cutting
+//! moves of a program, baked in or as the paper's Fanuc macro.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use kezuri_cam::texture::{bake, check, is_textured, Dist, TextureOptions};
+use kezuri_nc::texture_macro::TextureMacro;
+
+use crate::files::{read_text, write_output};
+use crate::program::{read_and_run, write_toolpath, RunOptions, WriteArgs};
+
+/// How the texture is made.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Mode {
+    /// Baked into the program: every stroke written out (any dialect).
+    Bake,
+    /// The paper's way: a Fanuc macro called by G66.1 on every cutting block
+    /// draws each depth from the control's clock, so every part differs.
+    Macro,
+}
+
+/// The depth distribution.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum DistArg {
+    /// The paper's: a digit 0–9 onto nine depths, the middle twice as likely.
+    Digits,
+    /// Every multiple of the quantum within the spread equally likely.
+    Uniform,
+    /// Normal, σ = spread / 2, clamped to the spread (bake only).
+    Normal,
+    /// Smooth noise over XY: neighbouring passes look like related strokes (bake only).
+    Smooth,
+}
+
+/// `kezuri texture IN -o OUT --seed N`.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  kezuri texture plate.nc --seed 7 -o plate-textured.nc
+  kezuri texture plate.nc --seed 7 --base -2 --step-range 0.2,1.6 -o plate-paper.nc
+  kezuri texture dome.nc --seed 3 --dist smooth --spread 0.3 --quantum 0.05 --max-depth -12 -o dome-textured.nc
+  kezuri texture plate.nc --seed 7 --mode macro -o plate-macro.nc
+  kezuri run plate-macro.nc --clock-seed 11 -o one-part.nc")]
+pub struct TextureArgs {
+    #[command(flatten)]
+    pub run: RunOptions,
+    #[command(flatten)]
+    pub write: WriteArgs,
+    /// Seed of the depths: the same seed gives the same program (bake; the
+    /// macro draws from the control's clock).
+    #[arg(long)]
+    pub seed: u64,
+    /// Bake the texture into the program, or emit the macro.
+    #[arg(long, value_enum, default_value = "bake")]
+    pub mode: Mode,
+    /// XY travel per stroke, mm: each ends at a new random depth.
+    #[arg(long, value_name = "MM", default_value_t = 20.0)]
+    pub segment: f64,
+    /// A fixed depth the offsets are added to (the paper: -2.0) [default: the
+    /// program's own Z on each move].
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    pub base: Option<f64>,
+    /// Largest offset up or down, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.8, allow_negative_numbers = true)]
+    pub spread: f64,
+    /// Offsets are multiples of this, mm (0: any).
+    #[arg(long, value_name = "MM", default_value_t = 0.2, allow_negative_numbers = true)]
+    pub quantum: f64,
+    /// How the offsets are drawn.
+    #[arg(long, value_enum, default_value = "digits")]
+    pub dist: DistArg,
+    /// Successive depths differ by at least MIN and at most MAX mm (the
+    /// paper's design rule: 0.2,1.6).
+    #[arg(long, value_name = "MIN,MAX")]
+    pub step_range: Option<String>,
+    /// No textured point goes below this Z (a safety clamp).
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    pub max_depth: Option<f64>,
+    /// The macro's program number (--mode macro).
+    #[arg(long, value_name = "N", default_value_t = 7023)]
+    pub macro_number: u32,
+    /// The first of seven common variables the macro keeps its state in.
+    #[arg(long, value_name = "N", default_value_t = 190)]
+    pub macro_vars: u32,
+}
+
+/// Runs `kezuri texture`.
+pub fn run(a: &TextureArgs) -> Result<()> {
+    let options = TextureOptions {
+        segment: a.segment,
+        base: a.base,
+        spread: a.spread,
+        quantum: a.quantum,
+        dist: match a.dist {
+            DistArg::Digits => Dist::Digits,
+            DistArg::Uniform => Dist::Uniform,
+            DistArg::Normal => Dist::Normal,
+            DistArg::Smooth => Dist::Smooth,
+        },
+        step_range: a.step_range.as_deref().map(step_range).transpose()?,
+        max_depth: a.max_depth,
+        seed: a.seed,
+    };
+    check(&options)?;
+    let name = a.run.file.display().to_string();
+    let text = read_text(&a.run.file)?;
+    if let Some(line) = modal_macro_line(&text) {
+        bail!(
+            "{name}: line {line}: the program already calls a macro on its blocks (G66/G66.1); texture the \
+             expanded program instead (kezuri run {name} -o expanded.nc)"
+        );
+    }
+    let (ran, parse_diagnostics) = read_and_run(&a.run)?;
+    ran.print_diagnostics(&parse_diagnostics);
+    if ran.errors() > 0 {
+        bail!("{name}: {} error(s); nothing written", ran.errors());
+    }
+    let path = &ran.outcome.toolpath;
+    let cutting: Vec<u32> = path.moves.iter().filter(|m| is_textured(m)).map(|m| m.line).collect();
+    if cutting.is_empty() {
+        eprintln!("warning: {name}: no straight cutting move with XY travel: the program is copied through unchanged");
+        return write_output(a.write.output(), text.as_bytes());
+    }
+    match a.mode {
+        Mode::Bake => {
+            let t = bake(path, &options).with_context(|| name.clone())?;
+            let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+            write_toolpath(&t.toolpath, &format!("{title} TEXTURED, SEED {}", a.seed), &a.write)?;
+            eprintln!("{name}: {} cutting moves textured, {} strokes of {} mm", t.moves, t.knots, a.segment);
+        }
+        Mode::Macro => {
+            if !a.write.is_fanuc() {
+                bail!("--mode macro writes a Fanuc Custom Macro B program: leave --emit at fanuc");
+            }
+            let uniform = match a.dist {
+                DistArg::Digits => false,
+                DistArg::Uniform => true,
+                DistArg::Normal | DistArg::Smooth => {
+                    bail!("--mode macro draws from the control's clock: --dist digits or uniform")
+                }
+            };
+            if a.quantum <= 0.0 {
+                bail!("--mode macro needs a --quantum above 0 (the clock gives whole steps)");
+            }
+            if let Some(line) = call_line(&text) {
+                bail!(
+                    "{name}: line {line}: --mode macro marks the cutting blocks in this file, and this one calls \
+                     another program (M98/G65); use --mode bake"
+                );
+            }
+            let (first, last) = (cutting[0] as usize, *cutting.iter().max().unwrap_or(&cutting[0]) as usize);
+            let m = TextureMacro {
+                number: a.macro_number,
+                segment: a.segment,
+                base: a.base,
+                spread: a.spread,
+                quantum: a.quantum,
+                uniform,
+                step_range: options.step_range,
+                max_depth: a.max_depth,
+                vars: a.macro_vars,
+            };
+            write_output(a.write.output(), m.wrap(&text, first, last).as_bytes())?;
+            eprintln!(
+                "{name}: G66.1 P{:04} before line {first}, G67 after line {last}; the macro draws each depth \
+                 from #3001 (--seed is not used)",
+                a.macro_number
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `MIN,MAX`.
+fn step_range(s: &str) -> Result<[f64; 2]> {
+    let v: Vec<f64> = s.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().ok().unwrap_or_default();
+    match v[..] {
+        [lo, hi] => Ok([lo, hi]),
+        _ => bail!("--step-range '{s}': expected MIN,MAX in mm, e.g. 0.2,1.6"),
+    }
+}
+
+/// The words of each line, comments dropped, upper case, no spaces.
+fn words(text: &str) -> impl Iterator<Item = (usize, String)> + '_ {
+    text.lines().enumerate().map(|(k, line)| {
+        let mut out = String::new();
+        let mut depth = 0;
+        for c in line.chars() {
+            match c {
+                '(' => depth += 1,
+                ')' if depth > 0 => depth -= 1,
+                ';' if depth == 0 => break,
+                c if depth == 0 && !c.is_whitespace() => out.push(c.to_ascii_uppercase()),
+                _ => {}
+            }
+        }
+        (k + 1, out)
+    })
+}
+
+/// Whether `line` has the word `letter` with the whole number `n` (`G66`,
+/// `G066`, `G66.1` for 66).
+fn has_word(line: &str, letter: char, n: u32) -> bool {
+    let b = line.as_bytes();
+    (0..b.len()).any(|k| {
+        if b[k] as char != letter || (k > 0 && b[k - 1].is_ascii_alphabetic() && b[k - 1] != b'#') {
+            return false;
+        }
+        let digits: String = line[k + 1..].chars().take_while(|c| c.is_ascii_digit()).collect();
+        !digits.is_empty() && digits.parse::<u32>() == Ok(n)
+    })
+}
+
+/// The first line that calls a macro on its blocks (G66, G66.1).
+fn modal_macro_line(text: &str) -> Option<usize> {
+    words(text).find(|(_, w)| has_word(w, 'G', 66)).map(|(n, _)| n)
+}
+
+/// The first line that calls another program (M98, M198, G65).
+fn call_line(text: &str) -> Option<usize> {
+    words(text).find(|(_, w)| has_word(w, 'M', 98) || has_word(w, 'M', 198) || has_word(w, 'G', 65)).map(|(n, _)| n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn modal_calls_and_subprogram_calls_are_found() {
+        assert_eq!(modal_macro_line("G01 X1\nG66.1 P7023 X106.\n"), Some(2));
+        assert_eq!(modal_macro_line("g0 x1 (G66.1 IN A COMMENT)\n#166=1\nG660\n"), None);
+        assert_eq!(modal_macro_line("N10 G066 P9\n"), Some(1));
+        assert_eq!(call_line("G01 X1\nM98 P1000\n"), Some(2));
+        assert_eq!(call_line("G65 P9 A1\n"), Some(1));
+        assert_eq!(call_line("M9\nM980\n"), None);
+    }
+}

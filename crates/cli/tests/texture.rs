@@ -1,0 +1,208 @@
+//! `kezuri texture`: baked and macro textures run through kezuri's own
+//! interpreter, the digits distribution in both modes, the paper's O7023 as
+//! printed, and bad input.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use common::{kezuri, ok, path};
+
+/// A nameplate's area clearing as seed 004's CAM wrote it: CAM Z 0, zig-zag
+/// rows of 212 mm with 3 mm steps, an arc, a retract, a Z-only plunge.
+fn nameplate() -> String {
+    let mut t = String::from(
+        "%\nO0002 (NAMEPLATE)\nG90 G17 G21 G54\nG00 X106. Y-58. S6000 M03\nZ20.\nG01 Z2. F1000\nZ0. F20\n",
+    );
+    let (mut x, mut y) = (106.0, -58.0);
+    for _ in 0..6 {
+        x = -x;
+        t += &format!("X{x:.1}\n");
+        y -= 3.0;
+        t += &format!("Y{y:.1}\n");
+    }
+    t += &format!("G02 X{x:.1} Y{:.1} I0. J-3.\n", y - 6.0);
+    t += "G00 Z2.54\nX-85.207 Y-25.293\nG01 Z0.\nX-87.747 F20\nX-30.\nG03 X-20. Y-25.293 I5. J0.\nG01 X20.\nG00 Z100.\nM30\n%\n";
+    t
+}
+
+/// The `kind, x, y, z` of each move of `kezuri run FILE --emit csv`.
+fn moves(file: &str, clock_seed: Option<&str>) -> Vec<(String, [f64; 3])> {
+    let mut args = vec!["run", file, "--emit", "csv"];
+    if let Some(s) = clock_seed {
+        args.extend(["--clock-seed", s]);
+    }
+    ok(&kezuri(&args))
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[1].to_string(), [f[2].parse().unwrap(), f[3].parse().unwrap(), f[4].parse().unwrap()])
+        })
+        .collect()
+}
+
+/// Offsets allowed by the paper's numbers about `base`.
+fn on_a_depth(z: f64, base: f64) -> bool {
+    let k = (z - base) / 0.2;
+    (k - k.round()).abs() < 1e-6 && (z - base).abs() <= 0.8 + 1e-9
+}
+
+/// Checks a textured nameplate against the plain one: strokes of 20 mm of
+/// XY travel on the cutting rows, each knot on one of the nine depths,
+/// rapids and arcs where the plain program has them.
+fn check_strokes(plain: &[(String, [f64; 3])], textured: &[(String, [f64; 3])]) {
+    // Arcs and rapids: the same XY, in the same order.
+    let xy = |v: &[(String, [f64; 3])], kind: &str| {
+        v.iter().filter(|m| m.0 == kind).map(|m| (m.1[0], m.1[1])).collect::<Vec<_>>()
+    };
+    assert_eq!(xy(plain, "arc"), xy(textured, "arc"));
+    assert_eq!(xy(plain, "rapid"), xy(textured, "rapid"));
+    // The first run: from the plunge at (106, -58) along the rows, a knot
+    // every 20 mm of XY travel.
+    let first = textured.iter().position(|m| m.0 == "feed" && m.1[2] < -0.5).unwrap() - 1;
+    let mut travel = 0.0;
+    let mut knots = 0;
+    for w in textured[first..].windows(2) {
+        if w[1].0 != "feed" || (w[1].1[0] - w[0].1[0]).hypot(w[1].1[1] - w[0].1[1]) < 1e-9 {
+            break;
+        }
+        travel += (w[1].1[0] - w[0].1[0]).hypot(w[1].1[1] - w[0].1[1]);
+        if (travel / 20.0 - (travel / 20.0).round()).abs() < 1e-6 {
+            knots += 1;
+            assert!(on_a_depth(w[1].1[2], -2.0), "knot at {travel} mm: z {}", w[1].1[2]);
+        }
+        assert!((-2.8 - 1e-9..=0.0).contains(&w[1].1[2]), "{:?}", w[1]);
+    }
+    assert!(knots >= 60, "{knots} knots over {travel} mm");
+}
+
+#[test]
+fn baked_and_macro_textures_cut_the_same_kind_of_strokes() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = path(dir.path(), "plate.nc");
+    std::fs::write(&plain, nameplate()).unwrap();
+    let (baked, made) = (path(dir.path(), "baked.nc"), path(dir.path(), "macro.nc"));
+    ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "-o", &baked]));
+    ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "--mode", "macro", "-o", &made]));
+    let text = std::fs::read_to_string(&made).unwrap();
+    assert!(text.contains("G66.1P7023") && text.contains("G67\n") && text.contains("O7023"), "{text}");
+    let plain_moves = moves(&plain, None);
+    check_strokes(&plain_moves, &moves(&baked, None));
+    for seed in ["1", "2"] {
+        check_strokes(&plain_moves, &moves(&made, Some(seed)));
+    }
+    // Each part comes out different on the control; the same seed bakes the same bytes.
+    assert_ne!(moves(&made, Some("1")), moves(&made, Some("2")));
+    let again = path(dir.path(), "again.nc");
+    ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "-o", &again]));
+    assert_eq!(std::fs::read(&baked).unwrap(), std::fs::read(&again).unwrap());
+    ok(&kezuri(&["texture", &plain, "--seed", "8", "--base", "-2", "-o", &again]));
+    assert_ne!(std::fs::read(&baked).unwrap(), std::fs::read(&again).unwrap());
+}
+
+/// Counts of the knots' offsets (in 0.2 mm steps) on a 200 m straight cut.
+fn digit_counts(file: &str, clock_seed: Option<&str>) -> BTreeMap<i64, usize> {
+    let mut h = BTreeMap::new();
+    let ms = moves(file, clock_seed);
+    let knot = |x: f64| x > 0.0 && (x / 20.0 - (x / 20.0).round()).abs() < 1e-9;
+    for m in ms.iter().filter(|m| m.0 == "feed" && knot(m.1[0])) {
+        *h.entry(((m.1[2] + 2.0) / 0.2).round() as i64).or_insert(0) += 1;
+    }
+    h
+}
+
+fn chi_square(h: &BTreeMap<i64, usize>, p: impl Fn(i64) -> f64) -> f64 {
+    let n: usize = h.values().sum();
+    (-4..=4).map(|k| (*h.get(&k).unwrap_or(&0) as f64 - p(k) * n as f64).powi(2) / (p(k) * n as f64)).sum()
+}
+
+#[test]
+fn digits_fall_on_nine_depths_in_both_modes() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = path(dir.path(), "long.nc");
+    std::fs::write(&long, "G90 G21\nG00 X0 Y0 Z1.\nG01 Z0. F500\nX200000.\nG00 Z10.\nM30\n").unwrap();
+    let (baked, made) = (path(dir.path(), "baked.nc"), path(dir.path(), "macro.nc"));
+    ok(&kezuri(&["texture", &long, "--seed", "3", "--base", "-2", "--no-decimal", "units", "-o", &baked]));
+    ok(&kezuri(&[
+        "texture",
+        &long,
+        "--seed",
+        "3",
+        "--base",
+        "-2",
+        "--no-decimal",
+        "units",
+        "--mode",
+        "macro",
+        "-o",
+        &made,
+    ]));
+    let paper = |k: i64| if k == 0 { 0.2 } else { 0.1 };
+    let flat = |_: i64| 1.0 / 9.0;
+    for (h, what) in [(digit_counts(&baked, None), "baked"), (digit_counts(&made, Some("5")), "macro")] {
+        assert_eq!(h.values().sum::<usize>(), 10_000, "{what}: {h:?}");
+        assert_eq!(h.keys().copied().collect::<Vec<_>>(), (-4..=4).collect::<Vec<_>>(), "{what}: nine depths");
+        // 8 degrees of freedom: χ² beyond 26.1 has p < 0.001.
+        let chi = chi_square(&h, paper);
+        assert!(chi < 26.1, "{what}: χ² {chi:.1} {h:?}");
+        assert!(chi_square(&h, flat) > 100.0, "{what}: the base is twice as likely");
+    }
+}
+
+#[test]
+fn the_papers_o7023_runs_as_printed() {
+    // Seed 004's own macro on its CAM blocks (samples/o7023-texture.nc),
+    // with the clock set so that the first digit read is 5: the printed
+    // `#28 GT 5` sends it to the shallow side, Z -2 + 5·0.2 = -1.0, a tenth
+    // depth; and `G01 Z0.` inside the G66.1 section is dropped (its test
+    // `[#24+#25] EQ #0` is never true), so the next cut stays at Z 2.54.
+    let dir = tempfile::tempdir().unwrap();
+    let sample =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o7023-texture.nc")).unwrap();
+    // Without a seed each read of #3001 advances 16 ms: 65525 + 16 wraps to 5.
+    let set = sample.replacen("G59G90G00", "#3001=65525\nG59G90G00", 1);
+    let file = path(dir.path(), "o7023.nc");
+    std::fs::write(&file, set).unwrap();
+    let ms = moves(&file, None);
+    let cut: Vec<&(String, [f64; 3])> = ms.iter().filter(|m| m.0 == "feed" && m.1[2] < -0.5).collect();
+    assert_eq!(cut[0].1[2], -1.0, "{:?}", cut[0]);
+    // Every other depth is one of the printed ones: -1.0 (d = 5) and -1.2 … -2.8.
+    assert!(cut.iter().all(|m| m.1[2] == -1.0 || on_a_depth(m.1[2], -2.0)), "{cut:?}");
+    let up = ms.iter().position(|m| m.0 == "rapid" && m.1[2] == 2.54).unwrap();
+    assert!(
+        ms[up + 1..].iter().take_while(|m| m.0 != "rapid" || m.1[2] != 100.0).all(|m| m.1[2] == 2.54),
+        "{:?}",
+        &ms[up..]
+    );
+}
+
+#[test]
+fn bad_input_gets_clear_messages() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = path(dir.path(), "plate.nc");
+    std::fs::write(&plain, nameplate()).unwrap();
+    let out = path(dir.path(), "out.nc");
+    let fails = |args: &[&str], words: &str| {
+        let o = kezuri(&[&["texture", &plain, "--seed", "1", "-o", &out][..], args].concat());
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && e.contains(words), "{args:?}: {e}");
+        assert!(!std::path::Path::new(&out).exists(), "nothing written");
+    };
+    fails(&["--segment", "0"], "--segment must be a positive length");
+    fails(&["--spread", "-0.5"], "--spread must be zero or a positive length");
+    fails(&["--step-range", "0.2"], "--step-range '0.2': expected MIN,MAX");
+    fails(&["--mode", "macro", "--dist", "smooth"], "--dist digits or uniform");
+    fails(&["--mode", "macro", "--emit", "linuxcnc"], "Fanuc Custom Macro B");
+    // A program that already calls a macro on every block.
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o7023-texture.nc");
+    let o = kezuri(&["texture", sample, "--seed", "1", "-o", &out]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && e.contains("line 9: the program already calls a macro"), "{e}");
+    // No cutting move: a warning, the program copied through.
+    let air = path(dir.path(), "air.nc");
+    std::fs::write(&air, "G90\nG00 X10. Y10. Z5.\nG01 Z-1. F100\nM30\n").unwrap();
+    let o = kezuri(&["texture", &air, "--seed", "1", "-o", &out]);
+    assert!(o.status.success() && String::from_utf8_lossy(&o.stderr).contains("no straight cutting move"));
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&air).unwrap());
+}
