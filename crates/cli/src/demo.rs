@@ -70,7 +70,8 @@ pub fn run(out: &Path) -> Result<()> {
     }
     geometry(out)?;
     copy_milling(out)?;
-    relief_carving(out)
+    relief_carving(out)?;
+    textured_nameplate(out)
 }
 
 /// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
@@ -275,6 +276,40 @@ fn relief_carving(out: &Path) -> Result<()> {
     run_shown(out, &commands)?;
     println!("\nwrote plum-relief.nc (roughing T1, finishing T2), plum-relief.stl (the relief surface),");
     println!("plum-relief.png (the simulated carving) and plum-relief-deviation.png");
+    Ok(())
+}
+
+/// Seed 004 on a nameplate: the CAM's area clearing at Z 0 textured with
+/// the paper's numbers (base -2, digits, design rule 0.2–1.6 mm, a clamp),
+/// baked in and as the paper's macro, and the baked one simulated.
+fn textured_nameplate(out: &Path) -> Result<()> {
+    let cam = out.join("samples").join("nameplate-cam.nc");
+    write_atomic(&cam, include_bytes!("../../../samples/nameplate-cam.nc"))?;
+    println!("\nsamples/nameplate-cam.nc  (seed 004: a nameplate's zig-zag area clearing at CAM Z 0)");
+    let at = |name: &str| out.join(name).to_string_lossy().into_owned();
+    let cam = cam.to_string_lossy().into_owned();
+    let paper = ["--seed", "7", "--base", "-2", "--step-range", "0.2,1.6", "--max-depth", "-2.8"];
+    let commands: [Vec<String>; 3] = [
+        words(&[&["texture", cam.as_str()][..], &paper, &["-o", &at("nameplate-textured.nc")]].concat()),
+        words(
+            &[&["texture", cam.as_str()][..], &paper, &["--mode", "macro", "-o", &at("nameplate-macro.nc")]].concat(),
+        ),
+        words(&[
+            "sim",
+            &at("nameplate-textured.nc"),
+            "--tool",
+            "ball:6",
+            "--res",
+            "0.2",
+            "--stock",
+            "-110,-62,110,1,0",
+            "-o",
+            &at("nameplate-textured.png"),
+        ]),
+    ];
+    run_shown(out, &commands)?;
+    println!("\nwrote nameplate-textured.nc (every stroke written out), nameplate-macro.nc (G66.1 P7023 and");
+    println!("the macro: each part different on the control) and nameplate-textured.png (the simulated plate)");
     Ok(())
 }
 

@@ -206,3 +206,67 @@ fn bad_input_gets_clear_messages() {
     assert!(o.status.success() && String::from_utf8_lossy(&o.stderr).contains("no straight cutting move"));
     assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&air).unwrap());
 }
+
+/// `kezuri sim … --json` of `nc` with a 6 mm ball: the JSON's numbers.
+fn sim(nc: &str, extra: &[&str]) -> serde_json::Value {
+    let args = [&["sim", nc, "--tool", "ball:6", "--res", "0.2", "--json"][..], extra].concat();
+    serde_json::from_str(&ok(&kezuri(&args))).unwrap()
+}
+
+#[test]
+fn the_simulated_nameplate_is_never_cut_below_the_clamp() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = path(dir.path(), "plate.nc");
+    std::fs::write(&plain, nameplate()).unwrap();
+    let stock = ["--stock", "-110,-80,110,-20,0"];
+    let (free, clamped) = (path(dir.path(), "free.nc"), path(dir.path(), "clamped.nc"));
+    ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "-o", &free]));
+    ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "--max-depth", "-2.4", "-o", &clamped]));
+    let low = |v: &serde_json::Value| v["min_z_mm"].as_f64().unwrap();
+    // Unclamped the strokes reach -2.8 mm; clamped, nothing below -2.4 anywhere.
+    assert!(low(&sim(&free, &stock)) < -2.7);
+    let v = sim(&clamped, &stock);
+    assert!(low(&v) >= -2.4 - 1e-9, "{v}");
+    assert_eq!(v["rapids_into_stock"], 0, "{v}");
+}
+
+#[test]
+fn on_a_milled_dome_the_texture_stays_within_its_spread_of_the_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    // A dome of radius 30, 8 mm high, on a 60 × 60 mm flat, as x y z lines.
+    let mut grid = String::new();
+    for j in 0..=120 {
+        for i in 0..=120 {
+            let (x, y) = (i as f64 * 0.5 - 30.0, j as f64 * 0.5 - 30.0);
+            let z = ((900.0 - x * x - y * y).max(0.0).sqrt() - 22.0).max(0.0);
+            grid += &format!("{x} {y} {z}\n");
+        }
+    }
+    let dome = path(dir.path(), "dome.xyz");
+    std::fs::write(&dome, grid).unwrap();
+    let (milled, textured) = (path(dir.path(), "dome.nc"), path(dir.path(), "textured.nc"));
+    ok(&kezuri(&["mill", &dome, "--tool", "ball:6", "--stepover", "1", "-o", &milled]));
+    ok(&kezuri(&[
+        "texture",
+        &milled,
+        "--seed",
+        "3",
+        "--segment",
+        "5",
+        "--spread",
+        "0.3",
+        "--quantum",
+        "0.1",
+        "-o",
+        &textured,
+    ]));
+    let compare = ["--compare", &dome, "--stock", "-25,-25,25,25,9"];
+    let gouge = |v: &serde_json::Value| v["max_gouge_mm"].as_f64().unwrap();
+    let plain = sim(&milled, &compare);
+    let v = sim(&textured, &compare);
+    // The milled dome is within a hundredth; textured, the strokes go up to
+    // the spread into it and no further (the simulation's own chord
+    // tolerance and cell size aside).
+    assert!(gouge(&plain) < 0.02, "{plain}");
+    assert!(gouge(&v) > 0.2 && gouge(&v) <= 0.3 + 0.02, "{v}");
+}
