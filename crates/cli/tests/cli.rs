@@ -157,6 +157,10 @@ fn demo_makes_its_files() {
         "plum-relief.nc",
         "plum-relief.stl",
         "plum-relief.png",
+        "samples/nameplate-cam.nc",
+        "nameplate-textured.nc",
+        "nameplate-macro.nc",
+        "nameplate-textured.png",
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
