@@ -13,7 +13,9 @@
 //! Z-only moves and the rest pass as the control would run them under the
 //! paper's macro: the axes their block names go where it says, the others
 //! stay where the tool is (so an arc with no Z stays at the depth the last
-//! stroke left, as on the paper's nameplate). A run of textured moves
+//! stroke left, as on the paper's nameplate); an arc in the XZ or YZ plane
+//! first goes back to the program's Z, since a change of Z would change
+//! its radius. A run of textured moves
 //! starts from wherever the tool is; its knots count from its first move.
 //!
 //! The offsets: `digits` is the paper's distribution as the authors meant
@@ -85,19 +87,12 @@ impl Default for TextureOptions {
 pub enum TextureError {
     /// An option out of its range.
     Option(String),
-    /// An arc outside the XY plane would start at a textured depth (its
-    /// radius would change): the 1-based source line.
-    ArcOffPlane(u32),
 }
 
 impl fmt::Display for TextureError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             TextureError::Option(m) => f.write_str(m),
-            TextureError::ArcOffPlane(line) => write!(
-                f,
-                "line {line}: an arc in the XZ or YZ plane would start at a textured depth, which changes its radius"
-            ),
         }
     }
 }
@@ -169,7 +164,7 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
         let start = at.unwrap_or(m.start);
         if !is_textured(m) {
             run = None;
-            let lifted = start.z != m.start.z;
+            let (lifted, path_z) = (start.z != m.start.z, m.start.z);
             let mut m = *m;
             m.start = start;
             if !m.named.contains(2) && !matches!(m.kind, MoveKind::Home) {
@@ -177,7 +172,14 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
             }
             match &mut m.kind {
                 MoveKind::Arc(arc) if arc.plane == Plane::Xy => arc.center[2] = start.z,
-                MoveKind::Arc(_) if lifted => return Err(TextureError::ArcOffPlane(m.line)),
+                MoveKind::Arc(_) if lifted => {
+                    // An arc across Z would change its radius: back to the
+                    // program's Z first, then the arc as written.
+                    let back = Axes { z: path_z, ..start };
+                    out.moves.push(Move { kind: MoveKind::Feed, start, end: back, ..m });
+                    m.start = back;
+                    m.end.z = if m.named.contains(2) { m.end.z } else { path_z };
+                }
                 MoveKind::Dwell(_) => m.end = start,
                 _ => {}
             }

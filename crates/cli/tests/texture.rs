@@ -53,11 +53,13 @@ fn on_a_depth(z: f64, base: f64) -> bool {
 /// rapids and arcs where the plain program has them.
 fn check_strokes(plain: &[(String, [f64; 3])], textured: &[(String, [f64; 3])]) {
     // Arcs and rapids: the same XY, in the same order.
-    let xy = |v: &[(String, [f64; 3])], kind: &str| {
-        v.iter().filter(|m| m.0 == kind).map(|m| (m.1[0], m.1[1])).collect::<Vec<_>>()
+    let xy = |v: &[(String, [f64; 3])], kinds: &[&str]| {
+        v.iter().filter(|m| kinds.contains(&m.0.as_str())).map(|m| (m.1[0], m.1[1])).collect::<Vec<_>>()
     };
-    assert_eq!(xy(plain, "arc"), xy(textured, "arc"));
-    assert_eq!(xy(plain, "rapid"), xy(textured, "rapid"));
+    for kinds in [&["cw", "ccw"][..], &["rapid"]] {
+        assert!(!xy(plain, kinds).is_empty());
+        assert_eq!(xy(plain, kinds), xy(textured, kinds), "{kinds:?}");
+    }
     // The first run: from the plunge at (106, -58) along the rows, a knot
     // every 20 mm of XY travel.
     let first = textured.iter().position(|m| m.0 == "feed" && m.1[2] < -0.5).unwrap() - 1;
@@ -269,4 +271,33 @@ fn on_a_milled_dome_the_texture_stays_within_its_spread_of_the_surface() {
     // tolerance and cell size aside).
     assert!(gouge(&plain) < 0.02, "{plain}");
     assert!(gouge(&v) > 0.2 && gouge(&v) <= 0.3 + 0.02, "{v}");
+}
+
+#[test]
+fn arcs_keep_their_r_and_an_arc_across_z_starts_at_the_programs_z() {
+    // The paper's macro used #18 (R) as scratch: an R-form arc inside the
+    // section lost its radius. Here it runs as written.
+    let dir = tempfile::tempdir().unwrap();
+    let plain = path(dir.path(), "r.nc");
+    std::fs::write(
+        &plain,
+        "G90 G17 G21\nG00 X0. Y0. Z5.\nG01 Z0. F300\nX50.\nG02 X60. Y-10. R10.\nG01 X0.\nG18 G03 X-10. Z-10. R10.\nG17 G01 X-50.\nG00 Z20.\nM30\n",
+    )
+    .unwrap();
+    let (made, baked) = (path(dir.path(), "r-macro.nc"), path(dir.path(), "r-baked.nc"));
+    ok(&kezuri(&["texture", &plain, "--seed", "1", "--base", "-2", "--mode", "macro", "-o", &made]));
+    ok(&kezuri(&["texture", &plain, "--seed", "1", "--base", "-2", "-o", &baked]));
+    let arcs = |v: &[(String, [f64; 3])]| {
+        v.iter().filter(|m| m.0 == "cw" || m.0 == "ccw").map(|m| (m.0.clone(), m.1)).collect::<Vec<_>>()
+    };
+    let plain_arcs = arcs(&moves(&plain, None));
+    for textured in [moves(&made, Some("3")), moves(&baked, None)] {
+        // The XY arc at the stroke's depth; the XZ one, inside the section
+        // too, as written (from the program's Z).
+        let got = arcs(&textured);
+        assert_eq!(got.len(), 2, "{textured:?}");
+        assert_eq!((got[0].0.as_str(), got[0].1[0], got[0].1[1]), ("cw", 60.0, -10.0));
+        assert_ne!(got[0].1[2], 0.0, "the XY arc runs at a stroke's depth");
+        assert_eq!(got[1], plain_arcs[1]);
+    }
 }

@@ -13,7 +13,8 @@
 //! tool's Z is the textured one) or to a fixed base, never below the
 //! clamp. Rapids, arcs (`#4001` > 1), Z-only and incremental (G91) blocks
 //! are run as written: every argument passed on (`R` and `K` too), nothing
-//! of them used as scratch.
+//! of them used as scratch; an arc in the XZ or YZ plane first goes back to
+//! the program's Z (a change of Z would change its radius).
 //!
 //! The paper's O7023 slips, fixed here: its digit test `#28 GT 5` sent 5 to
 //! the shallow side (a tenth depth, base + 1.0 mm); its Z-only test `[#24 +
@@ -120,6 +121,10 @@ impl TextureMacro {
         let _ = writeln!(w, "GOTO90");
         let _ = writeln!(w, "N80");
         let _ = writeln!(w, "{running}=0");
+        let _ = writeln!(w, "IF[#27LT2]GOTO81");
+        let _ = writeln!(w, "IF[#4002EQ17]GOTO81");
+        let _ = writeln!(w, "G01Z{zp} (AN ARC ACROSS Z STARTS AT THE PROGRAM'S Z)");
+        let _ = writeln!(w, "N81");
         let _ = writeln!(w, "G#27X#24Y#25Z#26I#4J#5K#6R#18F#9");
         let _ = writeln!(w, "IF[#26EQ#0]GOTO99");
         let _ = writeln!(w, "IF[#4003EQ90]THEN{zp}=#26");
