@@ -25,7 +25,8 @@
 //! `normal` (σ = spread / 2, clamped to the spread) and `smooth` (value
 //! noise over XY with the segment as its wavelength, so neighbouring passes
 //! look like related strokes). All are rounded to `quantum`. `step_range`
-//! keeps successive knots apart by the authors' design rule (0.2–1.6 mm).
+//! keeps successive knots apart by the authors' design rule (0.2–1.6 mm);
+//! the first knot of a run, entered from wherever the tool was, is free.
 
 use std::fmt;
 
@@ -196,7 +197,9 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
         let run = run.get_or_insert_with(|| {
             let prev = start.z - reference(m.start);
             knots += 1;
-            Run { travel: 0.0, prev, next: depths.next(prev, [start.x, start.y]) }
+            // The first stroke enters from wherever the tool is: the step
+            // range is between depths, not from the entry.
+            Run { travel: 0.0, prev, next: depths.draw([start.x, start.y]) }
         });
         let length = (m.end.x - m.start.x).hypot(m.end.y - m.start.y);
         let mut done = 0.0;

@@ -301,3 +301,22 @@ fn arcs_keep_their_r_and_an_arc_across_z_starts_at_the_programs_z() {
         assert_eq!(got[1], plain_arcs[1]);
     }
 }
+
+#[test]
+fn the_design_rule_holds_between_strokes_in_both_modes() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = path(dir.path(), "long.nc");
+    std::fs::write(&long, "G90 G21\nG00 X0 Y0 Z1.\nG01 Z0. F500\nX20000.\nG00 Z10.\nM30\n").unwrap();
+    let rule = ["--step-range", "0.2,1.6", "--base", "-2", "--no-decimal", "units"];
+    let (baked, made) = (path(dir.path(), "baked.nc"), path(dir.path(), "macro.nc"));
+    ok(&kezuri(&[&["texture", &long, "--seed", "4", "-o", &baked][..], &rule].concat()));
+    ok(&kezuri(&[&["texture", &long, "--seed", "4", "--mode", "macro", "-o", &made][..], &rule].concat()));
+    for ms in [moves(&baked, None), moves(&made, Some("9"))] {
+        let knots: Vec<f64> = ms.iter().filter(|m| m.0 == "feed" && m.1[0] > 0.0).map(|m| m.1[2]).collect();
+        assert_eq!(knots.len(), 1000);
+        for w in knots.windows(2) {
+            let step = (w[1] - w[0]).abs();
+            assert!((0.2 - 1e-6..=1.6 + 1e-6).contains(&step), "{} → {}", w[0], w[1]);
+        }
+    }
+}

@@ -25,7 +25,9 @@
 //! State between calls lives in common variables `#v … #v+6` (default
 //! `#190`–`#196`): the program's Z, whether a run of strokes is under way,
 //! the travel since the last knot, the offsets at the last and the next
-//! knot, and whether the next one is still to be drawn.
+//! knot, whether the next one is still to be drawn, and whether it is the
+//! run's first (entered from wherever the tool was, so free of the step
+//! range).
 
 use std::fmt::Write;
 
@@ -68,7 +70,7 @@ impl TextureMacro {
     /// The macro program, `O…` to `M99`, one block a line.
     pub fn program(&self) -> String {
         let v = |k: u32| format!("#{}", self.vars + k);
-        let (zp, running, travel, last, next, undrawn) = (v(0), v(1), v(2), v(3), v(4), v(5));
+        let (zp, running, travel, last, next, undrawn, entry) = (v(0), v(1), v(2), v(3), v(4), v(5), v(6));
         let l = num(self.segment);
         let reference = |z: &str| match self.base {
             Some(b) => num(b),
@@ -81,7 +83,7 @@ impl TextureMacro {
         let mut t = String::new();
         let w = &mut t;
         let _ = writeln!(w, "O{:04} (KEZURI TEXTURE, SEED 004: A STROKE EVERY {l} MM OF XY TRAVEL)", self.number);
-        let _ = writeln!(w, "(CALLED BY G66.1 ON EVERY BLOCK; STATE IN {zp}-{})", v(5));
+        let _ = writeln!(w, "(CALLED BY G66.1 ON EVERY BLOCK; STATE IN {zp}-{entry})");
         let _ = writeln!(w, "#27=#4001");
         let _ = writeln!(w, "IF[[#24EQ#0]AND[#25EQ#0]]GOTO80 (NO XY: AS WRITTEN)");
         let _ = writeln!(w, "IF[#27NE1]GOTO80 (RAPID OR ARC: AS WRITTEN)");
@@ -95,11 +97,11 @@ impl TextureMacro {
         let _ = writeln!(w, "IF[{running}EQ1]GOTO10");
         let _ = writeln!(w, "(A RUN OF STROKES STARTS WHERE THE TOOL IS)");
         let _ = writeln!(w, "{last}=#5003-{}", reference("#32"));
-        let _ = writeln!(w, "{travel}=0\n{running}=1\n{undrawn}=1");
+        let _ = writeln!(w, "{travel}=0\n{running}=1\n{undrawn}=1\n{entry}=1");
         let _ = writeln!(w, "N10");
         let _ = writeln!(w, "IF[{undrawn}EQ0]GOTO20");
-        self.draw(w, &last.clone(), &next.clone());
-        let _ = writeln!(w, "{undrawn}=0");
+        self.draw(w, &last.clone(), &next.clone(), &entry.clone());
+        let _ = writeln!(w, "{undrawn}=0\n{entry}=0");
         let _ = writeln!(w, "N20");
         let _ = writeln!(w, "#12={l}-{travel} (TRAVEL TO THE NEXT KNOT)");
         let _ = writeln!(w, "IF[#15+#12GE#14-0.000001]GOTO40");
@@ -138,8 +140,9 @@ impl TextureMacro {
     }
 
     /// The blocks that draw the next knot's offset into `next`, after
-    /// `last` (within the step range, up to 100 tries).
-    fn draw(&self, w: &mut String, last: &str, next: &str) {
+    /// `last` (within the step range, up to 100 tries, unless `entry` is 1:
+    /// the first stroke of a run enters from wherever the tool was).
+    fn draw(&self, w: &mut String, last: &str, next: &str, entry: &str) {
         let q = num(self.quantum);
         let n = (self.spread / self.quantum + 1e-9).floor();
         let _ = writeln!(w, "#10=0");
@@ -158,6 +161,7 @@ impl TextureMacro {
         }
         match self.step_range {
             Some([lo, hi]) => {
+                let _ = writeln!(w, "IF[{entry}EQ1]GOTO11");
                 let _ = writeln!(w, "#12=ABS[{next}-{last}]");
                 let _ = writeln!(w, "IF[[#12GE{}]AND[#12LE{}]]GOTO11", num(lo - 1e-6), num(hi + 1e-6));
                 let _ = writeln!(w, "#10=#10+1");
