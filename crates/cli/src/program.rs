@@ -74,7 +74,11 @@ impl Ran {
 
 /// Reads, parses and runs the program; returns parse diagnostics apart.
 pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    let text = read_text(&o.file)?;
+    run_text(o, read_text(&o.file)?)
+}
+
+/// [`read_and_run`] on the program's text, read already.
+pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
     let machine = match &o.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),

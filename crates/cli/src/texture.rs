@@ -7,7 +7,7 @@ use kezuri_cam::texture::{bake, check, is_textured, Dist, TextureOptions};
 use kezuri_nc::texture_macro::TextureMacro;
 
 use crate::files::{read_text, write_output};
-use crate::program::{read_and_run, write_toolpath, RunOptions, WriteArgs};
+use crate::program::{run_text, write_toolpath, RunOptions, WriteArgs};
 
 /// How the texture is made.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -109,7 +109,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
              expanded program instead (kezuri run {name} -o expanded.nc)"
         );
     }
-    let (ran, parse_diagnostics) = read_and_run(&a.run)?;
+    let (ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
