@@ -23,8 +23,9 @@
 //! same, so ten digits fall on nine depths and the base is twice as
 //! likely; the printed macro's `GT 5` made 5 a tenth depth); `uniform`,
 //! `normal` (σ = spread / 2, clamped to the spread) and `smooth` (value
-//! noise over XY with the segment as its wavelength, so neighbouring passes
-//! look like related strokes). All are rounded to `quantum`. `step_range`
+//! noise over XY, three segments to a wavelength, taken at every point of
+//! the path where it is split: neighbouring passes, either way along, look
+//! like related strokes, and so do successive ones). All are rounded to `quantum`. `step_range`
 //! keeps successive knots apart by the authors' design rule (0.2–1.6 mm);
 //! the first knot of a run, entered from wherever the tool was, is free.
 
@@ -41,7 +42,7 @@ pub enum Dist {
     Uniform,
     /// Normal with σ = spread / 2, clamped to the spread.
     Normal,
-    /// Smooth value noise over XY (wavelength: the segment).
+    /// Smooth value noise over XY (wavelength: three segments).
     Smooth,
 }
 
@@ -145,8 +146,20 @@ pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
         if o.dist == Dist::Smooth {
             return bad("--step-range needs a random distribution (digits, uniform, normal), not smooth noise".into());
         }
-        if lo > 2.0 * o.spread + 1e-9 {
-            return bad(format!("--step-range {lo},{hi}: knots within ±{} can never differ by {lo}", o.spread));
+        // Every depth the distribution gives must have a next one within
+        // the range (continuous offsets: the ends of the spread decide).
+        let values = Depths::new(o).values();
+        let reachable = |v: f64| values.iter().any(|w| (lo - 1e-9..=hi + 1e-9).contains(&(w - v).abs()));
+        let stuck = match values.len() {
+            0 => (lo > 2.0 * o.spread + 1e-9 || hi < 0.0).then_some(o.spread),
+            _ => values.iter().copied().find(|&v| !reachable(v)),
+        };
+        if let Some(v) = stuck {
+            return bad(format!(
+                "--step-range {lo},{hi}: after a depth offset of {v:+} no offset the distribution gives (±{} in \
+                 steps of {}) is within the range",
+                o.spread, o.quantum
+            ));
         }
     }
     Ok(())
@@ -161,6 +174,8 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
     // Where the tool is (the program's position but for a textured Z).
     let mut at: Option<Axes> = None;
     let mut run: Option<Run> = None;
+    // Smooth noise is a function of the place: every point takes its own.
+    let smooth = o.dist == Dist::Smooth;
     for m in &path.moves {
         let start = at.unwrap_or(m.start);
         if !is_textured(m) {
@@ -168,7 +183,7 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
             let (lifted, path_z) = (start.z != m.start.z, m.start.z);
             let mut m = *m;
             m.start = start;
-            if !m.named.contains(2) && !matches!(m.kind, MoveKind::Home) {
+            if !m.named.contains(2) {
                 m.end.z = start.z;
             }
             match &mut m.kind {
@@ -209,14 +224,19 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
             if done + to_knot < length - 1e-9 {
                 done += to_knot;
                 let mut p = lerp(m.start, m.end, done / length);
-                p.z = depth(p, run.next);
+                let offset = if smooth { depths.draw([p.x, p.y]) } else { run.next };
+                p.z = depth(p, offset);
                 out.moves.push(Move { start: from, end: p, ..*m });
                 from = p;
                 run.advance(&mut depths, [p.x, p.y]);
                 knots += 1;
             } else {
                 run.travel += length - done;
-                let offset = run.prev + (run.next - run.prev) * (run.travel / o.segment).min(1.0);
+                let offset = if smooth {
+                    depths.draw([m.end.x, m.end.y])
+                } else {
+                    run.prev + (run.next - run.prev) * (run.travel / o.segment).min(1.0)
+                };
                 let mut p = m.end;
                 p.z = depth(p, offset);
                 out.moves.push(Move { start: from, end: p, ..*m });
@@ -311,9 +331,32 @@ impl Depths {
                 let (u1, u2) = (1.0 - self.rng.next_f64(), self.rng.next_f64());
                 (0.5 * s * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()).clamp(-s, s)
             }
-            Dist::Smooth => s * value_noise(self.o.seed, xy[0] / self.o.segment, xy[1] / self.o.segment),
+            Dist::Smooth => s * value_noise(self.o.seed, xy[0] / self.wavelength(), xy[1] / self.wavelength()),
         };
         self.round(v)
+    }
+
+    /// Every offset the distribution gives, where they are finitely many
+    /// (empty for continuous offsets).
+    fn values(&self) -> Vec<f64> {
+        match (self.o.dist, self.steps()) {
+            (Dist::Digits, _) => {
+                let mut v: Vec<f64> = (0..10)
+                    .map(|d| self.round(if d < 5 { d as f64 } else { -(d as f64 - 5.0) } * self.o.spread / 4.0))
+                    .collect();
+                v.sort_by(f64::total_cmp);
+                v.dedup();
+                v
+            }
+            (_, Some(n)) => (0..=2 * n).map(|k| (k as f64 - n as f64) * self.o.quantum).collect(),
+            (_, None) => Vec::new(),
+        }
+    }
+
+    /// The wavelength of the smooth noise: three segments, so that
+    /// successive strokes are related too.
+    fn wavelength(&self) -> f64 {
+        3.0 * self.o.segment
     }
 
     /// Whole quanta within the spread.

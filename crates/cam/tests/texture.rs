@@ -193,16 +193,49 @@ fn uniform_normal_and_smooth_stay_within_the_spread() {
 }
 
 #[test]
-fn smooth_noise_relates_neighbouring_passes() {
-    // Two passes 3 mm apart (the paper's step) against two 300 mm apart.
+fn smooth_noise_relates_neighbouring_passes_either_way_and_successive_strokes() {
+    // Zig-zag: a pass along +X, the next 3 mm over (the paper's step) back
+    // along -X, against one 300 mm away; depths compared at the same X.
     let o = TextureOptions { dist: Dist::Smooth, quantum: 0.0, ..paper(8) };
-    let pass = |y: f64| {
-        let t = bake(&polyline(&[at(0., y, 0.), at(2000., y, 0.)]), &o).unwrap();
-        t.toolpath.moves.iter().map(|m| m.end.z).collect::<Vec<_>>()
+    let pass = |y: f64, forward: bool| {
+        let (a, b) = if forward { (0.0, 2000.0) } else { (2000.0, 0.0) };
+        let t = bake(&polyline(&[at(a, y, 0.), at(b, y, 0.)]), &o).unwrap();
+        let mut v: Vec<(f64, f64)> = t.toolpath.moves.iter().map(|m| (m.end.x, m.end.z)).collect();
+        v.sort_by(|p, q| p.0.total_cmp(&q.0));
+        v.into_iter().filter(|p| p.0 > 20.0 && p.0 < 1990.0).map(|p| p.1).collect::<Vec<_>>()
     };
     let diff = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| (p - q).abs()).sum::<f64>() / a.len() as f64;
-    let (a, near, far) = (pass(0.0), pass(3.0), pass(300.0));
-    assert!(diff(&a, &near) < 0.5 * diff(&a, &far), "{} vs {}", diff(&a, &near), diff(&a, &far));
+    let (a, near, far) = (pass(0.0, true), pass(3.0, false), pass(300.0, false));
+    assert_eq!(a.len(), near.len());
+    assert!(diff(&a, &near) < 0.2 * diff(&a, &far), "{} vs {}", diff(&a, &near), diff(&a, &far));
+    // Successive strokes are related: closer than strokes 500 mm apart.
+    let step = |k: usize| diff(&a[..a.len() - k], &a[k..]);
+    assert!(step(1) < 0.5 * step(25), "{} vs {}", step(1), step(25));
+}
+
+#[test]
+fn a_step_range_the_quantised_depths_cannot_meet_is_refused() {
+    let path = polyline(&[at(0., 0., 0.), at(10., 0., 0.)]);
+    // Depths are multiples of 0.2: no two differ by 0.1–0.15.
+    let o = TextureOptions { step_range: Some([0.1, 0.15]), ..paper(1) };
+    assert!(matches!(bake(&path, &o), Err(TextureError::Option(m)) if m.contains("--step-range 0.1,0.15")));
+    // From ±0.8 nothing is 1.7 away within ±0.9 in steps of 0.2 (uniform): refused too.
+    let o = TextureOptions { spread: 0.9, step_range: Some([1.7, 2.0]), dist: Dist::Uniform, ..paper(1) };
+    assert!(bake(&path, &o).is_err());
+    assert!(bake(&path, &TextureOptions { step_range: Some([0.2, 1.6]), ..paper(1) }).is_ok());
+}
+
+#[test]
+fn offsets_never_leave_the_spread_whatever_the_quantum() {
+    for (spread, quantum) in [(0.8, 0.3), (0.5, 0.2), (1.0, 0.4)] {
+        for dist in [Dist::Digits, Dist::Uniform, Dist::Normal] {
+            let o = TextureOptions { spread, quantum, dist, ..paper(6) };
+            let path = polyline(&[at(0., 0., 0.), at(2000., 0., 0.)]);
+            for m in &bake(&path, &o).unwrap().toolpath.moves {
+                assert!(m.end.z.abs() <= spread + 1e-9, "{dist:?} {spread} {quantum}: {}", m.end.z);
+            }
+        }
+    }
 }
 
 #[test]

@@ -141,13 +141,34 @@ pub fn run(a: &TextureArgs) -> Result<()> {
             if a.quantum <= 0.0 {
                 bail!("--mode macro needs a --quantum above 0 (the clock gives whole steps)");
             }
+            if !(100..=193).contains(&a.macro_vars) && !(500..=993).contains(&a.macro_vars) {
+                bail!(
+                    "--macro-vars {}: the macro keeps its state in seven common variables, #100-#199 or \
+                     #500-#999 (the first of them: 100-193 or 500-993)",
+                    a.macro_vars
+                );
+            }
+            if !(1..=9999).contains(&a.macro_number) || words(&text).any(|(_, w)| has_word(&w, 'O', a.macro_number)) {
+                bail!("--macro-number {}: give 1-9999, not a program number the file has", a.macro_number);
+            }
+            if let Some(line) =
+                words(&text).take(last_line(&cutting)).find(|(_, w)| has_word(w, 'G', 91)).map(|(n, _)| n)
+            {
+                bail!("{name}: line {line}: G91: --mode macro textures absolute (G90) moves; use --mode bake");
+            }
+            if let Some((line, word)) = foreign_word(&text, cutting[0] as usize, last_line(&cutting)) {
+                bail!(
+                    "{name}: line {line}: '{word}' inside the cutting section: under G66.1 every block there calls \
+                     the macro, which passes on motion words only (X Y Z I J K R F); use --mode bake"
+                );
+            }
             if let Some(line) = call_line(&text) {
                 bail!(
                     "{name}: line {line}: --mode macro marks the cutting blocks in this file, and this one calls \
                      another program (M98/G65); use --mode bake"
                 );
             }
-            let (first, last) = (cutting[0] as usize, *cutting.iter().max().unwrap_or(&cutting[0]) as usize);
+            let (first, last) = (cutting[0] as usize, last_line(&cutting));
             let m = TextureMacro {
                 number: a.macro_number,
                 segment: a.segment,
@@ -215,6 +236,36 @@ fn modal_macro_line(text: &str) -> Option<usize> {
     words(text).find(|(_, w)| has_word(w, 'G', 66)).map(|(n, _)| n)
 }
 
+/// The last of the cutting moves' lines.
+fn last_line(cutting: &[u32]) -> usize {
+    cutting.iter().copied().max().unwrap_or(0) as usize
+}
+
+/// The first word on lines `first..=last` that is not a motion word the
+/// macro passes on: its line and the word.
+fn foreign_word(text: &str, first: usize, last: usize) -> Option<(usize, String)> {
+    const MOTION_G: [u32; 8] = [0, 1, 2, 3, 17, 18, 19, 90];
+    words(text).skip(first - 1).take(last + 1 - first).find_map(|(n, w)| {
+        let mut chars = w.chars().peekable();
+        while let Some(c) = chars.next() {
+            let mut value = String::new();
+            while let Some(&d) = chars.peek().filter(|d| d.is_ascii_digit() || matches!(d, '.' | '-' | '+')) {
+                value.push(d);
+                chars.next();
+            }
+            let fine = match c {
+                'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'F' | 'N' => !value.is_empty(),
+                'G' => value.parse::<f64>().is_ok_and(|g| MOTION_G.iter().any(|&m| f64::from(m) == g)),
+                _ => false,
+            };
+            if !fine {
+                return Some((n, format!("{c}{value}")));
+            }
+        }
+        None
+    })
+}
+
 /// The first line that calls another program (M98, M198, G65).
 fn call_line(text: &str) -> Option<usize> {
     words(text).find(|(_, w)| has_word(w, 'M', 98) || has_word(w, 'M', 198) || has_word(w, 'G', 65)).map(|(n, _)| n)
@@ -232,5 +283,10 @@ mod tests {
         assert_eq!(call_line("G01 X1\nM98 P1000\n"), Some(2));
         assert_eq!(call_line("G65 P9 A1\n"), Some(1));
         assert_eq!(call_line("M9\nM980\n"), None);
+        let section = "G90\nG01 X1. F300 (CUT)\nG02 X2. R1.\nY5. M08\nX0\n";
+        assert_eq!(foreign_word(section, 2, 3), None);
+        assert_eq!(foreign_word(section, 2, 5), Some((4, "M08".into())));
+        assert_eq!(foreign_word("G04 X1.\n", 1, 1), Some((1, "G04".into())));
+        assert_eq!(foreign_word("#1=2\n", 1, 1), Some((1, "#1".into())));
     }
 }

@@ -196,6 +196,8 @@ fn bad_input_gets_clear_messages() {
     fails(&["--step-range", "0.2"], "--step-range '0.2': expected MIN,MAX");
     fails(&["--mode", "macro", "--dist", "smooth"], "--dist digits or uniform");
     fails(&["--mode", "macro", "--emit", "linuxcnc"], "Fanuc Custom Macro B");
+    fails(&["--mode", "macro", "--macro-vars", "5"], "--macro-vars 5: the macro keeps its state in seven common");
+    fails(&["--mode", "macro", "--macro-number", "2"], "--macro-number 2: give 1-9999, not a program number");
     // A program that already calls a macro on every block.
     let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o7023-texture.nc");
     let o = kezuri(&["texture", sample, "--seed", "1", "-o", &out]);
@@ -299,6 +301,9 @@ fn arcs_keep_their_r_and_an_arc_across_z_starts_at_the_programs_z() {
         assert_eq!((got[0].0.as_str(), got[0].1[0], got[0].1[1]), ("cw", 60.0, -10.0));
         assert_ne!(got[0].1[2], 0.0, "the XY arc runs at a stroke's depth");
         assert_eq!(got[1], plain_arcs[1]);
+        // Before the XZ arc the tool went back to the program's Z (0).
+        let xz = textured.iter().position(|m| m == &got[1]).unwrap();
+        assert_eq!(textured[xz - 1].1, [0.0, -10.0, 0.0], "{:?}", &textured[xz - 2..=xz]);
     }
 }
 
@@ -318,5 +323,46 @@ fn the_design_rule_holds_between_strokes_in_both_modes() {
             let step = (w[1] - w[0]).abs();
             assert!((0.2 - 1e-6..=1.6 + 1e-6).contains(&step), "{} → {}", w[0], w[1]);
         }
+    }
+}
+
+#[test]
+fn the_macro_keeps_the_spread_and_the_clamp_and_ends_before_a_closing_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    // The last cut right before the closing %.
+    let plain = path(dir.path(), "p.nc");
+    std::fs::write(&plain, "%\nO0001\nG90 G21 G00 X0 Y0 Z1.\nG01 Z0. F500\nX2000.\n%\n").unwrap();
+    let made = path(dir.path(), "m.nc");
+    let odd = ["--seed", "1", "--base", "-2", "--spread", "0.8", "--quantum", "0.3", "--max-depth", "-2.5"];
+    ok(&kezuri(&[&["texture", &plain, "--mode", "macro", "-o", &made][..], &odd].concat()));
+    let text = std::fs::read_to_string(&made).unwrap();
+    assert!(text.find("O7023").unwrap() < text.rfind('%').unwrap(), "the macro inside the % frame");
+    for seed in ["1", "2", "3"] {
+        let zs: Vec<f64> = moves(&made, Some(seed)).iter().filter(|m| m.1[0] > 0.0).map(|m| m.1[2]).collect();
+        assert_eq!(zs.len(), 100);
+        // Multiples of 0.3 within 0.8 (so ±0.6) about -2, and never below the clamp.
+        assert!(zs.iter().all(|z| [-2.6, -2.3, -2.0, -1.7, -1.4, -2.5].iter().any(|d| (z - d).abs() < 1e-9)), "{zs:?}");
+        assert!(zs.iter().any(|&z| z == -2.5) && zs.iter().any(|&z| (z - -1.4).abs() < 1e-9), "{zs:?}");
+        assert!(!zs.iter().any(|&z| z < -2.5));
+    }
+}
+
+#[test]
+fn the_macro_refuses_a_section_it_would_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = path(dir.path(), "out.nc");
+    for (program, words) in [
+        ("G90 G00 X0 Y0 Z1.\nG01 Z0. F300\nX50. M08\nX80.\nM30\n", "line 3: 'M08' inside the cutting section"),
+        ("G90 G00 X0 Y0 Z1.\nG01 Z0. F300\nX50.\nG04 X1.\nX80.\nM30\n", "line 4: 'G04' inside the cutting section"),
+        ("G91 G00 X0 Y0 Z1.\nG01 Z-1. F300\nX50.\nM30\n", "line 1: G91"),
+    ] {
+        let file = path(dir.path(), "in.nc");
+        std::fs::write(&file, program).unwrap();
+        let o = kezuri(&["texture", &file, "--seed", "1", "--mode", "macro", "-o", &out]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && e.contains(words), "{program}: {e}");
+        // Bake textures them.
+        ok(&kezuri(&["texture", &file, "--seed", "1", "-o", &out]));
+        std::fs::remove_file(&out).unwrap();
     }
 }

@@ -122,10 +122,12 @@ impl TextureMacro {
         let _ = writeln!(w, "{last}={next}\n{travel}=0\n{undrawn}=1");
         let _ = writeln!(w, "GOTO90");
         let _ = writeln!(w, "N80");
-        let _ = writeln!(w, "{running}=0");
+        let _ = writeln!(w, "IF[[#24NE#0]OR[#25NE#0]OR[#26NE#0]]THEN{running}=0 (A MOVE ENDS THE RUN)");
         let _ = writeln!(w, "IF[#27LT2]GOTO81");
         let _ = writeln!(w, "IF[#4002EQ17]GOTO81");
-        let _ = writeln!(w, "G01Z{zp} (AN ARC ACROSS Z STARTS AT THE PROGRAM'S Z)");
+        let _ = writeln!(w, "#28=#4003");
+        let _ = writeln!(w, "G90G01Z{zp} (AN ARC ACROSS Z STARTS AT THE PROGRAM'S Z)");
+        let _ = writeln!(w, "G#28");
         let _ = writeln!(w, "N81");
         let _ = writeln!(w, "G#27X#24Y#25Z#26I#4J#5K#6R#18F#9");
         let _ = writeln!(w, "IF[#26EQ#0]GOTO99");
@@ -140,24 +142,34 @@ impl TextureMacro {
     }
 
     /// The blocks that draw the next knot's offset into `next`, after
-    /// `last` (within the step range, up to 100 tries, unless `entry` is 1:
-    /// the first stroke of a run enters from wherever the tool was).
+    /// `last`. The clock is read once: the count of its 16 ms ticks, not
+    /// its milliseconds (on a control whose clock moves in 16 ms steps the
+    /// last digit of `#3001` is always even). Where a step range is given
+    /// and the value misses it, the next candidates step through the values
+    /// from there (by 3 of the 10 digits, by 1 of the uniform values: every
+    /// value once), since reading the clock again without moving gives the
+    /// same value on a control. `entry` 1: the run's first stroke, free of
+    /// the range.
     fn draw(&self, w: &mut String, last: &str, next: &str, entry: &str) {
         let q = num(self.quantum);
         let n = (self.spread / self.quantum + 1e-9).floor();
+        let (count, stride) = if self.uniform { (2.0 * n + 1.0, 1.0) } else { (10.0, 3.0) };
+        let k = num(count);
+        let _ = writeln!(w, "#16=FIX[#3001/16] (CLOCK TICKS)");
         let _ = writeln!(w, "#10=0");
-        let _ = writeln!(w, "WHILE[#10LT100]DO1");
-        let _ = writeln!(w, "#16=#3001");
+        let _ = writeln!(w, "WHILE[#10LT{k}]DO1");
+        let _ = writeln!(w, "#12=#16+#10*{}", num(stride));
+        let _ = writeln!(w, "#12=#12-FIX[#12/{k}]*{k} (0 TO {})", num(count - 1.0));
         if self.uniform {
-            let k = num(2.0 * n + 1.0);
-            let _ = writeln!(w, "#16=#16-FIX[#16/{k}]*{k} (0 TO {})", 2.0 * n);
-            let _ = writeln!(w, "{next}=[#16-{}]*{q}", num(n));
+            let _ = writeln!(w, "{next}=[#12-{}]*{q}", num(n));
         } else {
             let step = num(self.spread / 4.0);
-            let _ = writeln!(w, "#16=#16-FIX[#16/10]*10 (A DIGIT 0-9 FROM THE CLOCK)");
-            let _ = writeln!(w, "{next}=#16*{step}");
-            let _ = writeln!(w, "IF[#16GE5]THEN{next}=-[#16-5]*{step}");
+            let _ = writeln!(w, "{next}=#12*{step}");
+            let _ = writeln!(w, "IF[#12GE5]THEN{next}=-[#12-5]*{step}");
             let _ = writeln!(w, "{next}=ROUND[{next}/{q}]*{q}");
+            let top = num(n * self.quantum);
+            let _ = writeln!(w, "IF[{next}GT{top}]THEN{next}={top}");
+            let _ = writeln!(w, "IF[{next}LT-{top}]THEN{next}=-{top}");
         }
         match self.step_range {
             Some([lo, hi]) => {
@@ -169,7 +181,7 @@ impl TextureMacro {
                 let _ = writeln!(w, "N11");
             }
             None => {
-                let _ = writeln!(w, "#10=100");
+                let _ = writeln!(w, "#10={k}");
                 let _ = writeln!(w, "END1");
             }
         }
@@ -181,7 +193,8 @@ impl TextureMacro {
     pub fn wrap(&self, program: &str, first: usize, last: usize) -> String {
         let mut out = String::new();
         let lines: Vec<&str> = program.lines().collect();
-        let end = lines.iter().rposition(|l| l.trim() == "%").filter(|&k| k > last);
+        // A closing `%` after the last cut (0-based index, 1-based line).
+        let end = lines.iter().rposition(|l| l.trim() == "%").filter(|&k| k >= last);
         for (k, line) in lines.iter().enumerate() {
             let n = k + 1;
             if Some(k) == end {
