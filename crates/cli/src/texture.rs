@@ -15,7 +15,9 @@ pub enum Mode {
     /// Baked into the program: every stroke written out (any dialect).
     Bake,
     /// The paper's way: a Fanuc macro called by G66.1 on every cutting block
-    /// draws each depth from the control's clock, so every part differs.
+    /// draws each depth from the control's clock, so every part differs. The
+    /// program is written as it was, with the calls and the macro added
+    /// (--emit, --digits, --line-numbers and --svg do not apply).
     Macro,
 }
 

@@ -16,6 +16,11 @@
 //! of them used as scratch; an arc in the XZ or YZ plane first goes back to
 //! the program's Z (a change of Z would change its radius).
 //!
+//! What the macro cannot pass on (M, S, T words, G04, G28 … inside the
+//! section: under G66.1 they reach the macro as arguments or stop the
+//! control) and incremental programs are refused by `kezuri texture`
+//! before anything is written.
+//!
 //! The paper's O7023 slips, fixed here: its digit test `#28 GT 5` sent 5 to
 //! the shallow side (a tenth depth, base + 1.0 mm); its Z-only test `[#24 +
 //! #25] EQ #0` is never true (vacant + vacant is 0, not vacant), so Z-only
