@@ -15,7 +15,9 @@ mod relief;
 mod scallop;
 mod sim;
 mod surface;
+mod table;
 mod texture;
+mod thermal;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -92,6 +94,10 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     /// Random "hand-carved" texture on the cutting moves of a program: baked in, or as a Fanuc
     /// macro that draws each depth from the control's clock.
     Texture(Box<texture::TextureArgs>),
+    /// Thermal drift of the machine from on-machine measurements (seed 003): the reference
+    /// tool's edge in a line-sensor profile.
+    #[command(subcommand)]
+    Thermal(thermal::ThermalCommand),
 }
 
 /// Runs one command.
@@ -108,6 +114,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Relief(args) => relief::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Texture(args) => texture::run(args),
+        Command::Thermal(command) => thermal::run(command),
     }
 }
 

@@ -1,0 +1,55 @@
+//! `kezuri thermal edge` on profiles written to files, as a user runs it.
+
+mod common;
+
+use common::{kezuri, ok, path};
+
+/// A profile across a corner at (0.25, -1.5) mm, sides at 40° and -50°,
+/// 1 µm of noise (a fixed pattern) and every 20th point 30 µm off.
+fn profile() -> String {
+    let mut t = String::from("x_mm,z_mm\n");
+    for k in 0..=400 {
+        let x = 0.25 - 1.0 + k as f64 * 0.005;
+        let dx = x - 0.25;
+        let side = if dx < 0.0 { dx * 40f64.to_radians().tan() } else { -dx * 50f64.to_radians().tan() };
+        let noise = 0.001 * ((k * 7919 % 200) as f64 / 100.0 - 1.0);
+        let outlier = if k % 20 == 7 { 0.03 } else { 0.0 };
+        t += &format!("{x:.6},{:.6}\n", -1.5 + side + noise + outlier);
+    }
+    t
+}
+
+#[test]
+fn the_edge_of_a_profile_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = path(dir.path(), "sensor1.csv");
+    std::fs::write(&file, profile()).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&["thermal", "edge", &file, "--json"]))).unwrap();
+    let edge = [v["edge"][0].as_f64().unwrap(), v["edge"][1].as_f64().unwrap()];
+    assert!((edge[0] - 0.25).hypot(edge[1] + 1.5) < 0.0005, "{v}");
+    assert!((v["angle_deg"].as_f64().unwrap() - 90.0).abs() < 0.1, "{v}");
+    assert!(v["rms_residual_mm"].as_f64().unwrap() < 0.001, "{v}");
+    assert!(v["outliers"].as_u64().unwrap() >= 20, "{v}");
+    let text = ok(&kezuri(&["thermal", "edge", &file]));
+    assert!(text.contains("edge       x 0.2500") && text.contains("angle      89.99"), "{text}");
+}
+
+#[test]
+fn bad_profiles_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = path(dir.path(), "p.csv");
+    for (text, words) in [
+        ("x_mm,z_mm\n0,0\n0.1,0.1\n0.2,abc\n", "p.csv: line 4, column 5: 'abc' is not a number (z_mm)"),
+        ("x,z\n0,0\n", "p.csv: line 1: no column 'x_mm'"),
+        ("x_mm,z_mm\n0,0\n1,1\n", "at least 6 points"),
+        (
+            "x_mm,z_mm\n0,0\n0.1,0.05\n0.2,0.1\n0.3,0.15\n0.4,0.2\n0.5,0.25\n0.6,0.3\n0.7,0.35\n",
+            "the profile has no corner",
+        ),
+    ] {
+        std::fs::write(&file, text).unwrap();
+        let o = kezuri(&["thermal", "edge", &file]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.code() == Some(1) && e.contains(words), "{text}: {e}");
+    }
+}

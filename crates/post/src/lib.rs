@@ -1,0 +1,13 @@
+//! Seed 003's intelligent post-processor: from measurements taken on the
+//! machine to a corrected NC program.
+//!
+//! - [`edge`]: the corner of the square reference tool in a 2D line-sensor
+//!   profile — the profile split into its two sides, a robust least-squares
+//!   line through each, their intersection (`kezuri thermal edge`).
+//!
+//! The crate works on numbers and [`kezuri_geom`]'s toolpaths; reading files
+//! and writing programs is the CLI's.
+
+#![warn(missing_docs)]
+
+pub mod edge;
