@@ -16,6 +16,14 @@
 //! [offsets]
 //! G54 = [0, 0, 0]                        # machine position of each work zero
 //! home = [0, 0, 0]                       # G28 reference point (machine)
+//!
+//! [kinematics]                           # default: X, Y, Z carry the tool
+//! tool = ["X", "Z", "B"]                 # axes carrying the tool, base out
+//! work = ["Y", "C"]                      # axes carrying the part, base out
+//! tip = [0, 0, 70]                       # tool tip, all axes at zero
+//! [kinematics.axis.B]                    # default: along / about its own
+//! axis = [0, 1, 0]                       #   letter's direction, pivot at 0
+//! pivot = [0, 0, 120]
 //! ```
 
 use std::collections::BTreeMap;
@@ -24,6 +32,7 @@ use std::path::Path;
 use anyhow::{bail, Context, Result};
 use kezuri_geom::{Axes, Dynamics};
 use kezuri_nc::interp::Settings;
+use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
 
 #[derive(Deserialize, Default)]
@@ -35,6 +44,67 @@ struct File {
     tools: Tools,
     #[serde(default)]
     offsets: BTreeMap<String, Vec<f64>>,
+    kinematics: Option<Chains>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Chains {
+    tool: Vec<String>,
+    #[serde(default)]
+    work: Vec<String>,
+    #[serde(default)]
+    tip: Option<[f64; 3]>,
+    #[serde(default)]
+    axis: BTreeMap<String, AxisSpec>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct AxisSpec {
+    direction: Option<[f64; 3]>,
+    axis: Option<[f64; 3]>,
+    pivot: Option<[f64; 3]>,
+}
+
+/// The machine's chains from the file's `[kinematics]`.
+fn chains(c: &Chains) -> Result<Kinematics> {
+    let letter = |name: &str| -> Result<usize> {
+        let up = name.trim().to_ascii_uppercase();
+        AXES.iter()
+            .position(|a| up.len() == 1 && up.starts_with(*a))
+            .with_context(|| format!("kinematics: '{name}' is not an axis (X Y Z A B C)"))
+    };
+    if let Some(name) = c.axis.keys().find(|k| !c.tool.iter().chain(&c.work).any(|a| a.eq_ignore_ascii_case(k))) {
+        bail!("kinematics.axis.{name}: the axis is in neither the tool nor the work chain");
+    }
+    let axis = |name: &String| -> Result<Axis> {
+        let index = letter(name)?;
+        let spec = c.axis.iter().find(|(k, _)| k.eq_ignore_ascii_case(name)).map(|(_, s)| s);
+        let own = std::array::from_fn(|k| if k == index % 3 { 1.0 } else { 0.0 });
+        let motion = if index < 3 {
+            if spec.is_some_and(|s| s.axis.is_some() || s.pivot.is_some()) {
+                bail!("kinematics.axis.{name}: a linear axis has a direction, not an axis or a pivot");
+            }
+            kinematics::Motion::Linear { direction: spec.and_then(|s| s.direction).unwrap_or(own) }
+        } else {
+            if spec.is_some_and(|s| s.direction.is_some()) {
+                bail!("kinematics.axis.{name}: a rotary axis has an axis and a pivot, not a direction");
+            }
+            kinematics::Motion::Rotary {
+                axis: spec.and_then(|s| s.axis).unwrap_or(own),
+                pivot: spec.and_then(|s| s.pivot).unwrap_or([0.0; 3]),
+            }
+        };
+        Ok(Axis { index, motion })
+    };
+    let k = Kinematics {
+        tool: c.tool.iter().map(axis).collect::<Result<_>>()?,
+        work: c.work.iter().map(axis).collect::<Result<_>>()?,
+        tip: c.tip.unwrap_or([0.0; 3]),
+    };
+    k.check().map_err(|e| anyhow::anyhow!("kinematics: {e}"))?;
+    Ok(k)
 }
 
 #[derive(Deserialize, Default)]
@@ -56,13 +126,20 @@ struct Tools {
     radii: BTreeMap<String, f64>,
 }
 
-/// A machine: its dynamics and what it tells the interpreter.
-#[derive(Default)]
+/// A machine: its dynamics, what it tells the interpreter, its axes.
 pub struct Machine {
     /// For the cycle time.
     pub dynamics: Dynamics,
     /// Tool table, offsets and reference point, on top of the defaults.
     pub settings: Settings,
+    /// Which axes carry the tool and which the work.
+    pub kinematics: Kinematics,
+}
+
+impl Default for Machine {
+    fn default() -> Machine {
+        Machine { dynamics: Dynamics::default(), settings: Settings::default(), kinematics: Kinematics::mill() }
+    }
 }
 
 fn positive(name: &str, v: Option<f64>, default: f64) -> Result<f64> {
@@ -137,7 +214,11 @@ impl Machine {
                 },
             }
         }
-        Ok(Machine { dynamics, settings })
+        let kinematics = match &file.kinematics {
+            Some(c) => chains(c)?,
+            None => Kinematics::mill(),
+        };
+        Ok(Machine { dynamics, settings, kinematics })
     }
 }
 
@@ -158,6 +239,11 @@ mod tests {
         let m = Machine::parse(&example).unwrap();
         assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
         assert_eq!(m.settings.tool_lengths[&21], 87.25);
+        // The mill-turn: B -90 swings the tip 50 mm below the pivot to +X.
+        let tip = m.kinematics.forward(&[0.0, 0.0, 0.0, 0.0, -90.0, 0.0]);
+        assert!((tip[0] - 50.0).abs() < 1e-9 && tip[1].abs() < 1e-9 && (tip[2] - 120.0).abs() < 1e-9, "{tip:?}");
+        assert!(m.kinematics.has(5) && !m.kinematics.has(3));
+        assert_eq!(Machine::parse("").unwrap().kinematics, Kinematics::mill());
     }
 
     #[test]
@@ -165,5 +251,15 @@ mod tests {
         assert!(Machine::parse("[motion]\nacceleration_mm_s2 = -1").is_err());
         assert!(Machine::parse("[motion]\nrapid = 1").is_err());
         assert!(Machine::parse("[offsets]\nG60 = [1]").is_err());
+        for (text, words) in [
+            ("[kinematics]\ntool = [\"X\", \"Y\", \"Q\"]", "'Q' is not an axis"),
+            ("[kinematics]\ntool = [\"X\", \"Y\"]", "no Z axis"),
+            ("[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n[kinematics.axis.B]\naxis = [0, 1, 0]", "in neither"),
+            ("[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n[kinematics.axis.X]\npivot = [0, 1, 0]", "a linear axis"),
+            ("[kinematics]\ntool = [\"X\", \"X\", \"Z\"]", "twice"),
+        ] {
+            let e = format!("{:#}", Machine::parse(text).err().expect(text));
+            assert!(e.contains(words), "{text}: {e}");
+        }
     }
 }

@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 use kezuri_geom::{cycle_time, MoveKind, Toolpath};
 use kezuri_nc::interp::{self, IntegerInput, Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
 
 use crate::files::{read_text, write_output, Folder};
@@ -118,6 +119,20 @@ pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> 
     Ok((Ran { sources, outcome, machine, parse_errors }, parse_diagnostics))
 }
 
+/// The axes `path` moves that `machine` does not have, each with the first
+/// source line that moves it.
+pub fn missing_axes(path: &Toolpath, machine: &Kinematics) -> Vec<(char, u32)> {
+    let mut out: Vec<(char, u32)> = Vec::new();
+    for m in &path.moves {
+        for (k, (a, b)) in m.start.to_array().into_iter().zip(m.end.to_array()).enumerate() {
+            if a != b && !machine.has(k) && !out.iter().any(|&(axis, _)| axis == AXES[k]) {
+                out.push((AXES[k], m.line));
+            }
+        }
+    }
+    out
+}
+
 /// The `check` report.
 pub struct Report {
     pub blocks: u64,
@@ -154,6 +169,16 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
     let (ran, parse_diagnostics) = read_and_run(o)?;
     let report = Report::new(&ran);
     let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
+    // Axes the program commands that the machine file's chains lack.
+    let missing: Vec<String> = match &o.machine {
+        Some(file) => missing_axes(&ran.outcome.toolpath, &ran.machine.kinematics)
+            .into_iter()
+            .map(|(axis, line)| {
+                format!("{}: the machine has no {axis} axis, and the program commands it (line {line})", file.display())
+            })
+            .collect(),
+        None => Vec::new(),
+    };
     if as_json {
         let (lo, hi) = report.bounds.unwrap_or(([0.0; 3], [0.0; 3]));
         let headlines = |errors: bool| -> Vec<String> {
@@ -170,7 +195,7 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             "time_s": report.time_s,
             "bounds": {"min": lo, "max": hi},
             "errors": headlines(true),
-            "warnings": headlines(false),
+            "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
         });
         write_output(None, (value.to_string() + "\n").as_bytes())?;
     } else {
@@ -191,7 +216,10 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
                 text += &format!("  {axis} {:>10.3} … {:>10.3}\n", lo[k], hi[k]);
             }
         }
-        let warnings = all.iter().filter(|d| !d.is_error()).count();
+        for m in &missing {
+            eprintln!("warning: {m}");
+        }
+        let warnings = all.iter().filter(|d| !d.is_error()).count() + missing.len();
         text += &format!("  {} errors, {} warnings\n", ran.errors(), warnings);
         write_output(None, text.as_bytes())?;
     }

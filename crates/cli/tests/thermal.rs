@@ -53,3 +53,20 @@ fn bad_profiles_are_clear_errors() {
         assert!(o.status.code() == Some(1) && e.contains(words), "{text}: {e}");
     }
 }
+
+#[test]
+fn a_program_with_axes_the_machine_lacks_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let mill = path(dir.path(), "mill.toml");
+    std::fs::write(&mill, "[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n").unwrap();
+    let turn = path(dir.path(), "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    let o2007 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o2007-thermal.nc");
+    let o = kezuri(&["check", o2007, "--machine", &mill, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let warnings = v["warnings"].to_string();
+    assert!(warnings.contains("the machine has no B axis, and the program commands it (line 23)"), "{warnings}");
+    let v: serde_json::Value =
+        serde_json::from_slice(&kezuri(&["check", o2007, "--machine", &turn, "--json"]).stdout).unwrap();
+    assert!(!v["warnings"].to_string().contains("the machine has no"), "{v}");
+}
