@@ -59,7 +59,20 @@ pub fn write_atomic(path: &Path, data: &[u8]) -> Result<()> {
 /// Writes a file through a temporary file and a rename, its bytes made by
 /// `fill` as it goes; when `fill` fails, the temporary file is removed and
 /// `path` is left as it was.
+///
+/// A path that is not a regular file — `/dev/null`, `/dev/stdout`, a named
+/// pipe — is written straight into: renaming a file over it would put a
+/// plain file where the device was (and a later reader of `/dev/null` would
+/// read what was written there).
 pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let f = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .with_context(|| format!("cannot open {}", path.display()))?;
+        let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
+        return fill(&mut w).and_then(|_| w.flush()).with_context(|| format!("cannot write {}", path.display()));
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),

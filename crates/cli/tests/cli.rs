@@ -176,3 +176,24 @@ fn demo_makes_its_files() {
     assert_eq!(gouges.len(), 3, "{report}");
     assert!(gouges.iter().all(|g| *g <= 0.01), "{gouges:?}");
 }
+
+#[test]
+fn output_to_a_named_pipe_goes_into_the_pipe_and_leaves_it_one() {
+    // Renaming a finished file over the output path (how files are written
+    // whole) would put a plain file where a pipe or a device such as
+    // /dev/null was.
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let o = kezuri(&["run", &sample("o7023-texture.nc"), "--clock-seed", "3", "-o", fifo.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let through_pipe = reader.join().unwrap();
+    let direct = String::from_utf8(kezuri(&["run", &sample("o7023-texture.nc"), "--clock-seed", "3"]).stdout).unwrap();
+    assert_eq!(through_pipe, direct);
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+}
