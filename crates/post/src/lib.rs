@@ -12,3 +12,4 @@
 
 pub mod edge;
 pub mod kinematics;
+pub mod thermal;

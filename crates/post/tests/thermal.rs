@@ -1,0 +1,130 @@
+//! The thermal model: fitted to measurements shaped like the paper's, and
+//! the corrected command by Newton and by the paper's grid search.
+
+use kezuri_geom::SplitMix64;
+use kezuri_post::kinematics::{Axis, Kinematics, Motion};
+use kezuri_post::thermal::{fit, Measurement, ThermalError};
+
+/// The paper's drift at B 0 and -90: X moves ~50 µm off in X and 0–50 µm
+/// in Y across the travel; Z moves within 20 µm; Y small.
+fn truth(axis: usize, b: f64, c: f64) -> [f64; 3] {
+    let s = if b == 0.0 { 1.0 } else { 0.8 };
+    match axis {
+        0 => [s * 0.050, s * 0.050 * (c + 22.0) / 20.0, 0.002 * (c / 20.0).powi(2)],
+        1 => [0.001, 0.003 * c / 50.0, 0.0],
+        _ => [s * 0.015 * ((c + 74.0) / 20.0), 0.0, -0.018 + 0.0005 * c * c / 100.0],
+    }
+}
+
+fn measurements(noise: f64, seed: u64) -> Vec<Measurement> {
+    let mut rng = SplitMix64::new(seed);
+    let mut out = Vec::new();
+    for b in [0.0, -90.0] {
+        for axis in 0..3 {
+            let (from, to) = match axis {
+                0 => (-22.0, -2.0),
+                1 => (-10.0, 10.0),
+                _ => (-94.0, -74.0),
+            };
+            for k in 0..=5 {
+                let c = from + (to - from) * k as f64 / 5.0;
+                let e = truth(axis, b, c).map(|v| v + noise * (2.0 * rng.next_f64() - 1.0));
+                out.push(Measurement { axis, b_deg: b, command: c, error: e });
+            }
+        }
+    }
+    out
+}
+
+fn mill_turn() -> Kinematics {
+    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
+    Kinematics {
+        tool: vec![
+            linear(0, [1., 0., 0.]),
+            linear(2, [0., 0., 1.]),
+            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0., 0., 120.] } },
+        ],
+        work: vec![
+            linear(1, [0., 1., 0.]),
+            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
+        ],
+        tip: [0.0, 0.0, 70.0],
+    }
+}
+
+#[test]
+fn the_fit_recovers_the_drift_and_chooses_a_degree() {
+    let model = fit(&measurements(0.0, 1), None).unwrap();
+    assert_eq!(model.functions.len(), 6);
+    for f in &model.functions {
+        for k in 0..=20 {
+            let c = match f.axis {
+                0 => -22.0 + k as f64,
+                1 => -10.0 + k as f64,
+                _ => -94.0 + k as f64,
+            };
+            let (got, want) = (f.polynomial.at(c), truth(f.axis, f.b_deg, c));
+            assert!(
+                (0..3).all(|i| (got[i] - want[i]).abs() < 1e-9),
+                "axis {} B {}: {got:?} vs {want:?}",
+                f.axis,
+                f.b_deg
+            );
+        }
+        // X needs degree 2 (its Z error is quadratic); a line would not do.
+        if f.axis == 0 {
+            assert_eq!(f.degree, 2, "{f:?}");
+        }
+    }
+    // Too few measurements for a degree asked.
+    assert!(matches!(fit(&measurements(0.0, 1), Some(6)), Err(ThermalError::TooFew { points: 6, degree: 6, .. })));
+}
+
+#[test]
+fn newton_lands_the_warm_tip_within_a_nanometre_and_the_grid_agrees_within_its_spacing() {
+    let k = mill_turn();
+    let model = fit(&measurements(0.0002, 2), None).unwrap();
+    let mut rng = SplitMix64::new(9);
+    let mut largest: f64 = 0.0;
+    for b in [0.0, -90.0] {
+        for _ in 0..200 {
+            let c = [
+                -22.0 + 20.0 * rng.next_f64(),
+                -10.0 + 20.0 * rng.next_f64(),
+                -94.0 + 20.0 * rng.next_f64(),
+                0.0,
+                b,
+                0.0,
+            ];
+            let target = k.forward(&c);
+            let uncorrected = model.deformed(&k, &c).unwrap();
+            let miss = (0..3).map(|i| (uncorrected[i] - target[i]).powi(2)).sum::<f64>().sqrt();
+            largest = largest.max(miss);
+            let (x, residual) = model.correct(&k, target, &c).unwrap();
+            assert!(residual < 1e-6, "{residual}");
+            let landed = model.deformed(&k, &x).unwrap();
+            assert!((0..3).all(|i| (landed[i] - target[i]).abs() < 1e-6), "{landed:?} vs {target:?}");
+            assert_eq!((x[4], x[5]), (b, 0.0));
+        }
+    }
+    assert!(largest > 0.04, "uncorrected up to {largest} mm");
+    // The grid search: 1 µm spacing, ±50 candidates per axis.
+    for b in [0.0, -90.0] {
+        let c = [-12.0, 3.0, -80.0, 0.0, b, 0.0];
+        let target = k.forward(&c);
+        let (newton, _) = model.correct(&k, target, &c).unwrap();
+        let (grid, miss) = model.correct_by_grid(&k, target, &c, 0.001, 50).unwrap();
+        assert!((0..3).all(|i| (grid[i] - newton[i]).abs() <= 0.001), "{grid:?} vs {newton:?}");
+        assert!(miss < 0.001, "{miss}");
+    }
+}
+
+#[test]
+fn a_model_without_the_angle_is_a_clear_error() {
+    let k = mill_turn();
+    let model = fit(&measurements(0.0, 1), None).unwrap();
+    let c = [-12.0, 3.0, -80.0, 0.0, -45.0, 0.0];
+    let e = model.correct(&k, k.forward(&c), &c).unwrap_err();
+    assert_eq!(e, ThermalError::NoFunction { axis: 0, b_deg: -45.0 });
+    assert!(e.to_string().contains("no error function for axis X at B -45°"));
+}
