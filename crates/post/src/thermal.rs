@@ -46,15 +46,16 @@ impl Polynomial {
     /// The error vector at command `c`.
     pub fn at(&self, c: f64) -> [f64; 3] {
         let t = (c - self.center) / self.scale;
-        self.coefficients.clone().map(|k| k.iter().rev().fold(0.0, |acc, &a| acc * t + a))
+        std::array::from_fn(|k| self.coefficients[k].iter().rev().fold(0.0, |acc, &a| acc * t + a))
     }
 
     /// Its derivative by the command.
     pub fn slope(&self, c: f64) -> [f64; 3] {
         let t = (c - self.center) / self.scale;
-        self.coefficients
-            .clone()
-            .map(|k| k.iter().enumerate().skip(1).rev().fold(0.0, |acc, (n, &a)| acc * t + n as f64 * a) / self.scale)
+        std::array::from_fn(|k| {
+            let k = &self.coefficients[k];
+            k.iter().enumerate().skip(1).rev().fold(0.0, |acc, (n, &a)| acc * t + n as f64 * a) / self.scale
+        })
     }
 }
 
@@ -269,30 +270,10 @@ impl ErrorModel {
 
     /// The command (linear axes changed; rotaries as in `c`) whose deformed
     /// tip lands on `target`, by Newton's method from the ideal inverse,
-    /// to 1 nm; with the residual left.
+    /// to 1 nm; with the residual left. (For many points at the same
+    /// rotary angles, [`Corrector`] does the kinematics once.)
     pub fn correct(&self, k: &Kinematics, target: [f64; 3], c: &[f64; 6]) -> Result<([f64; 6], f64), ThermalError> {
-        let mut x = k.inverse(target, c).ok_or(ThermalError::Singular)?;
-        let mut residual = f64::INFINITY;
-        for _ in 0..20 {
-            let (e, de) = self.error(&x)?;
-            let p = k.forward(&x);
-            let f = [p[0] + e[0] - target[0], p[1] + e[1] - target[1], p[2] + e[2] - target[2]];
-            residual = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-            if residual < 1e-7 {
-                return Ok((x, residual));
-            }
-            let j = k.linear_jacobian(&x).ok_or(ThermalError::Singular)?;
-            let jj = std::array::from_fn(|i| std::array::from_fn(|a| j[i][a] + de[i][a]));
-            let step = solve3(jj, f).ok_or(ThermalError::Singular)?;
-            for a in 0..3 {
-                x[a] -= step[a];
-            }
-        }
-        if residual < 1e-6 {
-            Ok((x, residual))
-        } else {
-            Err(ThermalError::NotConverged(residual))
-        }
+        Corrector::new(self, k, c)?.correct(target)
     }
 
     /// The paper's search: `(2·half + 1)³` candidates `spacing` mm apart
@@ -328,5 +309,68 @@ impl ErrorModel {
             }
         }
         Ok((best.0, best.1.sqrt()))
+    }
+}
+
+/// The corrected command at one setting of the rotary axes: with them
+/// fixed the ideal tip is affine in the linear commands, `p0 + J·x`, so the
+/// kinematics are worked out once and Newton needs only the error model.
+#[derive(Clone, Debug)]
+pub struct Corrector<'m> {
+    command: [f64; 6],
+    p0: [f64; 3],
+    j: [[f64; 3]; 3],
+    functions: [&'m AxisError; 3],
+}
+
+impl<'m> Corrector<'m> {
+    /// For the rotary angles (and the other axes) of `c`.
+    pub fn new(model: &'m ErrorModel, k: &Kinematics, c: &[f64; 6]) -> Result<Corrector<'m>, ThermalError> {
+        let mut command = *c;
+        command[..3].fill(0.0);
+        let j = k.linear_jacobian(&command).ok_or(ThermalError::Singular)?;
+        let p0 = k.forward(&command);
+        let function = |axis: usize| model.function(axis, c[4]).ok_or(ThermalError::NoFunction { axis, b_deg: c[4] });
+        Ok(Corrector { command, p0, j, functions: [function(0)?, function(1)?, function(2)?] })
+    }
+
+    /// Whether `c`'s rotary angles are this corrector's.
+    pub fn fits(&self, c: &[f64; 6]) -> bool {
+        c[3..] == self.command[3..]
+    }
+
+    /// The command whose deformed tip lands on `target` (see
+    /// [`ErrorModel::correct`]).
+    pub fn correct(&self, target: [f64; 3]) -> Result<([f64; 6], f64), ThermalError> {
+        let (p0, j) = (self.p0, self.j);
+        let mut x =
+            solve3(j, [target[0] - p0[0], target[1] - p0[1], target[2] - p0[2]]).ok_or(ThermalError::Singular)?;
+        let mut residual = f64::INFINITY;
+        for _ in 0..20 {
+            let mut f: [f64; 3] =
+                std::array::from_fn(|i| p0[i] + j[i][0] * x[0] + j[i][1] * x[1] + j[i][2] * x[2] - target[i]);
+            let mut jj = j;
+            for (a, function) in self.functions.iter().enumerate() {
+                let (e, s) = (function.polynomial.at(x[a]), function.polynomial.slope(x[a]));
+                for i in 0..3 {
+                    f[i] += e[i];
+                    jj[i][a] += s[i];
+                }
+            }
+            residual = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            if residual < 1e-7 {
+                break;
+            }
+            let step = solve3(jj, f).ok_or(ThermalError::Singular)?;
+            for a in 0..3 {
+                x[a] -= step[a];
+            }
+        }
+        if residual >= 1e-6 {
+            return Err(ThermalError::NotConverged(residual));
+        }
+        let mut out = self.command;
+        out[..3].copy_from_slice(&x);
+        Ok((out, residual))
     }
 }
