@@ -1,56 +1,104 @@
 //! CSV tables with a header line, read by column name (the measurement
 //! files of ../shared/CLI.md): every error names the line and column.
 
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
 
-/// The rows of `text` (a CSV table whose first line, after blank lines and
-/// `#` comments, names its columns), each the numbers of the columns
-/// `names` asks for, in that order. `file` names the file in errors.
-pub fn read_columns(file: &str, text: &str, names: &[&str]) -> Result<Vec<Vec<f64>>> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let Some((_, header)) = lines.next() else { bail!("{file}: empty: expected a header line {}", names.join(",")) };
-    let columns: Vec<String> = header.split(',').map(|c| c.trim().to_ascii_lowercase()).collect();
-    let at: Vec<usize> = names
-        .iter()
-        .map(|name| {
-            columns.iter().position(|c| c == name).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "{file}: line 1: no column '{name}' in the header '{}' (expected {})",
-                    header.trim(),
-                    names.join(",")
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
-    let mut rows = Vec::new();
-    for (k, line) in lines {
-        let fields: Vec<(usize, &str)> = field_columns(line);
-        let mut row = Vec::with_capacity(at.len());
-        for (&c, name) in at.iter().zip(names) {
-            let Some(&(column, field)) = fields.get(c) else {
-                bail!("{file}: line {}: no value for '{name}' (column {} of the header)", k + 1, c + 1)
-            };
-            match field.trim().parse::<f64>() {
-                Ok(v) if v.is_finite() => row.push(v),
-                _ => bail!("{file}: line {}, column {column}: '{}' is not a number ({name})", k + 1, field.trim()),
-            }
-        }
-        rows.push(row);
-    }
-    Ok(rows)
+/// A table: its column names and rows.
+pub struct Table {
+    file: String,
+    header: String,
+    names: Vec<String>,
+    rows: Vec<Row>,
 }
 
-/// The comma-separated fields of `line` with the column (in characters,
-/// from 1) each starts at.
-fn field_columns(line: &str) -> Vec<(usize, &str)> {
-    let mut out = Vec::new();
-    let mut column = 1;
-    for field in line.split(',') {
-        out.push((column, field));
-        column += field.chars().count() + 1;
+/// A row: its line (1-based) and its fields with the column (in
+/// characters, from 1) each starts at.
+struct Row {
+    line: usize,
+    fields: Vec<(usize, String)>,
+}
+
+impl Table {
+    /// The table in `text` (its first line, after blank lines and `#`
+    /// comments, names the columns); `file` names it in errors.
+    pub fn parse(file: &str, text: &str) -> Result<Table> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let mut lines =
+            text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let Some((_, header)) = lines.next() else { bail!("{file}: empty: expected a header line") };
+        let names = header.split(',').map(|c| c.trim().to_ascii_lowercase()).collect();
+        let rows = lines
+            .map(|(k, line)| {
+                let mut column = 1;
+                let fields = line
+                    .split(',')
+                    .map(|f| {
+                        let at = column;
+                        column += f.chars().count() + 1;
+                        (at, f.trim().to_string())
+                    })
+                    .collect();
+                Row { line: k + 1, fields }
+            })
+            .collect();
+        Ok(Table { file: file.to_string(), header: header.trim().to_string(), names, rows })
     }
-    out
+
+    /// Rows.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// The index of column `name`, if the header has it.
+    pub fn column(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|c| c == name)
+    }
+
+    /// The index of column `name`, or an error naming what the header has.
+    pub fn require(&self, name: &str, expected: &str) -> Result<usize> {
+        self.column(name).ok_or_else(|| {
+            anyhow!("{}: line 1: no column '{name}' in the header '{}' (expected {expected})", self.file, self.header)
+        })
+    }
+
+    /// The text of row `r`, column `c`.
+    pub fn text(&self, r: usize, c: usize) -> Result<&str> {
+        let row = &self.rows[r];
+        match row.fields.get(c) {
+            Some((_, f)) => Ok(f),
+            None => bail!(
+                "{}: line {}: no value for '{}' (column {} of the header)",
+                self.file,
+                row.line,
+                self.names[c],
+                c + 1
+            ),
+        }
+    }
+
+    /// The finite number in row `r`, column `c`.
+    pub fn number(&self, r: usize, c: usize) -> Result<f64> {
+        let text = self.text(r, c)?;
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(self.error_at(r, c, &format!("'{text}' is not a number ({})", self.names[c]))),
+        }
+    }
+
+    /// An error at row `r`, column `c`.
+    pub fn error_at(&self, r: usize, c: usize, message: &str) -> anyhow::Error {
+        let row = &self.rows[r];
+        let column = row.fields.get(c).map_or(1, |f| f.0);
+        anyhow!("{}: line {}, column {column}: {message}", self.file, row.line)
+    }
+}
+
+/// The rows of the table in `text`, each the numbers of the columns
+/// `names` asks for, in that order.
+pub fn read_columns(file: &str, text: &str, names: &[&str]) -> Result<Vec<Vec<f64>>> {
+    let t = Table::parse(file, text)?;
+    let at: Vec<usize> = names.iter().map(|n| t.require(n, &names.join(","))).collect::<Result<_>>()?;
+    (0..t.len()).map(|r| at.iter().map(|&c| t.number(r, c)).collect()).collect()
 }
 
 #[cfg(test)]

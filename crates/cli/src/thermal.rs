@@ -5,10 +5,13 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_post::edge::find_edge;
+use kezuri_post::kinematics::AXES;
+use kezuri_post::thermal::{fit, Measurement};
 use serde_json::json;
 
-use crate::files::read_text;
-use crate::table::read_columns;
+use crate::files::{read_text, write_output};
+use crate::machine::Machine;
+use crate::table::{read_columns, Table};
 
 /// The thermal commands.
 #[derive(Subcommand, Debug)]
@@ -16,6 +19,36 @@ pub enum ThermalCommand {
     /// The reference tool's edge in a line-sensor profile: the profile split into its two
     /// sides, a robust least-squares line through each, their intersection and angle.
     Edge(EdgeArgs),
+    /// Each linear axis's error functions (per indexed B angle) fitted to measurements:
+    /// polynomials, degree by leave-one-out unless given; the model as JSON.
+    Fit(FitArgs),
+}
+
+/// `kezuri thermal fit MEAS.csv -o MODEL.json`.
+#[derive(Args, Debug)]
+#[command(after_help = "MEAS.csv has the header axis,command_mm,ex_mm,ey_mm,ez_mm and optional b_deg and state
+columns (../shared/CLI.md): one row per measurement of the edge, the error being where the
+tool was less where it was commanded. With a state column (cold/warm) the error is warm - cold
+at the same axis, angle and command.
+
+Examples:
+  kezuri thermal fit meas.csv -o model.json
+  kezuri thermal fit meas.csv --machine mill-turn.toml --degree 2 -o model.json --json")]
+pub struct FitArgs {
+    /// The measurements CSV (`-` for standard input).
+    pub measurements: PathBuf,
+    /// Machine file (TOML) whose axes the model is for [default: a 3-axis mill].
+    #[arg(long, value_name = "M.toml")]
+    pub machine: Option<PathBuf>,
+    /// Polynomial degree [default: the one with the least leave-one-out error, up to 5].
+    #[arg(long, value_name = "N")]
+    pub degree: Option<usize>,
+    /// The model file (JSON).
+    #[arg(short, long, value_name = "MODEL.json")]
+    pub output: PathBuf,
+    /// Also print the fit as one JSON object.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `kezuri thermal edge PROFILE.csv`.
@@ -43,6 +76,7 @@ pub struct EdgeArgs {
 pub fn run(command: &ThermalCommand) -> Result<()> {
     match command {
         ThermalCommand::Edge(a) => edge(a),
+        ThermalCommand::Fit(a) => fit_model(a),
     }
 }
 
@@ -85,6 +119,119 @@ fn edge(a: &EdgeArgs) -> Result<()> {
             );
         }
         println!("  residual   {:.4} µm rms; {} outliers left out", e.rms_residual_mm * 1e3, e.outliers);
+    }
+    Ok(())
+}
+
+/// The measurements of a table (module docs of `kezuri thermal fit`).
+fn measurements(t: &Table) -> Result<Vec<Measurement>> {
+    let expected = "axis,command_mm,ex_mm,ey_mm,ez_mm[,b_deg][,state]";
+    let [axis, command, ex, ey, ez] = ["axis", "command_mm", "ex_mm", "ey_mm", "ez_mm"].map(|n| t.require(n, expected));
+    let (axis, command, e) = (axis?, command?, [ex?, ey?, ez?]);
+    let (b, state) = (t.column("b_deg"), t.column("state"));
+    // (measurement, warm?) per row.
+    let mut rows: Vec<(Measurement, Option<bool>, usize)> = Vec::new();
+    for r in 0..t.len() {
+        let letter = t.text(r, axis)?.to_ascii_uppercase();
+        let a = match letter.as_str() {
+            "X" => 0,
+            "Y" => 1,
+            "Z" => 2,
+            _ => return Err(t.error_at(r, axis, &format!("'{letter}' is not a linear axis (X, Y or Z)"))),
+        };
+        let warm = match state {
+            None => None,
+            Some(c) => match t.text(r, c)?.to_ascii_lowercase().as_str() {
+                "cold" => Some(false),
+                "warm" => Some(true),
+                other => return Err(t.error_at(r, c, &format!("state '{other}' is neither cold nor warm"))),
+            },
+        };
+        let error = [t.number(r, e[0])?, t.number(r, e[1])?, t.number(r, e[2])?];
+        let b_deg = match b {
+            Some(c) => t.number(r, c)?,
+            None => 0.0,
+        };
+        rows.push((Measurement { axis: a, b_deg, command: t.number(r, command)?, error }, warm, r));
+    }
+    if state.is_none() {
+        return Ok(rows.into_iter().map(|(m, _, _)| m).collect());
+    }
+    // Warm less cold at the same axis, angle and command.
+    let same = |p: &Measurement, q: &Measurement| {
+        p.axis == q.axis && (p.b_deg - q.b_deg).abs() < 1e-6 && (p.command - q.command).abs() < 1e-6
+    };
+    let mut out = Vec::new();
+    for (m, _, r) in rows.iter().filter(|r| r.1 == Some(true)) {
+        let Some((cold, _, _)) = rows.iter().find(|(c, w, _)| *w == Some(false) && same(c, m)) else {
+            return Err(t.error_at(
+                *r,
+                command,
+                &format!("no cold measurement of axis {} at {} mm, B {}°", AXES[m.axis], m.command, m.b_deg),
+            ));
+        };
+        out.push(Measurement { error: std::array::from_fn(|k| m.error[k] - cold.error[k]), ..*m });
+    }
+    Ok(out)
+}
+
+fn fit_model(a: &FitArgs) -> Result<()> {
+    let name = a.measurements.display().to_string();
+    let machine = match &a.machine {
+        Some(p) => Machine::load(p)?,
+        None => Machine::default(),
+    };
+    let table = Table::parse(&name, &read_text(&a.measurements)?)?;
+    let ms = measurements(&table)?;
+    let model = fit(&ms, a.degree).with_context(|| name.clone())?;
+    let k = &machine.kinematics;
+    let letters =
+        |axes: &[kezuri_post::kinematics::Axis]| axes.iter().map(|x| AXES[x.index].to_string()).collect::<Vec<_>>();
+    let functions: Vec<serde_json::Value> = model
+        .functions
+        .iter()
+        .map(|f| {
+            json!({
+                "axis": AXES[f.axis].to_string(),
+                "b_deg": f.b_deg,
+                "degree": f.degree,
+                "points": f.points,
+                "center_mm": f.polynomial.center,
+                "scale_mm": f.polynomial.scale,
+                "coefficients_mm": f.polynomial.coefficients,
+                "rms_mm": f.rms_mm,
+            })
+        })
+        .collect();
+    let v = json!({
+        "kezuri_thermal_model": 1,
+        "measurements": ms.len(),
+        "machine": {"tool": letters(&k.tool), "work": letters(&k.work), "tip": k.tip},
+        "functions": functions,
+    });
+    write_output(Some(&a.output), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
+    if a.json {
+        println!("{v}");
+    } else {
+        println!(
+            "{name}: {} measurements, {} error functions -> {}",
+            ms.len(),
+            model.functions.len(),
+            a.output.display()
+        );
+        println!("  axis  B deg  degree  points  rms X / Y / Z µm");
+        for f in &model.functions {
+            println!(
+                "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}",
+                AXES[f.axis],
+                f.b_deg,
+                f.degree,
+                f.points,
+                f.rms_mm[0] * 1e3,
+                f.rms_mm[1] * 1e3,
+                f.rms_mm[2] * 1e3
+            );
+        }
     }
     Ok(())
 }

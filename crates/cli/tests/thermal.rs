@@ -70,3 +70,95 @@ fn a_program_with_axes_the_machine_lacks_is_named() {
         serde_json::from_slice(&kezuri(&["check", o2007, "--machine", &turn, "--json"]).stdout).unwrap();
     assert!(!v["warnings"].to_string().contains("the machine has no"), "{v}");
 }
+
+/// Cold and warm measurements shaped like the paper's drift: X moves 50 µm
+/// off in X and 0–50 µm in Y across the travel (and a little in Z), Y
+/// moves slightly, Z moves within 20 µm.
+fn measurements() -> String {
+    let truth = |axis: usize, b: f64, c: f64| -> [f64; 3] {
+        let s = if b == 0.0 { 1.0 } else { 0.8 };
+        match axis {
+            0 => [s * 0.05, s * 0.05 * (c + 22.0) / 20.0, 0.002 * (c / 20.0).powi(2)],
+            1 => [0.001, 0.003 * c / 50.0, 0.0],
+            _ => [s * 0.015 * (c + 74.0) / 20.0, 0.0, -0.018 + 0.0005 * c * c / 100.0],
+        }
+    };
+    let mut t = String::from("axis,command_mm,ex_mm,ey_mm,ez_mm,b_deg,state\n");
+    for b in [0.0, -90.0] {
+        for (axis, (from, to)) in [(-22.0, -2.0), (-10.0, 10.0), (-94.0, -74.0)].into_iter().enumerate() {
+            for k in 0..6 {
+                let c = from + (to - from) * k as f64 / 5.0;
+                let cold = [0.001 * k as f64, 0.0, -0.0005];
+                let e = truth(axis, b, c);
+                let name = ["X", "Y", "Z"][axis];
+                t += &format!("{name},{c},{},{},{},{b},cold\n", cold[0], cold[1], cold[2]);
+                t += &format!("{name},{c},{},{},{},{b},warm\n", cold[0] + e[0], cold[1] + e[1], cold[2] + e[2]);
+            }
+        }
+    }
+    t
+}
+
+#[test]
+fn the_fit_of_cold_and_warm_measurements() {
+    let dir = tempfile::tempdir().unwrap();
+    let meas = path(dir.path(), "meas.csv");
+    std::fs::write(&meas, measurements()).unwrap();
+    let model = path(dir.path(), "model.json");
+    let turn = path(dir.path(), "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    assert_eq!(v["machine"]["work"], serde_json::json!(["Y", "C"]));
+    let functions = v["functions"].as_array().unwrap();
+    assert_eq!(functions.len(), 6);
+    for f in functions {
+        // Y is linear in its command; X and Z carry a square.
+        let want = if f["axis"] == "Y" { 1 } else { 2 };
+        assert_eq!(f["degree"], want, "{f}");
+        // At X -2 (the end of the travel) at B 0 the warm X errs 50 µm in X and Y.
+        if f["axis"] == "X" && f["b_deg"] == 0.0 {
+            let t = (-2.0 - f["center_mm"].as_f64().unwrap()) / f["scale_mm"].as_f64().unwrap();
+            let at = |k: usize| {
+                f["coefficients_mm"][k]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .rev()
+                    .fold(0.0, |acc, a| acc * t + a.as_f64().unwrap())
+            };
+            assert!((at(0) - 0.05).abs() < 1e-9 && (at(1) - 0.05).abs() < 1e-9, "{f}");
+        }
+    }
+}
+
+#[test]
+fn bad_measurements_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let meas = path(dir.path(), "m.csv");
+    let model = path(dir.path(), "model.json");
+    for (text, args, words) in [
+        (
+            "axis,command_mm,ex_mm,ey_mm,ez_mm\nQ,1,0,0,0\n",
+            &[][..],
+            "m.csv: line 2, column 1: 'Q' is not a linear axis",
+        ),
+        (
+            "axis,command_mm,ex_mm,ey_mm,ez_mm,state\nX,1,0,0,0,warm\n",
+            &[],
+            "line 2, column 3: no cold measurement of axis X at 1 mm",
+        ),
+        ("axis,command_mm,ex_mm,ey_mm\nX,1,0,0\n", &[], "no column 'ez_mm'"),
+        (
+            "axis,command_mm,ex_mm,ey_mm,ez_mm\nX,1,0,0,0\nX,2,0,0,0\n",
+            &["--degree", "2"],
+            "2 measurement(s), too few for a polynomial of degree 2",
+        ),
+    ] {
+        std::fs::write(&meas, text).unwrap();
+        let o = kezuri(&[&["thermal", "fit", &meas, "-o", &model][..], args].concat());
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.code() == Some(1) && e.contains(words), "{text}: {e}");
+        assert!(!std::path::Path::new(&model).exists());
+    }
+}

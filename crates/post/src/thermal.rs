@@ -5,8 +5,8 @@
 //! the command on that axis alone: `tip(c) = forward(c) + Σₐ Eₐ(cₐ)`
 //! (../shared/CLI.md). Each `Eₐ` is kept per indexed B angle, as three
 //! polynomials (the errors along X, Y and Z) in the command, fitted by
-//! least squares to measurements; the degree is the one with the smallest
-//! leave-one-out error unless given.
+//! least squares to measurements; the degree, unless given, is the lowest
+//! whose leave-one-out error is within 1 % (or (1 nm)²) of the least.
 //!
 //! [`ErrorModel::correct`] finds the command whose deformed tip lands on a
 //! target: Newton's method on the three linear commands, the rotary axes
@@ -165,10 +165,12 @@ pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorM
         let degree = match degree {
             Some(d) => d,
             None => {
-                (0..=MAX_DEGREE.min(n.saturating_sub(2)))
-                    .map(|d| (d, leave_one_out(&ms, d)))
-                    .fold((0, f64::INFINITY), |best, (d, e)| if e < best.1 * (1.0 - 1e-9) { (d, e) } else { best })
-                    .0
+                // The lowest degree whose leave-one-out error is within 1 %
+                // (or (1 nm)²) of the least: more terms must earn their place.
+                let errors: Vec<f64> =
+                    (0..=MAX_DEGREE.min(n.saturating_sub(2))).map(|d| leave_one_out(&ms, d)).collect();
+                let least = errors.iter().copied().fold(f64::INFINITY, f64::min);
+                errors.iter().position(|&e| e <= least * 1.01 + 1e-12).unwrap_or(0)
             }
         };
         let polynomial = least_squares(&ms, degree);
