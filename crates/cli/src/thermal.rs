@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
+use kezuri_nc::thermal_plan::{Station, ThermalPlan};
 use kezuri_post::edge::find_edge;
 use kezuri_post::kinematics::AXES;
 use kezuri_post::thermal::{fit, Measurement};
@@ -16,6 +17,9 @@ use crate::table::{read_columns, Table};
 /// The thermal commands.
 #[derive(Subcommand, Debug)]
 pub enum ThermalCommand {
+    /// The measuring program (the paper's O2007): the reference tool's edge stepped through
+    /// the line sensors along each linear axis at each indexed B angle, a dwell at every stop.
+    Plan(PlanArgs),
     /// The reference tool's edge in a line-sensor profile: the profile split into its two
     /// sides, a robust least-squares line through each, their intersection and angle.
     Edge(EdgeArgs),
@@ -51,6 +55,99 @@ pub struct FitArgs {
     pub json: bool,
 }
 
+/// `kezuri thermal plan -o O2007.nc`.
+#[derive(Args, Debug)]
+#[command(after_help = "Without --at, the paper's stations: B 0 from X -2 Z -74, B -90 from X -145 Z -135; each
+steps Z then X six times by -4 mm (Z -74 ... -94, then X -2 ... -22 at Z -94).
+
+Examples:
+  kezuri thermal plan -o O2007.nc
+  kezuri thermal plan --machine mill-turn.toml --at 0:-2,0,-74 --at -90:-145,0,-135 -o O2007.nc
+  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 --dwell 2 -o drift.nc")]
+pub struct PlanArgs {
+    /// A station: B angle and the first stop, `B:X,Y,Z` (repeat for each angle).
+    #[arg(long = "at", value_name = "B:X,Y,Z", allow_hyphen_values = true)]
+    pub stations: Vec<String>,
+    /// The axes stepped at each station, in order.
+    #[arg(long, value_name = "AXES", default_value = "z,x")]
+    pub axes: String,
+    /// Stops per axis (the first included).
+    #[arg(long, value_name = "N", default_value_t = 6)]
+    pub steps: usize,
+    /// Step between stops, mm (signed).
+    #[arg(long, value_name = "MM", default_value_t = -4.0, allow_negative_numbers = true)]
+    pub pitch: f64,
+    /// Dwell at each stop for the sensors, s.
+    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    pub dwell: f64,
+    /// Feed between stops, mm/min.
+    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0)]
+    pub feed: f64,
+    /// Z for the moves between stations.
+    #[arg(long, value_name = "Z", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub safe_z: f64,
+    /// Program number.
+    #[arg(long, value_name = "N", default_value_t = 2007)]
+    pub number: u32,
+    /// Machine file (TOML): the program may use only axes it has [default: a 3-axis mill].
+    #[arg(long, value_name = "M.toml")]
+    pub machine: Option<PathBuf>,
+    /// Output file (default: standard output).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+}
+
+fn plan(a: &PlanArgs) -> Result<()> {
+    let station = |text: &str| -> Result<Station> {
+        let parsed = text.split_once(':').and_then(|(b, rest)| {
+            let v: Vec<f64> = rest.split(',').map(|p| p.trim().parse().ok()).collect::<Option<_>>()?;
+            Some((b.trim().parse::<f64>().ok()?, v))
+        });
+        match parsed {
+            Some((b_deg, v)) if v.len() == 3 => Ok(Station { b_deg, start: [v[0], v[1], v[2]] }),
+            _ => bail!("--at '{text}': expected B:X,Y,Z, e.g. 0:-2,0,-74"),
+        }
+    };
+    let stations = if a.stations.is_empty() {
+        vec![Station { b_deg: 0.0, start: [-2.0, 0.0, -74.0] }, Station { b_deg: -90.0, start: [-145.0, 0.0, -135.0] }]
+    } else {
+        a.stations.iter().map(|s| station(s)).collect::<Result<_>>()?
+    };
+    let axes = a
+        .axes
+        .split(',')
+        .map(|x| match x.trim().to_ascii_uppercase().as_str() {
+            "X" => Ok(0),
+            "Y" => Ok(1),
+            "Z" => Ok(2),
+            other => bail!("--axes: '{other}' is not X, Y or Z"),
+        })
+        .collect::<Result<Vec<usize>>>()?;
+    let machine = match &a.machine {
+        Some(p) => Machine::load(p)?,
+        None => Machine::default(),
+    };
+    if let Some(s) = stations.iter().find(|s| s.b_deg != 0.0 && !machine.kinematics.has(4)) {
+        bail!("--at {}: the machine has no B axis to index (give --machine with one)", s.b_deg);
+    }
+    let p = ThermalPlan {
+        number: a.number,
+        stations,
+        axes,
+        steps: a.steps,
+        pitch: a.pitch,
+        dwell: a.dwell,
+        feed: a.feed,
+        safe_z: a.safe_z,
+    };
+    let text = p.program()?;
+    write_output(a.output.as_deref(), text.as_bytes())?;
+    if a.output.is_some() {
+        eprintln!("{} stops at {} B angle(s)", p.stops().len(), p.stations.len());
+    }
+    Ok(())
+}
+
 /// `kezuri thermal edge PROFILE.csv`.
 #[derive(Args, Debug)]
 #[command(after_help = "The profile is a CSV with the header x_mm,z_mm, one point per row in order across the
@@ -75,6 +172,7 @@ pub struct EdgeArgs {
 /// Runs a thermal command.
 pub fn run(command: &ThermalCommand) -> Result<()> {
     match command {
+        ThermalCommand::Plan(a) => plan(a),
         ThermalCommand::Edge(a) => edge(a),
         ThermalCommand::Fit(a) => fit_model(a),
     }

@@ -162,3 +162,42 @@ fn bad_measurements_are_clear_errors() {
         assert!(!std::path::Path::new(&model).exists());
     }
 }
+
+#[test]
+fn the_measuring_program_stops_where_it_was_planned_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let turn = path(dir.path(), "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    let program = path(dir.path(), "O2007.nc");
+    ok(&kezuri(&["thermal", "plan", "--machine", &turn, "-o", &program]));
+    // The paper's O2007: at B 0 Z -74 … -94 then X -2 … -22 at Z -94; at
+    // B -90 Z -135 … -155 then X -145 … -165.
+    let mut planned = Vec::new();
+    for (b, x0, z0) in [(0.0, -2.0, -74.0), (-90.0, -145.0, -135.0)] {
+        for k in 0..6 {
+            planned.push([x0, z0 - 4.0 * k as f64, b]);
+        }
+        for k in 1..6 {
+            planned.push([x0 - 4.0 * k as f64, z0 - 20.0, b]);
+        }
+    }
+    let csv = ok(&kezuri(&["run", &program, "--emit", "csv"]));
+    let stops: Vec<[f64; 3]> = csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(1) == Some("feed"))
+        .map(|l| {
+            let f: Vec<f64> = l.split(',').skip(2).take(5).map(|v| v.parse().unwrap()).collect();
+            [f[0], f[2], f[4]]
+        })
+        .collect();
+    assert_eq!(stops, planned);
+    // A dwell at every stop for the sensors.
+    let text = std::fs::read_to_string(&program).unwrap();
+    assert_eq!(text.matches("G04 X1.").count(), 22);
+    // The paper's stations need a B axis.
+    let o = kezuri(&["thermal", "plan", "-o", &path(dir.path(), "x.nc")]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("the machine has no B axis"));
+    let o = kezuri(&["thermal", "plan", "--at", "0:1,2", "-o", &path(dir.path(), "x.nc")]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--at '0:1,2': expected B:X,Y,Z"));
+}

@@ -36,6 +36,7 @@ pub mod probe_plan;
 pub mod rml;
 pub mod source;
 pub mod texture_macro;
+pub mod thermal_plan;
 pub mod write;
 
 pub use ast::Program;
