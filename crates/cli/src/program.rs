@@ -247,7 +247,7 @@ enum Emit {
 
 /// `kezuri run`.
 /// How `kezuri run` writes its result.
-#[derive(Args, Debug)]
+#[derive(Args, Clone, Debug)]
 pub struct WriteArgs {
     /// Output format (--to is the same).
     #[arg(long, alias = "to", value_enum, default_value = "fanuc")]

@@ -201,3 +201,99 @@ fn the_measuring_program_stops_where_it_was_planned_in_order() {
     let o = kezuri(&["thermal", "plan", "--at", "0:1,2", "-o", &path(dir.path(), "x.nc")]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("--at '0:1,2': expected B:X,Y,Z"));
 }
+
+#[test]
+fn the_corrected_program_lands_every_point_on_its_target() {
+    use kezuri_post::kinematics::{Axis, Kinematics, Motion};
+    let dir = tempfile::tempdir().unwrap();
+    let meas = path(dir.path(), "meas.csv");
+    std::fs::write(&meas, measurements()).unwrap();
+    let turn = path(dir.path(), "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    let model = path(dir.path(), "model.json");
+    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    // A cut inside the measured ranges, at B 0 and at B -90, with an arc.
+    let program = path(dir.path(), "cut.nc");
+    std::fs::write(
+        &program,
+        "G90 G17 G21\nG00 X-20. Y-5. Z-80. B0.\nG01 Z-90. F300\nX-4.\nY5.\nG02 X-8. Y9. I-4. J0.\nG01 Z-76.\n\
+         G00 B-90.\nG01 X-18. Y-8. Z-92.\nX-3. Y8. Z-75.\nM30\n",
+    )
+    .unwrap();
+    let corrected = path(dir.path(), "cut-warm.nc");
+    let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&[
+        "thermal",
+        "apply",
+        &program,
+        "--model",
+        &model,
+        "--machine",
+        &turn,
+        "-o",
+        &corrected,
+        "--json",
+    ])))
+    .unwrap();
+    assert_eq!(v["extrapolated_points"], 0, "{v}");
+    assert!(v["max_residual_mm"].as_f64().unwrap() < 1e-6, "{v}");
+    // The same model, fitted here, and the machine: where does the warm
+    // machine put the tool for each corrected command?
+    let rows = |file: &str| -> Vec<[f64; 6]> {
+        ok(&kezuri(&["run", file, "--emit", "csv"]))
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<f64> = l.split(',').skip(2).take(6).map(|v| v.parse().unwrap()).collect();
+                [f[0], f[1], f[2], f[3], f[4], f[5]]
+            })
+            .collect()
+    };
+    let table: Vec<kezuri_post::thermal::Measurement> = measurements()
+        .lines()
+        .skip(1)
+        .collect::<Vec<_>>()
+        .chunks(2)
+        .map(|pair| {
+            let [cold, warm] = [pair[0], pair[1]].map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
+            let n = |v: &Vec<String>, k: usize| v[k].parse::<f64>().unwrap();
+            kezuri_post::thermal::Measurement {
+                axis: ["X", "Y", "Z"].iter().position(|a| *a == cold[0]).unwrap(),
+                b_deg: n(&cold, 5),
+                command: n(&cold, 1),
+                error: [n(&warm, 2) - n(&cold, 2), n(&warm, 3) - n(&cold, 3), n(&warm, 4) - n(&cold, 4)],
+            }
+        })
+        .collect();
+    let fitted = kezuri_post::thermal::fit(&table, None).unwrap();
+    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
+    let k = Kinematics {
+        tool: vec![
+            linear(0, [1., 0., 0.]),
+            linear(2, [0., 0., 1.]),
+            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0.; 3] } },
+        ],
+        work: vec![
+            linear(1, [0., 1., 0.]),
+            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
+        ],
+        tip: [0.0; 3],
+    };
+    let (plain, warm) = (rows(&program), rows(&corrected));
+    assert_eq!(plain.len(), warm.len());
+    let mut uncorrected: f64 = 0.0;
+    for (p, w) in plain.iter().zip(&warm) {
+        let target = k.forward(p);
+        let landed = fitted.deformed(&k, w).unwrap();
+        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
+        // Written with 4 decimals: within 0.1 µm.
+        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
+        let before = fitted.deformed(&k, p).unwrap();
+        uncorrected = uncorrected.max((0..3).map(|i| (before[i] - target[i]).powi(2)).sum::<f64>().sqrt());
+    }
+    assert!(uncorrected > 0.04, "uncorrected {uncorrected}");
+    // A model for another machine.
+    let mill = path(dir.path(), "mill.toml");
+    std::fs::write(&mill, "[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n").unwrap();
+    let o = kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &mill, "-o", &corrected]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("the model is for a machine with tool axes"));
+}
