@@ -25,6 +25,9 @@ pub enum ThermalCommand {
     /// The reference tool's edge in a line-sensor profile: the profile split into its two
     /// sides, a robust least-squares line through each, their intersection and angle.
     Edge(EdgeArgs),
+    /// The measurements CSV from the two line sensors' profiles: each row's edges found, the
+    /// 3D edge from sensor 1's X–Z and sensor 2's Y–Z, less the command.
+    Measure(MeasureArgs),
     /// Each linear axis's error functions (per indexed B angle) fitted to measurements:
     /// polynomials, degree by leave-one-out unless given; the model as JSON.
     Fit(FitArgs),
@@ -67,6 +70,64 @@ pub struct ApplyArgs {
     /// Print one JSON object: points, max_correction_mm, max_residual_mm, seconds.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `kezuri thermal measure INDEX.csv -o MEAS.csv`.
+#[derive(Args, Debug)]
+#[command(after_help = "INDEX.csv has the header axis,command_mm,b_deg,state,profile_1,profile_2: one row per stop
+of the measuring program, cold and warm, naming the two sensors' profiles (x_mm,z_mm files,
+relative to INDEX.csv's folder). Sensor 1 sees the machine's X-Z plane (its x is X), sensor 2
+the Y-Z plane (its x is Y); the edge is (X, Y, the mean of the two Z). Each row of MEAS.csv is
+that edge less the command along its axis; the sensors' own places cancel in warm - cold, so
+give both states.
+
+Examples:
+  kezuri thermal measure index.csv -o meas.csv
+  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json")]
+pub struct MeasureArgs {
+    /// The index of profiles.
+    pub index: PathBuf,
+    /// The measurements CSV to write.
+    #[arg(short, long, value_name = "MEAS.csv")]
+    pub output: Option<PathBuf>,
+}
+
+fn measure(a: &MeasureArgs) -> Result<()> {
+    let name = a.index.display().to_string();
+    let t = Table::parse(&name, &read_text(&a.index)?)?;
+    let expected = "axis,command_mm,b_deg,state,profile_1,profile_2";
+    let [axis, command, b, state, p1, p2] =
+        ["axis", "command_mm", "b_deg", "state", "profile_1", "profile_2"].map(|n| t.require(n, expected));
+    let (axis, command, b, state, p1, p2) = (axis?, command?, b?, state?, p1?, p2?);
+    let folder = a.index.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+    let edge_of = |r: usize, c: usize| -> Result<[f64; 2]> {
+        let file = folder.join(t.text(r, c)?);
+        let shown = file.display().to_string();
+        let rows = read_columns(&shown, &read_text(&file)?, &["x_mm", "z_mm"])?;
+        let points: Vec<[f64; 2]> = rows.iter().map(|r| [r[0], r[1]]).collect();
+        Ok(find_edge(&points, None).with_context(|| format!("{name}: line {}: {shown}", r + 2))?.edge)
+    };
+    let mut out = String::from("axis,command_mm,ex_mm,ey_mm,ez_mm,b_deg,state\n");
+    for r in 0..t.len() {
+        let letter = t.text(r, axis)?.to_ascii_uppercase();
+        let k = ["X", "Y", "Z"]
+            .iter()
+            .position(|x| *x == letter)
+            .ok_or_else(|| t.error_at(r, axis, &format!("'{letter}' is not a linear axis (X, Y or Z)")))?;
+        let c = t.number(r, command)?;
+        let (e1, e2) = (edge_of(r, p1)?, edge_of(r, p2)?);
+        let mut edge = [e1[0], e2[0], 0.5 * (e1[1] + e2[1])];
+        edge[k] -= c;
+        out += &format!(
+            "{letter},{c},{},{},{},{},{}\n",
+            edge[0],
+            edge[1],
+            edge[2],
+            t.number(r, b)?,
+            t.text(r, state)?.to_ascii_lowercase()
+        );
+    }
+    write_output(a.output.as_deref(), out.as_bytes())
 }
 
 /// `kezuri thermal fit MEAS.csv -o MODEL.json`.
@@ -216,6 +277,7 @@ pub fn run(command: &ThermalCommand) -> Result<()> {
         ThermalCommand::Plan(a) => plan(a),
         ThermalCommand::Edge(a) => edge(a),
         ThermalCommand::Fit(a) => fit_model(a),
+        ThermalCommand::Measure(a) => measure(a),
         ThermalCommand::Apply(a) => apply(a),
     }
 }

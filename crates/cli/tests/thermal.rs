@@ -204,7 +204,6 @@ fn the_measuring_program_stops_where_it_was_planned_in_order() {
 
 #[test]
 fn the_corrected_program_lands_every_point_on_its_target() {
-    use kezuri_post::kinematics::{Axis, Kinematics, Motion};
     let dir = tempfile::tempdir().unwrap();
     let meas = path(dir.path(), "meas.csv");
     std::fs::write(&meas, measurements()).unwrap();
@@ -238,46 +237,7 @@ fn the_corrected_program_lands_every_point_on_its_target() {
     assert!(v["max_residual_mm"].as_f64().unwrap() < 1e-6, "{v}");
     // The same model, fitted here, and the machine: where does the warm
     // machine put the tool for each corrected command?
-    let rows = |file: &str| -> Vec<[f64; 6]> {
-        ok(&kezuri(&["run", file, "--emit", "csv"]))
-            .lines()
-            .skip(1)
-            .map(|l| {
-                let f: Vec<f64> = l.split(',').skip(2).take(6).map(|v| v.parse().unwrap()).collect();
-                [f[0], f[1], f[2], f[3], f[4], f[5]]
-            })
-            .collect()
-    };
-    let table: Vec<kezuri_post::thermal::Measurement> = measurements()
-        .lines()
-        .skip(1)
-        .collect::<Vec<_>>()
-        .chunks(2)
-        .map(|pair| {
-            let [cold, warm] = [pair[0], pair[1]].map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
-            let n = |v: &Vec<String>, k: usize| v[k].parse::<f64>().unwrap();
-            kezuri_post::thermal::Measurement {
-                axis: ["X", "Y", "Z"].iter().position(|a| *a == cold[0]).unwrap(),
-                b_deg: n(&cold, 5),
-                command: n(&cold, 1),
-                error: [n(&warm, 2) - n(&cold, 2), n(&warm, 3) - n(&cold, 3), n(&warm, 4) - n(&cold, 4)],
-            }
-        })
-        .collect();
-    let fitted = kezuri_post::thermal::fit(&table, None).unwrap();
-    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
-    let k = Kinematics {
-        tool: vec![
-            linear(0, [1., 0., 0.]),
-            linear(2, [0., 0., 1.]),
-            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0.; 3] } },
-        ],
-        work: vec![
-            linear(1, [0., 1., 0.]),
-            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
-        ],
-        tip: [0.0; 3],
-    };
+    let (fitted, k) = (truth_model(), plain_mill_turn());
     let (plain, warm) = (rows(&program), rows(&corrected));
     assert_eq!(plain.len(), warm.len());
     let mut uncorrected: f64 = 0.0;
@@ -296,4 +256,124 @@ fn the_corrected_program_lands_every_point_on_its_target() {
     std::fs::write(&mill, "[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n").unwrap();
     let o = kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &mill, "-o", &corrected]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("the model is for a machine with tool axes"));
+}
+
+/// A profile file across an edge at (u, w) of the sensor's plane.
+fn edge_profile(u: f64, w: f64) -> String {
+    let mut t = String::from("x_mm,z_mm\n");
+    for k in 0..=200 {
+        let x = u - 1.0 + k as f64 * 0.01;
+        let dx = x - u;
+        let z = w + if dx < 0.0 { dx * 35f64.to_radians().tan() } else { -dx * 55f64.to_radians().tan() };
+        t += &format!("{x:.9},{z:.9}\n");
+    }
+    t
+}
+
+#[test]
+fn from_sensor_profiles_to_a_corrected_cut() {
+    // The truth: the drift of `measurements()`, seen by two sensors whose
+    // planes hold the edge at (X, Z) and (Y, Z) plus where they sit.
+    let table = measurements();
+    let dir = tempfile::tempdir().unwrap();
+    let mut index = String::from("axis,command_mm,b_deg,state,profile_1,profile_2\n");
+    for (n, line) in table.lines().skip(1).enumerate() {
+        let f: Vec<&str> = line.split(',').collect();
+        let (axis, c, b, state) = (f[0], f[1].parse::<f64>().unwrap(), f[5], f[6]);
+        let e: Vec<f64> = f[2..5].iter().map(|v| v.parse().unwrap()).collect();
+        let k = ["X", "Y", "Z"].iter().position(|a| *a == axis).unwrap();
+        // The edge: the sensors' origin, the command along its axis, the error.
+        let mut edge = [0.3 + e[0], -0.2 + e[1], 0.1 + e[2]];
+        edge[k] += c;
+        let (p1, p2) = (format!("p{n}-1.csv"), format!("p{n}-2.csv"));
+        std::fs::write(dir.path().join(&p1), edge_profile(edge[0], edge[2])).unwrap();
+        std::fs::write(dir.path().join(&p2), edge_profile(edge[1], edge[2])).unwrap();
+        index += &format!("{axis},{c},{b},{state},{p1},{p2}\n");
+    }
+    let index_file = path(dir.path(), "index.csv");
+    std::fs::write(&index_file, index).unwrap();
+    let (meas, model) = (path(dir.path(), "meas.csv"), path(dir.path(), "model.json"));
+    ok(&kezuri(&["thermal", "measure", &index_file, "-o", &meas]));
+    let turn = path(dir.path(), "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    // The measurements found from the profiles are the truth's, warm less cold.
+    let found = std::fs::read_to_string(&meas).unwrap();
+    let warm_less_cold = |text: &str| -> Vec<f64> {
+        let rows: Vec<Vec<f64>> =
+            text.lines().skip(1).map(|l| l.split(',').skip(2).take(3).map(|v| v.parse().unwrap()).collect()).collect();
+        rows.chunks(2).flat_map(|p| (0..3).map(|i| p[1][i] - p[0][i]).collect::<Vec<_>>()).collect()
+    };
+    for (a, b) in warm_less_cold(&found).iter().zip(warm_less_cold(&table)) {
+        assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+    }
+    // And the cut, corrected with the model from the profiles, lands on its
+    // targets on the machine deformed by the truth.
+    let program = path(dir.path(), "cut.nc");
+    std::fs::write(
+        &program,
+        "G90 G17 G21\nG00 X-20. Y-5. Z-80. B0.\nG01 Z-90. F300\nX-4.\nY5.\nG00 B-90.\nG01 X-18. Y-8. Z-92.\nM30\n",
+    )
+    .unwrap();
+    let corrected = path(dir.path(), "cut-warm.nc");
+    ok(&kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "-o", &corrected]));
+    let truth = truth_model();
+    let k = plain_mill_turn();
+    let (plain, warm) = (rows(&program), rows(&corrected));
+    for (p, w) in plain.iter().zip(&warm) {
+        let (target, landed) = (k.forward(p), truth.deformed(&k, w).unwrap());
+        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
+        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
+    }
+}
+
+/// The X Y Z A B C of each motion of `kezuri run FILE --emit csv`.
+fn rows(file: &str) -> Vec<[f64; 6]> {
+    ok(&kezuri(&["run", file, "--emit", "csv"]))
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<f64> = l.split(',').skip(2).take(6).map(|v| v.parse().unwrap()).collect();
+            [f[0], f[1], f[2], f[3], f[4], f[5]]
+        })
+        .collect()
+}
+
+/// The error model of `measurements()`, warm less cold, fitted here.
+fn truth_model() -> kezuri_post::thermal::ErrorModel {
+    let table: Vec<kezuri_post::thermal::Measurement> = measurements()
+        .lines()
+        .skip(1)
+        .collect::<Vec<_>>()
+        .chunks(2)
+        .map(|pair| {
+            let [cold, warm] = [pair[0], pair[1]].map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
+            let n = |v: &Vec<String>, k: usize| v[k].parse::<f64>().unwrap();
+            kezuri_post::thermal::Measurement {
+                axis: ["X", "Y", "Z"].iter().position(|a| *a == cold[0]).unwrap(),
+                b_deg: n(&cold, 5),
+                command: n(&cold, 1),
+                error: [n(&warm, 2) - n(&cold, 2), n(&warm, 3) - n(&cold, 3), n(&warm, 4) - n(&cold, 4)],
+            }
+        })
+        .collect();
+    kezuri_post::thermal::fit(&table, None).unwrap()
+}
+
+/// The mill-turn of the machine files here: tool X, Z, B; work Y, C; pivots and tip at zero.
+fn plain_mill_turn() -> kezuri_post::kinematics::Kinematics {
+    use kezuri_post::kinematics::{Axis, Kinematics, Motion};
+    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
+    Kinematics {
+        tool: vec![
+            linear(0, [1., 0., 0.]),
+            linear(2, [0., 0., 1.]),
+            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0.; 3] } },
+        ],
+        work: vec![
+            linear(1, [0., 1., 0.]),
+            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
+        ],
+        tip: [0.0; 3],
+    }
 }
