@@ -75,6 +75,12 @@ fn a_program_with_axes_the_machine_lacks_is_named() {
 /// off in X and 0–50 µm in Y across the travel (and a little in Z), Y
 /// moves slightly, Z moves within 20 µm.
 fn measurements() -> String {
+    let near = [(-22.0, -2.0), (-10.0, 10.0), (-94.0, -74.0)];
+    measurements_over(&[(0.0, near), (-90.0, near)])
+}
+
+/// [`measurements`] over the command ranges given per B angle.
+fn measurements_over(ranges: &[(f64, [(f64, f64); 3])]) -> String {
     let truth = |axis: usize, b: f64, c: f64| -> [f64; 3] {
         let s = if b == 0.0 { 1.0 } else { 0.8 };
         match axis {
@@ -84,8 +90,8 @@ fn measurements() -> String {
         }
     };
     let mut t = String::from("axis,command_mm,ex_mm,ey_mm,ez_mm,b_deg,state\n");
-    for b in [0.0, -90.0] {
-        for (axis, (from, to)) in [(-22.0, -2.0), (-10.0, 10.0), (-94.0, -74.0)].into_iter().enumerate() {
+    for &(b, axes) in ranges {
+        for (axis, (from, to)) in axes.into_iter().enumerate() {
             for k in 0..6 {
                 let c = from + (to - from) * k as f64 / 5.0;
                 let cold = [0.001 * k as f64, 0.0, -0.0005];
@@ -272,31 +278,9 @@ fn edge_profile(u: f64, w: f64) -> String {
 
 #[test]
 fn from_sensor_profiles_to_a_corrected_cut() {
-    // The truth: the drift of `measurements()`, seen by two sensors whose
-    // planes hold the edge at (X, Z) and (Y, Z) plus where they sit.
     let table = measurements();
     let dir = tempfile::tempdir().unwrap();
-    let mut index = String::from("axis,command_mm,b_deg,state,profile_1,profile_2\n");
-    for (n, line) in table.lines().skip(1).enumerate() {
-        let f: Vec<&str> = line.split(',').collect();
-        let (axis, c, b, state) = (f[0], f[1].parse::<f64>().unwrap(), f[5], f[6]);
-        let e: Vec<f64> = f[2..5].iter().map(|v| v.parse().unwrap()).collect();
-        let k = ["X", "Y", "Z"].iter().position(|a| *a == axis).unwrap();
-        // The edge: the sensors' origin, the command along its axis, the error.
-        let mut edge = [0.3 + e[0], -0.2 + e[1], 0.1 + e[2]];
-        edge[k] += c;
-        let (p1, p2) = (format!("p{n}-1.csv"), format!("p{n}-2.csv"));
-        std::fs::write(dir.path().join(&p1), edge_profile(edge[0], edge[2])).unwrap();
-        std::fs::write(dir.path().join(&p2), edge_profile(edge[1], edge[2])).unwrap();
-        index += &format!("{axis},{c},{b},{state},{p1},{p2}\n");
-    }
-    let index_file = path(dir.path(), "index.csv");
-    std::fs::write(&index_file, index).unwrap();
-    let (meas, model) = (path(dir.path(), "meas.csv"), path(dir.path(), "model.json"));
-    ok(&kezuri(&["thermal", "measure", &index_file, "-o", &meas]));
-    let turn = path(dir.path(), "turn.toml");
-    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
-    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    let (meas, model, turn) = model_from_profiles(dir.path(), &table);
     // The measurements found from the profiles are the truth's, warm less cold.
     let found = std::fs::read_to_string(&meas).unwrap();
     let warm_less_cold = |text: &str| -> Vec<f64> {
@@ -327,6 +311,78 @@ fn from_sensor_profiles_to_a_corrected_cut() {
     }
 }
 
+#[test]
+fn o2007_corrected_from_its_own_measurements() {
+    // The paper's stations: B 0 at X -22 … -2, Z -94 … -74; B -90 at
+    // X -165 … -145, Z -155 … -135 (and Y about zero): measured through the
+    // sensors' profiles, fitted, and O2007 itself corrected.
+    let table = measurements_over(&[
+        (0.0, [(-22.0, -2.0), (-10.0, 10.0), (-94.0, -74.0)]),
+        (-90.0, [(-165.0, -145.0), (-10.0, 10.0), (-155.0, -135.0)]),
+    ]);
+    let dir = tempfile::tempdir().unwrap();
+    let (_, model, turn) = model_from_profiles(dir.path(), &table);
+    let o2007 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o2007-thermal.nc");
+    let corrected = path(dir.path(), "o2007-warm.nc");
+    ok(&kezuri(&["thermal", "apply", o2007, "--model", &model, "--machine", &turn, "-o", &corrected]));
+    let (truth, k) = (truth_model_of(&table), plain_mill_turn());
+    // The measuring stops, in order, before and after (the corrected ones
+    // are within 0.1 mm of the planned; G28 and G92 are written anew, so
+    // the other rows need not pair up).
+    let measured = |p: &[f64; 6], slack: f64| {
+        let (x, z) = if p[4] == 0.0 { ((-22.0, -2.0), (-94.0, -74.0)) } else { ((-165.0, -145.0), (-155.0, -135.0)) };
+        (x.0 - slack..=x.1 + slack).contains(&p[0]) && (z.0 - slack..=z.1 + slack).contains(&p[2])
+    };
+    let mut plain: Vec<[f64; 6]> = rows(o2007).into_iter().filter(|p| measured(p, 0.0)).collect();
+    let mut warm: Vec<[f64; 6]> = rows(&corrected).into_iter().filter(|p| measured(p, 1.0)).collect();
+    // A move to where the tool already is (O2007's second X-145.) is no stop.
+    plain.dedup();
+    warm.dedup();
+    assert_eq!(plain.len(), warm.len());
+    let (mut stops, mut before): (usize, f64) = (0, 0.0);
+    for (p, w) in plain.iter().zip(&warm) {
+        let target = k.forward(p);
+        let landed = truth.deformed(&k, w).unwrap();
+        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
+        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
+        let off = truth.deformed(&k, p).unwrap();
+        before = before.max((0..3).map(|i| (off[i] - target[i]).powi(2)).sum::<f64>().sqrt());
+        stops += 1;
+    }
+    assert_eq!(stops, 22, "every measuring stop of O2007");
+    assert!(before > 0.04, "uncorrected up to {before} mm");
+}
+
+/// Two line sensors' profiles of every row of the measurements `table`
+/// (cold and warm) written beside an index, then `thermal measure` and
+/// `thermal fit` on the mill-turn: the paths of the measurements, the model
+/// and the machine file.
+fn model_from_profiles(dir: &std::path::Path, table: &str) -> (String, String, String) {
+    // The sensors' planes hold the edge at (X, Z) and (Y, Z) plus where they sit.
+    let mut index = String::from("axis,command_mm,b_deg,state,profile_1,profile_2\n");
+    for (n, line) in table.lines().skip(1).enumerate() {
+        let f: Vec<&str> = line.split(',').collect();
+        let (axis, c, b, state) = (f[0], f[1].parse::<f64>().unwrap(), f[5], f[6]);
+        let e: Vec<f64> = f[2..5].iter().map(|v| v.parse().unwrap()).collect();
+        let k = ["X", "Y", "Z"].iter().position(|a| *a == axis).unwrap();
+        // The edge: the sensors' origin, the command along its axis, the error.
+        let mut edge = [0.3 + e[0], -0.2 + e[1], 0.1 + e[2]];
+        edge[k] += c;
+        let (p1, p2) = (format!("p{n}-1.csv"), format!("p{n}-2.csv"));
+        std::fs::write(dir.join(&p1), edge_profile(edge[0], edge[2])).unwrap();
+        std::fs::write(dir.join(&p2), edge_profile(edge[1], edge[2])).unwrap();
+        index += &format!("{axis},{c},{b},{state},{p1},{p2}\n");
+    }
+    let index_file = path(dir, "index.csv");
+    std::fs::write(&index_file, index).unwrap();
+    let (meas, model) = (path(dir, "meas.csv"), path(dir, "model.json"));
+    ok(&kezuri(&["thermal", "measure", &index_file, "-o", &meas]));
+    let turn = path(dir, "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    (meas, model, turn)
+}
+
 /// The X Y Z A B C of each motion of `kezuri run FILE --emit csv`.
 fn rows(file: &str) -> Vec<[f64; 6]> {
     ok(&kezuri(&["run", file, "--emit", "csv"]))
@@ -341,7 +397,12 @@ fn rows(file: &str) -> Vec<[f64; 6]> {
 
 /// The error model of `measurements()`, warm less cold, fitted here.
 fn truth_model() -> kezuri_post::thermal::ErrorModel {
-    let table: Vec<kezuri_post::thermal::Measurement> = measurements()
+    truth_model_of(&measurements())
+}
+
+/// The error model of a measurements table, warm less cold, fitted here.
+fn truth_model_of(table: &str) -> kezuri_post::thermal::ErrorModel {
+    let table: Vec<kezuri_post::thermal::Measurement> = table
         .lines()
         .skip(1)
         .collect::<Vec<_>>()
