@@ -146,3 +146,41 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
     out.push_str("</svg>\n");
     out
 }
+
+/// A chart of one or more series over the same points (`y` in the unit
+/// named), each `(name, colour, values)`, on a logarithmic axis from
+/// `floor` up: the before/after errors of a correction.
+pub fn log_chart(title: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec<f64>)]) -> String {
+    let (w, h, left, bottom) = (720.0, 360.0, 70.0, 40.0);
+    let n = series.iter().map(|s| s.2.len()).max().unwrap_or(0).max(2);
+    let top = series.iter().flat_map(|s| s.2.iter().copied()).fold(floor * 10.0, f64::max);
+    let (lo, hi) = (floor.log10().floor(), top.log10().ceil());
+    let x = |k: usize| left + (w - left - 20.0) * k as f64 / (n - 1) as f64;
+    let y = |v: f64| 20.0 + (h - bottom - 20.0) * (hi - v.max(floor).log10()) / (hi - lo);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{left}\" y=\"14\">{title}</text>\n"
+    );
+    for e in (lo as i32)..=(hi as i32) {
+        let v = 10f64.powi(e);
+        let _ = writeln!(
+            s,
+            "<line x1=\"{left}\" x2=\"{}\" y1=\"{y0:.1}\" y2=\"{y0:.1}\" stroke=\"#ddd\"/><text x=\"4\" y=\"{:.1}\">{v:e} {unit}</text>",
+            w - 20.0,
+            y(v) + 4.0,
+            y0 = y(v),
+        );
+    }
+    let _ = writeln!(s, "<text x=\"{left}\" y=\"{}\">point of the program (in order)</text>", h - 8.0);
+    for (k, (name, colour, values)) in series.iter().enumerate() {
+        let points: Vec<String> = values.iter().enumerate().map(|(i, &v)| format!("{:.1},{:.1}", x(i), y(v))).collect();
+        let _ = writeln!(
+            s,
+            "<polyline fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\" points=\"{}\"/>",
+            points.join(" ")
+        );
+        let _ =
+            writeln!(s, "<text x=\"{}\" y=\"{}\" fill=\"{colour}\">{name}</text>", w - 220.0, 34.0 + 16.0 * k as f64);
+    }
+    s + "</svg>\n"
+}

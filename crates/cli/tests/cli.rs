@@ -161,6 +161,12 @@ fn demo_makes_its_files() {
         "nameplate-textured.nc",
         "nameplate-macro.nc",
         "nameplate-textured.png",
+        "samples/mill-turn.toml",
+        "O2007-plan.nc",
+        "thermal-meas.csv",
+        "thermal-model.json",
+        "o2007-corrected.nc",
+        "thermal-before-after.svg",
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
@@ -174,6 +180,10 @@ fn demo_makes_its_files() {
         .filter_map(|rest| rest.split_whitespace().next()?.parse().ok())
         .collect();
     assert_eq!(gouges.len(), 3, "{report}");
+    // The thermal pipeline: O2007's 22 stops corrected to within 0.1 µm.
+    let line = report.lines().find(|l| l.starts_with("thermal-before-after.svg: 22 stops")).expect(&report);
+    let after: f64 = line.rsplit(", ").next().unwrap().split_whitespace().next().unwrap().parse().unwrap();
+    assert!(after < 0.1, "{line}");
     assert!(gouges.iter().all(|g| *g <= 0.01), "{gouges:?}");
 }
 
