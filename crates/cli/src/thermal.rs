@@ -70,6 +70,11 @@ pub struct ApplyArgs {
     /// Print one JSON object: points, max_correction_mm, max_residual_mm, seconds.
     #[arg(long)]
     pub json: bool,
+    /// Keep the program's own text — comments, words, layout — and change only the numbers of
+    /// X, Y, Z (and I, J, K of arcs), adding the axis words a corrected block needs; for plain
+    /// programs in G90 without macros, calls or offsets.
+    #[arg(long)]
+    pub keep_text: bool,
 }
 
 /// `kezuri thermal measure INDEX.csv -o MEAS.csv`.
@@ -587,10 +592,15 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         m.end = *end;
         start = Some(*end);
     }
-    let mut write = a.write.clone();
-    write.digits = Some(write.digits.unwrap_or(4));
-    let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-    write_toolpath(&path, &format!("{title} CORRECTED FOR THERMAL DRIFT"), &write)?;
+    if a.keep_text {
+        let text = rewritten(&name, &read_text(&a.run.file)?, &path, write_digits(&a.write))?;
+        write_output(a.write.output(), text.as_bytes())?;
+    } else {
+        let mut write = a.write.clone();
+        let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+        write.digits = Some(write.digits.unwrap_or(4));
+        write_toolpath(&path, &format!("{title} CORRECTED FOR THERMAL DRIFT"), &write)?;
+    }
     let v = json!({
         "points": corrected.len(),
         "max_correction_mm": largest,
@@ -618,4 +628,68 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The decimals a corrected program is written with: 4 unless given
+/// (three cannot hold 0.1 µm).
+fn write_digits(w: &WriteArgs) -> usize {
+    usize::from(w.digits.unwrap_or(4))
+}
+
+/// `text` with the axis words of every moving block set to the corrected
+/// `path` (see `--keep-text`), or why it cannot be.
+fn rewritten(name: &str, text: &str, path: &kezuri_geom::Toolpath, digits: usize) -> Result<String> {
+    use kezuri_nc::rewrite::{set_words, words};
+    let lines: Vec<&str> = text.lines().collect();
+    for (k, line) in lines.iter().enumerate() {
+        let ws = words(line);
+        let code = |letter: char, n: f64| {
+            ws.iter().any(|w| w.letter == letter && line[w.number.0..w.number.1].parse::<f64>() == Ok(n))
+        };
+        let hash = line.split('(').next().is_some_and(|t| t.contains('#'));
+        if hash
+            || code('G', 91.0)
+            || code('G', 92.0)
+            || code('G', 10.0)
+            || code('G', 65.0)
+            || code('G', 66.0)
+            || code('M', 98.0)
+        {
+            bail!("{name}: line {}: --keep-text rewrites plain G90 programs (no macros, calls, G91, G92, G10); leave it out to write the expanded program", k + 1);
+        }
+    }
+    let mut per_line: std::collections::BTreeMap<u32, usize> = std::collections::BTreeMap::new();
+    for (i, m) in path.moves.iter().enumerate() {
+        if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
+            continue;
+        }
+        if path.frame(m) != kezuri_geom::Frame::default() {
+            bail!("{name}: line {}: a work or tool offset is in force; --keep-text writes program coordinates only without them", m.line);
+        }
+        if per_line.insert(m.line, i).is_some() {
+            bail!("{name}: line {}: one block makes several moves; leave --keep-text out", m.line);
+        }
+    }
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    for (k, line) in lines.iter().enumerate() {
+        match per_line.get(&(k as u32 + 1)) {
+            Some(&i) => {
+                let m = &path.moves[i];
+                let mut values = vec![('X', m.end.x), ('Y', m.end.y), ('Z', m.end.z)];
+                if let MoveKind::Arc(arc) = m.kind {
+                    let present = |c: char| words(line).iter().any(|w| w.letter == c);
+                    let start = m.start.xyz();
+                    for (k, c) in ['I', 'J', 'K'].into_iter().enumerate() {
+                        if present(c) {
+                            values.push((c, arc.center[k] - start[k]));
+                        }
+                    }
+                }
+                out += &set_words(line, &values, digits);
+            }
+            None => out += line,
+        }
+        out.push('\n');
+    }
+    Ok(out)
 }

@@ -211,12 +211,7 @@ fn the_measuring_program_stops_where_it_was_planned_in_order() {
 #[test]
 fn the_corrected_program_lands_every_point_on_its_target() {
     let dir = tempfile::tempdir().unwrap();
-    let meas = path(dir.path(), "meas.csv");
-    std::fs::write(&meas, measurements()).unwrap();
-    let turn = path(dir.path(), "turn.toml");
-    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
-    let model = path(dir.path(), "model.json");
-    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    let (model, turn) = fitted(dir.path());
     // A cut inside the measured ranges, at B 0 and at B -90, with an arc.
     let program = path(dir.path(), "cut.nc");
     std::fs::write(
@@ -437,4 +432,49 @@ fn plain_mill_turn() -> kezuri_post::kinematics::Kinematics {
         ],
         tip: [0.0; 3],
     }
+}
+
+#[test]
+fn the_program_text_kept_with_only_its_numbers_corrected() {
+    let dir = tempfile::tempdir().unwrap();
+    let (model, turn) = fitted(dir.path());
+    let program = path(dir.path(), "cut.nc");
+    std::fs::write(
+        &program,
+        "%\nO0001 (CUT)\nG90 G17 G21\nG00 X-20. Y-5. Z-80. B0. (START)\nG01 Z-90. F300\nX-4. (ALONG X)\nY5.\n\
+         G02 X-8. Y9. I-4. J0.\nG01 Z-76. M08\nG00 B-90.\nG01 X-18. Y-8. Z-92.\nM30\n%\n",
+    )
+    .unwrap();
+    let kept = path(dir.path(), "cut-kept.nc");
+    ok(&kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "--keep-text", "-o", &kept]));
+    let text = std::fs::read_to_string(&kept).unwrap();
+    // Line for line the same program: comments, M08, layout; only numbers changed or added.
+    assert_eq!(text.lines().count(), 13);
+    for want in ["O0001 (CUT)", "(START)", "(ALONG X)", " M08", "G00 B-90."] {
+        assert!(text.contains(want), "{want}: {text}");
+    }
+    let (truth, k) = (truth_model(), plain_mill_turn());
+    let (plain, warm) = (rows(&program), rows(&kept));
+    assert_eq!(plain.len(), warm.len());
+    for (p, w) in plain.iter().zip(&warm) {
+        let (target, landed) = (k.forward(p), truth.deformed(&k, w).unwrap());
+        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
+        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
+    }
+    // A program with macro statements is not rewritten in place.
+    std::fs::write(&program, "G90 G00 X-20. Y-5. Z-80. B0.\n#1=-90.\nG01 Z#1 F300\nM30\n").unwrap();
+    let o = kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "--keep-text", "-o", &kept]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("line 2: --keep-text rewrites plain G90 programs"));
+}
+
+/// `measurements()` fitted by `kezuri thermal fit` on the mill-turn in
+/// `dir`: the model's and the machine file's paths.
+fn fitted(dir: &std::path::Path) -> (String, String) {
+    let meas = path(dir, "meas.csv");
+    std::fs::write(&meas, measurements()).unwrap();
+    let turn = path(dir, "turn.toml");
+    std::fs::write(&turn, "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    let model = path(dir, "model.json");
+    ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
+    (model, turn)
 }

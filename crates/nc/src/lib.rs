@@ -33,6 +33,7 @@ pub mod ast;
 pub mod interp;
 mod parse;
 pub mod probe_plan;
+pub mod rewrite;
 pub mod rml;
 pub mod source;
 pub mod texture_macro;
