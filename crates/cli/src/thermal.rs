@@ -70,9 +70,9 @@ pub struct ApplyArgs {
     /// Print one JSON object: points, max_correction_mm, max_residual_mm, seconds.
     #[arg(long)]
     pub json: bool,
-    /// Keep the program's own text — comments, words, layout — and change only the numbers of
-    /// X, Y, Z (and I, J, K of arcs), adding the axis words a corrected block needs; for plain
-    /// programs in G90 without macros, calls or offsets.
+    /// Keep the program's own text — comments, words, layout, macro statements that make no
+    /// move — and change only the numbers of X, Y, Z (and I, J, K of arcs), adding the axis
+    /// words a corrected block needs; for G90 programs without calls or offsets.
     #[arg(long)]
     pub keep_text: bool,
 }
@@ -646,16 +646,15 @@ fn rewritten(name: &str, text: &str, path: &kezuri_geom::Toolpath, digits: usize
         let code = |letter: char, n: f64| {
             ws.iter().any(|w| w.letter == letter && line[w.number.0..w.number.1].parse::<f64>() == Ok(n))
         };
-        let hash = line.split('(').next().is_some_and(|t| t.contains('#'));
-        if hash
-            || code('G', 91.0)
-            || code('G', 92.0)
-            || code('G', 10.0)
-            || code('G', 65.0)
-            || code('G', 66.0)
-            || code('M', 98.0)
+        if [('G', 91.0), ('G', 92.0), ('G', 10.0), ('G', 65.0), ('G', 66.0), ('M', 98.0), ('M', 198.0)]
+            .iter()
+            .any(|&(l, n)| code(l, n))
         {
-            bail!("{name}: line {}: --keep-text rewrites plain G90 programs (no macros, calls, G91, G92, G10); leave it out to write the expanded program", k + 1);
+            bail!(
+                "{name}: line {}: --keep-text rewrites G90 programs without calls, G91, G92 or G10; leave it out to \
+                 write the expanded program",
+                k + 1
+            );
         }
     }
     let mut per_line: std::collections::BTreeMap<u32, usize> = std::collections::BTreeMap::new();
@@ -669,6 +668,16 @@ fn rewritten(name: &str, text: &str, path: &kezuri_geom::Toolpath, digits: usize
         if per_line.insert(m.line, i).is_some() {
             bail!("{name}: line {}: one block makes several moves; leave --keep-text out", m.line);
         }
+    }
+    // Macro statements that make no move are left as they are; a moving
+    // block whose numbers come from variables cannot be corrected in place.
+    let variables =
+        |l: u32| lines.get(l as usize - 1).is_some_and(|t| t.split(['(', ';']).next().is_some_and(|t| t.contains('#')));
+    if let Some(&line) = per_line.keys().find(|&&l| variables(l)) {
+        bail!(
+            "{name}: line {line}: this block's move comes from macro variables: it cannot be corrected in place; leave \
+             --keep-text out"
+        );
     }
     let mut out = String::with_capacity(text.len() + text.len() / 4);
     for (k, line) in lines.iter().enumerate() {

@@ -461,10 +461,26 @@ fn the_program_text_kept_with_only_its_numbers_corrected() {
         let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
         assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
     }
-    // A program with macro statements is not rewritten in place.
-    std::fs::write(&program, "G90 G00 X-20. Y-5. Z-80. B0.\n#1=-90.\nG01 Z#1 F300\nM30\n").unwrap();
-    let o = kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "--keep-text", "-o", &kept]);
-    assert!(String::from_utf8_lossy(&o.stderr).contains("line 2: --keep-text rewrites plain G90 programs"));
+    // Macro statements that make no move stay as they are; a move made of
+    // variables cannot be corrected in place; nor calls.
+    std::fs::write(&program, "G90 G00 X-20. Y-5. Z-80. B0.\n#1=-90.\nG01 Z-90. F300 (#1 UNUSED)\nM30\n").unwrap();
+    ok(&kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "--keep-text", "-o", &kept]));
+    assert!(std::fs::read_to_string(&kept).unwrap().contains("\n#1=-90.\n"));
+    for (text, words) in [
+        (
+            "G90 G00 X-20. Y-5. Z-80. B0.\n#1=-90.\nG01 Z#1 F300\nM30\n",
+            "line 3: this block's move comes from macro variables",
+        ),
+        (
+            "G90 G00 X-20. Y-5. Z-80. B0.\nM98 P1000\nM30\nO1000\nG01 Z-90. F300\nM99\n",
+            "line 2: --keep-text rewrites G90 programs without calls",
+        ),
+    ] {
+        std::fs::write(&program, text).unwrap();
+        let o =
+            kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "--keep-text", "-o", &kept]);
+        assert!(String::from_utf8_lossy(&o.stderr).contains(words), "{text}: {}", String::from_utf8_lossy(&o.stderr));
+    }
 }
 
 /// `measurements()` fitted by `kezuri thermal fit` on the mill-turn in
