@@ -494,3 +494,41 @@ fn fitted(dir: &std::path::Path) -> (String, String) {
     ok(&kezuri(&["thermal", "fit", &meas, "--machine", &turn, "-o", &model]));
     (model, turn)
 }
+
+#[test]
+fn the_grid_search_agrees_with_newton_within_its_spacing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (model, turn) = fitted(dir.path());
+    let program = path(dir.path(), "cut.nc");
+    std::fs::write(
+        &program,
+        "G90 G17 G21\nG00 X-20. Y-5. Z-80. B0.\nG01 Z-90. F300\nX-4.\nG00 B-90.\nG01 X-18. Y-8. Z-92.\nM30\n",
+    )
+    .unwrap();
+    let apply = |solver: &str| {
+        let out = path(dir.path(), &format!("{solver}.nc"));
+        let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&[
+            "thermal",
+            "apply",
+            &program,
+            "--model",
+            &model,
+            "--machine",
+            &turn,
+            "--solver",
+            solver,
+            "-o",
+            &out,
+            "--json",
+        ])))
+        .unwrap();
+        (rows(&out), v)
+    };
+    let ((newton, _), (grid, v)) = (apply("newton"), apply("grid"));
+    assert_eq!(v["solver"], "grid");
+    // The grid's nearest candidate is within half its 1 µm spacing of the landing point per axis.
+    assert!(v["max_residual_mm"].as_f64().unwrap() < 0.001, "{v}");
+    for (n, g) in newton.iter().zip(&grid) {
+        assert!((0..3).all(|i| (n[i] - g[i]).abs() <= 0.001 + 1e-9), "{n:?} vs {g:?}");
+    }
+}
