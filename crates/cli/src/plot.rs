@@ -179,8 +179,12 @@ pub fn log_chart(title: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec
             "<polyline fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\" points=\"{}\"/>",
             points.join(" ")
         );
-        let _ =
-            writeln!(s, "<text x=\"{}\" y=\"{}\" fill=\"{colour}\">{name}</text>", w - 220.0, 34.0 + 16.0 * k as f64);
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" fill=\"{colour}\">{name}</text>",
+            w - 220.0,
+            0.5 * h + 16.0 * k as f64
+        );
     }
     s + "</svg>\n"
 }
