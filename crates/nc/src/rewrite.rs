@@ -2,6 +2,8 @@
 //! comments, other words, spacing and the order of the words stay as they
 //! were (`kezuri thermal apply --keep-text`).
 
+use crate::write::number;
+
 /// A word of a line: its letter (upper case) and the byte range of its
 /// number.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,17 +45,6 @@ pub fn words(line: &str) -> Vec<Word> {
         k += 1;
     }
     out
-}
-
-/// `v` with `digits` decimals, trailing zeros dropped, a point always.
-pub fn number(v: f64, digits: usize) -> String {
-    let s = format!("{v:.digits$}");
-    let s = if s.contains('.') { s.trim_end_matches('0').to_string() } else { s + "." };
-    if s == "-0." {
-        "0.".into()
-    } else {
-        s
-    }
 }
 
 /// `line` with the words `values` (letter, value) set: an existing word's

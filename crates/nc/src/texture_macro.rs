@@ -36,6 +36,8 @@
 
 use std::fmt::Write;
 
+use crate::write::number;
+
 /// The numbers of a texture macro. Lengths in mm.
 #[derive(Clone, Copy, Debug)]
 pub struct TextureMacro {
@@ -60,15 +62,9 @@ pub struct TextureMacro {
     pub vars: u32,
 }
 
-/// A number as a macro constant: a decimal point always, no exponent.
+/// A number as a program constant.
 fn num(v: f64) -> String {
-    let s = format!("{:.6}", v);
-    let s = s.trim_end_matches('0');
-    if s == "-0." {
-        "0.".into()
-    } else {
-        s.into()
-    }
+    number(v, 6)
 }
 
 impl TextureMacro {

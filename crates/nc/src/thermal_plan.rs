@@ -12,6 +12,8 @@
 
 use std::fmt::Write;
 
+use crate::write::number;
+
 /// One indexed angle's measurements.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Station {
@@ -54,15 +56,9 @@ impl std::fmt::Display for PlanError {
 
 impl std::error::Error for PlanError {}
 
-/// A coordinate with four decimals and a point.
+/// A number as a program constant.
 fn num(v: f64) -> String {
-    let s = format!("{v:.4}");
-    let s = s.trim_end_matches('0');
-    if s == "-0." {
-        "0.".into()
-    } else {
-        s.into()
-    }
+    number(v, 4)
 }
 
 impl ThermalPlan {
