@@ -418,20 +418,7 @@ fn truth_model_of(table: &str) -> kezuri_post::thermal::ErrorModel {
 
 /// The mill-turn of the machine files here: tool X, Z, B; work Y, C; pivots and tip at zero.
 fn plain_mill_turn() -> kezuri_post::kinematics::Kinematics {
-    use kezuri_post::kinematics::{Axis, Kinematics, Motion};
-    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
-    Kinematics {
-        tool: vec![
-            linear(0, [1., 0., 0.]),
-            linear(2, [0., 0., 1.]),
-            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0.; 3] } },
-        ],
-        work: vec![
-            linear(1, [0., 1., 0.]),
-            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
-        ],
-        tip: [0.0; 3],
-    }
+    kezuri_post::kinematics::Kinematics::mill_turn([0.0; 3], [0.0; 3])
 }
 
 #[test]

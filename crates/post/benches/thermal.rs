@@ -10,25 +10,8 @@ use std::time::Duration;
 
 use criterion::{criterion_group, Criterion, Throughput};
 use kezuri_geom::SplitMix64;
-use kezuri_post::kinematics::{Axis, Kinematics, Motion};
+use kezuri_post::kinematics::Kinematics;
 use kezuri_post::thermal::{fit, Corrector, ErrorModel, Measurement};
-
-/// Seed 003's mill-turn (tool side X, Z, B; work side Y, C).
-fn mill_turn() -> Kinematics {
-    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
-    Kinematics {
-        tool: vec![
-            linear(0, [1., 0., 0.]),
-            linear(2, [0., 0., 1.]),
-            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0., 0., 120.] } },
-        ],
-        work: vec![
-            linear(1, [0., 1., 0.]),
-            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
-        ],
-        tip: [0.0, 0.0, 70.0],
-    }
-}
 
 /// A model shaped like the paper's drift (quadratic in X, linear in Z).
 fn model() -> ErrorModel {
@@ -50,7 +33,7 @@ fn model() -> ErrorModel {
 }
 
 fn bench(c: &mut Criterion) {
-    let (k, model) = (mill_turn(), model());
+    let (k, model) = (Kinematics::mill_turn([0.0, 0.0, 120.0], [0.0, 0.0, 70.0]), model());
     let mut rng = SplitMix64::new(1);
     let points: Vec<([f64; 3], [f64; 6])> = (0..30_000)
         .map(|n| {

@@ -132,6 +132,21 @@ impl Kinematics {
         Kinematics { tool: vec![linear(0), linear(1), linear(2)], work: Vec::new(), tip: [0.0; 3] }
     }
 
+    /// Seed 003's Swiss-type mill-turn: the milling spindle carries X, Z
+    /// and a B tilt about Y through `b_pivot`; the turning side carries Y
+    /// and C (about Z through the origin); `tip` is the tool tip with every
+    /// axis at zero.
+    pub fn mill_turn(b_pivot: [f64; 3], tip: [f64; 3]) -> Kinematics {
+        let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
+        let rotary =
+            |index: usize, axis: [f64; 3], pivot: [f64; 3]| Axis { index, motion: Motion::Rotary { axis, pivot } };
+        Kinematics {
+            tool: vec![linear(0, [1.0, 0.0, 0.0]), linear(2, [0.0, 0.0, 1.0]), rotary(4, [0.0, 1.0, 0.0], b_pivot)],
+            work: vec![linear(1, [0.0, 1.0, 0.0]), rotary(5, [0.0, 0.0, 1.0], [0.0; 3])],
+            tip,
+        }
+    }
+
     /// Checks the chains: X, Y and Z once each and linear, every other axis
     /// at most once, unit directions, finite numbers.
     pub fn check(&self) -> Result<(), KinematicsError> {

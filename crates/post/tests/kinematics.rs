@@ -8,18 +8,10 @@ fn linear(index: usize, direction: [f64; 3]) -> Axis {
     Axis { index, motion: Motion::Linear { direction } }
 }
 
-fn rotary(index: usize, axis: [f64; 3], pivot: [f64; 3]) -> Axis {
-    Axis { index, motion: Motion::Rotary { axis, pivot } }
-}
-
 /// The paper's machine: the turning side carries Y and C, the milling
 /// spindle X, Z and a B tilt about Y; a 50 mm tool below the B pivot.
 fn mill_turn() -> Kinematics {
-    Kinematics {
-        tool: vec![linear(0, [1., 0., 0.]), linear(2, [0., 0., 1.]), rotary(4, [0., 1., 0.], [0., 0., 120.])],
-        work: vec![linear(1, [0., 1., 0.]), rotary(5, [0., 0., 1.], [0., 0., 0.])],
-        tip: [0.0, 0.0, 70.0],
-    }
+    Kinematics::mill_turn([0., 0., 120.], [0.0, 0.0, 70.0])
 }
 
 fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {

@@ -2,7 +2,7 @@
 //! the corrected command by Newton and by the paper's grid search.
 
 use kezuri_geom::SplitMix64;
-use kezuri_post::kinematics::{Axis, Kinematics, Motion};
+use kezuri_post::kinematics::Kinematics;
 use kezuri_post::thermal::{fit, Measurement, ThermalError};
 
 /// The paper's drift at B 0 and -90: X moves ~50 µm off in X and 0–50 µm
@@ -37,19 +37,7 @@ fn measurements(noise: f64, seed: u64) -> Vec<Measurement> {
 }
 
 fn mill_turn() -> Kinematics {
-    let linear = |index: usize, direction: [f64; 3]| Axis { index, motion: Motion::Linear { direction } };
-    Kinematics {
-        tool: vec![
-            linear(0, [1., 0., 0.]),
-            linear(2, [0., 0., 1.]),
-            Axis { index: 4, motion: Motion::Rotary { axis: [0., 1., 0.], pivot: [0., 0., 120.] } },
-        ],
-        work: vec![
-            linear(1, [0., 1., 0.]),
-            Axis { index: 5, motion: Motion::Rotary { axis: [0., 0., 1.], pivot: [0.; 3] } },
-        ],
-        tip: [0.0, 0.0, 70.0],
-    }
+    Kinematics::mill_turn([0.0, 0.0, 120.0], [0.0, 0.0, 70.0])
 }
 
 #[test]
