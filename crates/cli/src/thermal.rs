@@ -392,8 +392,6 @@ fn fit_model(a: &FitArgs) -> Result<()> {
     let ms = measurements(&table)?;
     let model = fit(&ms, a.degree).with_context(|| name.clone())?;
     let k = &machine.kinematics;
-    let letters =
-        |axes: &[kezuri_post::kinematics::Axis]| axes.iter().map(|x| AXES[x.index].to_string()).collect::<Vec<_>>();
     let functions: Vec<serde_json::Value> = model
         .functions
         .iter()
@@ -413,7 +411,7 @@ fn fit_model(a: &FitArgs) -> Result<()> {
     let v = json!({
         "kezuri_thermal_model": 1,
         "measurements": ms.len(),
-        "machine": {"tool": letters(&k.tool), "work": letters(&k.work), "tip": k.tip},
+        "machine": {"tool": chain_letters(k)[0], "work": chain_letters(k)[1], "tip": k.tip},
         "functions": functions,
     });
     write_output(Some(&a.output), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
@@ -504,9 +502,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }
     let k = &ran.machine.kinematics;
-    let letters =
-        |axes: &[kezuri_post::kinematics::Axis]| axes.iter().map(|x| AXES[x.index].to_string()).collect::<Vec<_>>();
-    let here = [letters(&k.tool), letters(&k.work)];
+    let here = chain_letters(k);
     if here != chains {
         bail!(
             "{}: the model is for a machine with tool axes {:?} and work axes {:?}; this one (--machine) has {:?} and {:?}",
@@ -593,12 +589,12 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         start = Some(*end);
     }
     if a.keep_text {
-        let text = rewritten(&name, &read_text(&a.run.file)?, &path, write_digits(&a.write))?;
+        let text = rewritten(&name, &read_text(&a.run.file)?, &path, usize::from(write_digits(&a.write)))?;
         write_output(a.write.output(), text.as_bytes())?;
     } else {
         let mut write = a.write.clone();
         let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-        write.digits = Some(write.digits.unwrap_or(4));
+        write.digits = Some(write_digits(&write));
         write_toolpath(&path, &format!("{title} CORRECTED FOR THERMAL DRIFT"), &write)?;
     }
     let v = json!({
@@ -632,8 +628,14 @@ fn apply(a: &ApplyArgs) -> Result<()> {
 
 /// The decimals a corrected program is written with: 4 unless given
 /// (three cannot hold 0.1 µm).
-fn write_digits(w: &WriteArgs) -> usize {
-    usize::from(w.digits.unwrap_or(4))
+fn write_digits(w: &WriteArgs) -> u8 {
+    w.digits.unwrap_or(4)
+}
+
+/// The axis letters of the machine's tool and work chains, as a model
+/// file names them.
+fn chain_letters(k: &kezuri_post::kinematics::Kinematics) -> [Vec<String>; 2] {
+    [&k.tool, &k.work].map(|axes| axes.iter().map(|x| AXES[x.index].to_string()).collect())
 }
 
 /// `text` with the axis words of every moving block set to the corrected
