@@ -13,7 +13,7 @@ use serde_json::json;
 
 use crate::files::{read_text, write_output};
 use crate::machine::Machine;
-use crate::program::{read_and_run, write_toolpath, RunOptions, WriteArgs};
+use crate::program::{run_text, write_toolpath, RunOptions, WriteArgs};
 use crate::table::{read_columns, Table};
 
 /// The thermal commands.
@@ -496,7 +496,8 @@ fn load_model(path: &std::path::Path) -> Result<(ErrorModel, [Vec<String>; 2])> 
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
     let (model, chains) = load_model(&a.model)?;
-    let (ran, parse_diagnostics) = read_and_run(&a.run)?;
+    let text = read_text(&a.run.file)?;
+    let (ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
@@ -589,7 +590,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         start = Some(*end);
     }
     if a.keep_text {
-        let text = rewritten(&name, &read_text(&a.run.file)?, &path, usize::from(write_digits(&a.write)))?;
+        let text = rewritten(&name, &text, &path, usize::from(write_digits(&a.write)))?;
         write_output(a.write.output(), text.as_bytes())?;
     } else {
         let mut write = a.write.clone();
