@@ -236,21 +236,9 @@ fn the_corrected_program_lands_every_point_on_its_target() {
     .unwrap();
     assert_eq!(v["extrapolated_points"], 0, "{v}");
     assert!(v["max_residual_mm"].as_f64().unwrap() < 1e-6, "{v}");
-    // The same model, fitted here, and the machine: where does the warm
-    // machine put the tool for each corrected command?
-    let (fitted, k) = (truth_model(), plain_mill_turn());
-    let (plain, warm) = (rows(&program), rows(&corrected));
-    assert_eq!(plain.len(), warm.len());
-    let mut uncorrected: f64 = 0.0;
-    for (p, w) in plain.iter().zip(&warm) {
-        let target = k.forward(p);
-        let landed = fitted.deformed(&k, w).unwrap();
-        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
-        // Written with 4 decimals: within 0.1 µm.
-        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
-        let before = fitted.deformed(&k, p).unwrap();
-        uncorrected = uncorrected.max((0..3).map(|i| (before[i] - target[i]).powi(2)).sum::<f64>().sqrt());
-    }
+    // The same model, fitted here: where does the warm machine put the
+    // tool for each corrected command?
+    let uncorrected = assert_lands(&truth_model(), &rows(&program), &rows(&corrected));
     assert!(uncorrected > 0.04, "uncorrected {uncorrected}");
     // A model for another machine.
     let mill = path(dir.path(), "mill.toml");
@@ -296,14 +284,7 @@ fn from_sensor_profiles_to_a_corrected_cut() {
     .unwrap();
     let corrected = path(dir.path(), "cut-warm.nc");
     ok(&kezuri(&["thermal", "apply", &program, "--model", &model, "--machine", &turn, "-o", &corrected]));
-    let truth = truth_model();
-    let k = plain_mill_turn();
-    let (plain, warm) = (rows(&program), rows(&corrected));
-    for (p, w) in plain.iter().zip(&warm) {
-        let (target, landed) = (k.forward(p), truth.deformed(&k, w).unwrap());
-        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
-        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
-    }
+    assert_lands(&truth_model(), &rows(&program), &rows(&corrected));
 }
 
 #[test]
@@ -320,7 +301,7 @@ fn o2007_corrected_from_its_own_measurements() {
     let o2007 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o2007-thermal.nc");
     let corrected = path(dir.path(), "o2007-warm.nc");
     ok(&kezuri(&["thermal", "apply", o2007, "--model", &model, "--machine", &turn, "-o", &corrected]));
-    let (truth, k) = (truth_model_of(&table), plain_mill_turn());
+    let truth = truth_model_of(&table);
     // The measuring stops, in order, before and after (the corrected ones
     // are within 0.1 mm of the planned; G28 and G92 are written anew, so
     // the other rows need not pair up).
@@ -333,18 +314,8 @@ fn o2007_corrected_from_its_own_measurements() {
     // A move to where the tool already is (O2007's second X-145.) is no stop.
     plain.dedup();
     warm.dedup();
-    assert_eq!(plain.len(), warm.len());
-    let (mut stops, mut before): (usize, f64) = (0, 0.0);
-    for (p, w) in plain.iter().zip(&warm) {
-        let target = k.forward(p);
-        let landed = truth.deformed(&k, w).unwrap();
-        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
-        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
-        let off = truth.deformed(&k, p).unwrap();
-        before = before.max((0..3).map(|i| (off[i] - target[i]).powi(2)).sum::<f64>().sqrt());
-        stops += 1;
-    }
-    assert_eq!(stops, 22, "every measuring stop of O2007");
+    assert_eq!(plain.len(), 22, "every measuring stop of O2007");
+    let before = assert_lands(&truth, &plain, &warm);
     assert!(before > 0.04, "uncorrected up to {before} mm");
 }
 
@@ -440,14 +411,7 @@ fn the_program_text_kept_with_only_its_numbers_corrected() {
     for want in ["O0001 (CUT)", "(START)", "(ALONG X)", " M08", "G00 B-90."] {
         assert!(text.contains(want), "{want}: {text}");
     }
-    let (truth, k) = (truth_model(), plain_mill_turn());
-    let (plain, warm) = (rows(&program), rows(&kept));
-    assert_eq!(plain.len(), warm.len());
-    for (p, w) in plain.iter().zip(&warm) {
-        let (target, landed) = (k.forward(p), truth.deformed(&k, w).unwrap());
-        let miss = (0..3).map(|i| (landed[i] - target[i]).powi(2)).sum::<f64>().sqrt();
-        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
-    }
+    assert_lands(&truth_model(), &rows(&program), &rows(&kept));
     // Macro statements that make no move stay as they are; a move made of
     // variables cannot be corrected in place; nor calls.
     std::fs::write(&program, "G90 G00 X-20. Y-5. Z-80. B0.\n#1=-90.\nG01 Z-90. F300 (#1 UNUSED)\nM30\n").unwrap();
@@ -518,4 +482,22 @@ fn the_grid_search_agrees_with_newton_within_its_spacing() {
     for (n, g) in newton.iter().zip(&grid) {
         assert!((0..3).all(|i| (n[i] - g[i]).abs() <= 0.001 + 1e-9), "{n:?} vs {g:?}");
     }
+}
+
+/// Asserts that each corrected command of `warm` puts the tool, on the
+/// mill-turn deformed by `truth`, within 0.1 µm (written with 4 decimals)
+/// of where the ideal machine puts it for the same command of `plain`;
+/// returns the largest miss of `plain` itself on the warm machine.
+fn assert_lands(truth: &kezuri_post::thermal::ErrorModel, plain: &[[f64; 6]], warm: &[[f64; 6]]) -> f64 {
+    assert_eq!(plain.len(), warm.len());
+    let k = plain_mill_turn();
+    let distance = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+    let mut uncorrected: f64 = 0.0;
+    for (p, w) in plain.iter().zip(warm) {
+        let target = k.forward(p);
+        let miss = distance(truth.deformed(&k, w).unwrap(), target);
+        assert!(miss < 0.0001, "{p:?} → {w:?}: {:.3} µm", miss * 1e3);
+        uncorrected = uncorrected.max(distance(truth.deformed(&k, p).unwrap(), target));
+    }
+    uncorrected
 }
