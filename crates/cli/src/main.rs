@@ -94,9 +94,12 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     /// Random "hand-carved" texture on the cutting moves of a program: baked in, or as a Fanuc
     /// macro that draws each depth from the control's clock.
     Texture(Box<texture::TextureArgs>),
-    /// Thermal drift of the machine from on-machine measurements (seed 003): the reference
-    /// tool's edge in a line-sensor profile.
-    #[command(subcommand)]
+    /// Thermal drift from on-machine measurements (seed 003): the measuring program, the
+    /// tool's edge in the sensors' profiles, the error model, the corrected program.
+    #[command(
+        subcommand,
+        after_help = "The pipeline:\n  kezuri thermal plan --machine mill-turn.toml -o O2007.nc\n  kezuri thermal measure index.csv -o meas.csv\n  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json\n  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc"
+    )]
     Thermal(thermal::ThermalCommand),
 }
 
