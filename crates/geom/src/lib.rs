@@ -37,6 +37,7 @@ mod mesh;
 mod random;
 mod stl;
 mod time;
+mod tool_profile;
 mod toolpath;
 
 pub use alloc::LargePages;
@@ -46,4 +47,5 @@ pub use mesh::{Mesh, Triangle, Vec3};
 pub use random::SplitMix64;
 pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlError};
 pub use time::{cycle_time, Dynamics};
+pub use tool_profile::{ProfileError, Support, ToolProfile};
 pub use toolpath::{Arc, Axes, AxisSet, Coolant, Frame, LengthOffset, Move, MoveKind, Plane, Spindle, Toolpath};
