@@ -327,10 +327,7 @@ impl Depths {
                 Some(n) => (self.rng.below(2 * n + 1) as f64 - n as f64) * self.o.quantum,
                 None => (2.0 * self.rng.next_f64() - 1.0) * s,
             },
-            Dist::Normal => {
-                let (u1, u2) = (1.0 - self.rng.next_f64(), self.rng.next_f64());
-                (0.5 * s * (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()).clamp(-s, s)
-            }
+            Dist::Normal => (0.5 * s * self.rng.normal()).clamp(-s, s),
             Dist::Smooth => s * value_noise(self.o.seed, xy[0] / self.wavelength(), xy[1] / self.wavelength()),
         };
         self.round(v)

@@ -35,6 +35,13 @@ impl SplitMix64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
+    /// A number from the standard normal distribution (Box–Muller, one of
+    /// the pair).
+    pub fn normal(&mut self) -> f64 {
+        let (u1, u2) = (1.0 - self.next_f64(), self.next_f64());
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+
     /// An integer in `0..n` (`n` > 0), without the bias of a plain modulo.
     pub fn below(&mut self, n: u64) -> u64 {
         let zone = u64::MAX - u64::MAX % n;

@@ -12,4 +12,8 @@
 
 pub mod edge;
 pub mod kinematics;
+pub mod microscope;
+pub mod stitch;
+pub mod synthetic;
 pub mod thermal;
+pub mod tool_image;
