@@ -17,3 +17,4 @@ pub mod stitch;
 pub mod synthetic;
 pub mod thermal;
 pub mod tool_image;
+pub mod wear;
