@@ -191,16 +191,30 @@ impl Kinematics {
         self.tool.iter().chain(&self.work).any(|a| a.index == index)
     }
 
-    /// The tool tip in part coordinates for the commands `c` (X Y Z mm,
-    /// A B C degrees; axes the machine lacks are ignored).
-    pub fn forward(&self, c: &[f64; 6]) -> [f64; 3] {
+    /// Where the tool's frame (the machine frame with every axis at zero)
+    /// lies in part coordinates for the commands `c`.
+    fn pose(&self, c: &[f64; 6]) -> Rigid {
         let chain = |axes: &[Axis], sign: f64| {
             axes.iter().fold(Rigid::IDENTITY, |m, a| m.then_inner(&Rigid::of(a.motion, sign * c[a.index])))
         };
         let tool = chain(&self.tool, 1.0);
         // A work-side axis moves the part against its command.
         let work = chain(&self.work, -1.0);
-        work.inverse().apply(tool.apply(self.tip))
+        work.inverse().then_inner(&tool)
+    }
+
+    /// The tool tip in part coordinates for the commands `c` (X Y Z mm,
+    /// A B C degrees; axes the machine lacks are ignored).
+    pub fn forward(&self, c: &[f64; 6]) -> [f64; 3] {
+        self.pose(c).apply(self.tip)
+    }
+
+    /// The tool axis (unit, from the tip toward the spindle) in part
+    /// coordinates for the commands `c`: the machine's +Z with every axis
+    /// at zero, turned by the rotary axes.
+    pub fn tool_axis(&self, c: &[f64; 6]) -> [f64; 3] {
+        let r = self.pose(c).r;
+        [r[0][2], r[1][2], r[2][2]]
     }
 
     /// The linear commands (X Y Z) that put the tip at `target` with the

@@ -40,6 +40,11 @@ fn the_mill_turn_by_hand() {
     assert!(close(m.forward(&[0.0, 7.0, 0.0, 0.0, 0.0, 0.0]), [0.0, 7.0, 70.0], 1e-12));
     // C90 turns the part -90°: the tool at +X of the machine is at +Y of the part.
     assert!(close(m.forward(&[10.0, 0.0, 0.0, 0.0, 0.0, 90.0]), [0.0, 10.0, 70.0], 1e-9));
+    // The tool axis, from the tip toward the pivot: up at B 0, toward -X at
+    // B -90 (the tip swung to +X), and turned with the part by C.
+    assert!(close(m.tool_axis(&[0.0; 6]), [0.0, 0.0, 1.0], 1e-12));
+    assert!(close(m.tool_axis(&[0.0, 0.0, 0.0, 0.0, -90.0, 0.0]), [-1.0, 0.0, 0.0], 1e-12));
+    assert!(close(m.tool_axis(&[0.0, 0.0, 0.0, 0.0, -90.0, 90.0]), [0.0, -1.0, 0.0], 1e-12));
 }
 
 #[test]
