@@ -176,17 +176,17 @@ pub fn correct(
     let ring = big_r - rho;
     let centre = tip + axis * rho;
     // The corner circle's point toward the surface: from the nearest point
-    // to the tool's middle, then from the normal there.
-    let mut toward = {
-        let Some((p, ..)) = surface.nearest(centre, big_r + options.reach) else {
-            return Ok(Err(Skip::Far(f64::INFINITY)));
-        };
-        reject(p - centre, axis)
+    // to the tool's middle, then from the normal there (a ball's corner
+    // circle is its centre: one question).
+    let Some(first) = surface.nearest(centre, big_r + options.reach) else {
+        return Ok(Err(Skip::Far(f64::INFINITY)));
     };
-    let mut found = None;
+    let mut toward = reject(first.0 - centre, axis);
+    let mut found: Option<(Vec3, Vec3, f64)> = None;
     for _ in 0..8 {
         let k = if ring > 0.0 && toward.norm() > 1e-12 { centre + toward * (ring / toward.norm()) } else { centre };
-        let Some((p, face, d)) = surface.nearest(k, rho + options.reach) else {
+        let near = if ring == 0.0 { Some(first) } else { surface.nearest(k, rho + options.reach) };
+        let Some((p, face, d)) = near else {
             return Ok(Err(Skip::Far(f64::INFINITY)));
         };
         // The normal points out of the material toward the tool.
@@ -194,7 +194,7 @@ pub fn correct(
         let n = if d > 1e-9 * big_r { (k - p) * (if inside { -1.0 } else { 1.0 } / d) } else { face };
         let gap = if inside { -d - rho } else { d - rho };
         let again = reject(n * -1.0, axis);
-        let settled = ring == 0.0 || found.is_some_and(|(_, m, _): (Vec3, Vec3, f64)| (m - n).norm() < 1e-12);
+        let settled = ring == 0.0 || found.is_some_and(|(_, m, _)| (m - n).norm() < 1e-12);
         found = Some((p, n, gap));
         if settled || again.norm() < 1e-12 {
             break;
