@@ -226,7 +226,7 @@ pub fn raster_with(
                 Axes { x: u, y: v, z, ..Axes::ZERO }
             }
         };
-        let forward = |k: usize| o.pattern == Pattern::OneWay || k % 2 == 0;
+        let forward = |k: usize| o.pattern == Pattern::OneWay || k.is_multiple_of(2);
         let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
         let ask = |asked: &[(f64, &[f64])]| match rows_at {
             Some(f) => f(along_y, asked),

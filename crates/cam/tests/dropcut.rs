@@ -416,8 +416,8 @@ fn rows_at_once_are_the_same_as_one_query_per_point() {
                     us.sort_by(f64::total_cmp);
                     rows.push((v, us));
                     // Every third row on a node line.
-                    v += if rows.len() % 3 == 0 { h.step() } else { 0.37 * h.step() + 0.05 };
-                    if rows.len() % 3 == 0 {
+                    v += if rows.len().is_multiple_of(3) { h.step() } else { 0.37 * h.step() + 0.05 };
+                    if rows.len().is_multiple_of(3) {
                         v = v0 + ((v - v0) / h.step()).round() * h.step();
                     }
                 }

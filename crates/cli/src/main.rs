@@ -2,6 +2,7 @@
 //! the clock and the environment; the libraries take values and return values.
 
 mod convert;
+mod corrected;
 mod demo;
 mod dropcut;
 mod files;
@@ -18,6 +19,9 @@ mod surface;
 mod table;
 mod texture;
 mod thermal;
+mod tool;
+mod tool_db;
+mod wear;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -101,6 +105,15 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
         after_help = "The pipeline:\n  kezuri thermal plan --machine mill-turn.toml -o O2007.nc\n  kezuri thermal measure index.csv -o meas.csv\n  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json\n  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc"
     )]
     Thermal(thermal::ThermalCommand),
+    /// A tool's measured cutting profile from backlit images, and the database of its wear.
+    #[command(subcommand)]
+    Tool(tool::ToolCommand),
+    /// The program corrected for the measured tool's wear and runout (seed 003).
+    #[command(
+        subcommand,
+        after_help = "The pipeline:\n  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 -o t12.csv\n  kezuri wear apply part.nc --profile t12.csv --nominal ball:1 --surface part.stl -o part-t12.nc"
+    )]
+    Wear(wear::WearCommand),
 }
 
 /// Runs one command.
@@ -118,6 +131,8 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Convert(args) => convert::run(args),
         Command::Texture(args) => texture::run(args),
         Command::Thermal(command) => thermal::run(command),
+        Command::Tool(command) => tool::run(command),
+        Command::Wear(command) => wear::run(command),
     }
 }
 

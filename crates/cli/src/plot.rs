@@ -1,10 +1,14 @@
 //! A picture of a toolpath: SVG, top view (XY) beside a front view (XZ).
-//! Cutting moves are solid and shaded by depth, rapids dashed red.
+//! Cutting moves are solid and shaded by depth, rapids dashed red. Charts
+//! are SVG text too; [`png_from_svg`] makes any of them a PNG picture.
 
 use std::collections::{BTreeMap, HashSet};
 use std::fmt::Write;
+use std::sync::{Arc, OnceLock};
 
+use anyhow::{anyhow, bail, Context};
 use kezuri_geom::{Axes, MoveKind, Toolpath};
+use resvg::{tiny_skia, usvg};
 
 const PANEL: f64 = 480.0;
 const MARGIN: f64 = 30.0;
@@ -187,4 +191,89 @@ pub fn log_chart(title: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec
         );
     }
     s + "</svg>\n"
+}
+
+/// DejaVu Sans (assets/fonts, licence beside it): the one font of PNG
+/// charts, so their text is drawn alike on every machine, fonts installed or
+/// not.
+static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+const FONT_FAMILY: &str = "DejaVu Sans";
+/// The largest side of a PNG picture, in pixels.
+const MAX_SIDE: u32 = 16_384;
+
+/// The font database of PNG charts: the bundled font alone, the family of
+/// every generic name (`sans-serif`, `serif`, `monospace`, …).
+fn fonts() -> Arc<usvg::fontdb::Database> {
+    static FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    FONTS
+        .get_or_init(|| {
+            let mut db = usvg::fontdb::Database::new();
+            db.load_font_source(usvg::fontdb::Source::Binary(Arc::new(FONT)));
+            db.set_sans_serif_family(FONT_FAMILY);
+            db.set_serif_family(FONT_FAMILY);
+            db.set_monospace_family(FONT_FAMILY);
+            db.set_cursive_family(FONT_FAMILY);
+            db.set_fantasy_family(FONT_FAMILY);
+            Arc::new(db)
+        })
+        .clone()
+}
+
+/// The SVG picture `svg` (the charts and toolpath pictures of this module)
+/// as PNG bytes, one pixel per SVG user unit of its `width` × `height`; text
+/// in the bundled DejaVu Sans; what the picture leaves unpainted is
+/// transparent.
+pub fn png_from_svg(svg: &str) -> anyhow::Result<Vec<u8>> {
+    let options = usvg::Options { font_family: FONT_FAMILY.into(), fontdb: fonts(), ..usvg::Options::default() };
+    let tree = usvg::Tree::from_str(svg, &options).context("cannot read the SVG picture")?;
+    let size = tree.size().to_int_size();
+    let (w, h) = (size.width(), size.height());
+    if w > MAX_SIDE || h > MAX_SIDE {
+        bail!("the picture is {w} x {h} pixels: more than {MAX_SIDE} on a side");
+    }
+    let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| anyhow!("no picture of {w} x {h} pixels"))?;
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    pixmap.encode_png().map_err(|e| anyhow!("cannot encode the PNG picture: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pixels of `png` darker than mid grey (and opaque) within `x0..x1`.
+    fn dark(png: &image::RgbaImage, x0: u32, x1: u32) -> usize {
+        png.enumerate_pixels()
+            .filter(|(x, _, p)| (x0..x1).contains(x) && p[3] > 128 && (p[0] as u32 + p[1] as u32 + p[2] as u32) < 384)
+            .count()
+    }
+
+    #[test]
+    fn a_chart_becomes_a_png_of_its_size_with_its_text_and_lines_drawn() {
+        let svg = log_chart("wear", "mm", 1e-4, &[("before", "black", vec![0.1, 0.01, 0.001])]);
+        let png = png_from_svg(&svg).unwrap();
+        let img = image::load_from_memory_with_format(&png, image::ImageFormat::Png).unwrap().to_rgba8();
+        assert_eq!(img.dimensions(), (720, 360));
+        // The left 60 pixels hold only the axis labels (text): drawn in the
+        // bundled font, whatever this machine has installed.
+        assert!(dark(&img, 0, 60) > 200, "{} dark pixels of text", dark(&img, 0, 60));
+        // The series' line and its name.
+        assert!(dark(&img, 70, 720) > 500, "{}", dark(&img, 70, 720));
+        // The white background is painted.
+        assert_eq!(img.get_pixel(715, 355).0, [255, 255, 255, 255]);
+    }
+
+    #[test]
+    fn text_alone_is_drawn_and_bad_svg_is_an_error() {
+        let blank = r#"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="40"><rect width="100%" height="100%" fill="white"/></svg>"#;
+        let text = blank.replace(
+            "</svg>",
+            r#"<text x="4" y="28" font-family="sans-serif" font-size="20">Radius 3.0 mm</text></svg>"#,
+        );
+        let img = |svg: &str| image::load_from_memory(&png_from_svg(svg).unwrap()).unwrap().to_rgba8();
+        assert_eq!(dark(&img(blank), 0, 200), 0);
+        assert!(dark(&img(&text), 0, 200) > 150, "{}", dark(&img(&text), 0, 200));
+        assert!(png_from_svg("not svg").is_err());
+        let huge = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100000" height="10"/>"#;
+        assert!(png_from_svg(huge).unwrap_err().to_string().contains("more than"));
+    }
 }

@@ -11,9 +11,10 @@ use kezuri_post::kinematics::AXES;
 use kezuri_post::thermal::{fit, AxisError, Corrector, ErrorModel, Measurement, Polynomial};
 use serde_json::json;
 
+use crate::corrected::{set_ends, write_corrected, ArcCentre};
 use crate::files::{read_text, write_output};
 use crate::machine::Machine;
-use crate::program::{run_text, write_toolpath, RunOptions, WriteArgs};
+use crate::program::{run_text, RunOptions, WriteArgs};
 use crate::table::{read_columns, Table};
 
 /// The thermal commands.
@@ -569,35 +570,8 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         corrected.push(Axes::from_array(x));
     }
     let seconds = t0.elapsed().as_secs_f64();
-    let mut start: Option<Axes> = None;
-    for (m, end) in path.moves.iter_mut().zip(&corrected) {
-        if let MoveKind::Dwell(_) = m.kind {
-            if let Some(s) = start {
-                (m.start, m.end) = (s, s);
-            }
-            continue;
-        }
-        let shift = [end.x - m.end.x, end.y - m.end.y, end.z - m.end.z];
-        if let MoveKind::Arc(arc) = &mut m.kind {
-            for (c, d) in arc.center.iter_mut().zip(shift) {
-                *c += d;
-            }
-        }
-        if let Some(s) = start {
-            m.start = s;
-        }
-        m.end = *end;
-        start = Some(*end);
-    }
-    if a.keep_text {
-        let text = rewritten(&name, &text, &path, usize::from(write_digits(&a.write)))?;
-        write_output(a.write.output(), text.as_bytes())?;
-    } else {
-        let mut write = a.write.clone();
-        let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-        write.digits = Some(write_digits(&write));
-        write_toolpath(&path, &format!("{title} CORRECTED FOR THERMAL DRIFT"), &write)?;
-    }
+    set_ends(&mut path, &corrected, ArcCentre::FollowsEnd);
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT")?;
     let v = json!({
         "points": corrected.len(),
         "max_correction_mm": largest,
@@ -627,81 +601,8 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     Ok(())
 }
 
-/// The decimals a corrected program is written with: 4 unless given
-/// (three cannot hold 0.1 µm).
-fn write_digits(w: &WriteArgs) -> u8 {
-    w.digits.unwrap_or(4)
-}
-
 /// The axis letters of the machine's tool and work chains, as a model
 /// file names them.
 fn chain_letters(k: &kezuri_post::kinematics::Kinematics) -> [Vec<String>; 2] {
     [&k.tool, &k.work].map(|axes| axes.iter().map(|x| AXES[x.index].to_string()).collect())
-}
-
-/// `text` with the axis words of every moving block set to the corrected
-/// `path` (see `--keep-text`), or why it cannot be.
-fn rewritten(name: &str, text: &str, path: &kezuri_geom::Toolpath, digits: usize) -> Result<String> {
-    use kezuri_nc::rewrite::{set_words, words};
-    let lines: Vec<&str> = text.lines().collect();
-    for (k, line) in lines.iter().enumerate() {
-        let ws = words(line);
-        let code = |letter: char, n: f64| {
-            ws.iter().any(|w| w.letter == letter && line[w.number.0..w.number.1].parse::<f64>() == Ok(n))
-        };
-        if [('G', 91.0), ('G', 92.0), ('G', 10.0), ('G', 65.0), ('G', 66.0), ('M', 98.0), ('M', 198.0)]
-            .iter()
-            .any(|&(l, n)| code(l, n))
-        {
-            bail!(
-                "{name}: line {}: --keep-text rewrites G90 programs without calls, G91, G92 or G10; leave it out to \
-                 write the expanded program",
-                k + 1
-            );
-        }
-    }
-    let mut per_line: std::collections::BTreeMap<u32, usize> = std::collections::BTreeMap::new();
-    for (i, m) in path.moves.iter().enumerate() {
-        if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
-            continue;
-        }
-        if path.frame(m) != kezuri_geom::Frame::default() {
-            bail!("{name}: line {}: a work or tool offset is in force; --keep-text writes program coordinates only without them", m.line);
-        }
-        if per_line.insert(m.line, i).is_some() {
-            bail!("{name}: line {}: one block makes several moves; leave --keep-text out", m.line);
-        }
-    }
-    // Macro statements that make no move are left as they are; a moving
-    // block whose numbers come from variables cannot be corrected in place.
-    let variables =
-        |l: u32| lines.get(l as usize - 1).is_some_and(|t| t.split(['(', ';']).next().is_some_and(|t| t.contains('#')));
-    if let Some(&line) = per_line.keys().find(|&&l| variables(l)) {
-        bail!(
-            "{name}: line {line}: this block's move comes from macro variables: it cannot be corrected in place; leave \
-             --keep-text out"
-        );
-    }
-    let mut out = String::with_capacity(text.len() + text.len() / 4);
-    for (k, line) in lines.iter().enumerate() {
-        match per_line.get(&(k as u32 + 1)) {
-            Some(&i) => {
-                let m = &path.moves[i];
-                let mut values = vec![('X', m.end.x), ('Y', m.end.y), ('Z', m.end.z)];
-                if let MoveKind::Arc(arc) = m.kind {
-                    let present = |c: char| words(line).iter().any(|w| w.letter == c);
-                    let start = m.start.xyz();
-                    for (k, c) in ['I', 'J', 'K'].into_iter().enumerate() {
-                        if present(c) {
-                            values.push((c, arc.center[k] - start[k]));
-                        }
-                    }
-                }
-                out += &set_words(line, &values, digits);
-            }
-            None => out += line,
-        }
-        out.push('\n');
-    }
-    Ok(out)
 }

@@ -243,7 +243,7 @@ fn register(a: &GrayImage, b: &GrayImage, stage: [f64; 2], search: usize) -> Opt
         for dx in -s..=s {
             let d = [base[0] + dx, base[1] + dy];
             if let Some(e) = msd(a, b, d, step) {
-                if best.map_or(true, |(b, _)| e < b) {
+                if best.is_none_or(|(b, _)| e < b) {
                     best = Some((e, d));
                 }
             }

@@ -100,7 +100,7 @@ pub fn otsu<'a>(images: impl IntoIterator<Item = &'a GrayImage>) -> Option<Split
         }
         let (m0, m1) = (below_sum / below as f64, (sum - below_sum) / above as f64);
         let between = below as f64 * above as f64 * (m0 - m1) * (m0 - m1);
-        if best.map_or(true, |(b, _)| between > b) {
+        if best.is_none_or(|(b, _)| between > b) {
             best = Some((between, i));
         }
     }

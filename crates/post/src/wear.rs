@@ -111,7 +111,7 @@ impl<'a> Surface<'a> {
             let tri = self.mesh.triangle(t as usize);
             let p = closest_on_triangle(q, tri.v);
             let d = (q - p).norm();
-            if d <= radius && best.map_or(true, |b| d < b.2) {
+            if d <= radius && best.is_none_or(|b| d < b.2) {
                 let face = tri.normal();
                 best = Some((p, face * (1.0 / face.norm()), d));
             }

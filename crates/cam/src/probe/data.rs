@@ -217,7 +217,7 @@ fn checked_grid(nx: usize, ny: usize, pitch: f64, origin: [f64; 2], order: Order
     if nx < 2 || ny < 2 {
         return err(None, format!("the grid needs at least 2 × 2 points, got {nx} × {ny}"));
     }
-    if nx.checked_mul(ny).map_or(true, |n| n > 100_000_000) {
+    if nx.checked_mul(ny).is_none_or(|n| n > 100_000_000) {
         return err(None, format!("a grid of {nx} × {ny} points is too large"));
     }
     if !(pitch.is_finite() && pitch > 0.0) {

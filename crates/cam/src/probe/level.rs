@@ -268,7 +268,7 @@ pub fn level(data: &ProbeGrid, reference: &Reference, method: Method) -> Result<
         candidates
             .iter()
             .enumerate()
-            .filter(|(_, c)| only.map_or(true, |p| c.plane == p))
+            .filter(|(_, c)| only.is_none_or(|p| c.plane == p))
             .min_by(|a, b| a.1.stats.std.total_cmp(&b.1.stats.std))
             .map(|(k, _)| k)
     };

@@ -1,0 +1,140 @@
+//! Writing a corrected program (`thermal apply`, `wear apply`): the run's
+//! toolpath with new end points, written expanded in any dialect, or the
+//! program's own text with only its axis numbers changed (`--keep-text`).
+
+use anyhow::{bail, Result};
+use kezuri_geom::{Axes, MoveKind, Toolpath};
+
+use crate::files::write_output;
+use crate::program::{write_toolpath, RunOptions, WriteArgs};
+
+/// What an arc's centre does when its end point is corrected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArcCentre {
+    /// Moves with the end point's correction: a correction that hardly
+    /// changes over the arc (thermal drift) keeps the arc's turn.
+    FollowsEnd,
+    /// Stays: a correction along the surface normal (wear) changes the
+    /// arc's radius, as a contour's offset does.
+    Stays,
+}
+
+/// `path` with each move's end set to `ends` (one per move; dwells stay
+/// where the tool is) and each start to the end before.
+pub fn set_ends(path: &mut Toolpath, ends: &[Axes], arcs: ArcCentre) {
+    let mut start: Option<Axes> = None;
+    for (m, end) in path.moves.iter_mut().zip(ends) {
+        if let MoveKind::Dwell(_) = m.kind {
+            if let Some(s) = start {
+                (m.start, m.end) = (s, s);
+            }
+            continue;
+        }
+        let shift = [end.x - m.end.x, end.y - m.end.y, end.z - m.end.z];
+        if let (MoveKind::Arc(arc), ArcCentre::FollowsEnd) = (&mut m.kind, arcs) {
+            for (c, d) in arc.center.iter_mut().zip(shift) {
+                *c += d;
+            }
+        }
+        if let Some(s) = start {
+            m.start = s;
+        }
+        m.end = *end;
+        start = Some(*end);
+    }
+}
+
+/// Writes the corrected `path` of the program `text` (run with `run`):
+/// expanded, titled with `what`, or with `keep_text` the program's text.
+pub fn write_corrected(
+    run: &RunOptions,
+    write: &WriteArgs,
+    keep_text: bool,
+    text: &str,
+    path: &Toolpath,
+    what: &str,
+) -> Result<()> {
+    let name = run.file.display().to_string();
+    if keep_text {
+        let text = rewritten(&name, text, path, usize::from(write_digits(write)))?;
+        write_output(write.output(), text.as_bytes())
+    } else {
+        let mut write = write.clone();
+        let title = run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+        write.digits = Some(write_digits(&write));
+        write_toolpath(path, &format!("{title} {what}"), &write)
+    }
+}
+
+/// The decimals a corrected program is written with: 4 unless given
+/// (three cannot hold 0.1 µm).
+fn write_digits(w: &WriteArgs) -> u8 {
+    w.digits.unwrap_or(4)
+}
+
+/// `text` with the axis words of every moving block set to the corrected
+/// `path` (see `--keep-text`), or why it cannot be.
+fn rewritten(name: &str, text: &str, path: &Toolpath, digits: usize) -> Result<String> {
+    use kezuri_nc::rewrite::{set_words, words};
+    let lines: Vec<&str> = text.lines().collect();
+    for (k, line) in lines.iter().enumerate() {
+        let ws = words(line);
+        let code = |letter: char, n: f64| {
+            ws.iter().any(|w| w.letter == letter && line[w.number.0..w.number.1].parse::<f64>() == Ok(n))
+        };
+        if [('G', 91.0), ('G', 92.0), ('G', 10.0), ('G', 65.0), ('G', 66.0), ('M', 98.0), ('M', 198.0)]
+            .iter()
+            .any(|&(l, n)| code(l, n))
+        {
+            bail!(
+                "{name}: line {}: --keep-text rewrites G90 programs without calls, G91, G92 or G10; leave it out to \
+                 write the expanded program",
+                k + 1
+            );
+        }
+    }
+    let mut per_line: std::collections::BTreeMap<u32, usize> = std::collections::BTreeMap::new();
+    for (i, m) in path.moves.iter().enumerate() {
+        if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
+            continue;
+        }
+        if path.frame(m) != kezuri_geom::Frame::default() {
+            bail!("{name}: line {}: a work or tool offset is in force; --keep-text writes program coordinates only without them", m.line);
+        }
+        if per_line.insert(m.line, i).is_some() {
+            bail!("{name}: line {}: one block makes several moves; leave --keep-text out", m.line);
+        }
+    }
+    // Macro statements that make no move are left as they are; a moving
+    // block whose numbers come from variables cannot be corrected in place.
+    let variables =
+        |l: u32| lines.get(l as usize - 1).is_some_and(|t| t.split(['(', ';']).next().is_some_and(|t| t.contains('#')));
+    if let Some(&line) = per_line.keys().find(|&&l| variables(l)) {
+        bail!(
+            "{name}: line {line}: this block's move comes from macro variables: it cannot be corrected in place; leave \
+             --keep-text out"
+        );
+    }
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    for (k, line) in lines.iter().enumerate() {
+        match per_line.get(&(k as u32 + 1)) {
+            Some(&i) => {
+                let m = &path.moves[i];
+                let mut values = vec![('X', m.end.x), ('Y', m.end.y), ('Z', m.end.z)];
+                if let MoveKind::Arc(arc) = m.kind {
+                    let present = |c: char| words(line).iter().any(|w| w.letter == c);
+                    let start = m.start.xyz();
+                    for (k, c) in ['I', 'J', 'K'].into_iter().enumerate() {
+                        if present(c) {
+                            values.push((c, arc.center[k] - start[k]));
+                        }
+                    }
+                }
+                out += &set_words(line, &values, digits);
+            }
+            None => out += line,
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}

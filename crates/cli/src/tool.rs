@@ -1,0 +1,324 @@
+//! `kezuri tool`: a tool's measured cutting profile from backlit images
+//! (`tool profile`) and the database of each tool's profiles as it wears
+//! (`tool db`). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Context, Result};
+use clap::{Args, Subcommand};
+use kezuri_cam::Cutter;
+use kezuri_geom::ToolProfile;
+use kezuri_post::microscope::{frame_centre, measure, runout_mm, Envelope, Measured, Options, NO_RUNOUT};
+use kezuri_post::tool_image::GrayImage;
+use serde_json::json;
+
+use crate::files::{read_text, write_output};
+use crate::table::Table;
+use crate::tool_db;
+
+/// `kezuri tool profile IMAGE… --pixel-um UM -o PROFILE.csv`.
+#[derive(Args, Debug)]
+#[command(after_help = "The pictures: backlit, the tool axis vertical, tip down, the tool dark on a bright backlight
+(PNG, TIFF, BMP, JPEG or PGM, 8 or 16 bit), many frames of the tool turning. Their envelope (the
+darkest value of each pixel) is the swept cutting profile; the tool's edges are found to a fraction
+of a pixel where the gray level crosses the threshold. The radius is half the width between the
+edges, so it needs no axis; the runout is half the swing of the frames' silhouette centres.
+
+A tool larger than the field of view: give each picture's stage position in --offsets, a CSV
+`image,x_mm,z_mm` (x to the right of the picture, z up the tool; the pictures that share a
+position are one field). Overlapping fields are matched to a fraction of a pixel (the paper
+overlapped 100 µm across and 70 µm along the tool).
+
+PROFILE.csv: z_mm,radius_mm (and wear_mm with --nominal: nominal + runout - measured), one row per
+pixel row from the lowest point of the tool up; z from --tip-row, the row of the first picture
+where a new tool's tip sits, so a worn tip starts above 0.
+
+Examples:
+  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 --nominal ball:1 -o t12.csv --png t12.png
+  kezuri tool profile tiles/*.png --pixel-um 0.71 --offsets tiles.csv -o t12.csv --json")]
+pub struct ProfileArgs {
+    /// The pictures.
+    #[arg(required = true, value_name = "IMAGE")]
+    pub images: Vec<PathBuf>,
+    /// Side of a pixel on the tool, micrometres (0.71 in the paper).
+    #[arg(long, value_name = "UM")]
+    pub pixel_um: f64,
+    /// The row of the first picture where a new tool's tip sits (the tool-length reference);
+    /// without it the lowest point seen is z = 0.
+    #[arg(long, value_name = "ROW")]
+    pub tip_row: Option<f64>,
+    /// Stage positions of the pictures: CSV image,x_mm,z_mm.
+    #[arg(long, value_name = "FILE")]
+    pub offsets: Option<PathBuf>,
+    /// How far the pictures may be off their stage positions, micrometres.
+    #[arg(long, value_name = "UM", default_value_t = 15.0)]
+    pub search_um: f64,
+    /// Gray level at or below which a pixel is tool, 0-1 of full scale (Otsu's split of the
+    /// pictures if not given).
+    #[arg(long, value_name = "LEVEL")]
+    pub threshold: Option<f32>,
+    /// The new tool (ball:D, bull:D,R, …): adds the wear along the profile.
+    #[arg(long, value_name = "SPEC")]
+    pub nominal: Option<String>,
+    /// The profile CSV.
+    #[arg(short, long, value_name = "PROFILE.csv")]
+    pub output: PathBuf,
+    /// A picture of the joined envelope with the edges found (red) and the nominal tool
+    /// (green, with the runout).
+    #[arg(long, value_name = "FILE.png")]
+    pub png: Option<PathBuf>,
+    /// Print one JSON object: frames, runout_mm, max_radius_mm, fields, threshold, max_wear_mm,
+    /// warnings.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `kezuri tool …`.
+#[derive(Subcommand, Debug)]
+pub enum ToolCommand {
+    /// A tool's cutting profile and runout from backlit pictures of it turning.
+    Profile(Box<ProfileArgs>),
+    /// The database of each tool's measured profiles: add, list, show.
+    #[command(subcommand)]
+    Db(tool_db::DbCommand),
+}
+
+/// Runs a `tool` command.
+pub fn run(command: &ToolCommand) -> Result<()> {
+    match command {
+        ToolCommand::Profile(args) => profile(args),
+        ToolCommand::Db(command) => tool_db::run(command),
+    }
+}
+
+/// A picture as gray values 0-1.
+fn read_picture(path: &Path) -> Result<GrayImage> {
+    let g = crate::relief::read_gray(path)?;
+    Ok(GrayImage { width: g.width, height: g.height, pixels: g.v.iter().map(|&v| v as f32).collect() })
+}
+
+/// The pictures grouped into fields by their stage positions (pixels).
+fn fields(a: &ProfileArgs) -> Result<Vec<(Vec<&PathBuf>, [f64; 2])>> {
+    let Some(file) = &a.offsets else { return Ok(vec![(a.images.iter().collect(), [0.0, 0.0])]) };
+    let name = file.display().to_string();
+    let t = Table::parse(&name, &read_text(file)?)?;
+    let (ic, xc, zc) = (
+        t.require("image", "image,x_mm,z_mm")?,
+        t.require("x_mm", "image,x_mm,z_mm")?,
+        t.require("z_mm", "image,x_mm,z_mm")?,
+    );
+    let mut at: BTreeMap<String, [f64; 2]> = BTreeMap::new();
+    for r in 0..t.len() {
+        let (x, z) = (t.number(r, xc)?, t.number(r, zc)?);
+        at.insert(t.text(r, ic)?.to_string(), [x, z]);
+    }
+    let px = a.pixel_um / 1000.0;
+    let mut groups: Vec<(Vec<&PathBuf>, [f64; 2])> = Vec::new();
+    for image in &a.images {
+        let by_name = image.file_name().map(|n| n.to_string_lossy().to_string());
+        let Some(&[x, z]) = at.get(&image.display().to_string()).or_else(|| by_name.and_then(|n| at.get(&n))) else {
+            bail!("{name}: no row for the picture {} (its path or file name in the image column)", image.display());
+        };
+        let p = [x / px, -z / px];
+        match groups.iter_mut().find(|g| g.1 == p) {
+            Some(g) => g.0.push(image),
+            None => groups.push((vec![image], p)),
+        }
+    }
+    Ok(groups)
+}
+
+/// Runs `kezuri tool profile`.
+fn profile(a: &ProfileArgs) -> Result<()> {
+    if !(a.pixel_um > 0.0 && a.pixel_um.is_finite()) {
+        bail!("--pixel-um must be a positive number of micrometres, got {}", a.pixel_um);
+    }
+    if let Some(t) = a.threshold.filter(|t| !(0.0..=1.0).contains(t)) {
+        bail!("--threshold is a gray level from 0 to 1 of full scale, got {t}");
+    }
+    let nominal: Option<Cutter> = a.nominal.as_deref().map(str::parse).transpose().context("--nominal")?;
+    let groups = fields(a)?;
+    let total: usize = groups.iter().map(|g| g.0.len()).sum();
+    let bar = crate::progress::bar("reading", "pictures", 2 * total as u64, 50);
+    let mut placed = Vec::with_capacity(groups.len());
+    for (images, at) in &groups {
+        let mut e = Envelope::default();
+        for path in images {
+            e.add(&read_picture(path)?).map_err(|(w, h)| {
+                anyhow!("{}: not the size of the other pictures of its field ({w}×{h})", path.display())
+            })?;
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+        }
+        placed.push(e.field(*at).ok_or_else(|| anyhow!("a field without pictures"))?);
+    }
+    let px = a.pixel_um / 1000.0;
+    let options = Options {
+        pixel_mm: px,
+        threshold: a.threshold,
+        search: (a.search_um / a.pixel_um).ceil() as usize,
+        tip_row: a.tip_row,
+    };
+    let m = measure(&placed, &options)?;
+    // Second pass, one picture at a time: each frame's centre.
+    let mut centres = Vec::with_capacity(groups.len());
+    for (images, _) in &groups {
+        let mut field = Vec::with_capacity(images.len());
+        for path in images {
+            field.push(frame_centre(&read_picture(path)?, m.threshold));
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+        }
+        centres.push(field);
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let runout = runout_mm(&centres, px);
+    let mut warnings = m.warnings.clone();
+    if runout.is_none() {
+        warnings.push(NO_RUNOUT.to_string());
+    }
+    let wear: Option<Vec<f64>> = nominal.map(|c| {
+        let e = runout.unwrap_or(0.0);
+        m.profile.z().iter().zip(m.profile.radius()).map(|(&z, &r)| c.radius_at(z) + e - r).collect()
+    });
+    write_output(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
+    if let Some(png) = &a.png {
+        write_output(Some(png), &overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)?)?;
+    }
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    let max_wear = wear.as_ref().map(|w| w.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    if a.json {
+        let v = json!({
+            "frames": total,
+            "fields": groups.len(),
+            "runout_mm": runout,
+            "max_radius_mm": m.profile.max_radius(),
+            "tip_z_mm": m.profile.tip(),
+            "top_z_mm": m.profile.top(),
+            "samples": m.profile.z().len(),
+            "threshold": m.threshold,
+            "field_offsets_px": m.placement.at,
+            "max_wear_mm": max_wear,
+            "warnings": warnings,
+        });
+        println!("{v}");
+    } else {
+        eprintln!(
+            "{}: {} samples from z {:.4} to {:.4} mm, largest radius {:.4} mm, runout {}{}",
+            a.output.display(),
+            m.profile.z().len(),
+            m.profile.tip(),
+            m.profile.top(),
+            m.profile.max_radius(),
+            runout.map_or_else(|| "not measured".into(), |e| format!("{e:.4} mm")),
+            max_wear.map_or_else(String::new, |w| format!(", largest wear {w:.4} mm")),
+        );
+    }
+    Ok(())
+}
+
+/// The joined envelope in gray, the edges found in red, the nominal tool
+/// with the runout in green (about the middle of the edges at the top).
+fn overlay_png(m: &Measured, nominal: Option<&Cutter>, runout: f64, px: f64) -> Result<Vec<u8>> {
+    let (w, h) = (m.picture.width, m.picture.height);
+    let mut rgb: Vec<u8> = m
+        .picture
+        .pixels
+        .iter()
+        .flat_map(|&v| {
+            let g = if v.is_nan() { 40 } else { (v.clamp(0.0, 1.0) * 255.0) as u8 };
+            [g, g, g]
+        })
+        .collect();
+    let mut dot = |x: f64, r: usize, colour: [u8; 3]| {
+        if x.is_finite() && x >= 0.0 && (x as usize) < w && r < h {
+            let i = 3 * (r * w + x as usize);
+            rgb[i..i + 3].copy_from_slice(&colour);
+        }
+    };
+    if let Some(c) = nominal {
+        let mut mids: Vec<f64> = m.edges.iter().map(|&(_, l, r)| 0.5 * (l + r)).collect();
+        let axis = kezuri_post::tool_image::median(&mut mids).unwrap_or(0.0);
+        for &(r, ..) in &m.edges {
+            let z = (m.zero_row - r as f64) * px;
+            if z >= 0.0 {
+                let half = (c.radius_at(z) + runout) / px;
+                dot(axis - half, r, [0, 200, 0]);
+                dot(axis + half, r, [0, 200, 0]);
+            }
+        }
+    }
+    for &(r, l, rr) in &m.edges {
+        dot(l.round(), r, [230, 0, 0]);
+        dot(rr.round(), r, [230, 0, 0]);
+    }
+    let mut out = Vec::new();
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut out),
+        &rgb,
+        w as u32,
+        h as u32,
+        image::ExtendedColorType::Rgb8,
+    )?;
+    Ok(out)
+}
+
+/// The profile CSV in `text` (`file` names it in errors): columns
+/// `z_mm,radius_mm` (others, such as `wear_mm`, ignored).
+pub fn parse_profile(file: &str, text: &str) -> Result<ToolProfile> {
+    let t = Table::parse(file, text)?;
+    let (zc, rc) = (t.require("z_mm", "z_mm,radius_mm")?, t.require("radius_mm", "z_mm,radius_mm")?);
+    let mut z = Vec::with_capacity(t.len());
+    let mut radius = Vec::with_capacity(t.len());
+    for r in 0..t.len() {
+        z.push(t.number(r, zc)?);
+        radius.push(t.number(r, rc)?);
+    }
+    ToolProfile::new(z, radius).map_err(|e| match e.index {
+        Some(i) => t.error_at(i, zc, &e.reason),
+        None => anyhow!("{file}: {}", e.reason),
+    })
+}
+
+/// The profile CSV at `path`.
+pub fn read_profile(path: &Path) -> Result<ToolProfile> {
+    parse_profile(&path.display().to_string(), &read_text(path)?)
+}
+
+/// The profile as CSV text, with a `wear_mm` column when `wear` is given
+/// (one value per sample).
+pub fn profile_csv(profile: &ToolProfile, wear: Option<&[f64]>) -> String {
+    let mut out = String::from(if wear.is_some() { "z_mm,radius_mm,wear_mm\n" } else { "z_mm,radius_mm\n" });
+    for (i, (z, r)) in profile.z().iter().zip(profile.radius()).enumerate() {
+        match wear {
+            Some(w) => out.push_str(&format!("{z:.5},{r:.5},{:.5}\n", w[i])),
+            None => out.push_str(&format!("{z:.5},{r:.5}\n")),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn profile_csv_round_trip_and_errors_with_their_place() {
+        let p = ToolProfile::new(vec![0.0, 0.00071, 0.00142], vec![0.0, 0.03, 0.04]).unwrap();
+        let text = profile_csv(&p, None);
+        assert_eq!(parse_profile("p.csv", &text).unwrap(), p);
+        let e = parse_profile("p.csv", "z_mm,radius_mm\n0,0\n0,0.1\n").unwrap_err().to_string();
+        assert!(e.starts_with("p.csv: line 3, column 1: z 0 is not above"), "{e}");
+        let e = parse_profile("p.csv", "z_mm,radius_mm\n0,0\n1,-0.1\n").unwrap_err().to_string();
+        assert!(e.starts_with("p.csv: line 3, column 1: negative radius"), "{e}");
+        let e = parse_profile("p.csv", "z_mm,radius_mm\n0,0\n").unwrap_err().to_string();
+        assert!(e.contains("at least two"), "{e}");
+    }
+}

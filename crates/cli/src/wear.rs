@@ -1,0 +1,221 @@
+//! `kezuri wear apply`: the program moved so the measured (worn, eccentric)
+//! tool cuts what the new tool would have (seed 003).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand};
+use kezuri_cam::Cutter;
+use kezuri_geom::{Axes, Mesh, MoveKind, ToolProfile, Vec3};
+use kezuri_post::wear::{correct, Nominal, Options, Skip, Surface};
+use serde_json::json;
+
+use crate::corrected::{set_ends, write_corrected, ArcCentre};
+use crate::files::{read_bytes, read_text};
+use crate::program::{run_text, RunOptions, WriteArgs};
+
+/// `kezuri wear …`.
+#[derive(Subcommand, Debug)]
+pub enum WearCommand {
+    /// Move every cutting point so the measured tool touches the finished surface where the
+    /// new tool would: the cutting point and normal on the surface, the surface there taken
+    /// as a plane, the tool translated normal to the feed.
+    Apply(Box<ApplyArgs>),
+}
+
+/// `kezuri wear apply IN --profile P --nominal SPEC --surface PART.stl -o OUT`.
+#[derive(Args, Debug)]
+#[command(after_help = "For each end point of a cutting move: the point where the new tool (--nominal, ball or
+bull-nose) touches the finished surface (--surface, the part as an STL in program coordinates)
+and the surface normal there; the measured tool (its profile in tool coordinates, so a tilted B
+axis needs nothing more; the machine's rotary axes from --machine) is translated until its gap
+to that plane is the new tool's: in the plane normal to the feed, or along the tool axis where
+the feed runs within 30° of the normal (plunges, ramps). Rapids, and points whose new tool is
+farther than --reach from the surface (moves in the air), are kept as programmed; an arc keeps
+its centre (its radius takes the correction). --digits defaults to 4.
+
+Examples:
+  kezuri wear apply groove.nc --profile t12.csv --nominal ball:1 --surface part.stl -o groove-worn.nc
+  kezuri wear apply part.nc --tool-id T12 --nominal ball:1 --surface part.stl --machine mill-turn.toml \\
+      -o part-T12.nc --json")]
+pub struct ApplyArgs {
+    #[command(flatten)]
+    pub run: RunOptions,
+    #[command(flatten)]
+    pub write: WriteArgs,
+    /// The measured tool (from `kezuri tool profile`).
+    #[arg(long, value_name = "PROFILE.csv", required_unless_present = "tool_id", conflicts_with = "tool_id")]
+    pub profile: Option<PathBuf>,
+    /// The latest profile of this tool in the tool database.
+    #[arg(long, value_name = "TOOL-ID")]
+    pub tool_id: Option<String>,
+    /// The tool database (with --tool-id).
+    #[arg(long, value_name = "FILE", default_value = "kezuri-tools.sqlite")]
+    pub db: PathBuf,
+    /// The new tool the program was made for: ball:D or bull:D,R.
+    #[arg(long, value_name = "SPEC")]
+    pub nominal: String,
+    /// The finished part (STL, program coordinates).
+    #[arg(long, value_name = "PART.stl")]
+    pub surface: PathBuf,
+    /// Points whose new tool is farther than this from the surface are kept (mm).
+    #[arg(long, value_name = "MM", default_value_t = 0.05)]
+    pub reach: f64,
+    /// Print one JSON object: points, max_correction_mm, max_residual_mm, seconds, and the
+    /// counts of corrected and kept points.
+    #[arg(long)]
+    pub json: bool,
+    /// Keep the program's own text and change only the numbers of X, Y, Z (and I, J, K).
+    #[arg(long)]
+    pub keep_text: bool,
+}
+
+/// Runs a `wear` command.
+pub fn run(command: &WearCommand) -> Result<()> {
+    match command {
+        WearCommand::Apply(a) => apply(a),
+    }
+}
+
+/// The new tool as the correction sees it.
+fn nominal(spec: &str) -> Result<Nominal> {
+    let cutter: Cutter = spec.parse().context("--nominal")?;
+    match cutter {
+        Cutter::Ball(_) => Ok(Nominal { radius: cutter.radius(), corner: cutter.radius() }),
+        Cutter::Bull(b) if b.corner > 0.0 => Ok(Nominal { radius: cutter.radius(), corner: b.corner }),
+        _ => bail!(
+            "--nominal {spec}: wear apply corrects ball and bull-nose end mills (a flat bottom touches a whole disc, \
+             not a point)"
+        ),
+    }
+}
+
+/// The unit direction of `v`, `None` for a standstill.
+fn unit(v: Vec3) -> Option<Vec3> {
+    let n = v.norm();
+    (n > 1e-12).then(|| v * (1.0 / n))
+}
+
+/// Runs `kezuri wear apply`.
+fn apply(a: &ApplyArgs) -> Result<()> {
+    let name = a.run.file.display().to_string();
+    let nominal = nominal(&a.nominal)?;
+    if !(a.reach > 0.0 && a.reach.is_finite()) {
+        bail!("--reach must be a positive distance in mm, got {}", a.reach);
+    }
+    let worn: ToolProfile = match (&a.profile, &a.tool_id) {
+        (Some(p), _) => crate::tool::read_profile(p)?,
+        (None, Some(id)) => crate::tool_db::latest_profile(&a.db, id)?,
+        (None, None) => bail!("give --profile or --tool-id"),
+    };
+    let stl = a.surface.display().to_string();
+    let mesh = Mesh::from_stl(&read_bytes(&a.surface)?).with_context(|| stl.clone())?;
+    if mesh.is_empty() {
+        bail!("{stl}: no triangles");
+    }
+    let text = read_text(&a.run.file)?;
+    let (ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
+    ran.print_diagnostics(&parse_diagnostics);
+    if ran.errors() > 0 {
+        bail!("{name}: {} error(s); nothing written", ran.errors());
+    }
+    let k = &ran.machine.kinematics;
+    if let Some((axis, line)) = crate::program::missing_axes(&ran.outcome.toolpath, k).first() {
+        bail!("{name}: line {line}: the program moves {axis}, which the machine has not");
+    }
+    let mut path = ran.outcome.toolpath.clone();
+    let surface = Surface::new(&mesh);
+    let options = Options { reach: a.reach };
+    let t0 = std::time::Instant::now();
+    let mut ends: Vec<Axes> = Vec::with_capacity(path.moves.len());
+    let (mut largest, mut worst, mut worst_before) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut corrected, mut along_axis) = (0usize, 0usize);
+    let mut far: Vec<u32> = Vec::new();
+    let mut gouges: Vec<(u32, f64)> = Vec::new();
+    let to_vec = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
+    for m in &path.moves {
+        let cutting = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
+        if !cutting {
+            ends.push(m.end);
+            continue;
+        }
+        let c = m.end.to_array();
+        let tip = to_vec(k.forward(&c));
+        let axis = to_vec(k.tool_axis(&c));
+        let before = match m.kind {
+            MoveKind::Arc(arc) => to_vec(k.forward(&arc.point_at(m.start, m.end, 1.0 - 1e-6).to_array())),
+            _ => to_vec(k.forward(&m.start.to_array())),
+        };
+        let feed = unit(tip - before);
+        let fix = correct(&surface, nominal, &worn, tip, axis, feed, &options)
+            .map_err(|e| anyhow::anyhow!("{name}: line {}: {e}", m.line))?;
+        match fix {
+            Ok(fix) => {
+                let target = [tip.x + fix.shift[0], tip.y + fix.shift[1], tip.z + fix.shift[2]];
+                let x =
+                    k.inverse(target, &c).with_context(|| format!("{name}: line {}: no command reaches", m.line))?;
+                largest = largest.max(to_vec(fix.shift).norm());
+                worst = worst.max(fix.residual.abs());
+                worst_before = worst_before.max((fix.worn_gap - fix.nominal_gap).abs());
+                corrected += 1;
+                along_axis += usize::from(fix.along_axis);
+                ends.push(Axes::from_array(x));
+            }
+            Err(Skip::Far(_)) => {
+                far.push(m.line);
+                ends.push(m.end);
+            }
+            Err(Skip::Gouges(d)) => {
+                gouges.push((m.line, d));
+                ends.push(m.end);
+            }
+        }
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    if corrected == 0 {
+        bail!("{name}: no cutting point within {} mm of {stl}: is the part in program coordinates?", a.reach);
+    }
+    set_ends(&mut path, &ends, ArcCentre::Stays);
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR")?;
+    if let Some(&(line, d)) = gouges.first() {
+        eprintln!(
+            "warning: {name}: {} point(s) where the new tool itself cuts more than {} mm into the surface (first at \
+             line {line}, {d:.4} mm): kept as programmed",
+            gouges.len(),
+            a.reach
+        );
+    }
+    if let Some(&line) = far.first() {
+        eprintln!(
+            "warning: {name}: {} cutting point(s) farther than {} mm from the surface (first at line {line}): kept as \
+             programmed",
+            far.len(),
+            a.reach
+        );
+    }
+    if a.json {
+        let v = json!({
+            "points": corrected,
+            "max_correction_mm": largest,
+            "max_residual_mm": worst,
+            "max_error_before_mm": worst_before,
+            "seconds": seconds,
+            "along_axis_points": along_axis,
+            "kept_far_points": far.len(),
+            "kept_gouging_points": gouges.len(),
+            "far_lines": far.iter().take(20).collect::<Vec<_>>(),
+        });
+        println!("{v}");
+    } else {
+        eprintln!(
+            "{name}: {corrected} points corrected in {:.3} ms ({:.2} µs each); largest correction {:.4} mm, error \
+             before up to {:.4} mm, residual {:.1e} mm",
+            seconds * 1e3,
+            seconds * 1e6 / corrected as f64,
+            largest,
+            worst_before,
+            worst
+        );
+    }
+    Ok(())
+}
