@@ -27,6 +27,16 @@
 //! - **3 axes.** A B C are ignored (moves that turn them are counted in
 //!   [`SimReport::rotary_moves`]); the cutter axis is Z.
 //!
+//! # Measured tools
+//! [`simulate_tool`] also cuts with a [`MeasuredTool`], the profile a worn
+//! (or eccentric: the profile is the swept envelope) tool was measured to
+//! have ([`kezuri_geom::ToolProfile`]). Its lower surface is piecewise
+//! linear in the radius but not convex; the envelope is still exact at the
+//! cell centres, the least over its linear pieces (`sim/measured.rs`).
+//! Above the last sample the tool is taken as a cylinder of its widest
+//! measured radius; below the first there is none, so a worn tip cuts less
+//! deep.
+//!
 //! # Speed
 //! The grid is cut into bands of rows, processed in parallel (rayon); each
 //! band runs, in program order, only the segments whose footprint (segment
@@ -61,6 +71,7 @@
 //! ```
 
 pub mod compare;
+pub mod measured;
 pub mod sweep;
 
 use std::fmt;
@@ -69,7 +80,55 @@ use kezuri_geom::{MoveKind, Toolpath};
 use rayon::prelude::*;
 
 use crate::Cutter;
+pub use measured::MeasuredTool;
 use sweep::{cell_range, Band, Prep, Reach, Shape};
+
+/// What cuts: a nominal cutter or a measured tool.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Tool {
+    /// A cutter by its nominal geometry (a `SPEC` such as `ball:6`).
+    Cutter(Cutter),
+    /// A tool as measured.
+    Measured(MeasuredTool),
+}
+
+impl Tool {
+    /// The radius the tool reaches, mm.
+    pub fn radius(&self) -> f64 {
+        match self {
+            Tool::Cutter(c) => c.radius(),
+            Tool::Measured(m) => m.radius(),
+        }
+    }
+
+    fn shape(&self) -> Shape<'_> {
+        match self {
+            Tool::Cutter(c) => Shape::of(c),
+            Tool::Measured(m) => Shape::Measured(m),
+        }
+    }
+}
+
+impl From<Cutter> for Tool {
+    fn from(c: Cutter) -> Tool {
+        Tool::Cutter(c)
+    }
+}
+
+impl From<MeasuredTool> for Tool {
+    fn from(m: MeasuredTool) -> Tool {
+        Tool::Measured(m)
+    }
+}
+
+impl fmt::Display for Tool {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Tool::Cutter(c) => write!(f, "{c}"),
+            Tool::Measured(m) => write!(f, "{m}"),
+        }
+    }
+}
 
 /// The stock box: `x0..x1` × `y0..y1` in XY (mm), its top at `top`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,6 +152,12 @@ impl Stock {
     /// must not grow the grid, and a rapid approach to just above the
     /// work must not count as cutting. Without cutting moves, all moves.
     pub fn around(path: &Toolpath, cutter: &Cutter) -> Result<Stock, SimError> {
+        Stock::around_tool(path, &Tool::Cutter(*cutter))
+    }
+
+    /// [`Stock::around`] for any [`Tool`]: the cutting moves' box grown by
+    /// the tool's radius.
+    pub fn around_tool(path: &Toolpath, tool: &Tool) -> Result<Stock, SimError> {
         let cutting: Vec<_> =
             path.moves.iter().filter(|m| !m.is_rapid() && !matches!(m.kind, MoveKind::Dwell(_))).copied().collect();
         let bounds = if cutting.is_empty() { path.bounds() } else { Toolpath::from(cutting).bounds() };
@@ -100,7 +165,7 @@ impl Stock {
         if !lo.iter().chain(&hi).all(|v| v.is_finite()) {
             return Err(SimError::BadStock("the program's bounds are not finite".into()));
         }
-        let r = cutter.radius();
+        let r = tool.radius();
         Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top: hi[2] })
     }
 
@@ -335,16 +400,18 @@ struct Segment {
 /// closed-form shapes the bound is sharper: the minimum is at the start
 /// when `s ≤ q·k`, so when `s ≤ min(0, k·R)`. So where the previous segment
 /// ends exactly at this one's start and runs in the same XY direction, the
-/// cells behind `min(0, k·R)` (−R when descending, for the general shapes)
-/// are cut at least as deep by the previous segment through that shared
-/// point, and the same holds ahead of the end. Following such cells from
+/// cells behind `min(0, k·R)` (−R when descending, for the general shapes;
+/// for a measured tool the bound from its flattest slope,
+/// [`MeasuredTool::monotone_beyond`]) are cut at least as deep by the
+/// previous segment through that shared point, and the same holds ahead of
+/// the end. Following such cells from
 /// segment to segment always ends at one that evaluates them (the same
 /// direction means "behind this one's start" is never "ahead of the
 /// previous one's end"), so the result is unchanged while a raster move
 /// of 0.1 mm with a 6 mm ball evaluates a slab of about 0.7 mm instead of
 /// its whole 6.1 mm footprint. Rapids are never narrowed, so each rapid is
 /// judged on everything it cuts.
-fn continuations(segs: &mut [Segment], shape: &Shape) {
+fn continuations(segs: &mut [Segment], shape: &Shape<'_>) {
     let r = shape.radius();
     let eps = 1e-9 * (1.0 + r);
     let joined = |p: &Segment, q: &Segment| {
@@ -361,6 +428,10 @@ fn continuations(segs: &mut [Segment], shape: &Shape) {
         let (back, ahead) = match shape {
             Shape::Closed { .. } => ((p.k * r).min(0.0), (p.k * r).max(0.0)),
             Shape::General(_) => (if p.dz < 0.0 { -r } else { 0.0 }, if p.dz > 0.0 { r } else { 0.0 }),
+            Shape::Measured(m) => {
+                let d = if p.dz == 0.0 { 0.0 } else { m.monotone_beyond(p.dz.abs() * p.inv_len) };
+                (if p.dz < 0.0 { -d } else { 0.0 }, if p.dz > 0.0 { d } else { 0.0 })
+            }
         };
         if k > 0 && joined(&segs[k - 1], &segs[k]) {
             segs[k].from = back - eps;
@@ -384,7 +455,7 @@ fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
 /// The straight segments to simulate, the report so far, and the rapids
 /// whose start is not known (see [`SimReport::unplaced_moves`]).
 #[allow(clippy::type_complexity)]
-fn segments(path: &Toolpath, shape: &Shape, tol: f64) -> Result<(Vec<Segment>, SimReport, Vec<usize>), SimError> {
+fn segments(path: &Toolpath, shape: &Shape<'_>, tol: f64) -> Result<(Vec<Segment>, SimReport, Vec<usize>), SimError> {
     let mut out = Vec::with_capacity(path.moves.len());
     let mut report = SimReport::default();
     // Axes (X Y Z bits) whose position is known: none at the start of an
@@ -453,10 +524,20 @@ pub fn simulate(
     zmap: &mut ZMap,
     options: &SimOptions,
 ) -> Result<SimReport, SimError> {
+    simulate_tool(path, &Tool::Cutter(*cutter), zmap, options)
+}
+
+/// [`simulate`] with any [`Tool`]: a nominal cutter or a measured one.
+pub fn simulate_tool(
+    path: &Toolpath,
+    tool: &Tool,
+    zmap: &mut ZMap,
+    options: &SimOptions,
+) -> Result<SimReport, SimError> {
     if !(options.chord_tolerance.is_finite() && options.chord_tolerance > 0.0) {
         return Err(SimError::BadTolerance(options.chord_tolerance));
     }
-    let shape = Shape::of(cutter);
+    let shape = tool.shape();
     let r = shape.radius();
     let (segs, mut report, unplaced_rapids) = segments(path, &shape, options.chord_tolerance)?;
     let (nx, ny, res, x0, y0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0);
@@ -522,6 +603,7 @@ pub fn simulate(
                     }
                     Shape::Closed { r, r2, hs } => sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band),
                     Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
+                    Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
                 };
                 if s.rapid && deepest > options.rapid_tolerance {
                     hits.push((s.index, deepest));
@@ -556,11 +638,17 @@ pub fn simulate(
 /// reaches there, or `None` where it does not reach. The same evaluation
 /// the simulation runs per cell.
 pub fn swept_height(cutter: &Cutter, a: [f64; 3], b: [f64; 3], x: f64, y: f64) -> Option<f64> {
-    let shape = Shape::of(cutter);
+    swept_height_tool(&Tool::Cutter(*cutter), a, b, x, y)
+}
+
+/// [`swept_height`] for any [`Tool`].
+pub fn swept_height_tool(tool: &Tool, a: [f64; 3], b: [f64; 3], x: f64, y: f64) -> Option<f64> {
+    let shape = tool.shape();
     let p = Prep::new(a, b, &shape);
     let z = match shape {
         Shape::Closed { r, r2, hs } => sweep::closed_at(&p, r, r2, hs, x, y - p.ay),
         Shape::General(c) => sweep::general_at(&c, &p, x, y - p.ay, f64::INFINITY).unwrap_or(f64::INFINITY),
+        Shape::Measured(m) => measured::measured_at(m, &p, x, y - p.ay, f64::INFINITY).unwrap_or(f64::INFINITY),
     };
     z.is_finite().then_some(z)
 }

@@ -1,5 +1,7 @@
 //! `kezuri demo`: every pipeline on bundled samples, into one folder.
 
+mod wear;
+
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -37,16 +39,7 @@ pub fn run(out: &Path) -> Result<()> {
     for (name, what, text) in SAMPLES {
         let file = samples.join(name);
         write_atomic(&file, text.as_bytes())?;
-        let options = RunOptions {
-            file: file.clone(),
-            lib: None,
-            machine: None,
-            no_decimal: NoDecimal::Increments,
-            clock_seed: Some(7),
-            block_delete: false,
-            step_limit: 10_000_000,
-            dprnt: None,
-        };
+        let options = run_options(file.clone(), Some(7));
         let (ran, parse_diagnostics) = read_and_run(&options)?;
         if ran.errors() > 0 {
             ran.print_diagnostics(&parse_diagnostics);
@@ -72,7 +65,8 @@ pub fn run(out: &Path) -> Result<()> {
     copy_milling(out)?;
     relief_carving(out)?;
     textured_nameplate(out)?;
-    thermal_drift(out)
+    thermal_drift(out)?;
+    wear::tool_wear(out)
 }
 
 /// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
@@ -401,16 +395,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     let model = fit(&truth, None)?;
     let k = crate::machine::Machine::load(&machine)?.kinematics;
     let stops = |file: &str| -> Result<Vec<[f64; 6]>> {
-        let options = RunOptions {
-            file: file.into(),
-            lib: None,
-            machine: None,
-            no_decimal: NoDecimal::Increments,
-            clock_seed: None,
-            block_delete: false,
-            step_limit: 10_000_000,
-            dprnt: None,
-        };
+        let options = run_options(file.into(), None);
         let (ran, _) = read_and_run(&options)?;
         let inside = |c: &[f64; 6]| {
             stations.iter().any(|(b, r)| {
@@ -454,15 +439,39 @@ fn thermal_drift(out: &Path) -> Result<()> {
 }
 
 /// Runs each command as `kezuri` would, showing it first without the
-/// output folder's prefix.
+/// output folder's prefix (and a run of many pictures as its first and
+/// last).
 fn run_shown(out: &Path, commands: &[Vec<String>]) -> Result<()> {
     for command in commands {
-        let shown: Vec<String> = command.iter().map(|w| w.replace(&format!("{}/", out.display()), "")).collect();
+        let mut shown: Vec<String> = command.iter().map(|w| w.replace(&format!("{}/", out.display()), "")).collect();
+        let pictures = shown.iter().filter(|w| w.ends_with(".png") && !w.starts_with('-')).count();
+        if pictures > 4 {
+            if let Some(first) = shown.iter().position(|w| w.ends_with(".png")) {
+                let last = first + shown[first..].iter().take_while(|w| w.ends_with(".png")).count() - 1;
+                let summary = format!("{} … {} ({} pictures)", shown[first], shown[last], last - first + 1);
+                shown.splice(first..=last, [summary]);
+            }
+        }
         println!("\n$ kezuri {}", shown.join(" "));
         let command: Vec<&str> = command.iter().map(String::as_str).collect();
         crate::run_words(&command)?;
     }
     Ok(())
+}
+
+/// How the demo runs a program: the file, the clock seeded or not,
+/// everything else as the command line's defaults.
+fn run_options(file: std::path::PathBuf, clock_seed: Option<u64>) -> RunOptions {
+    RunOptions {
+        file,
+        lib: None,
+        machine: None,
+        no_decimal: NoDecimal::Increments,
+        clock_seed,
+        block_delete: false,
+        step_limit: 10_000_000,
+        dprnt: None,
+    }
 }
 
 fn words(w: &[&str]) -> Vec<String> {

@@ -1,6 +1,7 @@
 //! `kezuri`: the command line. Only this crate touches files, the terminal,
 //! the clock and the environment; the libraries take values and return values.
 
+mod chart;
 mod convert;
 mod corrected;
 mod demo;

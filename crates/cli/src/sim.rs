@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use clap::Args;
+use clap::{ArgGroup, Args};
 use image::codecs::png::PngEncoder;
 use image::{ExtendedColorType, ImageEncoder};
 use kezuri_cam::sim::compare::{compare, target_heights, Comparison};
-use kezuri_cam::sim::{simulate, SimOptions, SimReport, Stock, ZMap};
+use kezuri_cam::sim::{simulate_tool, MeasuredTool, SimOptions, SimReport, Stock, Tool, ZMap};
 use kezuri_cam::Cutter;
 use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
 use serde_json::json;
@@ -21,12 +21,20 @@ use crate::program::{read_and_run, RunOptions};
 
 /// Options of `kezuri sim`.
 #[derive(Args, Debug)]
+#[command(group(ArgGroup::new("cutter").required(true).args(["tool", "tool_profile"])))]
 #[command(after_help = "\
 Every move lowers each cell of the stock grid to the lower envelope of the cutter swept along
 it: straight moves exactly (at the cell centres), arcs as chords within --chord-tol. Rapids
 cut too: a rapid that removes material is reported as a rapid into the stock (a crash), with
 its line. Without --stock the stock is the XY box of the cutting moves grown by the cutter
 radius, its top at their highest point; give --stock for a real check of the rapids.
+
+--tool-profile PROFILE.csv cuts with a measured tool instead of --tool SPEC: the CSV of
+`kezuri tool` (`z_mm,radius_mm`: z up from the nominal tip, the radius of the swept envelope,
+straight between samples). The tool is what a Z-map sees of it from below: at each radius the
+lowest height it reaches there, so a worn tip cuts less deep and a worn waist leaves a ridge.
+Below the first sample there is no tool; above the last it is taken as a cylinder of the
+widest measured radius. Exact at the cell centres, as for the nominal shapes.
 
 --compare TARGET reads the intended surface: an STL (binary or ASCII; the highest surface over
 each cell centre) or a height grid (`x y z` or `x,y,z` lines on a regular grid). Deviation is
@@ -36,6 +44,7 @@ Examples:
   kezuri sim part.nc --tool ball:6 --res 0.05 -o part.png
   kezuri sim part.nc --tool ball:6 --res 0.1 --stock 0,0,100,100,0 --json
   kezuri sim part.nc --tool oval:16,24 --res 0.05 --compare part.stl --deviation-png dev.png --stl cut.stl
+  kezuri sim part.nc --tool-profile worn.csv --res 0.01 --compare part.stl --json
 
 Exit code 1 for a program with errors, a bad tool, resolution or stock, a grid too large
 (the cell count is given), an unreadable target; with --fail-on-rapid also for a rapid into
@@ -43,9 +52,13 @@ the stock.")]
 pub struct SimArgs {
     #[command(flatten)]
     pub run: RunOptions,
-    /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
+    /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees). This or
+    /// --tool-profile.
     #[arg(long, value_name = "SPEC")]
-    pub tool: String,
+    pub tool: Option<String>,
+    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool`).
+    #[arg(long, value_name = "PROFILE.csv")]
+    pub tool_profile: Option<PathBuf>,
     /// Cell size of the simulation grid, mm.
     #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     pub res: f64,
@@ -102,9 +115,26 @@ fn parse_stock(text: &str) -> Result<Stock> {
     Ok(Stock { x0: v[0], y0: v[1], x1: v[2], y1: v[3], top: v[4] })
 }
 
+/// The tool to cut with: --tool's cutter or --tool-profile's measured tool.
+fn read_tool(args: &SimArgs) -> Result<Tool> {
+    match (&args.tool, &args.tool_profile) {
+        (Some(spec), None) => Ok(Tool::Cutter(spec.parse::<Cutter>()?)),
+        (None, Some(path)) => Ok(Tool::Measured(MeasuredTool::new(&crate::tool::read_profile(path)?))),
+        _ => bail!("give exactly one of --tool SPEC and --tool-profile PROFILE.csv"),
+    }
+}
+
+/// How the reports name the tool: the cutter's SPEC, or `profile:FILE`.
+fn tool_name(args: &SimArgs, tool: &Tool) -> String {
+    match (tool, &args.tool_profile) {
+        (Tool::Measured(_), Some(path)) => format!("profile:{}", path.display()),
+        _ => tool.to_string(),
+    }
+}
+
 /// Runs `kezuri sim`.
 pub fn run(args: &SimArgs) -> Result<()> {
-    let cutter: Cutter = args.tool.parse()?;
+    let tool = read_tool(args)?;
     if args.json && args.output.as_deref() == Some(Path::new("-")) {
         bail!("--json and -o - both want standard output");
     }
@@ -125,11 +155,11 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let path = &ran.outcome.toolpath;
     let stock = match stock {
         Some(s) => s,
-        None => Stock::around(path, &cutter).with_context(|| file.clone())?,
+        None => Stock::around_tool(path, &tool).with_context(|| file.clone())?,
     };
     let mut zmap = ZMap::new(&stock, &options)?;
     let t0 = Instant::now();
-    let report = simulate(path, &cutter, &mut zmap, &options).with_context(|| file.clone())?;
+    let report = simulate_tool(path, &tool, &mut zmap, &options).with_context(|| file.clone())?;
     let seconds = t0.elapsed().as_secs_f64();
 
     let comparison = match &args.compare {
@@ -187,11 +217,10 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let to_stderr = args.output.as_deref() == Some(Path::new("-"));
     if args.json {
-        let value =
-            json_report(args, &file, &cutter, &stock, &zmap, &report, comparison.as_ref().map(|c| &c.0), seconds);
+        let value = json_report(args, &file, &tool, &stock, &zmap, &report, comparison.as_ref().map(|c| &c.0), seconds);
         write_output(None, (value.to_string() + "\n").as_bytes())?;
     } else {
-        let text = text_report(&file, &cutter, &stock, &zmap, &report, seconds, (lo, hi), comparison.as_ref(), args);
+        let text = text_report(&file, &tool, &stock, &zmap, &report, seconds, (lo, hi), comparison.as_ref(), args);
         let text = text + &deviation_note.map(|n| format!("  {n}\n")).unwrap_or_default();
         if to_stderr {
             eprint!("{text}");
@@ -209,7 +238,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
 fn json_report(
     args: &SimArgs,
     file: &str,
-    cutter: &Cutter,
+    tool: &Tool,
     stock: &Stock,
     zmap: &ZMap,
     report: &SimReport,
@@ -219,7 +248,7 @@ fn json_report(
     let (lo, hi) = zmap.range();
     let mut v = json!({
         "file": file,
-        "tool": cutter.to_string(),
+        "tool": tool_name(args, tool),
         "res_mm": zmap.res,
         "nx": zmap.nx,
         "ny": zmap.ny,
@@ -238,6 +267,17 @@ fn json_report(
             .map(|h| json!({"line": h.line, "move": h.index, "depth_mm": h.depth})).collect::<Vec<_>>(),
         "seconds": seconds,
     });
+    if let (Tool::Measured(m), Some(o)) = (tool, v.as_object_mut()) {
+        o.insert(
+            "tool_profile".into(),
+            json!({
+                "samples": m.samples(),
+                "diameter_mm": 2.0 * m.radius(),
+                "tip_mm": m.tip(),
+                "lower_surface_corners": m.corners().len(),
+            }),
+        );
+    }
     if let Some(c) = comparison {
         let extra = json!({
             "max_gouge_mm": c.max_gouge,
@@ -260,7 +300,7 @@ fn json_report(
 #[allow(clippy::too_many_arguments)]
 fn text_report(
     file: &str,
-    cutter: &Cutter,
+    tool: &Tool,
     stock: &Stock,
     zmap: &ZMap,
     report: &SimReport,
@@ -270,9 +310,19 @@ fn text_report(
     args: &SimArgs,
 ) -> String {
     let mut t = String::new();
+    let name = match tool {
+        Tool::Cutter(c) => c.to_string(),
+        Tool::Measured(m) => format!(
+            "{} (measured: Ø{:.4}, tip at {:.4}, {} samples)",
+            tool_name(args, tool),
+            2.0 * m.radius(),
+            m.tip(),
+            m.samples()
+        ),
+    };
     let _ = writeln!(
         t,
-        "{file}: {cutter} over X {} … {}, Y {} … {}, top {} at {} mm: {} × {} = {} cells",
+        "{file}: {name} over X {} … {}, Y {} … {}, top {} at {} mm: {} × {} = {} cells",
         stock.x0,
         stock.x1,
         stock.y0,

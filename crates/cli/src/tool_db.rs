@@ -5,7 +5,6 @@
 //! `wear apply --tool-id` the newest profile. The file is SQLite
 //! (`tool_db/store.rs` has its schema).
 
-mod chart;
 mod store;
 mod time;
 
@@ -16,6 +15,7 @@ use clap::{Args, Subcommand};
 use kezuri_geom::ToolProfile;
 use serde_json::json;
 
+use crate::chart::{line_chart, Line};
 use crate::files::write_atomic;
 use crate::plot::png_from_svg;
 use store::{Db, Entry};
@@ -275,13 +275,21 @@ fn show(args: &ShowArgs) -> Result<()> {
         })
         .collect();
     if let Some(png) = &args.png {
-        let lines: Vec<chart::Line> = rows
+        let lines: Vec<Line> = rows
             .iter()
             .enumerate()
-            .map(|(k, r)| chart::Line { label: format!("{} {}", k + 1, r.entry.measured_at), points: r.curve.clone() })
+            .map(|(k, r)| Line { label: format!("{} {}", k + 1, r.entry.measured_at), points: r.curve.clone() })
             .collect();
         let title = format!("tool {}: radius loss against its first profile", args.tool_id);
-        write_atomic(png, &png_from_svg(&chart::loss_chart(&title, &lines))?)?;
+        write_atomic(
+            png,
+            &png_from_svg(&line_chart(
+                &title,
+                "z up the tool from the nominal tip (mm)",
+                "radius loss against the first profile (mm)",
+                &lines,
+            ))?,
+        )?;
     }
     if args.json {
         let profiles: Vec<_> = rows

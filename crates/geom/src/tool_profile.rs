@@ -130,19 +130,22 @@ impl ToolProfile {
     /// part is hidden from below). Straight between corners, as the
     /// profile is.
     pub fn lower_surface(&self) -> Vec<(f64, f64)> {
-        let mut out: Vec<(f64, f64)> = vec![(self.radius[0], self.z[0])];
-        for i in 1..self.z.len() {
-            let reach = out[out.len() - 1].0;
-            let (r0, r1) = (self.radius[i - 1], self.radius[i]);
+        let (z, r) = (&self.z, &self.radius);
+        let mut out = vec![(r[0], z[0])];
+        let mut reach = r[0];
+        for i in 1..z.len() {
+            let (r0, r1) = (r[i - 1], r[i]);
             if r1 <= reach {
                 continue;
             }
-            if r0 < reach {
-                // The segment rises past the widest radius so far: from there.
-                let t = (reach - r0) / (r1 - r0);
-                out.push((reach, self.z[i - 1] + t * (self.z[i] - self.z[i - 1])));
+            // Where this segment passes the widest radius so far: its start
+            // when it starts there (not where a hidden stretch began).
+            let from = if r0 >= reach { z[i - 1] } else { z[i - 1] + (reach - r0) / (r1 - r0) * (z[i] - z[i - 1]) };
+            if out[out.len() - 1] != (reach, from) {
+                out.push((reach, from));
             }
-            out.push((r1, self.z[i]));
+            out.push((r1, z[i]));
+            reach = r1;
         }
         out
     }
@@ -182,5 +185,9 @@ mod tests {
         assert_eq!(s[1], (1.0, 1.0));
         assert!((s[2].0 - 1.0).abs() < 1e-12 && (s[2].1 - 7.0 / 3.0).abs() < 1e-12);
         assert_eq!(s[3], (2.0, 3.0));
+        // A stretch that starts exactly at the widest radius so far, after a
+        // narrower part: the step up in height is kept.
+        let p = ToolProfile::new(vec![0.0, 0.5, 0.8, 1.0, 1.5], vec![0.0, 1.0, 0.7, 1.0, 1.4]).unwrap();
+        assert_eq!(p.lower_surface(), vec![(0.0, 0.0), (1.0, 0.5), (1.0, 1.0), (1.4, 1.5)]);
     }
 }

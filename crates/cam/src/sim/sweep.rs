@@ -26,9 +26,14 @@
 //!   bound `min(zA, zB) + height(distance to the segment)` rejects the cells
 //!   the segment cannot lower.
 //!
+//! - **Measured tools** ([`MeasuredTool`]): a lower surface piecewise
+//!   linear in `ρ` but not convex, solved piece by piece in
+//!   `sim/measured.rs`.
+//!
 //! Segments shorter than [`PLUNGE`] in XY are plunges: the cutter at `A`,
 //! from the lower of the two heights.
 
+use super::measured::MeasuredTool;
 use crate::Cutter;
 
 /// XY length below which a segment is a vertical plunge (mm).
@@ -62,7 +67,7 @@ pub struct Prep {
 
 impl Prep {
     /// The segment from tip position `a` to `b`.
-    pub fn new(a: [f64; 3], b: [f64; 3], shape: &Shape) -> Prep {
+    pub fn new(a: [f64; 3], b: [f64; 3], shape: &Shape<'_>) -> Prep {
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let len = dx.hypot(dy);
         if len <= PLUNGE {
@@ -95,7 +100,7 @@ impl Prep {
 
 /// How a cutter's envelope is computed.
 #[derive(Clone, Copy, Debug)]
-pub enum Shape {
+pub enum Shape<'a> {
     /// `height(ρ) = hs·(R − √(R² − ρ²))`: ball (hs = 1), oval (hs = RL/R),
     /// flat (hs = 0).
     Closed {
@@ -108,11 +113,13 @@ pub enum Shape {
     },
     /// Any other convex profile: bisection.
     General(Cutter),
+    /// A measured tool's lower surface: piece by piece.
+    Measured(&'a MeasuredTool),
 }
 
-impl Shape {
+impl Shape<'static> {
     /// The evaluation for `cutter`.
-    pub fn of(cutter: &Cutter) -> Shape {
+    pub fn of(cutter: &Cutter) -> Shape<'static> {
         let r = cutter.radius();
         let closed = |hs: f64| Shape::Closed { r, r2: r * r, hs };
         match cutter {
@@ -124,12 +131,15 @@ impl Shape {
             _ => Shape::General(*cutter),
         }
     }
+}
 
+impl Shape<'_> {
     /// Cutter radius.
     pub fn radius(&self) -> f64 {
         match self {
             Shape::Closed { r, .. } => *r,
             Shape::General(c) => c.radius(),
+            Shape::Measured(m) => m.radius(),
         }
     }
 }
@@ -337,7 +347,7 @@ pub fn cell_range(lo: f64, hi: f64, origin: f64, res: f64, n: usize) -> std::ops
 /// parallelogram `from ≤ s ≤ to`, `|w| ≤ r` (a superset of its footprint in
 /// the slab; the kernels give nothing outside the footprint).
 #[inline(always)]
-fn row_span(p: &Prep, r: f64, reach: &Reach, y: f64, band: &Band) -> std::ops::Range<usize> {
+pub(crate) fn row_span(p: &Prep, r: f64, reach: &Reach, y: f64, band: &Band) -> std::ops::Range<usize> {
     let ey = y - p.ay;
     let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
     // from ≤ ey·uy + dx·ux ≤ to and −r ≤ ey·ux − dx·uy ≤ r, dx = x − ax.

@@ -1,13 +1,13 @@
-//! The chart of `tool db show --png`: each profile's radius loss against
-//! the first along the tool, one coloured line per profile, as SVG text
-//! (made a PNG by `plot::png_from_svg`).
+//! Line charts as SVG text (made PNGs by `plot::png_from_svg`): several
+//! coloured lines over linear axes with ticks, labels and a legend — the
+//! wear progression of `tool db show`, the demo's groove before and after.
 
 use std::fmt::Write;
 
 const COLOURS: [&str; 10] =
     ["#444444", "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"];
 
-/// One line of the chart: its legend and its points `(z, loss)` in mm.
+/// One line of the chart: its legend and its points `(x, y)`.
 pub struct Line {
     /// The legend's text.
     pub label: String,
@@ -64,9 +64,9 @@ fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-/// The SVG chart titled `title`: radius loss (mm, up) against z (mm, right),
-/// a zero line, ticks with their values, and a legend of the lines.
-pub fn loss_chart(title: &str, lines: &[Line]) -> String {
+/// The SVG chart titled `title`: `y_label` up against `x_label` right, a
+/// zero line, ticks with their values, and a legend of the lines.
+pub fn line_chart(title: &str, x_label: &str, y_label: &str, lines: &[Line]) -> String {
     let (left, top, plot_w, plot_h): (f64, f64, f64, f64) = (80.0, 40.0, 520.0, 340.0);
     let legend_x = left + plot_w + 30.0;
     let width = legend_x + 230.0;
@@ -124,14 +124,16 @@ pub fn loss_chart(title: &str, lines: &[Line]) -> String {
     );
     let _ = writeln!(
         s,
-        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">z up the tool from the nominal tip (mm)</text>"#,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
         left + 0.5 * plot_w,
-        top + plot_h + 38.0
+        top + plot_h + 38.0,
+        escape(x_label)
     );
     let _ = writeln!(
         s,
-        r#"<text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">radius loss against the first profile (mm)</text>"#,
-        top + 0.5 * plot_h
+        r#"<text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        top + 0.5 * plot_h,
+        escape(y_label)
     );
     for (k, line) in lines.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
@@ -172,7 +174,8 @@ mod tests {
         assert!(thin.len() <= 200, "{}", thin.len());
         assert!(thin.contains(&(5_003.0, 9.0)));
         assert_eq!(thin[0], (0.0, 0.0));
-        let svg = loss_chart("a <b>", &[Line { label: "x & y".into(), points: vec![(0.0, 0.0), (1.0, 0.002)] }]);
+        let svg =
+            line_chart("a <b>", "x", "y", &[Line { label: "x & y".into(), points: vec![(0.0, 0.0), (1.0, 0.002)] }]);
         assert!(svg.contains("a &lt;b&gt;") && svg.contains("x &amp; y") && svg.contains("polyline"));
     }
 }
