@@ -167,6 +167,14 @@ fn demo_makes_its_files() {
         "thermal-model.json",
         "o2007-corrected.nc",
         "thermal-before-after.svg",
+        "tool-T7-new/f00.png",
+        "tool-T7-worn.csv",
+        "tool-T7-worn.png",
+        "tools.sqlite",
+        "tool-T7-wear.png",
+        "groove-T7.nc",
+        "groove-T7-deviation.png",
+        "groove-before-after.png",
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
@@ -179,12 +187,21 @@ fn demo_makes_its_files() {
         .filter_map(|l| l.trim().strip_prefix("max gouge"))
         .filter_map(|rest| rest.split_whitespace().next()?.parse().ok())
         .collect();
-    assert_eq!(gouges.len(), 3, "{report}");
+    assert_eq!(gouges.len(), 5, "{report}");
     // The thermal pipeline: O2007's 22 stops corrected to within 0.1 µm.
     let line = report.lines().find(|l| l.starts_with("thermal-before-after.svg: 22 stops")).expect(&report);
     let after: f64 = line.rsplit(", ").next().unwrap().split_whitespace().next().unwrap().parse().unwrap();
     assert!(after < 0.1, "{line}");
-    assert!(gouges.iter().all(|g| *g <= 0.01), "{gouges:?}");
+    assert!(gouges[..3].iter().all(|g| *g <= 0.01), "{gouges:?}");
+    // The groove cut by the worn tool, as programmed then corrected: the
+    // largest error (gouge or material left) at least halved, within 2 µm.
+    let left: Vec<f64> = report
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("max left"))
+        .filter_map(|rest| rest.split_whitespace().next()?.parse().ok())
+        .collect();
+    let (before, after) = (gouges[3].max(left[3]), gouges[4].max(left[4]));
+    assert!(after <= 0.5 * before && after <= 0.002, "{before} then {after}");
 }
 
 #[test]

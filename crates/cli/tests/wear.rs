@@ -172,3 +172,58 @@ fn bad_input_is_refused_or_said() {
         "{e}"
     );
 }
+
+#[test]
+fn a_tilted_tool_on_the_mill_turn_is_corrected_along_the_normal() {
+    // B −45 tilts the tool axis to (−sin 45°, 0, cos 45°): the ball touches
+    // the level floor z 0 at 45° on its edge, in the worn band.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("worn.csv"), profile()).unwrap();
+    std::fs::write(d.join("turn.toml"), "[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n").unwrap();
+    let floor = {
+        let q = |x: f64, y: f64| Vec3::new(x, y, 0.0);
+        write_binary_stl(&[
+            Triangle::new(q(-5.0, -5.0), q(5.0, -5.0), q(5.0, 5.0)),
+            Triangle::new(q(-5.0, -5.0), q(5.0, 5.0), q(-5.0, 5.0)),
+        ])
+    };
+    std::fs::write(d.join("floor.stl"), floor).unwrap();
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let (x, z) = (R * s, R - R * s);
+    std::fs::write(d.join("tilt.nc"), format!("G90 G0 B-45. X{x:.6} Y-1. Z1.\nG1 Z{z:.6} F100\nY1.\nM30\n")).unwrap();
+    let v = json(&[
+        "wear",
+        "apply",
+        &path(d, "tilt.nc"),
+        "--profile",
+        &path(d, "worn.csv"),
+        "--nominal",
+        "ball:1",
+        "--surface",
+        &path(d, "floor.stl"),
+        "--machine",
+        &path(d, "turn.toml"),
+        "--digits",
+        "6",
+        "-o",
+        &path(d, "out.nc"),
+        "--json",
+    ]);
+    assert_eq!(v["points"], 2, "{v}");
+    // Along the normal by the radial error seen at 45°: runout less wear.
+    let radial = 0.010 - wear(R * (1.0 - s));
+    let text = std::fs::read_to_string(d.join("out.nc")).unwrap();
+    let zs: Vec<f64> = text
+        .lines()
+        .filter(|l| l.contains("Y1.") || l.contains("G1") || l.contains("G01"))
+        .filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix('Z')).and_then(|n| n.parse().ok()))
+        .collect();
+    assert!(!zs.is_empty(), "{text}");
+    let moved = zs[zs.len() - 1] - z;
+    assert!((moved - radial * s).abs() < 3e-4 + 0.05 * radial, "moved {moved}, expected {} ({text})", radial * s);
+    // The pass along Y moves in Z alone (the plunge before it along the
+    // tool axis: X too).
+    let pass = text.lines().find(|l| l.contains("Y1.")).unwrap();
+    assert!(pass.contains(&format!("X{x:.6}")), "{text}");
+}
