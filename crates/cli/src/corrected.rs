@@ -14,9 +14,11 @@ pub enum ArcCentre {
     /// Moves with the end point's correction: a correction that hardly
     /// changes over the arc (thermal drift) keeps the arc's turn.
     FollowsEnd,
-    /// Stays: a correction along the surface normal (wear) changes the
-    /// arc's radius, as a contour's offset does.
-    Stays,
+    /// Moves the least that puts it on the perpendicular bisector of the
+    /// corrected ends (in the arc's plane): a correction along the surface
+    /// normal (wear) changes the arc's radius, as a contour's offset does,
+    /// and both ends stay on one circle.
+    OnChordBisector,
 }
 
 /// `path` with each move's end set to `ends` (one per move; dwells stay
@@ -31,13 +33,30 @@ pub fn set_ends(path: &mut Toolpath, ends: &[Axes], arcs: ArcCentre) {
             continue;
         }
         let shift = [end.x - m.end.x, end.y - m.end.y, end.z - m.end.z];
-        if let (MoveKind::Arc(arc), ArcCentre::FollowsEnd) = (&mut m.kind, arcs) {
-            for (c, d) in arc.center.iter_mut().zip(shift) {
-                *c += d;
-            }
-        }
         if let Some(s) = start {
             m.start = s;
+        }
+        if let MoveKind::Arc(arc) = &mut m.kind {
+            match arcs {
+                ArcCentre::FollowsEnd => {
+                    for (c, d) in arc.center.iter_mut().zip(shift) {
+                        *c += d;
+                    }
+                }
+                ArcCentre::OnChordBisector => {
+                    let (i, j, _) = arc.plane.axes();
+                    let (s, e) = (m.start.xyz(), end.xyz());
+                    let (mi, mj) = (0.5 * (s[i] + e[i]), 0.5 * (s[j] + e[j]));
+                    let (di, dj) = (e[i] - s[i], e[j] - s[j]);
+                    let len2 = di * di + dj * dj;
+                    if len2 > 0.0 {
+                        // The centre less its part along the chord from the midpoint.
+                        let t = ((arc.center[i] - mi) * di + (arc.center[j] - mj) * dj) / len2;
+                        arc.center[i] -= t * di;
+                        arc.center[j] -= t * dj;
+                    }
+                }
+            }
         }
         m.end = *end;
         start = Some(*end);
@@ -128,6 +147,12 @@ fn rewritten(name: &str, text: &str, path: &Toolpath, digits: usize) -> Result<S
                         if present(c) {
                             values.push((c, arc.center[k] - start[k]));
                         }
+                    }
+                    // R keeps its sign (negative: more than half a turn).
+                    if let Some(w) = words(line).iter().find(|w| w.letter == 'R') {
+                        let negative = line[w.number.0..w.number.1].trim_start().starts_with('-');
+                        let r = arc.radius(m.start);
+                        values.push(('R', if negative { -r } else { r }));
                     }
                 }
                 out += &set_words(line, &values, digits);

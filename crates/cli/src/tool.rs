@@ -131,6 +131,9 @@ fn fields(a: &ProfileArgs) -> Result<Vec<(Vec<&PathBuf>, [f64; 2])>> {
 
 /// Runs `kezuri tool profile`.
 fn profile(a: &ProfileArgs) -> Result<()> {
+    if a.json && a.output == Path::new("-") {
+        bail!("--json prints to standard output: give the profile a file with -o");
+    }
     if !(a.pixel_um > 0.0 && a.pixel_um.is_finite()) {
         bail!("--pixel-um must be a positive number of micrometres, got {}", a.pixel_um);
     }
@@ -186,9 +189,11 @@ fn profile(a: &ProfileArgs) -> Result<()> {
         let e = runout.unwrap_or(0.0);
         m.profile.z().iter().zip(m.profile.radius()).map(|(&z, &r)| c.radius_at(z) + e - r).collect()
     });
+    // Everything made before anything is written.
+    let picture = a.png.as_ref().map(|_| overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)).transpose()?;
     write_output(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
-    if let Some(png) = &a.png {
-        write_output(Some(png), &overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)?)?;
+    if let (Some(png), Some(picture)) = (&a.png, picture) {
+        write_output(Some(png), &picture)?;
     }
     for w in &warnings {
         eprintln!("warning: {w}");

@@ -32,7 +32,8 @@ axis needs nothing more; the machine's rotary axes from --machine) is translated
 to that plane is the new tool's: in the plane normal to the feed, or along the tool axis where
 the feed runs within 30° of the normal (plunges, ramps). Rapids, and points whose new tool is
 farther than --reach from the surface (moves in the air), are kept as programmed; an arc keeps
-its centre (its radius takes the correction). --digits defaults to 4.
+its turn: its centre moves the least that puts it halfway between the corrected ends. --digits
+defaults to 4.
 
 Examples:
   kezuri wear apply groove.nc --profile t12.csv --nominal ball:1 --surface part.stl -o groove-worn.nc
@@ -99,6 +100,9 @@ fn unit(v: Vec3) -> Option<Vec3> {
 /// Runs `kezuri wear apply`.
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
+    if a.json && a.write.output().is_none_or(|o| o == std::path::Path::new("-")) {
+        bail!("--json prints to standard output: give the program a file with -o");
+    }
     let nominal = nominal(&a.nominal)?;
     if !(a.reach > 0.0 && a.reach.is_finite()) {
         bail!("--reach must be a positive distance in mm, got {}", a.reach);
@@ -132,6 +136,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     let (mut corrected, mut along_axis) = (0usize, 0usize);
     let mut far: Vec<u32> = Vec::new();
     let mut gouges: Vec<(u32, f64)> = Vec::new();
+    let mut square: Vec<(u32, f64)> = Vec::new();
     let to_vec = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
     for m in &path.moves {
         let cutting = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
@@ -142,8 +147,25 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         let c = m.end.to_array();
         let tip = to_vec(k.forward(&c));
         let axis = to_vec(k.tool_axis(&c));
+        if path.frame(m) != kezuri_geom::Frame::default() {
+            bail!(
+                "{name}: line {}: a work or tool offset is in force; the surface is in program coordinates: run the \
+                 program without offsets",
+                m.line
+            );
+        }
         let before = match m.kind {
-            MoveKind::Arc(arc) => to_vec(k.forward(&arc.point_at(m.start, m.end, 1.0 - 1e-6).to_array())),
+            // A hair back along the arc's tangent at its end.
+            MoveKind::Arc(arc) => {
+                let (i, j, _) = arc.plane.axes();
+                let (e, mut back) = (m.end.to_array(), m.end.to_array());
+                let (ri, rj) = (e[i] - arc.center[i], e[j] - arc.center[j]);
+                let r = ri.hypot(rj).max(1e-12);
+                let sign = if arc.ccw { 1.0 } else { -1.0 };
+                back[i] += sign * 1e-4 * rj / r;
+                back[j] -= sign * 1e-4 * ri / r;
+                to_vec(k.forward(&back))
+            }
             _ => to_vec(k.forward(&m.start.to_array())),
         };
         let feed = unit(tip - before);
@@ -169,13 +191,37 @@ fn apply(a: &ApplyArgs) -> Result<()> {
                 gouges.push((m.line, d));
                 ends.push(m.end);
             }
+            Err(Skip::NoDirection(e)) => {
+                square.push((m.line, e));
+                ends.push(m.end);
+            }
         }
     }
     let seconds = t0.elapsed().as_secs_f64();
+    if corrected == 0 && !gouges.is_empty() && far.is_empty() {
+        bail!("{name}: every cutting point cuts into {stl}: do its triangles face inward (check the STL's winding)?");
+    }
     if corrected == 0 {
         bail!("{name}: no cutting point within {} mm of {stl}: is the part in program coordinates?", a.reach);
     }
-    set_ends(&mut path, &ends, ArcCentre::Stays);
+    set_ends(&mut path, &ends, ArcCentre::OnChordBisector);
+    // An arc whose ends are corrected differently must still turn the same
+    // way by about the same angle (a full circle entered from a lead-in
+    // would otherwise shrink to a sliver).
+    for (m, was) in path.moves.iter().zip(&ran.outcome.toolpath.moves) {
+        if let (MoveKind::Arc(arc), MoveKind::Arc(old)) = (m.kind, was.kind) {
+            let (turn, old_turn) = (arc.sweep(m.start, m.end), old.sweep(was.start, was.end));
+            if (turn - old_turn).abs() > 0.01 * old_turn.max(0.1) {
+                bail!(
+                    "{name}: line {}: the arc's ends need different corrections and it would turn {:.2}° instead of \
+                     {:.2}°: program the full circle as two arcs, or this arc as lines",
+                    m.line,
+                    turn.to_degrees(),
+                    old_turn.to_degrees()
+                );
+            }
+        }
+    }
     write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR")?;
     if let Some(&(line, d)) = gouges.first() {
         eprintln!(
@@ -183,6 +229,13 @@ fn apply(a: &ApplyArgs) -> Result<()> {
              line {line}, {d:.4} mm): kept as programmed",
             gouges.len(),
             a.reach
+        );
+    }
+    if let Some(&(line, e)) = square.first() {
+        eprintln!(
+            "warning: {name}: {} point(s) fed square into a wall along the tool (first at line {line}, error \
+             {e:.4} mm): no short correction normal to the feed; kept as programmed",
+            square.len()
         );
     }
     if let Some(&line) = far.first() {
@@ -203,6 +256,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             "along_axis_points": along_axis,
             "kept_far_points": far.len(),
             "kept_gouging_points": gouges.len(),
+            "kept_square_points": square.len(),
             "far_lines": far.iter().take(20).collect::<Vec<_>>(),
         });
         println!("{v}");

@@ -227,3 +227,72 @@ fn a_tilted_tool_on_the_mill_turn_is_corrected_along_the_normal() {
     let pass = text.lines().find(|l| l.contains("Y1.")).unwrap();
     assert!(pass.contains(&format!("X{x:.6}")), "{text}");
 }
+
+#[test]
+fn an_arc_over_a_cylinder_keeps_one_circle_through_its_corrected_ends() {
+    // A cylinder of radius 5 along Y, its top at z 0; the ball's tip runs on
+    // a circle of radius 5.5 about (x 0, z −5.5) from −20° to 20° in G18.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("worn.csv"), profile()).unwrap();
+    let quad = |a: Vec3, b: Vec3, c: Vec3, e: Vec3| [Triangle::new(a, b, c), Triangle::new(a, c, e)];
+    let n = 720;
+    let at = |k: usize, y: f64| {
+        let t = (-60.0 + 120.0 * k as f64 / n as f64).to_radians();
+        Vec3::new(5.0 * t.sin(), y, 5.0 * t.cos() - 5.0)
+    };
+    let cyl: Vec<Triangle> =
+        (0..n).flat_map(|k| quad(at(k, -3.0), at(k + 1, -3.0), at(k + 1, 3.0), at(k, 3.0))).collect();
+    std::fs::write(d.join("cyl.stl"), write_binary_stl(&cyl)).unwrap();
+    let tip = |deg: f64| {
+        let t = f64::to_radians(deg);
+        (5.5 * t.sin(), 5.5 * t.cos() - 5.5)
+    };
+    let ((x0, z0), (x1, z1)) = (tip(-20.0), tip(20.0));
+    std::fs::write(
+        d.join("arc.nc"),
+        format!(
+            "G90 G18 G0 X{x0:.6} Y0 Z1.\nG1 Z{z0:.6} F100\nG2 X{x1:.6} Z{z1:.6} I{:.6} K{:.6}\nG0 Z2.\nM30\n",
+            -x0,
+            -5.5 - z0
+        ),
+    )
+    .unwrap();
+    let v = json(&[
+        "wear",
+        "apply",
+        &path(d, "arc.nc"),
+        "--profile",
+        &path(d, "worn.csv"),
+        "--nominal",
+        "ball:1",
+        "--surface",
+        &path(d, "cyl.stl"),
+        "--digits",
+        "6",
+        "-o",
+        &path(d, "out.nc"),
+        "--json",
+    ]);
+    assert_eq!(v["points"], 2, "{v}");
+    // Run the corrected program: the arc's radius at its start and end agree
+    // (the control would refuse it otherwise) and it still turns 40°.
+    let csv = ok(&kezuri(&["run", &path(d, "out.nc"), "--emit", "csv"]));
+    let text = std::fs::read_to_string(d.join("out.nc")).unwrap();
+    let arc = text.lines().find(|l| l.starts_with("G02") || l.contains(" G02")).expect(&text).to_string();
+    let word = |c: char| -> f64 {
+        arc.split_whitespace()
+            .find_map(|w| w.strip_prefix(c))
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{arc}"))
+    };
+    let plunge = text.lines().find(|l| l.contains("G01")).expect(&text);
+    let start_z: f64 = plunge.split_whitespace().find_map(|w| w.strip_prefix('Z')).unwrap().parse().unwrap();
+    let start_x = x0
+        + plunge.split_whitespace().find_map(|w| w.strip_prefix('X')).map_or(0.0, |n| n.parse::<f64>().unwrap() - x0);
+    let (ci, ck) = (start_x + word('I'), start_z + word('K'));
+    let r_start = (start_x - ci).hypot(start_z - ck);
+    let r_end = (word('X') - ci).hypot(word('Z') - ck);
+    assert!((r_start - r_end).abs() < 2e-6, "{r_start} vs {r_end}\n{text}\n{csv}");
+    assert!((r_start - 5.5).abs() > 1e-4 && (r_start - 5.5).abs() < 0.02, "{r_start}\n{text}");
+}

@@ -85,12 +85,45 @@ pub fn place(fields: &[(&GrayImage, [f64; 2])], search: usize) -> Result<Placeme
             }
             let (measured, hessian) = register(ia, ib, stage, search)
                 .ok_or_else(|| StitchError(format!("fields {} and {} do not overlap once shifted", a + 1, b + 1)))?;
+            let hessian = fixed_part(hessian);
             let strength = [hessian[0][0].sqrt(), hessian[1][1].sqrt()];
             overlaps.push(Pair { overlap: Overlap { fields: (a, b), stage, measured, strength }, hessian });
         }
     }
     connected(n, &overlaps)?;
     Ok(solve(fields, overlaps))
+}
+
+/// The part of a pair's Gauss–Newton matrix its pictures fix: directions
+/// (eigenvectors) whose strength is below [`WEAK`] are dropped, so the
+/// noise along a straight edge does not pull the fit there and the stage
+/// offset decides it.
+fn fixed_part(h: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    let (a, b, d) = (h[0][0], h[0][1], h[1][1]);
+    let mean = 0.5 * (a + d);
+    let spread = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    let mut out = [[0.0; 2]; 2];
+    for lambda in [mean + spread, mean - spread] {
+        if lambda < WEAK * WEAK {
+            continue;
+        }
+        // An eigenvector of [[a, b], [b, d]] for lambda.
+        let v = if b.abs() > 1e-300 {
+            [lambda - d, b]
+        } else if (lambda - a).abs() <= (lambda - d).abs() {
+            [1.0, 0.0]
+        } else {
+            [0.0, 1.0]
+        };
+        let n = v[0].hypot(v[1]);
+        let v = [v[0] / n, v[1] / n];
+        for (r, row) in out.iter_mut().enumerate() {
+            for (c, x) in row.iter_mut().enumerate() {
+                *x += lambda * v[r] * v[c];
+            }
+        }
+    }
+    out
 }
 
 /// An overlap with its Gauss–Newton matrix, before the solve.

@@ -18,7 +18,9 @@
 //! 3. The tool is translated so that gap equals the nominal tool's: in the
 //!    plane normal to the feed direction, along `n`'s part in it (the
 //!    least move that does it), or along the tool axis where the feed runs
-//!    within 30° of the normal (plunges and ramps into the surface).
+//!    within 30° of the normal (plunges and ramps into the surface). Where
+//!    neither is short (feeding square into a wall with the tool along it)
+//!    the point is skipped, and said ([`Skip::NoDirection`]).
 //!
 //! The translation keeps the tool's attitude, so the point of the profile
 //! that touches the plane does not change and one step is exact: the
@@ -77,6 +79,10 @@ pub enum Skip {
     Far(f64),
     /// The nominal tool cuts into the surface by more than the reach.
     Gouges(f64),
+    /// The feed runs within 60° of the surface normal and the tool axis
+    /// lies within 6° of the surface (feeding square into a wall): the
+    /// error (mm) is not corrected.
+    NoDirection(f64),
 }
 
 /// A point that cannot be corrected safely.
@@ -219,7 +225,10 @@ pub fn correct(
         )));
     }
     let support = worn.support(cos, sin);
-    if support.index + 1 == worn.z().len() && sin > 1e-9 {
+    // At a wall along the tool (|cos φ| < 0.05) the shank's widest sample
+    // cuts, wherever it is; elsewhere the top sample touching means the
+    // tool goes on cutting above what was measured.
+    if support.index + 1 == worn.z().len() && sin > 1e-9 && cos.abs() >= 0.05 {
         return Err(WearError(format!(
             "the measured tool touches at the top of its profile (z {:.4} mm): the profile is shorter than the part \
              of the tool that cuts here",
@@ -229,18 +238,18 @@ pub fn correct(
     let gap_of = |t: Vec3| n.dot(t - p) + support.value;
     let worn_gap = gap_of(tip);
     let error = worn_gap - nominal_gap;
-    let across = feed.map(|f| reject(n, f));
-    let (shift, along_axis) =
-        match across {
-            Some(m) if m.norm() >= 0.5 => (m * (-error / m.dot(m)), false),
-            _ if cos.abs() >= 0.1 => (axis * (-error / cos), true),
-            Some(m) if m.norm() > 0.0 => (m * (-error / m.dot(m)), false),
-            _ => return Err(WearError(
-                "the feed runs along the surface normal and the tool axis lies in the surface: no direction corrects \
-                 this point"
-                    .into(),
-            )),
-        };
+    // In the plane normal to the feed, along the normal's part in it; with
+    // no feed (a standstill) along the normal itself.
+    let across = feed.map_or(n, |f| reject(n, f));
+    let (shift, along_axis) = if across.norm() >= 0.5 {
+        (across * (-error / across.dot(across)), false)
+    } else if cos.abs() >= 0.1 {
+        (axis * (-error / cos), true)
+    } else {
+        // Feeding into a wall square to the tool: no direction both keeps
+        // to the plane normal to the feed and stays short.
+        return Ok(Err(Skip::NoDirection(error)));
+    };
     let moved = tip + shift;
     Ok(Ok(Correction {
         shift: [shift.x, shift.y, shift.z],
