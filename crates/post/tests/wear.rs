@@ -81,24 +81,28 @@ impl Truth {
 }
 
 /// The least height of the measured tool at `tip` (axis `a`) above the
-/// true surface: every profile sample within 0.1 mm of `near_z`, every
-/// 0.05° around the axis.
-fn oracle_gap(truth: &Truth, profile: &ToolProfile, tip: Vec3, a: Vec3, near_z: f64) -> f64 {
+/// true surface: every profile sample, every degree around the axis, then
+/// every 0.005° within a degree of the best.
+fn oracle_gap(truth: &Truth, profile: &ToolProfile, tip: Vec3, a: Vec3) -> f64 {
     let u = if a.x.abs() < 0.9 { Vec3::new(1.0, 0.0, 0.0) } else { Vec3::new(0.0, 0.0, 1.0) };
     let u = u - a * u.dot(a);
     let u = u * (1.0 / u.norm());
     let v = a.cross(u);
-    let mut least = f64::INFINITY;
-    for (&z, &r) in profile.z().iter().zip(profile.radius()) {
-        if (z - near_z).abs() > 0.1 {
-            continue;
-        }
-        for k in 0..7200 {
-            let t = (k as f64 * 0.05).to_radians();
-            least = least.min(truth.distance(tip + a * z + u * (r * t.cos()) + v * (r * t.sin())));
-        }
-    }
-    least
+    let least_at = |deg: f64| {
+        let t = deg.to_radians();
+        let side = u * t.cos() + v * t.sin();
+        profile
+            .z()
+            .iter()
+            .zip(profile.radius())
+            .map(|(&z, &r)| truth.distance(tip + a * z + side * r))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (best, _) =
+        (0..360)
+            .map(|k| (k as f64, least_at(k as f64)))
+            .fold((0.0, f64::INFINITY), |b, p| if p.1 < b.1 { p } else { b });
+    (0..=400).map(|k| least_at(best - 1.0 + 0.005 * k as f64)).fold(f64::INFINITY, f64::min)
 }
 
 #[test]
@@ -129,14 +133,14 @@ fn the_worn_tool_touches_the_target_within_a_tenth_of_a_micrometre() {
             let contact = R * (1.0 - cos);
             // Uncorrected: the error is the wear less the runout, seen along
             // the normal (the tip's wear on a level floor).
-            let before = oracle_gap(&truth, &profile, tip, axis, contact);
+            let before = oracle_gap(&truth, &profile, tip, axis);
             let radial = RUNOUT - wear(contact);
             let expected = if sin < 1e-9 { TIP_WEAR } else { -radial * sin };
             assert!((before - expected).abs() < 2e-4 + 0.05 * expected.abs(), "before {before}, expected {expected}");
             // The mesh is the cylinder to 12 nm.
             assert!((before - c.worn_gap).abs() < 5e-5, "{before} vs {}", c.worn_gap);
             let moved = tip + Vec3::new(c.shift[0], c.shift[1], c.shift[2]);
-            let after = oracle_gap(&truth, &profile, moved, axis, c.contact_z);
+            let after = oracle_gap(&truth, &profile, moved, axis);
             assert!(after.abs() < 1e-4, "after {after} at x {x}, tilt {tilt_deg}");
             assert!(c.shift[1].abs() < 1e-12, "the shift is normal to the feed: {:?}", c.shift);
             assert!(c.residual.abs() < 1e-9);
@@ -161,6 +165,18 @@ fn plunges_move_along_the_tool_axis_and_far_points_are_skipped() {
     assert!((c.shift[2] + TIP_WEAR).abs() < 1e-12 && c.shift[0] == 0.0, "{:?}", c.shift);
     let far = correct(&surface, nominal, &profile, Vec3::new(1.0, 2.0, 3.0), up, None, &options).unwrap();
     assert!(matches!(far, Err(kezuri_post::wear::Skip::Far(_))), "{far:?}");
+    // Fed square into a vertical wall with the tool along it: skipped, not
+    // moved a long way along the wall.
+    let w = |y: f64, z: f64| Vec3::new(0.0, y, z);
+    let mesh = Mesh::from_triangles([
+        Triangle::new(w(-20.0, -20.0), w(-20.0, 20.0), w(20.0, 20.0)),
+        Triangle::new(w(-20.0, -20.0), w(20.0, 20.0), w(20.0, -20.0)),
+    ]);
+    let surface = Surface::new(&mesh);
+    let tip = Vec3::new(-R, 0.0, 1.0);
+    let into = Some(Vec3::new(1.0, 0.0, 0.0));
+    let c = correct(&surface, nominal, &profile, tip, up, into, &options).unwrap();
+    assert!(matches!(c, Err(kezuri_post::wear::Skip::NoDirection(_))), "{c:?}");
     // A profile shorter than the part of the tool that cuts a wall.
     let short = ToolProfile::new(vec![0.0, 0.1], vec![0.0, 0.3]).unwrap();
     let wall = Truth::Plane(80f64.to_radians());
