@@ -123,3 +123,24 @@ fn tiles_by_their_stage_offsets_and_bad_pictures() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("field 2 does not overlap"), "{e}");
 }
+
+#[test]
+fn eight_bit_tiff_frames_read_as_well() {
+    let dir = tempfile::tempdir().unwrap();
+    let v = view(240.0, 300.0);
+    let mut rng = SplitMix64::new(7);
+    let mut args = vec!["tool".to_string(), "profile".to_string()];
+    for (k, f) in v.frames(12, 480, 330, [0.0, 0.0], &mut rng).iter().enumerate() {
+        let name = path(dir.path(), &format!("f{k:02}.tif"));
+        let bytes: Vec<u8> = f.pixels.iter().map(|&p| (p * 255.0).round() as u8).collect();
+        image::GrayImage::from_raw(f.width as u32, f.height as u32, bytes).unwrap().save(&name).unwrap();
+        args.push(name);
+    }
+    let csv = path(dir.path(), "t.csv");
+    args.extend(["--pixel-um", "0.71", "-o", &csv, "--json"].map(String::from));
+    let out = json(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(out["frames"], 12);
+    // 12 frames 30° apart: the envelope's widest is within a pixel of R + runout.
+    assert!((out["max_radius_mm"].as_f64().unwrap() - (R + 0.008)).abs() < PIXEL, "{out}");
+    assert!((out["runout_mm"].as_f64().unwrap() - 0.008).abs() < PIXEL, "{out}");
+}
