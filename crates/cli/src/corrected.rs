@@ -5,8 +5,27 @@
 use anyhow::{bail, Result};
 use kezuri_geom::{Axes, MoveKind, Toolpath};
 
+use crate::files::read_text;
 use crate::files::write_output;
-use crate::program::{write_toolpath, RunOptions, WriteArgs};
+use crate::program::{run_text, write_toolpath, Ran, RunOptions, WriteArgs};
+
+/// The program to correct, read and run: its text and the run, refused
+/// with its errors shown, where `check` refuses it, or where it moves an
+/// axis the machine lacks.
+pub fn run_to_correct(run: &RunOptions, check: impl FnOnce(&Ran) -> Result<()>) -> Result<(String, Ran)> {
+    let name = run.file.display().to_string();
+    let text = read_text(&run.file)?;
+    let (ran, parse_diagnostics) = run_text(run, text.clone())?;
+    ran.print_diagnostics(&parse_diagnostics);
+    if ran.errors() > 0 {
+        bail!("{name}: {} error(s); nothing written", ran.errors());
+    }
+    check(&ran)?;
+    if let Some((axis, line)) = crate::program::missing_axes(&ran.outcome.toolpath, &ran.machine.kinematics).first() {
+        bail!("{name}: line {line}: the program moves {axis}, which the machine has not");
+    }
+    Ok((text, ran))
+}
 
 /// What an arc's centre does when its end point is corrected.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

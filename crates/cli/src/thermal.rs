@@ -11,10 +11,10 @@ use kezuri_post::kinematics::AXES;
 use kezuri_post::thermal::{fit, AxisError, Corrector, ErrorModel, Measurement, Polynomial};
 use serde_json::json;
 
-use crate::corrected::{set_ends, write_corrected, ArcCentre};
+use crate::corrected::{run_to_correct, set_ends, write_corrected, ArcCentre};
 use crate::files::{read_text, write_output};
 use crate::machine::Machine;
-use crate::program::{run_text, RunOptions, WriteArgs};
+use crate::program::{RunOptions, WriteArgs};
 use crate::table::{read_columns, Table};
 
 /// The thermal commands.
@@ -497,27 +497,22 @@ fn load_model(path: &std::path::Path) -> Result<(ErrorModel, [Vec<String>; 2])> 
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
     let (model, chains) = load_model(&a.model)?;
-    let text = read_text(&a.run.file)?;
-    let (ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
-    ran.print_diagnostics(&parse_diagnostics);
-    if ran.errors() > 0 {
-        bail!("{name}: {} error(s); nothing written", ran.errors());
-    }
+    // The model's machine is checked before the program's axes against it.
+    let (text, ran) = run_to_correct(&a.run, |ran| {
+        let here = chain_letters(&ran.machine.kinematics);
+        if here != chains {
+            bail!(
+                "{}: the model is for a machine with tool axes {:?} and work axes {:?}; this one (--machine) has {:?} and {:?}",
+                a.model.display(),
+                chains[0],
+                chains[1],
+                here[0],
+                here[1]
+            );
+        }
+        Ok(())
+    })?;
     let k = &ran.machine.kinematics;
-    let here = chain_letters(k);
-    if here != chains {
-        bail!(
-            "{}: the model is for a machine with tool axes {:?} and work axes {:?}; this one (--machine) has {:?} and {:?}",
-            a.model.display(),
-            chains[0],
-            chains[1],
-            here[0],
-            here[1]
-        );
-    }
-    if let Some((axis, line)) = crate::program::missing_axes(&ran.outcome.toolpath, k).first() {
-        bail!("{name}: line {line}: the program moves {axis}, which the machine has not");
-    }
     let mut path = ran.outcome.toolpath.clone();
     let t0 = std::time::Instant::now();
     let mut correctors: Vec<Corrector> = Vec::new();

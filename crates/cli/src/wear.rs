@@ -10,9 +10,9 @@ use kezuri_geom::{Axes, Mesh, MoveKind, ToolProfile, Vec3};
 use kezuri_post::wear::{correct, Nominal, Options, Skip, Surface};
 use serde_json::json;
 
-use crate::corrected::{set_ends, write_corrected, ArcCentre};
-use crate::files::{read_bytes, read_text};
-use crate::program::{run_text, RunOptions, WriteArgs};
+use crate::corrected::{run_to_correct, set_ends, write_corrected, ArcCentre};
+use crate::files::read_bytes;
+use crate::program::{RunOptions, WriteArgs};
 
 /// `kezuri wear …`.
 #[derive(Subcommand, Debug)]
@@ -117,16 +117,8 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     if mesh.is_empty() {
         bail!("{stl}: no triangles");
     }
-    let text = read_text(&a.run.file)?;
-    let (ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
-    ran.print_diagnostics(&parse_diagnostics);
-    if ran.errors() > 0 {
-        bail!("{name}: {} error(s); nothing written", ran.errors());
-    }
+    let (text, ran) = run_to_correct(&a.run, |_| Ok(()))?;
     let k = &ran.machine.kinematics;
-    if let Some((axis, line)) = crate::program::missing_axes(&ran.outcome.toolpath, k).first() {
-        bail!("{name}: line {line}: the program moves {axis}, which the machine has not");
-    }
     let mut path = ran.outcome.toolpath.clone();
     let surface = Surface::new(&mesh);
     let options = Options { reach: a.reach };

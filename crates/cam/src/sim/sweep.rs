@@ -145,7 +145,7 @@ impl Shape<'_> {
 }
 
 #[inline(always)]
-fn fmin(a: f64, b: f64) -> f64 {
+pub(crate) fn fmin(a: f64, b: f64) -> f64 {
     if a < b {
         a
     } else {
@@ -154,7 +154,7 @@ fn fmin(a: f64, b: f64) -> f64 {
 }
 
 #[inline(always)]
-fn fmax(a: f64, b: f64) -> f64 {
+pub(crate) fn fmax(a: f64, b: f64) -> f64 {
     if a > b {
         a
     } else {

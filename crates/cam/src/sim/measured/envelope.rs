@@ -27,7 +27,7 @@
 //!   pieces whose bound can still win.
 
 use super::MeasuredTool;
-use crate::sim::sweep::{row_span, Band, Prep, Reach};
+use crate::sim::sweep::{fmax, fmin, row_span, Band, Prep, Reach};
 
 impl MeasuredTool {
     /// The `σ ≥ 0` that minimises `hull(√(σ² + w²)) − γ·σ` (γ > 0) over
@@ -284,24 +284,6 @@ fn level_rows<const TRACK: bool>(m: &MeasuredTool, p: &Prep, reach: &Reach, band
         }
     }
     deepest
-}
-
-#[inline(always)]
-fn fmin(a: f64, b: f64) -> f64 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-#[inline(always)]
-fn fmax(a: f64, b: f64) -> f64 {
-    if a > b {
-        a
-    } else {
-        b
-    }
 }
 
 /// What a cell is with the cutter standing at the segment's start: a
