@@ -51,7 +51,7 @@
 //! point leaves the start's Z by more than the tolerance, so a path whose
 //! Z changes from point to point costs little to search.
 
-use kezuri_geom::{Arc, Move, MoveKind, Plane, Toolpath};
+use kezuri_geom::{Arc, Kept, Move, MoveKind, Plane, Toolpath};
 
 /// How [`shorten`] merges.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,16 +94,28 @@ pub fn shorten(path: &Toolpath, options: &ShortenOptions) -> Toolpath {
         return path.clone();
     }
     let moves = &path.moves;
+    // Kept blocks sit between moves and stand for moves of their own: runs
+    // break where a kept block sits, and its moves are left whole.
+    let mut barrier = vec![false; moves.len() + 1];
+    let mut inside = vec![false; moves.len()];
+    for k in &path.kept {
+        barrier[k.before.min(moves.len())] = true;
+        let end = (k.before + k.moves).min(moves.len());
+        barrier[end] = true;
+        inside[k.before.min(end)..end].iter_mut().for_each(|b| *b = true);
+    }
+    let mut new_index = vec![0; moves.len() + 1];
     let mut out = Vec::with_capacity(moves.len());
     let mut i = 0;
     while i < moves.len() {
-        if !mergeable(&moves[i]) {
+        new_index[i] = out.len();
+        if inside[i] || !mergeable(&moves[i]) {
             out.push(moves[i]);
             i += 1;
             continue;
         }
         let mut j = i + 1;
-        while j < moves.len() && same_run(&moves[j - 1], &moves[j]) {
+        while j < moves.len() && !barrier[j] && same_run(&moves[j - 1], &moves[j]) {
             j += 1;
         }
         let run = &moves[i..j];
@@ -114,7 +126,17 @@ pub fn shorten(path: &Toolpath, options: &ShortenOptions) -> Toolpath {
         }
         i = j;
     }
-    Toolpath { moves: out, frames: path.frames.clone(), unknown_start: path.unknown_start }
+    new_index[moves.len()] = out.len();
+    let kept = path
+        .kept
+        .iter()
+        .map(|k| {
+            let before = new_index[k.before.min(moves.len())];
+            let end = new_index[(k.before + k.moves).min(moves.len())];
+            Kept { before, moves: end - before, ..k.clone() }
+        })
+        .collect();
+    Toolpath { moves: out, frames: path.frames.clone(), unknown_start: path.unknown_start, kept }
 }
 
 /// Straight feeds and rapids that turn no rotary axis.

@@ -151,11 +151,9 @@ mod tests {
     #[test]
     fn collinear_segments_do_not_stop() {
         let one = Toolpath::from(vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0)]);
-        let split = Toolpath {
-            frames: Vec::new(),
-            unknown_start: false,
-            moves: (0..100).map(|i| feed([i as f64, 0.0, 0.0], [i as f64 + 1.0, 0.0, 0.0], 6000.0)).collect(),
-        };
+        let split = Toolpath::from(
+            (0..100).map(|i| feed([i as f64, 0.0, 0.0], [i as f64 + 1.0, 0.0, 0.0], 6000.0)).collect::<Vec<_>>(),
+        );
         let d = Dynamics::default();
         assert!((cycle_time(&one, &d).0 - cycle_time(&split, &d).0).abs() < 1e-9);
     }
@@ -163,11 +161,8 @@ mod tests {
     #[test]
     fn a_reversal_stops_the_tool() {
         let d = Dynamics::default();
-        let there_and_back = Toolpath {
-            frames: Vec::new(),
-            unknown_start: false,
-            moves: vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0), feed([100.0, 0.0, 0.0], [0.0; 3], 6000.0)],
-        };
+        let there_and_back =
+            Toolpath::from(vec![feed([0.0; 3], [100.0, 0.0, 0.0], 6000.0), feed([100.0, 0.0, 0.0], [0.0; 3], 6000.0)]);
         assert!((cycle_time(&there_and_back, &d).0 - 2.2).abs() < 1e-9);
     }
 

@@ -250,7 +250,7 @@ pub struct Coolant {
 }
 
 /// One move of the toolpath, complete in itself.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Move {
     /// What the move does.
     pub kind: MoveKind,
@@ -278,6 +278,34 @@ pub struct Move {
     /// tool change the model's position of an unnamed axis is only a guess.
     /// Generated moves name every axis (the default).
     pub named: AxisSet,
+    /// The axes the move reaches by an increment from a position the
+    /// program never named: an incremental block after the start, a return
+    /// to the reference point, a `G53` move or a change of frame, where the
+    /// end is reckoned from the machine model's offsets and reference point.
+    /// A writer commands such a block as increments (`G91`), never as a
+    /// position computed from the model: on a machine whose offsets differ,
+    /// that position is somewhere else. Empty for generated moves (the
+    /// default).
+    pub relative: AxisSet,
+}
+
+impl Default for Move {
+    fn default() -> Move {
+        Move {
+            kind: MoveKind::default(),
+            start: Axes::ZERO,
+            end: Axes::ZERO,
+            feed: 0.0,
+            speed: 0.0,
+            spindle: Spindle::Off,
+            coolant: Coolant::default(),
+            tool: 0,
+            line: 0,
+            frame: 0,
+            named: AxisSet::ALL,
+            relative: AxisSet::NONE,
+        }
+    }
 }
 
 impl Move {
@@ -324,6 +352,33 @@ pub struct Toolpath {
     /// zero): an axis is then where it is said to be only once a move has
     /// named it ([`Move::named`]). Generated toolpaths start where they say.
     pub unknown_start: bool,
+    /// Blocks an NC writer must give the control as the program wrote them,
+    /// in order: what the motion model does not describe (an M code, a
+    /// `G10`, a signal written) or must not be written as plain moves (a
+    /// tapping cycle).
+    pub kept: Vec<Kept>,
+}
+
+/// A block kept for the writer: text of the NC language the moves came
+/// from, opaque to everything but that language's writer.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Kept {
+    /// Index of the first move the block comes before (the number of moves
+    /// when it comes after the last).
+    pub before: usize,
+    /// How many moves from `before` on the block stands for: a G-code
+    /// writer writes the block instead of them (a tapping cycle's motions,
+    /// there for the simulation). 0 for a block that makes no move.
+    pub moves: usize,
+    /// The words, evaluated, in the program's units (`M13`, `G10 L2 P1 X10.`,
+    /// `G84 X10. Y5. Z-8. R2. F1.25`); several blocks are several lines.
+    pub text: String,
+    /// The block sets work offsets (`G10 L2`): the frames after it have the
+    /// origins it gave them, which a writer must not set again from the
+    /// machine model.
+    pub sets_offsets: bool,
+    /// 1-based source line of the block.
+    pub line: u32,
 }
 
 impl From<Vec<Move>> for Toolpath {

@@ -129,3 +129,64 @@ fn inch_output_makes_the_same_motions() {
     // 5 decimals of an inch are 0.000254 mm.
     same(&original, &run(&written, &settings), &written);
 }
+
+/// Another machine: other offsets, tool lengths and reference point.
+fn other_machine() -> Settings {
+    let mut work_offsets = [Axes::ZERO; 6];
+    work_offsets[0] = at(-250.0, 75.0, -320.0);
+    work_offsets[1] = at(40.0, -60.0, -280.0);
+    Settings {
+        tool_lengths: BTreeMap::from([(1, 123.4), (2, 55.5)]),
+        work_offsets,
+        home: at(10.0, 20.0, 30.0),
+        ..Settings::default()
+    }
+}
+
+/// A program expanded with one machine file and run on another makes the
+/// same motions as the source run on that other machine.
+fn portable(text: &str) -> String {
+    let written = program(&run(text, &machine()), &WriteOptions::default()).unwrap();
+    same(&run(text, &other_machine()), &run(&written, &other_machine()), &written);
+    written
+}
+
+#[test]
+fn an_increment_after_a_reference_return_stays_an_increment() {
+    // Expanded as `G90 G01 Z290.` from the machine file's G54, this plunged
+    // wherever another machine's offset put Z 290.
+    let written =
+        portable("G90 G54 G00 X10. Y10. Z50.\nG91 G28 X0 Y0 Z0\nG91 G01 Z-10. F100.\nX5.\nG90 G00 Z60.\nM30\n");
+    assert!(written.contains("G91 G01 Z-10. F100.\n"), "{written}");
+    assert!(written.contains("X5.\n"), "{written}");
+}
+
+#[test]
+fn increments_from_where_the_program_starts_stay_increments() {
+    portable("G91 G01 X10. Y-5. F200.\nG02 X10. I5.\nG90 G00 Z5.\nM30\n");
+}
+
+#[test]
+fn increments_after_g53_a_new_work_offset_and_a_tool_change_stay_increments() {
+    portable(
+        "G90 G54 G00 X0 Y0 Z10.\nG53 G00 Z0\nG91 G00 Z-20.\nG90 G55\nG91 G01 X3. F100.\n\
+         T1 M06\nG91 G00 Y4.\nG90 G43 H1 Z5.\nG91 Z-1.\nM30\n",
+    );
+}
+
+#[test]
+fn work_offsets_the_program_sets_are_set_again() {
+    // `G10 L2 P1 X10.` puts G54's zero at machine X 10 on any machine.
+    let written =
+        portable("G10 L2 P1 X10. Y0 Z-50.\nG90 G54 G00 X0 Y0 Z5.\nG01 X5. F100.\nG91 G10 L2 P1 X2.\nG90 G00 X0\nM30\n");
+    assert!(written.contains("G21 G90 G10 L2 P1 X10. Y0. Z-50.\n"), "{written}");
+    assert!(written.contains("G21 G91 G10 L2 P1 X2.\n"), "{written}");
+}
+
+#[test]
+fn m_codes_the_machine_needs_are_kept_in_place() {
+    let written = portable("G90 G00 X0 Y0 Z5.\nM11\nG00 B90.\nM10\nM13\nG01 Z-1. F100.\nM01\nM19\nM30\n");
+    let at = |code: &str| written.find(code).unwrap_or_else(|| panic!("no {code} in\n{written}"));
+    assert!(at("M11") < at("B90.") && at("B90.") < at("M10") && at("M10") < at("M13"), "{written}");
+    assert!(at("Z-1.") < at("M01") && at("M01") < at("M19"), "{written}");
+}

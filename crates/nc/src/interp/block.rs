@@ -96,6 +96,46 @@ impl<'a> Words<'a> {
         b"XYZABC".iter().any(|&l| self.has(l))
     }
 
+    /// The evaluated words that `keep` accepts (by letter and value), in the block's
+    /// order, as program text: axis words with a decimal point (the value
+    /// in program units), whole numbers elsewhere without one.
+    fn text(&self, keep: impl Fn(u8, f64) -> bool) -> String {
+        let (mut g, mut m) = (0, 0);
+        let mut out = String::new();
+        for (k, word) in self.words.iter().enumerate() {
+            let letter = word.letter;
+            let value = match letter {
+                b'G' if g < self.g_count && self.g[g].1 == word.span(self.file) => {
+                    g += 1;
+                    f64::from(self.g[g - 1].0) / 10.0
+                }
+                b'M' if m < self.m_count && self.m[m].1 == word.span(self.file) => {
+                    m += 1;
+                    f64::from(self.m[m - 1].0)
+                }
+                b'A'..=b'Z' if self.has(letter) && self.index[(letter - b'A') as usize] as usize == k => {
+                    self.value[(letter - b'A') as usize]
+                }
+                _ => continue,
+            };
+            if !keep(letter, value) {
+                continue;
+            }
+            if !out.is_empty() {
+                out.push(' ');
+            }
+            out.push(letter as char);
+            if AXIS_LETTERS.contains(&letter) || value.fract() != 0.0 {
+                out.push_str(&crate::write::number(value, 6));
+            } else if letter == b'G' {
+                out.push_str(&format!("{value:02}"));
+            } else {
+                out.push_str(&format!("{value}"));
+            }
+        }
+        out
+    }
+
     /// The axes the block names.
     fn axes(&self) -> AxisSet {
         b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k))
@@ -308,15 +348,20 @@ impl State {
                 3 => self.spindle = Spindle::Cw,
                 4 => self.spindle = Spindle::Ccw,
                 5 => self.spindle = Spindle::Off,
-                6 => self.tool = self.pending_tool,
+                6 => {
+                    // The tool change macro may move any axis.
+                    self.tool = self.pending_tool;
+                    self.guessed = AxisSet::ALL;
+                }
                 7 => self.coolant.mist = true,
                 8 => self.coolant.flood = true,
                 9 => self.coolant = Default::default(),
-                0 | 1 | 19 => {}
                 2 | 30 => end = Some(Action::End),
                 98 => end = Some(Action::Call(self.subprogram_call(&w, mspan)?)),
                 99 => end = Some(Action::Return(w.get(b'P').map(|p| p as u32))),
-                _ => self.warn("m-code", mspan, format!("M{m} has no effect in the simulation")),
+                // Stops, spindle orientation, clamps, machine-specific
+                // codes: the machine must get them as written.
+                _ => self.keep(format!("M{m:02}"), 0, false, line),
             }
         }
 
@@ -388,9 +433,18 @@ impl State {
                 }
                 self.last.h = f64::from(h);
                 self.modal.length_comp = Some((if positive { 1.0 } else { -1.0 }, h));
+                self.guessed = AxisSet(self.guessed.0 | 0b100);
             }
-            GCode::LengthCompOff => self.modal.length_comp = None,
-            GCode::WorkOffset(i) => self.modal.work_offset = i,
+            GCode::LengthCompOff => {
+                self.modal.length_comp = None;
+                self.guessed = AxisSet(self.guessed.0 | 0b100);
+            }
+            GCode::WorkOffset(i) => {
+                if i != self.modal.work_offset {
+                    self.guessed = AxisSet::ALL;
+                }
+                self.modal.work_offset = i
+            }
             GCode::CycleOff => {}
             GCode::PathMode(g) => self.modal.path_mode = g,
             GCode::CannedCycle => {
@@ -483,6 +537,22 @@ impl State {
     }
 
     fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
+        // An increment from a position the program never named is reckoned
+        // from the machine model: the writer must keep it an increment.
+        let relative = match kind {
+            MoveKind::Rapid | MoveKind::Feed | MoveKind::Arc(_) | MoveKind::Probe
+                if self.modal.distance == Distance::Incremental && named.0 & self.guessed.0 != 0 =>
+            {
+                named
+            }
+            _ => AxisSet::NONE,
+        };
+        match kind {
+            MoveKind::Home | MoveKind::Machine => self.guessed = AxisSet(self.guessed.0 | named.0),
+            MoveKind::Dwell(_) => {}
+            _ if self.modal.distance == Distance::Absolute => self.guessed = AxisSet(self.guessed.0 & !named.0),
+            _ => {}
+        }
         let frame = self.frame();
         if self.toolpath.frames.last() != Some(&frame) {
             self.toolpath.frames.push(frame);
@@ -499,6 +569,7 @@ impl State {
             line,
             frame: (self.toolpath.frames.len() - 1) as u32,
             named,
+            relative,
         };
         self.toolpath.push(m);
         self.tip = end;
@@ -566,6 +637,7 @@ impl State {
                     }
                 }
                 self.g92_shift = Axes::from_array(g);
+                self.guessed = AxisSet::ALL;
                 return Ok(false);
             }
             Some((GCode::MachineCoords, gspan)) => {
@@ -599,6 +671,18 @@ impl State {
             }
             Some((GCode::SetOffsets, gspan)) => {
                 self.set_offsets(w, gspan)?;
+                // Its values are in the program's units and G90/G91 mode.
+                let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
+                let distance = if self.modal.distance == Distance::Incremental { "G91" } else { "G90" };
+                self.keep(
+                    format!(
+                        "{units} {distance} {}",
+                        w.text(|l, v| l != b'M' && !(l == b'G' && [20.0, 21.0, 90.0, 91.0].contains(&v)))
+                    ),
+                    0,
+                    true,
+                    line,
+                );
                 return Ok(false);
             }
             _ => {}
@@ -640,6 +724,7 @@ impl State {
                     }
                 }
                 *offset = Axes::from_array(v);
+                self.guessed = AxisSet::ALL;
                 Ok(())
             }
             (Some(1 | 10), Some(h @ 1..=999)) => {

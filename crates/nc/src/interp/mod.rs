@@ -18,7 +18,7 @@ mod vars;
 
 use std::collections::{BTreeMap, HashMap};
 
-use kezuri_geom::{Axes, Coolant, Frame, LengthOffset, Spindle, Toolpath};
+use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, Toolpath};
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
@@ -154,6 +154,10 @@ struct State {
     external_offset: Axes,
     g92_shift: Axes,
     skip_position: Axes,
+    /// Axes whose work position comes from the machine model (where the
+    /// run started, a reference point, a work offset), not from a position
+    /// the program named since.
+    guessed: AxisSet,
     feed_word: f64,
     feed_set: bool,
     speed: f64,
@@ -192,6 +196,7 @@ impl State {
             external_offset: Axes::ZERO,
             g92_shift: Axes::ZERO,
             skip_position: Axes::ZERO,
+            guessed: AxisSet::ALL,
             feed_word: 0.0,
             feed_set: false,
             speed: 0.0,
@@ -253,6 +258,13 @@ impl State {
     /// Machine position of the spindle gauge line (what #5021 reads).
     fn machine_position(&self) -> Axes {
         Axes { z: self.tip.z + self.length_offset(), ..self.tip }
+    }
+
+    /// Keeps a block for the writer before the next move (see
+    /// [`kezuri_geom::Kept`]).
+    fn keep(&mut self, text: String, moves: usize, sets_offsets: bool, line: u32) {
+        let before = self.toolpath.moves.len();
+        self.toolpath.kept.push(Kept { before, moves, text, sets_offsets, line });
     }
 
     /// Adds a warning, showing at most [`WARNINGS_PER_KIND`] of each kind.

@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, Toolpath};
+use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Kept, Move, Plane, Spindle, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
 
@@ -118,6 +118,12 @@ pub(super) struct Writer {
     /// The origin of each work offset as the control has it: first as the
     /// toolpath shows it, then as the program's `G10` set it.
     origins: [Option<Axes>; 6],
+    /// The move being written is a block of increments from a position
+    /// the program never named ([`Move::relative`]): `G91`, whatever the
+    /// writer's own choice.
+    reckoned: bool,
+    /// The program is in inches (`G20`).
+    inch: bool,
     /// Words in the block being written.
     words: u32,
     /// Index and source line of the move being written.
@@ -173,6 +179,8 @@ impl Writer {
             tool: 0,
             frame: Some(Frame::default()),
             origins: [None; 6],
+            reckoned: false,
+            inch: o.inch,
             words: 0,
             at: (0, 0),
         };
@@ -332,8 +340,65 @@ impl Writer {
     /// Starts a motion block: its `N` word and the `G90`/`G91` it needs.
     fn motion_block(&mut self) {
         self.block();
-        let relative = self.wants_relative();
+        let relative = self.reckoned || self.wants_relative();
         self.distance(relative);
+    }
+
+    /// A block kept as the program wrote it ([`Kept`]), a line each. Only
+    /// the Fanuc and LinuxCNC writers can give it to the control; what GRBL
+    /// has not is refused.
+    pub(super) fn kept(&mut self, k: &Kept, dialect: Dialect) -> Result<(), WriteError> {
+        if dialect == Dialect::Grbl && !grbl_has(&k.text) {
+            return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
+        }
+        for line in k.text.lines() {
+            self.block();
+            self.code(line);
+            self.out.push('\n');
+            // The block may set G90/G91 and the motion mode.
+            if line.contains("G90") || line.contains("G91") {
+                self.relative = None;
+            }
+        }
+        let units = if self.inch { "G20" } else { "G21" };
+        if k.text.contains(if self.inch { "G21" } else { "G20" }) {
+            self.line(units);
+        }
+        if k.moves > 0 {
+            self.motion = None;
+        }
+        if k.sets_offsets {
+            // The frames after it carry the origins the block gave them.
+            self.origins = [None; 6];
+        }
+        Ok(())
+    }
+
+    /// The control is at `end` (program coordinates) after a move a kept
+    /// block made.
+    pub(super) fn made(&mut self, end: Axes) -> Result<(), WriteError> {
+        let t = self.target(end)?;
+        for k in (0..6).filter(|&k| self.used[k]) {
+            self.pos[k] = Some(t[k]);
+            self.exact[k] = false;
+        }
+        Ok(())
+    }
+
+    /// Prepares move `m`, given in program coordinates: a move of
+    /// increments from a position the program never named
+    /// ([`Move::relative`]) is written in `G91` from its own start, so the
+    /// increments are the toolpath's, not differences from a position the
+    /// machine model reckoned.
+    pub(super) fn reckon(&mut self, m: &Move) -> Result<(), WriteError> {
+        self.reckoned = m.relative != AxisSet::NONE;
+        if self.reckoned {
+            let s = self.target(m.start)?;
+            for k in (0..6).filter(|&k| self.used[k]) {
+                self.pos[k] = Some(s[k]);
+            }
+        }
+        Ok(())
     }
 
     /// Tool, spindle and coolant blocks that bring the control to the state
@@ -610,7 +675,9 @@ impl Writer {
                 };
                 self.word(AXIS_LETTERS[k], n, self.point);
                 self.pos[k] = Some(t[k]);
-                self.exact[k] = true;
+                // After increments from a reckoned position, the position is
+                // the machine model's: only increments stay exact.
+                self.exact[k] = !self.reckoned;
                 moved[k] = true;
             }
         }
@@ -834,4 +901,14 @@ fn push_comment(out: &mut String, text: &str) {
         });
     }
     out.push(')');
+}
+
+/// Whether GRBL runs a kept block: program stops (`M0`, `M1`) and work
+/// offsets set by `G10 L2`/`L20`.
+fn grbl_has(text: &str) -> bool {
+    text.lines().all(|line| {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        matches!(words.as_slice(), ["M00" | "M01" | "M0" | "M1"])
+            || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
+    })
 }

@@ -230,6 +230,16 @@ pub enum WriteError {
         /// The dialect.
         dialect: Dialect,
     },
+    /// A block the program must give the control as written (an M code,
+    /// `G10`, a tapping cycle) that the dialect has not.
+    Kept {
+        /// Source line of the block.
+        line: u32,
+        /// The block.
+        text: String,
+        /// The dialect.
+        dialect: Dialect,
+    },
 }
 
 impl fmt::Display for WriteError {
@@ -252,6 +262,9 @@ impl fmt::Display for WriteError {
             WriteError::RotaryAxis { index, line, axis, dialect } => {
                 at(f, *index, *line)?;
                 write!(f, ": {dialect} has no rotary axis {axis}, but the toolpath turns it")
+            }
+            WriteError::Kept { line, text, dialect } => {
+                write!(f, "line {line}: {dialect} has no '{text}', which the machine must get as written")
             }
         }
     }
@@ -279,6 +292,8 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
     w.header(options);
     let unit = if options.inch { 1.0 / 25.4 } else { 1.0 };
     let mut last = None;
+    let mut kept = toolpath.kept.iter().peekable();
+    let mut covered = 0;
     for (index, machine) in toolpath.moves.iter().enumerate() {
         w.at = (index, machine.line);
         w.state(machine)?;
@@ -286,6 +301,16 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
         w.frame(in_units(frame, unit), last)?;
         last = Some(scaled(machine.end, Axes::ZERO, unit));
         let m = &in_program(machine, frame.origin, unit);
+        while let Some(k) = kept.next_if(|k| k.before <= index) {
+            w.kept(k, options.dialect)?;
+            covered = covered.max(k.before + k.moves);
+        }
+        if index < covered {
+            // A kept block (a tapping cycle) makes this move itself.
+            w.made(m.end)?;
+            continue;
+        }
+        w.reckon(m)?;
         match m.kind {
             MoveKind::Rapid => w.straight(Some(Motion::Rapid), m.end, None, m.named)?,
             MoveKind::Feed => w.straight(Some(Motion::Linear), m.end, Some(m.feed), m.named)?,
@@ -299,6 +324,9 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
                 w.machine(m.named, scaled(gauge, Axes::ZERO, unit), m.end)?
             }
         }
+    }
+    for k in kept {
+        w.kept(k, options.dialect)?;
     }
     Ok(w.finish())
 }
