@@ -30,10 +30,10 @@ CLASSES = [
     ("polar coordinates (G15/G16)", {"G15", "G16"}, r"polar"),
     ("subprograms (M98/M99/M97/G65/G66)", {"M98", "M99", "M97", "G65", "G66", "G67"}, r"subprogram|macro call"),
     ("high-speed / smoothing modes (G05.1/G187/G64/G61)", {"G5.1", "G187", "G64", "G61", "G61.1"}, r"smoothing|look-?ahead"),
+    ("LinuxCNC O-word flow control (sub/if/while/call)", set(), r"\bo-?word|o<|\bendsub\b|\bendwhile\b|named parameter"),
     ("lathe cycles and threading (G33/G70–G76/G96)", {"G33", "G70", "G71", "G72", "G75", "G76", "G96", "G97", "G7", "G8"},
      r"thread|lathe"),
     ("spindle-synchronised tapping (M29)", {"M29"}, r"rigid tap"),
-    ("LinuxCNC O-word flow control (sub/if/while/call)", set(), r"\bo-?word|o<|\bendsub\b|\bendwhile\b|named parameter"),
     ("probing (G38.x/G31)", {"G38.2", "G38.3", "G38.4", "G38.5", "G31"}, r"prob"),
     ("tool table / tool change (T, M6, G43)", {"M6", "G43", "G43.1", "G49"}, r"tool (length|table|change)"),
 ]
@@ -52,10 +52,19 @@ def normalise(message):
     for name, class_codes, words in CLASSES:
         if codes & class_codes or (words and re.search(words, low)):
             return name
-    generic = CODE.sub(lambda mm: mm.group(1).upper() + "<n>", m)
-    generic = re.sub(r"'[^']*'|\"[^\"]*\"|`[^`]*`", "'…'", generic)
-    generic = re.sub(r"[-+]?\d+(\.\d+)?", "<n>", generic)
-    generic = re.sub(r"#<n>", "#<var>", generic)
+    # Unclassified codes stay (G92.1, G30); other numbers and long quoted text go.
+    keep = {}
+
+    def hold(mm):
+        keep["\0%d\0" % len(keep)] = mm.group(1).upper() + _num(mm.group(2))
+        return "\0%d\0" % (len(keep) - 1)
+
+    generic = CODE.sub(hold, m)
+    generic = re.sub(r"'[^']{4,}'|\"[^\"]{4,}\"|`[^`]{4,}`", "'…'", generic)
+    generic = re.sub(r"#\d+", "#<var>", generic)
+    generic = re.sub(r"(?<![\d\0])[-+]?\d+(\.\d+)?(?![\d\0])", "<n>", generic)
+    for k, v in keep.items():
+        generic = generic.replace(k, v)
     return generic
 
 
