@@ -22,11 +22,12 @@
 //! use kezuri_nc::interp::comp::{compensate, Comp, Rules, Side};
 //! let at = |x: f64, y: f64| Axes { x, y, ..Axes::ZERO };
 //! let line = |a: Axes, b: Axes| Move { kind: MoveKind::Feed, start: a, end: b, ..Move::default() };
-//! // G41 D(r=1) G01 X10 Y0 (start-up, type A), Y10, then G40 X20.
+//! // G42 D(r=1) G01 X10 Y0 (start-up, type A), Y10, then G40 X20: the
+//! // start-up ends on the vector perpendicular to the next move.
 //! let moves = [line(at(0.0, -5.0), at(10.0, 0.0)), line(at(10.0, 0.0), at(10.0, 10.0)), line(at(10.0, 10.0), at(20.0, 10.0))];
-//! let comp = Comp { side: Side::Left, radius: 1.0, plane: Plane::Xy };
+//! let comp = Comp { side: Side::Right, radius: 1.0, plane: Plane::Xy };
 //! let out = compensate(&moves, &[Some(comp), Some(comp), None], Rules::default()).unwrap();
-//! assert_eq!((out[0].end.x, out[0].end.y), (9.0, 0.0)); // perpendicular to the next move
+//! assert_eq!((out[0].end.x, out[0].end.y), (11.0, 0.0));
 //! ```
 
 mod fanuc;
