@@ -11,6 +11,7 @@
 //! returned in [`Outcome::prints`].
 
 mod block;
+pub mod comp;
 mod control;
 mod modal;
 mod value;
