@@ -307,7 +307,7 @@ impl LineParser<'_> {
             b'G' if !self.at_keyword("GOTO") => self.words(),
             _ if self.eat_keyword("IF") => self.if_statement(),
             _ if self.eat_keyword("GOTO") => Ok(Statement::Goto(self.operand()?)),
-            _ if self.eat_keyword("WHILE") => {
+            _ if self.eat_keyword("WHILE") || self.eat_while_abbreviation() => {
                 let cond = self.bracketed()?;
                 self.skip_blanks();
                 if !self.eat_keyword("DO") {
@@ -333,6 +333,21 @@ impl LineParser<'_> {
             _ if self.at_keyword("BPRNT") => Ok(self.unsupported("BPRNT (binary output) is not supported yet")),
             _ => self.words(),
         }
+    }
+
+    /// `WH[`: the short form of `WHILE` that Haas and Fanuc programs use.
+    /// Only a `[` (after blanks) makes it one: `W` alone is an axis address.
+    fn eat_while_abbreviation(&mut self) -> bool {
+        if !self.at_keyword("WH") {
+            return false;
+        }
+        let after = self.b[self.pos + 2..self.end].iter().find(|c| !matches!(c, b' ' | b'\t'));
+        if after != Some(&b'[') {
+            return false;
+        }
+        self.pos += 2;
+        self.skip_blanks();
+        true
     }
 
     fn unsupported(&mut self, what: &str) -> Statement {
