@@ -71,6 +71,11 @@ impl<'a> Interp<'a> {
 
     pub(super) fn run(&mut self, main: usize) {
         let Some(unit) = self.program.units.get(main) else { return };
+        if let Err(m) = self.st.settings.check() {
+            self.st.diagnostics.push(Diagnostic::error(unit.span, format!("machine settings: {m}")));
+            return;
+        }
+        self.st.load_kept_values();
         self.st.last.o = unit.number.unwrap_or(0) as f64;
         // Room for about a move per block up front: growing a large toolpath
         // step by step copies it. Untouched capacity costs no memory.
@@ -117,6 +122,7 @@ impl<'a> Interp<'a> {
             blocks: self.st.blocks,
             statements: self.statements,
             completed: self.completed,
+            output_writes: self.st.output_writes,
         }
     }
 
@@ -171,6 +177,7 @@ impl<'a> Interp<'a> {
             return Ok(true);
         }
         let span = block.span;
+        self.st.at = span;
         if let Some(n) = block.number {
             self.st.last.n = f64::from(n);
         }
