@@ -1,5 +1,5 @@
 //! The machine file (`--machine M.toml`): rapids, acceleration, tool table,
-//! work offsets and reference point.
+//! work offsets and reference point, macro variables and input signals.
 //!
 //! ```toml
 //! [motion]
@@ -24,14 +24,25 @@
 //! [kinematics.axis.B]                    # default: along / about its own
 //! axis = [0, 1, 0]                       #   letter's direction, pivot at 0
 //! pivot = [0, 0, 120]
+//!
+//! [macro]                                # default: the broadest set
+//! common = ["100-199", "500-999", "900000-999999"]   # common variables
+//! kept = ["500-999"]                     # kept over a reset and power off
+//! values = { 500 = 12.5 }                # kept variables at the start
+//!
+//! [signals]
+//! inputs = { 1000 = 1, 1005 = 0 }        # bits #1000-#1031, words #1033-#1035
 //! ```
+//!
+//! The rules for macro variables and signals, and where each comes from,
+//! are in `docs/macro-variables.md`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_geom::{Axes, Dynamics};
-use kezuri_nc::interp::Settings;
+use kezuri_nc::interp::{MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
 
@@ -45,6 +56,63 @@ struct File {
     #[serde(default)]
     offsets: BTreeMap<String, Vec<f64>>,
     kinematics: Option<Chains>,
+    #[serde(default, rename = "macro")]
+    macro_variables: Macro,
+    #[serde(default)]
+    signals: Signals,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct Macro {
+    common: Option<Vec<String>>,
+    kept: Option<Vec<String>>,
+    #[serde(default)]
+    values: BTreeMap<String, f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct Signals {
+    #[serde(default)]
+    inputs: BTreeMap<String, f64>,
+}
+
+/// The macro variables of `[macro]`. Without `kept`, the default kept
+/// ranges (#500–#999) that the machine has are kept.
+fn macro_variables(m: &Macro) -> Result<MacroVariables> {
+    let ranges = |name: &str, list: &[String]| -> Result<Vec<_>> {
+        list.iter().map(|t| MacroVariables::parse_range(t).map_err(|e| anyhow::anyhow!("macro.{name}: {e}"))).collect()
+    };
+    let default = MacroVariables::default();
+    let common = match &m.common {
+        Some(list) => ranges("common", list)?,
+        None => default.common,
+    };
+    let kept = match &m.kept {
+        Some(list) => ranges("kept", list)?,
+        None => default
+            .kept
+            .into_iter()
+            .filter(|r| common.iter().any(|c| c.start() <= r.start() && r.end() <= c.end()))
+            .collect(),
+    };
+    let values = variables("macro.values", &m.values)?;
+    Ok(MacroVariables { common, kept, values })
+}
+
+/// A table keyed by variable number (`{ 500 = 12.5 }`, `#` allowed).
+fn variables(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f64>> {
+    map.iter()
+        .map(|(k, &v)| {
+            let n: u32 =
+                k.trim_start_matches('#').parse().with_context(|| format!("{name}: '{k}' is not a variable number"))?;
+            if !v.is_finite() {
+                bail!("{name}.{k} is not a finite number");
+            }
+            Ok((n, v))
+        })
+        .collect()
 }
 
 #[derive(Deserialize)]
@@ -202,8 +270,11 @@ impl Machine {
         let mut settings = Settings {
             tool_lengths: registers("tools.lengths", &file.tools.lengths)?,
             tool_radii: registers("tools.radii", &file.tools.radii)?,
+            macro_variables: macro_variables(&file.macro_variables)?,
+            input_signals: variables("signals.inputs", &file.signals.inputs)?,
             ..Settings::default()
         };
+        settings.check().map_err(|e| anyhow::anyhow!("{e}"))?;
         for (name, v) in &file.offsets {
             let a = axes(name, v)?;
             match name.to_uppercase().as_str() {
@@ -243,7 +314,18 @@ mod tests {
         let tip = m.kinematics.forward(&[0.0, 0.0, 0.0, 0.0, -90.0, 0.0]);
         assert!((tip[0] - 50.0).abs() < 1e-9 && tip[1].abs() < 1e-9 && (tip[2] - 120.0).abs() < 1e-9, "{tip:?}");
         assert!(m.kinematics.has(5) && !m.kinematics.has(3));
-        assert_eq!(Machine::parse("").unwrap().kinematics, Kinematics::mill());
+        let vars = &m.settings.macro_variables;
+        assert!(vars.is_common(901_200) && !vars.is_common(250) && vars.is_kept(999) && !vars.is_kept(100));
+        assert_eq!(vars.values[&500], 12.5);
+        assert_eq!(m.settings.input_signals[&1000], 1.0);
+        let empty = Machine::parse("").unwrap();
+        assert_eq!(empty.kinematics, Kinematics::mill());
+        assert_eq!(empty.settings.macro_variables, MacroVariables::default());
+        // Without `kept`, #500-#999 is kept where the machine has it.
+        let haas = Machine::parse("[macro]\ncommon = [\"100-199\", \"500-999\", \"10000-10999\"]").unwrap();
+        assert_eq!(haas.settings.macro_variables.kept, [500..=999]);
+        let small = Machine::parse("[macro]\ncommon = [\"100-149\"]").unwrap();
+        assert!(small.settings.macro_variables.kept.is_empty());
     }
 
     #[test]
@@ -257,6 +339,12 @@ mod tests {
             ("[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n[kinematics.axis.B]\naxis = [0, 1, 0]", "in neither"),
             ("[kinematics]\ntool = [\"X\", \"Y\", \"Z\"]\n[kinematics.axis.X]\npivot = [0, 1, 0]", "a linear axis"),
             ("[kinematics]\ntool = [\"X\", \"X\", \"Z\"]", "twice"),
+            ("[macro]\ncommon = [\"100-1999\"]", "[macro]: #100–#1999 overlaps the system variables"),
+            ("[macro]\ncommon = [\"100 to 199\"]", "macro.common: '100 to 199' is not a variable range"),
+            ("[macro]\nvalues = { 100 = 1 }", "[macro]: #100 is not kept over a reset"),
+            ("[macro]\nsharp = true", "unknown field `sharp`"),
+            ("[signals]\ninputs = { 1000 = 3 }", "[signals]: input #1000 is one bit"),
+            ("[signals]\ninputs = { door = 1 }", "signals.inputs: 'door' is not a variable number"),
         ] {
             let e = format!("{:#}", Machine::parse(text).err().expect(text));
             assert!(e.contains(words), "{text}: {e}");

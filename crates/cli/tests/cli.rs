@@ -224,3 +224,29 @@ fn output_to_a_named_pipe_goes_into_the_pipe_and_leaves_it_one() {
     assert_eq!(through_pipe, direct);
     assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
 }
+
+#[test]
+fn machine_file_sets_the_variable_ranges_and_the_input_signals() {
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("fanuc.toml");
+    std::fs::write(&machine, "[macro]\ncommon = [\"100-199\", \"500-999\"]\n[signals]\ninputs = { 1000 = 1 }\n")
+        .unwrap();
+    let machine = machine.to_string_lossy().into_owned();
+    // The door input is closed: the wait ends; #901200 is no variable here.
+    let program = "WH[#1000EQ0]DO1\nEND1\nG01 X1. F100.\n#901200=1.\nM30\n";
+    let o = kezuri_stdin(&["check", "-", "--machine", &machine], program);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(
+        err.contains("<stdin>:4:1: error: #901200 is not a variable of this machine: its common variables are #100–#199, #500–#999"),
+        "{err}"
+    );
+    // Without the machine file the default ranges have it.
+    let o = kezuri_stdin(&["check", "-"], "G01 X1. F100.\n#901200=1.\nM30\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A bad range is refused with the file's name.
+    std::fs::write(&machine, "[macro]\ncommon = [\"1-199\"]\n").unwrap();
+    let o = kezuri_stdin(&["check", "-", "--machine", &machine], "M30\n");
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("overlaps the local variables"), "{}", stderr(&o));
+}

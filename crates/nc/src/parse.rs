@@ -54,6 +54,10 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
         blocks: program.blocks.len() as u32..program.blocks.len() as u32,
     };
     let mut percent_seen = 0;
+    // After M30/M02 a unit's lines that are not NC blocks are notes: the
+    // first such line and how many there are, for one warning at the end.
+    let mut after_end = false;
+    let mut notes: Option<(Span, u32)> = None;
     let mut pos = 0;
     let mut line = 0u32;
     while pos < bytes.len() {
@@ -71,6 +75,7 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
             }
         } else if let Some(header) = p.program_header(&mut diagnostics) {
             finish_unit(program, &mut unit);
+            after_end = false;
             unit = ProgramUnit {
                 number: Some(header.0),
                 title: header.1,
@@ -81,18 +86,28 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
             let words_mark = p.program.words.len();
             let exprs_mark = p.program.exprs.len();
             let block = match p.block(line) {
-                Ok(block) => block,
+                Ok(block) => {
+                    after_end |= ends_program(program, &block);
+                    block
+                }
                 Err(d) => {
-                    diagnostics.push(d);
                     program.words.truncate(words_mark);
                     program.exprs.truncate(exprs_mark);
-                    Block {
-                        span: Span::new(file, pos, end),
-                        line,
-                        number: None,
-                        delete: false,
-                        statement: Statement::Empty,
-                    }
+                    let span = Span::new(file, pos, end);
+                    let statement = if after_end {
+                        // Haas M97 targets live after M30, and so do notes
+                        // about the setup: such a line is no error unless
+                        // a jump reaches it.
+                        notes.get_or_insert((span, 0)).1 += 1;
+                        Statement::Unsupported(format!(
+                            "this line after M30 was read as a note, not an NC block ({})",
+                            d.message
+                        ))
+                    } else {
+                        diagnostics.push(d);
+                        Statement::Empty
+                    };
+                    Block { span, line, number: None, delete: false, statement }
                 }
             };
             if unit.blocks.is_empty() && unit.number.is_none() {
@@ -103,6 +118,15 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
         pos = end + 1;
     }
     finish_unit(program, &mut unit);
+    if let Some((span, lines)) = notes {
+        let more = match lines {
+            1 => String::new(),
+            2 => " (and 1 more line like it)".to_string(),
+            n => format!(" (and {} more lines like it)", n - 1),
+        };
+        diagnostics
+            .push(Diagnostic::warning(span, format!("text after M30/M02 that is not an NC block is ignored{more}")));
+    }
     let at_end = Span::new(file, bytes.len(), bytes.len());
     if percent_seen == 1 && text.trim_start().starts_with('%') {
         // A tape that opens with '%' ends with one (LinuxCNC refuses a file
@@ -112,6 +136,14 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
         diagnostics.push(Diagnostic::error(at_end, "the file holds no program: no blocks to run"));
     }
     diagnostics
+}
+
+/// Whether `block` ends the program: an `M30` or `M02` word written as a
+/// number (`M#1` is not looked at before the run).
+fn ends_program(program: &Program, block: &Block) -> bool {
+    program.words(block).iter().any(|w| {
+        w.letter == b'M' && matches!(w.value(), WordValue::Number { value, .. } if value == 30.0 || value == 2.0)
+    })
 }
 
 fn finish_unit(program: &mut Program, unit: &mut ProgramUnit) {
@@ -307,7 +339,7 @@ impl LineParser<'_> {
             b'G' if !self.at_keyword("GOTO") => self.words(),
             _ if self.eat_keyword("IF") => self.if_statement(),
             _ if self.eat_keyword("GOTO") => Ok(Statement::Goto(self.operand()?)),
-            _ if self.eat_keyword("WHILE") => {
+            _ if self.eat_keyword("WHILE") || self.eat_while_abbreviation() => {
                 let cond = self.bracketed()?;
                 self.skip_blanks();
                 if !self.eat_keyword("DO") {
@@ -333,6 +365,21 @@ impl LineParser<'_> {
             _ if self.at_keyword("BPRNT") => Ok(self.unsupported("BPRNT (binary output) is not supported yet")),
             _ => self.words(),
         }
+    }
+
+    /// `WH[`: the short form of `WHILE` that Haas and Fanuc programs use.
+    /// Only a `[` (after blanks) makes it one: `W` alone is an axis address.
+    fn eat_while_abbreviation(&mut self) -> bool {
+        if !self.at_keyword("WH") {
+            return false;
+        }
+        let after = self.b[self.pos + 2..self.end].iter().find(|c| !matches!(c, b' ' | b'\t'));
+        if after != Some(&b'[') {
+            return false;
+        }
+        self.pos += 2;
+        self.skip_blanks();
+        true
     }
 
     fn unsupported(&mut self, what: &str) -> Statement {

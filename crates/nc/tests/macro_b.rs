@@ -265,9 +265,15 @@ fn variables() {
     assert_eq!(value_after("#33=6.\n#100=#33"), Ok(Some(6.0)));
     // A computed variable number is rounded to the nearest whole number.
     assert_eq!(value_after("#101=5.\n#100=#[100.6]"), Ok(Some(5.0)));
-    assert_eq!(value("#34"), Err("system variable #34 is not supported".into()));
+    assert_eq!(
+        value("#34"),
+        Err("#34 is not a variable of this machine: its common variables are #100–#199, #200–#499, #500–#999, \
+             #900000–#999999 (the machine file's [macro] common sets them)"
+            .into())
+    );
+    assert_eq!(value("#1036"), Err("system variable #1036 is not supported".into()));
     assert_eq!(value_after("#0=1."), Err("#0 is always vacant and cannot be assigned".into()));
-    assert_eq!(value("#[-1]"), Err("#-1 is not a variable number (use whole numbers from 0)".into()));
+    assert_eq!(value("#[-1]"), Err("#-1 is not a variable number (use whole numbers from 0 to 99999999)".into()));
 }
 
 /// The X of every move the program makes.

@@ -13,6 +13,12 @@ use crate::source::{Diagnostic, FileId, Span};
 pub(super) enum Action {
     Next,
     Call(Call),
+    /// `M97 P<label> L<repeats>`: a Haas local subprogram call.
+    LocalCall {
+        label: u32,
+        repeats: u32,
+        span: Span,
+    },
     Return(Option<u32>),
     End,
 }
@@ -22,6 +28,8 @@ pub(super) enum Action {
 pub(super) enum FrameKind {
     Main,
     Subprogram,
+    /// `M97`: blocks of the calling program from an N label to M99.
+    Local,
     Macro,
     ModalMacro,
 }
@@ -357,6 +365,7 @@ impl State {
                 8 => self.coolant.flood = true,
                 9 => self.coolant = Default::default(),
                 2 | 30 => end = Some(Action::End),
+                97 => end = Some(local_call(&w, mspan)?),
                 98 => end = Some(Action::Call(self.subprogram_call(&w, mspan)?)),
                 99 => end = Some(Action::Return(w.get(b'P').map(|p| p as u32))),
                 // Stops, spindle orientation, clamps, machine-specific
@@ -832,6 +841,14 @@ fn fill_arguments(w: &Words, args: &mut Locals) {
     if w.m_count > 0 {
         args[12] = Value::Num(f64::from(w.m[0].0));
     }
+}
+
+/// `M97 P<label> L<repeats>` (Haas): the N label to run to M99, how often.
+fn local_call(w: &Words, mspan: Span) -> Result<Action, Diagnostic> {
+    let p = w.get(b'P').ok_or_else(|| Diagnostic::error(mspan, "M97 needs P, the N number to call"))?;
+    let label = whole(p, w.span(b'P'), "sequence number")?;
+    let repeats = w.get(b'L').map_or(Ok(1), |l| whole(l, w.span(b'L'), "repeat count"))?;
+    Ok(Action::LocalCall { label, repeats, span: mspan })
 }
 
 fn whole(v: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {

@@ -19,6 +19,9 @@ const MAX_MACRO_DEPTH: usize = 5;
 struct Frame {
     unit: usize,
     pc: u32,
+    /// Where each repetition starts: the unit's first block, or the N label
+    /// of an M97 call.
+    start: u32,
     kind: FrameKind,
     repeats_left: u32,
     call_span: Span,
@@ -68,6 +71,11 @@ impl<'a> Interp<'a> {
 
     pub(super) fn run(&mut self, main: usize) {
         let Some(unit) = self.program.units.get(main) else { return };
+        if let Err(m) = self.st.settings.check() {
+            self.st.diagnostics.push(Diagnostic::error(unit.span, format!("machine settings: {m}")));
+            return;
+        }
+        self.st.load_kept_values();
         self.st.last.o = unit.number.unwrap_or(0) as f64;
         // Room for about a move per block up front: growing a large toolpath
         // step by step copies it. Untouched capacity costs no memory.
@@ -75,6 +83,7 @@ impl<'a> Interp<'a> {
         self.frames.push(Frame {
             unit: main,
             pc: unit.blocks.start,
+            start: unit.blocks.start,
             kind: FrameKind::Main,
             repeats_left: 0,
             call_span: unit.span,
@@ -113,6 +122,7 @@ impl<'a> Interp<'a> {
             blocks: self.st.blocks,
             statements: self.statements,
             completed: self.completed,
+            output_writes: self.st.output_writes,
         }
     }
 
@@ -123,6 +133,10 @@ impl<'a> Interp<'a> {
             .map(|f| {
                 let number = self.program.units[f.unit].number.unwrap_or(0);
                 let how = match f.kind {
+                    FrameKind::Local => {
+                        let label = self.program.blocks[f.start as usize].number.unwrap_or(0);
+                        return (format!("local subprogram N{label} of O{number:04} (M97)"), f.call_span);
+                    }
                     FrameKind::Subprogram => "subprogram",
                     FrameKind::Macro => "macro",
                     FrameKind::ModalMacro => "modal macro",
@@ -163,6 +177,7 @@ impl<'a> Interp<'a> {
             return Ok(true);
         }
         let span = block.span;
+        self.st.at = span;
         if let Some(n) = block.number {
             self.st.last.n = f64::from(n);
         }
@@ -315,6 +330,10 @@ impl<'a> Interp<'a> {
                 self.call(call)?;
                 Ok(true)
             }
+            Action::LocalCall { label, repeats, span } => {
+                self.local_call(label, repeats, span)?;
+                Ok(true)
+            }
             Action::Return(target) => self.return_from(target, span),
         }
     }
@@ -343,24 +362,48 @@ impl<'a> Interp<'a> {
             .ok_or_else(|| Diagnostic::error(span, format!("{name} does not contain program O{number:04}")))
     }
 
-    fn call(&mut self, call: Call) -> Result<(), Diagnostic> {
-        let unit = self.find_unit(call.program, call.span)?;
-        let depth = self
-            .frames
-            .iter()
-            .filter(|f| f.kind.is_macro() == call.kind.is_macro() && f.kind != FrameKind::Main)
-            .count();
-        let (limit, what) = if call.kind.is_macro() {
-            (MAX_MACRO_DEPTH, "macro calls")
-        } else {
-            (MAX_SUBPROGRAM_DEPTH, "subprogram calls")
-        };
+    /// Refuses a call of `kind` that would nest deeper than the control allows.
+    fn check_depth(&self, kind: FrameKind, span: Span) -> Result<(), Diagnostic> {
+        let depth =
+            self.frames.iter().filter(|f| f.kind.is_macro() == kind.is_macro() && f.kind != FrameKind::Main).count();
+        let (limit, what) =
+            if kind.is_macro() { (MAX_MACRO_DEPTH, "macro calls") } else { (MAX_SUBPROGRAM_DEPTH, "subprogram calls") };
         if depth >= limit {
             return Err(Diagnostic::error(
-                call.span,
+                span,
                 format!("{what} nested deeper than {limit} (a program that calls itself without end?)"),
             ));
         }
+        Ok(())
+    }
+
+    /// `M97 P<label> L<repeats>`: runs the blocks of the current program
+    /// from `N<label>` to M99, `repeats` times, then goes on after the M97.
+    fn local_call(&mut self, label: u32, repeats: u32, span: Span) -> Result<(), Diagnostic> {
+        let unit = self.frames.last().map_or(0, |f| f.unit);
+        let Some(start) = self.unit_index(unit).labels.get(&label).copied() else {
+            let number = self.program.units[unit].number.map_or(String::from("this program"), |o| format!("O{o:04}"));
+            return Err(Diagnostic::error(span, format!("M97 P{label}: there is no block N{label} in {number}")));
+        };
+        self.check_depth(FrameKind::Local, span)?;
+        if repeats == 0 {
+            return Ok(());
+        }
+        self.frames.push(Frame {
+            unit,
+            pc: start,
+            start,
+            kind: FrameKind::Local,
+            repeats_left: repeats - 1,
+            call_span: span,
+            args: None,
+        });
+        Ok(())
+    }
+
+    fn call(&mut self, call: Call) -> Result<(), Diagnostic> {
+        let unit = self.find_unit(call.program, call.span)?;
+        self.check_depth(call.kind, call.span)?;
         if call.repeats == 0 {
             return Ok(());
         }
@@ -370,9 +413,11 @@ impl<'a> Interp<'a> {
         if call.kind == FrameKind::ModalMacro {
             self.st.modal_depth += 1;
         }
+        let start = self.program.units[unit].blocks.start;
         self.frames.push(Frame {
             unit,
-            pc: self.program.units[unit].blocks.start,
+            pc: start,
+            start,
             kind: call.kind,
             repeats_left: call.repeats - 1,
             call_span: call.span,
@@ -386,14 +431,12 @@ impl<'a> Interp<'a> {
             self.st.warn("m99-main", span, "M99 in the main program restarts it on the control; the run stops here");
             return Ok(false);
         }
-        let unit = self.frames.last().map_or(0, |f| f.unit);
-        let start = self.program.units[unit].blocks.start;
         let f = self.frame();
         if f.repeats_left > 0 {
             // The next repetition goes on with the same local variables: the
             // arguments are set on the first one only (G65 P… L…).
             f.repeats_left -= 1;
-            f.pc = start;
+            f.pc = f.start;
             return Ok(true);
         }
         let done = self.frames.pop().expect("a frame to return from");

@@ -14,17 +14,21 @@ mod block;
 pub mod comp;
 mod control;
 mod modal;
+mod signals;
 mod value;
 mod vars;
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, Toolpath};
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use modal::{Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
+pub use signals::check_inputs;
+use signals::Outputs;
 pub use value::Value;
+pub use vars::MacroVariables;
 use vars::{Clock, Locals};
 
 /// How a word written without a decimal point is read on axis addresses.
@@ -60,6 +64,21 @@ pub struct Settings {
     pub work_offsets: [Axes; 6],
     /// Machine position of the reference point that G28 returns to.
     pub home: Axes,
+    /// Which common variables exist, which are kept over a reset, and the
+    /// starting values of those.
+    pub macro_variables: MacroVariables,
+    /// Input signals by variable number: bits #1000–#1031 (0 or 1) and
+    /// words #1033–#1035. One that is not here reads 0, with a warning.
+    pub input_signals: BTreeMap<u32, f64>,
+}
+
+impl Settings {
+    /// Checks what a machine file can get wrong: the macro variable ranges
+    /// and the input signal values.
+    pub fn check(&self) -> Result<(), String> {
+        self.macro_variables.check().map_err(|m| format!("[macro]: {m}"))?;
+        check_inputs(&self.input_signals).map_err(|m| format!("[signals]: {m}"))
+    }
 }
 
 impl Default for Settings {
@@ -73,6 +92,8 @@ impl Default for Settings {
             tool_radii: BTreeMap::new(),
             work_offsets: [Axes::ZERO; 6],
             home: Axes::ZERO,
+            macro_variables: MacroVariables::default(),
+            input_signals: BTreeMap::new(),
         }
     }
 }
@@ -108,6 +129,25 @@ pub struct Outcome {
     pub statements: u64,
     /// `true` when the program reached its end without an error.
     pub completed: bool,
+    /// Every write to an output signal (#1100–#1135), in the order the
+    /// program made them. A program writer that rewrites the toolpath puts
+    /// each back as `#<variable>=<value>` before move `moves_before`, so the
+    /// machine still sets its outputs between the same two moves.
+    pub output_writes: Vec<OutputWrite>,
+}
+
+/// One write to an output signal, for [`Outcome::output_writes`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputWrite {
+    /// How many moves of [`Outcome::toolpath`] came before the write: it
+    /// belongs between move `moves_before - 1` and move `moves_before`.
+    pub moves_before: usize,
+    /// The variable written: a bit #1100–#1131 or a group #1132–#1135.
+    pub variable: u32,
+    /// The value written (0 or 1 for a bit; a 32-bit number for a group).
+    pub value: f64,
+    /// The statement that wrote it.
+    pub span: Span,
 }
 
 /// Runs program unit `main` of `program` and returns the toolpath with its
@@ -172,8 +212,16 @@ struct State {
     modal_depth: u32,
     locals: Vec<Locals>,
     level: usize,
-    common: Box<[Value; 100]>,
-    persistent: Box<[Value; 500]>,
+    /// Common variables #100–#999 (those the machine has).
+    common: Box<[Value; 900]>,
+    /// Every other common variable that holds a value.
+    sparse: HashMap<u32, Value>,
+    outputs: Outputs,
+    output_writes: Vec<OutputWrite>,
+    /// Inputs whose "not in the machine file" warning was given.
+    unset_inputs_warned: BTreeSet<u32>,
+    /// The statement being executed, for warnings from inside expressions.
+    at: Span,
     clock: Clock,
     toolpath: Toolpath,
     diagnostics: Vec<Diagnostic>,
@@ -210,8 +258,12 @@ impl State {
             modal_depth: 0,
             locals: vec![[Value::Vacant; 33]],
             level: 0,
-            common: Box::new([Value::Vacant; 100]),
-            persistent: Box::new([Value::Vacant; 500]),
+            common: Box::new([Value::Vacant; 900]),
+            sparse: HashMap::new(),
+            outputs: Outputs::default(),
+            output_writes: Vec::new(),
+            unset_inputs_warned: BTreeSet::new(),
+            at: Span::default(),
             toolpath: Toolpath { unknown_start: true, ..Toolpath::default() },
             diagnostics: Vec::new(),
             warned: HashMap::new(),

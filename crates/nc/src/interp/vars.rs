@@ -1,5 +1,9 @@
 //! Macro variables: locals per call level, commons, and system variables.
 
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::ops::RangeInclusive;
+
 use super::value::Value;
 use super::State;
 use kezuri_geom::{Axes, SplitMix64};
@@ -7,58 +11,205 @@ use kezuri_geom::{Axes, SplitMix64};
 /// Local variables #1–#33 of one call level.
 pub type Locals = [Value; 33];
 
-/// Where an assignment or read lands.
-pub(super) enum Slot {
-    Vacant,
-    Local(usize),
-    Common(usize),
-    Persistent(usize),
-    System(u32),
+/// Largest variable number a program may write.
+const MAX_VARIABLE: f64 = 99_999_999.0;
+
+/// Numbers that are never common variables: the locals and the system
+/// variables (#1000–#9999) of a Fanuc control.
+const RESERVED: [RangeInclusive<u32>; 2] = [0..=33, 1000..=9999];
+
+/// Which common variables a control has, and which of them it keeps over a
+/// reset and power off. A machine file's `[macro]` section sets it; see
+/// `docs/macro-variables.md` for where each range comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MacroVariables {
+    /// Ranges of common variable numbers, both ends included. A variable
+    /// outside every range (and not a local or system variable) is an error.
+    pub common: Vec<RangeInclusive<u32>>,
+    /// The ranges, within `common`, whose values are kept over a reset and
+    /// power off; the others start vacant on every run.
+    pub kept: Vec<RangeInclusive<u32>>,
+    /// Values of kept variables at the start of the run: what earlier
+    /// programs or the operator left in them.
+    pub values: BTreeMap<u32, f64>,
 }
 
-pub(super) fn slot(number: f64) -> Result<Slot, String> {
-    if number.fract() != 0.0 || !(0.0..=99_999.0).contains(&number) {
-        return Err(format!("#{number} is not a variable number (use whole numbers from 0)"));
+impl Default for MacroVariables {
+    /// The broadest set: #100–#199, #200–#499 (an option on Fanuc
+    /// controls), #500–#999 and #900000–#999999 (seen in shop programs);
+    /// #500–#999 kept over a reset.
+    fn default() -> MacroVariables {
+        MacroVariables {
+            common: vec![100..=199, 200..=499, 500..=999, 900_000..=999_999],
+            kept: vec![500..=999],
+            values: BTreeMap::new(),
+        }
     }
-    let n = number as u32;
-    Ok(match n {
-        0 => Slot::Vacant,
-        1..=33 => Slot::Local(n as usize - 1),
-        100..=199 => Slot::Common(n as usize - 100),
-        500..=999 => Slot::Persistent(n as usize - 500),
-        _ => Slot::System(n),
-    })
+}
+
+impl MacroVariables {
+    /// Reads a range as a machine file writes it: `"100-199"`, or `"150"`
+    /// for one variable.
+    pub fn parse_range(text: &str) -> Result<RangeInclusive<u32>, String> {
+        let number = |t: &str| -> Result<u32, String> {
+            let t = t.trim().trim_start_matches('#');
+            t.parse::<u32>().map_err(|_| format!("'{text}' is not a variable range such as \"100-199\""))
+        };
+        match text.split_once('-') {
+            Some((first, last)) => Ok(number(first)?..=number(last)?),
+            None => number(text).map(|n| n..=n),
+        }
+    }
+
+    /// Whether `#n` is one of the common variables.
+    pub fn is_common(&self, n: u32) -> bool {
+        self.common.iter().any(|r| r.contains(&n))
+    }
+
+    /// Whether `#n` is kept over a reset.
+    pub fn is_kept(&self, n: u32) -> bool {
+        self.kept.iter().any(|r| r.contains(&n)) && self.is_common(n)
+    }
+
+    /// The common ranges as a machinist reads them: `#100–#199, #500–#999`.
+    pub fn describe(&self) -> String {
+        let mut out = String::new();
+        for (k, r) in self.common.iter().enumerate() {
+            let sep = if k == 0 { "" } else { ", " };
+            let _ = match r.start() == r.end() {
+                true => write!(out, "{sep}#{}", r.start()),
+                false => write!(out, "{sep}#{}–#{}", r.start(), r.end()),
+            };
+        }
+        if out.is_empty() {
+            out.push_str("none");
+        }
+        out
+    }
+
+    /// Checks the ranges: each in order, none over the locals #0–#33 or
+    /// the system variables #1000–#9999, no number above 99999999, every
+    /// kept range within the common ones, starting values only for kept
+    /// variables.
+    pub fn check(&self) -> Result<(), String> {
+        for r in self.common.iter().chain(&self.kept) {
+            if r.start() > r.end() {
+                return Err(format!("#{}–#{}: the first number is above the last", r.start(), r.end()));
+            }
+            if f64::from(*r.end()) > MAX_VARIABLE {
+                return Err(format!("#{}–#{}: variable numbers end at #99999999", r.start(), r.end()));
+            }
+            if let Some(x) = RESERVED.iter().find(|x| r.start() <= x.end() && x.start() <= r.end()) {
+                let what = if *x.start() == 0 { "local variables" } else { "system variables" };
+                return Err(format!(
+                    "#{}–#{} overlaps the {what} #{}–#{}: common variables cannot be there",
+                    r.start(),
+                    r.end(),
+                    x.start(),
+                    x.end()
+                ));
+            }
+        }
+        for r in &self.kept {
+            if let Some(n) = [*r.start(), *r.end()].into_iter().find(|&n| !self.is_common(n)) {
+                return Err(format!("kept variable #{n} is not a common variable ({})", self.describe()));
+            }
+        }
+        for (&n, &v) in &self.values {
+            if !self.is_kept(n) {
+                return Err(format!("#{n} is not kept over a reset: only kept variables have a starting value"));
+            }
+            if !v.is_finite() {
+                return Err(format!("#{n} = {v} is not a finite number"));
+            }
+        }
+        Ok(())
+    }
 }
 
 fn axis(a: Axes, i: u32) -> Option<f64> {
     a.to_array().get(i as usize).copied()
 }
 
+/// Where an assignment or read lands.
+pub(super) enum Slot {
+    Vacant,
+    Local(usize),
+    /// #100–#999, kept in an array: macro loops use them most.
+    Dense(usize),
+    /// Any other common variable, kept in a map.
+    Sparse(u32),
+    System(u32),
+}
+
 impl State {
+    /// What variable `#number` is on this machine.
+    pub(super) fn slot(&self, number: f64) -> Result<Slot, String> {
+        if number.fract() != 0.0 || !(0.0..=MAX_VARIABLE).contains(&number) {
+            return Err(format!("#{number} is not a variable number (use whole numbers from 0 to 99999999)"));
+        }
+        let n = number as u32;
+        let vars = &self.settings.macro_variables;
+        Ok(match n {
+            0 => Slot::Vacant,
+            1..=33 => Slot::Local(n as usize - 1),
+            1000..=9999 => Slot::System(n),
+            100..=999 if vars.is_common(n) => Slot::Dense(n as usize - 100),
+            _ if vars.is_common(n) => Slot::Sparse(n),
+            _ => {
+                return Err(format!(
+                    "#{n} is not a variable of this machine: its common variables are {} \
+                     (the machine file's [macro] common sets them)",
+                    vars.describe()
+                ))
+            }
+        })
+    }
+
     /// Reads variable `#number`.
     pub(super) fn read_var(&mut self, number: f64) -> Result<Value, String> {
-        Ok(match slot(number)? {
+        Ok(match self.slot(number)? {
             Slot::Vacant => Value::Vacant,
             Slot::Local(i) => self.locals[self.level][i],
-            Slot::Common(i) => self.common[i],
-            Slot::Persistent(i) => self.persistent[i],
+            Slot::Dense(i) => self.common[i],
+            Slot::Sparse(n) => self.sparse.get(&n).copied().unwrap_or(Value::Vacant),
             Slot::System(n) => Value::Num(self.read_system(n)?),
         })
     }
 
     /// Writes variable `#number`.
     pub(super) fn write_var(&mut self, number: f64, value: Value) -> Result<(), String> {
-        match slot(number)? {
+        match self.slot(number)? {
             Slot::Vacant => return Err("#0 is always vacant and cannot be assigned".into()),
             Slot::Local(i) => self.locals[self.level][i] = value,
-            Slot::Common(i) => self.common[i] = value,
-            Slot::Persistent(i) => self.persistent[i] = value,
+            Slot::Dense(i) => self.common[i] = value,
+            Slot::Sparse(n) => match value {
+                Value::Vacant => {
+                    self.sparse.remove(&n);
+                }
+                Value::Num(_) => {
+                    self.sparse.insert(n, value);
+                }
+            },
             Slot::System(n) => self.write_system(n, value)?,
         }
         Ok(())
     }
 
+    /// Sets the kept variables to their starting values.
+    pub(super) fn load_kept_values(&mut self) {
+        let values = std::mem::take(&mut self.settings.macro_variables.values);
+        for (&n, &v) in &values {
+            // Checked before the run: each is a kept common variable.
+            let _ = self.write_var(f64::from(n), Value::Num(v));
+        }
+        self.settings.macro_variables.values = values;
+    }
+
     fn read_system(&mut self, n: u32) -> Result<f64, String> {
+        if let Some(v) = self.read_signal(n) {
+            return Ok(v);
+        }
         let work = self.work_position();
         Ok(match n {
             2001..=2200 => self.settings.tool_lengths.get(&(n - 2000)).copied().unwrap_or(0.0),
@@ -103,6 +254,9 @@ impl State {
     }
 
     fn write_system(&mut self, n: u32, value: Value) -> Result<(), String> {
+        if let Some(done) = self.write_signal(n, value) {
+            return done;
+        }
         let v = value.num();
         match n {
             2001..=2200 => {
