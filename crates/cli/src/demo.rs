@@ -471,6 +471,7 @@ fn run_options(file: std::path::PathBuf, clock_seed: Option<u64>) -> RunOptions 
         block_delete: false,
         step_limit: 10_000_000,
         dprnt: None,
+        keep_cycles: false,
     }
 }
 

@@ -17,6 +17,11 @@
 //! G54 = [0, 0, 0]                        # machine position of each work zero
 //! home = [0, 0, 0]                       # G28 reference point (machine)
 //!
+//! [cycles]                               # canned cycles
+//! peck_retract_mm = 0.1                  # G73 retract (Fanuc parameter 5114)
+//! peck_clearance_mm = 0.1                # G83 clearance (Fanuc parameter 5115)
+//! shift = "+X"                           # G76/G87 shift direction for Q
+//!
 //! [kinematics]                           # default: X, Y, Z carry the tool
 //! tool = ["X", "Z", "B"]                 # axes carrying the tool, base out
 //! work = ["Y", "C"]                      # axes carrying the part, base out
@@ -42,7 +47,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_geom::{Axes, Dynamics};
-use kezuri_nc::interp::{MacroVariables, Settings};
+use kezuri_nc::interp::{CycleSettings, MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
 
@@ -60,6 +65,41 @@ struct File {
     macro_variables: Macro,
     #[serde(default)]
     signals: Signals,
+    #[serde(default)]
+    cycles: Cycles,
+}
+
+/// `[cycles]`: the canned cycles' parameters.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct Cycles {
+    /// G73's retract between pecks (Fanuc parameter 5114).
+    peck_retract_mm: Option<f64>,
+    /// G83's clearance above the last depth (Fanuc parameter 5115).
+    peck_clearance_mm: Option<f64>,
+    /// Direction of the G76/G87 shift given by Q: "+X", "-X", "+Y" or "-Y".
+    shift: Option<String>,
+}
+
+/// The canned cycle settings of `[cycles]`.
+fn cycle_settings(c: &Cycles) -> Result<CycleSettings> {
+    let d = CycleSettings::default();
+    let shift_direction = match c.shift.as_deref().map(|s| s.trim().to_ascii_uppercase()) {
+        None => d.shift_direction,
+        Some(s) => match s.as_str() {
+            "+X" | "X" => [1.0, 0.0],
+            "-X" => [-1.0, 0.0],
+            "+Y" | "Y" => [0.0, 1.0],
+            "-Y" => [0.0, -1.0],
+            _ => bail!("cycles.shift must be \"+X\", \"-X\", \"+Y\" or \"-Y\", not \"{s}\""),
+        },
+    };
+    Ok(CycleSettings {
+        peck_retract: positive("cycles.peck_retract_mm", c.peck_retract_mm, d.peck_retract)?,
+        peck_clearance: positive("cycles.peck_clearance_mm", c.peck_clearance_mm, d.peck_clearance)?,
+        shift_direction,
+        keep: false,
+    })
 }
 
 #[derive(Deserialize, Default)]
@@ -272,6 +312,7 @@ impl Machine {
             tool_radii: registers("tools.radii", &file.tools.radii)?,
             macro_variables: macro_variables(&file.macro_variables)?,
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
+            cycles: cycle_settings(&file.cycles)?,
             ..Settings::default()
         };
         settings.check().map_err(|e| anyhow::anyhow!("{e}"))?;

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_geom::{cycle_time, MoveKind, Toolpath};
-use kezuri_nc::interp::{self, IntegerInput, Outcome, Settings};
+use kezuri_nc::interp::{self, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
@@ -49,6 +49,11 @@ pub struct RunOptions {
     /// Write DPRNT lines to this file (default: standard error).
     #[arg(long, value_name = "FILE")]
     pub dprnt: Option<PathBuf>,
+    /// Write canned cycles (G73, G76, G81–G89) as cycle blocks, as the
+    /// program gave them, instead of the moves they make. Tapping (G74,
+    /// G84) is always kept as a cycle.
+    #[arg(long)]
+    pub keep_cycles: bool,
 }
 
 /// A program read and run.
@@ -92,6 +97,7 @@ pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> 
         clock_seed: o.clock_seed,
         step_limit: o.step_limit,
         block_delete: o.block_delete,
+        cycles: CycleSettings { keep: o.keep_cycles, ..machine.settings.cycles },
         ..machine.settings.clone()
     };
     let mut sources = Sources::default();
@@ -136,6 +142,7 @@ pub fn missing_axes(path: &Toolpath, machine: &Kinematics) -> Vec<(char, u32)> {
 /// The `check` report.
 pub struct Report {
     pub blocks: u64,
+    pub holes: u64,
     pub statements: u64,
     pub motions: usize,
     pub feed_length_mm: f64,
@@ -149,6 +156,7 @@ impl Report {
         let path: &Toolpath = &ran.outcome.toolpath;
         Report {
             blocks: ran.outcome.blocks,
+            holes: ran.outcome.holes,
             statements: ran.outcome.statements,
             motions: path.moves.iter().filter(|m| !matches!(m.kind, MoveKind::Dwell(_))).count(),
             feed_length_mm: path.feed_length(),
@@ -190,6 +198,7 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             "blocks": report.blocks,
             "statements": report.statements,
             "motions": report.motions,
+            "holes": report.holes,
             "feed_length_mm": report.feed_length_mm,
             "rapid_length_mm": report.rapid_length_mm,
             "time_s": report.time_s,
@@ -211,6 +220,9 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             hms(report.time_s),
             report.time_s
         );
+        if report.holes > 0 {
+            text += &format!("  holes {} (canned cycles)\n", report.holes);
+        }
         if let Some((lo, hi)) = report.bounds {
             for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
                 text += &format!("  {axis} {:>10.3} … {:>10.3}\n", lo[k], hi[k]);

@@ -50,7 +50,8 @@ pub(super) struct Call {
 
 /// The evaluated words of one block. Kept small and filled in place: it is
 /// made for every block.
-struct Words<'a> {
+#[derive(Clone, Copy)]
+pub(super) struct Words<'a> {
     /// The block's words and their file, for the spans of diagnostics.
     words: &'a [Word],
     file: FileId,
@@ -83,17 +84,17 @@ impl<'a> Words<'a> {
         }
     }
 
-    fn has(&self, letter: u8) -> bool {
+    pub(super) fn has(&self, letter: u8) -> bool {
         self.present & bit(letter) != 0
     }
 
-    fn get(&self, letter: u8) -> Option<f64> {
+    pub(super) fn get(&self, letter: u8) -> Option<f64> {
         self.has(letter).then(|| self.value[(letter - b'A') as usize])
     }
 
     /// Where the word of this address is written; the default span when the
     /// block has none.
-    fn span(&self, letter: u8) -> Span {
+    pub(super) fn span(&self, letter: u8) -> Span {
         if !self.has(letter) {
             return Span::default();
         }
@@ -144,8 +145,13 @@ impl<'a> Words<'a> {
         out
     }
 
+    /// The words without the one of `letter`.
+    pub(super) fn without(&self, letter: u8) -> Words<'a> {
+        Words { present: self.present & !bit(letter), ..*self }
+    }
+
     /// The axes the block names.
-    fn axes(&self) -> AxisSet {
+    pub(super) fn axes(&self) -> AxisSet {
         b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k))
     }
 }
@@ -229,7 +235,10 @@ impl State {
                         ));
                     }
                     let mut v = v;
+                    // In a canned cycle K is a repeat count, not an arc centre.
+                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
                     if !decimal
+                        && !count
                         && AXIS_LETTERS.contains(&letter)
                         && self.settings.integer_input == IntegerInput::Increments
                     {
@@ -368,6 +377,8 @@ impl State {
                 97 => end = Some(local_call(&w, mspan)?),
                 98 => end = Some(Action::Call(self.subprogram_call(&w, mspan)?)),
                 99 => end = Some(Action::Return(w.get(b'P').map(|p| p as u32))),
+                // Rigid tapping: written with each tapping cycle block.
+                29 => self.hole.rigid = true,
                 // Stops, spindle orientation, clamps, machine-specific
                 // codes: the machine must get them as written.
                 _ => self.keep(format!("M{m:02}"), 0, false, line),
@@ -423,7 +434,11 @@ impl State {
 
     fn apply_modal(&mut self, code: GCode, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
         match code {
-            GCode::Motion(m) => self.modal.motion = m,
+            GCode::Motion(m) => {
+                // A group 1 code ends a canned cycle.
+                self.modal.motion = m;
+                self.end_cycle();
+            }
             GCode::Plane(p) => self.modal.plane = p,
             GCode::Distance(d) => self.modal.distance = d,
             GCode::FeedMode(f) => self.modal.feed_mode = f,
@@ -454,10 +469,14 @@ impl State {
                 }
                 self.modal.work_offset = i
             }
-            GCode::CycleOff => {}
+            GCode::CycleOff => self.end_cycle(),
+            GCode::CycleReturn(r) => self.modal.cycle_return = r,
             GCode::PathMode(g) => self.modal.path_mode = g,
-            GCode::CannedCycle => {
-                return Err(Diagnostic::error(gspan, "canned drilling cycles (G73–G89) are not supported yet"))
+            GCode::CannedCycle(cycle) => {
+                if self.modal.cycle.is_none() {
+                    self.begin_cycle();
+                }
+                self.modal.cycle = Some(cycle);
             }
             GCode::ModalCall(kind) => {
                 let call = self.macro_call(w, gspan, FrameKind::ModalMacro)?;
@@ -502,7 +521,7 @@ impl State {
     }
 
     /// The feed in mm/min for the current modal state.
-    fn feed_mm_min(&mut self, span: Span) -> f64 {
+    pub(super) fn feed_mm_min(&mut self, span: Span) -> f64 {
         if !self.feed_set {
             self.warn("no-feed", span, "a cutting move before any F word: the feed is unknown (0)");
         }
@@ -519,7 +538,7 @@ impl State {
     }
 
     /// Program units of a linear word, in mm.
-    fn mm(&self, v: f64) -> f64 {
+    pub(super) fn mm(&self, v: f64) -> f64 {
         if self.modal.units == Units::Inch {
             v * 25.4
         } else {
@@ -528,7 +547,7 @@ impl State {
     }
 
     /// The end point, in machine coordinates, that the axis words ask for.
-    fn target(&self, w: &Words) -> Axes {
+    pub(super) fn target(&self, w: &Words) -> Axes {
         let o = self.frame_offset().to_array();
         let t = self.tip.to_array();
         // The work position (as `work_position` gives it), then the words.
@@ -545,7 +564,7 @@ impl State {
         Axes::from_array(std::array::from_fn(|i| p[i] + o[i]))
     }
 
-    fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
+    pub(super) fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
         // An increment from a position the program never named is reckoned
         // from the machine model: the writer must keep it an increment.
         let relative = match kind {
@@ -696,6 +715,9 @@ impl State {
             }
             _ => {}
         }
+        if let Some(cycle) = self.modal.cycle {
+            return self.cycle_block(cycle, w, span, line);
+        }
         let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
         if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
             return Ok(false);
@@ -820,6 +842,15 @@ impl State {
         center[n] = s[n];
         Ok(Arc { center, plane, ccw, turns: 0 })
     }
+}
+
+/// Whether `words` name a canned cycle with a literal G number.
+fn names_cycle(words: &[Word]) -> bool {
+    words.iter().any(|w| {
+        w.letter == b'G'
+            && matches!(w.value(), WordValue::Number { value, .. }
+                if matches!(GCode::decode((value * 10.0).round() as u32), Some(GCode::CannedCycle(_))))
+    })
 }
 
 /// `G01`, `G66.1`: a G code as written, from ten times its number.

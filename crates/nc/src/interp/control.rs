@@ -122,6 +122,7 @@ impl<'a> Interp<'a> {
             blocks: self.st.blocks,
             statements: self.statements,
             completed: self.completed,
+            holes: self.st.holes,
             output_writes: self.st.output_writes,
         }
     }

@@ -13,6 +13,7 @@
 mod block;
 pub mod comp;
 mod control;
+mod cycle;
 mod modal;
 mod signals;
 mod value;
@@ -24,7 +25,8 @@ use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, To
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
-pub use modal::{Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
+pub use cycle::CycleSettings;
+pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
 use signals::Outputs;
 pub use value::Value;
@@ -64,6 +66,8 @@ pub struct Settings {
     pub work_offsets: [Axes; 6],
     /// Machine position of the reference point that G28 returns to.
     pub home: Axes,
+    /// Canned cycle parameters (peck retract and clearance, boring shift).
+    pub cycles: CycleSettings,
     /// Which common variables exist, which are kept over a reset, and the
     /// starting values of those.
     pub macro_variables: MacroVariables,
@@ -92,6 +96,7 @@ impl Default for Settings {
             tool_radii: BTreeMap::new(),
             work_offsets: [Axes::ZERO; 6],
             home: Axes::ZERO,
+            cycles: CycleSettings::default(),
             macro_variables: MacroVariables::default(),
             input_signals: BTreeMap::new(),
         }
@@ -129,6 +134,8 @@ pub struct Outcome {
     pub statements: u64,
     /// `true` when the program reached its end without an error.
     pub completed: bool,
+    /// Holes drilled by canned cycles.
+    pub holes: u64,
     /// Every write to an output signal (#1100–#1135), in the order the
     /// program made them. A program writer that rewrites the toolpath puts
     /// each back as `#<variable>=<value>` before move `moves_before`, so the
@@ -195,6 +202,10 @@ struct State {
     external_offset: Axes,
     g92_shift: Axes,
     skip_position: Axes,
+    /// The canned cycle's hole data.
+    hole: cycle::HoleData,
+    /// Holes drilled by canned cycles.
+    holes: u64,
     /// Axes whose work position comes from the machine model (where the
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
@@ -245,6 +256,8 @@ impl State {
             external_offset: Axes::ZERO,
             g92_shift: Axes::ZERO,
             skip_position: Axes::ZERO,
+            hole: cycle::HoleData::default(),
+            holes: 0,
             guessed: AxisSet::ALL,
             feed_word: 0.0,
             feed_set: false,

@@ -62,6 +62,90 @@ pub enum ModalCallKind {
     EveryBlock,
 }
 
+/// Group 9: the canned cycle in force.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cycle {
+    /// G73 high-speed peck drilling: retracts by a small clearance.
+    HighSpeedPeck,
+    /// G74 left-hand tapping.
+    LeftTap,
+    /// G76 fine boring: oriented stop and shift before the retract.
+    FineBore,
+    /// G81 drilling.
+    Drill,
+    /// G82 drilling with a dwell at the bottom.
+    DrillDwell,
+    /// G83 peck drilling: back to R after every peck.
+    Peck,
+    /// G84 right-hand tapping.
+    Tap,
+    /// G85 boring: feed in, feed out.
+    Bore,
+    /// G86 boring: spindle stop at the bottom, rapid out.
+    BoreStop,
+    /// G87 back boring: from below, upwards.
+    BackBore,
+    /// G88 boring: dwell, spindle stop, the operator retracts.
+    BoreManual,
+    /// G89 boring: dwell at the bottom, feed out.
+    BoreDwell,
+}
+
+impl Cycle {
+    /// The G number.
+    pub fn number(self) -> u32 {
+        use Cycle::*;
+        match self {
+            HighSpeedPeck => 73,
+            LeftTap => 74,
+            FineBore => 76,
+            Drill => 81,
+            DrillDwell => 82,
+            Peck => 83,
+            Tap => 84,
+            Bore => 85,
+            BoreStop => 86,
+            BackBore => 87,
+            BoreManual => 88,
+            BoreDwell => 89,
+        }
+    }
+
+    fn from_number(n: u32) -> Option<Cycle> {
+        use Cycle::*;
+        Some(match n {
+            73 => HighSpeedPeck,
+            74 => LeftTap,
+            76 => FineBore,
+            81 => Drill,
+            82 => DrillDwell,
+            83 => Peck,
+            84 => Tap,
+            85 => Bore,
+            86 => BoreStop,
+            87 => BackBore,
+            88 => BoreManual,
+            89 => BoreDwell,
+            _ => return None,
+        })
+    }
+
+    /// Tapping (G74, G84): the spindle and the feed are synchronised by
+    /// the control, so it is never written as plain moves.
+    pub fn is_tapping(self) -> bool {
+        matches!(self, Cycle::Tap | Cycle::LeftTap)
+    }
+}
+
+/// Group 10: where a canned cycle returns after each hole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleReturn {
+    /// G98: to the initial level, where the tool was when the cycle began.
+    Initial,
+    /// G99: to the R level.
+    R,
+}
+
 /// A G code, decoded from its number (`G66.1` is `Code(66, 1)`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GCode {
@@ -95,16 +179,18 @@ pub enum GCode {
     ModalCall(ModalCallKind),
     /// G67
     ModalCallOff,
-    /// G80: cancel canned cycle (nothing to cancel here)
+    /// G80: cancel canned cycle
     CycleOff,
+    /// G98 G99
+    CycleReturn(CycleReturn),
     /// G90 G91
     Distance(Distance),
     /// G92
     SetPosition,
     /// G94 G95
     FeedMode(FeedMode),
-    /// G73 … G89 canned cycles, not supported yet
-    CannedCycle,
+    /// G73 … G89 canned cycles
+    CannedCycle(Cycle),
     /// G61 exact stop, G61.1, G62, G63 tapping, G64 cutting mode (LinuxCNC:
     /// path blending within `P`, `Q`): how the control joins moves, not
     /// where they go; kept for `#4015`. The value is the G number × 10.
@@ -142,7 +228,9 @@ impl GCode {
             661 => ModalCall(ModalCallKind::EveryBlock),
             670 => ModalCallOff,
             800 => CycleOff,
-            730 | 740 | 760 | 810..=890 if tenths.is_multiple_of(10) => CannedCycle,
+            730 | 740 | 760 | 810..=890 if tenths.is_multiple_of(10) => CannedCycle(Cycle::from_number(tenths / 10)?),
+            980 => CycleReturn(self::CycleReturn::Initial),
+            990 => CycleReturn(self::CycleReturn::R),
             610 | 611 | 620 | 630 | 640 => PathMode(tenths),
             900 => Distance(self::Distance::Absolute),
             910 => Distance(self::Distance::Incremental),
@@ -164,7 +252,8 @@ impl GCode {
             Units(_) => 6,
             RadiusComp(_) => 7,
             LengthComp(_) | LengthCompOff => 8,
-            CycleOff | CannedCycle => 9,
+            CycleOff | CannedCycle(_) => 9,
+            CycleReturn(_) => 10,
             ModalCall(_) | ModalCallOff => 12,
             WorkOffset(_) => 14,
             PathMode(_) => 15,
@@ -196,6 +285,10 @@ pub struct Modal {
     pub modal_call: Option<ModalCallKind>,
     /// Group 15: G61 … G64, as the G number × 10.
     pub path_mode: u32,
+    /// Group 9: the canned cycle in force (`None`: G80).
+    pub cycle: Option<Cycle>,
+    /// Group 10: G98 or G99.
+    pub cycle_return: CycleReturn,
 }
 
 impl Default for Modal {
@@ -211,6 +304,8 @@ impl Default for Modal {
             work_offset: 0,
             modal_call: None,
             path_mode: 640,
+            cycle: None,
+            cycle_return: CycleReturn::Initial,
         }
     }
 }
@@ -253,8 +348,11 @@ impl Modal {
                 Some((s, _)) if s > 0.0 => 43.0,
                 Some(_) => 44.0,
             },
-            9 => 80.0,
-            10 => 98.0,
+            9 => self.cycle.map_or(80.0, |c| f64::from(c.number())),
+            10 => match self.cycle_return {
+                CycleReturn::Initial => 98.0,
+                CycleReturn::R => 99.0,
+            },
             11 => 50.0,
             12 => match self.modal_call {
                 None => 67.0,

@@ -296,8 +296,13 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
     let mut covered = 0;
     for (index, machine) in toolpath.moves.iter().enumerate() {
         w.at = (index, machine.line);
-        w.state(machine)?;
         let frame = toolpath.frame(machine);
+        if index < covered {
+            // Made by the kept block before it, spindle reversals and all.
+            w.made(in_program(machine, frame.origin, unit).end)?;
+            continue;
+        }
+        w.state(machine)?;
         w.frame(in_units(frame, unit), last)?;
         last = Some(scaled(machine.end, Axes::ZERO, unit));
         let m = &in_program(machine, frame.origin, unit);

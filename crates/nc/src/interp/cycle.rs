@@ -1,0 +1,442 @@
+//! Canned cycles G73, G74, G76, G81–G89 as a Fanuc or Haas control makes
+//! them: each hole becomes the moves the control makes (position at rapid,
+//! rapid to R, the cycle's own motions, return to the initial level under
+//! G98 or to R under G99).
+//!
+//! The hole data (bottom, R, Q, P, shift) stay in force from block to block
+//! until G80 or a group 1 code; a block that names a position in the plane,
+//! the bottom or R drills a hole there. `K` (Fanuc) or `L` (Haas, Series 15)
+//! repeats the hole, each repeat moving by the increment in G91; `K0` stores
+//! the data without drilling. In G91, R is measured from the initial level
+//! and the bottom from R. Tapping (G74, G84) is kept for the writer as a
+//! cycle block: the control synchronises spindle and feed, which plain moves
+//! cannot say. `docs/canned-cycles.md` gives each rule and where it came
+//! from.
+
+use kezuri_geom::{Axes, AxisSet, MoveKind, Spindle};
+
+use super::block::Words;
+use super::modal::{Cycle, CycleReturn, Distance, Units};
+use super::{IntegerInput, State};
+use crate::source::{Diagnostic, Span};
+
+/// Settings of the canned cycles that a control keeps in parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CycleSettings {
+    /// G73's retract after each peck, mm (Fanuc parameter 5114).
+    pub peck_retract: f64,
+    /// G83's clearance: how far above the last depth the rapid down stops,
+    /// mm (Fanuc parameter 5115).
+    pub peck_clearance: f64,
+    /// Direction of the G76/G87 shift in the plane when it is given by Q
+    /// (Fanuc parameter 5101 RD1/RD2): a unit vector along the plane's first
+    /// and second axis; +X by default.
+    pub shift_direction: [f64; 2],
+    /// Write every canned cycle as a cycle block, not only tapping.
+    pub keep: bool,
+}
+
+impl Default for CycleSettings {
+    fn default() -> CycleSettings {
+        CycleSettings { peck_retract: 0.1, peck_clearance: 0.1, shift_direction: [1.0, 0.0], keep: false }
+    }
+}
+
+/// The hole data in force, as the program gave them (mm, seconds).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct HoleData {
+    /// The bottom: the depth axis word (Z in G17), and whether it was
+    /// given in G91 (from R) or G90 (a level).
+    bottom: Option<(f64, Distance)>,
+    /// R, and whether it was given in G91 (from the initial level).
+    r: Option<(f64, Distance)>,
+    q: Option<f64>,
+    /// Dwell at the bottom, seconds.
+    dwell: f64,
+    /// G76/G87 shift given by I and J (plane axes), mm.
+    shift: Option<[f64; 2]>,
+    /// Machine coordinate of the tool tip on the depth axis when the cycle
+    /// began: the initial level.
+    initial: f64,
+    /// Whether the initial level is a position the program never named.
+    initial_guessed: bool,
+    /// M29 was given: tapping is rigid (spindle and feed synchronised).
+    pub(super) rigid: bool,
+}
+
+impl State {
+    /// A canned cycle begins (from G80 or a motion mode): the initial level
+    /// is where the tool is now.
+    pub(super) fn begin_cycle(&mut self) {
+        let (_, _, n) = self.modal.plane.axes();
+        self.hole = HoleData {
+            initial: self.tip.to_array()[n],
+            initial_guessed: self.guessed.contains(n),
+            rigid: self.hole.rigid,
+            ..HoleData::default()
+        };
+    }
+
+    /// G80 or a group 1 code: the cycle and rigid tapping end.
+    pub(super) fn end_cycle(&mut self) {
+        self.modal.cycle = None;
+        self.hole.rigid = false;
+    }
+
+    /// A block in canned cycle mode: stores its hole data and drills the
+    /// hole(s) it asks for: a block that names a position in the plane, the
+    /// bottom or R drills. Returns whether the tool moved.
+    pub(super) fn cycle_block(&mut self, cycle: Cycle, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        let (i, j, n) = self.modal.plane.axes();
+        let depth_letter = b"XYZ"[n];
+        let plane_letters = [b"XYZ"[i], b"XYZ"[j]];
+        let mode = self.modal.distance;
+        if let Some(v) = w.get(depth_letter) {
+            self.hole.bottom = Some((self.mm(v), mode));
+        }
+        if let Some(v) = w.get(b'R') {
+            self.hole.r = Some((self.mm(v), mode));
+        }
+        if let Some(q) = w.get(b'Q') {
+            self.hole.q = Some(self.mm(q));
+        }
+        if let Some(p) = w.get(b'P') {
+            // P is milliseconds on a Fanuc control, seconds on LinuxCNC.
+            let seconds = if self.settings.integer_input == IntegerInput::Units { p } else { p / 1000.0 };
+            if seconds < 0.0 {
+                return Err(Diagnostic::error(w.span(b'P'), "a dwell time cannot be negative"));
+            }
+            self.hole.dwell = seconds;
+        }
+        if w.has(b'I') || w.has(b'J') {
+            let shift = [w.get(b'I').map_or(0.0, |v| self.mm(v)), w.get(b'J').map_or(0.0, |v| self.mm(v))];
+            self.hole.shift = Some(shift);
+        }
+        let drills = plane_letters.iter().chain(b"ABC").any(|&l| w.has(l)) || w.has(depth_letter) || w.has(b'R');
+        let repeats = match (w.get(b'K'), w.get(b'L')) {
+            (Some(_), Some(_)) => {
+                return Err(Diagnostic::error(w.span(b'L'), "give the repeat count in K or in L, not both"))
+            }
+            (Some(k), None) => whole_count(k, w.span(b'K'))?,
+            (None, Some(l)) => whole_count(l, w.span(b'L'))?,
+            (None, None) => 1,
+        };
+        if !drills || repeats == 0 {
+            return Ok(false);
+        }
+        let g = cycle.number();
+        let bottom = self.hole.bottom.ok_or_else(|| {
+            Diagnostic::error(
+                span,
+                format!("G{g} needs the bottom of the hole ({}) before its first hole", depth_letter as char),
+            )
+        })?;
+        let r = self.hole.r.ok_or_else(|| Diagnostic::error(span, format!("G{g} needs the R level")))?;
+        let peck = match cycle {
+            Cycle::Peck | Cycle::HighSpeedPeck => match self.hole.q {
+                Some(q) if q > 0.0 => Some(q),
+                Some(q) => {
+                    let at = if w.has(b'Q') { w.span(b'Q') } else { span };
+                    return Err(Diagnostic::error(at, format!("G{g} needs a peck depth Q greater than 0, not {q}")));
+                }
+                None => return Err(Diagnostic::error(span, format!("G{g} needs the peck depth Q"))),
+            },
+            _ => None,
+        };
+        let shift = match cycle {
+            Cycle::FineBore | Cycle::BackBore => Some(self.boring_shift(w, span, g)?),
+            _ => None,
+        };
+        // The position words without the depth axis: the hole's place.
+        let place = w.without(depth_letter);
+        for _ in 0..repeats {
+            let start = self.toolpath.moves.len();
+            let mut hole = self.target(&place);
+            // Each level as it was given: a level in G90, in G91 R from the
+            // initial level and the bottom from R.
+            let offset = self.frame_offset().to_array()[n];
+            let r_level = match r {
+                (v, Distance::Absolute) => v + offset,
+                (v, Distance::Incremental) => self.hole.initial + v,
+            };
+            let bottom_level = match bottom {
+                (v, Distance::Absolute) => v + offset,
+                (v, Distance::Incremental) => r_level + v,
+            };
+            let back = cycle == Cycle::BackBore;
+            if !back && bottom_level > r_level {
+                let at = if w.has(depth_letter) { w.span(depth_letter) } else { span };
+                return Err(Diagnostic::error(
+                    at,
+                    format!(
+                        "the hole's bottom {} is above its R level: G{g} drills down from R (with G99 the tool would return into the part)",
+                        depth_letter as char
+                    ),
+                ));
+            }
+            if back && bottom_level < r_level {
+                return Err(Diagnostic::error(span, "G87 bores upward: its R level must be below the bottom Z"));
+            }
+            let to_initial = back || self.modal.cycle_return == CycleReturn::Initial;
+            if to_initial && self.hole.initial < r_level.max(bottom_level) {
+                self.warn(
+                    "initial-level",
+                    span,
+                    format!("G98 returns to the initial level, which is below the R level of this G{g}: the tool returns into the hole"),
+                );
+            }
+            // Position in the plane at the current level.
+            let mut p = hole.to_array();
+            p[n] = self.tip.to_array()[n];
+            hole = Axes::from_array(p);
+            if hole != self.tip {
+                self.push_move(MoveKind::Rapid, hole, 0.0, place.axes(), line);
+            }
+            let feed = self.feed_mm_min(span);
+            let spindle = self.spindle;
+            let up = if to_initial { self.hole.initial } else { r_level };
+            if back {
+                self.back_bore(shift.unwrap_or_default(), r_level, bottom_level, feed, line);
+                self.spindle = spindle;
+                self.end_hole(cycle, start, line);
+                continue;
+            }
+            if self.tip.to_array()[n] != r_level {
+                self.along(MoveKind::Rapid, r_level, 0.0, line);
+            }
+            match cycle {
+                Cycle::Drill => {
+                    self.along(MoveKind::Feed, bottom_level, feed, line);
+                    self.along(MoveKind::Rapid, up, 0.0, line);
+                }
+                Cycle::DrillDwell | Cycle::BoreStop | Cycle::BoreManual => {
+                    self.along(MoveKind::Feed, bottom_level, feed, line);
+                    self.dwell_here(line);
+                    if cycle != Cycle::DrillDwell {
+                        self.spindle = Spindle::Off;
+                    }
+                    if cycle == Cycle::BoreManual {
+                        self.warn("g88", span, "G88 stops for the operator to retract by hand: kezuri retracts at rapid with the spindle stopped");
+                    }
+                    self.along(MoveKind::Rapid, up, 0.0, line);
+                }
+                Cycle::Bore | Cycle::BoreDwell => {
+                    self.along(MoveKind::Feed, bottom_level, feed, line);
+                    if cycle == Cycle::BoreDwell {
+                        self.dwell_here(line);
+                    }
+                    self.along(MoveKind::Feed, r_level, feed, line);
+                    if up != r_level {
+                        self.along(MoveKind::Rapid, up, 0.0, line);
+                    }
+                }
+                Cycle::Tap | Cycle::LeftTap => {
+                    let (cut, out) =
+                        if cycle == Cycle::Tap { (Spindle::Cw, Spindle::Ccw) } else { (Spindle::Ccw, Spindle::Cw) };
+                    self.spindle = cut;
+                    self.along(MoveKind::Feed, bottom_level, feed, line);
+                    self.dwell_here(line);
+                    self.spindle = out;
+                    self.along(MoveKind::Feed, r_level, feed, line);
+                    self.spindle = cut;
+                    if up != r_level {
+                        self.along(MoveKind::Rapid, up, 0.0, line);
+                    }
+                }
+                Cycle::Peck | Cycle::HighSpeedPeck => {
+                    let q = peck.unwrap_or(bottom_level - r_level);
+                    let mut depth = r_level;
+                    while depth > bottom_level {
+                        let next = (depth - q).max(bottom_level);
+                        if depth < r_level {
+                            if cycle == Cycle::Peck {
+                                // Back to R, then down to the clearance above the last depth.
+                                self.along(MoveKind::Rapid, r_level, 0.0, line);
+                                self.along(MoveKind::Rapid, depth + self.settings.cycles.peck_clearance, 0.0, line);
+                            } else {
+                                self.along(MoveKind::Rapid, depth + self.settings.cycles.peck_retract, 0.0, line);
+                            }
+                        }
+                        self.along(MoveKind::Feed, next, feed, line);
+                        depth = next;
+                    }
+                    self.along(MoveKind::Rapid, up, 0.0, line);
+                }
+                Cycle::FineBore => {
+                    let s = shift.unwrap_or_default();
+                    self.along(MoveKind::Feed, bottom_level, feed, line);
+                    self.dwell_here(line);
+                    // Oriented stop, then away from the wall before the retract.
+                    self.spindle = Spindle::Off;
+                    self.shift_by(s, 1.0, line);
+                    self.along(MoveKind::Rapid, up, 0.0, line);
+                    self.shift_by(s, -1.0, line);
+                }
+                Cycle::BackBore => unreachable!("handled above"),
+            }
+            self.spindle = spindle;
+            self.end_hole(cycle, start, line);
+        }
+        Ok(true)
+    }
+
+    /// The dwell at the bottom, if the hole data have one.
+    fn dwell_here(&mut self, line: u32) {
+        if self.hole.dwell > 0.0 {
+            self.push_move(MoveKind::Dwell(self.hole.dwell), self.tip, self.feed_word, AxisSet::NONE, line);
+        }
+    }
+
+    /// The G76/G87 shift in the plane: I J as given, or Q along the
+    /// machine's shift direction.
+    fn boring_shift(&self, w: &Words, span: Span, g: u32) -> Result<[f64; 2], Diagnostic> {
+        if let Some(s) = self.hole.shift {
+            return Ok(s);
+        }
+        match self.hole.q {
+            Some(q) if q > 0.0 => {
+                let d = self.settings.cycles.shift_direction;
+                Ok([d[0] * q, d[1] * q])
+            }
+            Some(q) => Err(Diagnostic::error(
+                if w.has(b'Q') { w.span(b'Q') } else { span },
+                format!("G{g}'s shift Q must be greater than 0 (its direction is the machine's), not {q}"),
+            )),
+            None => Err(Diagnostic::error(span, format!("G{g} needs the shift away from the wall: Q, or I and J"))),
+        }
+    }
+
+    /// A rapid move by `sign` × `shift` in the plane.
+    fn shift_by(&mut self, shift: [f64; 2], sign: f64, line: u32) {
+        if shift == [0.0, 0.0] {
+            return;
+        }
+        let (i, j, _) = self.modal.plane.axes();
+        let mut a = self.tip.to_array();
+        a[i] += sign * shift[0];
+        a[j] += sign * shift[1];
+        self.push_move(MoveKind::Rapid, Axes::from_array(a), 0.0, AxisSet::NONE.with(i).with(j), line);
+    }
+
+    /// G87: shifted past the wall, down to R below the part, back on the
+    /// centre, bore upward to the bottom level, shift, out to the initial
+    /// level, back on the centre.
+    fn back_bore(&mut self, shift: [f64; 2], r_level: f64, bottom_level: f64, feed: f64, line: u32) {
+        let spindle = self.spindle;
+        self.spindle = Spindle::Off;
+        self.shift_by(shift, 1.0, line);
+        self.along(MoveKind::Rapid, r_level, 0.0, line);
+        self.shift_by(shift, -1.0, line);
+        self.spindle = if spindle == Spindle::Off { Spindle::Cw } else { spindle };
+        self.along(MoveKind::Feed, bottom_level, feed, line);
+        self.dwell_here(line);
+        self.spindle = Spindle::Off;
+        self.shift_by(shift, 1.0, line);
+        self.along(MoveKind::Rapid, self.hole.initial, 0.0, line);
+        self.shift_by(shift, -1.0, line);
+    }
+
+    /// A move along the depth axis to machine coordinate `level`.
+    fn along(&mut self, kind: MoveKind, level: f64, feed: f64, line: u32) {
+        let (_, _, n) = self.modal.plane.axes();
+        let mut a = self.tip.to_array();
+        a[n] = level;
+        self.push_move(kind, Axes::from_array(a), feed, AxisSet::NONE.with(n), line);
+    }
+
+    /// After a hole: tapping (and every cycle with `keep`, or a return to an
+    /// initial level the program never named) is kept for the writer as one
+    /// cycle block standing for the hole's moves.
+    fn end_hole(&mut self, cycle: Cycle, start: usize, line: u32) {
+        let to_initial = cycle == Cycle::BackBore || self.modal.cycle_return == CycleReturn::Initial;
+        let keep = cycle.is_tapping() || self.settings.cycles.keep || (to_initial && self.hole.initial_guessed);
+        let moves = self.toolpath.moves.len() - start;
+        if !keep || moves == 0 {
+            self.holes += 1;
+            return;
+        }
+        self.holes += 1;
+        let text = self.cycle_text(cycle, start);
+        self.toolpath.kept.push(kezuri_geom::Kept { before: start, moves, text, sets_offsets: false, line });
+    }
+
+    /// The hole as one cycle block in absolute program coordinates (the
+    /// writer's: machine less the work offset's origin), after `M29 S` for
+    /// rigid tapping, followed by G80 (which ends rigid tapping too: each
+    /// hole is complete in itself).
+    fn cycle_text(&self, cycle: Cycle, start: usize) -> String {
+        let (i, j, n) = self.modal.plane.axes();
+        let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
+        let origin = self.work_offsets[self.modal.work_offset].to_array();
+        let moves = &self.toolpath.moves[start..];
+        let first = moves.iter().find(|m| !matches!(m.kind, MoveKind::Dwell(_))).map_or(self.tip, |m| m.end);
+        let place = first.to_array();
+        let r_level = self.hole_r_level(start);
+        let bottom = moves.iter().map(|m| m.end.to_array()[n]).fold(f64::INFINITY, f64::min);
+        let bottom = if cycle == Cycle::BackBore {
+            moves.iter().map(|m| m.end.to_array()[n]).fold(f64::NEG_INFINITY, f64::max).min(self.hole.initial)
+        } else {
+            bottom
+        };
+        let value = |v: f64, k: usize| crate::write::number((v - origin[k]) / unit, 6);
+        let letters = ['X', 'Y', 'Z'];
+        let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
+        let ret = match self.modal.cycle_return {
+            CycleReturn::Initial => "G98",
+            CycleReturn::R => "G99",
+        };
+        let rigid = if cycle.is_tapping() && self.hole.rigid {
+            format!("M29 S{}\n", crate::write::number(self.speed, 0).trim_end_matches('.'))
+        } else {
+            String::new()
+        };
+        let mut text = format!(
+            "{rigid}{units} G90 {ret} G{} {}{} {}{} {}{} R{}",
+            cycle.number(),
+            letters[i],
+            value(place[i], i),
+            letters[j],
+            value(place[j], j),
+            letters[n],
+            value(bottom, n),
+            value(r_level, n),
+        );
+        if let Some(q) = self.hole.q {
+            text.push_str(&format!(" Q{}", crate::write::number(q / unit, 6)));
+        }
+        if self.hole.dwell > 0.0 {
+            let p = if self.settings.integer_input == IntegerInput::Units {
+                crate::write::number(self.hole.dwell, 3)
+            } else {
+                format!("{}", (self.hole.dwell * 1000.0).round())
+            };
+            text.push_str(&format!(" P{p}"));
+        }
+        let feed = moves.iter().find(|m| m.kind == MoveKind::Feed).map_or(0.0, |m| m.feed);
+        text.push_str(&format!(" F{}\nG80", crate::write::number(feed / unit, 4)));
+        text
+    }
+
+    /// The R level of the hole whose moves begin at `start`: where its
+    /// first rapid along the depth axis ends (or the level it began at).
+    fn hole_r_level(&self, start: usize) -> f64 {
+        let (_, _, n) = self.modal.plane.axes();
+        let moves = &self.toolpath.moves[start..];
+        let depth_move = moves.iter().find(|m| {
+            let (s, e) = (m.start.to_array(), m.end.to_array());
+            (0..3).all(|k| k == n || s[k] == e[k]) && s[n] != e[n]
+        });
+        match depth_move {
+            Some(m) if m.kind == MoveKind::Rapid => m.end.to_array()[n],
+            Some(m) => m.start.to_array()[n],
+            None => self.tip.to_array()[n],
+        }
+    }
+}
+
+fn whole_count(v: f64, span: Span) -> Result<u32, Diagnostic> {
+    if v.fract() != 0.0 || !(0.0..=9999.0).contains(&v) {
+        return Err(Diagnostic::error(span, format!("a repeat count is a whole number from 0 to 9999, not {v}")));
+    }
+    Ok(v as u32)
+}
