@@ -190,3 +190,16 @@ fn m_codes_the_machine_needs_are_kept_in_place() {
     assert!(at("M11") < at("B90.") && at("B90.") < at("M10") && at("M10") < at("M13"), "{written}");
     assert!(at("Z-1.") < at("M01") && at("M01") < at("M19"), "{written}");
 }
+
+#[test]
+fn smoothing_and_path_modes_are_kept_and_g92_1_cancels_the_shift() {
+    let text = "G90 G00 X0 Y0 Z5.\nG05.1 Q1\nG08 P1\nG187 P2 E0.01\nG64\nG92 X10.\nG01 X12. F100.\nG92.1 X0\nG01 X5.\nG05.1 Q0\nM30\n";
+    let written = portable(text);
+    for code in ["G05.1 Q1\n", "G08 P1\n", "G187 P2 E0.01\n", "G64\n", "G05.1 Q0\n"] {
+        assert!(written.contains(code), "no {code} in\n{written}");
+    }
+    // G92 X10. at X0 puts the work zero at machine X -10: X12. is machine X 2;
+    // G92.1 cancels the shift: X5. is machine X 5.
+    let ends: Vec<f64> = run(text, &Settings::default()).moves.iter().map(|m| m.end.x).collect();
+    assert_eq!(ends, [0.0, 2.0, 5.0]);
+}

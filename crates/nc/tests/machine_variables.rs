@@ -174,7 +174,7 @@ fn input_values_are_checked() {
 }
 
 #[test]
-fn output_writes_set_the_bits_and_are_recorded_between_the_moves() {
+fn output_writes_set_the_bits_and_are_kept_between_the_moves() {
     let text = "#1100=1\n\
                 G01 X1. F100.\n\
                 #1132=5\n\
@@ -184,31 +184,17 @@ fn output_writes_set_the_bits_and_are_recorded_between_the_moves() {
                 #1133=4294967295\n\
                 G01 Y#1133\n\
                 M30\n";
-    let (outcome, sources) = run_with(text, &Settings::default());
+    let (outcome, _) = run_with(text, &Settings::default());
     assert!(outcome.completed);
     let got: Vec<(f64, f64)> = outcome.toolpath.moves.iter().map(|m| (m.end.x, m.end.y)).collect();
     assert_eq!(got, [(1.0, 0.0), (101.0, 0.0), (7.0, 0.0), (7.0, -1.0)]);
-    let writes: Vec<(usize, u32, f64, String)> = outcome
-        .output_writes
-        .iter()
-        .map(|w| {
-            (
-                w.moves_before,
-                w.variable,
-                w.value,
-                sources.get(w.span.file).text[w.span.start as usize..w.span.end as usize].to_string(),
-            )
-        })
-        .collect();
-    assert_eq!(
-        writes,
-        [
-            (0, 1100, 1.0, "#1100=1".to_string()),
-            (1, 1132, 5.0, "#1132=5".to_string()),
-            (2, 1101, 1.0, "#1101=1".to_string()),
-            (3, 1133, 4_294_967_295.0, "#1133=4294967295".to_string()),
-        ]
-    );
+    // Kept for the program writer between the same two moves, with their lines.
+    let writes: Vec<(usize, &str, u32)> =
+        outcome.toolpath.kept.iter().map(|k| (k.before, k.text.as_str(), k.line)).collect();
+    assert_eq!(writes, [(0, "#1100=1", 1), (1, "#1132=5", 3), (2, "#1101=1", 5), (3, "#1133=4294967295", 7)]);
+    let written = kezuri_nc::write::program(&outcome.toolpath, &Default::default()).unwrap();
+    let at = |t: &str| written.find(t).unwrap_or_else(|| panic!("no {t} in {written}"));
+    assert!(at("#1100=1") < at("X1.") && at("X1.") < at("#1132=5") && at("#1132=5") < at("X101."), "{written}");
     assert_eq!(
         run_error("#1100=2\nM30\n", &Settings::default()),
         "shop.nc:1:1: error: output #1100 is one bit: set it to 0 or 1, not 2"

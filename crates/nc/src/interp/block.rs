@@ -145,6 +145,26 @@ impl<'a> Words<'a> {
         out
     }
 
+    /// The words of `letters` as the block wrote them (a literal as
+    /// written, an expression's value): for words that are no lengths,
+    /// such as G05.1's Q, which a writer must not scale.
+    fn as_written(&self, letters: &[u8]) -> String {
+        let mut out = Vec::new();
+        for (k, word) in self.words.iter().enumerate() {
+            let letter = word.letter;
+            if !letters.contains(&letter) || !self.has(letter) || self.index[(letter - b'A') as usize] as usize != k {
+                continue;
+            }
+            let text = match word.value() {
+                WordValue::Number { value, decimal: true } => crate::write::number(value, 6),
+                WordValue::Number { value, decimal: false } => format!("{value}"),
+                WordValue::Expr(_) => crate::write::number(self.value[(letter - b'A') as usize], 6),
+            };
+            out.push(format!("{}{text}", letter as char));
+        }
+        out.join(" ")
+    }
+
     /// The words without the one of `letter`.
     pub(super) fn without(&self, letter: u8) -> Words<'a> {
         Words { present: self.present & !bit(letter), ..*self }
@@ -331,6 +351,12 @@ impl State {
         // Modal G codes take effect first, so a modal macro sees them in #4001…
         for &(code, gspan) in codes.iter().flatten() {
             self.apply_modal(code, &w, gspan)?;
+            if let GCode::Smoothing(tenths) | GCode::PathMode(tenths) = code {
+                // How the control joins and smooths moves: the machine keeps it.
+                let words = w.as_written(b"PQREL");
+                let text = if words.is_empty() { g_name(tenths) } else { format!("{} {words}", g_name(tenths)) };
+                self.keep(text, 0, false, line);
+            }
         }
 
         // G66.1 mode: every block calls the macro instead of moving.
@@ -497,7 +523,9 @@ impl State {
             | GCode::Skip
             | GCode::MachineCoords
             | GCode::MacroCall
-            | GCode::SetPosition => {}
+            | GCode::SetPosition
+            | GCode::ResetShift
+            | GCode::Smoothing(_) => {}
         }
         Ok(())
     }
@@ -652,6 +680,19 @@ impl State {
                     self.push_move(MoveKind::Home, home, 0.0, w.axes(), line);
                 }
                 return Ok(w.any_axis());
+            }
+            Some((GCode::ResetShift, _)) => {
+                // The G92 shift is cancelled: on the named axes (Fanuc's
+                // preset), on every axis when none is named (LinuxCNC).
+                let mut g = self.g92_shift.to_array();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if !w.any_axis() || w.has(letter) {
+                        g[i] = 0.0;
+                    }
+                }
+                self.g92_shift = Axes::from_array(g);
+                self.guessed = AxisSet::ALL;
+                return Ok(false);
             }
             Some((GCode::SetPosition, _)) => {
                 let mut g = self.g92_shift.to_array();

@@ -123,7 +123,6 @@ impl<'a> Interp<'a> {
             statements: self.statements,
             completed: self.completed,
             holes: self.st.holes,
-            output_writes: self.st.output_writes,
         }
     }
 
@@ -179,6 +178,7 @@ impl<'a> Interp<'a> {
         }
         let span = block.span;
         self.st.at = span;
+        self.st.at_line = block.line;
         if let Some(n) = block.number {
             self.st.last.n = f64::from(n);
         }

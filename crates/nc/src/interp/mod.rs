@@ -136,25 +136,6 @@ pub struct Outcome {
     pub completed: bool,
     /// Holes drilled by canned cycles.
     pub holes: u64,
-    /// Every write to an output signal (#1100–#1135), in the order the
-    /// program made them. A program writer that rewrites the toolpath puts
-    /// each back as `#<variable>=<value>` before move `moves_before`, so the
-    /// machine still sets its outputs between the same two moves.
-    pub output_writes: Vec<OutputWrite>,
-}
-
-/// One write to an output signal, for [`Outcome::output_writes`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct OutputWrite {
-    /// How many moves of [`Outcome::toolpath`] came before the write: it
-    /// belongs between move `moves_before - 1` and move `moves_before`.
-    pub moves_before: usize,
-    /// The variable written: a bit #1100–#1131 or a group #1132–#1135.
-    pub variable: u32,
-    /// The value written (0 or 1 for a bit; a 32-bit number for a group).
-    pub value: f64,
-    /// The statement that wrote it.
-    pub span: Span,
 }
 
 /// Runs program unit `main` of `program` and returns the toolpath with its
@@ -228,11 +209,12 @@ struct State {
     /// Every other common variable that holds a value.
     sparse: HashMap<u32, Value>,
     outputs: Outputs,
-    output_writes: Vec<OutputWrite>,
     /// Inputs whose "not in the machine file" warning was given.
     unset_inputs_warned: BTreeSet<u32>,
     /// The statement being executed, for warnings from inside expressions.
     at: Span,
+    /// Its source line.
+    at_line: u32,
     clock: Clock,
     toolpath: Toolpath,
     diagnostics: Vec<Diagnostic>,
@@ -274,9 +256,9 @@ impl State {
             common: Box::new([Value::Vacant; 900]),
             sparse: HashMap::new(),
             outputs: Outputs::default(),
-            output_writes: Vec::new(),
             unset_inputs_warned: BTreeSet::new(),
             at: Span::default(),
+            at_line: 0,
             toolpath: Toolpath { unknown_start: true, ..Toolpath::default() },
             diagnostics: Vec::new(),
             warned: HashMap::new(),

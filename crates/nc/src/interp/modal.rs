@@ -191,6 +191,14 @@ pub enum GCode {
     FeedMode(FeedMode),
     /// G73 … G89 canned cycles
     CannedCycle(Cycle),
+    /// How the control smooths or looks ahead, not where it goes: Fanuc
+    /// G05 P (high-speed machining), G05.1 Q (AI contour control), G08 P
+    /// (look-ahead), Haas G187 (smoothness). Kept in written programs. The
+    /// value is the G number × 10.
+    Smoothing(u32),
+    /// G92.1 (Fanuc: preset of the work coordinates; LinuxCNC: G92 offsets
+    /// reset) and LinuxCNC's G92.2: the G92 shift cancelled.
+    ResetShift,
     /// G61 exact stop, G61.1, G62, G63 tapping, G64 cutting mode (LinuxCNC:
     /// path blending within `P`, `Q`): how the control joins moves, not
     /// where they go; kept for `#4015`. The value is the G number × 10.
@@ -235,6 +243,8 @@ impl GCode {
             900 => Distance(self::Distance::Absolute),
             910 => Distance(self::Distance::Incremental),
             920 => SetPosition,
+            921 | 922 => ResetShift,
+            50 | 51 | 80 | 1870 => Smoothing(tenths),
             940 => FeedMode(self::FeedMode::PerMinute),
             950 => FeedMode(self::FeedMode::PerRev),
             _ => return None,
@@ -257,7 +267,9 @@ impl GCode {
             ModalCall(_) | ModalCallOff => 12,
             WorkOffset(_) => 14,
             PathMode(_) => 15,
-            Dwell | SetOffsets | Home | Skip | MachineCoords | MacroCall | SetPosition => 0,
+            // Not one-shots that exclude each other: a group of their own.
+            Smoothing(_) => 100,
+            Dwell | SetOffsets | Home | Skip | MachineCoords | MacroCall | SetPosition | ResetShift => 0,
         }
     }
 }

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::ops::RangeInclusive;
 
 use super::value::Value;
-use super::{OutputWrite, State};
+use super::State;
 
 /// Input bits, one variable each.
 pub(super) const INPUT_BITS: RangeInclusive<u32> = 1000..=1031;
@@ -115,7 +115,7 @@ impl State {
     }
 
     /// Writes signal variable `n`; `None` when `n` is no signal. Each write
-    /// to an output is recorded for [`super::Outcome::output_writes`].
+    /// to an output is kept for the program writer (`#1100=1`).
     pub(super) fn write_signal(&mut self, n: u32, value: Value) -> Option<Result<(), String>> {
         if INPUT_BITS.contains(&n) || INPUT_GROUPS.contains(&n) {
             return Some(Err(format!("#{n} is an input signal: a program can read it, not set it")));
@@ -136,8 +136,9 @@ impl State {
         } else {
             return None;
         }
-        let moves_before = self.toolpath.moves.len();
-        self.output_writes.push(OutputWrite { moves_before, variable: n, value: v, span: self.at });
+        // The machine must set it between the same two moves.
+        let text = format!("#{n}={}", crate::write::number(v, 6).trim_end_matches('.'));
+        self.keep(text, 0, false, self.at_line);
         Some(Ok(()))
     }
 }
