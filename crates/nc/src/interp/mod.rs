@@ -13,6 +13,7 @@
 mod block;
 pub mod comp;
 mod control;
+mod coords;
 mod modal;
 mod signals;
 mod value;
@@ -24,6 +25,7 @@ use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, To
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
+pub use coords::{Control, CoordSettings};
 pub use modal::{Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
 use signals::Outputs;
@@ -64,6 +66,9 @@ pub struct Settings {
     pub work_offsets: [Axes; 6],
     /// Machine position of the reference point that G28 returns to.
     pub home: Axes,
+    /// Rules of coordinate systems that depend on the control, and the
+    /// 2nd to 4th reference points (`docs/coordinates.md`).
+    pub coords: CoordSettings,
     /// Which common variables exist, which are kept over a reset, and the
     /// starting values of those.
     pub macro_variables: MacroVariables,
@@ -92,6 +97,7 @@ impl Default for Settings {
             tool_radii: BTreeMap::new(),
             work_offsets: [Axes::ZERO; 6],
             home: Axes::ZERO,
+            coords: CoordSettings::default(),
             macro_variables: MacroVariables::default(),
             input_signals: BTreeMap::new(),
         }
@@ -194,6 +200,8 @@ struct State {
     work_offsets: [Axes; 6],
     external_offset: Axes,
     g92_shift: Axes,
+    /// G52, G68, G51, G51.1, G16 and the program position.
+    coords: coords::Transforms,
     skip_position: Axes,
     /// Axes whose work position comes from the machine model (where the
     /// run started, a reference point, a work offset), not from a position
@@ -244,6 +252,7 @@ impl State {
             tip: Axes::ZERO,
             external_offset: Axes::ZERO,
             g92_shift: Axes::ZERO,
+            coords: coords::Transforms::default(),
             skip_position: Axes::ZERO,
             guessed: AxisSet::ALL,
             feed_word: 0.0,
@@ -278,13 +287,14 @@ impl State {
         let w = self.work_offsets[self.modal.work_offset].to_array();
         let e = self.external_offset.to_array();
         let g = self.g92_shift.to_array();
-        Axes::from_array(std::array::from_fn(|i| w[i] + e[i] + g[i]))
+        let l = self.coords.local;
+        Axes::from_array(std::array::from_fn(|i| w[i] + e[i] + g[i] + l[i]))
     }
 
-    /// The current position in work coordinates (what #5001 reads).
+    /// The current position in program coordinates (what #5001 reads):
+    /// work coordinates less G52, G92 and the transforms of `coords.rs`.
     fn work_position(&self) -> Axes {
-        let (t, o) = (self.tip.to_array(), self.frame_offset().to_array());
-        Axes::from_array(std::array::from_fn(|i| t[i] - o[i]))
+        self.program_position()
     }
 
     /// Length compensation applied to Z by G43/G44.
