@@ -16,6 +16,11 @@
 //! [offsets]
 //! G54 = [0, 0, 0]                        # machine position of each work zero
 //! home = [0, 0, 0]                       # G28 reference point (machine)
+//! ref2 = [0, 0, -10]                     # G30 P2 … P4 reference points
+//!
+//! [coordinates]                          # docs/coordinates.md
+//! control = "fanuc"                      # or "linuxcnc": G52, G53, G90.1
+//! rotation_incremental = false           # G68 R follows G91 (Fanuc RIN)
 //!
 //! [cycles]                               # canned cycles
 //! peck_retract_mm = 0.1                  # G73 retract (Fanuc parameter 5114)
@@ -47,7 +52,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_geom::{Axes, Dynamics};
-use kezuri_nc::interp::{CycleSettings, MacroVariables, Settings};
+use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
 
@@ -67,6 +72,16 @@ struct File {
     signals: Signals,
     #[serde(default)]
     cycles: Cycles,
+    #[serde(default)]
+    coordinates: Coordinates,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct Coordinates {
+    control: Option<String>,
+    #[serde(default)]
+    rotation_incremental: bool,
 }
 
 /// `[cycles]`: the canned cycles' parameters.
@@ -320,12 +335,21 @@ impl Machine {
             let a = axes(name, v)?;
             match name.to_uppercase().as_str() {
                 "HOME" => settings.home = a,
+                "REF2" | "REF3" | "REF4" => {
+                    settings.coords.reference_points[usize::from(name.as_bytes()[3] - b'2')] = a
+                }
                 g => match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
                     Some(n @ 54..=59) => settings.work_offsets[n - 54] = a,
-                    _ => bail!("offsets: '{name}' is not G54 … G59 or home"),
+                    _ => bail!("offsets: '{name}' is not G54 … G59, home or ref2 … ref4"),
                 },
             }
         }
+        settings.coords.control = match file.coordinates.control.as_deref().map(str::to_ascii_lowercase).as_deref() {
+            None | Some("fanuc") | Some("haas") => Control::Fanuc,
+            Some("linuxcnc") => Control::LinuxCnc,
+            Some(other) => bail!("coordinates.control: '{other}' is not fanuc, haas or linuxcnc"),
+        };
+        settings.coords.rotation_incremental = file.coordinates.rotation_incremental;
         let kinematics = match &file.kinematics {
             Some(c) => chains(c)?,
             None => Kinematics::mill(),
@@ -351,6 +375,16 @@ mod tests {
         let m = Machine::parse(&example).unwrap();
         assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
         assert_eq!(m.settings.tool_lengths[&21], 87.25);
+        assert_eq!(m.settings.coords.reference_points[0], Axes { z: -10.0, ..Axes::ZERO });
+        assert_eq!(m.settings.coords.control, Control::Fanuc);
+        let l =
+            Machine::parse("[coordinates]\ncontrol = \"LinuxCNC\"\nrotation_incremental = true\n[offsets]\nref4 = [1]")
+                .unwrap();
+        assert_eq!(l.settings.coords.control, Control::LinuxCnc);
+        assert!(l.settings.coords.rotation_incremental);
+        assert_eq!(l.settings.coords.reference_points[2].x, 1.0);
+        assert!(Machine::parse("[coordinates]\ncontrol = \"okuma\"").is_err());
+        assert!(Machine::parse("[offsets]\nref5 = [1]").is_err());
         // The mill-turn: B -90 swings the tip 50 mm below the pivot to +X.
         let tip = m.kinematics.forward(&[0.0, 0.0, 0.0, 0.0, -90.0, 0.0]);
         assert!((tip[0] - 50.0).abs() < 1e-9 && tip[1].abs() < 1e-9 && (tip[2] - 120.0).abs() < 1e-9, "{tip:?}");

@@ -92,6 +92,16 @@ impl<'a> Words<'a> {
         self.has(letter).then(|| self.value[(letter - b'A') as usize])
     }
 
+    /// Whether the word of this address was written with a decimal point
+    /// (an expression counts as one).
+    pub(super) fn decimal(&self, letter: u8) -> bool {
+        self.has(letter)
+            && self.words.get(self.index[(letter - b'A') as usize] as usize).is_none_or(|w| match w.value() {
+                WordValue::Number { decimal, .. } => decimal,
+                WordValue::Expr(_) => true,
+            })
+    }
+
     /// Where the word of this address is written; the default span when the
     /// block has none.
     pub(super) fn span(&self, letter: u8) -> Span {
@@ -459,6 +469,9 @@ impl State {
     }
 
     fn apply_modal(&mut self, code: GCode, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
+        if self.coords_modal(code, w, gspan)? {
+            return Ok(());
+        }
         match code {
             GCode::Motion(m) => {
                 // A group 1 code ends a canned cycle.
@@ -520,6 +533,13 @@ impl State {
             GCode::Dwell
             | GCode::SetOffsets
             | GCode::Home
+            | GCode::OtherHome
+            | GCode::LocalOffset
+            | GCode::Rotation(_)
+            | GCode::Scaling(_)
+            | GCode::Mirror(_)
+            | GCode::Polar(_)
+            | GCode::ArcCentre(_)
             | GCode::Skip
             | GCode::MachineCoords
             | GCode::MacroCall
@@ -574,25 +594,15 @@ impl State {
         }
     }
 
-    /// The end point, in machine coordinates, that the axis words ask for.
-    pub(super) fn target(&self, w: &Words) -> Axes {
-        let o = self.frame_offset().to_array();
-        let t = self.tip.to_array();
-        // The work position (as `work_position` gives it), then the words.
-        let mut p: [f64; 6] = std::array::from_fn(|i| t[i] - o[i]);
-        for (i, &letter) in b"XYZABC".iter().enumerate() {
-            if let Some(v) = w.get(letter) {
-                let v = if i < 3 { self.mm(v) } else { v };
-                p[i] = match self.modal.distance {
-                    Distance::Absolute => v,
-                    Distance::Incremental => p[i] + v,
-                };
-            }
-        }
-        Axes::from_array(std::array::from_fn(|i| p[i] + o[i]))
+    /// The end point, in machine coordinates, that the axis words ask for
+    /// (through the transforms of `coords.rs`).
+    pub(super) fn target(&mut self, w: &Words) -> Axes {
+        self.program_target(w)
     }
 
     pub(super) fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
+        let named = self.moved_axes(named, self.tip, end);
+        let start = self.tip;
         // An increment from a position the program never named is reckoned
         // from the machine model: the writer must keep it an increment.
         let relative = match kind {
@@ -629,6 +639,7 @@ impl State {
         };
         self.toolpath.push(m);
         self.tip = end;
+        self.settle_program(kind, start);
     }
 
     /// Applies the one-shot codes and the motion of a block. Returns whether
@@ -661,10 +672,10 @@ impl State {
                 self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
                 return Ok(false);
             }
-            Some((GCode::Home, _)) => {
+            Some((code @ (GCode::Home | GCode::OtherHome), _)) => {
                 let via = self.target(w);
                 let mut home = self.tip;
-                let (h, mut v) = (self.settings.home.to_array(), home.to_array());
+                let (h, mut v) = (self.reference_point(code, w)?.to_array(), home.to_array());
                 let lz = self.length_offset();
                 for (i, &letter) in b"XYZABC".iter().enumerate() {
                     if w.has(letter) {
@@ -676,6 +687,9 @@ impl State {
                     // `G91 G28 Z0` has no intermediate move.
                     if via != self.tip {
                         self.push_move(MoveKind::Rapid, via, 0.0, w.axes(), line);
+                    }
+                    if code == GCode::OtherHome {
+                        self.keep_other_return(w, line);
                     }
                     self.push_move(MoveKind::Home, home, 0.0, w.axes(), line);
                 }
@@ -695,24 +709,20 @@ impl State {
                 return Ok(false);
             }
             Some((GCode::SetPosition, _)) => {
-                let mut g = self.g92_shift.to_array();
-                let t = self.tip.to_array();
-                let o = self.work_offsets[self.modal.work_offset].to_array();
-                let e = self.external_offset.to_array();
-                for (i, &letter) in b"XYZABC".iter().enumerate() {
-                    if let Some(v) = w.get(letter) {
-                        let v = if i < 3 { self.mm(v) } else { v };
-                        g[i] = t[i] - o[i] - e[i] - v;
-                    }
-                }
-                self.g92_shift = Axes::from_array(g);
+                self.set_position(w);
                 self.guessed = AxisSet::ALL;
                 return Ok(false);
             }
-            Some((GCode::MachineCoords, gspan)) => {
-                if self.modal.distance == Distance::Incremental {
-                    return Err(Diagnostic::error(gspan, "G53 needs absolute (G90) positions"));
-                }
+            Some((GCode::LocalOffset, _)) => {
+                self.local_offset(w);
+                self.guessed = AxisSet::ALL;
+                return Ok(false);
+            }
+            Some((GCode::MachineCoords, gspan)) if self.modal.distance == Distance::Incremental => {
+                // Fanuc: G53 ignored, an ordinary incremental move follows.
+                self.g53_incremental(gspan)?;
+            }
+            Some((GCode::MachineCoords, _)) => {
                 let mut p = self.tip.to_array();
                 let lz = self.length_offset();
                 for (i, &letter) in b"XYZABC".iter().enumerate() {
@@ -755,6 +765,14 @@ impl State {
                 return Ok(false);
             }
             _ => {}
+        }
+        // G68, G51, G51.1, G50.1: their axis words are centres, not moves.
+        if codes
+            .iter()
+            .flatten()
+            .any(|(c, _)| matches!(c, GCode::Rotation(true) | GCode::Scaling(true) | GCode::Mirror(_)))
+        {
+            return Ok(false);
         }
         if let Some(cycle) = self.modal.cycle {
             return self.cycle_block(cycle, w, span, line);
@@ -820,12 +838,15 @@ impl State {
     fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {
         let plane = self.modal.plane;
         let (i, j, _) = plane.axes();
-        let ccw = self.modal.motion == Motion::Ccw;
+        // A mirror image (or a negative scale) on one axis of the plane
+        // reverses the direction; an R arc's radius is scaled.
+        let ccw = (self.modal.motion == Motion::Ccw) != self.arc_reversed();
+        let scale = self.arc_scale(span)?;
         let s = self.tip.xyz();
         let e = end.xyz();
         let mut center = s;
         if let Some(r) = w.get(b'R') {
-            let r = self.mm(r);
+            let r = self.mm(r) * scale;
             let (dx, dy) = (e[i] - s[i], e[j] - s[j]);
             let chord = dx.hypot(dy);
             if chord < 1e-9 {
@@ -847,16 +868,9 @@ impl State {
             center[i] = s[i] + dx / 2.0 - left * h * dy / chord;
             center[j] = s[j] + dy / 2.0 + left * h * dx / chord;
         } else {
-            let offsets = [(b'I', 0usize), (b'J', 1), (b'K', 2)];
-            let mut any = false;
-            for (letter, axis) in offsets {
-                if let Some(v) = w.get(letter) {
-                    center[axis] = s[axis] + self.mm(v);
-                    any = true;
-                }
-            }
-            if !any {
-                return Err(Diagnostic::error(span, "an arc needs its centre (I J K) or its radius (R)"));
+            match self.arc_centre(w, span)? {
+                Some(c) => center = c,
+                None => return Err(Diagnostic::error(span, "an arc needs its centre (I J K) or its radius (R)")),
             }
             let r0 = (s[i] - center[i]).hypot(s[j] - center[j]);
             let r1 = (e[i] - center[i]).hypot(e[j] - center[j]);

@@ -13,6 +13,7 @@
 mod block;
 pub mod comp;
 mod control;
+mod coords;
 mod cycle;
 mod modal;
 mod signals;
@@ -25,6 +26,7 @@ use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, To
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
+pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
 pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
@@ -68,6 +70,9 @@ pub struct Settings {
     pub home: Axes,
     /// Canned cycle parameters (peck retract and clearance, boring shift).
     pub cycles: CycleSettings,
+    /// Rules of coordinate systems that depend on the control, and the
+    /// 2nd to 4th reference points (`docs/coordinates.md`).
+    pub coords: CoordSettings,
     /// Which common variables exist, which are kept over a reset, and the
     /// starting values of those.
     pub macro_variables: MacroVariables,
@@ -97,6 +102,7 @@ impl Default for Settings {
             work_offsets: [Axes::ZERO; 6],
             home: Axes::ZERO,
             cycles: CycleSettings::default(),
+            coords: CoordSettings::default(),
             macro_variables: MacroVariables::default(),
             input_signals: BTreeMap::new(),
         }
@@ -182,6 +188,8 @@ struct State {
     work_offsets: [Axes; 6],
     external_offset: Axes,
     g92_shift: Axes,
+    /// G52, G68, G51, G51.1, G16 and the program position.
+    coords: coords::Transforms,
     skip_position: Axes,
     /// The canned cycle's hole data.
     hole: cycle::HoleData,
@@ -237,6 +245,7 @@ impl State {
             tip: Axes::ZERO,
             external_offset: Axes::ZERO,
             g92_shift: Axes::ZERO,
+            coords: coords::Transforms::default(),
             skip_position: Axes::ZERO,
             hole: cycle::HoleData::default(),
             holes: 0,
@@ -273,13 +282,14 @@ impl State {
         let w = self.work_offsets[self.modal.work_offset].to_array();
         let e = self.external_offset.to_array();
         let g = self.g92_shift.to_array();
-        Axes::from_array(std::array::from_fn(|i| w[i] + e[i] + g[i]))
+        let l = self.coords.local;
+        Axes::from_array(std::array::from_fn(|i| w[i] + e[i] + g[i] + l[i]))
     }
 
-    /// The current position in work coordinates (what #5001 reads).
+    /// The current position in program coordinates (what #5001 reads):
+    /// work coordinates less G52, G92 and the transforms of `coords.rs`.
     fn work_position(&self) -> Axes {
-        let (t, o) = (self.tip.to_array(), self.frame_offset().to_array());
-        Axes::from_array(std::array::from_fn(|i| t[i] - o[i]))
+        self.program_position()
     }
 
     /// Length compensation applied to Z by G43/G44.

@@ -161,6 +161,20 @@ pub enum GCode {
     Units(Units),
     /// G28
     Home,
+    /// G30 (P2 … P4: the 2nd to 4th reference points)
+    OtherHome,
+    /// G52 local coordinate system
+    LocalOffset,
+    /// G68 (`true`) / G69 coordinate rotation
+    Rotation(bool),
+    /// G51 (`true`) / G50 scaling
+    Scaling(bool),
+    /// G51.1 (`true`) / G50.1 programmable mirror image
+    Mirror(bool),
+    /// G16 (`true`) / G15 polar coordinates
+    Polar(bool),
+    /// G90.1 / G91.1: I J K absolute or incremental (LinuxCNC)
+    ArcCentre(Distance),
     /// G31 skip; also G38.2 … G38.5, the LinuxCNC and GRBL probe moves
     Skip,
     /// G40 G41 G42
@@ -222,6 +236,18 @@ impl GCode {
             200 => Units(self::Units::Inch),
             210 => Units(self::Units::Mm),
             280 => Home,
+            300 => OtherHome,
+            520 => LocalOffset,
+            680 => Rotation(true),
+            690 => Rotation(false),
+            510 => Scaling(true),
+            500 => Scaling(false),
+            511 => Mirror(true),
+            501 => Mirror(false),
+            160 => Polar(true),
+            150 => Polar(false),
+            901 => ArcCentre(self::Distance::Absolute),
+            911 => ArcCentre(self::Distance::Incremental),
             310 | 382..=385 => Skip,
             400 => RadiusComp(self::RadiusComp::Off),
             410 => RadiusComp(self::RadiusComp::Left),
@@ -267,9 +293,16 @@ impl GCode {
             ModalCall(_) | ModalCallOff => 12,
             WorkOffset(_) => 14,
             PathMode(_) => 15,
+            Scaling(_) => 11,
+            Rotation(_) => 16,
+            Polar(_) => 17,
+            Mirror(_) => 22,
+            // Not a Fanuc group: LinuxCNC's arc distance mode.
+            ArcCentre(_) => 101,
             // Not one-shots that exclude each other: a group of their own.
             Smoothing(_) => 100,
-            Dwell | SetOffsets | Home | Skip | MachineCoords | MacroCall | SetPosition | ResetShift => 0,
+            Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
+            | ResetShift => 0,
         }
     }
 }

@@ -217,7 +217,7 @@ impl State {
             3000 => 0.0,
             3001 => self.clock.read_ms(),
             3002 => self.clock.read_ms() / 3_600_000.0,
-            4001..=4022 => self.modal.group_value(n - 4000).unwrap_or(0.0),
+            4001..=4022 => self.coords_group(n - 4000).or_else(|| self.modal.group_value(n - 4000)).unwrap_or(0.0),
             4102 => self.last.b,
             4107 => self.last.d,
             4108 => self.last.e,

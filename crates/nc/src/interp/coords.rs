@@ -1,0 +1,638 @@
+//! Coordinate systems between the program and the machine: the G52 local
+//! offset, G68/G69 rotation, G51/G50 scaling, G51.1/G50.1 programmable
+//! mirror, G16/G15 polar coordinates, G90.1/G91.1 arc centres, G30 P2–P4
+//! and G53 under G91. `docs/coordinates.md` lists every rule and where it
+//! comes from.
+//!
+//! A program point `p` (the words, in program units converted to mm) goes
+//! to the machine as
+//! `machine = rotate(scale(mirror(p))) + G52 + work offset + external + G92`:
+//! mirror and scaling about their centres, then rotation about its centre
+//! in its plane. Polar words (G16) are turned into the Cartesian `p` first.
+//! Increments (G91) are increments of `p`: they move the tool by the
+//! transformed vector from where it is.
+//!
+//! The position a program reads (`#5001…`) and builds on (unnamed axes,
+//! increments) is the *program position*: the tool's position mapped back
+//! through the transforms, plus `delta`, the difference a Fanuc control
+//! keeps between its absolute-position register and the tool after G68 or
+//! G51 is given away from its centre (the register is not recomputed then;
+//! the next absolute move brings them together again).
+
+use kezuri_geom::{Axes, AxisSet, MoveKind, Plane};
+
+use super::block::Words;
+use super::modal::{Distance, GCode, Units};
+use super::{IntegerInput, State};
+use crate::source::{Diagnostic, Span};
+
+/// The control whose rules apply where controls differ.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Control {
+    /// Fanuc (and Haas, which follows it here).
+    #[default]
+    Fanuc,
+    /// LinuxCNC: G52 shares the G92 offset, G53 under G91 is an error, G90.1
+    /// and G91.1 are arc-centre modes; G68, G51, G51.1 and G16 do not exist.
+    LinuxCnc,
+}
+
+/// The settings of coordinate systems that depend on the control or the
+/// machine (parameters on a Fanuc control).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CoordSettings {
+    /// Which control's rules apply.
+    pub control: Control,
+    /// `G68 R` follows G90/G91 (incremental under G91: added to the angle in
+    /// effect) instead of being always absolute: bit 0 (RIN) of Fanuc
+    /// parameter 5400. Off by default.
+    pub rotation_incremental: bool,
+    /// Machine positions of the 2nd, 3rd and 4th reference points
+    /// (`G30 P2`, `P3`, `P4`; Fanuc parameters 1241, 1242, 1243).
+    pub reference_points: [Axes; 3],
+}
+
+/// G51 scaling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Scale {
+    /// Centre in program coordinates (X Y Z, mm).
+    centre: [f64; 3],
+    /// Factor of each axis (negative: a mirror image).
+    factor: [f64; 3],
+}
+
+/// G68 rotation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Rotation {
+    plane: Plane,
+    /// Centre on the plane's two axes, after mirror and scaling.
+    centre: [f64; 2],
+    /// Degrees, counter-clockwise from the plane's first axis to its second,
+    /// as programmed (a mirror image reverses its sense).
+    degrees: f64,
+}
+
+/// The transforms in effect, and the program-position register.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Transforms {
+    /// Fanuc G52 local offset (mm; on LinuxCNC G52 writes the G92 offset).
+    pub(super) local: [f64; 6],
+    /// G16 polar coordinate mode.
+    polar: bool,
+    /// G51.1: the position of the mirror line on each of X Y Z.
+    mirror: [Option<f64>; 3],
+    scale: Option<Scale>,
+    rotation: Option<Rotation>,
+    /// G90.1: I J K are absolute positions.
+    arc_absolute: bool,
+    /// Program position minus the tool's position mapped back.
+    delta: [f64; 6],
+    /// The program point of the move being made (set with its target).
+    pending: Option<[f64; 6]>,
+}
+
+const LETTERS: &[u8; 6] = b"XYZABC";
+
+fn deg(v: f64) -> (f64, f64) {
+    v.to_radians().sin_cos()
+}
+
+impl Transforms {
+    /// Whether any transform between program and local coordinates is on.
+    fn active(&self) -> bool {
+        self.mirror.iter().any(Option::is_some) || self.scale.is_some() || self.rotation.is_some()
+    }
+
+    /// The factor mirror and scaling multiply axis `i` by.
+    fn factor(&self, i: usize) -> f64 {
+        if i >= 3 {
+            return 1.0;
+        }
+        let m = if self.mirror[i].is_some() { -1.0 } else { 1.0 };
+        m * self.scale.map_or(1.0, |s| s.factor[i])
+    }
+
+    /// Whether mirror and scaling turn the plane over (an odd number of its
+    /// two axes reversed): arcs and compensation sides swap, G68 turns back.
+    pub(super) fn reverses(&self, plane: Plane) -> bool {
+        let (i, j, _) = plane.axes();
+        self.factor(i) * self.factor(j) < 0.0
+    }
+
+    /// Mirror then scaling of a point.
+    #[allow(clippy::needless_range_loop)]
+    fn sm(&self, p: [f64; 6]) -> [f64; 6] {
+        let mut q = p;
+        for i in 0..3 {
+            if let Some(m) = self.mirror[i] {
+                q[i] = 2.0 * m - q[i];
+            }
+            if let Some(s) = self.scale {
+                // The centre is a program point too: mirrored with the rest.
+                let c = self.mirror[i].map_or(s.centre[i], |m| 2.0 * m - s.centre[i]);
+                q[i] = c + s.factor[i] * (q[i] - c);
+            }
+        }
+        q
+    }
+
+    #[allow(clippy::needless_range_loop)]
+    fn sm_inverse(&self, q: [f64; 6]) -> [f64; 6] {
+        let mut p = q;
+        for i in 0..3 {
+            if let Some(s) = self.scale {
+                let c = self.mirror[i].map_or(s.centre[i], |m| 2.0 * m - s.centre[i]);
+                p[i] = c + (p[i] - c) / s.factor[i];
+            }
+            if let Some(m) = self.mirror[i] {
+                p[i] = 2.0 * m - p[i];
+            }
+        }
+        p
+    }
+
+    /// The rotation's axes and angle as applied (reversed by a mirror image).
+    fn turn(&self) -> Option<(usize, usize, [f64; 2], f64)> {
+        let r = self.rotation?;
+        let (i, j, _) = r.plane.axes();
+        let sense = if self.reverses(r.plane) { -1.0 } else { 1.0 };
+        Some((i, j, r.centre, sense * r.degrees))
+    }
+
+    /// Program point to local coordinates (work coordinates plus G52 and G92).
+    fn forward(&self, p: [f64; 6]) -> [f64; 6] {
+        let mut q = self.sm(p);
+        if let Some((i, j, c, a)) = self.turn() {
+            let (s, co) = deg(a);
+            let (x, y) = (q[i] - c[0], q[j] - c[1]);
+            q[i] = c[0] + co * x - s * y;
+            q[j] = c[1] + s * x + co * y;
+        }
+        q
+    }
+
+    fn inverse(&self, q: [f64; 6]) -> [f64; 6] {
+        let mut q = q;
+        if let Some((i, j, c, a)) = self.turn() {
+            let (s, co) = deg(-a);
+            let (x, y) = (q[i] - c[0], q[j] - c[1]);
+            q[i] = c[0] + co * x - s * y;
+            q[j] = c[1] + s * x + co * y;
+        }
+        self.sm_inverse(q)
+    }
+
+    /// A vector (an increment, an arc's I J K) to local coordinates.
+    fn linear(&self, v: [f64; 6]) -> [f64; 6] {
+        let mut q: [f64; 6] = std::array::from_fn(|i| v[i] * self.factor(i));
+        if let Some((i, j, _, a)) = self.turn() {
+            let (s, co) = deg(a);
+            let (x, y) = (q[i], q[j]);
+            q[i] = co * x - s * y;
+            q[j] = s * x + co * y;
+        }
+        q
+    }
+}
+
+fn sub(a: [f64; 6], b: [f64; 6]) -> [f64; 6] {
+    std::array::from_fn(|i| a[i] - b[i])
+}
+
+fn add(a: [f64; 6], b: [f64; 6]) -> [f64; 6] {
+    std::array::from_fn(|i| a[i] + b[i])
+}
+
+impl State {
+    /// The tool tip in local coordinates: work coordinates with the G52 and
+    /// G92 shifts, before rotation, scaling and mirror are undone.
+    fn local_position(&self) -> [f64; 6] {
+        sub(self.tip.to_array(), self.frame_offset().to_array())
+    }
+
+    /// The position in program coordinates: what `#5001…` read and what
+    /// unnamed axes and increments build on.
+    pub(super) fn program_position(&self) -> Axes {
+        Axes::from_array(add(self.coords.inverse(self.local_position()), self.coords.delta))
+    }
+
+    /// A word in mm (linear axes, centres) from program units.
+    fn length(&self, v: f64) -> f64 {
+        if self.modal.units == Units::Inch {
+            v * 25.4
+        } else {
+            v
+        }
+    }
+
+    /// A ratio or angle word: where it was written without a decimal point
+    /// on a Fanuc control it counts 0.001 whatever the units (the reader
+    /// divided inch words by 10,000).
+    fn ratio(&self, w: &Words, letter: u8) -> Option<f64> {
+        let v = w.get(letter)?;
+        let inch_counts = self.modal.units == Units::Inch
+            && self.settings.integer_input == IntegerInput::Increments
+            && !w.decimal(letter);
+        Some(if letter == b'P' && !w.decimal(b'P') && self.settings.integer_input == IntegerInput::Increments {
+            v / 1000.0
+        } else if inch_counts && letter != b'P' {
+            v * 10.0
+        } else {
+            v
+        })
+    }
+
+    /// The end point, in machine coordinates, that the axis words ask for;
+    /// remembers the program point for [`State::settle_program`].
+    pub(super) fn program_target(&mut self, w: &Words) -> Axes {
+        let p0 = self.program_position().to_array();
+        let mut p = p0;
+        let incremental = self.modal.distance == Distance::Incremental;
+        let mut from_zero = !incremental;
+        let plane = self.modal.plane.axes();
+        for (i, &letter) in LETTERS.iter().enumerate() {
+            if self.coords.polar && (i == plane.0 || i == plane.1) {
+                continue;
+            }
+            if let Some(v) = w.get(letter) {
+                let v = if i < 3 { self.length(v) } else { v };
+                p[i] = if incremental { p[i] + v } else { v };
+            }
+        }
+        if self.coords.polar {
+            let (i, j) = (plane.0, plane.1);
+            let (radius, angle) = (w.get(LETTERS[i]).map(|v| self.length(v)), w.get(LETTERS[j]));
+            if radius.is_some() || angle.is_some() {
+                // The radius measured from the work zero, or (an incremental
+                // radius) from the tool; the angle from the plane's first
+                // axis, or added to the tool's angle about the work zero.
+                let (r0, a0) = (p0[i].hypot(p0[j]), p0[j].atan2(p0[i]).to_degrees());
+                let a = match angle {
+                    Some(a) if incremental => a0 + a,
+                    Some(a) => a,
+                    None => a0,
+                };
+                let (s, c) = deg(a);
+                match radius {
+                    Some(r) if incremental => {
+                        p[i] = p0[i] + r * c;
+                        p[j] = p0[j] + r * s;
+                    }
+                    _ => {
+                        let r = radius.unwrap_or(r0);
+                        p[i] = r * c;
+                        p[j] = r * s;
+                        from_zero = true;
+                    }
+                }
+            }
+        }
+        let local = if from_zero && !incremental {
+            self.coords.forward(p)
+        } else if from_zero {
+            // Polar from the work zero under G91: the plane's axes are
+            // positions, the others increments.
+            let mut q = add(self.local_position(), self.coords.linear(sub(p, p0)));
+            let f = self.coords.forward(p);
+            q[plane.0] = f[plane.0];
+            q[plane.1] = f[plane.1];
+            q
+        } else {
+            add(self.local_position(), self.coords.linear(sub(p, p0)))
+        };
+        self.coords.pending = Some(p);
+        Axes::from_array(add(local, self.frame_offset().to_array()))
+    }
+
+    /// After a move to `end` of `kind` (the tip already there): the program
+    /// position is the program point of a programmed move; after a return
+    /// to a reference point or a G53 move it is the tool's, mapped back.
+    pub(super) fn settle_program(&mut self, kind: MoveKind, start: Axes) {
+        let pending = self.coords.pending.take();
+        match kind {
+            MoveKind::Rapid | MoveKind::Feed | MoveKind::Arc(_) | MoveKind::Probe => {
+                if let Some(p) = pending {
+                    self.coords.delta = sub(p, self.coords.inverse(self.local_position()));
+                }
+            }
+            MoveKind::Dwell(_) => {}
+            _ if self.tip != start => self.coords.delta = [0.0; 6],
+            _ => {}
+        }
+    }
+
+    /// The axes a move names, for the writer: under rotation or polar
+    /// coordinates every axis that moved.
+    pub(super) fn moved_axes(&self, named: AxisSet, start: Axes, end: Axes) -> AxisSet {
+        if !(self.coords.polar || self.coords.rotation.is_some()) || named == AxisSet::NONE {
+            return named;
+        }
+        let (s, e) = (start.to_array(), end.to_array());
+        (0..6).filter(|&i| s[i] != e[i]).fold(named, |set, i| set.with(i))
+    }
+
+    /// `G92`: the named axes of the program position take the words'
+    /// values. On Fanuc the G52 local offset of those axes is cleared.
+    pub(super) fn set_position(&mut self, w: &Words) {
+        let mut p = self.program_position().to_array();
+        for (i, &letter) in LETTERS.iter().enumerate() {
+            if let Some(v) = w.get(letter) {
+                p[i] = if i < 3 { self.length(v) } else { v };
+                if self.settings.coords.control == Control::Fanuc {
+                    self.coords.local[i] = 0.0;
+                }
+            }
+        }
+        let q = self.coords.forward(p);
+        let (t, o) = (self.tip.to_array(), self.work_offsets[self.modal.work_offset].to_array());
+        let (e, l) = (self.external_offset.to_array(), self.coords.local);
+        let mut g = self.g92_shift.to_array();
+        for (i, &letter) in LETTERS.iter().enumerate() {
+            if w.has(letter) {
+                g[i] = t[i] - o[i] - e[i] - l[i] - q[i];
+            }
+        }
+        self.g92_shift = Axes::from_array(g);
+        self.coords.delta = [0.0; 6];
+        self.coords.delta = sub(p, self.program_position().to_array());
+    }
+
+    /// `G52`: on Fanuc the local offset of the named axes (added to it under
+    /// G91); on LinuxCNC the G92 offset itself.
+    pub(super) fn local_offset(&mut self, w: &Words) {
+        let incremental = self.modal.distance == Distance::Incremental;
+        for (i, &letter) in LETTERS.iter().enumerate() {
+            if let Some(v) = w.get(letter) {
+                let v = if i < 3 { self.length(v) } else { v };
+                match self.settings.coords.control {
+                    Control::Fanuc if incremental => self.coords.local[i] += v,
+                    Control::Fanuc => self.coords.local[i] = v,
+                    Control::LinuxCnc => {
+                        let mut g = self.g92_shift.to_array();
+                        g[i] = v;
+                        self.g92_shift = Axes::from_array(g);
+                    }
+                }
+            }
+        }
+    }
+
+    /// `G53` under G91: `true` when the block is then an ordinary move.
+    pub(super) fn g53_incremental(&mut self, gspan: Span) -> Result<bool, Diagnostic> {
+        match self.settings.coords.control {
+            Control::LinuxCnc => Err(Diagnostic::error(gspan, "Cannot use G53 incremental (LinuxCNC stops here)")),
+            Control::Fanuc => {
+                self.warn(
+                    "g53-g91",
+                    gspan,
+                    "G53 under G91: a Fanuc control ignores the G53 and moves by the words as increments in the work coordinates; write G90 G53",
+                );
+                Ok(true)
+            }
+        }
+    }
+
+    /// The machine position `G28` (P1) or `G30 P2`…`P4` returns to.
+    pub(super) fn reference_point(&self, code: GCode, w: &Words) -> Result<Axes, Diagnostic> {
+        if code != GCode::OtherHome {
+            return Ok(self.settings.home);
+        }
+        match w.get(b'P') {
+            None => Ok(self.settings.coords.reference_points[0]),
+            Some(1.0) => Ok(self.settings.home),
+            Some(p) if [2.0, 3.0, 4.0].contains(&p) => Ok(self.settings.coords.reference_points[p as usize - 2]),
+            Some(p) => {
+                Err(Diagnostic::error(w.span(b'P'), format!("G30 P{p}: the reference points are P1 (G28's) to P4")))
+            }
+        }
+    }
+
+    /// A G30 return is kept for the writer, which would write G28 for it:
+    /// `G91 G30 P3 X0. Y0.` stands for the return move that follows.
+    pub(super) fn keep_other_return(&mut self, w: &Words, line: u32) {
+        let mut text = String::from("G91 G30");
+        if let Some(p) = w.get(b'P').filter(|&p| p != 2.0) {
+            text.push_str(&format!(" P{p}"));
+        }
+        for &letter in LETTERS.iter().filter(|&&l| w.has(l)) {
+            text.push_str(&format!(" {}0.", letter as char));
+        }
+        self.keep(text, 1, false, line);
+    }
+
+    /// Whether the arc's direction is reversed by a mirror image.
+    pub(super) fn arc_reversed(&self) -> bool {
+        self.coords.reverses(self.modal.plane)
+    }
+
+    /// Whether G41/G42 are swapped by a mirror image (for compensation).
+    #[allow(dead_code)]
+    pub(super) fn comp_side_swapped(&self) -> bool {
+        self.coords.reverses(self.modal.plane)
+    }
+
+    /// Checks an arc against the transforms; the factor its R is scaled by.
+    pub(super) fn arc_scale(&self, span: Span) -> Result<f64, Diagnostic> {
+        let plane = self.modal.plane;
+        if let Some(r) = self.coords.rotation {
+            if r.plane != plane {
+                return Err(Diagnostic::error(
+                    span,
+                    "an arc outside the plane of G68 rotation: the control stops (alarm: the rotation plane and the arc plane must be the same)",
+                ));
+            }
+        }
+        let (i, j, _) = plane.axes();
+        let (a, b) = (self.coords.factor(i).abs(), self.coords.factor(j).abs());
+        if (a - b).abs() > 1e-12 {
+            return Err(Diagnostic::error(
+                span,
+                format!(
+                    "an arc under G51 with unequal factors on its plane ({} ×{a}, {} ×{b}): the control cannot cut an ellipse; the scaled end is off the scaled circle and it stops with an alarm",
+                    LETTERS[i] as char, LETTERS[j] as char
+                ),
+            ));
+        }
+        Ok(a)
+    }
+
+    /// The arc's centre (X Y Z, machine) from I J K, or `None` when the
+    /// block has none.
+    pub(super) fn arc_centre(&self, w: &Words, span: Span) -> Result<Option<[f64; 3]>, Diagnostic> {
+        let mut v = [0.0; 6];
+        let mut any = false;
+        for (k, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
+            if let Some(x) = w.get(letter) {
+                v[k] = self.length(x);
+                any = true;
+            }
+        }
+        if !any {
+            return Ok(None);
+        }
+        let local = if self.coords.arc_absolute {
+            let (i, j, _) = self.modal.plane.axes();
+            let need = [b"IJK"[i], b"IJK"[j]];
+            if let Some(&l) = need.iter().find(|&&l| !w.has(l)) {
+                return Err(Diagnostic::error(
+                    span,
+                    format!("G90.1 (absolute arc centre): the arc needs both centre words, {} is missing", l as char),
+                ));
+            }
+            let mut p = self.program_position().to_array();
+            p[i] = v[i];
+            p[j] = v[j];
+            self.coords.forward(p)
+        } else {
+            add(self.local_position(), self.coords.linear(v))
+        };
+        let m = add(local, self.frame_offset().to_array());
+        Ok(Some([m[0], m[1], m[2]]))
+    }
+
+    /// The G codes of this file, from `apply_modal`: `true` when `code` is
+    /// one of them (then applied). Also refuses a plane change under G68.
+    pub(super) fn coords_modal(&mut self, code: GCode, w: &Words, gspan: Span) -> Result<bool, Diagnostic> {
+        let linuxcnc = self.settings.coords.control == Control::LinuxCnc;
+        match code {
+            GCode::Plane(p) => {
+                if self.coords.rotation.is_some_and(|r| r.plane != p) {
+                    return Err(Diagnostic::error(gspan, "the plane cannot change under G68 rotation: give G69 first"));
+                }
+                return Ok(false);
+            }
+            GCode::Rotation(_) | GCode::Scaling(_) | GCode::Mirror(_) | GCode::Polar(_) if linuxcnc => {
+                return Err(Diagnostic::error(
+                    gspan,
+                    "LinuxCNC has no G68/G69, G51/G50, G51.1/G50.1 or G15/G16: it stops with \"Unknown g code used\"",
+                ));
+            }
+            GCode::ArcCentre(d) => {
+                if !linuxcnc {
+                    let name = if d == Distance::Absolute { "G90.1" } else { "G91.1" };
+                    self.warn(
+                        "arc-centre-mode",
+                        gspan,
+                        format!("{name} is not a Fanuc G code: a Fanuc control stops with alarm PS0010 (improper G code); read here as LinuxCNC reads it (I J K {})", if d == Distance::Absolute { "absolute" } else { "incremental, the Fanuc default" }),
+                    );
+                }
+                self.coords.arc_absolute = d == Distance::Absolute;
+            }
+            GCode::Polar(on) => self.coords.polar = on,
+            GCode::Rotation(false) => self.coords.rotation = None,
+            GCode::Rotation(true) => self.rotate(w),
+            GCode::Scaling(false) => self.coords.scale = None,
+            GCode::Scaling(true) => self.scaling(w, gspan)?,
+            GCode::Mirror(on) => {
+                let named: Vec<usize> = (0..3).filter(|&i| w.has(LETTERS[i])).collect();
+                for (i, &letter) in LETTERS[..3].iter().enumerate() {
+                    if on {
+                        if let Some(v) = w.get(letter) {
+                            self.coords.mirror[i] = Some(self.length(v));
+                        }
+                    } else if named.is_empty() || named.contains(&i) {
+                        self.coords.mirror[i] = None;
+                    }
+                }
+                if on && named.is_empty() {
+                    return Err(Diagnostic::error(gspan, "G51.1 needs the mirror line: X, Y or Z"));
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// `G68 α β R`: centre on the plane's axes (absolute; omitted: where the
+    /// tool is), R degrees (omitted: 0, parameter 5410).
+    fn rotate(&mut self, w: &Words) {
+        let plane = self.modal.plane;
+        let (i, j, _) = plane.axes();
+        let mut c = self.program_position().to_array();
+        for k in [i, j] {
+            if let Some(v) = w.get(LETTERS[k]) {
+                c[k] = self.length(v);
+            }
+        }
+        let c = self.coords.sm(c);
+        let r = self.ratio(w, b'R').unwrap_or(0.0);
+        // Parameter 5400 bit 0 (RIN): R under G91 adds to the angle in effect.
+        let degrees = match self.coords.rotation {
+            Some(old) if self.settings.coords.rotation_incremental && self.modal.distance == Distance::Incremental => {
+                old.degrees + r
+            }
+            _ => r,
+        };
+        self.coords.rotation = Some(Rotation { plane, centre: [c[i], c[j]], degrees });
+    }
+
+    /// `G51 X Y Z P` or `G51 X Y Z I J K`: centre (absolute; omitted: where
+    /// the tool is) and factors.
+    fn scaling(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
+        let p0 = self.program_position().to_array();
+        let centre: [f64; 3] = std::array::from_fn(|i| w.get(LETTERS[i]).map_or(p0[i], |v| self.length(v)));
+        let mut factor = [1.0; 3];
+        if let Some(p) = self.ratio(w, b'P') {
+            factor = [p; 3];
+        }
+        for (i, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
+            if let Some(v) = self.ratio(w, letter) {
+                factor[i] = v;
+            }
+        }
+        if !(w.has(b'P') || w.has(b'I') || w.has(b'J') || w.has(b'K')) {
+            self.warn("scale-default", gspan, "G51 without P or I J K: the factor is parameter 5411's, read as 1");
+        }
+        for letter in [b'P', b'I', b'J', b'K'] {
+            if self.ratio(w, letter).is_some_and(|v| v == 0.0 || !v.is_finite()) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!("G51 {}0: a scale factor of 0 would put every point on the centre", letter as char),
+                ));
+            }
+        }
+        self.coords.scale = Some(Scale { centre, factor });
+        Ok(())
+    }
+
+    /// `#4011`, `#4016`, `#4017`, `#4022`: the modal groups of this file.
+    pub(super) fn coords_group(&self, group: u32) -> Option<f64> {
+        Some(match group {
+            11 => {
+                if self.coords.scale.is_some() {
+                    51.0
+                } else {
+                    50.0
+                }
+            }
+            16 => {
+                if self.coords.rotation.is_some() {
+                    68.0
+                } else {
+                    69.0
+                }
+            }
+            17 => {
+                if self.coords.polar {
+                    16.0
+                } else {
+                    15.0
+                }
+            }
+            22 => {
+                if self.coords.mirror.iter().any(Option::is_some) {
+                    51.1
+                } else {
+                    50.1
+                }
+            }
+            _ => return None,
+        })
+    }
+
+    /// Whether anything maps program points other than by offsets.
+    #[allow(dead_code)]
+    pub(super) fn transformed(&self) -> bool {
+        self.coords.active()
+    }
+}
