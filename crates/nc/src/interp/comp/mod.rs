@@ -159,22 +159,12 @@ pub fn compensate_traced(
     tags: &[Option<Comp>],
     rules: Rules,
 ) -> Result<(Vec<Move>, Vec<usize>), CompError> {
-    let mut origin = Vec::with_capacity(moves.len() + moves.len() / 2);
-    let out = compensate_into(moves, tags, rules, &mut origin)?;
-    Ok((out, origin))
-}
-
-fn compensate_into(
-    moves: &[Move],
-    tags: &[Option<Comp>],
-    rules: Rules,
-    origin: &mut Vec<usize>,
-) -> Result<Vec<Move>, CompError> {
     if tags.len() != moves.len() {
         let message = format!("{} compensation tags for {} moves", tags.len(), moves.len());
         return Err(CompError { move_index: tags.len().min(moves.len()), message });
     }
     let mut out = Vec::with_capacity(moves.len() + moves.len() / 2);
+    let mut origin = Vec::with_capacity(out.capacity());
     let mut cur = moves.first().map_or(Axes::ZERO, |m| m.start);
     let mut i = 0;
     while i < moves.len() {
@@ -208,10 +198,10 @@ fn compensate_into(
                 Rules::LinuxCnc => linuxcnc::plan(&run)?,
             }
         };
-        emit(&run, &steps, &mut out, origin, &mut cur)?;
+        emit(&run, &steps, &mut out, &mut origin, &mut cur)?;
         i = run.exit.map_or(exit, |x| x + 1);
     }
-    Ok(out)
+    Ok((out, origin))
 }
 
 /// One compensated run and what the planners need of it.
