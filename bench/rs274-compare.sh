@@ -3,7 +3,10 @@
 # corpus program (and LinuxCNC's installed examples, read in place): agree / differ
 # (first differing move, both values) / kezuri stops / rs274 stops.
 #
-#   bench/rs274-compare.sh [--install] [--json] [--no-linuxcnc] [--timeout S] [--only SUBSTR]
+#   bench/rs274-compare.sh [--install] [--json] [--no-linuxcnc] [--timeout S] [--only SUBSTR] [--file P.ngc]...
+#
+# --file     compare these LinuxCNC programs (paths from the repository root) instead of the
+#            corpus, e.g. bench/programs/comp-linuxcnc.ngc (G41, G42, G41.1).
 #
 # --install  apt-get update && apt-get install -y linuxcnc-uspace when rs274 is missing
 #            (needs root). Without it a missing rs274 skips the comparison with a message.
@@ -16,7 +19,7 @@ args=()
 for a in "$@"; do
     case "$a" in
         --install) install=1 ;;
-        -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
         *) args+=("$a") ;;
     esac
 done

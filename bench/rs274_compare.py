@@ -9,17 +9,22 @@ with USE_LENGTH_UNITS and SELECT_PLANE tracked) become a list of end points in m
 from rs274's program frame into kezuri's (SET_XY_ROTATION, then SET_G5X_OFFSET +
 SET_G92_OFFSET added, as LinuxCNC's canon layer does);
 kezuri's CSV rows (line,kind,x,y,z,a,b,c,feed) are the other list. Both tool tables
-hold the same tools: T1..T99, diameter 6 mm, length 0.
+hold the same tools: T1..T99, diameter 6 mm, length 0 (rs274's table is in inches,
+so it says D0.2362…). With cutter radius compensation (G41/G42) rs274 prints the tool
+centre path, which kezuri's CSV is too.
 
 Agreement: the same number of moves (moves of zero length dropped on both sides), the
 same kind (rapid / feed / cw / ccw / probe), and every end point within
 1e-3 mm + half of rs274's printed step (4 decimals in program units: 0.00005 mm in mm
 programs, 0.00127 mm in inch programs). Arc centres: rs274 prints them; kezuri's CSV
 has no centre column, so for arcs the centre kezuri used is read from its
-`--emit linuxcnc` output (I/J/K; arcs matched in order, when both have as many arcs) and
+`--emit linuxcnc --apply-comp` output (I/J/K; arcs matched in order, when both have as many arcs) and
 compared too.
 
 Usage: python3 bench/rs274_compare.py [--json] [--no-linuxcnc] [--timeout S] [--only SUBSTR]
+                                      [--file PROGRAM.ngc]...
+(--file: compare these programs instead, read as LinuxCNC programs; e.g.
+bench/programs/comp-linuxcnc.ngc, cutter compensation with G41, G42 and G41.1.)
 (bench/rs274-compare.sh checks for rs274, builds kezuri, and calls this). Exit 0 always.
 """
 
@@ -34,7 +39,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from corpus_common import all_programs, kezuri_binary  # noqa: E402
+from corpus_common import Program, all_programs, kezuri_binary  # noqa: E402
 
 CANON = re.compile(r"^\s*\d+\s+N\S*\s+([A-Z_0-9]+)\((.*)\)\s*$")
 ABS_TOL_MM = 1e-3
@@ -45,7 +50,8 @@ def tool_files(tmp):
     tbl = os.path.join(tmp, "tools.tbl")
     with open(tbl, "w") as f:
         for t in range(1, 100):
-            f.write("T%d P%d D6.0 Z0 ;\n" % (t, t))
+            # rs274 (standalone) reads the tool table in inches: 6 mm.
+            f.write("T%d P%d D%.17g Z0 ;\n" % (t, t, 6.0 / 25.4))
     machine = os.path.join(tmp, "machine.toml")
     with open(machine, "w") as f:
         f.write("[tools]\n")
@@ -153,7 +159,8 @@ def run_kezuri(program, binary, machine, timeout, emit="csv"):
     cmd = [binary, "run", os.path.basename(program.path), "--emit", emit, "--machine", machine]
     cmd += program.kezuri_flags()
     if emit == "linuxcnc":
-        cmd += ["--digits", "6"]
+        # The tool centre, as rs274 prints it (G41/G42 applied, G40).
+        cmd += ["--digits", "6", "--apply-comp"]
     try:
         p = subprocess.run(cmd, cwd=os.path.dirname(program.path), capture_output=True, text=True,
                            timeout=timeout, stdin=subprocess.DEVNULL, errors="replace")
@@ -323,6 +330,8 @@ def main():
     ap.add_argument("--no-linuxcnc", action="store_true", help="leave out LinuxCNC's installed examples")
     ap.add_argument("--timeout", type=float, default=20.0)
     ap.add_argument("--only", default=None, help="programs whose label contains this")
+    ap.add_argument("--file", action="append", default=[],
+                    help="compare this LinuxCNC program instead of the corpus (repeatable)")
     a = ap.parse_args()
     if shutil.which("rs274") is None:
         print("rs274 not found: LinuxCNC comparison skipped "
@@ -332,7 +341,10 @@ def main():
     if not os.path.exists(binary):
         print("kezuri binary not found at %s" % binary)
         return
-    programs = [p for p in all_programs(not a.no_linuxcnc) if a.only is None or a.only in p.label]
+    if a.file:
+        programs = [Program(os.path.abspath(f), "file/" + os.path.basename(f), "file", "units") for f in a.file]
+    else:
+        programs = [p for p in all_programs(not a.no_linuxcnc) if a.only is None or a.only in p.label]
     tmp = tempfile.mkdtemp(prefix="rs274cmp-")
     try:
         tbl, machine = tool_files(tmp)
@@ -345,7 +357,7 @@ def main():
         print(json.dumps({"programs": len(results), "counts": counts, "results": results}, ensure_ascii=False))
         return
     print("rs274 vs kezuri: %d programs: %s" % (len(results), ", ".join("%s %d" % (k, counts[k]) for k in order)))
-    for origin in ("shop/", "linuxcnc/"):
+    for origin in ("shop/", "linuxcnc/", "file/"):
         sub = [r for r in results if r["program"].startswith(origin)]
         if sub:
             print("  %-9s %s" % (origin[:-1], ", ".join("%s %d" % (k, sum(r["status"] == k for r in sub)) for k in order)))

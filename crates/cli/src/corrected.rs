@@ -20,6 +20,7 @@ pub fn run_to_correct(run: &RunOptions, check: impl FnOnce(&Ran) -> Result<()>) 
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }
+    crate::program::refuse_comp(&ran, &run.file, "a correction moves")?;
     check(&ran)?;
     if let Some((axis, line)) = crate::program::missing_axes(&ran.outcome.toolpath, &ran.machine.kinematics).first() {
         bail!("{name}: line {line}: the program moves {axis}, which the machine has not");

@@ -13,6 +13,9 @@
 //! lengths = { 1 = 100.5, 21 = 87.25 }    # H registers, mm
 //! radii = { 1 = 3.0 }                    # D registers, mm
 //!
+//! [comp]                                 # cutter compensation (G41/G42)
+//! startup = "A"                          # Fanuc start-up/cancel type A or B
+//!
 //! [offsets]
 //! G54 = [0, 0, 0]                        # machine position of each work zero
 //! home = [0, 0, 0]                       # G28 reference point (machine)
@@ -52,6 +55,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_geom::{Axes, Dynamics};
+use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
@@ -65,6 +69,8 @@ struct File {
     tools: Tools,
     #[serde(default)]
     offsets: BTreeMap<String, Vec<f64>>,
+    #[serde(default)]
+    comp: CompFile,
     kinematics: Option<Chains>,
     #[serde(default, rename = "macro")]
     macro_variables: Macro,
@@ -249,6 +255,25 @@ struct Tools {
     radii: BTreeMap<String, f64>,
 }
 
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct CompFile {
+    /// Fanuc's start-up and cancel type: "A" or "B".
+    startup: Option<String>,
+}
+
+/// The Fanuc compensation rules the file's `[comp] startup` asks for
+/// (type A when it names none).
+fn comp_rules(c: &CompFile) -> Result<Rules> {
+    let startup = match c.startup.as_deref().map(str::trim) {
+        None => Approach::A,
+        Some(t) if t.eq_ignore_ascii_case("A") => Approach::A,
+        Some(t) if t.eq_ignore_ascii_case("B") => Approach::B,
+        Some(t) => bail!("comp.startup: '{t}' is not a start-up type: \"A\" or \"B\""),
+    };
+    Ok(Rules::Fanuc { startup })
+}
+
 /// A machine: its dynamics, what it tells the interpreter, its axes.
 pub struct Machine {
     /// For the cycle time.
@@ -328,6 +353,7 @@ impl Machine {
             macro_variables: macro_variables(&file.macro_variables)?,
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
             cycles: cycle_settings(&file.cycles)?,
+            comp_rules: comp_rules(&file.comp)?,
             ..Settings::default()
         };
         settings.check().map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -385,6 +411,9 @@ mod tests {
         assert_eq!(l.settings.coords.reference_points[2].x, 1.0);
         assert!(Machine::parse("[coordinates]\ncontrol = \"okuma\"").is_err());
         assert!(Machine::parse("[offsets]\nref5 = [1]").is_err());
+        assert_eq!(m.settings.comp_rules, Rules::Fanuc { startup: Approach::A });
+        let b = Machine::parse("[comp]\nstartup = \"b\"").unwrap();
+        assert_eq!(b.settings.comp_rules, Rules::Fanuc { startup: Approach::B });
         // The mill-turn: B -90 swings the tip 50 mm below the pivot to +X.
         let tip = m.kinematics.forward(&[0.0, 0.0, 0.0, 0.0, -90.0, 0.0]);
         assert!((tip[0] - 50.0).abs() < 1e-9 && tip[1].abs() < 1e-9 && (tip[2] - 120.0).abs() < 1e-9, "{tip:?}");
@@ -408,6 +437,7 @@ mod tests {
         assert!(Machine::parse("[motion]\nacceleration_mm_s2 = -1").is_err());
         assert!(Machine::parse("[motion]\nrapid = 1").is_err());
         assert!(Machine::parse("[offsets]\nG60 = [1]").is_err());
+        assert!(format!("{:#}", Machine::parse("[comp]\nstartup = \"C\"").err().unwrap()).contains("'C'"));
         for (text, words) in [
             ("[kinematics]\ntool = [\"X\", \"Y\", \"Q\"]", "'Q' is not an axis"),
             ("[kinematics]\ntool = [\"X\", \"Y\"]", "no Z axis"),

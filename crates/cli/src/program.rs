@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_geom::{cycle_time, MoveKind, Toolpath};
+use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 use kezuri_post::kinematics::{Kinematics, AXES};
@@ -79,12 +80,31 @@ impl Ran {
 }
 
 /// Reads, parses and runs the program; returns parse diagnostics apart.
+/// A cutter compensation register the tool table lacks is a warning
+/// (radius 0).
 pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_text(o, read_text(&o.file)?)
 }
 
+/// [`read_and_run`] where the tool-centre path is needed (a simulation, a
+/// program written with the compensation applied): a cutter compensation
+/// register the tool table lacks is an error.
+pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_program(o, read_text(&o.file)?, true)
+}
+
 /// [`read_and_run`] on the program's text, read already.
 pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_program(o, text, false)
+}
+
+/// Whether `o` reads a LinuxCNC program: a `.ngc` file, or axis words
+/// without a decimal point read as whole units.
+fn linuxcnc(o: &RunOptions) -> bool {
+    matches!(o.no_decimal, NoDecimal::Units) || o.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("ngc"))
+}
+
+fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
     let machine = match &o.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
@@ -94,6 +114,10 @@ pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> 
             NoDecimal::Increments => IntegerInput::Increments,
             NoDecimal::Units => IntegerInput::Units,
         },
+        // Cutter compensation by the dialect: LinuxCNC's, or Fanuc's with
+        // the machine file's start-up type.
+        comp_rules: if linuxcnc(o) { Rules::LinuxCnc } else { machine.settings.comp_rules },
+        radii_required,
         clock_seed: o.clock_seed,
         step_limit: o.step_limit,
         block_delete: o.block_delete,
@@ -283,6 +307,13 @@ pub struct WriteArgs {
     /// Also draw the toolpath (top and front view) to this SVG file.
     #[arg(long, value_name = "FILE.svg")]
     svg: Option<PathBuf>,
+    /// Write the tool-centre path of cutter radius compensation (G41/G42)
+    /// with the compensation off (G40), the radii from the machine file's
+    /// [tools] radii, for controls and simulators without compensation
+    /// (GRBL, RML-1). Without it Fanuc and LinuxCNC output keeps G41/G42 D
+    /// as programmed, for the control's own D register.
+    #[arg(long)]
+    pub apply_comp: bool,
 }
 
 impl WriteArgs {
@@ -298,18 +329,54 @@ impl WriteArgs {
 }
 
 /// `kezuri run`: the motions of the program, as a program again or as CSV.
+///
+/// With cutter radius compensation, Fanuc and LinuxCNC output is the
+/// programmed contour with its G41/G42 D and G40 blocks; CSV, the SVG and
+/// `--apply-comp` output the tool-centre path; GRBL and RML-1, which have
+/// no compensation, need `--apply-comp`.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
-    let (ran, parse_diagnostics) = read_and_run(o)?;
+    let (ran, parse_diagnostics) = if w.apply_comp { read_and_run_centre(o)? } else { read_and_run(o)? };
     ran.print_diagnostics(&parse_diagnostics);
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
     }
     let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-    write_toolpath(&ran.outcome.toolpath, &title, w)
+    let centre = &ran.outcome.toolpath;
+    let written = match (&ran.outcome.programmed, w.emit) {
+        (Some(p), Emit::Fanuc | Emit::Linuxcnc) if !w.apply_comp => p,
+        (Some(_), Emit::Grbl | Emit::Rml) if !w.apply_comp => bail!(
+            "{}: the program uses cutter radius compensation (G41/G42), which {} has not: give --apply-comp to \
+             write the tool centre path (radii from the machine file's [tools] radii)",
+            o.file.display(),
+            if matches!(w.emit, Emit::Grbl) { "GRBL" } else { "RML-1" }
+        ),
+        _ => centre,
+    };
+    write_program(written, centre, &title, w)
+}
+
+/// Refuses a program that uses cutter radius compensation for a command
+/// (`what`) that changes its motions: they are the tool-centre path, which
+/// `kezuri run --apply-comp` writes out first.
+pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
+    if ran.outcome.programmed.is_some() {
+        bail!(
+            "{}: the program uses cutter radius compensation (G41/G42): {what} the tool centre path, so write it first \
+             with `kezuri run {} --apply-comp --machine M.toml -o centre.nc` and give that program",
+            file.display(),
+            file.display()
+        );
+    }
+    Ok(())
 }
 
 /// Writes `path` as `w` asks: a program in a dialect or CSV, and the SVG.
 pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
+    write_program(path, path, title, w)
+}
+
+/// [`write_toolpath`] with the SVG drawing `drawn`.
+fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
     let text = match w.emit {
         Emit::Csv => kezuri_nc::write::csv(path),
         Emit::Rml => kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?,
@@ -334,7 +401,7 @@ pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()>
     };
     write_output(w.output.as_deref(), text.as_bytes())?;
     if let Some(svg) = &w.svg {
-        write_output(Some(svg), crate::plot::svg(path, title).as_bytes())?;
+        write_output(Some(svg), crate::plot::svg(drawn, title).as_bytes())?;
     }
     Ok(())
 }

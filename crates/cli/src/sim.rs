@@ -17,7 +17,7 @@ use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
 use serde_json::json;
 
 use crate::files::{write_output, write_output_with};
-use crate::program::{read_and_run, RunOptions};
+use crate::program::{read_and_run_centre, RunOptions};
 
 /// Options of `kezuri sim`.
 #[derive(Args, Debug)]
@@ -146,7 +146,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let stock = args.stock.as_deref().map(parse_stock).transpose()?;
 
-    let (ran, parse_diagnostics) = read_and_run(&args.run)?;
+    let (ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
     ran.print_diagnostics(&parse_diagnostics);
     let file = args.run.file.display().to_string();
     if ran.errors() > 0 {

@@ -116,6 +116,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }
+    crate::program::refuse_comp(&ran, &a.run.file, "texturing changes")?;
     let path = &ran.outcome.toolpath;
     let cutting: Vec<u32> = path.moves.iter().filter(|m| is_textured(m)).map(|m| m.line).collect();
     if cutting.is_empty() {

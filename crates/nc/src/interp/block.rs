@@ -2,7 +2,7 @@
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 
-use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, RadiusComp, Units};
+use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, Units};
 use super::value::Value;
 use super::vars::Locals;
 use super::{IntegerInput, ModalCall, State};
@@ -315,6 +315,7 @@ impl State {
     pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
         let block = &program.blocks[pc as usize];
         let (span, line) = (block.span, block.line);
+        self.comp_block(span, line);
         let mut w = Words::new(program.words(block), block.span.file);
         self.gather(program, &mut w)?;
         self.blocks += 1;
@@ -395,6 +396,7 @@ impl State {
         }
 
         self.feed_speed_tool(&w);
+        self.comp_register(w.get(b'D'), w.span(b'D'))?;
         let mut end = None;
         for &(m, mspan) in &w.m[..w.m_count] {
             match m {
@@ -482,12 +484,8 @@ impl State {
             GCode::Distance(d) => self.modal.distance = d,
             GCode::FeedMode(f) => self.modal.feed_mode = f,
             GCode::Units(u) => self.modal.units = u,
-            GCode::RadiusComp(c) => {
-                if c != RadiusComp::Off {
-                    self.warn("radius-comp", gspan, "cutter radius compensation (G41/G42) is recognised but not simulated: the path is the programmed one");
-                }
-                self.modal.radius_comp = c;
-            }
+            GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), gspan)?,
+            GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::LengthComp(positive) => {
                 let h = w.get(b'H').map_or(Ok(0), |h| whole(h, w.span(b'H'), "H number"))?;
                 if !self.settings.tool_lengths.contains_key(&h) {
@@ -637,6 +635,7 @@ impl State {
             named,
             relative,
         };
+        self.comp_tag();
         self.toolpath.push(m);
         self.tip = end;
         self.settle_program(kind, start);

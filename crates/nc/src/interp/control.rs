@@ -106,6 +106,14 @@ impl<'a> Interp<'a> {
     }
 
     pub(super) fn finish(mut self) -> Outcome {
+        let compensated = self.st.comp_finish();
+        let programmed = compensated.map(|c| {
+            if let Some(alarm) = c.alarm {
+                self.st.diagnostics.push(alarm);
+                self.completed = false;
+            }
+            c.programmed
+        });
         let mut summary: Vec<_> = self.st.warned.iter().filter(|(_, &n)| n > super::WARNINGS_PER_KIND).collect();
         summary.sort();
         for (kind, n) in summary {
@@ -117,6 +125,7 @@ impl<'a> Interp<'a> {
         }
         Outcome {
             toolpath: self.st.toolpath,
+            programmed,
             diagnostics: self.st.diagnostics,
             prints: self.st.prints,
             blocks: self.st.blocks,

@@ -426,7 +426,6 @@ impl State {
     }
 
     /// Whether G41/G42 are swapped by a mirror image (for compensation).
-    #[allow(dead_code)]
     pub(super) fn comp_side_swapped(&self) -> bool {
         self.coords.reverses(self.modal.plane)
     }

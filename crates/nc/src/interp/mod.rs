@@ -16,6 +16,7 @@ mod control;
 mod coords;
 mod cycle;
 mod modal;
+mod radius;
 mod signals;
 mod value;
 mod vars;
@@ -62,8 +63,15 @@ pub struct Settings {
     pub block_delete: bool,
     /// Tool length offsets by H number (mm).
     pub tool_lengths: BTreeMap<u32, f64>,
-    /// Tool radius offsets by D number (mm).
+    /// Tool radius offsets by D number (mm); with LinuxCNC rules by tool
+    /// number (`G41 D<tool>`, or the loaded tool's).
     pub tool_radii: BTreeMap<u32, f64>,
+    /// Which control's cutter radius compensation (G41/G42) to reproduce.
+    pub comp_rules: comp::Rules,
+    /// `true` where the tool-centre path is needed (a simulation, a program
+    /// written with the compensation applied): a compensation register the
+    /// tool table lacks is then an error. `false`: a warning, and radius 0.
+    pub radii_required: bool,
     /// Work offsets G54 … G59, machine coordinates of each work zero.
     pub work_offsets: [Axes; 6],
     /// Machine position of the reference point that G28 returns to.
@@ -99,6 +107,8 @@ impl Default for Settings {
             block_delete: false,
             tool_lengths: BTreeMap::new(),
             tool_radii: BTreeMap::new(),
+            comp_rules: comp::Rules::default(),
+            radii_required: false,
             work_offsets: [Axes::ZERO; 6],
             home: Axes::ZERO,
             cycles: CycleSettings::default(),
@@ -128,8 +138,16 @@ impl Library for NoLibrary {
 /// What a run produced.
 #[derive(Clone, Debug, Default)]
 pub struct Outcome {
-    /// The motions, in order.
+    /// The motions, in order: with cutter radius compensation (G41/G42)
+    /// the tool-centre path.
     pub toolpath: Toolpath,
+    /// With cutter radius compensation, the programmed contour (the tool
+    /// tip as programmed) and the G41/G42 D and G40 blocks kept for a
+    /// G-code writer ([`Kept`] blocks before the start-up and cancel
+    /// moves), so the control applies its own D register. `None` when no
+    /// move was made with compensation on: `toolpath` is then the
+    /// programmed path.
+    pub programmed: Option<Toolpath>,
     /// Warnings, and the error that stopped the run if it did not end.
     pub diagnostics: Vec<Diagnostic>,
     /// Lines written by `DPRNT`.
@@ -225,6 +243,8 @@ struct State {
     at_line: u32,
     clock: Clock,
     toolpath: Toolpath,
+    /// Cutter radius compensation: tags and spans of the moves.
+    radius: radius::Radius,
     diagnostics: Vec<Diagnostic>,
     warned: HashMap<&'static str, u32>,
     prints: Vec<String>,
@@ -269,6 +289,7 @@ impl State {
             at: Span::default(),
             at_line: 0,
             toolpath: Toolpath { unknown_start: true, ..Toolpath::default() },
+            radius: radius::Radius::default(),
             diagnostics: Vec::new(),
             warned: HashMap::new(),
             prints: Vec::new(),

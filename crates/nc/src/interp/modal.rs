@@ -42,7 +42,7 @@ pub enum FeedMode {
     PerRev,
 }
 
-/// Group 7: cutter radius compensation (recognised, not simulated).
+/// Group 7: cutter radius compensation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RadiusComp {
     /// G40
@@ -179,6 +179,9 @@ pub enum GCode {
     Skip,
     /// G40 G41 G42
     RadiusComp(RadiusComp),
+    /// G41.1 G42.1 (LinuxCNC): compensation with the cutter's diameter
+    /// given in the block's `D` word instead of a tool table entry.
+    RadiusCompDiameter(RadiusComp),
     /// G43 (`true`) G44 (`false`): tool length offset + or -.
     LengthComp(bool),
     /// G49
@@ -252,6 +255,8 @@ impl GCode {
             400 => RadiusComp(self::RadiusComp::Off),
             410 => RadiusComp(self::RadiusComp::Left),
             420 => RadiusComp(self::RadiusComp::Right),
+            411 => RadiusCompDiameter(self::RadiusComp::Left),
+            421 => RadiusCompDiameter(self::RadiusComp::Right),
             430 => LengthComp(true),
             440 => LengthComp(false),
             490 => LengthCompOff,
@@ -286,7 +291,7 @@ impl GCode {
             Distance(_) => 3,
             FeedMode(_) => 5,
             Units(_) => 6,
-            RadiusComp(_) => 7,
+            RadiusComp(_) | RadiusCompDiameter(_) => 7,
             LengthComp(_) | LengthCompOff => 8,
             CycleOff | CannedCycle(_) => 9,
             CycleReturn(_) => 10,

@@ -144,16 +144,33 @@ impl std::error::Error for CompError {}
 /// move (Fanuc) or after G40 (LinuxCNC), a probe or machine-coordinate move
 /// while compensation is on, or a change of [`Comp`] without G40 between.
 pub fn compensate(moves: &[Move], tags: &[Option<Comp>], rules: Rules) -> Result<Vec<Move>, CompError> {
+    compensate_traced(moves, tags, rules).map(|(out, _)| out)
+}
+
+/// [`compensate`], and for each output move the index of the input move
+/// it comes from (the owner, for a corner move): non-decreasing, so that
+/// anything placed by input index (a kept block) can be placed in the
+/// output.
+///
+/// # Errors
+/// As [`compensate`].
+pub fn compensate_traced(
+    moves: &[Move],
+    tags: &[Option<Comp>],
+    rules: Rules,
+) -> Result<(Vec<Move>, Vec<usize>), CompError> {
     if tags.len() != moves.len() {
         let message = format!("{} compensation tags for {} moves", tags.len(), moves.len());
         return Err(CompError { move_index: tags.len().min(moves.len()), message });
     }
     let mut out = Vec::with_capacity(moves.len() + moves.len() / 2);
+    let mut origin = Vec::with_capacity(out.capacity());
     let mut cur = moves.first().map_or(Axes::ZERO, |m| m.start);
     let mut i = 0;
     while i < moves.len() {
         let Some(comp) = tags[i] else {
             out.push(moves[i]);
+            origin.push(i);
             cur = moves[i].end;
             i += 1;
             continue;
@@ -181,10 +198,10 @@ pub fn compensate(moves: &[Move], tags: &[Option<Comp>], rules: Rules) -> Result
                 Rules::LinuxCnc => linuxcnc::plan(&run)?,
             }
         };
-        emit(&run, &steps, &mut out, &mut cur)?;
+        emit(&run, &steps, &mut out, &mut origin, &mut cur)?;
         i = run.exit.map_or(exit, |x| x + 1);
     }
-    Ok(out)
+    Ok((out, origin))
 }
 
 /// One compensated run and what the planners need of it.
@@ -287,7 +304,13 @@ enum Step {
     Exit { index: usize },
 }
 
-fn emit(run: &Run, steps: &[Step], out: &mut Vec<Move>, cur: &mut Axes) -> Result<(), CompError> {
+fn emit(
+    run: &Run,
+    steps: &[Step],
+    out: &mut Vec<Move>,
+    origin: &mut Vec<usize>,
+    cur: &mut Axes,
+) -> Result<(), CompError> {
     let plane = run.plane;
     let (i, j, _) = plane.axes();
     let named = |m: &Move| AxisSet(m.named.0 | (1 << i) | (1 << j));
@@ -319,6 +342,7 @@ fn emit(run: &Run, steps: &[Step], out: &mut Vec<Move>, cur: &mut Axes) -> Resul
                     if sweep <= MIN_TRAVEL {
                         // Nothing of the arc is left: keep its other axes' travel.
                         out.push(Move { kind: MoveKind::Feed, start, end: with_plane(m.end, plane, end), ..*m });
+                        origin.push(index);
                         *cur = out.last().expect("pushed").end;
                         continue;
                     }
@@ -366,6 +390,7 @@ fn emit(run: &Run, steps: &[Step], out: &mut Vec<Move>, cur: &mut Axes) -> Resul
             return Err(Alarm::Numeric.at(index, run.rules));
         }
         out.push(m);
+        origin.push(index);
         *cur = m.end;
     }
     Ok(())

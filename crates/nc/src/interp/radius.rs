@@ -1,0 +1,282 @@
+//! Cutter radius compensation in the interpreter: G40 / G41 / G42 (and
+//! LinuxCNC's G41.1 / G42.1) with the D register, recorded as a tag per
+//! move while the program runs; at the end of the run
+//! [`comp::compensate_traced`] turns the programmed tool-tip path into the
+//! tool-centre path.
+//!
+//! The run's [`Outcome::toolpath`](super::Outcome::toolpath) is the
+//! tool-centre path (what a simulation, the bounds and a CSV dump need);
+//! [`Outcome::programmed`](super::Outcome::programmed) keeps the programmed
+//! contour with the G41/G42 D and G40 blocks as [`Kept`] blocks for a
+//! G-code writer, so that the control applies its own D register (which
+//! holds the wear). `docs/cutter-compensation.md` has the rules.
+
+use kezuri_geom::{Kept, Toolpath};
+
+use super::comp::{compensate_traced, Comp, Rules, Side};
+use super::modal::{RadiusComp, Units};
+use super::State;
+use crate::source::{Diagnostic, Span};
+
+/// What the interpreter records for cutter compensation.
+#[derive(Debug, Default)]
+pub(super) struct Radius {
+    /// The block being executed: its span and 1-based line.
+    block: (Span, u32),
+    /// The compensation in force, while G41/G42 is.
+    on: Option<On>,
+    /// The modal D word (Fanuc: the offset number in force).
+    d: Option<u32>,
+    /// Index of the first recorded move: the first one made after
+    /// compensation was first turned on. Nothing is recorded before, so a
+    /// program without G41/G42 pays nothing.
+    since: Option<usize>,
+    /// The compensation in force for each move from `since` on.
+    tags: Vec<Option<Comp>>,
+    /// The block that made each move from `since` on, for located alarms.
+    spans: Vec<Span>,
+    /// The G41/G42 D and G40 blocks for the writer of the programmed
+    /// contour, each with its place in `Toolpath::kept` when it was read.
+    marks: Vec<(usize, Kept)>,
+}
+
+/// Compensation in force.
+#[derive(Clone, Copy, Debug)]
+struct On {
+    side: Side,
+    /// The signed radius in mm.
+    radius: f64,
+    /// Fanuc: the D register whose value `radius` is; a new D word changes
+    /// it. `None` where the radius does not follow the D word (LinuxCNC).
+    register: Option<u32>,
+}
+
+/// What the end of a run makes of the recorded moves.
+pub(super) struct Compensated {
+    /// The programmed contour with the compensation blocks kept.
+    pub programmed: Toolpath,
+    /// The alarm that stops the run, located at the block of its move.
+    pub alarm: Option<Diagnostic>,
+}
+
+impl State {
+    /// Hook: the block at `span` (line `line`) starts executing.
+    pub(super) fn comp_block(&mut self, span: Span, line: u32) {
+        self.radius.block = (span, line);
+    }
+
+    /// G40, G41, G42, or with `diameter` G41.1 / G42.1, with the block's D
+    /// word `d` (written at `dspan`); `gspan` is the G word.
+    pub(super) fn comp_code(
+        &mut self,
+        code: RadiusComp,
+        diameter: bool,
+        d: Option<f64>,
+        dspan: Span,
+        gspan: Span,
+    ) -> Result<(), Diagnostic> {
+        let rules = self.settings.comp_rules;
+        let linuxcnc = rules == Rules::LinuxCnc;
+        let side = match code {
+            RadiusComp::Off => {
+                if self.radius.on.take().is_some() {
+                    self.comp_mark("G40".into());
+                }
+                self.modal.radius_comp = RadiusComp::Off;
+                return Ok(());
+            }
+            RadiusComp::Left => Side::Left,
+            RadiusComp::Right => Side::Right,
+        };
+        let name = format!("G4{}{}", if side == Side::Left { 1 } else { 2 }, if diameter { ".1" } else { "" });
+        if diameter && !linuxcnc {
+            return Err(Diagnostic::error(
+                gspan,
+                format!("{name} (cutter compensation by a diameter in D) is LinuxCNC's: these are Fanuc rules, where G41/G42 take the D register"),
+            ));
+        }
+        if linuxcnc && self.radius.on.is_some() {
+            return Err(Diagnostic::error(gspan, "Cannot turn cutter radius comp on when on"));
+        }
+        let at = if d.is_some() { dspan } else { gspan };
+        let (radius, register, text) = if diameter {
+            let Some(d) = d else {
+                return Err(Diagnostic::error(gspan, format!("{name} needs D, the cutter diameter")));
+            };
+            let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
+            let mm = if self.modal.units == Units::Inch { d * 25.4 } else { d };
+            (mm / 2.0, None, format!("{units} {name} D{}", crate::write::number(d, 6)))
+        } else {
+            let n = d.map(|d| register_number(d, at, linuxcnc)).transpose()?;
+            if !linuxcnc && n.is_some() {
+                self.radius.d = n;
+            }
+            let register = match (linuxcnc, n) {
+                (true, Some(n)) => n,
+                // LinuxCNC without D: the loaded tool's radius.
+                (true, None) => self.tool,
+                (false, _) => {
+                    match self.radius.d {
+                        Some(n) => n,
+                        None => {
+                            self.warn("radius", gspan, format!("{name} without a D word, and none before: offset D00, radius 0, the programmed path"));
+                            0
+                        }
+                    }
+                }
+            };
+            let radius = self.register_radius(register, at, linuxcnc)?;
+            let text = match n.or(self.radius.d.filter(|_| !linuxcnc)) {
+                Some(n) => format!("{name} D{n}"),
+                None => name,
+            };
+            (radius, (!linuxcnc).then_some(register), text)
+        };
+        self.radius.on = Some(On { side, radius, register });
+        self.modal.radius_comp = code;
+        self.comp_mark(text);
+        Ok(())
+    }
+
+    /// Hook, after the block's words are applied: a Fanuc D word changes the
+    /// offset number, and while compensation is on the radius.
+    pub(super) fn comp_register(&mut self, d: Option<f64>, dspan: Span) -> Result<(), Diagnostic> {
+        let Some(d) = d else { return Ok(()) };
+        if self.settings.comp_rules == Rules::LinuxCnc {
+            return Ok(());
+        }
+        let n = register_number(d, dspan, false)?;
+        self.radius.d = Some(n);
+        if let Some(on) = self.radius.on {
+            if on.register.is_some_and(|r| r != n) {
+                let radius = self.register_radius(n, dspan, false)?;
+                self.radius.on = Some(On { radius, register: Some(n), ..on });
+                self.comp_mark(format!("D{n}"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Hook: the move about to be pushed as `toolpath.moves[len]` is made
+    /// with the compensation in force now.
+    pub(super) fn comp_tag(&mut self) {
+        // A programmable mirror on one axis of the plane swaps G41 and G42.
+        let swapped = self.comp_side_swapped();
+        let tag = self.radius.on.map(|on| {
+            let side = match (on.side, swapped) {
+                (side, false) => side,
+                (Side::Left, true) => Side::Right,
+                (Side::Right, true) => Side::Left,
+            };
+            Comp { side, radius: on.radius, plane: self.modal.plane }
+        });
+        if self.radius.since.is_none() {
+            if tag.is_none() {
+                return;
+            }
+            self.radius.since = Some(self.toolpath.moves.len());
+        }
+        self.radius.tags.push(tag);
+        self.radius.spans.push(self.radius.block.0);
+    }
+
+    /// At the end of the run: replaces the toolpath by the tool-centre path
+    /// and returns the programmed contour, or `None` when no move was made
+    /// with compensation on. An alarm cuts both paths before its move.
+    pub(super) fn comp_finish(&mut self) -> Option<Compensated> {
+        let since = self.radius.since?;
+        let rules = self.settings.comp_rules;
+        let mut programmed = self.toolpath.clone();
+        programmed.kept = merge(std::mem::take(&mut programmed.kept), std::mem::take(&mut self.radius.marks));
+        let mut end = self.toolpath.moves.len();
+        let mut alarm = None;
+        let centre = loop {
+            let tags = &self.radius.tags[..end - since];
+            match compensate_traced(&self.toolpath.moves[since..end], tags, rules) {
+                Ok(done) => break Some(done),
+                // A control stops at the alarm: nothing from its move on is made.
+                Err(e) if alarm.is_none() => {
+                    let span = self.radius.spans.get(e.move_index).copied().unwrap_or(self.radius.block.0);
+                    alarm = Some(Diagnostic::error(span, format!("cutter compensation: {}", e.message)));
+                    end = since + e.move_index;
+                }
+                Err(_) => break None,
+            }
+        };
+        if alarm.is_some() {
+            programmed.moves.truncate(end);
+            programmed.kept.retain(|k| k.before <= end);
+            self.toolpath.moves.truncate(end);
+            self.toolpath.kept.retain(|k| k.before <= end);
+        }
+        if let Some((moves, origin)) = centre {
+            // Kept blocks are placed by programmed move index: place them in
+            // the compensated moves by the move each comes from.
+            let place = |b: usize| if b < since { b } else { since + origin.partition_point(|&o| o + since < b) };
+            for k in &mut self.toolpath.kept {
+                let (first, last) = (place(k.before), place(k.before + k.moves));
+                (k.before, k.moves) = (first, last - first);
+            }
+            self.toolpath.moves.truncate(since);
+            self.toolpath.moves.extend(moves);
+        }
+        Some(Compensated { programmed, alarm })
+    }
+
+    /// The radius in register `n` (a D number, or a LinuxCNC tool number);
+    /// 0 for register 0. One the tool table lacks reads 0 with a warning, or
+    /// is an error where the compensated path is needed.
+    fn register_radius(&mut self, n: u32, at: Span, linuxcnc: bool) -> Result<f64, Diagnostic> {
+        if n == 0 {
+            return Ok(0.0);
+        }
+        if let Some(&r) = self.settings.tool_radii.get(&n) {
+            return Ok(r);
+        }
+        let what = if linuxcnc { format!("tool {n}") } else { format!("D{n}") };
+        if self.settings.radii_required {
+            return Err(Diagnostic::error(
+                at,
+                format!("{what} has no radius in the tool table (machine file [tools] radii): the tool centre path cannot be made"),
+            ));
+        }
+        self.warn(
+            "radius",
+            at,
+            format!("{what} has no radius in the tool table (machine file [tools] radii): compensation with radius 0, the programmed path"),
+        );
+        Ok(0.0)
+    }
+
+    /// Keeps a compensation block for the writer of the programmed contour.
+    fn comp_mark(&mut self, text: String) {
+        let before = self.toolpath.moves.len();
+        let kept = Kept { before, moves: 0, text, sets_offsets: false, line: self.radius.block.1 };
+        self.radius.marks.push((self.toolpath.kept.len(), kept));
+    }
+}
+
+/// A D word's value as a register number.
+fn register_number(d: f64, at: Span, linuxcnc: bool) -> Result<u32, Diagnostic> {
+    if linuxcnc && d < 0.0 {
+        return Err(Diagnostic::error(at, "Negative D word tool radius index used"));
+    }
+    if d.fract() != 0.0 || !(0.0..=999.0).contains(&d) {
+        return Err(Diagnostic::error(at, format!("D{d}: an offset number is a whole number from 0 to 999")));
+    }
+    Ok(d as u32)
+}
+
+/// `kept` with each mark inserted at the place it was read at.
+fn merge(kept: Vec<Kept>, marks: Vec<(usize, Kept)>) -> Vec<Kept> {
+    let mut out = Vec::with_capacity(kept.len() + marks.len());
+    let mut marks = marks.into_iter().peekable();
+    for (i, k) in kept.into_iter().enumerate() {
+        while let Some((_, m)) = marks.next_if(|(at, _)| *at <= i) {
+            out.push(m);
+        }
+        out.push(k);
+    }
+    out.extend(marks.map(|(_, m)| m));
+    out
+}
