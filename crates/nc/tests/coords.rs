@@ -325,6 +325,10 @@ fn bad_input_is_located() {
         ("G68 X0. Y0. R10.\nG18\nM30\n", "plane cannot change"),
         ("G68 X0. Y0. R10.\nG18 G02 X1. Z1. R1. F1.\nM30\n", "plane cannot change"),
         ("G51.1\nM30\n", "mirror line"),
+        // No centre, and the tool's position never named: nothing to turn about.
+        ("G68 R30.\nM30\n", "G68 without its centre in XY"),
+        ("G00 X5.\nG68 R30.\nM30\n", "G68 without its centre in Y"),
+        ("G51 P2.\nM30\n", "G51 without its centre in XY"),
     ] {
         assert!(error_with(text, &Settings::default()).contains(words), "{text}");
     }
@@ -333,6 +337,12 @@ fn bad_input_is_located() {
         ..Settings::default()
     };
     assert!(error_with("G68 X0. Y0. R10.\nM30\n", &s).contains("Unknown g code"));
+}
+
+#[test]
+fn g68_without_a_centre_turns_about_the_named_position() {
+    // At (10, 0) G68 R90 turns about (10, 0): X20. Y0. goes to (10, 10).
+    all_close(&ends(&path("G90 G00 X10. Y0.\nG68 R90.\nG01 X20. Y0. F100.\nM30\n"))[1..], &[[10.0, 10.0, 0.0]]);
 }
 
 #[test]

@@ -519,7 +519,7 @@ impl State {
             }
             GCode::Polar(on) => self.coords.polar = on,
             GCode::Rotation(false) => self.coords.rotation = None,
-            GCode::Rotation(true) => self.rotate(w),
+            GCode::Rotation(true) => self.rotate(w, gspan)?,
             GCode::Scaling(false) => self.coords.scale = None,
             GCode::Scaling(true) => self.scaling(w, gspan)?,
             GCode::Mirror(on) => {
@@ -544,9 +544,10 @@ impl State {
 
     /// `G68 α β R`: centre on the plane's axes (absolute; omitted: where the
     /// tool is), R degrees (omitted: 0, parameter 5410).
-    fn rotate(&mut self, w: &Words) {
+    fn rotate(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
         let plane = self.modal.plane;
         let (i, j, _) = plane.axes();
+        self.centre_known(w, &[i, j], gspan, "G68")?;
         let mut c = self.program_position().to_array();
         for k in [i, j] {
             if let Some(v) = w.get(LETTERS[k]) {
@@ -563,11 +564,34 @@ impl State {
             _ => r,
         };
         self.coords.rotation = Some(Rotation { plane, centre: [c[i], c[j]], degrees });
+        Ok(())
+    }
+
+    /// A centre left out is the tool's position (Fanuc); where the program
+    /// has not named that position yet, it is only the machine model's
+    /// guess: an error rather than a rotation about an unknown point.
+    fn centre_known(&self, w: &Words, axes: &[usize], gspan: Span, code: &str) -> Result<(), Diagnostic> {
+        let unknown: String = axes
+            .iter()
+            .filter(|&&k| !w.has(LETTERS[k]) && self.guessed.contains(k))
+            .map(|&k| LETTERS[k] as char)
+            .collect();
+        if unknown.is_empty() {
+            return Ok(());
+        }
+        Err(Diagnostic::error(
+            gspan,
+            format!(
+                "{code} without its centre in {unknown} takes the tool's position for it, which the program has not named yet: give the centre"
+            ),
+        ))
     }
 
     /// `G51 X Y Z P` or `G51 X Y Z I J K`: centre (absolute; omitted: where
     /// the tool is) and factors.
     fn scaling(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
+        let (i, j, _) = self.modal.plane.axes();
+        self.centre_known(w, &[i, j], gspan, "G51")?;
         let p0 = self.program_position().to_array();
         let centre: [f64; 3] = std::array::from_fn(|i| w.get(LETTERS[i]).map_or(p0[i], |v| self.length(v)));
         let mut factor = [1.0; 3];
