@@ -1,0 +1,613 @@
+//! The portability rule over real programs: a program expanded with one
+//! machine file (machine A) and run on another (machine B) makes the same
+//! motions as the source program run on machine B.
+//!
+//! The programs: every program of `corpus/shop` (read as its `SOURCES.tsv`
+//! row says: `no_decimal` `units` or `increments`), the test programs of
+//! `crates/nc/testdata` (`interp`, `seeds`, `write`, `rml`, `fuzz`, `library`),
+//! `samples/*.nc` and `bench/programs`. Each runs as given and with `G10 L2 P1 X.. Y.. Z..` put
+//! after its first line (a work offset the program sets itself).
+//!
+//! For each program that runs to its end on machine A, the run's motions are
+//! written as `kezuri run` writes them (the programmed contour with its
+//! G41/G42 D where the program uses cutter compensation, else the toolpath)
+//! in the Fanuc and the LinuxCNC dialect; the written text is run on machine
+//! B and compared with the source run on machine B: the same number of
+//! moves, the same kinds (arc direction and plane included), ends and arc
+//! centres within 1e-3 mm plus half a unit of the third decimal, dwells
+//! equal, and the same frames (work offset, tool length register).
+//!
+//! Machines A and B differ in everything the rule is about: G54–G59 (far
+//! from zero, different on every axis), tool lengths H1–H99 and radii
+//! D1–D99, and the reference points (G28 and G30 P2–P4).
+//!
+//! Programs that read the machine's state into their motions (`#5221`,
+//! `#5063`, the clock) are not portable by nature: what such an expansion
+//! fixes is the value read on machine A. They are listed in [`KNOWN`] with
+//! the reason, and the test checks they still differ (so a change that makes
+//! them agree shows up).
+//!
+//! `cargo test -p kezuri-nc --test portable_corpus -- --nocapture` prints
+//! every case.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use kezuri_geom::{Axes, MoveKind, Toolpath};
+use kezuri_nc::interp::comp::Rules;
+use kezuri_nc::interp::{self, IntegerInput, Library, Outcome, Settings};
+use kezuri_nc::write::{program, Dialect, WriteOptions};
+use kezuri_nc::{parse, Program, SourceFile, Sources};
+
+/// How far apart two ends may be: 1e-3 mm plus half a unit of the last of
+/// the three decimals written.
+const TOLERANCE: f64 = 1e-3 + 5e-4;
+
+/// The least number of (program, variant) pairs compared: every program
+/// found that runs on machine A and on machine B, as given and with the G10
+/// line. Pinned so that the test cannot pass by comparing nothing.
+const AT_LEAST_COMPARED: usize = 203;
+
+/// Cases (`<program> <variant> <dialect>`, a prefix of the case name) known
+/// to differ, with why. Each must still differ.
+const KNOWN: &[(&str, &str)] = &[
+    (
+        "corpus/shop/cncjs__gcode-toolpath/arc-no-plane.nc as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "corpus/shop/cncjs__gcode-toolpath/arc-xy-plane.nc as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "corpus/shop/cncjs__gcode-toolpath/arc-yz-plane.nc as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "corpus/shop/cncjs__gcode-toolpath/arc-zx-plane.nc as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "corpus/shop/cncjs__cncjs/arc-ijk.gcode as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "corpus/shop/cncjs__cncjs/arc-xz-plane.gcode as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "corpus/shop/cncjs__cncjs/arc-yz-plane.gcode as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "crates/nc/testdata/interp/arcs_radius.nc as given",
+        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
+    ),
+    (
+        "crates/nc/testdata/interp/g10_offsets.nc",
+        "writer: the external offset `G10 L2 P0 Z-1.` is set again and also baked into the positions (`Z0.` written `Z-1.`): 1 mm twice",
+    ),
+    (
+        "crates/nc/testdata/seeds/o2007_thermal.nc",
+        "writer: `G92 X0 Y0 Z0` at the reference point (after `G91 G28`) is baked into the positions with machine A's reference point",
+    ),
+    (
+        "samples/o2007-thermal.nc",
+        "writer: `G92 X0 Y0 Z0` at the reference point (after `G91 G28`) is baked into the positions with machine A's reference point",
+    ),
+    (
+        "bench/programs/comp-linuxcnc.ngc as given Fanuc",
+        "writer: the Fanuc dialect keeps LinuxCNC's `G41.1 D6.`, which Fanuc rules refuse",
+    ),
+    (
+        "bench/programs/comp-linuxcnc.ngc with G10 Fanuc",
+        "writer: the Fanuc dialect keeps LinuxCNC's `G41.1 D6.`, which Fanuc rules refuse",
+    ),
+    (
+        "crates/nc/testdata/interp/set_position_g92.nc as given",
+        "reads the machine: #5003 and #5023 (machine positions) become move ends",
+    ),
+    (
+        "crates/nc/testdata/interp/tool_length_g43.nc",
+        "reads the machine: #5023 (the gauge line's machine Z) becomes move ends",
+    ),
+    (
+        "crates/nc/testdata/interp/work_offsets.nc",
+        "reads the machine: #5001 and #5021 (positions) become move ends",
+    ),
+];
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Subprograms `O####.nc` (or `O#`, `####`, `#` with `.nc`, `.txt`, `.min`
+/// or no extension, as `kezuri`'s library folder) from the program's own
+/// folder, then from the others given.
+struct Folder(Vec<PathBuf>);
+
+impl Library for Folder {
+    fn load(&mut self, number: u32) -> Option<SourceFile> {
+        let stems = [format!("O{number:04}"), format!("O{number}"), format!("{number:04}"), format!("{number}")];
+        for dir in &self.0 {
+            let Ok(entries) = std::fs::read_dir(dir) else { continue };
+            let mut found: Vec<PathBuf> = entries
+                .flatten()
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .filter(|p| {
+                    let stem = p.file_stem().map(|s| s.to_string_lossy().to_uppercase()).unwrap_or_default();
+                    let ext = p.extension().map(|s| s.to_string_lossy().to_lowercase());
+                    stems.contains(&stem) && matches!(ext.as_deref(), None | Some("nc") | Some("txt") | Some("min"))
+                })
+                .collect();
+            found.sort();
+            if let Some(path) = found.into_iter().next() {
+                let text = String::from_utf8_lossy(&std::fs::read(&path).ok()?).into_owned();
+                return Some(SourceFile::new(path.display().to_string(), text));
+            }
+        }
+        None
+    }
+}
+
+/// A program of the corpus and how it is read.
+struct Case {
+    /// Its path from the repository root.
+    name: String,
+    text: String,
+    /// How axis words without a decimal point are read.
+    integer_input: IntegerInput,
+    /// Settings of a `(TEST: …)` comment that are not the machine's.
+    clock_seed: Option<u64>,
+    step_limit: Option<u64>,
+    block_delete: bool,
+    /// Folders subprograms are read from.
+    library: Vec<PathBuf>,
+}
+
+impl Case {
+    /// Cutter compensation rules as `kezuri run` picks them: LinuxCNC's for
+    /// a `.ngc` file or a program read with whole-unit words, else Fanuc's.
+    fn rules(&self) -> Rules {
+        if self.integer_input == IntegerInput::Units || self.name.to_lowercase().ends_with(".ngc") {
+            Rules::LinuxCnc
+        } else {
+            Rules::default()
+        }
+    }
+
+    fn settings(&self, machine: &Settings) -> Settings {
+        let mut s = Settings {
+            integer_input: self.integer_input,
+            comp_rules: self.rules(),
+            clock_seed: self.clock_seed,
+            block_delete: self.block_delete,
+            ..machine.clone()
+        };
+        if let Some(limit) = self.step_limit {
+            s.step_limit = limit;
+        }
+        s
+    }
+}
+
+fn read(path: &Path) -> String {
+    String::from_utf8_lossy(&std::fs::read(path).expect("a program file")).into_owned()
+}
+
+fn relative(path: &Path) -> String {
+    let root = root().canonicalize().unwrap();
+    let path = path.canonicalize().unwrap();
+    path.strip_prefix(&root).unwrap_or(&path).display().to_string()
+}
+
+fn files(dir: &Path, keep: impl Fn(&Path) -> bool) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_file() && keep(p))
+        .collect();
+    out.sort();
+    out
+}
+
+/// Every program of the corpus.
+fn corpus() -> Vec<Case> {
+    let root = root();
+    let mut cases = Vec::new();
+    // corpus/shop, as SOURCES.tsv reads each.
+    let shop = root.join("corpus/shop");
+    let tsv = read(&shop.join("SOURCES.tsv"));
+    let mut header = tsv.lines().next().expect("a header").split('\t');
+    let path_col = header.position(|c| c == "path").expect("a path column");
+    let no_decimal_col = tsv.lines().next().unwrap().split('\t').position(|c| c == "no_decimal").expect("no_decimal");
+    for row in tsv.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let cols: Vec<&str> = row.split('\t').collect();
+        let path = shop.join(cols[path_col]);
+        let integer_input = match cols[no_decimal_col] {
+            "units" => IntegerInput::Units,
+            "increments" => IntegerInput::Increments,
+            other => panic!("{}: no_decimal {other}", cols[path_col]),
+        };
+        cases.push(Case {
+            name: relative(&path),
+            text: read(&path),
+            integer_input,
+            clock_seed: None,
+            step_limit: None,
+            block_delete: false,
+            library: vec![path.parent().unwrap().to_path_buf()],
+        });
+    }
+    // Every program file of corpus/shop has its row.
+    let listed = cases.len();
+    let mut on_disk = 0;
+    for entry in std::fs::read_dir(&shop).unwrap().flatten().filter(|e| e.path().is_dir()) {
+        on_disk += files(&entry.path(), |p| !p.to_string_lossy().ends_with(".upstream")).len();
+    }
+    assert_eq!(listed, on_disk, "corpus/shop: every program has its SOURCES.tsv row");
+
+    // crates/nc/testdata: the interp cases with their (TEST: …) settings.
+    let testdata = root.join("crates/nc/testdata");
+    let library = testdata.join("library");
+    for path in files(&testdata.join("interp"), |p| p.extension().is_some_and(|e| e == "nc")) {
+        let text = read(&path);
+        let mut case = Case {
+            name: relative(&path),
+            text: text.clone(),
+            integer_input: IntegerInput::Increments,
+            clock_seed: None,
+            step_limit: None,
+            block_delete: false,
+            library: vec![path.parent().unwrap().to_path_buf(), library.clone()],
+        };
+        if let Some(start) = text.find("(TEST:") {
+            let end = text[start..].find(')').map_or(text.len(), |e| start + e);
+            for item in text[start + 6..end].split_whitespace() {
+                let (key, value) = item.split_once('=').unwrap_or((item, ""));
+                match key {
+                    "integer-input" if value == "units" => case.integer_input = IntegerInput::Units,
+                    "clock-seed" => case.clock_seed = Some(value.parse().unwrap()),
+                    "step-limit" => case.step_limit = Some(value.parse().unwrap()),
+                    "block-delete" => case.block_delete = true,
+                    // Offsets, lengths, radii and the reference point are the
+                    // machines' below.
+                    _ => {}
+                }
+            }
+        }
+        cases.push(case);
+    }
+    // The other test programs and the samples: `.ngc` read as LinuxCNC does.
+    let mut others = Vec::new();
+    for dir in ["seeds", "write", "rml", "fuzz", "library"] {
+        others.extend(files(&testdata.join(dir), |p| {
+            let name = p.to_string_lossy().to_lowercase();
+            name.ends_with(".nc") || name.ends_with(".ngc")
+        }));
+    }
+    others.extend(files(&root.join("samples"), |p| p.extension().is_some_and(|e| e == "nc")));
+    others.extend(files(&root.join("bench/programs"), |p| p.extension().is_some_and(|e| e == "nc" || e == "ngc")));
+    for path in others {
+        let name = path.to_string_lossy().to_lowercase();
+        // LinuxCNC and GRBL programs read `X10` as 10 mm and `G4 P` in seconds.
+        let ngc = name.ends_with(".ngc") || name.contains(".grbl.") || name.contains(".linuxcnc.");
+        cases.push(Case {
+            name: relative(&path),
+            text: read(&path),
+            integer_input: if ngc { IntegerInput::Units } else { IntegerInput::Increments },
+            clock_seed: None,
+            step_limit: None,
+            block_delete: false,
+            library: vec![path.parent().unwrap().to_path_buf(), library.clone()],
+        });
+    }
+    cases
+}
+
+fn at(x: f64, y: f64, z: f64, a: f64, b: f64, c: f64) -> Axes {
+    Axes::from_array([x, y, z, a, b, c])
+}
+
+/// A machine: `k` = 0 for A, 1 for B. Every offset, length, radius and
+/// reference point differs between the two and between the axes.
+fn machine(k: usize) -> Settings {
+    let s = if k == 0 { 1.0 } else { -1.0 };
+    let mut work_offsets = [Axes::ZERO; 6];
+    for (i, w) in work_offsets.iter_mut().enumerate() {
+        let i = i as f64;
+        *w = if k == 0 {
+            at(-312.345 - 41.0 * i, -157.25 + 23.5 * i, -405.125 - 7.75 * i, 0.0, 0.0, 0.0)
+        } else {
+            at(148.765 + 37.0 * i, 263.5 - 19.25 * i, -268.875 - 11.5 * i, 0.0, 0.0, 0.0)
+        };
+    }
+    let tool_lengths: BTreeMap<u32, f64> =
+        (1..=99).map(|h| (h, if k == 0 { 101.25 + 1.375 * h as f64 } else { 63.5 + 2.125 * h as f64 })).collect();
+    let tool_radii: BTreeMap<u32, f64> =
+        (1..=99).map(|d| (d, if k == 0 { 0.5 + 0.0125 * d as f64 } else { 0.75 + 0.015 * d as f64 })).collect();
+    let mut settings = Settings {
+        tool_lengths,
+        tool_radii,
+        work_offsets,
+        home: at(-510.25 * s + 3.0, -402.75 * s - 7.0, -5.5 + 40.0 * k as f64, 0.0, 0.0, 0.0),
+        ..Settings::default()
+    };
+    for (p, r) in settings.coords.reference_points.iter_mut().enumerate() {
+        let p = p as f64 + 1.0;
+        *r = at(-100.0 * p * s + 1.5, 50.0 * p * s - 2.5, -20.0 * p - 30.0 * k as f64, 0.0, 0.0, 0.0);
+    }
+    settings
+}
+
+/// The line of the G10 variant: machine coordinates of G54's zero.
+const G10: &str = "G10 L2 P1 X-123.456 Y78.9 Z-321.5";
+
+/// The program with [`G10`] after its first line: the first line after a
+/// leading `%` (a G10 before the `O` line would be a program of its own).
+fn with_g10(text: &str) -> String {
+    let mut at = 0;
+    loop {
+        let end = text[at..].find('\n').map_or(text.len(), |e| at + e);
+        let line = text[at..end].trim();
+        if (line.is_empty() || line == "%") && end < text.len() {
+            at = end + 1;
+            continue;
+        }
+        return if end < text.len() {
+            format!("{}\n{G10}\n{}", &text[..end], &text[end + 1..])
+        } else {
+            format!("{text}\n{G10}\n")
+        };
+    }
+}
+
+/// Parses and runs `text`; `Err` with the first error when it does not run
+/// to its end.
+fn run(name: &str, text: &str, library: &mut dyn Library, settings: &Settings) -> Result<Outcome, String> {
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new(name, text));
+    let mut program = Program::default();
+    let parsed = parse(&mut program, file, text);
+    if let Some(d) = parsed.iter().find(|d| d.is_error()) {
+        return Err(d.headline(&sources));
+    }
+    if program.units.is_empty() {
+        return Err("no program".into());
+    }
+    let outcome = interp::run(&mut program, &mut sources, 0, library, settings);
+    if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
+        return Err(d.headline(&sources));
+    }
+    if !outcome.completed {
+        return Err("the run did not complete".into());
+    }
+    Ok(outcome)
+}
+
+/// Settings to read back a program written in `dialect` on `machine`:
+/// LinuxCNC reads `X10` as 10 mm and applies its own compensation rules.
+fn read_back(dialect: Dialect, machine: &Settings) -> Settings {
+    match dialect {
+        Dialect::LinuxCnc => {
+            Settings { integer_input: IntegerInput::Units, comp_rules: Rules::LinuxCnc, ..machine.clone() }
+        }
+        _ => Settings { integer_input: IntegerInput::Increments, comp_rules: Rules::default(), ..machine.clone() },
+    }
+}
+
+fn kind_name(kind: &MoveKind) -> String {
+    match kind {
+        MoveKind::Arc(a) => format!("{} arc in {:?}", if a.ccw { "ccw" } else { "cw" }, a.plane),
+        other => format!("{other:?}"),
+    }
+}
+
+/// The moves that move: a straight move whose end is its start (within
+/// half a unit of the last decimal written) is left out, as the writer
+/// leaves it out (`G01 Z10.` where the tool is at Z10 already, `G43 H1 Z50.`
+/// where the tip stays at Z50).
+fn motions(toolpath: &Toolpath) -> Vec<&kezuri_geom::Move> {
+    toolpath
+        .moves
+        .iter()
+        .filter(|m| {
+            let still = {
+                let (s, e) = (m.start.to_array(), m.end.to_array());
+                (0..6).all(|i| (s[i] - e[i]).abs() < 5e-4)
+            };
+            !(still && matches!(m.kind, MoveKind::Rapid | MoveKind::Feed | MoveKind::Probe))
+        })
+        .collect()
+}
+
+/// The first difference between `want` (the source on B) and `got` (the
+/// written program on B), if any.
+fn first_difference(want: &Toolpath, got: &Toolpath) -> Option<String> {
+    let (w, g) = (motions(want), motions(got));
+    let (w, g) = (&w, &g);
+    for (k, (a, b)) in w.iter().zip(g).enumerate() {
+        let (a, b) = (*a, *b);
+        let same_kind = match (&a.kind, &b.kind) {
+            (MoveKind::Arc(x), MoveKind::Arc(y)) => x.ccw == y.ccw && x.plane == y.plane,
+            // Written in milliseconds (Fanuc) or 3 decimals of a second.
+            (MoveKind::Dwell(x), MoveKind::Dwell(y)) => (x - y).abs() <= 5e-4 + 1e-9,
+            (x, y) => std::mem::discriminant(x) == std::mem::discriminant(y),
+        };
+        let where_ =
+            |m: &kezuri_geom::Move| format!("line {} {} to {:?}", m.line, kind_name(&m.kind), m.end.to_array());
+        if !same_kind {
+            return Some(format!("move {k}: kind {} vs written {}", where_(a), where_(b)));
+        }
+        let (ae, be) = (a.end.to_array(), b.end.to_array());
+        if let Some(i) = (0..6).find(|&i| (ae[i] - be[i]).abs() > TOLERANCE) {
+            return Some(format!(
+                "move {k}: axis {} {} vs {} ({}; written {})",
+                "XYZABC".as_bytes()[i] as char,
+                ae[i],
+                be[i],
+                where_(a),
+                where_(b)
+            ));
+        }
+        if let (MoveKind::Arc(x), MoveKind::Arc(y)) = (&a.kind, &b.kind) {
+            if (0..3).any(|i| (x.center[i] - y.center[i]).abs() > TOLERANCE) {
+                return Some(format!("move {k}: arc centre {:?} vs {:?} ({})", x.center, y.center, where_(a)));
+            }
+        }
+        let (fa, fb) = (want.frame(a), got.frame(b));
+        if fa.work != fb.work
+            || fa.length.map(|l| (l.register, l.negative)) != fb.length.map(|l| (l.register, l.negative))
+        {
+            return Some(format!(
+                "move {k}: frame G{} H{:?} vs written G{} H{:?} ({})",
+                54 + fa.work,
+                fa.length.map(|l| l.register),
+                54 + fb.work,
+                fb.length.map(|l| l.register),
+                where_(a)
+            ));
+        }
+    }
+    if w.len() != g.len() {
+        let extra = if w.len() > g.len() { w[g.len()] } else { g[w.len()] };
+        return Some(format!(
+            "{} moves vs written {} (first unmatched: line {} {} to {:?})",
+            w.len(),
+            g.len(),
+            extra.line,
+            kind_name(&extra.kind),
+            extra.end.to_array()
+        ));
+    }
+    None
+}
+
+/// What became of one case.
+enum Result_ {
+    Same,
+    Differs(String),
+}
+
+#[test]
+fn programs_expanded_on_one_machine_run_the_same_on_another() {
+    let (a, b) = (machine(0), machine(1));
+    let cases = corpus();
+    let mut skipped = Vec::new();
+    let mut compared = 0usize;
+    let mut programs_compared = std::collections::BTreeSet::new();
+    let mut results: Vec<(String, Result_)> = Vec::new();
+    let mut comp_cases = 0usize;
+    for case in &cases {
+        for (variant, text) in [("as given", case.text.clone()), ("with G10", with_g10(&case.text))] {
+            let mut library = Folder(case.library.clone());
+            let on_a = match run(&case.name, &text, &mut library, &case.settings(&a)) {
+                Ok(o) => o,
+                Err(e) => {
+                    skipped.push(format!("{} ({variant}): does not run on machine A: {e}", case.name));
+                    continue;
+                }
+            };
+            let on_b = match run(&case.name, &text, &mut library, &case.settings(&b)) {
+                Ok(o) => o,
+                Err(e) => {
+                    skipped.push(format!("{} ({variant}): does not run on machine B: {e}", case.name));
+                    continue;
+                }
+            };
+            // With cutter compensation the written program is compensated by
+            // the control that reads it: the source on B is compared under
+            // the same rules (Fanuc type A for the Fanuc dialect, LinuxCNC's
+            // for LinuxCNC). Without, the rules change nothing.
+            let reference = |dialect: Dialect| -> Result<Toolpath, String> {
+                let rules = read_back(dialect, &b).comp_rules;
+                if on_b.programmed.is_none() || rules == case.rules() {
+                    return Ok(on_b.toolpath.clone());
+                }
+                let settings = Settings { comp_rules: rules, ..case.settings(&b) };
+                run(&case.name, &text, &mut Folder(case.library.clone()), &settings).map(|o| o.toolpath)
+            };
+            compared += 1;
+            programs_compared.insert(case.name.clone());
+            if on_a.programmed.is_some() {
+                comp_cases += 1;
+            }
+            // What `kezuri run --emit fanuc|linuxcnc` writes.
+            let source = on_a.programmed.as_ref().unwrap_or(&on_a.toolpath);
+            for dialect in [Dialect::Fanuc, Dialect::LinuxCnc] {
+                let label = format!("{} {variant} {dialect:?}", case.name);
+                let options = WriteOptions { dialect, title: Some(case.name.clone()), ..WriteOptions::default() };
+                let written = match program(source, &options) {
+                    Ok(w) => w,
+                    Err(e) => {
+                        results.push((label, Result_::Differs(format!("not written: {e:?}"))));
+                        continue;
+                    }
+                };
+                let result = match (
+                    reference(dialect),
+                    run("written.nc", &written, &mut interp::NoLibrary, &read_back(dialect, &b)),
+                ) {
+                    (Err(e), _) => {
+                        Result_::Differs(format!("the source does not run on B under {dialect:?} rules: {e}"))
+                    }
+                    (_, Err(e)) => Result_::Differs(format!("the written program does not run on B: {e}")),
+                    (Ok(want), Ok(got)) => match first_difference(&want, &got.toolpath) {
+                        None => Result_::Same,
+                        Some(d) => Result_::Differs(d),
+                    },
+                };
+                if let (Result_::Differs(_), Some(dir)) = (&result, std::env::var_os("PORTABLE_DUMP")) {
+                    let stem = label.replace(['/', ' '], "_");
+                    std::fs::write(Path::new(&dir).join(format!("{stem}.written")), &written).unwrap();
+                }
+                results.push((label, result));
+            }
+        }
+    }
+    for s in &skipped {
+        eprintln!("skipped: {s}");
+    }
+    let mut unexpected = Vec::new();
+    let mut known_seen = vec![false; KNOWN.len()];
+    let mut same = 0;
+    for (label, result) in &results {
+        let known = KNOWN.iter().position(|(prefix, _)| label.starts_with(prefix));
+        match result {
+            Result_::Same => {
+                same += 1;
+                eprintln!("same:    {label}");
+                if let Some(k) = known {
+                    unexpected.push(format!("{label}: listed in KNOWN ({}) but now the same", KNOWN[k].1));
+                }
+            }
+            Result_::Differs(d) => {
+                eprintln!("DIFFERS: {label}: {d}");
+                match known {
+                    Some(k) => known_seen[k] = true,
+                    None => unexpected.push(format!("{label}: {d}")),
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{} programs found, {} (program, variant) pairs compared ({} programs, {} with cutter compensation), \
+         {} skipped; {} written programs of {} the same on machine B",
+        cases.len(),
+        compared,
+        programs_compared.len(),
+        comp_cases,
+        skipped.len(),
+        same,
+        results.len()
+    );
+    for (k, seen) in known_seen.iter().enumerate() {
+        if !seen {
+            unexpected.push(format!("{}: listed in KNOWN ({}) but no such case differs", KNOWN[k].0, KNOWN[k].1));
+        }
+    }
+    assert!(compared >= AT_LEAST_COMPARED, "only {compared} pairs compared, at least {AT_LEAST_COMPARED} expected");
+    assert!(unexpected.is_empty(), "{} cases:\n{}", unexpected.len(), unexpected.join("\n"));
+}
