@@ -22,7 +22,7 @@
 //! ref2 = [0, 0, -10]                     # G30 P2 … P4 reference points
 //!
 //! [coordinates]                          # docs/coordinates.md
-//! control = "fanuc"                      # or "linuxcnc": G52, G53, G90.1
+//! control = "fanuc"                      # or "haas", "linuxcnc": G28, G52, G53, G90.1
 //! rotation_incremental = false           # G68 R follows G91 (Fanuc RIN)
 //!
 //! [cycles]                               # canned cycles
@@ -371,7 +371,8 @@ impl Machine {
             }
         }
         settings.coords.control = match file.coordinates.control.as_deref().map(str::to_ascii_lowercase).as_deref() {
-            None | Some("fanuc") | Some("haas") => Control::Fanuc,
+            None | Some("fanuc") => Control::Fanuc,
+            Some("haas") => Control::Haas,
             Some("linuxcnc") => Control::LinuxCnc,
             Some(other) => bail!("coordinates.control: '{other}' is not fanuc, haas or linuxcnc"),
         };

@@ -6,7 +6,7 @@ use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_geom::{cycle_time, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
-use kezuri_nc::interp::{self, CycleSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
@@ -122,6 +122,10 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
         step_limit: o.step_limit,
         block_delete: o.block_delete,
         cycles: CycleSettings { keep: o.keep_cycles, ..machine.settings.cycles },
+        coords: CoordSettings {
+            control: if linuxcnc(o) { Control::LinuxCnc } else { machine.settings.coords.control },
+            ..machine.settings.coords.clone()
+        },
         ..machine.settings.clone()
     };
     let mut sources = Sources::default();

@@ -5,7 +5,7 @@ use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, Units};
 use super::value::Value;
 use super::vars::Locals;
-use super::{IntegerInput, ModalCall, State};
+use super::{Control, IntegerInput, ModalCall, State};
 use crate::ast::{Program, Word, WordValue};
 use crate::source::{Diagnostic, FileId, Span};
 
@@ -488,7 +488,7 @@ impl State {
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::LengthComp(positive) => {
                 let h = w.get(b'H').map_or(Ok(0), |h| whole(h, w.span(b'H'), "H number"))?;
-                if !self.settings.tool_lengths.contains_key(&h) {
+                if self.tool_length(h).is_none() {
                     let at = if w.has(b'H') { w.span(b'H') } else { gspan };
                     self.warn("offset", at, format!("tool length offset H{h} is not in the tool table: it reads 0"));
                 }
@@ -671,7 +671,24 @@ impl State {
                 self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
                 return Ok(false);
             }
-            Some((code @ (GCode::Home | GCode::OtherHome), _)) => {
+            Some((code @ (GCode::Home | GCode::OtherHome), gspan)) => {
+                let control = self.settings.coords.control;
+                if code == GCode::Home && control == Control::Haas {
+                    // Haas: G28 cancels the tool length offset.
+                    self.modal.length_comp = None;
+                }
+                if code == GCode::Home && !w.any_axis() {
+                    if control == Control::Fanuc {
+                        self.warn("bare-g28", gspan, "G28 without axis words moves nothing on a Fanuc control (Haas and LinuxCNC return every axis): name the axes, e.g. G91 G28 Z0");
+                        return Ok(false);
+                    }
+                    // Haas and LinuxCNC: every axis to the reference point, at once.
+                    let h = self.reference_point(code, w)?.to_array();
+                    let lz = self.length_offset();
+                    let home = Axes::from_array(std::array::from_fn(|i| h[i] - if i == 2 { lz } else { 0.0 }));
+                    self.push_move(MoveKind::Home, home, 0.0, AxisSet::ALL, line);
+                    return Ok(true);
+                }
                 let via = self.target(w);
                 let mut home = self.tip;
                 let (h, mut v) = (self.reference_point(code, w)?.to_array(), home.to_array());
@@ -804,7 +821,14 @@ impl State {
         let whole = |v: Option<f64>| v.filter(|v| v.fract() == 0.0 && *v >= 0.0).map(|v| v as u32);
         match (whole(w.get(b'L')), whole(w.get(b'P'))) {
             (Some(2), Some(p @ 0..=6)) => {
-                let offset = if p == 0 { &mut self.external_offset } else { &mut self.work_offsets[p as usize - 1] };
+                // P0: the external offset on Fanuc, the current work offset on LinuxCNC.
+                let offset = match p {
+                    0 if self.settings.coords.control == Control::LinuxCnc => {
+                        &mut self.work_offsets[self.modal.work_offset]
+                    }
+                    0 => &mut self.external_offset,
+                    _ => &mut self.work_offsets[p as usize - 1],
+                };
                 let mut v = offset.to_array();
                 for (i, &letter) in b"XYZABC".iter().enumerate() {
                     if let Some(value) = w.get(letter) {
@@ -816,20 +840,67 @@ impl State {
                 self.guessed = AxisSet::ALL;
                 Ok(())
             }
-            (Some(1 | 10), Some(h @ 1..=999)) => {
+            (Some(20), Some(p)) if self.settings.coords.control == Control::LinuxCnc && p <= 6 => {
+                // LinuxCNC: the offset such that the tool is where the words say.
+                let index = if p == 0 { self.modal.work_offset } else { p as usize - 1 };
+                let (tip, frame) = (self.tip.to_array(), self.frame_offset().to_array());
+                let mut v = self.work_offsets[index].to_array();
+                let base = self.work_offsets[self.modal.work_offset].to_array();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if let Some(value) = w.get(letter) {
+                        let value = if i < 3 { self.mm(value) } else { value };
+                        v[i] = tip[i] - (frame[i] - base[i]) - value;
+                    }
+                }
+                self.work_offsets[index] = Axes::from_array(v);
+                self.guessed = AxisSet::ALL;
+                Ok(())
+            }
+            (Some(1), Some(t @ 1..=999)) if self.settings.coords.control == Control::LinuxCnc => {
+                // LinuxCNC's tool table: Z the length, R the radius.
+                if let Some(z) = w.get(b'Z') {
+                    let z = self.mm(z);
+                    self.settings.tool_lengths.insert(t, z);
+                    self.length_wear.remove(&t);
+                }
+                if let Some(r) = w.get(b'R') {
+                    let r = self.mm(r);
+                    self.settings.tool_radii.insert(t, r);
+                    self.radius_wear.remove(&t);
+                }
+                Ok(())
+            }
+            (Some(l @ (1 | 10..=13)), Some(n @ 1..=999)) => {
                 let Some(r) = w.get(b'R') else {
-                    return Err(Diagnostic::error(gspan, "G10 L10 needs the offset value in R"));
+                    return Err(Diagnostic::error(gspan, format!("G10 L{l} needs the offset value in R")));
                 };
                 let r = self.mm(r);
-                let old = self.settings.tool_lengths.get(&h).copied().unwrap_or(0.0);
-                self.settings.tool_lengths.insert(h, if incremental { old + r } else { r });
+                // Fanuc tool offset memory: L10 H geometry, L11 H wear, L12 D
+                // geometry, L13 D wear (L1: the one value of memory A).
+                let table = match l {
+                    1 | 10 => &mut self.settings.tool_lengths,
+                    11 => &mut self.length_wear,
+                    12 => &mut self.settings.tool_radii,
+                    _ => &mut self.radius_wear,
+                };
+                let old = table.get(&n).copied().unwrap_or(0.0);
+                table.insert(n, if incremental { old + r } else { r });
                 Ok(())
             }
             (Some(2), _) => Err(Diagnostic::error(gspan, "G10 L2 needs P0 to P6 (P1 = G54 … P6 = G59)")),
-            (Some(1 | 10), _) => Err(Diagnostic::error(gspan, "G10 L10 needs the offset number P1 to P999")),
+            (Some(20), _) if self.settings.coords.control == Control::LinuxCnc => {
+                Err(Diagnostic::error(gspan, "G10 L20 needs P0 to P6 (P0 = the current, P1 = G54 … P6 = G59)"))
+            }
+            (Some(20), _) => Err(Diagnostic::error(
+                gspan,
+                "G10 L20 sets the additional work offsets G54.1 P1–P48, which kezuri does not have yet",
+            )),
+            (Some(l @ (1 | 10..=13)), _) => {
+                Err(Diagnostic::error(gspan, format!("G10 L{l} needs the offset number P1 to P999")))
+            }
             _ => Err(Diagnostic::error(
                 gspan,
-                "this G10 is not supported: L2 (work offsets) and L10/L1 (tool length offsets) are",
+                "this G10 is not supported: L2 and L20 (work offsets), L1 and L10 to L13 (tool offsets) are",
             )),
         }
     }

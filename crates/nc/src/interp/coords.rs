@@ -29,9 +29,12 @@ use crate::source::{Diagnostic, Span};
 /// The control whose rules apply where controls differ.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Control {
-    /// Fanuc (and Haas, which follows it here).
+    /// Fanuc.
     #[default]
     Fanuc,
+    /// Haas: Fanuc's rules, but a G28 without axis words returns every
+    /// axis, and G28 cancels the tool length offset.
+    Haas,
     /// LinuxCNC: G52 shares the G92 offset, G53 under G91 is an error, G90.1
     /// and G91.1 are arc-centre modes; G68, G51, G51.1 and G16 do not exist.
     LinuxCnc,
@@ -338,7 +341,7 @@ impl State {
         for (i, &letter) in LETTERS.iter().enumerate() {
             if let Some(v) = w.get(letter) {
                 p[i] = if i < 3 { self.length(v) } else { v };
-                if self.settings.coords.control == Control::Fanuc {
+                if self.settings.coords.control != Control::LinuxCnc {
                     self.coords.local[i] = 0.0;
                 }
             }
@@ -365,8 +368,8 @@ impl State {
             if let Some(v) = w.get(letter) {
                 let v = if i < 3 { self.length(v) } else { v };
                 match self.settings.coords.control {
-                    Control::Fanuc if incremental => self.coords.local[i] += v,
-                    Control::Fanuc => self.coords.local[i] = v,
+                    Control::Fanuc | Control::Haas if incremental => self.coords.local[i] += v,
+                    Control::Fanuc | Control::Haas => self.coords.local[i] = v,
                     Control::LinuxCnc => {
                         let mut g = self.g92_shift.to_array();
                         g[i] = v;
@@ -381,7 +384,7 @@ impl State {
     pub(super) fn g53_incremental(&mut self, gspan: Span) -> Result<bool, Diagnostic> {
         match self.settings.coords.control {
             Control::LinuxCnc => Err(Diagnostic::error(gspan, "Cannot use G53 incremental (LinuxCNC stops here)")),
-            Control::Fanuc => {
+            Control::Fanuc | Control::Haas => {
                 self.warn(
                     "g53-g91",
                     gspan,

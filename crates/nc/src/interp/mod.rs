@@ -213,6 +213,11 @@ struct State {
     hole: cycle::HoleData,
     /// Holes drilled by canned cycles.
     holes: u64,
+    /// Tool length wear by H number (G10 L11, #10001…), added to the
+    /// geometry in `settings.tool_lengths`.
+    length_wear: BTreeMap<u32, f64>,
+    /// Tool radius wear by D number (G10 L13, #12001…).
+    radius_wear: BTreeMap<u32, f64>,
     /// Axes whose work position comes from the machine model (where the
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
@@ -252,6 +257,14 @@ struct State {
     blocks: u64,
 }
 
+/// Geometry plus wear, where either is set.
+fn sum(geometry: Option<&f64>, wear: Option<&f64>) -> Option<f64> {
+    match (geometry, wear) {
+        (None, None) => None,
+        (g, w) => Some(g.copied().unwrap_or(0.0) + w.copied().unwrap_or(0.0)),
+    }
+}
+
 /// Warnings of one kind shown before the rest are only counted.
 const WARNINGS_PER_KIND: u32 = 5;
 
@@ -269,6 +282,8 @@ impl State {
             skip_position: Axes::ZERO,
             hole: cycle::HoleData::default(),
             holes: 0,
+            length_wear: BTreeMap::new(),
+            radius_wear: BTreeMap::new(),
             guessed: AxisSet::ALL,
             feed_word: 0.0,
             feed_set: false,
@@ -316,9 +331,20 @@ impl State {
     /// Length compensation applied to Z by G43/G44.
     fn length_offset(&self) -> f64 {
         match self.modal.length_comp {
-            Some((sign, h)) => sign * self.settings.tool_lengths.get(&h).copied().unwrap_or(0.0),
+            Some((sign, h)) => sign * self.tool_length(h).unwrap_or(0.0),
             None => 0.0,
         }
+    }
+
+    /// Tool length offset H`h`: its geometry (the tool table) and wear
+    /// (set by the program) added; `None` where neither is set.
+    fn tool_length(&self, h: u32) -> Option<f64> {
+        sum(self.settings.tool_lengths.get(&h), self.length_wear.get(&h))
+    }
+
+    /// Tool radius offset D`d`, geometry and wear added, as [`State::tool_length`].
+    fn tool_radius(&self, d: u32) -> Option<f64> {
+        sum(self.settings.tool_radii.get(&d), self.radius_wear.get(&d))
     }
 
     /// The work offset and tool length offset in effect, for the toolpath.
@@ -329,7 +355,7 @@ impl State {
             length: self.modal.length_comp.map(|(sign, register)| LengthOffset {
                 register,
                 negative: sign < 0.0,
-                value: self.settings.tool_lengths.get(&register).copied().unwrap_or(0.0),
+                value: self.tool_length(register).unwrap_or(0.0),
             }),
         }
     }

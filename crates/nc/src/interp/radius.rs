@@ -230,7 +230,7 @@ impl State {
         if n == 0 {
             return Ok(0.0);
         }
-        if let Some(&r) = self.settings.tool_radii.get(&n) {
+        if let Some(r) = self.tool_radius(n) {
             return Ok(r);
         }
         let what = if linuxcnc { format!("tool {n}") } else { format!("D{n}") };

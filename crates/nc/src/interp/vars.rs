@@ -156,6 +156,8 @@ impl State {
             1000..=9999 => Slot::System(n),
             100..=999 if vars.is_common(n) => Slot::Dense(n as usize - 100),
             _ if vars.is_common(n) => Slot::Sparse(n),
+            // Tool offsets, geometry and wear (where no common range has them).
+            10001..=13999 => Slot::System(n),
             _ => {
                 return Err(format!(
                     "#{n} is not a variable of this machine: its common variables are {} \
@@ -214,6 +216,10 @@ impl State {
         Ok(match n {
             2001..=2200 => self.settings.tool_lengths.get(&(n - 2000)).copied().unwrap_or(0.0),
             2201..=2400 => self.settings.tool_radii.get(&(n - 2200)).copied().unwrap_or(0.0),
+            10001..=10999 => self.length_wear.get(&(n - 10000)).copied().unwrap_or(0.0),
+            11001..=11999 => self.settings.tool_lengths.get(&(n - 11000)).copied().unwrap_or(0.0),
+            12001..=12999 => self.radius_wear.get(&(n - 12000)).copied().unwrap_or(0.0),
+            13001..=13999 => self.settings.tool_radii.get(&(n - 13000)).copied().unwrap_or(0.0),
             3000 => 0.0,
             3001 => self.clock.read_ms(),
             3002 => self.clock.read_ms() / 3_600_000.0,
@@ -264,6 +270,18 @@ impl State {
             }
             2201..=2400 => {
                 self.settings.tool_radii.insert(n - 2200, v);
+            }
+            10001..=10999 => {
+                self.length_wear.insert(n - 10000, v);
+            }
+            11001..=11999 => {
+                self.settings.tool_lengths.insert(n - 11000, v);
+            }
+            12001..=12999 => {
+                self.radius_wear.insert(n - 12000, v);
+            }
+            13001..=13999 => {
+                self.settings.tool_radii.insert(n - 13000, v);
             }
             3001 => self.clock.set_ms(v),
             3002 => self.clock.set_ms(v * 3_600_000.0),

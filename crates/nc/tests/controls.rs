@@ -1,0 +1,112 @@
+//! Where Fanuc, Haas and LinuxCNC differ: a G28 without axis words, and the
+//! forms of G10 (docs/gcode-support.md). Expected positions worked out by
+//! hand in the comments.
+
+use std::collections::BTreeMap;
+
+use kezuri_geom::{Axes, MoveKind, Toolpath};
+use kezuri_nc::interp::{self, Control, CoordSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::{parse, Program, SourceFile, Sources};
+
+fn run_with(text: &str, settings: &Settings) -> Outcome {
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("t.nc", text));
+    let mut program = Program::default();
+    let diagnostics = parse(&mut program, file, text);
+    assert!(!diagnostics.iter().any(|d| d.is_error()), "{}", diagnostics[0].render(&sources));
+    interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings)
+}
+
+fn path(text: &str, settings: &Settings) -> Toolpath {
+    let outcome = run_with(text, settings);
+    let errors: Vec<&str> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.message.as_str()).collect();
+    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
+    outcome.toolpath
+}
+
+fn error(text: &str, settings: &Settings) -> String {
+    let outcome = run_with(text, settings);
+    outcome.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone()).expect("an error")
+}
+
+fn control(control: Control) -> Settings {
+    let integer_input = if control == Control::LinuxCnc { IntegerInput::Units } else { IntegerInput::Increments };
+    Settings {
+        coords: CoordSettings { control, ..CoordSettings::default() },
+        integer_input,
+        home: Axes { x: -400.0, y: -300.0, z: 0.0, ..Axes::ZERO },
+        tool_lengths: BTreeMap::from([(1, 100.0)]),
+        ..Settings::default()
+    }
+}
+
+fn end(t: &Toolpath) -> [f64; 3] {
+    t.moves.last().unwrap().end.xyz()
+}
+
+const BARE_G28: &str = "G90 G54 G00 X10. Y20. Z30.\nG43 H1 Z30.\nG28\nM30\n";
+
+#[test]
+fn a_bare_g28_moves_nothing_on_fanuc_with_a_warning() {
+    let outcome = run_with(BARE_G28, &control(Control::Fanuc));
+    assert!(outcome.completed);
+    assert!(!outcome.toolpath.moves.iter().any(|m| m.kind == MoveKind::Home));
+    assert!(outcome.diagnostics.iter().any(|d| d.message.contains("G28 without axis words moves nothing")));
+}
+
+#[test]
+fn a_bare_g28_returns_every_axis_on_linuxcnc_with_the_length_offset_kept() {
+    // The gauge line goes to the reference point: the tip is 100 below it.
+    let t = path(BARE_G28, &control(Control::LinuxCnc));
+    assert_eq!(t.moves.last().unwrap().kind, MoveKind::Home);
+    assert_eq!(end(&t), [-400.0, -300.0, -100.0]);
+}
+
+#[test]
+fn a_bare_g28_on_haas_returns_every_axis_and_cancels_the_length_offset() {
+    // G28 cancels G43 on a Haas: the tip goes to the reference point itself.
+    let t = path(BARE_G28, &control(Control::Haas));
+    assert_eq!(end(&t), [-400.0, -300.0, 0.0]);
+    assert!(t.frame(t.moves.last().unwrap()).length.is_none());
+}
+
+#[test]
+fn g10_l10_to_l13_set_geometry_and_wear_added() {
+    // H1: geometry 100 (tool table) → L10 R50. → 50, wear L11 R0.2 → 50.2;
+    // G43 H1 Z10. puts the tip at Z 10 with the gauge line at 60.2 (#5023).
+    let text = "G10 L10 P1 R50.\nG10 L11 P1 R0.2\nG10 L12 P2 R3.\nG10 L13 P2 R-0.05\nG90 G00 X0 Y0\nG43 H1 Z10.\n\
+                G00 X#5023 Y#2202 Z#13002\nG00 X#10001 Y#11001 Z#12002\nM30\n";
+    let t = path(text, &control(Control::Fanuc));
+    let m = &t.moves;
+    // #2202 and #13002: D2's geometry 3 (positions are the tool tip's).
+    assert_eq!(m[m.len() - 2].end.xyz(), [60.2, 3.0, 3.0]);
+    // #10001 H1 wear 0.2, #11001 H1 geometry 50, #12002 D2 wear -0.05.
+    let last = m.last().unwrap().end;
+    assert!((last.x - 0.2).abs() < 1e-12 && last.y == 50.0 && last.z == -0.05, "{last:?}");
+}
+
+#[test]
+fn g10_l1_on_linuxcnc_sets_the_tool_table() {
+    // Tool 3: length 25, radius 4; G43 H3 Z0 puts the gauge line at 25.
+    let t = path("G10 L1 P3 Z25 R4\nG43 H3 Z0\nG0 X#5023\nM2\n", &control(Control::LinuxCnc));
+    assert_eq!(t.moves.last().unwrap().end.x, 25.0);
+}
+
+#[test]
+fn g10_l20_on_linuxcnc_makes_the_current_position_the_given_one() {
+    // At machine X 30 (G54 at 0), G10 L20 P1 X10 puts G54's zero at X 20:
+    // G0 X0 goes to machine X 20.
+    let t = path("G90 G54 G0 X30 Y0 Z0\nG10 L20 P1 X10\nG0 X0\nM2\n", &control(Control::LinuxCnc));
+    assert_eq!(end(&t)[0], 20.0);
+    // On LinuxCNC, L2 P0 is the current system (Fanuc: the external offset).
+    let t = path("G90 G55 G0 X0 Y0 Z0\nG10 L2 P0 X5\nG0 X0\nM2\n", &control(Control::LinuxCnc));
+    assert_eq!(end(&t)[0], 5.0);
+}
+
+#[test]
+fn g10_forms_a_control_lacks_are_located_errors() {
+    assert!(error("G10 L20 P1 X10.\nM30\n", &control(Control::Fanuc)).contains("G54.1"));
+    assert!(error("G10 L12 R1.\nM30\n", &control(Control::Fanuc)).contains("G10 L12 needs the offset number"));
+    assert!(error("G10 L11 P1\nM30\n", &control(Control::Fanuc)).contains("needs the offset value in R"));
+    assert!(error("G10 L5 P1 R1.\nM30\n", &control(Control::Fanuc)).contains("not supported"));
+}
