@@ -233,6 +233,7 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             "bounds": {"min": lo, "max": hi},
             "errors": headlines(true),
             "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
+            "machine_values": model_notes(&ran.outcome),
         });
         write_output(None, (value.to_string() + "\n").as_bytes())?;
     } else {
@@ -258,6 +259,9 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
         }
         for m in &missing {
             eprintln!("warning: {m}");
+        }
+        for note in model_notes(&ran.outcome) {
+            text += &format!("  note: {note}\n");
         }
         let warnings = all.iter().filter(|d| !d.is_error()).count() + missing.len();
         text += &format!("  {} errors, {} warnings\n", ran.errors(), warnings);
@@ -356,7 +360,26 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
         ),
         _ => centre,
     };
-    write_program(written, centre, &title, w)
+    let notes = model_notes(&ran.outcome);
+    for note in &notes {
+        eprintln!("warning: {}: {note}", o.file.display());
+    }
+    write_program(written, centre, &title, &notes, w)
+}
+
+/// One line per kind of value the run took from the machine file rather
+/// than from the program: the written program holds this machine's value.
+fn model_notes(outcome: &Outcome) -> Vec<String> {
+    outcome
+        .model_reads
+        .iter()
+        .map(|r| {
+            format!(
+                "#{}, the {} read at line {}, came from the machine file: this program holds that machine's value",
+                r.variable, r.what, r.line
+            )
+        })
+        .collect()
 }
 
 /// Refuses a program that uses cutter radius compensation for a command
@@ -376,11 +399,11 @@ pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
 
 /// Writes `path` as `w` asks: a program in a dialect or CSV, and the SVG.
 pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
-    write_program(path, path, title, w)
+    write_program(path, path, title, &[], w)
 }
 
 /// [`write_toolpath`] with the SVG drawing `drawn`.
-fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
+fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, notes: &[String], w: &WriteArgs) -> Result<()> {
     let text = match w.emit {
         Emit::Csv => kezuri_nc::write::csv(path),
         Emit::Rml => kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?,
@@ -397,6 +420,7 @@ fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, w: &WriteArgs) 
                 inch: w.inch,
                 line_numbers: (w.line_numbers > 0).then_some(w.line_numbers),
                 title: Some(title.to_string()),
+                notes: notes.to_vec(),
                 incremental: w.incremental,
                 ..WriteOptions::default()
             };

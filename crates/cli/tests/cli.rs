@@ -250,3 +250,22 @@ fn machine_file_sets_the_variable_ranges_and_the_input_signals() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("overlaps the local variables"), "{}", stderr(&o));
 }
+
+#[test]
+fn values_taken_from_the_machine_file_are_said_in_check_and_in_the_written_program() {
+    let program = "G90 G54 G00 X0 Y0 Z10.\n#100=#5221\nG01 X#100 F100.\n#101=#3001\nM30\n";
+    let o = kezuri_stdin(&["check", "-", "--json"], program);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let notes: Vec<&str> = v["machine_values"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+    assert_eq!(notes.len(), 2, "{notes:?}");
+    assert!(notes[0].starts_with("#5221, the work offset read at line 2, came from the machine file"), "{notes:?}");
+    assert!(notes[1].starts_with("#3001, the clock read at line 4"), "{notes:?}");
+    let o = kezuri_stdin(&["run", "-"], program);
+    let text = stdout(&o);
+    assert!(text.lines().nth(2).unwrap().starts_with("(#5221, the work offset read at line 2"), "{text}");
+    assert!(stderr(&o).contains("warning: -: #5221"), "{}", stderr(&o));
+    // A program that reads nothing from the machine says nothing.
+    let o = kezuri_stdin(&["run", "-"], "G90 G00 X1. Y1. Z1.\nM30\n");
+    assert!(!stdout(&o).contains("machine file"), "{}", stdout(&o));
+}

@@ -132,6 +132,7 @@ impl<'a> Interp<'a> {
             statements: self.statements,
             completed: self.completed,
             holes: self.st.holes,
+            model_reads: self.st.model_reads,
         }
     }
 

@@ -160,6 +160,23 @@ pub struct Outcome {
     pub completed: bool,
     /// Holes drilled by canned cycles.
     pub holes: u64,
+    /// Values the program read from the machine model rather than from
+    /// itself (a work offset, a tool offset, the machine position, an input
+    /// signal, the clock): the first read of each kind. An expanded program
+    /// holds the value the model gave, which another machine may not.
+    pub model_reads: Vec<ModelRead>,
+}
+
+/// A system variable read whose value came from the machine model.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ModelRead {
+    /// What it is: "work offset", "tool offset", "machine position",
+    /// "input signal", "clock".
+    pub what: &'static str,
+    /// The variable, e.g. 5221.
+    pub variable: u32,
+    /// 1-based source line of the first read.
+    pub line: u32,
 }
 
 /// Runs program unit `main` of `program` and returns the toolpath with its
@@ -218,6 +235,7 @@ struct State {
     length_wear: BTreeMap<u32, f64>,
     /// Tool radius wear by D number (G10 L13, #12001…).
     radius_wear: BTreeMap<u32, f64>,
+    model_reads: Vec<ModelRead>,
     /// Axes whose work position comes from the machine model (where the
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
@@ -284,6 +302,7 @@ impl State {
             holes: 0,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
+            model_reads: Vec::new(),
             guessed: AxisSet::ALL,
             feed_word: 0.0,
             feed_set: false,

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::ops::RangeInclusive;
 
 use super::value::Value;
-use super::State;
+use super::{ModelRead, State};
 use kezuri_geom::{Axes, SplitMix64};
 
 /// Local variables #1–#33 of one call level.
@@ -208,7 +208,23 @@ impl State {
         self.settings.macro_variables.values = values;
     }
 
+    /// Notes the first read of each kind of value the machine model gives.
+    fn note_model_read(&mut self, n: u32) {
+        let what = match n {
+            1000..=1035 => "input signal",
+            2001..=2400 | 10001..=13999 => "tool offset",
+            3001 | 3002 => "clock",
+            5021..=5026 => "machine position",
+            5201..=5326 => "work offset",
+            _ => return,
+        };
+        if !self.model_reads.iter().any(|r| r.what == what) {
+            self.model_reads.push(ModelRead { what, variable: n, line: self.at_line });
+        }
+    }
+
     fn read_system(&mut self, n: u32) -> Result<f64, String> {
+        self.note_model_read(n);
         if let Some(v) = self.read_signal(n) {
             return Ok(v);
         }

@@ -222,6 +222,10 @@ impl Writer {
             push_comment(&mut self.out, t);
             self.out.push('\n');
         }
+        for note in &o.notes {
+            push_comment(&mut self.out, note);
+            self.out.push('\n');
+        }
         self.block();
         self.code(if o.inch { "G20" } else { "G21" });
         self.code(SAFE_START);

@@ -172,6 +172,9 @@ pub struct WriteOptions {
     pub program_number: u32,
     /// A title: the comment on the `O` line (Fanuc) or the first line.
     pub title: Option<String>,
+    /// Comment lines after the title: what the reader of the program must
+    /// know (values the expansion took from the machine file).
+    pub notes: Vec<String>,
     /// Write the motions in incremental coordinates (`G91`) from the first
     /// block at which every axis is known on: see the module documentation.
     pub incremental: bool,
@@ -188,6 +191,7 @@ impl Default for WriteOptions {
             line_numbers: None,
             program_number: 1,
             title: None,
+            notes: Vec::new(),
             incremental: false,
         }
     }
