@@ -192,18 +192,31 @@ impl AxisSet {
 ///
 /// Toolpath positions are machine coordinates of the tool tip, so that
 /// moves made under different offsets share one frame (what a simulation
-/// needs). A writer gets program coordinates back by subtracting `origin`,
-/// and commands the offsets again so the control applies its own values.
-/// Shifts the program makes itself (G92, and the external offset) stay in
-/// the positions.
+/// needs). A writer gets program coordinates back by subtracting
+/// [`Frame::zero`], and commands the offsets again so the control applies
+/// its own values; the shifts the program made itself (G92, G52, the
+/// external offset) it gives again as the program wrote them (kept
+/// blocks), since they depend on where the machine was.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Frame {
     /// Work offset: 0 to 5 for G54 to G59.
     pub work: u8,
     /// Machine coordinates of that work offset's zero.
     pub origin: Axes,
+    /// The shifts in force on top of the work offset: the external offset,
+    /// G92 and G52.
+    pub shift: Axes,
     /// Tool length offset (G43/G44 H); `None` for none (G49).
     pub length: Option<LengthOffset>,
+}
+
+impl Frame {
+    /// Machine coordinates of the program's zero: the work offset's zero
+    /// and the shifts.
+    pub fn zero(&self) -> Axes {
+        let (o, s) = (self.origin.to_array(), self.shift.to_array());
+        Axes::from_array(std::array::from_fn(|k| o[k] + s[k]))
+    }
 }
 
 /// A tool length offset in effect.

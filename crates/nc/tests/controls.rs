@@ -110,3 +110,38 @@ fn g10_forms_a_control_lacks_are_located_errors() {
     assert!(error("G10 L11 P1\nM30\n", &control(Control::Fanuc)).contains("needs the offset value in R"));
     assert!(error("G10 L5 P1 R1.\nM30\n", &control(Control::Fanuc)).contains("not supported"));
 }
+
+#[test]
+fn linuxcnc_rules_where_they_differ_from_fanuc() {
+    let lc = control(Control::LinuxCnc);
+    // G30 without axis words: every axis to the G30 position (at 0 here; the
+    // gauge line there, the tip 100 below with H1).
+    let t = path("G0 X10 Y20 Z30\nG43 H1\nG30\nM2\n", &lc);
+    assert_eq!(end(&t), [0.0, 0.0, -100.0]);
+    // G43 without H takes the tool in the spindle: T1 M6 G43 is H1 (length 100).
+    let t = path("T1 M6\nG43\nG0 X#5023\nM2\n", &lc);
+    assert_eq!(end(&t)[0], 0.0 + 100.0);
+    // G10 L2 ignores G91 on LinuxCNC: G54's X is 5, not 5 + 5.
+    let t = path("G10 L2 P1 X5\nG91 G10 L2 P1 X5\nG90 G0 X0\nM2\n", &lc);
+    assert_eq!(end(&t)[0], 5.0);
+    // G2 P3: three full turns plus the arc: the helix drops 3 in Z over all.
+    let t = path("G0 X10 Y0 Z0\nG2 X10 Y0 Z-3 I-10 J0 P3 F100\nM2\n", &lc);
+    let last = t.moves.last().unwrap();
+    match last.kind {
+        MoveKind::Arc(a) => assert_eq!(a.turns, 2),
+        k => panic!("{k:?}"),
+    }
+    assert!((last.length() - (3.0 * std::f64::consts::TAU * 10.0).hypot(3.0)).abs() < 1e-9);
+    // G98 from an initial level below R returns to R on LinuxCNC.
+    let t = path("G0 X0 Y0 Z1\nG98 G81 X1 Y1 Z-2 R3 F100\nG80\nM2\n", &lc);
+    assert_eq!(t.moves.last().unwrap().end.z, 3.0);
+    // G76 is LinuxCNC's lathe threading cycle.
+    assert!(error("G76 X1 Z-2 R1 Q1 F1\nM2\n", &lc).contains("threading"));
+}
+
+#[test]
+fn m_codes_keep_their_own_words() {
+    let t = path("G90 G00 X0 Y0 Z5.\nM19 R90.\nM62 P1\nG01 X1. M08 F100.\nM30\n", &control(Control::Fanuc));
+    let texts: Vec<&str> = t.kept.iter().map(|k| k.text.as_str()).collect();
+    assert_eq!(texts, ["M19 R90.", "M62 P1"]);
+}

@@ -52,56 +52,12 @@ const AT_LEAST_COMPARED: usize = 203;
 /// to differ, with why. Each must still differ.
 const KNOWN: &[(&str, &str)] = &[
     (
-        "corpus/shop/cncjs__gcode-toolpath/arc-no-plane.nc as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "corpus/shop/cncjs__gcode-toolpath/arc-xy-plane.nc as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "corpus/shop/cncjs__gcode-toolpath/arc-yz-plane.nc as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "corpus/shop/cncjs__gcode-toolpath/arc-zx-plane.nc as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "corpus/shop/cncjs__cncjs/arc-ijk.gcode as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "corpus/shop/cncjs__cncjs/arc-xz-plane.gcode as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "corpus/shop/cncjs__cncjs/arc-yz-plane.gcode as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "crates/nc/testdata/interp/arcs_radius.nc as given",
-        "writer: an arc whose start has an axis the program never named (Z after `G1 X.. Y..` from the start) gets a straight move to machine A's guess of it first (write/blocks.rs `arc`: `away` when a position is unknown, then `straight_to` with AxisSet::ALL)",
-    ),
-    (
-        "crates/nc/testdata/interp/g10_offsets.nc",
-        "writer: the external offset `G10 L2 P0 Z-1.` is set again and also baked into the positions (`Z0.` written `Z-1.`): 1 mm twice",
-    ),
-    (
-        "crates/nc/testdata/seeds/o2007_thermal.nc",
-        "writer: `G92 X0 Y0 Z0` at the reference point (after `G91 G28`) is baked into the positions with machine A's reference point",
-    ),
-    (
-        "samples/o2007-thermal.nc",
-        "writer: `G92 X0 Y0 Z0` at the reference point (after `G91 G28`) is baked into the positions with machine A's reference point",
-    ),
-    (
         "bench/programs/comp-linuxcnc.ngc as given Fanuc",
-        "writer: the Fanuc dialect keeps LinuxCNC's `G41.1 D6.`, which Fanuc rules refuse",
+        "G41.1 D (compensation by a diameter) is LinuxCNC's alone: the Fanuc writer refuses it, with its line",
     ),
     (
         "bench/programs/comp-linuxcnc.ngc with G10 Fanuc",
-        "writer: the Fanuc dialect keeps LinuxCNC's `G41.1 D6.`, which Fanuc rules refuse",
+        "G41.1 D (compensation by a diameter) is LinuxCNC's alone: the Fanuc writer refuses it, with its line",
     ),
     (
         "crates/nc/testdata/interp/set_position_g92.nc as given",
@@ -111,10 +67,7 @@ const KNOWN: &[(&str, &str)] = &[
         "crates/nc/testdata/interp/tool_length_g43.nc",
         "reads the machine: #5023 (the gauge line's machine Z) becomes move ends",
     ),
-    (
-        "crates/nc/testdata/interp/work_offsets.nc",
-        "reads the machine: #5001 and #5021 (positions) become move ends",
-    ),
+    ("crates/nc/testdata/interp/work_offsets.nc", "reads the machine: #5001 and #5021 (positions) become move ends"),
 ];
 
 fn root() -> PathBuf {

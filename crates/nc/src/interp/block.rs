@@ -2,7 +2,7 @@
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 
-use super::modal::{Distance, FeedMode, GCode, ModalCallKind, Motion, Units};
+use super::modal::{Cycle, Distance, FeedMode, GCode, ModalCallKind, Motion, Units};
 use super::value::Value;
 use super::vars::Locals;
 use super::{Control, IntegerInput, ModalCall, State};
@@ -362,6 +362,18 @@ impl State {
         // Modal G codes take effect first, so a modal macro sees them in #4001…
         for &(code, gspan) in codes.iter().flatten() {
             self.apply_modal(code, &w, gspan)?;
+            match (code, self.settings.coords.control) {
+                // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
+                (GCode::Smoothing(80), Control::LinuxCnc) => continue,
+                // LinuxCNC's G5 and G5.1 are splines.
+                (GCode::Smoothing(tenths), Control::LinuxCnc) => {
+                    return Err(Diagnostic::error(
+                        gspan,
+                        format!("{} (a LinuxCNC spline) is not supported yet", g_name(tenths)),
+                    ));
+                }
+                _ => {}
+            }
             if let GCode::Smoothing(tenths) | GCode::PathMode(tenths) = code {
                 // How the control joins and smooths moves: the machine keeps it.
                 let words = w.as_written(b"PQREL");
@@ -419,7 +431,13 @@ impl State {
                 29 => self.hole.rigid = true,
                 // Stops, spindle orientation, clamps, machine-specific
                 // codes: the machine must get them as written.
-                _ => self.keep(format!("M{m:02}"), 0, false, line),
+                _ => {
+                    // Its words with it (`M19 R90.`, `M62 P1`) where the
+                    // block is the M code's alone.
+                    let words = if w.g_count == 0 && !w.any_axis() { w.as_written(b"PQRLE") } else { String::new() };
+                    let text = if words.is_empty() { format!("M{m:02}") } else { format!("M{m:02} {words}") };
+                    self.keep(text, 0, false, line)
+                }
             }
         }
 
@@ -487,7 +505,9 @@ impl State {
             GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::LengthComp(positive) => {
-                let h = w.get(b'H').map_or(Ok(0), |h| whole(h, w.span(b'H'), "H number"))?;
+                // LinuxCNC: G43 without H takes the tool in the spindle.
+                let default = if self.settings.coords.control == Control::LinuxCnc { self.tool } else { 0 };
+                let h = w.get(b'H').map_or(Ok(default), |h| whole(h, w.span(b'H'), "H number"))?;
                 if self.tool_length(h).is_none() {
                     let at = if w.has(b'H') { w.span(b'H') } else { gspan };
                     self.warn("offset", at, format!("tool length offset H{h} is not in the tool table: it reads 0"));
@@ -509,6 +529,9 @@ impl State {
             GCode::CycleOff => self.end_cycle(),
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
             GCode::PathMode(g) => self.modal.path_mode = g,
+            GCode::CannedCycle(Cycle::FineBore) if self.settings.coords.control == Control::LinuxCnc => {
+                return Err(Diagnostic::error(gspan, "LinuxCNC's G76 is a lathe threading cycle: not supported"));
+            }
             GCode::CannedCycle(cycle) => {
                 if self.modal.cycle.is_none() {
                     self.begin_cycle();
@@ -669,7 +692,13 @@ impl State {
                     return Err(Diagnostic::error(gspan, "a dwell time cannot be negative"));
                 }
                 self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
-                return Ok(false);
+                // `G04 P.001 G00 X1. Y1.` (LinuxCNC programs write it): the
+                // dwell, then the block's motion. With X the dwell time,
+                // nothing moves.
+                let motion_code = codes.iter().flatten().any(|(c, _)| matches!(c, GCode::Motion(_)));
+                if !(w.has(b'P') && motion_code && w.any_axis()) {
+                    return Ok(false);
+                }
             }
             Some((code @ (GCode::Home | GCode::OtherHome), gspan)) => {
                 let control = self.settings.coords.control;
@@ -677,9 +706,13 @@ impl State {
                     // Haas: G28 cancels the tool length offset.
                     self.modal.length_comp = None;
                 }
-                if code == GCode::Home && !w.any_axis() {
-                    if control == Control::Fanuc {
-                        self.warn("bare-g28", gspan, "G28 without axis words moves nothing on a Fanuc control (Haas and LinuxCNC return every axis): name the axes, e.g. G91 G28 Z0");
+                let every_axis = match code {
+                    GCode::Home => control != Control::Fanuc,
+                    _ => control == Control::LinuxCnc,
+                };
+                if !w.any_axis() {
+                    if !every_axis {
+                        self.warn("bare-g28", gspan, format!("{} without axis words moves nothing on this control (LinuxCNC returns every axis; Haas too for G28): name the axes, e.g. G91 {} Z0", g_name(if code == GCode::Home { 280 } else { 300 }), g_name(if code == GCode::Home { 280 } else { 300 })));
                         return Ok(false);
                     }
                     // Haas and LinuxCNC: every axis to the reference point, at once.
@@ -722,16 +755,19 @@ impl State {
                 }
                 self.g92_shift = Axes::from_array(g);
                 self.guessed = AxisSet::ALL;
+                self.keep_as_given(w, line);
                 return Ok(false);
             }
             Some((GCode::SetPosition, _)) => {
                 self.set_position(w);
                 self.guessed = AxisSet::ALL;
+                self.keep_as_given(w, line);
                 return Ok(false);
             }
             Some((GCode::LocalOffset, _)) => {
                 self.local_offset(w);
                 self.guessed = AxisSet::ALL;
+                self.keep_as_given(w, line);
                 return Ok(false);
             }
             Some((GCode::MachineCoords, gspan)) if self.modal.distance == Distance::Incremental => {
@@ -766,18 +802,7 @@ impl State {
             }
             Some((GCode::SetOffsets, gspan)) => {
                 self.set_offsets(w, gspan)?;
-                // Its values are in the program's units and G90/G91 mode.
-                let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
-                let distance = if self.modal.distance == Distance::Incremental { "G91" } else { "G90" };
-                self.keep(
-                    format!(
-                        "{units} {distance} {}",
-                        w.text(|l, v| l != b'M' && !(l == b'G' && [20.0, 21.0, 90.0, 91.0].contains(&v)))
-                    ),
-                    0,
-                    true,
-                    line,
-                );
+                self.keep_as_given(w, line);
                 return Ok(false);
             }
             _ => {}
@@ -813,11 +838,24 @@ impl State {
         Ok(true)
     }
 
+    /// Keeps a block that sets offsets or shifts (G10, G92, G52) as the
+    /// program gave it: they depend on where the machine is, so the control
+    /// must set them itself. Its values are in the program's units and
+    /// G90/G91 mode, which the kept text names.
+    fn keep_as_given(&mut self, w: &Words, line: u32) {
+        let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
+        let distance = if self.modal.distance == Distance::Incremental { "G91" } else { "G90" };
+        let words = w.text(|l, v| l != b'M' && !(l == b'G' && [20.0, 21.0, 90.0, 91.0].contains(&v)));
+        self.keep(format!("{units} {distance} {words}"), 0, true, line);
+    }
+
     /// G10 data setting: `L2 P0…6` a work offset (P0 the external offset,
     /// P1 to P6 G54 to G59) from the axis words, `L10 P… R…` (and the older
     /// `L1`) a tool length offset; in G91 the values are added.
     fn set_offsets(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
-        let incremental = self.modal.distance == Distance::Incremental;
+        // In G91 a Fanuc G10 adds to the offset; LinuxCNC ignores G91 here.
+        let incremental =
+            self.modal.distance == Distance::Incremental && self.settings.coords.control != Control::LinuxCnc;
         let whole = |v: Option<f64>| v.filter(|v| v.fract() == 0.0 && *v >= 0.0).map(|v| v as u32);
         match (whole(w.get(b'L')), whole(w.get(b'P'))) {
             (Some(2), Some(p @ 0..=6)) => {
@@ -965,7 +1003,20 @@ impl State {
         }
         let (_, _, n) = plane.axes();
         center[n] = s[n];
-        Ok(Arc { center, plane, ccw, turns: 0 })
+        // LinuxCNC: P is the number of turns (P1 the arc itself).
+        let turns = match w.get(b'P') {
+            Some(p) if self.settings.coords.control == Control::LinuxCnc => {
+                if p.fract() != 0.0 || !(1.0..=10_000.0).contains(&p) {
+                    return Err(Diagnostic::error(
+                        w.span(b'P'),
+                        format!("P{p}: the number of turns of an arc is a whole number from 1"),
+                    ));
+                }
+                p as u32 - 1
+            }
+            _ => 0,
+        };
+        Ok(Arc { center, plane, ccw, turns })
     }
 }
 

@@ -216,6 +216,9 @@ impl State {
     /// The position in program coordinates: what `#5001…` read and what
     /// unnamed axes and increments build on.
     pub(super) fn program_position(&self) -> Axes {
+        if !self.coords.active() {
+            return Axes::from_array(add(self.local_position(), self.coords.delta));
+        }
         Axes::from_array(add(self.coords.inverse(self.local_position()), self.coords.delta))
     }
 
@@ -248,6 +251,21 @@ impl State {
     /// The end point, in machine coordinates, that the axis words ask for;
     /// remembers the program point for [`State::settle_program`].
     pub(super) fn program_target(&mut self, w: &Words) -> Axes {
+        if !self.coords.polar && !self.coords.active() && self.coords.delta == [0.0; 6] {
+            // No transform in force (most blocks of most programs): the
+            // words on the work position, nothing to remember.
+            let (t, o) = (self.tip.to_array(), self.frame_offset().to_array());
+            let mut p = sub(t, o);
+            let incremental = self.modal.distance == Distance::Incremental;
+            for (i, &letter) in LETTERS.iter().enumerate() {
+                if let Some(v) = w.get(letter) {
+                    let v = if i < 3 { self.length(v) } else { v };
+                    p[i] = if incremental { p[i] + v } else { v };
+                }
+            }
+            self.coords.pending = None;
+            return Axes::from_array(add(p, o));
+        }
         let p0 = self.program_position().to_array();
         let mut p = p0;
         let incremental = self.modal.distance == Distance::Incremental;

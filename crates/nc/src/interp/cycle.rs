@@ -17,7 +17,7 @@ use kezuri_geom::{Axes, AxisSet, MoveKind, Spindle};
 
 use super::block::Words;
 use super::modal::{Cycle, CycleReturn, Distance, Units};
-use super::{IntegerInput, State};
+use super::{Control, IntegerInput, State};
 use crate::source::{Diagnostic, Span};
 
 /// Settings of the canned cycles that a control keeps in parameters.
@@ -194,7 +194,13 @@ impl State {
             }
             let feed = self.feed_mm_min(span);
             let spindle = self.spindle;
-            let up = if to_initial { self.hole.initial } else { r_level };
+            // LinuxCNC never returns below R (G98 from an initial level
+            // below it goes to R).
+            let up = match to_initial {
+                true if self.settings.coords.control == Control::LinuxCnc => self.hole.initial.max(r_level),
+                true => self.hole.initial,
+                false => r_level,
+            };
             if back {
                 self.back_bore(shift.unwrap_or_default(), r_level, bottom_level, feed, line);
                 self.spindle = spindle;

@@ -368,9 +368,11 @@ impl State {
 
     /// The work offset and tool length offset in effect, for the toolpath.
     fn frame(&self) -> Frame {
+        let (o, f) = (self.work_offsets[self.modal.work_offset].to_array(), self.frame_offset().to_array());
         Frame {
             work: self.modal.work_offset as u8,
             origin: self.work_offsets[self.modal.work_offset],
+            shift: Axes::from_array(std::array::from_fn(|k| f[k] - o[k])),
             length: self.modal.length_comp.map(|(sign, register)| LengthOffset {
                 register,
                 negative: sign < 0.0,

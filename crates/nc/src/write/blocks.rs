@@ -124,6 +124,9 @@ pub(super) struct Writer {
     reckoned: bool,
     /// The program is in inches (`G20`).
     inch: bool,
+    /// The toolpath was made, not read from a program: its start is real
+    /// ([`Toolpath::unknown_start`] is false).
+    generated: bool,
     /// Words in the block being written.
     words: u32,
     /// Index and source line of the move being written.
@@ -181,6 +184,7 @@ impl Writer {
             origins: [None; 6],
             reckoned: false,
             inch: o.inch,
+            generated: !toolpath.unknown_start,
             words: 0,
             at: (0, 0),
         };
@@ -352,7 +356,13 @@ impl Writer {
     /// the Fanuc and LinuxCNC writers can give it to the control; what GRBL
     /// has not is refused.
     pub(super) fn kept(&mut self, k: &Kept, dialect: Dialect) -> Result<(), WriteError> {
-        if dialect == Dialect::Grbl && !grbl_has(&k.text) {
+        let refused = match dialect {
+            Dialect::Grbl => !grbl_has(&k.text),
+            // Compensation by a diameter is LinuxCNC's alone.
+            Dialect::Fanuc => k.text.contains("G41.1") || k.text.contains("G42.1"),
+            Dialect::LinuxCnc => false,
+        };
+        if refused {
             return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
         }
         for line in k.text.lines() {
@@ -551,8 +561,8 @@ impl Writer {
             self.out.push('\n');
         }
         if let (Some(o), Some(e)) = (old, last) {
-            if o.origin != f.origin {
-                let (e, origin) = (e.to_array(), f.origin.to_array());
+            if o.zero() != f.zero() {
+                let (e, origin) = (e.to_array(), f.zero().to_array());
                 for k in 0..6 {
                     if self.pos[k].is_some() {
                         self.pos[k] = Some(self.fixed(e[k] - origin[k], AXIS_LETTERS[k])?);
@@ -570,15 +580,24 @@ impl Writer {
     /// in program coordinates.
     pub(super) fn home(&mut self, axes: AxisSet, end: Axes) -> Result<(), WriteError> {
         let t = self.target(end)?;
+        // Every axis the return names, even one the program never turns (a
+        // `G28 C0` of the source): without axis words a G28 would return
+        // every axis on Haas and LinuxCNC. GRBL has no rotary axes.
+        let grbl = self.dialect == Dialect::Grbl;
+        let named: Vec<usize> = (0..6).filter(|&k| axes.contains(k) && (k < 3 || !grbl)).collect();
+        if named.is_empty() {
+            return Ok(());
+        }
         self.block();
         self.code("G91");
         self.relative = Some(true);
         self.code(self.codes.home);
-        let used = self.used;
-        for k in (0..6).filter(|&k| axes.contains(k) && used[k]) {
+        for k in named {
             self.word(AXIS_LETTERS[k], 0, self.point);
-            self.pos[k] = Some(t[k]);
-            self.exact[k] = false;
+            if self.used[k] {
+                self.pos[k] = Some(t[k]);
+                self.exact[k] = false;
+            }
         }
         self.out.push('\n');
         if !self.incremental {
@@ -689,6 +708,10 @@ impl Writer {
     }
 
     fn feed_word(&mut self, f: i64) {
+        // A feed the program never gave is left to the control, not F0.
+        if f == 0 && self.feed.is_none() {
+            return;
+        }
         if self.feed != Some(f) {
             self.word('F', f, self.point);
             self.feed = Some(f);
@@ -714,9 +737,13 @@ impl Writer {
         let feed = self.non_negative(m.feed, 'F')?;
         let start = self.target(m.start)?;
         let exact = m.start.to_array();
+        // Where the control's position is unknown, a generated toolpath's
+        // start is real and is reached; an NC program's arc starts wherever
+        // the control is, as in the source (never a move to the model's
+        // guess).
         let away = (0..6).any(|k| match self.pos[k] {
             Some(p) => (p as f64 - exact[k] * self.scale).abs() > 1.0,
-            None => true,
+            None => self.generated,
         });
         if away {
             self.straight_to(Some(Motion::Linear), start, Some(feed), AxisSet::ALL);
@@ -736,20 +763,23 @@ impl Writer {
                     p[k] = s[k] + (e[k] - s[k]) * t;
                 }
                 let to = Axes::from_array(p);
-                self.single_arc(from, to, single, feed)?;
+                self.single_arc(from, to, single, feed, m.named)?;
                 from = to;
             }
         }
-        self.single_arc(from, m.end, single, feed)
+        self.single_arc(from, m.end, single, feed, m.named)
     }
 
     /// One arc of at most a full turn from the control's position, which is
     /// `start` rounded.
-    fn single_arc(&mut self, start: Axes, end: Axes, arc: Arc, feed: i64) -> Result<(), WriteError> {
+    fn single_arc(&mut self, start: Axes, end: Axes, arc: Arc, feed: i64, named: AxisSet) -> Result<(), WriteError> {
         let (i, j, _) = arc.plane.axes();
         let mut t = self.target(end)?;
-        // The start is the control's position: `arc` made sure it is known.
-        let s: [i64; 6] = std::array::from_fn(|k| self.pos[k].unwrap_or(t[k]));
+        // The start is the control's position where it is known, else the
+        // toolpath's start (the centre is given from there, as the source
+        // gave it).
+        let from = self.target(start)?;
+        let s: [i64; 6] = std::array::from_fn(|k| self.pos[k].unwrap_or(from[k]));
         let exact_sweep = arc.sweep(start, end);
         let letters = ['I', 'J', 'K'];
         let centre = [self.fixed(arc.center[i], letters[i])?, self.fixed(arc.center[j], letters[j])?];
@@ -757,7 +787,7 @@ impl Writer {
         let full = t[i] == s[i] && t[j] == s[j];
         let offset = if full {
             if exact_sweep <= PI {
-                self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
+                self.straight_to(Some(Motion::Linear), t, Some(feed), named);
                 return Ok(());
             }
             plain
@@ -768,7 +798,7 @@ impl Writer {
             let written = self.written_sweep(arc, &s, &t, offset);
             if (written - exact_sweep).abs() > PI {
                 if exact_sweep <= PI {
-                    self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
+                    self.straight_to(Some(Motion::Linear), t, Some(feed), named);
                     return Ok(());
                 }
                 // Rounding closed a near-full circle: make it a full one.
@@ -781,7 +811,7 @@ impl Writer {
         };
         if offset[0] == 0 && offset[1] == 0 {
             // A radius below the last digit.
-            self.straight_to(Some(Motion::Linear), t, Some(feed), AxisSet::ALL);
+            self.straight_to(Some(Motion::Linear), t, Some(feed), named);
             return Ok(());
         }
         self.motion_block();
@@ -799,7 +829,7 @@ impl Writer {
             self.code(self.codes.motion[g as usize]);
             self.motion = Some(g);
         }
-        self.axis_words(&t, AxisSet::ALL);
+        self.axis_words(&t, named);
         for (k, letter) in letters.into_iter().enumerate() {
             if k == i {
                 self.word(letter, offset[0], self.point);

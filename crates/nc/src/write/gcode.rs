@@ -303,13 +303,13 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
         let frame = toolpath.frame(machine);
         if index < covered {
             // Made by the kept block before it, spindle reversals and all.
-            w.made(in_program(machine, frame.origin, unit).end)?;
+            w.made(in_program(machine, frame.zero(), unit).end)?;
             continue;
         }
         w.state(machine)?;
         w.frame(in_units(frame, unit), last)?;
         last = Some(scaled(machine.end, Axes::ZERO, unit));
-        let m = &in_program(machine, frame.origin, unit);
+        let m = &in_program(machine, frame.zero(), unit);
         while let Some(k) = kept.next_if(|k| k.before <= index) {
             w.kept(k, options.dialect)?;
             covered = covered.max(k.before + k.moves);
@@ -350,6 +350,7 @@ fn scaled(p: Axes, origin: Axes, unit: f64) -> Axes {
 fn in_units(frame: Frame, unit: f64) -> Frame {
     Frame {
         origin: scaled(frame.origin, Axes::ZERO, unit),
+        shift: scaled(frame.shift, Axes::ZERO, unit),
         length: frame.length.map(|l| LengthOffset { value: l.value * unit, ..l }),
         ..frame
     }
