@@ -19,6 +19,7 @@
 //! [offsets]
 //! G54 = [0, 0, 0]                        # machine position of each work zero
 //! home = [0, 0, 0]                       # G28 reference point (machine)
+//! "G54.1 P1" = [10, 0, -50]              # additional offsets (G154 P1 on Haas)
 //! ref2 = [0, 0, -10]                     # G30 P2 … P4 reference points
 //!
 //! [coordinates]                          # docs/coordinates.md
@@ -359,14 +360,24 @@ impl Machine {
         settings.check().map_err(|e| anyhow::anyhow!("{e}"))?;
         for (name, v) in &file.offsets {
             let a = axes(name, v)?;
-            match name.to_uppercase().as_str() {
+            let upper = name.to_uppercase().replace(' ', "");
+            // G54.1 P1 … (Fanuc) or G154 P1 … (Haas): an additional offset.
+            let extra = upper.strip_prefix("G54.1P").or_else(|| upper.strip_prefix("G154P")).map(str::parse::<u32>);
+            if let Some(p) = extra {
+                match p {
+                    Ok(p @ 1..=99) => settings.extra_work_offsets.insert(p, a),
+                    _ => bail!("offsets: '{name}': the additional work offsets are G54.1 P1 … P99"),
+                };
+                continue;
+            }
+            match upper.as_str() {
                 "HOME" => settings.home = a,
                 "REF2" | "REF3" | "REF4" => {
                     settings.coords.reference_points[usize::from(name.as_bytes()[3] - b'2')] = a
                 }
                 g => match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
                     Some(n @ 54..=59) => settings.work_offsets[n - 54] = a,
-                    _ => bail!("offsets: '{name}' is not G54 … G59, home or ref2 … ref4"),
+                    _ => bail!("offsets: '{name}' is not G54 … G59, \"G54.1 P1\" … \"G54.1 P99\", home or ref2 … ref4"),
                 },
             }
         }

@@ -105,7 +105,7 @@ fn g10_l20_on_linuxcnc_makes_the_current_position_the_given_one() {
 
 #[test]
 fn g10_forms_a_control_lacks_are_located_errors() {
-    assert!(error("G10 L20 P1 X10.\nM30\n", &control(Control::Fanuc)).contains("G54.1"));
+    assert!(error("G10 L20 P0 X10.\nM30\n", &control(Control::Fanuc)).contains("P1 to P99"));
     assert!(error("G10 L12 R1.\nM30\n", &control(Control::Fanuc)).contains("G10 L12 needs the offset number"));
     assert!(error("G10 L11 P1\nM30\n", &control(Control::Fanuc)).contains("needs the offset value in R"));
     assert!(error("G10 L5 P1 R1.\nM30\n", &control(Control::Fanuc)).contains("not supported"));
@@ -144,4 +144,50 @@ fn m_codes_keep_their_own_words() {
     let t = path("G90 G00 X0 Y0 Z5.\nM19 R90.\nM62 P1\nG01 X1. M08 F100.\nM30\n", &control(Control::Fanuc));
     let texts: Vec<&str> = t.kept.iter().map(|k| k.text.as_str()).collect();
     assert_eq!(texts, ["M19 R90.", "M62 P1"]);
+}
+
+#[test]
+fn shop_macro_system_variables_and_codes() {
+    // #3004 (feed hold off) and #3901 (parts count) keep what is written;
+    // #3006 stops for the operator, kept as M00 with its message; #3011 is a
+    // fixed date; G09, G97 and Haas G103 change nothing of the path.
+    let text = "G97 S1000 M03\n#3004=2\n#3901=#3901+1\nG103 P1\nG09 G01 X#3004 Y#3901 F100.\n#3006=1(LOAD THE NEXT PART)\nG01 Z[#3011/10000000]\nM30\n";
+    let t = path(text, &control(Control::Fanuc));
+    assert_eq!(t.moves[0].end.xyz(), [2.0, 1.0, 0.0]);
+    assert_eq!(t.moves[1].end.z, 2.0000101);
+    let texts: Vec<&str> = t.kept.iter().map(|k| k.text.as_str()).collect();
+    assert_eq!(texts, ["G103 P1", "M00 (LOAD THE NEXT PART)"]);
+    assert!(error("G96 S200\nM30\n", &control(Control::Fanuc)).contains("G96"));
+}
+
+fn extra_offsets() -> Settings {
+    let mut s = control(Control::Fanuc);
+    s.extra_work_offsets =
+        BTreeMap::from([(1, Axes { x: 100.0, ..Axes::ZERO }), (12, Axes { y: 200.0, ..Axes::ZERO })]);
+    s
+}
+
+#[test]
+fn additional_work_offsets_g54_1_g154_and_g110() {
+    // G54.1 P1 at X 100, G154 P12 at Y 200, G110 (= G154 P1), #7001 (P1's X)
+    // and #14221 (P12's X) read back; G10 L20 P2 sets P2.
+    let text = "G90 G54.1 P1 G00 X1. Y0 Z0\nG154 P12 X0 Y1.\nG110 X2.\nG10 L20 P2 X-5.\nG54.1 P2 X0\nG00 X#7001 Y#14221 Z#14222\nM30\n";
+    let t = path(text, &extra_offsets());
+    let ends: Vec<[f64; 3]> = t.moves.iter().map(|m| m.end.xyz()).collect();
+    assert_eq!(ends[..4], [[101.0, 0.0, 0.0], [0.0, 201.0, 0.0], [102.0, 201.0, 0.0], [-5.0, 201.0, 0.0]]);
+    // In G54.1 P2 (X -5): X#7001 = 100 → machine 95; Y#14221 = 0, Z#14222 = 200.
+    assert_eq!(ends[4], [95.0, 0.0, 200.0]);
+    assert!(error("G54.1 X0\nM30\n", &extra_offsets()).contains("P1 to P99"));
+}
+
+#[test]
+fn additional_work_offsets_are_written_back() {
+    let text = "G90 G54.1 P1 G00 X1. Y0 Z0\nG01 X5. F100.\nM30\n";
+    let t = path(text, &extra_offsets());
+    let fanuc = kezuri_nc::write::program(&t, &Default::default()).unwrap();
+    assert!(fanuc.contains("G54.1 P1\n"), "{fanuc}");
+    let lc = kezuri_nc::write::WriteOptions { dialect: kezuri_nc::write::Dialect::LinuxCnc, ..Default::default() };
+    assert!(kezuri_nc::write::program(&t, &lc).unwrap().contains("G59.1"));
+    let grbl = kezuri_nc::write::WriteOptions { dialect: kezuri_nc::write::Dialect::Grbl, ..Default::default() };
+    assert!(kezuri_nc::write::program(&t, &grbl).is_err());
 }

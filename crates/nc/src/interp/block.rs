@@ -2,7 +2,7 @@
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 
-use super::modal::{Cycle, Distance, FeedMode, GCode, ModalCallKind, Motion, Units};
+use super::modal::{Cycle, Distance, FeedMode, GCode, ModalCallKind, Motion, Units, EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use super::value::Value;
 use super::vars::Locals;
 use super::{Control, IntegerInput, ModalCall, State};
@@ -520,11 +520,21 @@ impl State {
                 self.modal.length_comp = None;
                 self.guessed = AxisSet(self.guessed.0 | 0b100);
             }
-            GCode::WorkOffset(i) => {
-                if i != self.modal.work_offset {
-                    self.guessed = AxisSet::ALL;
-                }
-                self.modal.work_offset = i
+            GCode::WorkOffset(i) => self.select_work_offset(i),
+            GCode::ExtraWorkOffset => {
+                let p = match w.get(b'P') {
+                    Some(p) if p.fract() == 0.0 && (1.0..=EXTRA_OFFSET_COUNT as f64).contains(&p) => p as usize,
+                    _ => {
+                        return Err(Diagnostic::error(
+                            if w.has(b'P') { w.span(b'P') } else { gspan },
+                            format!(
+                                "{} needs the additional work offset's number P1 to P{EXTRA_OFFSET_COUNT}",
+                                g_name(w.g.iter().find(|g| g.0 == 541 || g.0 == 1540).map_or(541, |g| g.0))
+                            ),
+                        ))
+                    }
+                };
+                self.select_work_offset(EXTRA_OFFSETS + p - 1);
             }
             GCode::CycleOff => self.end_cycle(),
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
@@ -566,7 +576,9 @@ impl State {
             | GCode::MacroCall
             | GCode::SetPosition
             | GCode::ResetShift
-            | GCode::Smoothing(_) => {}
+            | GCode::Smoothing(_)
+            | GCode::ExactStop
+            | GCode::ConstantSpeedOff => {}
         }
         Ok(())
     }
@@ -838,6 +850,14 @@ impl State {
         Ok(true)
     }
 
+    /// Selects work offset `i` (G54 … G59, then the additional ones).
+    fn select_work_offset(&mut self, i: usize) {
+        if i != self.modal.work_offset {
+            self.guessed = AxisSet::ALL;
+        }
+        self.modal.work_offset = i;
+    }
+
     /// Keeps a block that sets offsets or shifts (G10, G92, G52) as the
     /// program gave it: they depend on where the machine is, so the control
     /// must set them itself. Its values are in the program's units and
@@ -925,14 +945,27 @@ impl State {
                 table.insert(n, if incremental { old + r } else { r });
                 Ok(())
             }
+            (Some(20), Some(p @ 1..=99)) => {
+                // Fanuc: the additional work offset G54.1 P.
+                let offset = &mut self.work_offsets[EXTRA_OFFSETS + p as usize - 1];
+                let mut v = offset.to_array();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if let Some(value) = w.get(letter) {
+                        let value = if i < 3 && self.modal.units == Units::Inch { value * 25.4 } else { value };
+                        v[i] = if incremental { v[i] + value } else { value };
+                    }
+                }
+                *offset = Axes::from_array(v);
+                self.guessed = AxisSet::ALL;
+                Ok(())
+            }
             (Some(2), _) => Err(Diagnostic::error(gspan, "G10 L2 needs P0 to P6 (P1 = G54 … P6 = G59)")),
             (Some(20), _) if self.settings.coords.control == Control::LinuxCnc => {
                 Err(Diagnostic::error(gspan, "G10 L20 needs P0 to P6 (P0 = the current, P1 = G54 … P6 = G59)"))
             }
-            (Some(20), _) => Err(Diagnostic::error(
-                gspan,
-                "G10 L20 sets the additional work offsets G54.1 P1–P48, which kezuri does not have yet",
-            )),
+            (Some(20), _) => {
+                Err(Diagnostic::error(gspan, "G10 L20 needs the additional work offset's number P1 to P99"))
+            }
             (Some(l @ (1 | 10..=13)), _) => {
                 Err(Diagnostic::error(gspan, format!("G10 L{l} needs the offset number P1 to P999")))
             }

@@ -261,6 +261,18 @@ impl<'a> Interp<'a> {
                 format!("macro alarm {alarm}: {}", message.unwrap_or_else(|| "(no message)".into())),
             ));
         }
+        if number == 3006.0 {
+            // A stop with a message for the operator: M00 where the control
+            // has no macros.
+            let text = &self.sources.get(span.file).text[span.start as usize..span.end as usize];
+            let message = text.find('(').and_then(|o| text[o + 1..].find(')').map(|c| text[o + 1..o + 1 + c].trim()));
+            let kept = match message {
+                Some(m) if !m.is_empty() => format!("M00 ({})", m.replace(['(', ')'], "")),
+                _ => "M00".to_string(),
+            };
+            self.st.keep(kept, 0, false, block.line);
+            return Ok(());
+        }
         self.st.write_var(number, value).map_err(|m| Diagnostic::error(span, m))
     }
 

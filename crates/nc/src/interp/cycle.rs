@@ -20,6 +20,9 @@ use super::modal::{Cycle, CycleReturn, Distance, Units};
 use super::{Control, IntegerInput, State};
 use crate::source::{Diagnostic, Span};
 
+/// Most pecks one cycle block may make (all its repeats together).
+const MAX_PECKS: f64 = 1_000_000.0;
+
 /// Settings of the canned cycles that a control keeps in parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CycleSettings {
@@ -147,6 +150,18 @@ impl State {
             Cycle::FineBore | Cycle::BackBore => Some(self.boring_shift(w, span, g)?),
             _ => None,
         };
+        // A peck far smaller than the hole, repeated: bounded, never a
+        // runaway (each peck is up to four moves).
+        if let (Some(q), Some((b, _)), Some((r, _))) = (peck, self.hole.bottom, self.hole.r) {
+            let pecks = ((r - b).abs() / q).ceil() * f64::from(repeats);
+            if pecks > MAX_PECKS {
+                let at = if w.has(b'Q') { w.span(b'Q') } else { span };
+                return Err(Diagnostic::error(
+                    at,
+                    format!("G{g} with Q{q} makes {pecks} pecks, more than {MAX_PECKS}: is Q in the right units?"),
+                ));
+            }
+        }
         // The position words without the depth axis: the hole's place.
         let place = w.without(depth_letter);
         for _ in 0..repeats {

@@ -29,7 +29,10 @@ use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
-pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
+pub use modal::{
+    Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units, EXTRA_OFFSETS,
+    EXTRA_OFFSET_COUNT,
+};
 pub use signals::check_inputs;
 use signals::Outputs;
 pub use value::Value;
@@ -74,6 +77,9 @@ pub struct Settings {
     pub radii_required: bool,
     /// Work offsets G54 … G59, machine coordinates of each work zero.
     pub work_offsets: [Axes; 6],
+    /// Additional work offsets G54.1 P1–P48 (Fanuc), G154 P1–P99 (Haas),
+    /// by P: machine coordinates of each work zero.
+    pub extra_work_offsets: BTreeMap<u32, Axes>,
     /// Machine position of the reference point that G28 returns to.
     pub home: Axes,
     /// Canned cycle parameters (peck retract and clearance, boring shift).
@@ -110,6 +116,7 @@ impl Default for Settings {
             comp_rules: comp::Rules::default(),
             radii_required: false,
             work_offsets: [Axes::ZERO; 6],
+            extra_work_offsets: BTreeMap::new(),
             home: Axes::ZERO,
             cycles: CycleSettings::default(),
             coords: CoordSettings::default(),
@@ -220,7 +227,8 @@ struct State {
     modal: Modal,
     /// Tool tip in machine coordinates, without length compensation.
     tip: Axes,
-    work_offsets: [Axes; 6],
+    /// G54 … G59, then the additional offsets (P1 at [`EXTRA_OFFSETS`]).
+    work_offsets: Vec<Axes>,
     external_offset: Axes,
     g92_shift: Axes,
     /// G52, G68, G51, G51.1, G16 and the program position.
@@ -236,6 +244,8 @@ struct State {
     /// Tool radius wear by D number (G10 L13, #12001…).
     radius_wear: BTreeMap<u32, f64>,
     model_reads: Vec<ModelRead>,
+    /// #3003, #3004 (single block, feed hold) and #3901, #3902 (parts).
+    panel: BTreeMap<u32, f64>,
     /// Axes whose work position comes from the machine model (where the
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
@@ -289,7 +299,14 @@ const WARNINGS_PER_KIND: u32 = 5;
 impl State {
     fn new(settings: Settings) -> State {
         State {
-            work_offsets: settings.work_offsets,
+            work_offsets: (0..EXTRA_OFFSETS + EXTRA_OFFSET_COUNT)
+                .map(|k| match k {
+                    0..EXTRA_OFFSETS => settings.work_offsets[k],
+                    _ => {
+                        settings.extra_work_offsets.get(&((k - EXTRA_OFFSETS + 1) as u32)).copied().unwrap_or_default()
+                    }
+                })
+                .collect(),
             clock: Clock::new(settings.clock_seed),
             settings,
             modal: Modal::default(),
@@ -303,6 +320,7 @@ impl State {
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
             model_reads: Vec::new(),
+            panel: BTreeMap::new(),
             guessed: AxisSet::ALL,
             feed_word: 0.0,
             feed_set: false,

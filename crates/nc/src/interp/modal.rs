@@ -2,6 +2,13 @@
 
 use kezuri_geom::Plane;
 
+/// Index of the first additional work offset (G54.1 P1, G154 P1, G110,
+/// G59.1) after G54 … G59.
+pub const EXTRA_OFFSETS: usize = 6;
+
+/// How many additional work offsets there are (Haas G154 P1–P99).
+pub const EXTRA_OFFSET_COUNT: usize = 99;
+
 /// Group 1: how axis words move the tool.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Motion {
@@ -188,8 +195,11 @@ pub enum GCode {
     LengthCompOff,
     /// G53
     MachineCoords,
-    /// G54 … G59 as 0 … 5
+    /// G54 … G59 as 0 … 5; the additional offsets from [`EXTRA_OFFSETS`]
+    /// (G54.1 P1 is 6)
     WorkOffset(usize),
+    /// G54.1 P (Fanuc), G154 P (Haas): an additional work offset by P
+    ExtraWorkOffset,
     /// G65
     MacroCall,
     /// G66, G66.1
@@ -210,9 +220,15 @@ pub enum GCode {
     CannedCycle(Cycle),
     /// How the control smooths or looks ahead, not where it goes: Fanuc
     /// G05 P (high-speed machining), G05.1 Q (AI contour control), G08 P
-    /// (look-ahead), Haas G187 (smoothness). Kept in written programs. The
+    /// (look-ahead), Haas G103 P (look-ahead limit) and G187 (smoothness). Kept in written programs. The
     /// value is the G number × 10.
     Smoothing(u32),
+    /// G09: exact stop at the end of this block's move (how the control
+    /// ends the move, not where it goes).
+    ExactStop,
+    /// G97: spindle speed in rpm, the mill's usual state (G96, constant
+    /// surface speed, is not supported).
+    ConstantSpeedOff,
     /// G92.1 (Fanuc: preset of the work coordinates; LinuxCNC: G92 offsets
     /// reset) and LinuxCNC's G92.2: the G92 shift cancelled.
     ResetShift,
@@ -262,6 +278,11 @@ impl GCode {
             490 => LengthCompOff,
             530 => MachineCoords,
             540..=590 if tenths.is_multiple_of(10) => WorkOffset(((tenths - 540) / 10) as usize),
+            // Haas G110–G129 (G154 P1–P20), LinuxCNC G59.1–G59.3.
+            1100..=1290 if tenths.is_multiple_of(10) => WorkOffset(EXTRA_OFFSETS + ((tenths - 1100) / 10) as usize),
+            591..=593 => WorkOffset(EXTRA_OFFSETS + (tenths - 591) as usize),
+            // Fanuc G54.1 P1–P48, Haas G154 P1–P99.
+            541 | 1540 => ExtraWorkOffset,
             650 => MacroCall,
             660 => ModalCall(ModalCallKind::AfterMove),
             661 => ModalCall(ModalCallKind::EveryBlock),
@@ -275,7 +296,9 @@ impl GCode {
             910 => Distance(self::Distance::Incremental),
             920 => SetPosition,
             921 | 922 => ResetShift,
-            50 | 51 | 80 | 1870 => Smoothing(tenths),
+            50 | 51 | 80 | 1030 | 1870 => Smoothing(tenths),
+            90 => ExactStop,
+            970 => ConstantSpeedOff,
             940 => FeedMode(self::FeedMode::PerMinute),
             950 => FeedMode(self::FeedMode::PerRev),
             _ => return None,
@@ -296,7 +319,7 @@ impl GCode {
             CycleOff | CannedCycle(_) => 9,
             CycleReturn(_) => 10,
             ModalCall(_) | ModalCallOff => 12,
-            WorkOffset(_) => 14,
+            WorkOffset(_) | ExtraWorkOffset => 14,
             PathMode(_) => 15,
             Scaling(_) => 11,
             Rotation(_) => 16,
@@ -305,7 +328,8 @@ impl GCode {
             // Not a Fanuc group: LinuxCNC's arc distance mode.
             ArcCentre(_) => 101,
             // Not one-shots that exclude each other: a group of their own.
-            Smoothing(_) => 100,
+            Smoothing(_) | ExactStop => 100,
+            ConstantSpeedOff => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
             | ResetShift => 0,
         }
@@ -410,6 +434,7 @@ impl Modal {
                 Some(ModalCallKind::EveryBlock) => 66.1,
             },
             13 => 97.0,
+            14 if self.work_offset >= EXTRA_OFFSETS => 54.1,
             14 => 54.0 + self.work_offset as f64,
             15 => f64::from(self.path_mode) / 10.0,
             16 => 69.0,

@@ -127,6 +127,13 @@ impl MacroVariables {
     }
 }
 
+/// The work offset index and axis of #7001… (G54.1 P1…) or #14001… (G154
+/// P1…).
+fn extra_offset(n: u32) -> (usize, u32) {
+    let base = if n >= 14001 { 14001 } else { 7001 };
+    (super::EXTRA_OFFSETS + ((n - base) / 20) as usize, (n - base) % 20)
+}
+
 fn axis(a: Axes, i: u32) -> Option<f64> {
     a.to_array().get(i as usize).copied()
 }
@@ -157,7 +164,7 @@ impl State {
             100..=999 if vars.is_common(n) => Slot::Dense(n as usize - 100),
             _ if vars.is_common(n) => Slot::Sparse(n),
             // Tool offsets, geometry and wear (where no common range has them).
-            10001..=13999 => Slot::System(n),
+            10001..=13999 | 14001..=15980 => Slot::System(n),
             _ => {
                 return Err(format!(
                     "#{n} is not a variable of this machine: its common variables are {} \
@@ -213,9 +220,9 @@ impl State {
         let what = match n {
             1000..=1035 => "input signal",
             2001..=2400 | 10001..=13999 => "tool offset",
-            3001 | 3002 => "clock",
+            3001 | 3002 | 3011 | 3012 => "clock",
             5021..=5026 => "machine position",
-            5201..=5326 => "work offset",
+            5201..=5326 | 7001..=7980 | 14001..=15980 => "work offset",
             _ => return,
         };
         if !self.model_reads.iter().any(|r| r.what == what) {
@@ -239,6 +246,15 @@ impl State {
             3000 => 0.0,
             3001 => self.clock.read_ms(),
             3002 => self.clock.read_ms() / 3_600_000.0,
+            // The date and time of day: the run's clock from midnight of
+            // 2000-01-01 (a fixed day, so runs repeat).
+            3011 => 20_000_101.0,
+            3012 => {
+                let s = (self.clock.read_ms() / 1000.0).floor() as u64 % 86_400;
+                (s / 3600 * 10_000 + s / 60 % 60 * 100 + s % 60) as f64
+            }
+            // Single block and feed hold switches, parts counts: kept, no effect.
+            3003 | 3004 | 3901 | 3902 => self.panel.get(&n).copied().unwrap_or(0.0),
             4001..=4022 => self.coords_group(n - 4000).or_else(|| self.modal.group_value(n - 4000)).unwrap_or(0.0),
             4102 => self.last.b,
             4107 => self.last.d,
@@ -264,6 +280,12 @@ impl State {
                 } else {
                     0.0
                 }
+            }
+            // #7001… G54.1 P1 … (Fanuc), #14001… G154 P1 … (Haas): 20 a number.
+            7001..=7980 | 14001..=15980 => {
+                let (index, axis_index) = extra_offset(n);
+                axis(self.work_offsets[index], axis_index)
+                    .ok_or_else(|| format!("#{n} is not a work offset variable"))?
             }
             // #5201… external offset, #5221… G54, …, #5321… G59 (six axes each).
             5201..=5326 => {
@@ -301,6 +323,15 @@ impl State {
             }
             3001 => self.clock.set_ms(v),
             3002 => self.clock.set_ms(v * 3_600_000.0),
+            3003 | 3004 | 3901 | 3902 => {
+                self.panel.insert(n, v);
+            }
+            7001..=7980 | 14001..=15980 if extra_offset(n).1 < 6 => {
+                let (index, axis_index) = extra_offset(n);
+                let mut a = self.work_offsets[index].to_array();
+                a[axis_index as usize] = v;
+                self.work_offsets[index] = Axes::from_array(a);
+            }
             5201..=5326 if (n - 5201) % 20 < 6 => {
                 let (frame, axis_index) = ((n - 5201) / 20, ((n - 5201) % 20) as usize);
                 let offset =

@@ -117,7 +117,7 @@ pub(super) struct Writer {
     frame: Option<Frame>,
     /// The origin of each work offset as the control has it: first as the
     /// toolpath shows it, then as the program's `G10` set it.
-    origins: [Option<Axes>; 6],
+    origins: Vec<Option<Axes>>,
     /// The move being written is a block of increments from a position
     /// the program never named ([`Move::relative`]): `G91`, whatever the
     /// writer's own choice.
@@ -181,7 +181,7 @@ impl Writer {
             coolant: Coolant::default(),
             tool: 0,
             frame: Some(Frame::default()),
-            origins: [None; 6],
+            origins: vec![None; 6 + 99],
             reckoned: false,
             inch: o.inch,
             generated: !toolpath.unknown_start,
@@ -383,7 +383,7 @@ impl Writer {
         }
         if k.sets_offsets {
             // The frames after it carry the origins the block gave them.
-            self.origins = [None; 6];
+            self.origins.iter_mut().for_each(|o| *o = None);
         }
         Ok(())
     }
@@ -515,16 +515,24 @@ impl Writer {
         // the program wrote: absolute until every axis is written again.
         self.exact = [false; 6];
         let work = f.work as usize;
+        let code = self.work_code(work)?;
         let known = *self.origins[work].get_or_insert(f.origin);
         if known != f.origin {
             let v = f.origin.to_array();
             self.block();
             // In G91, G10 L2 adds to the offset.
             self.distance(false);
-            self.code("G10 L2");
+            // G54 … G59: L2 P1 … P6; the additional ones: Fanuc's L20 P,
+            // LinuxCNC's L2 P7 … P9.
+            let (l, p) = match work {
+                0..6 => ("G10 L2", work + 1),
+                _ if self.dialect == Dialect::Fanuc => ("G10 L20", work - 5),
+                _ => ("G10 L2", work + 1),
+            };
+            self.code(l);
             self.space();
             self.out.push('P');
-            push_uint(&mut self.out, work as u64 + 1);
+            push_uint(&mut self.out, p as u64);
             let used = self.used;
             for k in (0..6).filter(|&k| used[k]) {
                 let n = self.fixed(v[k], AXIS_LETTERS[k])?;
@@ -539,7 +547,7 @@ impl Writer {
             self.block();
             self.distance(false);
             if new_work {
-                self.code(["G54", "G55", "G56", "G57", "G58", "G59"][work.min(5)]);
+                self.code(&code);
             }
             if new_length {
                 match f.length {
@@ -572,6 +580,24 @@ impl Writer {
         }
         self.frame = Some(f);
         Ok(())
+    }
+
+    /// The code that selects work offset `work`: G54 … G59, then G54.1 P
+    /// (Fanuc) or G59.1 … G59.3 (LinuxCNC); what the dialect has not is
+    /// refused.
+    fn work_code(&self, work: usize) -> Result<String, WriteError> {
+        Ok(match work {
+            0..6 => ["G54", "G55", "G56", "G57", "G58", "G59"][work].to_string(),
+            _ if self.dialect == Dialect::Fanuc => format!("G54.1 P{}", work - 5),
+            6..9 if self.dialect == Dialect::LinuxCnc => format!("G59.{}", work - 5),
+            _ => {
+                return Err(WriteError::Kept {
+                    line: self.at.1,
+                    text: format!("G54.1 P{} (an additional work offset)", work - 5),
+                    dialect: self.dialect,
+                })
+            }
+        })
     }
 
     /// A return to the reference point (`G91 G28` with the axes at zero
