@@ -48,4 +48,6 @@ pub use random::SplitMix64;
 pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlError};
 pub use time::{cycle_time, Dynamics};
 pub use tool_profile::{ProfileError, Support, ToolProfile};
-pub use toolpath::{Arc, Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, Toolpath};
+pub use toolpath::{
+    Arc, Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, ToolState, Toolpath,
+};

@@ -392,6 +392,30 @@ pub struct Kept {
     pub sets_offsets: bool,
     /// 1-based source line of the block.
     pub line: u32,
+    /// Tool, spindle and coolant when the block came: a writer brings the
+    /// control to this state before the block, so that it keeps its place
+    /// among tool changes and spindle and coolant codes.
+    pub state: ToolState,
+}
+
+/// The tool in the spindle, the spindle and the coolant.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ToolState {
+    /// Tool number in the spindle.
+    pub tool: u32,
+    /// Spindle speed in rpm.
+    pub speed: f64,
+    /// Spindle direction.
+    pub spindle: Spindle,
+    /// Coolant state.
+    pub coolant: Coolant,
+}
+
+impl ToolState {
+    /// The state a move was made in.
+    pub fn of(m: &Move) -> ToolState {
+        ToolState { tool: m.tool, speed: m.speed, spindle: m.spindle, coolant: m.coolant }
+    }
 }
 
 impl From<Vec<Move>> for Toolpath {

@@ -191,3 +191,34 @@ fn additional_work_offsets_are_written_back() {
     let grbl = kezuri_nc::write::WriteOptions { dialect: kezuri_nc::write::Dialect::Grbl, ..Default::default() };
     assert!(kezuri_nc::write::program(&t, &grbl).is_err());
 }
+
+#[test]
+fn inverse_time_feed_is_per_move() {
+    // G93 F2.: each move takes half a minute: 10 mm at 20 mm/min, a 90° turn
+    // of A at 180 °/min; a move without F is refused.
+    let t = path("G90 G00 X0 Y0 Z0 A0\nG93 G01 X10. F2.\nA90. F2.\nG94 G01 X0 F500.\nM30\n", &control(Control::Fanuc));
+    let feeds: Vec<f64> = t.moves.iter().skip(1).map(|m| m.feed).collect();
+    assert_eq!(feeds, [20.0, 180.0, 500.0]);
+    assert!(error("G93 G01 X10. F2.\nX20.\nM30\n", &control(Control::Fanuc)).contains("inverse time"));
+    // #4130: the P of the additional work offset in force.
+    let t = path("G54.1 P7\nG00 X#4130\nG54\nX#4130\nM30\n", &extra_offsets());
+    assert_eq!(t.moves[0].end.x, 7.0);
+    assert_eq!(t.moves[1].end.x, 0.0);
+}
+
+#[test]
+fn a_bare_return_is_written_with_its_axes_and_g92_reaches_grbl() {
+    use kezuri_nc::write::{program, Dialect, WriteOptions};
+    // LinuxCNC's bare G30 goes to the G30 point: written as G30, with X Y Z
+    // (no rotary axis the program never turned).
+    let t = path("G0 X10 Y20 Z30\nG30\nM2\n", &control(Control::LinuxCnc));
+    let lc = program(&t, &WriteOptions { dialect: Dialect::LinuxCnc, ..WriteOptions::default() }).unwrap();
+    assert!(lc.contains("G91 G30 X0. Y0. Z0.\n") && !lc.contains("G28"), "{lc}");
+    let t = path("G0 X10 Y20 Z30\nG28\nM2\n", &control(Control::Haas));
+    let fanuc = program(&t, &WriteOptions::default()).unwrap();
+    assert!(fanuc.contains("G91 G28 X0. Y0. Z0.\n"), "{fanuc}");
+    // GRBL has G92 and G92.1.
+    let t = path("G0 X10 Y0 Z0\nG92 X0\nG1 X5 F100\nG92.1\nM2\n", &control(Control::LinuxCnc));
+    let grbl = program(&t, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
+    assert!(grbl.contains("G92 X0.") && grbl.contains("G92.1"), "{grbl}");
+}

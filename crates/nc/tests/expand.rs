@@ -99,7 +99,19 @@ fn expanded_program_makes_the_same_motions_on_the_same_machine() {
 fn offsets_and_returns_are_commanded_not_baked_in() {
     let written = program(&run(PROGRAM, &machine()), &WriteOptions::default()).unwrap();
     let lines: Vec<&str> = written.lines().collect();
-    for expected in ["G43 H1", "G55", "G10 L2 P1 X5. Y5. Z-90.", "G54", "G91 G28 Z0.", "G44 H2", "G49"] {
+    let expected = [
+        "G43 H1",
+        "G55",
+        // `#5221=5.` and the others: the offsets the program set, as G10.
+        "G21 G90 G10 L2 P1 X5.",
+        "G21 G90 G10 L2 P1 Y5.",
+        "G21 G90 G10 L2 P1 Z-90.",
+        "G54",
+        "G91 G28 Z0.",
+        "G44 H2",
+        "G49",
+    ];
+    for expected in expected {
         assert!(lines.contains(&expected), "no '{expected}' in\n{written}");
     }
     // G53 Z-10. is the gauge line in machine coordinates, whatever the offset.
@@ -202,4 +214,23 @@ fn smoothing_and_path_modes_are_kept_and_g92_1_cancels_the_shift() {
     // G92.1 cancels the shift: X5. is machine X 5.
     let ends: Vec<f64> = run(text, &Settings::default()).moves.iter().map(|m| m.end.x).collect();
     assert_eq!(ends, [0.0, 2.0, 5.0]);
+}
+
+#[test]
+fn kept_blocks_keep_their_place_among_tool_changes_and_coolant() {
+    // M01 before the tool change, M11 after it, M19 and M62 before M08.
+    let text = "G90 G00 X0 Y0 Z5.\nM01\nT2 M06\nM11\nG00 B90.\nM19 R90.\nM62 P1\nG01 X1. M08 F100.\nM30\n";
+    let written = portable(text);
+    let at = |code: &str| written.find(code).unwrap_or_else(|| panic!("no {code} in\n{written}"));
+    assert!(at("M01") < at("T2 M06") && at("T2 M06") < at("M11") && at("M11") < at("B90."), "{written}");
+    assert!(at("M19 R90.") < at("M62 P1") && at("M62 P1") < at("M08"), "{written}");
+}
+
+#[test]
+fn offsets_set_through_variables_are_written_as_g10() {
+    // #5201 (the external offset), #7001 (G54.1 P1's X), #2001 (H1).
+    let written = portable("#5201=10.\n#7001=-20.\n#2001=55.5\nG90 G54 G00 X0 Y0 Z5.\nG43 H1 Z10.\nM30\n");
+    for line in ["G21 G90 G10 L2 P0 X10.\n", "G21 G90 G10 L20 P1 X-20.\n", "G21 G90 G10 L10 P1 R55.5\n"] {
+        assert!(written.contains(line), "no {line} in\n{written}");
+    }
 }

@@ -851,8 +851,9 @@ fn incremental_frames_homes_and_machine_moves_stay_absolute() {
             }
             let lines: Vec<&str> = text.lines().collect();
             let motion = if d == Dialect::Fanuc { "G00" } else { "G0" };
-            // G10 L2 and G53 in G90; the return to the reference point in G91.
-            for expected in ["G90 G10 L2 P1 X5. Y5. Z-90.", &format!("G90 G53 {motion} Z-10."), "G91 G28 Z0."] {
+            // The offsets the program set (#5221…) as G10 in G90, G53 in G90;
+            // the return to the reference point in G91.
+            for expected in ["G21 G90 G10 L2 P1 X5.", &format!("G90 G53 {motion} Z-10."), "G91 G28 Z0."] {
                 assert!(lines.contains(&expected), "{d}: no '{expected}' in\n{text}");
             }
             let g10 = lines.iter().position(|l| l.contains("G10 L2")).unwrap();

@@ -366,11 +366,14 @@ impl State {
                 // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
                 (GCode::Smoothing(80), Control::LinuxCnc) => continue,
                 // LinuxCNC's G5 and G5.1 are splines.
-                (GCode::Smoothing(tenths), Control::LinuxCnc) => {
+                (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {
                     return Err(Diagnostic::error(
                         gspan,
                         format!("{} (a LinuxCNC spline) is not supported yet", g_name(tenths)),
                     ));
+                }
+                (GCode::Smoothing(tenths), Control::LinuxCnc) => {
+                    return Err(Diagnostic::error(gspan, format!("{} is not a LinuxCNC code", g_name(tenths))));
                 }
                 _ => {}
             }
@@ -609,6 +612,8 @@ impl State {
         let f = if self.modal.units == Units::Inch { self.feed_word * 25.4 } else { self.feed_word };
         match self.modal.feed_mode {
             FeedMode::PerMinute => f,
+            // Set per move from its length (see `motion`).
+            FeedMode::InverseTime => 0.0,
             FeedMode::PerRev => {
                 if self.speed == 0.0 {
                     self.warn("no-speed", span, "feed per revolution (G95) with spindle speed 0");
@@ -727,11 +732,23 @@ impl State {
                         self.warn("bare-g28", gspan, format!("{} without axis words moves nothing on this control (LinuxCNC returns every axis; Haas too for G28): name the axes, e.g. G91 {} Z0", g_name(if code == GCode::Home { 280 } else { 300 }), g_name(if code == GCode::Home { 280 } else { 300 })));
                         return Ok(false);
                     }
-                    // Haas and LinuxCNC: every axis to the reference point, at once.
+                    // Haas and LinuxCNC: every axis to the reference point, at
+                    // once: X Y Z and the rotary axes the program has turned,
+                    // named so that any control's written program does the same.
                     let h = self.reference_point(code, w)?.to_array();
                     let lz = self.length_offset();
                     let home = Axes::from_array(std::array::from_fn(|i| h[i] - if i == 2 { lz } else { 0.0 }));
-                    self.push_move(MoveKind::Home, home, 0.0, AxisSet::ALL, line);
+                    let tip = self.tip.to_array();
+                    let axes = (3..6).filter(|&k| tip[k] != 0.0).fold(AxisSet(0b111), |set, k| set.with(k));
+                    if code == GCode::OtherHome {
+                        let p = w.get(b'P').filter(|&p| p != 2.0).map_or(String::new(), |p| format!(" P{p}"));
+                        let words: String = (0..6)
+                            .filter(|&k| axes.contains(k))
+                            .map(|k| format!(" {}0.", b"XYZABC"[k] as char))
+                            .collect();
+                        self.keep(format!("G91 G30{p}{words}"), 1, false, line);
+                    }
+                    self.push_move(MoveKind::Home, home, 0.0, axes, line);
                     return Ok(true);
                 }
                 let via = self.target(w);
@@ -767,19 +784,19 @@ impl State {
                 }
                 self.g92_shift = Axes::from_array(g);
                 self.guessed = AxisSet::ALL;
-                self.keep_as_given(w, line);
+                self.keep_as_given(w, false, line);
                 return Ok(false);
             }
             Some((GCode::SetPosition, _)) => {
                 self.set_position(w);
                 self.guessed = AxisSet::ALL;
-                self.keep_as_given(w, line);
+                self.keep_as_given(w, false, line);
                 return Ok(false);
             }
             Some((GCode::LocalOffset, _)) => {
                 self.local_offset(w);
                 self.guessed = AxisSet::ALL;
-                self.keep_as_given(w, line);
+                self.keep_as_given(w, false, line);
                 return Ok(false);
             }
             Some((GCode::MachineCoords, gspan)) if self.modal.distance == Distance::Incremental => {
@@ -814,7 +831,9 @@ impl State {
             }
             Some((GCode::SetOffsets, gspan)) => {
                 self.set_offsets(w, gspan)?;
-                self.keep_as_given(w, line);
+                // LinuxCNC's G10 ignores G91: kept as absolute for any control.
+                let absolute = self.settings.coords.control == Control::LinuxCnc;
+                self.keep_as_given(w, absolute, line);
                 return Ok(false);
             }
             _ => {}
@@ -847,6 +866,18 @@ impl State {
                 self.push_move(MoveKind::Arc(arc), end, feed, w.axes(), line);
             }
         }
+        if self.modal.feed_mode == FeedMode::InverseTime && self.modal.motion != Motion::Rapid {
+            // G93: F is 1 / the move's time in minutes, given on every move.
+            let Some(f) = w.get(b'F').filter(|f| *f > 0.0) else {
+                return Err(Diagnostic::error(
+                    span,
+                    "in inverse time feed (G93) every cutting move needs its F (1/minutes), greater than 0",
+                ));
+            };
+            if let Some(m) = self.toolpath.moves.last_mut() {
+                m.feed = m.feed_distance() * f;
+            }
+        }
         Ok(true)
     }
 
@@ -862,9 +893,9 @@ impl State {
     /// program gave it: they depend on where the machine is, so the control
     /// must set them itself. Its values are in the program's units and
     /// G90/G91 mode, which the kept text names.
-    fn keep_as_given(&mut self, w: &Words, line: u32) {
+    fn keep_as_given(&mut self, w: &Words, absolute: bool, line: u32) {
         let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
-        let distance = if self.modal.distance == Distance::Incremental { "G91" } else { "G90" };
+        let distance = if self.modal.distance == Distance::Incremental && !absolute { "G91" } else { "G90" };
         let words = w.text(|l, v| l != b'M' && !(l == b'G' && [20.0, 21.0, 90.0, 91.0].contains(&v)));
         self.keep(format!("{units} {distance} {words}"), 0, true, line);
     }

@@ -193,7 +193,8 @@ impl State {
                 return Err(Diagnostic::error(span, "G87 bores upward: its R level must be below the bottom Z"));
             }
             let to_initial = back || self.modal.cycle_return == CycleReturn::Initial;
-            if to_initial && self.hole.initial < r_level.max(bottom_level) {
+            let linuxcnc = self.settings.coords.control == Control::LinuxCnc;
+            if to_initial && !linuxcnc && self.hole.initial < r_level.max(bottom_level) {
                 self.warn(
                     "initial-level",
                     span,
@@ -378,7 +379,10 @@ impl State {
         }
         self.holes += 1;
         let text = self.cycle_text(cycle, start);
-        self.toolpath.kept.push(kezuri_geom::Kept { before: start, moves, text, sets_offsets: false, line });
+        // The state the hole began in (a tap's spindle reversals are its own).
+        let mut kept = self.kept(start, moves, text, false, line);
+        kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[start]);
+        self.toolpath.kept.push(kept);
     }
 
     /// The hole as one cycle block in absolute program coordinates (the

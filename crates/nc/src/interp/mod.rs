@@ -23,7 +23,7 @@ mod vars;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, Toolpath};
+use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, ToolState, Toolpath};
 
 use crate::ast::Program;
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
@@ -408,7 +408,14 @@ impl State {
     /// [`kezuri_geom::Kept`]).
     fn keep(&mut self, text: String, moves: usize, sets_offsets: bool, line: u32) {
         let before = self.toolpath.moves.len();
-        self.toolpath.kept.push(Kept { before, moves, text, sets_offsets, line });
+        let kept = self.kept(before, moves, text, sets_offsets, line);
+        self.toolpath.kept.push(kept);
+    }
+
+    /// A kept block with the tool, spindle and coolant in force now.
+    fn kept(&self, before: usize, moves: usize, text: String, sets_offsets: bool, line: u32) -> Kept {
+        let state = ToolState { tool: self.tool, speed: self.speed, spindle: self.spindle, coolant: self.coolant };
+        Kept { before, moves, text, sets_offsets, line, state }
     }
 
     /// Adds a warning, showing at most [`WARNINGS_PER_KIND`] of each kind.

@@ -47,6 +47,8 @@ pub enum FeedMode {
     PerMinute,
     /// G95
     PerRev,
+    /// G93: inverse time, F = 1 / the move's time in minutes.
+    InverseTime,
 }
 
 /// Group 7: cutter radius compensation.
@@ -267,7 +269,7 @@ impl GCode {
             150 => Polar(false),
             901 => ArcCentre(self::Distance::Absolute),
             911 => ArcCentre(self::Distance::Incremental),
-            310 | 382..=385 => Skip,
+            310..=314 | 382..=385 => Skip,
             400 => RadiusComp(self::RadiusComp::Off),
             410 => RadiusComp(self::RadiusComp::Left),
             420 => RadiusComp(self::RadiusComp::Right),
@@ -301,6 +303,7 @@ impl GCode {
             970 => ConstantSpeedOff,
             940 => FeedMode(self::FeedMode::PerMinute),
             950 => FeedMode(self::FeedMode::PerRev),
+            930 => FeedMode(self::FeedMode::InverseTime),
             _ => return None,
         })
     }
@@ -407,6 +410,7 @@ impl Modal {
             5 => match self.feed_mode {
                 FeedMode::PerMinute => 94.0,
                 FeedMode::PerRev => 95.0,
+                FeedMode::InverseTime => 93.0,
             },
             6 => match self.units {
                 Units::Inch => 20.0,

@@ -251,7 +251,7 @@ impl State {
     /// Keeps a compensation block for the writer of the programmed contour.
     fn comp_mark(&mut self, text: String) {
         let before = self.toolpath.moves.len();
-        let kept = Kept { before, moves: 0, text, sets_offsets: false, line: self.radius.block.1 };
+        let kept = self.kept(before, 0, text, false, self.radius.block.1);
         self.radius.marks.push((self.toolpath.kept.len(), kept));
     }
 }

@@ -127,6 +127,28 @@ impl MacroVariables {
     }
 }
 
+/// The `G10` that sets offset variable `n` to `v` (mm, as kezuri reads the
+/// variables), or `None` for a variable that is no offset.
+fn offset_as_g10(n: u32, v: f64) -> Option<String> {
+    const LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+    let value = crate::write::number(v, 6);
+    let (l, p, word) = match n {
+        2001..=2200 => (10, n - 2000, 'R'),
+        2201..=2400 => (12, n - 2200, 'R'),
+        10001..=10999 => (11, n - 10000, 'R'),
+        11001..=11999 => (10, n - 11000, 'R'),
+        12001..=12999 => (13, n - 12000, 'R'),
+        13001..=13999 => (12, n - 13000, 'R'),
+        5201..=5326 if (n - 5201) % 20 < 6 => (2, (n - 5201) / 20, LETTERS[((n - 5201) % 20) as usize]),
+        7001..=7980 | 14001..=15980 if extra_offset(n).1 < 6 => {
+            let (index, axis) = extra_offset(n);
+            (20, (index - super::EXTRA_OFFSETS + 1) as u32, LETTERS[axis as usize])
+        }
+        _ => return None,
+    };
+    Some(format!("G21 G90 G10 L{l} P{p} {word}{value}"))
+}
+
 /// The work offset index and axis of #7001… (G54.1 P1…) or #14001… (G154
 /// P1…).
 fn extra_offset(n: u32) -> (usize, u32) {
@@ -266,6 +288,8 @@ impl State {
             4115 => self.last.o,
             4119 => self.speed,
             4120 => self.pending_tool as f64,
+            // The P of G54.1 P in force (0 under G54 … G59).
+            4130 => (self.modal.work_offset + 1).saturating_sub(super::EXTRA_OFFSETS) as f64,
             5001..=5006 => axis(work, n - 5001).unwrap_or(0.0),
             5021..=5026 => axis(self.machine_position(), n - 5021).unwrap_or(0.0),
             // As on a Fanuc control, #5001… is the programmed end point (no
@@ -302,6 +326,11 @@ impl State {
             return done;
         }
         let v = value.num();
+        if let Some(text) = offset_as_g10(n, v) {
+            // The control must hold the offset the program set: kept as the
+            // G10 that sets it (a written program may have no macros).
+            self.keep(text, 0, true, self.at_line);
+        }
         match n {
             2001..=2200 => {
                 self.settings.tool_lengths.insert(n - 2000, v);

@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Kept, Move, Plane, Spindle, Toolpath};
+use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Kept, Move, Plane, Spindle, ToolState, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
 
@@ -369,9 +369,11 @@ impl Writer {
             self.block();
             self.code(line);
             self.out.push('\n');
-            // The block may set G90/G91 and the motion mode.
-            if line.contains("G90") || line.contains("G91") {
-                self.relative = None;
+            // The block may set G90/G91.
+            if line.contains("G91") {
+                self.relative = Some(true);
+            } else if line.contains("G90") {
+                self.relative = Some(false);
             }
         }
         let units = if self.inch { "G20" } else { "G21" };
@@ -415,9 +417,9 @@ impl Writer {
         Ok(())
     }
 
-    /// Tool, spindle and coolant blocks that bring the control to the state
-    /// of move `m`.
-    pub(super) fn state(&mut self, m: &Move) -> Result<(), WriteError> {
+    /// Tool, spindle and coolant blocks that bring the control to state
+    /// `m`.
+    pub(super) fn state(&mut self, m: ToolState) -> Result<(), WriteError> {
         if m.tool != self.tool {
             self.tool_change(m.tool);
         }
@@ -963,12 +965,14 @@ fn push_comment(out: &mut String, text: &str) {
     out.push(')');
 }
 
-/// Whether GRBL runs a kept block: program stops (`M0`, `M1`) and work
-/// offsets set by `G10 L2`/`L20`.
+/// Whether GRBL runs a kept block: program stops (`M0`, `M1`), work
+/// offsets set by `G10 L2`/`L20`, and `G92`, `G92.1`.
 fn grbl_has(text: &str) -> bool {
     text.lines().all(|line| {
         let words: Vec<&str> = line.split_whitespace().collect();
         matches!(words.as_slice(), ["M00" | "M01" | "M0" | "M1"])
             || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
+            || words.contains(&"G92")
+            || words.contains(&"G92.1")
     })
 }

@@ -97,7 +97,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, Toolpath};
+use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, ToolState, Toolpath};
 
 use super::blocks::{Motion, Writer};
 
@@ -306,14 +306,20 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
             w.made(in_program(machine, frame.zero(), unit).end)?;
             continue;
         }
-        w.state(machine)?;
-        w.frame(in_units(frame, unit), last)?;
-        last = Some(scaled(machine.end, Axes::ZERO, unit));
         let m = &in_program(machine, frame.zero(), unit);
+        // The kept blocks before this move, each in the tool, spindle and
+        // coolant state it came in; a cycle in the move's frame.
         while let Some(k) = kept.next_if(|k| k.before <= index) {
+            w.state(k.state)?;
+            if k.moves > 0 {
+                w.frame(in_units(frame, unit), last)?;
+            }
             w.kept(k, options.dialect)?;
             covered = covered.max(k.before + k.moves);
         }
+        w.state(ToolState::of(machine))?;
+        w.frame(in_units(frame, unit), last)?;
+        last = Some(scaled(machine.end, Axes::ZERO, unit));
         if index < covered {
             // A kept block (a tapping cycle) makes this move itself.
             w.made(m.end)?;
@@ -335,6 +341,7 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
         }
     }
     for k in kept {
+        w.state(k.state)?;
         w.kept(k, options.dialect)?;
     }
     Ok(w.finish())
