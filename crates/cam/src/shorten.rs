@@ -51,7 +51,7 @@
 //! point leaves the start's Z by more than the tolerance, so a path whose
 //! Z changes from point to point costs little to search.
 
-use kezuri_geom::{Arc, Kept, Move, MoveKind, Plane, Toolpath};
+use kezuri_geom::{Arc, Move, MoveKind, Plane, Toolpath};
 
 /// How [`shorten`] merges.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,13 +96,11 @@ pub fn shorten(path: &Toolpath, options: &ShortenOptions) -> Toolpath {
     let moves = &path.moves;
     // Kept blocks sit between moves and stand for moves of their own: runs
     // break where a kept block sits, and its moves are left whole.
+    let inside = path.covered();
     let mut barrier = vec![false; moves.len() + 1];
-    let mut inside = vec![false; moves.len()];
     for k in &path.kept {
         barrier[k.before.min(moves.len())] = true;
-        let end = (k.before + k.moves).min(moves.len());
-        barrier[end] = true;
-        inside[k.before.min(end)..end].iter_mut().for_each(|b| *b = true);
+        barrier[(k.before + k.moves).min(moves.len())] = true;
     }
     let mut new_index = vec![0; moves.len() + 1];
     let mut out = Vec::with_capacity(moves.len());
@@ -127,15 +125,7 @@ pub fn shorten(path: &Toolpath, options: &ShortenOptions) -> Toolpath {
         i = j;
     }
     new_index[moves.len()] = out.len();
-    let kept = path
-        .kept
-        .iter()
-        .map(|k| {
-            let before = new_index[k.before.min(moves.len())];
-            let end = new_index[(k.before + k.moves).min(moves.len())];
-            Kept { before, moves: end - before, ..k.clone() }
-        })
-        .collect();
+    let kept = path.kept_in(&new_index);
     Toolpath { moves: out, frames: path.frames.clone(), unknown_start: path.unknown_start, kept }
 }
 

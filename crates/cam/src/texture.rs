@@ -176,9 +176,14 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
     let mut run: Option<Run> = None;
     // Smooth noise is a function of the place: every point takes its own.
     let smooth = o.dist == Dist::Smooth;
-    for m in &path.moves {
+    // Kept blocks stay in place; the moves one stands for (a tap) are not
+    // textured.
+    let inside = path.covered();
+    let mut first = Vec::with_capacity(path.moves.len() + 1);
+    for (i, m) in path.moves.iter().enumerate() {
+        first.push(out.moves.len());
         let start = at.unwrap_or(m.start);
-        if !is_textured(m) {
+        if inside[i] || !is_textured(m) {
             run = None;
             let (lifted, path_z) = (start.z != m.start.z, m.start.z);
             let mut m = *m;
@@ -249,6 +254,8 @@ pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureErro
             }
         }
     }
+    first.push(out.moves.len());
+    out.kept = path.kept_in(&first);
     Ok(Textured { toolpath: out, moves, knots })
 }
 

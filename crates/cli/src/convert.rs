@@ -214,6 +214,15 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
         for line in cutter_warnings(a.tool, &comments, a.scale_xy, a.scale_z) {
             eprintln!("{line}");
         }
+        // Blocks kept as written hold positions (G10, G92, G52, a tapping
+        // cycle) that scaling cannot reach.
+        if let Some(k) = path.kept.iter().find(|k| k.sets_offsets || k.moves > 0) {
+            bail!(
+                "{name}: line {} ('{}') holds positions kezuri keeps as written: the program cannot be scaled",
+                k.line,
+                k.text.lines().next().unwrap_or("")
+            );
+        }
         path = scale(&path, a.scale_xy, a.scale_z);
     }
     if let Some(tolerance) = a.shorten {
@@ -224,6 +233,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     let out = match to {
         Format::Rml => {
             let options = RmlOptions { unit: a.rml_unit, safe_z: a.safe_z, feed: a.feed, tolerance: a.rml_unit / 2.0 };
+            warn_rml_drops(&name, &path);
             rml::write_rml(&path, &options)?
         }
         Format::Fanuc | Format::Linuxcnc | Format::Grbl => {
@@ -320,7 +330,9 @@ pub fn scale(path: &Toolpath, k: f64, s: f64) -> Toolpath {
     let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
     out.moves.clear();
     let mut fixed_end: Option<Axes> = None;
+    let mut first = Vec::with_capacity(path.moves.len() + 1);
     for m in &path.moves {
+        first.push(out.moves.len());
         let o = path.frame(m).origin;
         let sc = |p: Axes| Axes { x: o.x + (p.x - o.x) * k, y: o.y + (p.y - o.y) * k, z: o.z + (p.z - o.z) * s, ..p };
         let start = match fixed_end {
@@ -350,7 +362,23 @@ pub fn scale(path: &Toolpath, k: f64, s: f64) -> Toolpath {
             _ => out.moves.push(Move { start, end: sc(m.end), ..*m }),
         }
     }
+    first.push(out.moves.len());
+    out.kept = path.kept_in(&first);
     out
+}
+
+/// Warns of the blocks kept as the program wrote them (M codes, G10, …)
+/// that RML-1 has no command for: they are not written.
+pub fn warn_rml_drops(name: &str, path: &Toolpath) {
+    if let Some(k) = path.kept.first() {
+        eprintln!(
+            "warning: {name}: RML-1 has no M codes, offsets or the like: {} block(s) the program keeps are not \
+             written (the first at line {}: '{}')",
+            path.kept.len(),
+            k.line,
+            k.text.lines().next().unwrap_or("")
+        );
+    }
 }
 
 /// A cutter a program names.

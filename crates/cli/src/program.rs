@@ -406,7 +406,10 @@ pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()>
 fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, notes: &[String], w: &WriteArgs) -> Result<()> {
     let text = match w.emit {
         Emit::Csv => kezuri_nc::write::csv(path),
-        Emit::Rml => kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?,
+        Emit::Rml => {
+            crate::convert::warn_rml_drops(title, path);
+            kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?
+        }
         Emit::Fanuc | Emit::Linuxcnc | Emit::Grbl => {
             use kezuri_nc::write::{program, Dialect, WriteOptions};
             let dialect = match w.emit {

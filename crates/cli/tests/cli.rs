@@ -269,3 +269,23 @@ fn values_taken_from_the_machine_file_are_said_in_check_and_in_the_written_progr
     let o = kezuri_stdin(&["run", "-"], "G90 G00 X1. Y1. Z1.\nM30\n");
     assert!(!stdout(&o).contains("machine file"), "{}", stdout(&o));
 }
+
+#[test]
+fn outputs_that_cannot_hold_a_kept_block_say_so() {
+    let tapping = "G90 G00 X0 Y0 Z10.\nS500 M03\nG98 G84 X5. Y5. Z-8. R2. F500.\nG80\nM01\nM30\n";
+    // RML-1 has no tapping cycle: refused with the line.
+    let o = kezuri_stdin(&["run", "-", "--emit", "rml"], tapping);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("line 3") && stderr(&o).contains("tapping"), "{}", stderr(&o));
+    // An M01 that RML-1 cannot write is said, not silently dropped.
+    let o = kezuri_stdin(&["run", "-", "--emit", "rml"], "G90 G00 X0 Y0 Z10.\nM01\nG01 X5. F100.\nM30\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not written (the first at line 2: 'M01')"), "{}", stderr(&o));
+    // Scaling cannot reach the positions of a G92 kept as written.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("g92.nc");
+    std::fs::write(&file, "G90 G00 X10. Y0 Z5.\nG92 X0\nG01 X5. F100.\nM30\n").unwrap();
+    let o = kezuri(&["convert", file.to_str().unwrap(), "--scale-xy", "2"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("line 2 ('G21 G90 G92 X0.')"), "{}", stderr(&o));
+}

@@ -436,6 +436,33 @@ impl Toolpath {
         self.moves.push(m);
     }
 
+    /// The kept blocks placed in a toolpath made from this one move by
+    /// move: `first[i]` is the index there of the first move made from move
+    /// `i`, `first[moves.len()]` the new number of moves. A transform that
+    /// changes the number of moves keeps every block in its place so.
+    pub fn kept_in(&self, first: &[usize]) -> Vec<Kept> {
+        let n = self.moves.len();
+        let at = |i: usize| first.get(i.min(n)).copied().unwrap_or_else(|| first.last().copied().unwrap_or(0));
+        self.kept
+            .iter()
+            .map(|k| {
+                let before = at(k.before);
+                Kept { before, moves: at(k.before + k.moves) - before, ..k.clone() }
+            })
+            .collect()
+    }
+
+    /// For each move, whether a kept block stands for it (a tapping cycle's
+    /// motions): transforms leave such moves as they are.
+    pub fn covered(&self) -> Vec<bool> {
+        let mut covered = vec![false; self.moves.len()];
+        for k in &self.kept {
+            let end = (k.before + k.moves).min(covered.len());
+            covered[k.before.min(end)..end].iter_mut().for_each(|c| *c = true);
+        }
+        covered
+    }
+
     /// Total length of non-rapid motion (feed, arc, probe), in mm.
     pub fn feed_length(&self) -> f64 {
         self.moves.iter().filter(|m| !m.is_rapid()).map(Move::length).fold(0.0, |a, b| a + b)
@@ -530,6 +557,21 @@ mod tests {
         let (lo, hi) = Toolpath::from(vec![m]).bounds().unwrap();
         assert!((lo[1] + 5.0).abs() < 1e-12 && (hi[1] - 5.0).abs() < 1e-12);
         assert!((hi[0] - 10.0).abs() < 1e-12 && lo[2] == -3.0);
+    }
+
+    #[test]
+    fn kept_blocks_follow_a_transform_that_splits_moves() {
+        // Moves 0 1 2 3; an M code before move 2, a cycle standing for
+        // moves 1 and 2. Made again with move 1 split in three: 0 | 1 2 3 | 4 | 5.
+        let mut path = Toolpath::from(vec![Move::default(); 4]);
+        path.kept = vec![
+            Kept { before: 2, moves: 0, text: "M01".into(), ..Kept::default() },
+            Kept { before: 1, moves: 2, text: "G84".into(), ..Kept::default() },
+        ];
+        let kept = path.kept_in(&[0, 1, 4, 5, 6]);
+        assert_eq!((kept[0].before, kept[0].moves), (4, 0));
+        assert_eq!((kept[1].before, kept[1].moves), (1, 4));
+        assert_eq!(path.covered(), [false, true, true, false]);
     }
 
     #[test]

@@ -183,8 +183,19 @@ pub fn rapid_margins(
     let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
     let mut report = Margins::default();
     let moves = &path.moves;
+    // Where each move's replacement begins, for the kept blocks.
+    // A kept block inside a run lifted to the traverse height goes to the
+    // run's start.
+    let mut first = vec![0; moves.len() + 1];
+    let (mut filled, mut previous) = (0, 0);
     let mut k = 0;
     while k < moves.len() {
+        while filled < k {
+            first[filled] = first[previous];
+            filled += 1;
+        }
+        first[k] = out.moves.len();
+        (filled, previous) = (k + 1, k);
         if !flat(&moves[k]) {
             out.moves.push(moves[k]);
             k += 1;
@@ -240,6 +251,12 @@ pub fn rapid_margins(
         }
         k = end;
     }
+    while filled < moves.len() {
+        first[filled] = first[previous];
+        filled += 1;
+    }
+    first[moves.len()] = out.moves.len();
+    out.kept = path.kept_in(&first);
     (out, report)
 }
 
