@@ -49,5 +49,6 @@ pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to,
 pub use time::{cycle_time, Dynamics};
 pub use tool_profile::{ProfileError, Support, ToolProfile};
 pub use toolpath::{
-    Arc, Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, ToolState, Toolpath,
+    Arc, Axes, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, ToolState,
+    Toolpath,
 };

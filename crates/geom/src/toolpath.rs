@@ -392,10 +392,24 @@ pub struct Kept {
     pub sets_offsets: bool,
     /// 1-based source line of the block.
     pub line: u32,
+    /// A canned cycle's hole: the block leaves the cycle in force, and a
+    /// writer ends it (G80) before anything but the next hole's block.
+    pub cycle: Option<CycleBlock>,
     /// Tool, spindle and coolant when the block came: a writer brings the
     /// control to this state before the block, so that it keeps its place
     /// among tool changes and spindle and coolant codes.
     pub state: ToolState,
+}
+
+/// A kept canned-cycle block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleBlock {
+    /// The first hole: the cycle begins here (its initial level is where
+    /// the tool is).
+    Start,
+    /// A further hole of the same cycle, right after the last one: the
+    /// cycle and its initial level go on.
+    Next,
 }
 
 /// The tool in the spindle, the spindle and the coolant.

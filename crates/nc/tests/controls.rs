@@ -222,3 +222,13 @@ fn a_bare_return_is_written_with_its_axes_and_g92_reaches_grbl() {
     let grbl = program(&t, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
     assert!(grbl.contains("G92 X0.") && grbl.contains("G92.1"), "{grbl}");
 }
+
+#[test]
+fn linuxcnc_rises_to_r_before_the_hole_when_below_it() {
+    // From Z1 below R5: up to R first, then across to the hole (LinuxCNC's
+    // convert_cycle_xy); Fanuc positions first.
+    let text = "G0 X0 Y0 Z1\nG98 G81 X50 Y0 Z-5 R5 F100\nG80\nM2\n";
+    let t = path(text, &control(Control::LinuxCnc));
+    let ends: Vec<[f64; 3]> = t.moves.iter().map(|m| m.end.xyz()).collect();
+    assert_eq!(ends[1..3], [[0.0, 0.0, 5.0], [50.0, 0.0, 5.0]]);
+}

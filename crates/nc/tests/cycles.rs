@@ -221,8 +221,11 @@ fn g84_reverses_the_spindle_at_the_bottom_and_is_written_as_a_cycle() {
     assert_eq!(spindles, [Spindle::Cw, Spindle::Ccw]);
     assert_eq!(out.toolpath.kept.len(), 2);
     let written = program(&out.toolpath, &WriteOptions::default()).unwrap();
-    assert!(written.contains("G21 G90 G98 G84 X10. Y10. Z-8. R3. F625.\nG80\n"), "{written}");
-    assert!(written.contains("G21 G90 G98 G84 X20. Y10. Z-8. R3. F625.\nG80\n"), "{written}");
+    // One cycle, as the program gave it: the second hole goes on in it.
+    assert!(
+        written.contains("G21 G90 G98 G84 X10. Y10. Z-8. R3. F625.\nG98 G84 X20. Y10. Z-8. R3. F625.\nG80\n"),
+        "{written}"
+    );
     // The tapping moves themselves are not written: no feed to Z-8 outside the cycle.
     assert!(!written.lines().any(|l| l.starts_with("G01") && l.contains("Z-8.")), "{written}");
     // Read back, the cycle makes the same motions.
@@ -332,4 +335,40 @@ fn keep_cycles_writes_every_cycle_as_a_cycle_block() {
     let written = program(&outcome.toolpath, &WriteOptions::default()).unwrap();
     assert!(written.contains("G21 G90 G98 G83 X5. Y5. Z-10. R2. Q4. F100.\nG80\n"), "{written}");
     assert_eq!(moves(&run(&written).toolpath), moves(&outcome.toolpath), "{written}");
+}
+
+#[test]
+fn a_g98_hole_after_g99_holes_returns_to_the_cycle_s_initial_level_when_written() {
+    // The last hole clears the clamps: G98 after G99 holes goes back to Z50,
+    // the level where the cycle began, in the source and in what is written.
+    let text = "G21 G90 G00 X0 Y0 Z50.\nS500 M03\nM29 S500\nG99 G84 X0 Y0 Z-10. R2. F500.\nX10.\nG98 X20.\nG80\nG00 X100.\nM30\n";
+    let out = run(text);
+    assert_eq!(out.toolpath.moves.last().unwrap().end.z, 50.0);
+    let written = program(&out.toolpath, &WriteOptions::default()).unwrap();
+    // Rigid tapping once, the holes in one cycle, G80 after the last.
+    assert!(
+        written.contains("M29 S500\nG21 G90 G99 G84 X0. Y0. Z-10. R2. F500.\nG99 G84 X10. Y0. Z-10. R2. F500.\nG98 G84 X20. Y0. Z-10. R2. F500.\nG80\n"),
+        "{written}"
+    );
+    assert_eq!(moves(&run(&written).toolpath), moves(&out.toolpath), "{written}");
+}
+
+#[test]
+fn a_kept_hole_under_g92_is_written_from_the_program_s_zero() {
+    // G92 X0 Y0 at (10, 10): the tap at X5 Y0 is machine (15, 10); the kept
+    // G92 is written again, so the hole's words are the program's own.
+    let text =
+        "G21 G90 G54 G00 X10. Y10. Z50.\nG92 X0 Y0\nS500 M03\nG98 G84 X5. Y0 Z-10. R2. F500.\nG80\nG00 X0 Y0\nM30\n";
+    let out = run(text);
+    let written = program(&out.toolpath, &WriteOptions::default()).unwrap();
+    assert!(written.contains("G98 G84 X5. Y0. Z-10. R2. F500."), "{written}");
+    assert_eq!(moves(&run(&written).toolpath), moves(&out.toolpath), "{written}");
+}
+
+#[test]
+fn cycles_with_compensation_or_inverse_time_are_refused() {
+    let e = error(&format!("{START}G41 D1 G01 X1. Y1. F100.\nG81 X5. Y5. Z-2. R1.\nM30\n"));
+    assert!(e.contains("G40 first"), "{e}");
+    let e = error(&format!("{START}G93\nG81 X5. Y5. Z-2. R1. F2.\nM30\n"));
+    assert!(e.contains("G94 first"), "{e}");
 }

@@ -413,6 +413,8 @@ impl State {
         self.feed_speed_tool(&w);
         self.comp_register(w.get(b'D'), w.span(b'D'))?;
         let mut end = None;
+        // Program stops act after the block's motion (Fanuc, LinuxCNC).
+        let mut stops: [Option<u32>; 4] = [None; 4];
         for &(m, mspan) in &w.m[..w.m_count] {
             match m {
                 3 => self.spindle = Spindle::Cw,
@@ -432,7 +434,8 @@ impl State {
                 99 => end = Some(Action::Return(w.get(b'P').map(|p| p as u32))),
                 // Rigid tapping: written with each tapping cycle block.
                 29 => self.hole.rigid = true,
-                // Stops, spindle orientation, clamps, machine-specific
+                0 | 1 => stops[m as usize] = Some(m),
+                // Spindle orientation, clamps, machine-specific
                 // codes: the machine must get them as written.
                 _ => {
                     // Its words with it (`M19 R90.`, `M62 P1`) where the
@@ -445,6 +448,9 @@ impl State {
         }
 
         let moved = self.motion(codes, &w, span, line)?;
+        for m in stops.into_iter().flatten() {
+            self.keep(format!("M{m:02}"), 0, false, line);
+        }
 
         if moved && !in_modal_macro && self.modal.modal_call == Some(ModalCallKind::AfterMove) {
             if let Some(call) = &self.modal_call {

@@ -13,7 +13,7 @@
 //! cannot say. `docs/canned-cycles.md` gives each rule and where it came
 //! from.
 
-use kezuri_geom::{Axes, AxisSet, MoveKind, Spindle};
+use kezuri_geom::{Axes, AxisSet, CycleBlock, MoveKind, Spindle};
 
 use super::block::Words;
 use super::modal::{Cycle, CycleReturn, Distance, Units};
@@ -65,6 +65,9 @@ pub(super) struct HoleData {
     initial_guessed: bool,
     /// M29 was given: tapping is rigid (spindle and feed synchronised).
     pub(super) rigid: bool,
+    /// The last hole of this cycle was kept as a cycle block: the next one
+    /// may go on from it.
+    kept_open: bool,
 }
 
 impl State {
@@ -84,6 +87,7 @@ impl State {
     pub(super) fn end_cycle(&mut self) {
         self.modal.cycle = None;
         self.hole.rigid = false;
+        self.hole.kept_open = false;
     }
 
     /// A block in canned cycle mode: stores its hole data and drills the
@@ -128,6 +132,14 @@ impl State {
             return Ok(false);
         }
         let g = cycle.number();
+        if self.comp_on() {
+            // LinuxCNC stops here; on Fanuc the holes would land off the
+            // compensated path: refused rather than guessed.
+            return Err(Diagnostic::error(span, format!("G{g} with cutter compensation on (G41/G42): give G40 first")));
+        }
+        if self.modal.feed_mode == super::FeedMode::InverseTime {
+            return Err(Diagnostic::error(span, format!("G{g} in inverse time feed (G93): give G94 first")));
+        }
         let bottom = self.hole.bottom.ok_or_else(|| {
             Diagnostic::error(
                 span,
@@ -200,6 +212,10 @@ impl State {
                     span,
                     format!("G98 returns to the initial level, which is below the R level of this G{g}: the tool returns into the hole"),
                 );
+            }
+            // LinuxCNC rises to R first when the tool is below it.
+            if linuxcnc && self.tip.to_array()[n] < r_level {
+                self.along(MoveKind::Rapid, r_level, 0.0, line);
             }
             // Position in the plane at the current level.
             let mut p = hole.to_array();
@@ -374,25 +390,35 @@ impl State {
         let keep = cycle.is_tapping() || self.settings.cycles.keep || (to_initial && self.hole.initial_guessed);
         let moves = self.toolpath.moves.len() - start;
         if !keep || moves == 0 {
+            // Written as moves: a cycle kept before it is ended there.
+            self.hole.kept_open = false;
             self.holes += 1;
             return;
         }
         self.holes += 1;
-        let text = self.cycle_text(cycle, start);
+        // Right after the last kept hole of this cycle, nothing between:
+        // the cycle goes on, and with it its initial level and rigid tapping.
+        let next = self.hole.kept_open
+            && self.toolpath.kept.last().is_some_and(|k| k.cycle.is_some() && k.before + k.moves == start);
+        let text = self.cycle_text(cycle, start, next);
         // The state the hole began in (a tap's spindle reversals are its own).
         let mut kept = self.kept(start, moves, text, false, line);
         kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[start]);
+        kept.cycle = Some(if next { CycleBlock::Next } else { CycleBlock::Start });
         self.toolpath.kept.push(kept);
+        self.hole.kept_open = true;
     }
 
     /// The hole as one cycle block in absolute program coordinates (the
-    /// writer's: machine less the work offset's origin), after `M29 S` for
-    /// rigid tapping, followed by G80 (which ends rigid tapping too: each
-    /// hole is complete in itself).
-    fn cycle_text(&self, cycle: Cycle, start: usize) -> String {
+    /// writer's: machine less the program's zero): the first of a cycle
+    /// with its units, G90 and (rigid tapping) `M29 S` before it; a `next`
+    /// hole with the cycle's words alone.
+    fn cycle_text(&self, cycle: Cycle, start: usize, next: bool) -> String {
         let (i, j, n) = self.modal.plane.axes();
         let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
-        let origin = self.work_offsets[self.modal.work_offset].to_array();
+        // The writer's program coordinates: from the program's zero (work
+        // offset and the G92, G52 and external shifts).
+        let origin = self.frame_offset().to_array();
         let moves = &self.toolpath.moves[start..];
         let first = moves.iter().find(|m| !matches!(m.kind, MoveKind::Dwell(_))).map_or(self.tip, |m| m.end);
         let place = first.to_array();
@@ -410,13 +436,15 @@ impl State {
             CycleReturn::Initial => "G98",
             CycleReturn::R => "G99",
         };
-        let rigid = if cycle.is_tapping() && self.hole.rigid {
-            format!("M29 S{}\n", crate::write::number(self.speed, 0).trim_end_matches('.'))
-        } else {
-            String::new()
+        let head = match (next, cycle.is_tapping() && self.hole.rigid) {
+            (true, _) => String::new(),
+            (false, true) => {
+                format!("M29 S{}\n{units} G90 ", crate::write::number(self.speed, 0).trim_end_matches('.'))
+            }
+            (false, false) => format!("{units} G90 "),
         };
         let mut text = format!(
-            "{rigid}{units} G90 {ret} G{} {}{} {}{} {}{} R{}",
+            "{head}{ret} G{} {}{} {}{} {}{} R{}",
             cycle.number(),
             letters[i],
             value(place[i], i),
@@ -438,7 +466,7 @@ impl State {
             text.push_str(&format!(" P{p}"));
         }
         let feed = moves.iter().find(|m| m.kind == MoveKind::Feed).map_or(0.0, |m| m.feed);
-        text.push_str(&format!(" F{}\nG80", crate::write::number(feed / unit, 4)));
+        text.push_str(&format!(" F{}", crate::write::number(feed / unit, 4)));
         text
     }
 

@@ -415,7 +415,7 @@ impl State {
     /// A kept block with the tool, spindle and coolant in force now.
     fn kept(&self, before: usize, moves: usize, text: String, sets_offsets: bool, line: u32) -> Kept {
         let state = ToolState { tool: self.tool, speed: self.speed, spindle: self.spindle, coolant: self.coolant };
-        Kept { before, moves, text, sets_offsets, line, state }
+        Kept { before, moves, text, sets_offsets, line, state, cycle: None }
     }
 
     /// Adds a warning, showing at most [`WARNINGS_PER_KIND`] of each kind.

@@ -331,7 +331,9 @@ impl GCode {
             // Not a Fanuc group: LinuxCNC's arc distance mode.
             ArcCentre(_) => 101,
             // Not one-shots that exclude each other: a group of their own.
-            Smoothing(_) | ExactStop => 100,
+            // Each its own group: they do not exclude each other.
+            Smoothing(tenths) => 1000 + tenths,
+            ExactStop => 100,
             ConstantSpeedOff => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
             | ResetShift => 0,

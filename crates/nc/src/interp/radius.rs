@@ -248,6 +248,11 @@ impl State {
         Ok(0.0)
     }
 
+    /// Whether cutter compensation is on.
+    pub(super) fn comp_on(&self) -> bool {
+        self.radius.on.is_some()
+    }
+
     /// Keeps a compensation block for the writer of the programmed contour.
     fn comp_mark(&mut self, text: String) {
         let before = self.toolpath.moves.len();

@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Kept, Move, Plane, Spindle, ToolState, Toolpath};
+use kezuri_geom::{Arc, Axes, AxisSet, Coolant, CycleBlock, Frame, Kept, Move, Plane, Spindle, ToolState, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
 
@@ -124,6 +124,9 @@ pub(super) struct Writer {
     reckoned: bool,
     /// The program is in inches (`G20`).
     inch: bool,
+    /// A kept canned cycle is in force on the control: G80 before the next
+    /// block that is not its next hole.
+    cycle_open: bool,
     /// The toolpath was made, not read from a program: its start is real
     /// ([`Toolpath::unknown_start`] is false).
     generated: bool,
@@ -184,17 +187,21 @@ impl Writer {
             origins: vec![None; 6 + 99],
             reckoned: false,
             inch: o.inch,
+            cycle_open: false,
             generated: !toolpath.unknown_start,
             words: 0,
             at: (0, 0),
         };
-        // Rotary axes are written only if the toolpath turns them.
+        // Rotary axes are written only if the toolpath turns them, or (a
+        // program read) names them: `G00 A0.` moves A from wherever it is.
         for (index, m) in toolpath.moves.iter().enumerate() {
             w.at = (index, m.line);
+            let named = toolpath.unknown_start && m.named != AxisSet::ALL;
             for p in [m.start, m.end] {
                 let v = p.to_array();
                 for k in 3..6 {
-                    if !w.used[k] && w.fixed(v[k], AXIS_LETTERS[k])? != 0 {
+                    let wanted = w.fixed(v[k], AXIS_LETTERS[k])? != 0 || (named && m.named.contains(k));
+                    if !w.used[k] && wanted {
                         if w.dialect == Dialect::Grbl {
                             return Err(WriteError::RotaryAxis {
                                 index,
@@ -282,8 +289,13 @@ impl Writer {
         Ok(t)
     }
 
-    /// Starts a block: its `N` word when blocks are numbered.
+    /// Starts a block: its `N` word when blocks are numbered. A kept canned
+    /// cycle still in force is ended first.
     fn block(&mut self) {
+        if self.cycle_open {
+            self.cycle_open = false;
+            self.line("G80");
+        }
         self.words = 0;
         if self.step > 0 {
             self.space();
@@ -365,6 +377,11 @@ impl Writer {
         if refused {
             return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
         }
+        // Anything but the next hole ends the cycle in force (see `block`);
+        // the next hole's lines go on in it.
+        if k.cycle == Some(CycleBlock::Next) {
+            self.cycle_open = false;
+        }
         for line in k.text.lines() {
             self.block();
             self.code(line);
@@ -383,6 +400,7 @@ impl Writer {
         if k.moves > 0 {
             self.motion = None;
         }
+        self.cycle_open = k.cycle.is_some();
         if k.sets_offsets {
             // The frames after it carry the origins the block gave them.
             self.origins.iter_mut().for_each(|o| *o = None);
@@ -705,7 +723,10 @@ impl Writer {
     /// guess of where it is.
     fn writes(&self, k: usize, t: &[i64; 6], named: AxisSet) -> bool {
         match self.pos[k] {
-            Some(p) => p != t[k],
+            // Where the position is only reckoned (after a return, G53, a
+            // new frame, a tool change), a named axis is written even at
+            // the reckoned value: the control may be elsewhere.
+            Some(p) => p != t[k] || (!self.exact[k] && self.used[k] && named.contains(k)),
             None => self.used[k] && named.contains(k),
         }
     }
