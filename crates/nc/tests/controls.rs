@@ -232,3 +232,11 @@ fn linuxcnc_rises_to_r_before_the_hole_when_below_it() {
     let ends: Vec<[f64; 3]> = t.moves.iter().map(|m| m.end.xyz()).collect();
     assert_eq!(ends[1..3], [[0.0, 0.0, 5.0], [50.0, 0.0, 5.0]]);
 }
+
+#[test]
+fn linuxcnc_g10_reaches_g59_1_to_g59_3() {
+    // G10 L2 P7 sets G59.1; G10 L20 P8 sets G59.2 so that X reads 5 here.
+    let t = path("G10 L2 P7 X100\nG59.1 G0 X0 Y0 Z0\nG10 L20 P8 X5\nG59.2 G0 X5\nM2\n", &control(Control::LinuxCnc));
+    let ends: Vec<f64> = t.moves.iter().map(|m| m.end.x).collect();
+    assert_eq!(ends, [100.0, 100.0]);
+}

@@ -910,19 +910,19 @@ impl State {
     /// P1 to P6 G54 to G59) from the axis words, `L10 P… R…` (and the older
     /// `L1`) a tool length offset; in G91 the values are added.
     fn set_offsets(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
+        let linuxcnc = self.settings.coords.control == Control::LinuxCnc;
         // In G91 a Fanuc G10 adds to the offset; LinuxCNC ignores G91 here.
         let incremental =
             self.modal.distance == Distance::Incremental && self.settings.coords.control != Control::LinuxCnc;
         let whole = |v: Option<f64>| v.filter(|v| v.fract() == 0.0 && *v >= 0.0).map(|v| v as u32);
         match (whole(w.get(b'L')), whole(w.get(b'P'))) {
-            (Some(2), Some(p @ 0..=6)) => {
-                // P0: the external offset on Fanuc, the current work offset on LinuxCNC.
+            (Some(2), Some(p)) if p <= 6 || (linuxcnc && p <= 9) => {
+                // P0: the external offset on Fanuc, the current work offset
+                // on LinuxCNC; P7 to P9: LinuxCNC's G59.1 to G59.3.
                 let offset = match p {
-                    0 if self.settings.coords.control == Control::LinuxCnc => {
-                        &mut self.work_offsets[self.modal.work_offset]
-                    }
+                    0 if linuxcnc => &mut self.work_offsets[self.modal.work_offset],
                     0 => &mut self.external_offset,
-                    _ => &mut self.work_offsets[p as usize - 1],
+                    _ => &mut self.work_offsets[linuxcnc_system(p)],
                 };
                 let mut v = offset.to_array();
                 for (i, &letter) in b"XYZABC".iter().enumerate() {
@@ -935,9 +935,9 @@ impl State {
                 self.guessed = AxisSet::ALL;
                 Ok(())
             }
-            (Some(20), Some(p)) if self.settings.coords.control == Control::LinuxCnc && p <= 6 => {
+            (Some(20), Some(p)) if linuxcnc && p <= 9 => {
                 // LinuxCNC: the offset such that the tool is where the words say.
-                let index = if p == 0 { self.modal.work_offset } else { p as usize - 1 };
+                let index = if p == 0 { self.modal.work_offset } else { linuxcnc_system(p) };
                 let (tip, frame) = (self.tip.to_array(), self.frame_offset().to_array());
                 let mut v = self.work_offsets[index].to_array();
                 let base = self.work_offsets[self.modal.work_offset].to_array();
@@ -1126,6 +1126,15 @@ fn local_call(w: &Words, mspan: Span) -> Result<Action, Diagnostic> {
     let label = whole(p, w.span(b'P'), "sequence number")?;
     let repeats = w.get(b'L').map_or(Ok(1), |l| whole(l, w.span(b'L'), "repeat count"))?;
     Ok(Action::LocalCall { label, repeats, span: mspan })
+}
+
+/// The work offset of LinuxCNC's coordinate system `p` (1 G54 … 6 G59, 7 to
+/// 9 G59.1 to G59.3).
+fn linuxcnc_system(p: u32) -> usize {
+    match p {
+        1..=6 => p as usize - 1,
+        _ => EXTRA_OFFSETS + p as usize - 7,
+    }
 }
 
 fn whole(v: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {

@@ -77,7 +77,7 @@ pub struct Settings {
     pub radii_required: bool,
     /// Work offsets G54 … G59, machine coordinates of each work zero.
     pub work_offsets: [Axes; 6],
-    /// Additional work offsets G54.1 P1–P48 (Fanuc), G154 P1–P99 (Haas),
+    /// Additional work offsets G54.1 P (Fanuc has P1–P48, Haas G154 P1–P99; kezuri takes P1–P99),
     /// by P: machine coordinates of each work zero.
     pub extra_work_offsets: BTreeMap<u32, Axes>,
     /// Machine position of the reference point that G28 returns to.

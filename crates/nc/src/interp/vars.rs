@@ -140,7 +140,7 @@ fn offset_as_g10(n: u32, v: f64) -> Option<String> {
         12001..=12999 => (13, n - 12000, 'R'),
         13001..=13999 => (12, n - 13000, 'R'),
         5201..=5326 if (n - 5201) % 20 < 6 => (2, (n - 5201) / 20, LETTERS[((n - 5201) % 20) as usize]),
-        7001..=7980 | 14001..=15980 if extra_offset(n).1 < 6 => {
+        7001..=7960 | 14001..=15980 if extra_offset(n).1 < 6 => {
             let (index, axis) = extra_offset(n);
             (20, (index - super::EXTRA_OFFSETS + 1) as u32, LETTERS[axis as usize])
         }
@@ -244,7 +244,7 @@ impl State {
             2001..=2400 | 10001..=13999 => "tool offset",
             3001 | 3002 | 3011 | 3012 => "clock",
             5021..=5026 => "machine position",
-            5201..=5326 | 7001..=7980 | 14001..=15980 => "work offset",
+            5201..=5326 | 7001..=7960 | 14001..=15980 => "work offset",
             _ => return,
         };
         if !self.model_reads.iter().any(|r| r.what == what) {
@@ -306,7 +306,7 @@ impl State {
                 }
             }
             // #7001… G54.1 P1 … (Fanuc), #14001… G154 P1 … (Haas): 20 a number.
-            7001..=7980 | 14001..=15980 => {
+            7001..=7960 | 14001..=15980 => {
                 let (index, axis_index) = extra_offset(n);
                 axis(self.work_offsets[index], axis_index)
                     .ok_or_else(|| format!("#{n} is not a work offset variable"))?
@@ -355,7 +355,7 @@ impl State {
             3003 | 3004 | 3901 | 3902 => {
                 self.panel.insert(n, v);
             }
-            7001..=7980 | 14001..=15980 if extra_offset(n).1 < 6 => {
+            7001..=7960 | 14001..=15980 if extra_offset(n).1 < 6 => {
                 let (index, axis_index) = extra_offset(n);
                 let mut a = self.work_offsets[index].to_array();
                 a[axis_index as usize] = v;

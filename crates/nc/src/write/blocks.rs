@@ -995,5 +995,6 @@ fn grbl_has(text: &str) -> bool {
             || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
             || words.contains(&"G92")
             || words.contains(&"G92.1")
+            || words.contains(&"G30")
     })
 }
