@@ -5,28 +5,20 @@
 use std::collections::BTreeMap;
 
 use kezuri_geom::{Axes, MoveKind, Toolpath};
-use kezuri_nc::interp::{self, Control, CoordSettings, IntegerInput, Outcome, Settings};
-use kezuri_nc::{parse, Program, SourceFile, Sources};
+use kezuri_nc::interp::{Control, CoordSettings, IntegerInput, Outcome, Settings};
+
+mod common;
 
 fn run_with(text: &str, settings: &Settings) -> Outcome {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("t.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    assert!(!diagnostics.iter().any(|d| d.is_error()), "{}", diagnostics[0].render(&sources));
-    interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings)
+    common::run("t.nc", text, settings).outcome
 }
 
 fn path(text: &str, settings: &Settings) -> Toolpath {
-    let outcome = run_with(text, settings);
-    let errors: Vec<&str> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.message.as_str()).collect();
-    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
-    outcome.toolpath
+    common::run("t.nc", text, settings).path()
 }
 
 fn error(text: &str, settings: &Settings) -> String {
-    let outcome = run_with(text, settings);
-    outcome.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone()).expect("an error")
+    common::run("t.nc", text, settings).message()
 }
 
 fn control(control: Control) -> Settings {

@@ -4,27 +4,18 @@
 //! checked to 1e-9 mm.
 
 use kezuri_geom::{Axes, MoveKind, Toolpath};
-use kezuri_nc::interp::{self, Control, CoordSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::interp::{Control, CoordSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
-use kezuri_nc::{parse, Program, SourceFile, Sources};
+
+mod common;
 
 fn run_with(text: &str, settings: &Settings) -> Outcome {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("t.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    if let Some(d) = diagnostics.iter().find(|d| d.is_error()) {
-        panic!("{text}\ndoes not parse:\n{}", d.render(&sources));
-    }
-    interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings)
+    common::run("t.nc", text, settings).outcome
 }
 
 /// Runs `text` to its end without an error; the toolpath.
 fn path_with(text: &str, settings: &Settings) -> Toolpath {
-    let outcome = run_with(text, settings);
-    let errors: Vec<&str> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.message.as_str()).collect();
-    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
-    outcome.toolpath
+    common::run("t.nc", text, settings).path()
 }
 
 fn path(text: &str) -> Toolpath {
@@ -33,13 +24,7 @@ fn path(text: &str) -> Toolpath {
 
 /// The error that stopped the run.
 fn error_with(text: &str, settings: &Settings) -> String {
-    let outcome = run_with(text, settings);
-    outcome
-        .diagnostics
-        .iter()
-        .find(|d| d.is_error())
-        .map(|d| d.message.clone())
-        .unwrap_or_else(|| panic!("no error:\n{text}"))
+    common::run("t.nc", text, settings).message()
 }
 
 /// The end points (X Y Z) of the moves, in order.

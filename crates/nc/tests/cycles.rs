@@ -3,32 +3,23 @@
 //! docs/canned-cycles.md and written here as the control would make them.
 
 use kezuri_geom::{MoveKind, Spindle, Toolpath};
-use kezuri_nc::interp::{self, CycleSettings, Outcome, Settings};
+use kezuri_nc::interp::{CycleSettings, Outcome, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
-use kezuri_nc::{parse, Program, SourceFile, Sources};
 
-fn run_with(text: &str, settings: &Settings) -> (Outcome, Sources) {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("t.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    assert!(!diagnostics.iter().any(|d| d.is_error()), "{}", diagnostics[0].render(&sources));
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
-    (outcome, sources)
+mod common;
+
+fn run_with(text: &str, settings: &Settings) -> (Outcome, kezuri_nc::Sources) {
+    let ran = common::run("t.nc", text, settings);
+    (ran.outcome, ran.sources)
 }
 
 fn run(text: &str) -> Outcome {
-    let (outcome, sources) = run_with(text, &Settings::default());
-    let errors: Vec<String> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.render(&sources)).collect();
-    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
-    outcome
+    common::run("t.nc", text, &Settings::default()).completed()
 }
 
 /// The error that stopped the run, rendered with file:line:col.
 fn error(text: &str) -> String {
-    let (outcome, sources) = run_with(text, &Settings::default());
-    let d = outcome.diagnostics.iter().find(|d| d.is_error()).unwrap_or_else(|| panic!("no error for\n{text}"));
-    d.render(&sources)
+    common::run("t.nc", text, &Settings::default()).rendered()
 }
 
 /// Each move as `R x y z` (rapid), `F x y z` (feed) or `D s` (dwell).

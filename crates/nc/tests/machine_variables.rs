@@ -5,36 +5,24 @@
 
 use std::collections::BTreeMap;
 
-use kezuri_nc::interp::{self, MacroVariables, Outcome, Settings};
-use kezuri_nc::{parse, Program, SourceFile, Sources};
+use kezuri_nc::interp::{MacroVariables, Outcome, Settings};
+use kezuri_nc::Sources;
+
+mod common;
 
 fn run_with(text: &str, settings: &Settings) -> (Outcome, Sources) {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("shop.nc", text));
-    let mut program = Program::default();
-    let parsed = parse(&mut program, file, text);
-    if let Some(d) = parsed.iter().find(|d| d.is_error()) {
-        panic!("{text}\ndoes not parse:\n{}", d.render(&sources));
-    }
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
-    (outcome, sources)
+    let ran = common::run("shop.nc", text, settings);
+    (ran.outcome, ran.sources)
 }
 
 /// The end points (X, Y) of a run that must complete without an error.
 fn ends(text: &str, settings: &Settings) -> Vec<(f64, f64)> {
-    let (outcome, sources) = run_with(text, settings);
-    if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
-        panic!("{text}\nstopped:\n{}", d.render(&sources));
-    }
-    assert!(outcome.completed);
-    outcome.toolpath.moves.iter().map(|m| (m.end.x, m.end.y)).collect()
+    common::run("shop.nc", text, settings).path().moves.iter().map(|m| (m.end.x, m.end.y)).collect()
 }
 
 /// The one-line error that stopped the run.
 fn run_error(text: &str, settings: &Settings) -> String {
-    let (outcome, sources) = run_with(text, settings);
-    assert!(!outcome.completed, "{text}: the run must stop");
-    outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error").headline(&sources)
+    common::run("shop.nc", text, settings).headline()
 }
 
 /// Warnings, one line each.

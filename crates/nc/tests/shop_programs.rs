@@ -3,38 +3,26 @@
 //! after the main program's `M30`, and notes left at the end of a file.
 //! Each case runs the program and checks the moves it makes.
 
-use kezuri_nc::interp::{self, Outcome, Settings};
+use kezuri_nc::interp::{Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+
+mod common;
 
 /// Parses and runs `text`; the parse diagnostics, the outcome and the
 /// sources (to render diagnostics with). Panics on a parse error.
 fn run_with(text: &str, settings: &Settings) -> (Vec<Diagnostic>, Outcome, Sources) {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("shop.nc", text));
-    let mut program = Program::default();
-    let parsed = parse(&mut program, file, text);
-    if let Some(d) = parsed.iter().find(|d| d.is_error()) {
-        panic!("{text}\ndoes not parse:\n{}", d.render(&sources));
-    }
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
-    (parsed, outcome, sources)
+    let ran = common::run("shop.nc", text, settings);
+    (ran.parsed, ran.outcome, ran.sources)
 }
 
 /// The end points (X, Y) of the moves of a run that must complete.
 fn ends(text: &str) -> Vec<(f64, f64)> {
-    let (_, outcome, sources) = run_with(text, &Settings::default());
-    if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
-        panic!("{text}\nstopped:\n{}", d.render(&sources));
-    }
-    assert!(outcome.completed, "{text}: the run ends at M30");
-    outcome.toolpath.moves.iter().map(|m| (m.end.x, m.end.y)).collect()
+    common::run("shop.nc", text, &Settings::default()).path().moves.iter().map(|m| (m.end.x, m.end.y)).collect()
 }
 
 /// The one-line error (`file:line:col: error: …`) that stopped the run.
 fn run_error(text: &str) -> String {
-    let (_, outcome, sources) = run_with(text, &Settings::default());
-    assert!(!outcome.completed, "{text}: the run must stop");
-    outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error").headline(&sources)
+    common::run("shop.nc", text, &Settings::default()).headline()
 }
 
 #[test]

@@ -919,19 +919,13 @@ impl State {
             (Some(2), Some(p)) if p <= 6 || (linuxcnc && p <= 9) => {
                 // P0: the external offset on Fanuc, the current work offset
                 // on LinuxCNC; P7 to P9: LinuxCNC's G59.1 to G59.3.
+                let inch = self.modal.units == Units::Inch;
                 let offset = match p {
                     0 if linuxcnc => &mut self.work_offsets[self.modal.work_offset],
                     0 => &mut self.external_offset,
                     _ => &mut self.work_offsets[linuxcnc_system(p)],
                 };
-                let mut v = offset.to_array();
-                for (i, &letter) in b"XYZABC".iter().enumerate() {
-                    if let Some(value) = w.get(letter) {
-                        let value = if i < 3 && self.modal.units == Units::Inch { value * 25.4 } else { value };
-                        v[i] = if incremental { v[i] + value } else { value };
-                    }
-                }
-                *offset = Axes::from_array(v);
+                *offset = offset_words(*offset, w, incremental, inch);
                 self.guessed = AxisSet::ALL;
                 Ok(())
             }
@@ -984,15 +978,9 @@ impl State {
             }
             (Some(20), Some(p @ 1..=99)) => {
                 // Fanuc: the additional work offset G54.1 P.
-                let offset = &mut self.work_offsets[EXTRA_OFFSETS + p as usize - 1];
-                let mut v = offset.to_array();
-                for (i, &letter) in b"XYZABC".iter().enumerate() {
-                    if let Some(value) = w.get(letter) {
-                        let value = if i < 3 && self.modal.units == Units::Inch { value * 25.4 } else { value };
-                        v[i] = if incremental { v[i] + value } else { value };
-                    }
-                }
-                *offset = Axes::from_array(v);
+                let index = EXTRA_OFFSETS + p as usize - 1;
+                let inch = self.modal.units == Units::Inch;
+                self.work_offsets[index] = offset_words(self.work_offsets[index], w, incremental, inch);
                 self.guessed = AxisSet::ALL;
                 Ok(())
             }
@@ -1126,6 +1114,19 @@ fn local_call(w: &Words, mspan: Span) -> Result<Action, Diagnostic> {
     let label = whole(p, w.span(b'P'), "sequence number")?;
     let repeats = w.get(b'L').map_or(Ok(1), |l| whole(l, w.span(b'L'), "repeat count"))?;
     Ok(Action::LocalCall { label, repeats, span: mspan })
+}
+
+/// A work offset with the axis words of a G10 block set (or, `incremental`,
+/// added).
+fn offset_words(offset: Axes, w: &Words, incremental: bool, inch: bool) -> Axes {
+    let mut v = offset.to_array();
+    for (i, &letter) in b"XYZABC".iter().enumerate() {
+        if let Some(value) = w.get(letter) {
+            let value = if i < 3 && inch { value * 25.4 } else { value };
+            v[i] = if incremental { v[i] + value } else { value };
+        }
+    }
+    Axes::from_array(v)
 }
 
 /// The work offset of LinuxCNC's coordinate system `p` (1 G54 … 6 G59, 7 to
