@@ -2,7 +2,9 @@
 
 mod blocks;
 mod csv;
+mod frames;
 mod gcode;
+mod kept;
 
 pub use csv::csv;
 pub use gcode::{program, Dialect, UnknownDialect, WriteError, WriteOptions};

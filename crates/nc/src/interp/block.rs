@@ -5,9 +5,10 @@ use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 use super::modal::{Cycle, Distance, FeedMode, GCode, ModalCallKind, Motion, Units, EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use super::value::Value;
 use super::vars::Locals;
+use super::words::Words;
 use super::{Control, IntegerInput, ModalCall, State};
-use crate::ast::{Program, Word, WordValue};
-use crate::source::{Diagnostic, FileId, Span};
+use crate::ast::Program;
+use crate::source::{Diagnostic, Span};
 
 /// What the block pointer does after a block.
 pub(super) enum Action {
@@ -48,150 +49,9 @@ pub(super) struct Call {
     pub span: Span,
 }
 
-/// The evaluated words of one block. Kept small and filled in place: it is
-/// made for every block.
-#[derive(Clone, Copy)]
-pub(super) struct Words<'a> {
-    /// The block's words and their file, for the spans of diagnostics.
-    words: &'a [Word],
-    file: FileId,
-    value: [f64; 26],
-    present: u32,
-    /// Where in `words` each present address is.
-    index: [u32; 26],
-    g: [(u32, Span); 8],
-    g_count: usize,
-    m: [(u32, Span); 4],
-    m_count: usize,
-}
-
-fn bit(letter: u8) -> u32 {
-    1 << (letter - b'A')
-}
-
-impl<'a> Words<'a> {
-    fn new(words: &'a [Word], file: FileId) -> Self {
-        Words {
-            words,
-            file,
-            value: [0.0; 26],
-            present: 0,
-            index: [0; 26],
-            g: [(0, Span::default()); 8],
-            g_count: 0,
-            m: [(0, Span::default()); 4],
-            m_count: 0,
-        }
-    }
-
-    pub(super) fn has(&self, letter: u8) -> bool {
-        self.present & bit(letter) != 0
-    }
-
-    pub(super) fn get(&self, letter: u8) -> Option<f64> {
-        self.has(letter).then(|| self.value[(letter - b'A') as usize])
-    }
-
-    /// Whether the word of this address was written with a decimal point
-    /// (an expression counts as one).
-    pub(super) fn decimal(&self, letter: u8) -> bool {
-        self.has(letter)
-            && self.words.get(self.index[(letter - b'A') as usize] as usize).is_none_or(|w| match w.value() {
-                WordValue::Number { decimal, .. } => decimal,
-                WordValue::Expr(_) => true,
-            })
-    }
-
-    /// Where the word of this address is written; the default span when the
-    /// block has none.
-    pub(super) fn span(&self, letter: u8) -> Span {
-        if !self.has(letter) {
-            return Span::default();
-        }
-        self.words.get(self.index[(letter - b'A') as usize] as usize).map_or(Span::default(), |w| w.span(self.file))
-    }
-
-    fn any_axis(&self) -> bool {
-        b"XYZABC".iter().any(|&l| self.has(l))
-    }
-
-    /// The evaluated words that `keep` accepts (by letter and value), in the block's
-    /// order, as program text: axis words with a decimal point (the value
-    /// in program units), whole numbers elsewhere without one.
-    fn text(&self, keep: impl Fn(u8, f64) -> bool) -> String {
-        let (mut g, mut m) = (0, 0);
-        let mut out = String::new();
-        for (k, word) in self.words.iter().enumerate() {
-            let letter = word.letter;
-            let value = match letter {
-                b'G' if g < self.g_count && self.g[g].1 == word.span(self.file) => {
-                    g += 1;
-                    f64::from(self.g[g - 1].0) / 10.0
-                }
-                b'M' if m < self.m_count && self.m[m].1 == word.span(self.file) => {
-                    m += 1;
-                    f64::from(self.m[m - 1].0)
-                }
-                b'A'..=b'Z' if self.has(letter) && self.index[(letter - b'A') as usize] as usize == k => {
-                    self.value[(letter - b'A') as usize]
-                }
-                _ => continue,
-            };
-            if !keep(letter, value) {
-                continue;
-            }
-            if !out.is_empty() {
-                out.push(' ');
-            }
-            out.push(letter as char);
-            if AXIS_LETTERS.contains(&letter) || value.fract() != 0.0 {
-                out.push_str(&crate::write::number(value, 6));
-            } else if letter == b'G' {
-                out.push_str(&format!("{value:02}"));
-            } else {
-                out.push_str(&format!("{value}"));
-            }
-        }
-        out
-    }
-
-    /// The words of `letters` as the block wrote them (a literal as
-    /// written, an expression's value): for words that are no lengths,
-    /// such as G05.1's Q, which a writer must not scale.
-    fn as_written(&self, letters: &[u8]) -> String {
-        let mut out = Vec::new();
-        for (k, word) in self.words.iter().enumerate() {
-            let letter = word.letter;
-            if !letters.contains(&letter) || !self.has(letter) || self.index[(letter - b'A') as usize] as usize != k {
-                continue;
-            }
-            let text = match word.value() {
-                WordValue::Number { value, decimal: true } => crate::write::number(value, 6),
-                WordValue::Number { value, decimal: false } => format!("{value}"),
-                WordValue::Expr(_) => crate::write::number(self.value[(letter - b'A') as usize], 6),
-            };
-            out.push(format!("{}{text}", letter as char));
-        }
-        out.join(" ")
-    }
-
-    /// The words without the one of `letter`.
-    pub(super) fn without(&self, letter: u8) -> Words<'a> {
-        Words { present: self.present & !bit(letter), ..*self }
-    }
-
-    /// The axes the block names.
-    pub(super) fn axes(&self) -> AxisSet {
-        b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k))
-    }
-}
-
 /// Largest difference (mm) between an I J K arc's start and end radius that
 /// the control accepts: parameter 3410 of a Fanuc control, typically 0.02 mm.
 const ARC_RADIUS_ALARM: f64 = 0.02;
-
-/// Addresses whose integer values count least input increments.
-const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ";
 
 /// Argument specification I: address to local variable number.
 fn argument_slot(letter: u8) -> Option<usize> {
@@ -222,95 +82,6 @@ fn argument_slot(letter: u8) -> Option<usize> {
 }
 
 impl State {
-    /// Evaluates the words of `w` (made by [`Words::new`]) into it.
-    fn gather(&mut self, program: &Program, w: &mut Words) -> Result<(), Diagnostic> {
-        for (k, word) in w.words.iter().enumerate() {
-            let word_span = word.span(w.file);
-            let (v, decimal) = match word.value() {
-                WordValue::Number { value, decimal } => (value, decimal),
-                WordValue::Expr(e) => match self.eval(program, e).map_err(|m| Diagnostic::error(word_span, m))? {
-                    Value::Vacant => continue,
-                    Value::Num(v) => (v, true),
-                },
-            };
-            let letter = word.letter;
-            match letter {
-                b'G' => {
-                    let tenths = (v * 10.0).round();
-                    if !(0.0..=9999.0).contains(&tenths) || (v * 10.0 - tenths).abs() > 1e-6 {
-                        return Err(Diagnostic::error(word_span, format!("G{v} is not a G code")));
-                    }
-                    if w.g_count == w.g.len() {
-                        return Err(Diagnostic::error(word_span, "more than 8 G codes in one block"));
-                    }
-                    w.g[w.g_count] = (tenths as u32, word_span);
-                    w.g_count += 1;
-                }
-                b'M' => {
-                    if v.fract() != 0.0 || !(0.0..=99_999_999.0).contains(&v) {
-                        return Err(Diagnostic::error(word_span, format!("M{v} is not an M code")));
-                    }
-                    if w.m_count == w.m.len() {
-                        return Err(Diagnostic::error(word_span, "more than 4 M codes in one block"));
-                    }
-                    w.m[w.m_count] = (v as u32, word_span);
-                    w.m_count += 1;
-                    self.last.m = v;
-                }
-                _ => {
-                    if w.has(letter) {
-                        return Err(Diagnostic::error(
-                            word_span,
-                            format!("address {} appears twice in this block", letter as char),
-                        ));
-                    }
-                    let mut v = v;
-                    // In a canned cycle K is a repeat count, not an arc centre.
-                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
-                    if !decimal
-                        && !count
-                        && AXIS_LETTERS.contains(&letter)
-                        && self.settings.integer_input == IntegerInput::Increments
-                    {
-                        // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by
-                        // the exact power of ten gives the nearest double (X-26 is -0.026).
-                        let counts =
-                            if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 1000.0 } else { 10_000.0 };
-                        if v != 0.0 {
-                            let dwell = letter == b'X' && w.g[..w.g_count].iter().any(|&(g, _)| g == 40);
-                            let unit = match self.modal.units {
-                                _ if dwell => "s",
-                                _ if b"ABC".contains(&letter) => "deg",
-                                Units::Mm => "mm",
-                                Units::Inch => "inch",
-                            };
-                            self.warn(
-                                "decimal",
-                                word_span,
-                                format!(
-                                    "{}{} has no decimal point: read as {} increments = {} {unit}; write {}{}. if you meant {} {unit}",
-                                    letter as char,
-                                    v,
-                                    v,
-                                    v / counts,
-                                    letter as char,
-                                    v,
-                                    v
-                                ),
-                            );
-                        }
-                        v /= counts;
-                    }
-                    let i = (letter - b'A') as usize;
-                    w.value[i] = v;
-                    w.index[i] = k as u32;
-                    w.present |= bit(letter);
-                }
-            }
-        }
-        Ok(())
-    }
-
     /// Executes the NC block at `pc`.
     pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
         let block = &program.blocks[pc as usize];
@@ -887,120 +658,6 @@ impl State {
         Ok(true)
     }
 
-    /// Selects work offset `i` (G54 … G59, then the additional ones).
-    fn select_work_offset(&mut self, i: usize) {
-        if i != self.modal.work_offset {
-            self.guessed = AxisSet::ALL;
-        }
-        self.modal.work_offset = i;
-    }
-
-    /// Keeps a block that sets offsets or shifts (G10, G92, G52) as the
-    /// program gave it: they depend on where the machine is, so the control
-    /// must set them itself. Its values are in the program's units and
-    /// G90/G91 mode, which the kept text names.
-    fn keep_as_given(&mut self, w: &Words, absolute: bool, line: u32) {
-        let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
-        let distance = if self.modal.distance == Distance::Incremental && !absolute { "G91" } else { "G90" };
-        let words = w.text(|l, v| l != b'M' && !(l == b'G' && [20.0, 21.0, 90.0, 91.0].contains(&v)));
-        self.keep(format!("{units} {distance} {words}"), 0, true, line);
-    }
-
-    /// G10 data setting: `L2 P0…6` a work offset (P0 the external offset,
-    /// P1 to P6 G54 to G59) from the axis words, `L10 P… R…` (and the older
-    /// `L1`) a tool length offset; in G91 the values are added.
-    fn set_offsets(&mut self, w: &Words, gspan: Span) -> Result<(), Diagnostic> {
-        let linuxcnc = self.settings.coords.control == Control::LinuxCnc;
-        // In G91 a Fanuc G10 adds to the offset; LinuxCNC ignores G91 here.
-        let incremental =
-            self.modal.distance == Distance::Incremental && self.settings.coords.control != Control::LinuxCnc;
-        let whole = |v: Option<f64>| v.filter(|v| v.fract() == 0.0 && *v >= 0.0).map(|v| v as u32);
-        match (whole(w.get(b'L')), whole(w.get(b'P'))) {
-            (Some(2), Some(p)) if p <= 6 || (linuxcnc && p <= 9) => {
-                // P0: the external offset on Fanuc, the current work offset
-                // on LinuxCNC; P7 to P9: LinuxCNC's G59.1 to G59.3.
-                let inch = self.modal.units == Units::Inch;
-                let offset = match p {
-                    0 if linuxcnc => &mut self.work_offsets[self.modal.work_offset],
-                    0 => &mut self.external_offset,
-                    _ => &mut self.work_offsets[linuxcnc_system(p)],
-                };
-                *offset = offset_words(*offset, w, incremental, inch);
-                self.guessed = AxisSet::ALL;
-                Ok(())
-            }
-            (Some(20), Some(p)) if linuxcnc && p <= 9 => {
-                // LinuxCNC: the offset such that the tool is where the words say.
-                let index = if p == 0 { self.modal.work_offset } else { linuxcnc_system(p) };
-                let (tip, frame) = (self.tip.to_array(), self.frame_offset().to_array());
-                let mut v = self.work_offsets[index].to_array();
-                let base = self.work_offsets[self.modal.work_offset].to_array();
-                for (i, &letter) in b"XYZABC".iter().enumerate() {
-                    if let Some(value) = w.get(letter) {
-                        let value = if i < 3 { self.mm(value) } else { value };
-                        v[i] = tip[i] - (frame[i] - base[i]) - value;
-                    }
-                }
-                self.work_offsets[index] = Axes::from_array(v);
-                self.guessed = AxisSet::ALL;
-                Ok(())
-            }
-            (Some(1), Some(t @ 1..=999)) if self.settings.coords.control == Control::LinuxCnc => {
-                // LinuxCNC's tool table: Z the length, R the radius.
-                if let Some(z) = w.get(b'Z') {
-                    let z = self.mm(z);
-                    self.settings.tool_lengths.insert(t, z);
-                    self.length_wear.remove(&t);
-                }
-                if let Some(r) = w.get(b'R') {
-                    let r = self.mm(r);
-                    self.settings.tool_radii.insert(t, r);
-                    self.radius_wear.remove(&t);
-                }
-                Ok(())
-            }
-            (Some(l @ (1 | 10..=13)), Some(n @ 1..=999)) => {
-                let Some(r) = w.get(b'R') else {
-                    return Err(Diagnostic::error(gspan, format!("G10 L{l} needs the offset value in R")));
-                };
-                let r = self.mm(r);
-                // Fanuc tool offset memory: L10 H geometry, L11 H wear, L12 D
-                // geometry, L13 D wear (L1: the one value of memory A).
-                let table = match l {
-                    1 | 10 => &mut self.settings.tool_lengths,
-                    11 => &mut self.length_wear,
-                    12 => &mut self.settings.tool_radii,
-                    _ => &mut self.radius_wear,
-                };
-                let old = table.get(&n).copied().unwrap_or(0.0);
-                table.insert(n, if incremental { old + r } else { r });
-                Ok(())
-            }
-            (Some(20), Some(p @ 1..=99)) => {
-                // Fanuc: the additional work offset G54.1 P.
-                let index = EXTRA_OFFSETS + p as usize - 1;
-                let inch = self.modal.units == Units::Inch;
-                self.work_offsets[index] = offset_words(self.work_offsets[index], w, incremental, inch);
-                self.guessed = AxisSet::ALL;
-                Ok(())
-            }
-            (Some(2), _) => Err(Diagnostic::error(gspan, "G10 L2 needs P0 to P6 (P1 = G54 … P6 = G59)")),
-            (Some(20), _) if self.settings.coords.control == Control::LinuxCnc => {
-                Err(Diagnostic::error(gspan, "G10 L20 needs P0 to P6 (P0 = the current, P1 = G54 … P6 = G59)"))
-            }
-            (Some(20), _) => {
-                Err(Diagnostic::error(gspan, "G10 L20 needs the additional work offset's number P1 to P99"))
-            }
-            (Some(l @ (1 | 10..=13)), _) => {
-                Err(Diagnostic::error(gspan, format!("G10 L{l} needs the offset number P1 to P999")))
-            }
-            _ => Err(Diagnostic::error(
-                gspan,
-                "this G10 is not supported: L2 and L20 (work offsets), L1 and L10 to L13 (tool offsets) are",
-            )),
-        }
-    }
-
     fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {
         let plane = self.modal.plane;
         let (i, j, _) = plane.axes();
@@ -1078,15 +735,6 @@ impl State {
     }
 }
 
-/// Whether `words` name a canned cycle with a literal G number.
-fn names_cycle(words: &[Word]) -> bool {
-    words.iter().any(|w| {
-        w.letter == b'G'
-            && matches!(w.value(), WordValue::Number { value, .. }
-                if matches!(GCode::decode((value * 10.0).round() as u32), Some(GCode::CannedCycle(_))))
-    })
-}
-
 /// `G01`, `G66.1`: a G code as written, from ten times its number.
 fn g_name(tenths: u32) -> String {
     if tenths.is_multiple_of(10) {
@@ -1114,28 +762,6 @@ fn local_call(w: &Words, mspan: Span) -> Result<Action, Diagnostic> {
     let label = whole(p, w.span(b'P'), "sequence number")?;
     let repeats = w.get(b'L').map_or(Ok(1), |l| whole(l, w.span(b'L'), "repeat count"))?;
     Ok(Action::LocalCall { label, repeats, span: mspan })
-}
-
-/// A work offset with the axis words of a G10 block set (or, `incremental`,
-/// added).
-fn offset_words(offset: Axes, w: &Words, incremental: bool, inch: bool) -> Axes {
-    let mut v = offset.to_array();
-    for (i, &letter) in b"XYZABC".iter().enumerate() {
-        if let Some(value) = w.get(letter) {
-            let value = if i < 3 && inch { value * 25.4 } else { value };
-            v[i] = if incremental { v[i] + value } else { value };
-        }
-    }
-    Axes::from_array(v)
-}
-
-/// The work offset of LinuxCNC's coordinate system `p` (1 G54 … 6 G59, 7 to
-/// 9 G59.1 to G59.3).
-fn linuxcnc_system(p: u32) -> usize {
-    match p {
-        1..=6 => p as usize - 1,
-        _ => EXTRA_OFFSETS + p as usize - 7,
-    }
 }
 
 fn whole(v: f64, span: Span, what: &str) -> Result<u32, Diagnostic> {

@@ -21,8 +21,8 @@
 
 use kezuri_geom::{Axes, AxisSet, MoveKind, Plane};
 
-use super::block::Words;
 use super::modal::{Distance, GCode, Units};
+use super::words::Words;
 use super::{IntegerInput, State};
 use crate::source::{Diagnostic, Span};
 

@@ -15,8 +15,8 @@
 
 use kezuri_geom::{Axes, AxisSet, CycleBlock, MoveKind, Spindle};
 
-use super::block::Words;
 use super::modal::{Cycle, CycleReturn, Distance, Units};
+use super::words::Words;
 use super::{Control, IntegerInput, State};
 use crate::source::{Diagnostic, Span};
 

@@ -16,10 +16,12 @@ mod control;
 mod coords;
 mod cycle;
 mod modal;
+mod offsets;
 mod radius;
 mod signals;
 mod value;
 mod vars;
+mod words;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 

@@ -3,12 +3,12 @@
 
 use std::f64::consts::PI;
 
-use kezuri_geom::{Arc, Axes, AxisSet, Coolant, CycleBlock, Frame, Kept, Move, Plane, Spindle, ToolState, Toolpath};
+use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, ToolState, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
 
 /// The words that differ between dialects.
-struct Codes {
+pub(super) struct Codes {
     motion: [&'static str; 4],
     plane: [&'static str; 3],
     dwell: &'static str,
@@ -19,8 +19,8 @@ struct Codes {
     flood: &'static str,
     coolant_off: &'static str,
     home: &'static str,
-    length: [&'static str; 2],
-    length_cancel: &'static str,
+    pub(super) length: [&'static str; 2],
+    pub(super) length_cancel: &'static str,
     end: &'static str,
 }
 
@@ -67,7 +67,7 @@ const MAX_SEQUENCE: u32 = 99_999;
 /// Numbers must be smaller than this in size.
 const LIMIT: f64 = 1e9;
 
-const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+pub(super) const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 
 const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
@@ -82,31 +82,31 @@ pub(super) enum Motion {
 
 /// The writer and what it knows of the control's state.
 pub(super) struct Writer {
-    out: String,
-    dialect: Dialect,
-    codes: &'static Codes,
+    pub(super) out: String,
+    pub(super) dialect: Dialect,
+    pub(super) codes: &'static Codes,
     digits: u32,
     /// 10^digits.
     scale: f64,
     /// Write a decimal point on every axis word (Fanuc).
-    point: bool,
+    pub(super) point: bool,
     step: u32,
     sequence: u32,
     /// Which of X Y Z A B C the program writes.
-    used: [bool; 6],
+    pub(super) used: [bool; 6],
     /// The control's position in units of the last digit (`None`: unknown).
-    pos: [Option<i64>; 6],
+    pub(super) pos: [Option<i64>; 6],
     /// Write motions in `G91` where every position is exact.
     incremental: bool,
     /// Whether the control is in `G91` (`None`: unknown, after a tool
     /// change in an incremental program).
-    relative: Option<bool>,
+    pub(super) relative: Option<bool>,
     /// Whether the control's position on each axis is exactly `pos`: the
     /// program wrote it, and nothing the writer cannot follow to the digit
     /// (a return to the reference point, `G53`, a probe, a new frame, a tool
     /// change) moved it since. Only incremental programs look at it.
-    exact: [bool; 6],
-    motion: Option<Motion>,
+    pub(super) exact: [bool; 6],
+    pub(super) motion: Option<Motion>,
     plane: Option<Plane>,
     feed: Option<i64>,
     speed: Option<i64>,
@@ -114,19 +114,19 @@ pub(super) struct Writer {
     coolant: Coolant,
     tool: u32,
     /// The frame the control is in.
-    frame: Option<Frame>,
+    pub(super) frame: Option<Frame>,
     /// The origin of each work offset as the control has it: first as the
     /// toolpath shows it, then as the program's `G10` set it.
-    origins: Vec<Option<Axes>>,
+    pub(super) origins: Vec<Option<Axes>>,
     /// The move being written is a block of increments from a position
     /// the program never named ([`Move::relative`]): `G91`, whatever the
     /// writer's own choice.
     reckoned: bool,
     /// The program is in inches (`G20`).
-    inch: bool,
+    pub(super) inch: bool,
     /// A kept canned cycle is in force on the control: G80 before the next
     /// block that is not its next hole.
-    cycle_open: bool,
+    pub(super) cycle_open: bool,
     /// The toolpath was made, not read from a program: its start is real
     /// ([`Toolpath::unknown_start`] is false).
     generated: bool,
@@ -258,7 +258,7 @@ impl Writer {
 
     /// A value in units of the last digit, or an error for a value no
     /// program can hold.
-    fn fixed(&self, v: f64, word: char) -> Result<i64, WriteError> {
+    pub(super) fn fixed(&self, v: f64, word: char) -> Result<i64, WriteError> {
         if !v.is_finite() || v.abs() >= LIMIT {
             return Err(self.number_error(word, v));
         }
@@ -278,7 +278,7 @@ impl Writer {
     }
 
     /// The rounded position of the axes the program writes.
-    fn target(&self, p: Axes) -> Result<[i64; 6], WriteError> {
+    pub(super) fn target(&self, p: Axes) -> Result<[i64; 6], WriteError> {
         let v = p.to_array();
         let mut t = [0; 6];
         for k in 0..6 {
@@ -291,7 +291,7 @@ impl Writer {
 
     /// Starts a block: its `N` word when blocks are numbered. A kept canned
     /// cycle still in force is ended first.
-    fn block(&mut self) {
+    pub(super) fn block(&mut self) {
         if self.cycle_open {
             self.cycle_open = false;
             self.line("G80");
@@ -306,27 +306,27 @@ impl Writer {
         }
     }
 
-    fn space(&mut self) {
+    pub(super) fn space(&mut self) {
         if self.words > 0 {
             self.out.push(' ');
         }
         self.words += 1;
     }
 
-    fn code(&mut self, code: &str) {
+    pub(super) fn code(&mut self, code: &str) {
         self.space();
         self.out.push_str(code);
     }
 
     /// A word whose value is `n` units of the last digit.
-    fn word(&mut self, letter: char, n: i64, point: bool) {
+    pub(super) fn word(&mut self, letter: char, n: i64, point: bool) {
         self.space();
         self.out.push(letter);
         push_fixed(&mut self.out, n, self.digits, point);
     }
 
     /// One block holding only `code`.
-    fn line(&mut self, code: &str) {
+    pub(super) fn line(&mut self, code: &str) {
         self.block();
         self.code(code);
         self.out.push('\n');
@@ -334,7 +334,7 @@ impl Writer {
 
     /// In the block being written, `G91` (`relative`) or `G90` where the
     /// control is not in that mode already.
-    fn distance(&mut self, relative: bool) {
+    pub(super) fn distance(&mut self, relative: bool) {
         if self.relative != Some(relative) {
             self.code(if relative { "G91" } else { "G90" });
             self.relative = Some(relative);
@@ -362,61 +362,6 @@ impl Writer {
         self.block();
         let relative = self.reckoned || self.wants_relative();
         self.distance(relative);
-    }
-
-    /// A block kept as the program wrote it ([`Kept`]), a line each. Only
-    /// the Fanuc and LinuxCNC writers can give it to the control; what GRBL
-    /// has not is refused.
-    pub(super) fn kept(&mut self, k: &Kept, dialect: Dialect) -> Result<(), WriteError> {
-        let refused = match dialect {
-            Dialect::Grbl => !grbl_has(&k.text),
-            // Compensation by a diameter is LinuxCNC's alone.
-            Dialect::Fanuc => k.text.contains("G41.1") || k.text.contains("G42.1"),
-            Dialect::LinuxCnc => false,
-        };
-        if refused {
-            return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
-        }
-        // Anything but the next hole ends the cycle in force (see `block`);
-        // the next hole's lines go on in it.
-        if k.cycle == Some(CycleBlock::Next) {
-            self.cycle_open = false;
-        }
-        for line in k.text.lines() {
-            self.block();
-            self.code(line);
-            self.out.push('\n');
-            // The block may set G90/G91.
-            if line.contains("G91") {
-                self.relative = Some(true);
-            } else if line.contains("G90") {
-                self.relative = Some(false);
-            }
-        }
-        let units = if self.inch { "G20" } else { "G21" };
-        if k.text.contains(if self.inch { "G21" } else { "G20" }) {
-            self.line(units);
-        }
-        if k.moves > 0 {
-            self.motion = None;
-        }
-        self.cycle_open = k.cycle.is_some();
-        if k.sets_offsets {
-            // The frames after it carry the origins the block gave them.
-            self.origins.iter_mut().for_each(|o| *o = None);
-        }
-        Ok(())
-    }
-
-    /// The control is at `end` (program coordinates) after a move a kept
-    /// block made.
-    pub(super) fn made(&mut self, end: Axes) -> Result<(), WriteError> {
-        let t = self.target(end)?;
-        for k in (0..6).filter(|&k| self.used[k]) {
-            self.pos[k] = Some(t[k]);
-            self.exact[k] = false;
-        }
-        Ok(())
     }
 
     /// Prepares move `m`, given in program coordinates: a move of
@@ -519,105 +464,6 @@ impl Writer {
             // The macro may leave the control in G91: G90 is written again.
             self.relative = None;
         }
-    }
-
-    /// Brings the control to frame `f`: the work offset (`G54`…`G59`, and a
-    /// `G10 L2` where the program changed an offset's origin) and the tool
-    /// length offset (`G43`/`G44 H`, `G43.1 Z` on GRBL, `G49`). `last` is the
-    /// tool tip in machine coordinates, to carry the known position over to
-    /// the new work offset.
-    pub(super) fn frame(&mut self, f: Frame, last: Option<Axes>) -> Result<(), WriteError> {
-        let old = self.frame;
-        if old == Some(f) {
-            return Ok(());
-        }
-        // Positions in the new frame are the writer's reckoning, not what
-        // the program wrote: absolute until every axis is written again.
-        self.exact = [false; 6];
-        let work = f.work as usize;
-        let code = self.work_code(work)?;
-        let known = *self.origins[work].get_or_insert(f.origin);
-        if known != f.origin {
-            let v = f.origin.to_array();
-            self.block();
-            // In G91, G10 L2 adds to the offset.
-            self.distance(false);
-            // G54 … G59: L2 P1 … P6; the additional ones: Fanuc's L20 P,
-            // LinuxCNC's L2 P7 … P9.
-            let (l, p) = match work {
-                0..6 => ("G10 L2", work + 1),
-                _ if self.dialect == Dialect::Fanuc => ("G10 L20", work - 5),
-                _ => ("G10 L2", work + 1),
-            };
-            self.code(l);
-            self.space();
-            self.out.push('P');
-            push_uint(&mut self.out, p as u64);
-            let used = self.used;
-            for k in (0..6).filter(|&k| used[k]) {
-                let n = self.fixed(v[k], AXIS_LETTERS[k])?;
-                self.word(AXIS_LETTERS[k], n, self.point);
-            }
-            self.out.push('\n');
-            self.origins[work] = Some(f.origin);
-        }
-        let new_work = old.map(|o| o.work) != Some(f.work);
-        let new_length = old.map(|o| o.length) != Some(f.length);
-        if new_work || new_length {
-            self.block();
-            self.distance(false);
-            if new_work {
-                self.code(&code);
-            }
-            if new_length {
-                match f.length {
-                    None => self.code(self.codes.length_cancel),
-                    Some(l) if self.dialect == Dialect::Grbl => {
-                        // GRBL has no offset table: the offset itself.
-                        let n = self.fixed(l.signed(), 'Z')?;
-                        self.code("G43.1");
-                        self.word('Z', n, false);
-                    }
-                    Some(l) => {
-                        self.code(if l.negative { self.codes.length[1] } else { self.codes.length[0] });
-                        self.space();
-                        self.out.push('H');
-                        push_uint(&mut self.out, u64::from(l.register));
-                    }
-                }
-            }
-            self.out.push('\n');
-        }
-        if let (Some(o), Some(e)) = (old, last) {
-            if o.zero() != f.zero() {
-                let (e, origin) = (e.to_array(), f.zero().to_array());
-                for k in 0..6 {
-                    if self.pos[k].is_some() {
-                        self.pos[k] = Some(self.fixed(e[k] - origin[k], AXIS_LETTERS[k])?);
-                    }
-                }
-            }
-        }
-        self.frame = Some(f);
-        Ok(())
-    }
-
-    /// The code that selects work offset `work`: G54 … G59, then G54.1 P
-    /// (Fanuc) or G59.1 … G59.3 (LinuxCNC); what the dialect has not is
-    /// refused.
-    fn work_code(&self, work: usize) -> Result<String, WriteError> {
-        Ok(match work {
-            0..6 => ["G54", "G55", "G56", "G57", "G58", "G59"][work].to_string(),
-            _ if self.dialect == Dialect::Fanuc => format!("G54.1 P{}", work - 5),
-            6..9 if self.dialect == Dialect::LinuxCnc => format!("G59.{}", work - 5),
-            _ => {
-                return Err(WriteError::Kept {
-                    line: self.at.1,
-                    text: format!("G54.1 P{} (an additional work offset)", work - 5),
-                    dialect: self.dialect,
-                })
-            }
-        })
     }
 
     /// A return to the reference point (`G91 G28` with the axes at zero
@@ -952,7 +798,7 @@ fn push_fixed(out: &mut String, n: i64, digits: u32, point: bool) {
     }
 }
 
-fn push_uint(out: &mut String, v: u64) {
+pub(super) fn push_uint(out: &mut String, v: u64) {
     push_padded(out, v, 1);
 }
 
@@ -984,17 +830,4 @@ fn push_comment(out: &mut String, text: &str) {
         });
     }
     out.push(')');
-}
-
-/// Whether GRBL runs a kept block: program stops (`M0`, `M1`), work
-/// offsets set by `G10 L2`/`L20`, and `G92`, `G92.1`.
-fn grbl_has(text: &str) -> bool {
-    text.lines().all(|line| {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        matches!(words.as_slice(), ["M00" | "M01" | "M0" | "M1"])
-            || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
-            || words.contains(&"G92")
-            || words.contains(&"G92.1")
-            || words.contains(&"G30")
-    })
 }

@@ -1,0 +1,251 @@
+//! The words of one NC block, evaluated: G and M codes apart, every other
+//! address once, integer axis words read as the control reads them.
+
+use kezuri_geom::AxisSet;
+
+use super::modal::{GCode, Units};
+use super::value::Value;
+use super::{IntegerInput, State};
+use crate::ast::{Program, Word, WordValue};
+use crate::source::{Diagnostic, FileId, Span};
+
+/// The evaluated words of one block. Kept small and filled in place: it is
+/// made for every block.
+#[derive(Clone, Copy)]
+pub(super) struct Words<'a> {
+    /// The block's words and their file, for the spans of diagnostics.
+    words: &'a [Word],
+    file: FileId,
+    value: [f64; 26],
+    present: u32,
+    /// Where in `words` each present address is.
+    index: [u32; 26],
+    pub(super) g: [(u32, Span); 8],
+    pub(super) g_count: usize,
+    pub(super) m: [(u32, Span); 4],
+    pub(super) m_count: usize,
+}
+
+fn bit(letter: u8) -> u32 {
+    1 << (letter - b'A')
+}
+
+impl<'a> Words<'a> {
+    pub(super) fn new(words: &'a [Word], file: FileId) -> Self {
+        Words {
+            words,
+            file,
+            value: [0.0; 26],
+            present: 0,
+            index: [0; 26],
+            g: [(0, Span::default()); 8],
+            g_count: 0,
+            m: [(0, Span::default()); 4],
+            m_count: 0,
+        }
+    }
+
+    pub(super) fn has(&self, letter: u8) -> bool {
+        self.present & bit(letter) != 0
+    }
+
+    pub(super) fn get(&self, letter: u8) -> Option<f64> {
+        self.has(letter).then(|| self.value[(letter - b'A') as usize])
+    }
+
+    /// Whether the word of this address was written with a decimal point
+    /// (an expression counts as one).
+    pub(super) fn decimal(&self, letter: u8) -> bool {
+        self.has(letter)
+            && self.words.get(self.index[(letter - b'A') as usize] as usize).is_none_or(|w| match w.value() {
+                WordValue::Number { decimal, .. } => decimal,
+                WordValue::Expr(_) => true,
+            })
+    }
+
+    /// Where the word of this address is written; the default span when the
+    /// block has none.
+    pub(super) fn span(&self, letter: u8) -> Span {
+        if !self.has(letter) {
+            return Span::default();
+        }
+        self.words.get(self.index[(letter - b'A') as usize] as usize).map_or(Span::default(), |w| w.span(self.file))
+    }
+
+    pub(super) fn any_axis(&self) -> bool {
+        b"XYZABC".iter().any(|&l| self.has(l))
+    }
+
+    /// The evaluated words that `keep` accepts (by letter and value), in the block's
+    /// order, as program text: axis words with a decimal point (the value
+    /// in program units), whole numbers elsewhere without one.
+    pub(super) fn text(&self, keep: impl Fn(u8, f64) -> bool) -> String {
+        let (mut g, mut m) = (0, 0);
+        let mut out = String::new();
+        for (k, word) in self.words.iter().enumerate() {
+            let letter = word.letter;
+            let value = match letter {
+                b'G' if g < self.g_count && self.g[g].1 == word.span(self.file) => {
+                    g += 1;
+                    f64::from(self.g[g - 1].0) / 10.0
+                }
+                b'M' if m < self.m_count && self.m[m].1 == word.span(self.file) => {
+                    m += 1;
+                    f64::from(self.m[m - 1].0)
+                }
+                b'A'..=b'Z' if self.has(letter) && self.index[(letter - b'A') as usize] as usize == k => {
+                    self.value[(letter - b'A') as usize]
+                }
+                _ => continue,
+            };
+            if !keep(letter, value) {
+                continue;
+            }
+            if !out.is_empty() {
+                out.push(' ');
+            }
+            out.push(letter as char);
+            if AXIS_LETTERS.contains(&letter) || value.fract() != 0.0 {
+                out.push_str(&crate::write::number(value, 6));
+            } else if letter == b'G' {
+                out.push_str(&format!("{value:02}"));
+            } else {
+                out.push_str(&format!("{value}"));
+            }
+        }
+        out
+    }
+
+    /// The words of `letters` as the block wrote them (a literal as
+    /// written, an expression's value): for words that are no lengths,
+    /// such as G05.1's Q, which a writer must not scale.
+    pub(super) fn as_written(&self, letters: &[u8]) -> String {
+        let mut out = Vec::new();
+        for (k, word) in self.words.iter().enumerate() {
+            let letter = word.letter;
+            if !letters.contains(&letter) || !self.has(letter) || self.index[(letter - b'A') as usize] as usize != k {
+                continue;
+            }
+            let text = match word.value() {
+                WordValue::Number { value, decimal: true } => crate::write::number(value, 6),
+                WordValue::Number { value, decimal: false } => format!("{value}"),
+                WordValue::Expr(_) => crate::write::number(self.value[(letter - b'A') as usize], 6),
+            };
+            out.push(format!("{}{text}", letter as char));
+        }
+        out.join(" ")
+    }
+
+    /// The words without the one of `letter`.
+    pub(super) fn without(&self, letter: u8) -> Words<'a> {
+        Words { present: self.present & !bit(letter), ..*self }
+    }
+
+    /// The axes the block names.
+    pub(super) fn axes(&self) -> AxisSet {
+        b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k))
+    }
+}
+
+/// Addresses whose integer values count least input increments.
+const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ";
+
+impl State {
+    /// Evaluates the words of `w` (made by [`Words::new`]) into it.
+    pub(super) fn gather(&mut self, program: &Program, w: &mut Words) -> Result<(), Diagnostic> {
+        for (k, word) in w.words.iter().enumerate() {
+            let word_span = word.span(w.file);
+            let (v, decimal) = match word.value() {
+                WordValue::Number { value, decimal } => (value, decimal),
+                WordValue::Expr(e) => match self.eval(program, e).map_err(|m| Diagnostic::error(word_span, m))? {
+                    Value::Vacant => continue,
+                    Value::Num(v) => (v, true),
+                },
+            };
+            let letter = word.letter;
+            match letter {
+                b'G' => {
+                    let tenths = (v * 10.0).round();
+                    if !(0.0..=9999.0).contains(&tenths) || (v * 10.0 - tenths).abs() > 1e-6 {
+                        return Err(Diagnostic::error(word_span, format!("G{v} is not a G code")));
+                    }
+                    if w.g_count == w.g.len() {
+                        return Err(Diagnostic::error(word_span, "more than 8 G codes in one block"));
+                    }
+                    w.g[w.g_count] = (tenths as u32, word_span);
+                    w.g_count += 1;
+                }
+                b'M' => {
+                    if v.fract() != 0.0 || !(0.0..=99_999_999.0).contains(&v) {
+                        return Err(Diagnostic::error(word_span, format!("M{v} is not an M code")));
+                    }
+                    if w.m_count == w.m.len() {
+                        return Err(Diagnostic::error(word_span, "more than 4 M codes in one block"));
+                    }
+                    w.m[w.m_count] = (v as u32, word_span);
+                    w.m_count += 1;
+                    self.last.m = v;
+                }
+                _ => {
+                    if w.has(letter) {
+                        return Err(Diagnostic::error(
+                            word_span,
+                            format!("address {} appears twice in this block", letter as char),
+                        ));
+                    }
+                    let mut v = v;
+                    // In a canned cycle K is a repeat count, not an arc centre.
+                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
+                    if !decimal
+                        && !count
+                        && AXIS_LETTERS.contains(&letter)
+                        && self.settings.integer_input == IntegerInput::Increments
+                    {
+                        // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by
+                        // the exact power of ten gives the nearest double (X-26 is -0.026).
+                        let counts =
+                            if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 1000.0 } else { 10_000.0 };
+                        if v != 0.0 {
+                            let dwell = letter == b'X' && w.g[..w.g_count].iter().any(|&(g, _)| g == 40);
+                            let unit = match self.modal.units {
+                                _ if dwell => "s",
+                                _ if b"ABC".contains(&letter) => "deg",
+                                Units::Mm => "mm",
+                                Units::Inch => "inch",
+                            };
+                            self.warn(
+                                "decimal",
+                                word_span,
+                                format!(
+                                    "{}{} has no decimal point: read as {} increments = {} {unit}; write {}{}. if you meant {} {unit}",
+                                    letter as char,
+                                    v,
+                                    v,
+                                    v / counts,
+                                    letter as char,
+                                    v,
+                                    v
+                                ),
+                            );
+                        }
+                        v /= counts;
+                    }
+                    let i = (letter - b'A') as usize;
+                    w.value[i] = v;
+                    w.index[i] = k as u32;
+                    w.present |= bit(letter);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether `words` name a canned cycle with a literal G number.
+fn names_cycle(words: &[Word]) -> bool {
+    words.iter().any(|w| {
+        w.letter == b'G'
+            && matches!(w.value(), WordValue::Number { value, .. }
+                if matches!(GCode::decode((value * 10.0).round() as u32), Some(GCode::CannedCycle(_))))
+    })
+}

@@ -1,0 +1,77 @@
+//! Blocks kept as the program gave them ([`Kept`]): written in place, a
+//! line each, and what GRBL cannot run refused.
+
+use kezuri_geom::{Axes, CycleBlock, Kept};
+
+use super::blocks::Writer;
+use super::gcode::{Dialect, WriteError};
+
+impl Writer {
+    /// A block kept as the program wrote it ([`Kept`]), a line each. Only
+    /// the Fanuc and LinuxCNC writers can give it to the control; what GRBL
+    /// has not is refused.
+    pub(super) fn kept(&mut self, k: &Kept, dialect: Dialect) -> Result<(), WriteError> {
+        let refused = match dialect {
+            Dialect::Grbl => !grbl_has(&k.text),
+            // Compensation by a diameter is LinuxCNC's alone.
+            Dialect::Fanuc => k.text.contains("G41.1") || k.text.contains("G42.1"),
+            Dialect::LinuxCnc => false,
+        };
+        if refused {
+            return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
+        }
+        // Anything but the next hole ends the cycle in force (see `block`);
+        // the next hole's lines go on in it.
+        if k.cycle == Some(CycleBlock::Next) {
+            self.cycle_open = false;
+        }
+        for line in k.text.lines() {
+            self.block();
+            self.code(line);
+            self.out.push('\n');
+            // The block may set G90/G91.
+            if line.contains("G91") {
+                self.relative = Some(true);
+            } else if line.contains("G90") {
+                self.relative = Some(false);
+            }
+        }
+        let units = if self.inch { "G20" } else { "G21" };
+        if k.text.contains(if self.inch { "G21" } else { "G20" }) {
+            self.line(units);
+        }
+        if k.moves > 0 {
+            self.motion = None;
+        }
+        self.cycle_open = k.cycle.is_some();
+        if k.sets_offsets {
+            // The frames after it carry the origins the block gave them.
+            self.origins.iter_mut().for_each(|o| *o = None);
+        }
+        Ok(())
+    }
+
+    /// The control is at `end` (program coordinates) after a move a kept
+    /// block made.
+    pub(super) fn made(&mut self, end: Axes) -> Result<(), WriteError> {
+        let t = self.target(end)?;
+        for k in (0..6).filter(|&k| self.used[k]) {
+            self.pos[k] = Some(t[k]);
+            self.exact[k] = false;
+        }
+        Ok(())
+    }
+}
+
+/// Whether GRBL runs a kept block: program stops (`M0`, `M1`), work
+/// offsets set by `G10 L2`/`L20`, and `G92`, `G92.1`.
+fn grbl_has(text: &str) -> bool {
+    text.lines().all(|line| {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        matches!(words.as_slice(), ["M00" | "M01" | "M0" | "M1"])
+            || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
+            || words.contains(&"G92")
+            || words.contains(&"G92.1")
+            || words.contains(&"G30")
+    })
+}
