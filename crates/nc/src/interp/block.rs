@@ -682,7 +682,10 @@ impl State {
             if r.abs() < half - 1e-6 {
                 return Err(Diagnostic::error(
                     w.span(b'R'),
-                    format!("R{} is smaller than half the distance to the end point ({half:.4} mm)", r.abs()),
+                    format!(
+                        "the radius R, {:.4} mm, is smaller than half the distance to the end point ({half:.4} mm)",
+                        r.abs()
+                    ),
                 ));
             }
             let h = (r * r - half * half).max(0.0).sqrt();
