@@ -539,8 +539,10 @@ impl State {
                 }
                 home = Axes::from_array(v);
                 if w.any_axis() {
-                    // `G91 G28 Z0` has no intermediate move.
-                    if via != self.tip {
+                    // `G91 G28 Z0` has no intermediate move (nor does a via
+                    // point a rounding away from the tool).
+                    let (v, t) = (via.to_array(), self.tip.to_array());
+                    if (0..6).any(|k| (v[k] - t[k]).abs() > 1e-9) {
                         self.push_move(MoveKind::Rapid, via, 0.0, w.axes(), line);
                     }
                     if code == GCode::OtherHome {
