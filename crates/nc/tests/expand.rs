@@ -9,6 +9,8 @@ use kezuri_nc::interp::{self, IntegerInput, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 
+mod common;
+
 fn run(text: &str, settings: &Settings) -> Toolpath {
     let mut sources = Sources::default();
     let file = sources.add(SourceFile::new("t.nc", text));
@@ -233,4 +235,37 @@ fn offsets_set_through_variables_are_written_as_g10() {
     for line in ["G21 G90 G10 L2 P0 X10.\n", "G21 G90 G10 L20 P1 X-20.\n", "G21 G90 G10 L10 P1 R55.5\n"] {
         assert!(written.contains(line), "no {line} in\n{written}");
     }
+}
+
+/// A Haas machine: the control's rules, G154 P1, three tools, D1.
+fn haas(offset: Axes, lengths: [f64; 3], home: Axes) -> Settings {
+    use kezuri_nc::interp::{Control, CoordSettings};
+    Settings {
+        coords: CoordSettings { control: Control::Haas, ..CoordSettings::default() },
+        tool_lengths: BTreeMap::from([(1, lengths[0]), (2, lengths[1]), (3, lengths[2])]),
+        tool_radii: BTreeMap::from([(1, 5.0)]),
+        extra_work_offsets: BTreeMap::from([(1, offset)]),
+        home,
+        ..Settings::default()
+    }
+}
+
+#[test]
+fn a_haas_job_with_cycles_compensation_and_a_local_subprogram_runs_the_same_on_another_machine() {
+    // A program in the style of a CAM post for Haas (testdata/shop): G154 P1,
+    // G43 H, G187, G41 D1, M97, G83 and rigid G84 holes, G53 and G28 returns.
+    let text = include_str!("../testdata/shop/haas_bracket.nc");
+    let a = haas(at(-300.0, -200.0, -400.0), [120.0, 95.5, 101.2], at(0.0, 0.0, 0.0));
+    let b = haas(at(-512.5, -133.25, -377.0), [88.0, 140.25, 77.7], at(-20.0, 15.0, 5.0));
+    // What `kezuri run` writes: the programmed contour, with its G41 D1.
+    let on_a = common::run("haas_bracket.nc", text, &a).completed();
+    let programmed = on_a.programmed.expect("the contour with G41 D1");
+    assert_eq!(programmed.kept.iter().filter(|k| k.cycle.is_some()).count(), 3, "three taps kept");
+    let written = program(&programmed, &WriteOptions::default()).unwrap();
+    for line in
+        ["G54.1 P1\n", "G187 P2 E0.02\n", "G41 D1\n", "M29 S500\n", "G98 G84 X50. Y30. Z-10. R3. F625.\nG80\n", "M01\n"]
+    {
+        assert!(written.contains(line), "no {line} in\n{written}");
+    }
+    same(&run(text, &b), &run(&written, &b), &written);
 }
