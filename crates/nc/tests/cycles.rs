@@ -363,3 +363,28 @@ fn cycles_with_compensation_or_inverse_time_are_refused() {
     let e = error(&format!("{START}G93\nG81 X5. Y5. Z-2. R1. F2.\nM30\n"));
     assert!(e.contains("G94 first"), "{e}");
 }
+
+#[test]
+fn spindle_coolant_and_m_codes_between_kept_holes_leave_the_cycle_on() {
+    // M08, M10 and S600 between taps: the cycle goes on (one G80 at the end),
+    // the G98 hole returns to Z50 where the cycle began, M29 given once.
+    let text = "G21 G90 G00 X0 Y0 Z50.\nS500 M03\nM29 S500\nG99 G84 X0 Y0 Z-10. R2. F500.\nM08\nM10\nX10.\nS600\nG98 X20.\nG80\nG00 X100.\nM30\n";
+    let out = run(text);
+    let written = program(&out.toolpath, &WriteOptions::default()).unwrap();
+    assert_eq!(written.matches("G80").count(), 2, "{written}"); // the safe start's and one after the holes
+    assert_eq!(written.matches("M29").count(), 1, "{written}");
+    assert_eq!(moves(&run(&written).toolpath), moves(&out.toolpath), "{written}");
+}
+
+#[test]
+fn a_tap_after_drilled_holes_keeps_the_whole_cycle() {
+    // G81 holes then a G98 tap without G80: the tap returns to the level
+    // where the drilling began (Z50); written, the holes are one cycle.
+    let text = "G21 G90 G00 X0 Y0 Z50.\nS500 M03\nG99 G81 X0 Y0 Z-5. R2. F100.\nX10.\nG98 G84 X20. Z-10. F500.\nG80\nG00 X100.\nM30\n";
+    let out = run(text);
+    assert_eq!(out.toolpath.moves.last().unwrap().end.z, 50.0);
+    let written = program(&out.toolpath, &WriteOptions::default()).unwrap();
+    assert!(written.contains("G21 G90 G99 G81 X0. Y0. Z-5. R2. F100.\nG99 G81 X10."), "{written}");
+    assert!(written.contains("G98 G84 X20. Y0. Z-10. R2. F500.\nG80\n"), "{written}");
+    assert_eq!(moves(&run(&written).toolpath), moves(&out.toolpath), "{written}");
+}

@@ -45,8 +45,19 @@ impl Default for CycleSettings {
     }
 }
 
+/// A hole of the cycle in force, ready to be kept as a cycle block.
+#[derive(Clone, Debug)]
+struct RunHole {
+    start: usize,
+    moves: usize,
+    head: String,
+    body: String,
+    line: u32,
+    state: kezuri_geom::ToolState,
+}
+
 /// The hole data in force, as the program gave them (mm, seconds).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct HoleData {
     /// The bottom: the depth axis word (Z in G17), and whether it was
     /// given in G91 (from R) or G90 (a level).
@@ -65,9 +76,13 @@ pub(super) struct HoleData {
     initial_guessed: bool,
     /// M29 was given: tapping is rigid (spindle and feed synchronised).
     pub(super) rigid: bool,
-    /// The last hole of this cycle was kept as a cycle block: the next one
-    /// may go on from it.
+    /// The holes of this cycle are kept as cycle blocks; the last ended
+    /// before move `kept_end`.
     kept_open: bool,
+    kept_end: usize,
+    /// The holes of this cycle written as moves so far: kept after all if a
+    /// later hole must be (a tap after drilled holes).
+    run: Vec<RunHole>,
 }
 
 impl State {
@@ -88,6 +103,7 @@ impl State {
         self.modal.cycle = None;
         self.hole.rigid = false;
         self.hole.kept_open = false;
+        self.hole.run.clear();
     }
 
     /// A block in canned cycle mode: stores its hole data and drills the
@@ -386,34 +402,53 @@ impl State {
     /// initial level the program never named) is kept for the writer as one
     /// cycle block standing for the hole's moves.
     fn end_hole(&mut self, cycle: Cycle, start: usize, line: u32) {
-        let to_initial = cycle == Cycle::BackBore || self.modal.cycle_return == CycleReturn::Initial;
-        let keep = cycle.is_tapping() || self.settings.cycles.keep || (to_initial && self.hole.initial_guessed);
+        self.holes += 1;
         let moves = self.toolpath.moves.len() - start;
-        if !keep || moves == 0 {
-            // Written as moves: a cycle kept before it is ended there.
-            self.hole.kept_open = false;
-            self.holes += 1;
+        if moves == 0 {
             return;
         }
-        self.holes += 1;
-        // Right after the last kept hole of this cycle, nothing between:
-        // the cycle goes on, and with it its initial level and rigid tapping.
-        let next = self.hole.kept_open
-            && self.toolpath.kept.last().is_some_and(|k| k.cycle.is_some() && k.before + k.moves == start);
-        let text = self.cycle_text(cycle, start, next);
+        let to_initial = cycle == Cycle::BackBore || self.modal.cycle_return == CycleReturn::Initial;
+        let (head, body) = self.cycle_text(cycle, start);
         // The state the hole began in (a tap's spindle reversals are its own).
-        let mut kept = self.kept(start, moves, text, false, line);
-        kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[start]);
-        kept.cycle = Some(if next { CycleBlock::Next } else { CycleBlock::Start });
-        self.toolpath.kept.push(kept);
+        let state = kezuri_geom::ToolState::of(&self.toolpath.moves[start]);
+        let hole = RunHole { start, moves, head, body, line, state };
+        let keep = cycle.is_tapping()
+            || self.settings.cycles.keep
+            || (to_initial && self.hole.initial_guessed)
+            || self.hole.kept_open;
+        if !keep {
+            self.hole.run.push(hole);
+            return;
+        }
+        // Once one hole of a cycle is kept, all are: the cycle and with it
+        // its initial level go on from the first hole (and rigid tapping
+        // from its M29), so a G98 hole returns where the cycle began.
+        let earlier = std::mem::take(&mut self.hole.run);
+        let sorted = earlier.is_empty();
+        let mut last_end = if self.hole.kept_open { self.hole.kept_end } else { usize::MAX };
+        for h in earlier.into_iter().chain([hole]) {
+            // A hole right after the last one goes on in its cycle.
+            let next = h.start == last_end;
+            let text = if next { h.body } else { h.head + &h.body };
+            let mut kept = self.kept(h.start, h.moves, text, false, h.line);
+            kept.state = h.state;
+            kept.cycle = Some(if next { CycleBlock::Next } else { CycleBlock::Start });
+            self.toolpath.kept.push(kept);
+            last_end = h.start + h.moves;
+        }
+        if !sorted {
+            // The earlier holes' blocks go before what was kept since.
+            self.toolpath.kept.sort_by_key(|k| k.before);
+        }
         self.hole.kept_open = true;
+        self.hole.kept_end = last_end;
     }
 
-    /// The hole as one cycle block in absolute program coordinates (the
-    /// writer's: machine less the program's zero): the first of a cycle
-    /// with its units, G90 and (rigid tapping) `M29 S` before it; a `next`
-    /// hole with the cycle's words alone.
-    fn cycle_text(&self, cycle: Cycle, start: usize, next: bool) -> String {
+    /// The hole as a cycle block in absolute program coordinates (the
+    /// writer's: machine less the program's zero): the head the first hole
+    /// of a cycle has (units, G90, and `M29 S` for rigid tapping), and the
+    /// cycle's words.
+    fn cycle_text(&self, cycle: Cycle, start: usize) -> (String, String) {
         let (i, j, n) = self.modal.plane.axes();
         let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
         // The writer's program coordinates: from the program's zero (work
@@ -436,15 +471,13 @@ impl State {
             CycleReturn::Initial => "G98",
             CycleReturn::R => "G99",
         };
-        let head = match (next, cycle.is_tapping() && self.hole.rigid) {
-            (true, _) => String::new(),
-            (false, true) => {
-                format!("M29 S{}\n{units} G90 ", crate::write::number(self.speed, 0).trim_end_matches('.'))
-            }
-            (false, false) => format!("{units} G90 "),
+        let head = if cycle.is_tapping() && self.hole.rigid {
+            format!("M29 S{}\n{units} G90 ", crate::write::number(self.speed, 0).trim_end_matches('.'))
+        } else {
+            format!("{units} G90 ")
         };
         let mut text = format!(
-            "{head}{ret} G{} {}{} {}{} {}{} R{}",
+            "{ret} G{} {}{} {}{} {}{} R{}",
             cycle.number(),
             letters[i],
             value(place[i], i),
@@ -467,7 +500,7 @@ impl State {
         }
         let feed = moves.iter().find(|m| m.kind == MoveKind::Feed).map_or(0.0, |m| m.feed);
         text.push_str(&format!(" F{}", crate::write::number(feed / unit, 4)));
-        text
+        (head, text)
     }
 
     /// The R level of the hole whose moves begin at `start`: where its

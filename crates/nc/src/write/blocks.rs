@@ -246,6 +246,7 @@ impl Writer {
     /// The last block and the closing line; the program text. An
     /// incremental program goes back to `G90` first.
     pub(super) fn finish(mut self) -> String {
+        self.end_cycle();
         self.absolute_line();
         self.block();
         self.code(self.codes.end);
@@ -289,13 +290,18 @@ impl Writer {
         Ok(t)
     }
 
-    /// Starts a block: its `N` word when blocks are numbered. A kept canned
-    /// cycle still in force is ended first.
-    pub(super) fn block(&mut self) {
+    /// Ends a kept canned cycle still in force (G80): before anything that
+    /// moves, changes the tool or the frame, or ends the program. Spindle,
+    /// coolant and M codes between its holes leave it on, as in the source.
+    pub(super) fn end_cycle(&mut self) {
         if self.cycle_open {
             self.cycle_open = false;
             self.line("G80");
         }
+    }
+
+    /// Starts a block: its `N` word when blocks are numbered.
+    pub(super) fn block(&mut self) {
         self.words = 0;
         if self.step > 0 {
             self.space();
@@ -359,6 +365,7 @@ impl Writer {
 
     /// Starts a motion block: its `N` word and the `G90`/`G91` it needs.
     fn motion_block(&mut self) {
+        self.end_cycle();
         self.block();
         let relative = self.reckoned || self.wants_relative();
         self.distance(relative);
@@ -426,6 +433,7 @@ impl Writer {
     }
 
     fn tool_change(&mut self, tool: u32) {
+        self.end_cycle();
         // The macro runs in absolute.
         self.absolute_line();
         if self.spindle != Spindle::Off {
@@ -471,6 +479,7 @@ impl Writer {
     /// stays in `G91`); `end` is where the toolpath puts the tool after it,
     /// in program coordinates.
     pub(super) fn home(&mut self, axes: AxisSet, end: Axes) -> Result<(), WriteError> {
+        self.end_cycle();
         let t = self.target(end)?;
         // Every axis the return names, even one the program never turns (a
         // `G28 C0` of the source): without axis words a G28 would return
@@ -502,6 +511,7 @@ impl Writer {
     /// spindle gauge line in machine coordinates, `end` the tool tip after
     /// it in program coordinates.
     pub(super) fn machine(&mut self, axes: AxisSet, gauge: Axes, end: Axes) -> Result<(), WriteError> {
+        self.end_cycle();
         let (g, t) = (self.target(gauge)?, self.target(end)?);
         self.block();
         self.distance(false);
@@ -614,6 +624,7 @@ impl Writer {
     }
 
     pub(super) fn dwell(&mut self, seconds: f64) -> Result<(), WriteError> {
+        self.end_cycle();
         if !(0.0..LIMIT).contains(&seconds) {
             return Err(self.number_error('P', seconds));
         }

@@ -17,6 +17,7 @@ impl Writer {
         if old == Some(f) {
             return Ok(());
         }
+        self.end_cycle();
         // Positions in the new frame are the writer's reckoning, not what
         // the program wrote: absolute until every axis is written again.
         self.exact = [false; 6];

@@ -20,10 +20,13 @@ impl Writer {
         if refused {
             return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
         }
-        // Anything but the next hole ends the cycle in force (see `block`);
-        // the next hole's lines go on in it.
-        if k.cycle == Some(CycleBlock::Next) {
-            self.cycle_open = false;
+        // A new cycle, or a block with axis words, ends the cycle in force;
+        // the next hole, and M codes and the like between holes, go on in it.
+        match k.cycle {
+            Some(CycleBlock::Next) => {}
+            Some(CycleBlock::Start) => self.end_cycle(),
+            None if has_axis_words(&k.text) => self.end_cycle(),
+            None => {}
         }
         for line in k.text.lines() {
             self.block();
@@ -43,7 +46,9 @@ impl Writer {
         if k.moves > 0 {
             self.motion = None;
         }
-        self.cycle_open = k.cycle.is_some();
+        if k.cycle.is_some() {
+            self.cycle_open = true;
+        }
         if k.sets_offsets {
             // The frames after it carry the origins the block gave them.
             self.origins.iter_mut().for_each(|o| *o = None);
@@ -73,5 +78,14 @@ fn grbl_has(text: &str) -> bool {
             || words.contains(&"G92")
             || words.contains(&"G92.1")
             || words.contains(&"G30")
+    })
+}
+
+/// Whether kept text holds an axis word (`X5.`, `Z-1`).
+fn has_axis_words(text: &str) -> bool {
+    text.split_whitespace().any(|w| {
+        let mut c = w.chars();
+        matches!(c.next(), Some('X' | 'Y' | 'Z' | 'A' | 'B' | 'C'))
+            && c.next().is_some_and(|d| d.is_ascii_digit() || d == '-' || d == '.' || d == '+')
     })
 }
