@@ -232,3 +232,19 @@ fn linuxcnc_g10_reaches_g59_1_to_g59_3() {
     let ends: Vec<f64> = t.moves.iter().map(|m| m.end.x).collect();
     assert_eq!(ends, [100.0, 100.0]);
 }
+
+#[test]
+fn stops_keep_their_words_and_their_message_reaches_grbl() {
+    use kezuri_nc::write::{program, Dialect, WriteOptions};
+    let t = path("G0 X1 Y1 Z1\nM00 P5\n#3006=1(CHECK THE CLAMPS)\nG1 X2 F100\nM2\n", &control(Control::LinuxCnc));
+    let texts: Vec<&str> = t.kept.iter().map(|k| k.text.as_str()).collect();
+    assert_eq!(texts, ["M00 P5", "M00 (CHECK THE CLAMPS)"]);
+    let grbl = program(&t, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() });
+    assert!(grbl.is_err(), "GRBL has no M00 P5");
+    let t = path("G0 X1 Y1 Z1\n#3006=1(CHECK THE CLAMPS)\nG1 X2 F100\nM2\n", &control(Control::LinuxCnc));
+    let grbl = program(&t, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
+    assert!(grbl.contains("M00 (CHECK THE CLAMPS)"), "{grbl}");
+    // An offset the program wrote and reads back is the program's own.
+    let outcome = common::run("t.nc", "#7001=5.\nG0 X#7001\nM30\n", &control(Control::Fanuc)).completed();
+    assert!(outcome.model_reads.is_empty(), "{:?}", outcome.model_reads);
+}

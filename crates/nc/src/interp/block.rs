@@ -220,7 +220,9 @@ impl State {
 
         let moved = self.motion(codes, &w, span, line)?;
         for m in stops.into_iter().flatten() {
-            self.keep(format!("M{m:02}"), 0, false, line);
+            let words = if w.g_count == 0 && !w.any_axis() { w.as_written(b"PQRLE") } else { String::new() };
+            let text = if words.is_empty() { format!("M{m:02}") } else { format!("M{m:02} {words}") };
+            self.keep(text, 0, false, line);
         }
 
         if moved && !in_modal_macro && self.modal.modal_call == Some(ModalCallKind::AfterMove) {

@@ -246,6 +246,8 @@ struct State {
     /// Tool radius wear by D number (G10 L13, #12001…).
     radius_wear: BTreeMap<u32, f64>,
     model_reads: Vec<ModelRead>,
+    /// System variables the program has written (no longer the model's).
+    set_by_program: BTreeSet<u32>,
     /// #3003, #3004 (single block, feed hold) and #3901, #3902 (parts).
     panel: BTreeMap<u32, f64>,
     /// Axes whose work position comes from the machine model (where the
@@ -322,6 +324,7 @@ impl State {
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
             model_reads: Vec::new(),
+            set_by_program: BTreeSet::new(),
             panel: BTreeMap::new(),
             guessed: AxisSet::ALL,
             feed_word: 0.0,

@@ -247,7 +247,7 @@ impl State {
             5201..=5326 | 7001..=7960 | 14001..=15980 => "work offset",
             _ => return,
         };
-        if !self.model_reads.iter().any(|r| r.what == what) {
+        if !self.model_reads.iter().any(|r| r.what == what) && !self.set_by_program.contains(&n) {
             self.model_reads.push(ModelRead { what, variable: n, line: self.at_line });
         }
     }
@@ -326,6 +326,8 @@ impl State {
             return done;
         }
         let v = value.num();
+        // Read back later, it is the program's own value.
+        self.set_by_program.insert(n);
         if let Some(text) = offset_as_g10(n, v) {
             // The control must hold the offset the program set: kept as the
             // G10 that sets it (a written program may have no macros).

@@ -158,7 +158,7 @@ pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, RmlWri
         return Err(RmlWriteError::Option { name, value });
     }
     // A tapping cycle synchronises spindle and feed: no plain moves for it.
-    if let Some(k) = path.kept.iter().find(|k| k.moves > 0) {
+    if let Some(k) = path.kept.iter().find(|k| k.cycle.is_some()) {
         return Err(RmlWriteError::Unsupported { index: k.before, line: k.line, what: "a tapping cycle" });
     }
     let origin = path.moves.first().map_or(Axes::ZERO, |m| path.frame(m).origin);

@@ -73,7 +73,8 @@ impl Writer {
 fn grbl_has(text: &str) -> bool {
     text.lines().all(|line| {
         let words: Vec<&str> = line.split_whitespace().collect();
-        matches!(words.as_slice(), ["M00" | "M01" | "M0" | "M1"])
+        let rest = line.trim().split_once(char::is_whitespace).map_or("", |(_, r)| r.trim());
+        (matches!(words.first(), Some(&("M00" | "M01" | "M0" | "M1"))) && (rest.is_empty() || rest.starts_with('(')))
             || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
             || words.contains(&"G92")
             || words.contains(&"G92.1")
