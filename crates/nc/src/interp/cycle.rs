@@ -45,15 +45,27 @@ impl Default for CycleSettings {
     }
 }
 
-/// A hole of the cycle in force, ready to be kept as a cycle block.
+/// A hole of the cycle in force, and what its cycle block is made of: the
+/// modal words as they were when it was drilled, its moves in the toolpath.
 #[derive(Clone, Debug)]
 struct RunHole {
     start: usize,
     moves: usize,
-    head: String,
-    body: String,
     line: u32,
     state: kezuri_geom::ToolState,
+    cycle: Cycle,
+    ret: CycleReturn,
+    plane: kezuri_geom::Plane,
+    inch: bool,
+    /// The program's zero (work offset and shifts), machine coordinates.
+    origin: [f64; 6],
+    q: Option<f64>,
+    dwell: f64,
+    /// The spindle speed of rigid tapping (M29 S), if it is.
+    rigid_speed: Option<f64>,
+    /// P is written in seconds (LinuxCNC), not milliseconds.
+    seconds: bool,
+    initial: f64,
 }
 
 /// The hole data in force, as the program gave them (mm, seconds).
@@ -408,10 +420,24 @@ impl State {
             return;
         }
         let to_initial = cycle == Cycle::BackBore || self.modal.cycle_return == CycleReturn::Initial;
-        let (head, body) = self.cycle_text(cycle, start);
-        // The state the hole began in (a tap's spindle reversals are its own).
-        let state = kezuri_geom::ToolState::of(&self.toolpath.moves[start]);
-        let hole = RunHole { start, moves, head, body, line, state };
+        // What its block is made of, written only if the hole is kept.
+        let hole = RunHole {
+            start,
+            moves,
+            line,
+            // The state the hole began in (a tap's spindle reversals are its own).
+            state: kezuri_geom::ToolState::of(&self.toolpath.moves[start]),
+            cycle,
+            ret: self.modal.cycle_return,
+            plane: self.modal.plane,
+            inch: self.modal.units == Units::Inch,
+            origin: self.frame_offset().to_array(),
+            q: self.hole.q,
+            dwell: self.hole.dwell,
+            rigid_speed: (cycle.is_tapping() && self.hole.rigid).then_some(self.speed),
+            seconds: self.settings.integer_input == IntegerInput::Units,
+            initial: self.hole.initial,
+        };
         let keep = cycle.is_tapping()
             || self.settings.cycles.keep
             || (to_initial && self.hole.initial_guessed)
@@ -429,7 +455,8 @@ impl State {
         for h in earlier.into_iter().chain([hole]) {
             // A hole right after the last one goes on in its cycle.
             let next = h.start == last_end;
-            let text = if next { h.body } else { h.head + &h.body };
+            let (head, body) = self.cycle_text(&h);
+            let text = if next { body } else { head + &body };
             let mut kept = self.kept(h.start, h.moves, text, false, h.line);
             kept.state = h.state;
             kept.cycle = Some(if next { CycleBlock::Next } else { CycleBlock::Start });
@@ -448,37 +475,33 @@ impl State {
     /// writer's: machine less the program's zero): the head the first hole
     /// of a cycle has (units, G90, and `M29 S` for rigid tapping), and the
     /// cycle's words.
-    fn cycle_text(&self, cycle: Cycle, start: usize) -> (String, String) {
-        let (i, j, n) = self.modal.plane.axes();
-        let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
-        // The writer's program coordinates: from the program's zero (work
-        // offset and the G92, G52 and external shifts).
-        let origin = self.frame_offset().to_array();
-        let moves = &self.toolpath.moves[start..];
-        let first = moves.iter().find(|m| !matches!(m.kind, MoveKind::Dwell(_))).map_or(self.tip, |m| m.end);
+    fn cycle_text(&self, h: &RunHole) -> (String, String) {
+        let (i, j, n) = h.plane.axes();
+        let unit = if h.inch { 25.4 } else { 1.0 };
+        let moves = &self.toolpath.moves[h.start..h.start + h.moves];
+        let first = moves.iter().find(|m| !matches!(m.kind, MoveKind::Dwell(_))).map_or(moves[0].start, |m| m.end);
         let place = first.to_array();
-        let r_level = self.hole_r_level(start);
-        let bottom = moves.iter().map(|m| m.end.to_array()[n]).fold(f64::INFINITY, f64::min);
-        let bottom = if cycle == Cycle::BackBore {
-            moves.iter().map(|m| m.end.to_array()[n]).fold(f64::NEG_INFINITY, f64::max).min(self.hole.initial)
+        let r_level = hole_r_level(moves, n);
+        let levels = moves.iter().map(|m| m.end.to_array()[n]);
+        let bottom = if h.cycle == Cycle::BackBore {
+            levels.fold(f64::NEG_INFINITY, f64::max).min(h.initial)
         } else {
-            bottom
+            levels.fold(f64::INFINITY, f64::min)
         };
-        let value = |v: f64, k: usize| crate::write::number((v - origin[k]) / unit, 6);
+        let value = |v: f64, k: usize| crate::write::number((v - h.origin[k]) / unit, 6);
         let letters = ['X', 'Y', 'Z'];
-        let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
-        let ret = match self.modal.cycle_return {
+        let units = if h.inch { "G20" } else { "G21" };
+        let ret = match h.ret {
             CycleReturn::Initial => "G98",
             CycleReturn::R => "G99",
         };
-        let head = if cycle.is_tapping() && self.hole.rigid {
-            format!("M29 S{}\n{units} G90 ", crate::write::number(self.speed, 0).trim_end_matches('.'))
-        } else {
-            format!("{units} G90 ")
+        let head = match h.rigid_speed {
+            Some(s) => format!("M29 S{}\n{units} G90 ", crate::write::number(s, 0).trim_end_matches('.')),
+            None => format!("{units} G90 "),
         };
         let mut text = format!(
             "{ret} G{} {}{} {}{} {}{} R{}",
-            cycle.number(),
+            h.cycle.number(),
             letters[i],
             value(place[i], i),
             letters[j],
@@ -487,36 +510,31 @@ impl State {
             value(bottom, n),
             value(r_level, n),
         );
-        if let Some(q) = self.hole.q {
+        if let Some(q) = h.q {
             text.push_str(&format!(" Q{}", crate::write::number(q / unit, 6)));
         }
-        if self.hole.dwell > 0.0 {
-            let p = if self.settings.integer_input == IntegerInput::Units {
-                crate::write::number(self.hole.dwell, 3)
-            } else {
-                format!("{}", (self.hole.dwell * 1000.0).round())
-            };
+        if h.dwell > 0.0 {
+            let p =
+                if h.seconds { crate::write::number(h.dwell, 3) } else { format!("{}", (h.dwell * 1000.0).round()) };
             text.push_str(&format!(" P{p}"));
         }
         let feed = moves.iter().find(|m| m.kind == MoveKind::Feed).map_or(0.0, |m| m.feed);
         text.push_str(&format!(" F{}", crate::write::number(feed / unit, 4)));
         (head, text)
     }
+}
 
-    /// The R level of the hole whose moves begin at `start`: where its
-    /// first rapid along the depth axis ends (or the level it began at).
-    fn hole_r_level(&self, start: usize) -> f64 {
-        let (_, _, n) = self.modal.plane.axes();
-        let moves = &self.toolpath.moves[start..];
-        let depth_move = moves.iter().find(|m| {
-            let (s, e) = (m.start.to_array(), m.end.to_array());
-            (0..3).all(|k| k == n || s[k] == e[k]) && s[n] != e[n]
-        });
-        match depth_move {
-            Some(m) if m.kind == MoveKind::Rapid => m.end.to_array()[n],
-            Some(m) => m.start.to_array()[n],
-            None => self.tip.to_array()[n],
-        }
+/// The R level of a hole's moves: where its first rapid along the depth
+/// axis `n` ends (or where its first feed along it starts).
+fn hole_r_level(moves: &[kezuri_geom::Move], n: usize) -> f64 {
+    let depth_move = moves.iter().find(|m| {
+        let (s, e) = (m.start.to_array(), m.end.to_array());
+        (0..3).all(|k| k == n || s[k] == e[k]) && s[n] != e[n]
+    });
+    match depth_move {
+        Some(m) if m.kind == MoveKind::Rapid => m.end.to_array()[n],
+        Some(m) => m.start.to_array()[n],
+        None => moves[0].start.to_array()[n],
     }
 }
 
