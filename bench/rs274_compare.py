@@ -57,6 +57,8 @@ def tool_files(tmp):
         f.write("[tools]\n")
         f.write("lengths = { %s }\n" % ", ".join("%d = 0.0" % t for t in range(1, 100)))
         f.write("radii = { %s }\n" % ", ".join("%d = 3.0" % t for t in range(1, 100)))
+        # LinuxCNC's G73 retract and G83 clearance: a fixed 0.010 inch.
+        f.write("[cycles]\npeck_retract_mm = 0.254\npeck_clearance_mm = 0.254\n")
     return tbl, machine
 
 
