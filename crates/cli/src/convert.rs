@@ -42,7 +42,7 @@ words without a decimal point are whole millimetres); anything else is Fanuc (X1
 Standard input (-) is guessed from its text. --to defaults from the output's extension the same
 way (.rml/.prn, .ngc/.tap, .gcode/.gc), else fanuc.
 
-RML-1 coordinates are steps of --rml-unit mm (0.01; the MDX-20 steps 0.025): seed 002's listing
+RML-1 coordinates are steps of --rml-unit mm (0.01; the MDX-20 steps 0.025): the
 line Z39,0,-240 is X0.39 Z-2.4, not X39. Z240. Reading RML-1, Z x,y,z is a G01, ^PU x,y a G00 at
 the tool-up height (--safe-z, else the program's !PZ), ^PD a feed at the current down Z; V and
 ^VS are mm/s, and --feed gives the feed where the program sets none. Device commands (!RC, !NR,

@@ -17,17 +17,17 @@ use crate::program::{read_and_run, NoDecimal, Report, RunOptions};
 const SAMPLES: [(&str, &str, &str); 3] = [
     (
         "o1011-digitize.nc",
-        "seed 000: digitizing program O1011/O1012/O1013, 85 x 105 plunges",
+        "digitizing program O1011/O1012/O1013, 85 x 105 plunges",
         include_str!("../../../samples/o1011-digitize.nc"),
     ),
     (
         "o7023-texture.nc",
-        "seed 004: CAM path under G66.1 P7023, random depths from #3001 (--clock-seed 7)",
+        "texture: CAM path under G66.1 P7023, random depths from #3001 (--clock-seed 7)",
         include_str!("../../../samples/o7023-texture.nc"),
     ),
     (
         "o2007-thermal.nc",
-        "seed 003: thermal test moves O2007 with B indexing",
+        "thermal drift test moves O2007 with B indexing",
         include_str!("../../../samples/o2007-thermal.nc"),
     ),
 ];
@@ -151,7 +151,7 @@ fn copy_milling(out: &Path) -> Result<()> {
         }
     }
     write_atomic(&model, text.as_bytes())?;
-    println!("\nsamples/plum-mould.xyz  (seed 000's rice mould: 84 x 104 mm, a plum-blossom pocket 20 mm deep)");
+    println!("\nsamples/plum-mould.xyz  (a rice mould master: 84 x 104 mm, a plum-blossom pocket 20 mm deep)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let model = model.to_string_lossy().into_owned();
     let commands: [Vec<String>; 5] = [
@@ -227,7 +227,7 @@ fn copy_milling(out: &Path) -> Result<()> {
 fn relief_carving(out: &Path) -> Result<()> {
     let sketch = out.join("samples").join("plum-sketch.png");
     write_atomic(&sketch, include_bytes!("../../../samples/plum-sketch.png"))?;
-    println!("\nsamples/plum-sketch.png  (seed 002: a grayscale sketch, 256 x 192 pixels)");
+    println!("\nsamples/plum-sketch.png  (a grayscale sketch for a relief, 256 x 192 pixels)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let sketch = sketch.to_string_lossy().into_owned();
     let commands: [Vec<String>; 2] = [
@@ -280,7 +280,7 @@ fn relief_carving(out: &Path) -> Result<()> {
 fn textured_nameplate(out: &Path) -> Result<()> {
     let cam = out.join("samples").join("nameplate-cam.nc");
     write_atomic(&cam, include_bytes!("../../../samples/nameplate-cam.nc"))?;
-    println!("\nsamples/nameplate-cam.nc  (seed 004: a nameplate's zig-zag area clearing at CAM Z 0)");
+    println!("\nsamples/nameplate-cam.nc  (a nameplate's zig-zag area clearing at CAM Z 0)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let cam = cam.to_string_lossy().into_owned();
     let paper = ["--seed", "7", "--base", "-2", "--step-range", "0.2,1.6", "--max-depth", "-2.8"];
@@ -331,10 +331,10 @@ fn thermal_drift(out: &Path) -> Result<()> {
     let machine = out.join("samples").join("mill-turn.toml");
     write_atomic(
         &machine,
-        b"# Seed 003's Swiss-type mill-turn: the milling spindle carries X, Z and the B tilt,\n\
+        b"# A Swiss-type mill-turn: the milling spindle carries X, Z and the B tilt,\n\
           # the turning side Y and C.\n[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n",
     )?;
-    println!("\nsamples/mill-turn.toml  (seed 003: tool side X Z B, work side Y C)");
+    println!("\nsamples/mill-turn.toml  (a mill-turn: tool side X Z B, work side Y C)");
     // The stops of O2007, each axis's travel at each B angle, and Y about zero.
     let stations: [(f64, [(f64, f64); 3]); 2] = [
         (0.0, [(-22.0, -2.0), (-10.0, 10.0), (-94.0, -74.0)]),

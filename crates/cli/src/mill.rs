@@ -19,7 +19,7 @@ it, so nothing outside the surface is cut; within a radius of the edges the cutt
 reach down everywhere, and material is left there. Where no part of the surface is under
 the cutter the row is cut in pieces, with a retract between.
 
---cusp H is seed 001's pick-feed control: each next row goes as far as the theoretical cusp
+--cusp H is pick-feed control: each next row goes as far as the theoretical cusp
 between the rows, from the slope across them, stays within H (the pick feed in the inclined
 plane from `kezuri scallop`, converted to the stepover in plan); --stepover is then the widest
 it may be.

@@ -28,7 +28,7 @@ const GOUGE: f64 = 0.001;
 The picture (PNG, JPEG, BMP, TIFF or PGM, 8 or 16 bit; colour is read as luma) becomes heights
 below the stock top z = 0: white at the top and black --depth below (--invert: the other way),
 with --gamma on the gray value; or --levels gives ranges of gray explicit heights above the
-floor, as the paper set a height per region (the highest level is the stock top). --smooth
+floor, a height per region (the highest level is the stock top). --smooth
 rounds the steps (a Gaussian of that many pixels); --mask IMAGE cuts only where the mask is
 light. The picture's top row is the largest Y; --width (or --pixel) sets the size, --origin
 puts a corner (corner or lower-left, lower-right, upper-left, upper-right) or the centre

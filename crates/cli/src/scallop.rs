@@ -12,7 +12,7 @@ use serde_json::json;
 #[command(group(ArgGroup::new("given").required(true).args(["pick_feed", "target"])))]
 #[command(after_help = "\
 The passes run along the contour (Z-level) of a plane inclined at --angle; the pick feed is
-measured in the inclined plane (seed 001's Pf): Pf·cos(angle) across in plan, Pf·sin(angle)
+measured in the inclined plane (Pf): Pf·cos(angle) across in plan, Pf·sin(angle)
 in Z. The cusp is the height of the ridge left between two neighbouring passes, square to
 the plane. Step-up (next pass higher) and step-down (next pass lower) leave the same cusp:
 both are reported. See docs/scallop.md.

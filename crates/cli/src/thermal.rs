@@ -165,7 +165,7 @@ pub struct FitArgs {
 
 /// `kezuri thermal plan -o O2007.nc`.
 #[derive(Args, Debug)]
-#[command(after_help = "Without --at, the paper's stations: B 0 from X -2 Z -74, B -90 from X -145 Z -135; each
+#[command(after_help = "Without --at, the standard stations: B 0 from X -2 Z -74, B -90 from X -145 Z -135; each
 steps Z then X six times by -4 mm (Z -74 ... -94, then X -2 ... -22 at Z -94).
 
 Examples:

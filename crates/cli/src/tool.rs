@@ -27,8 +27,8 @@ edges, so it needs no axis; the runout is half the swing of the frames' silhouet
 
 A tool larger than the field of view: give each picture's stage position in --offsets, a CSV
 `image,x_mm,z_mm` (x to the right of the picture, z up the tool; the pictures that share a
-position are one field). Overlapping fields are matched to a fraction of a pixel (the paper
-overlapped 100 µm across and 70 µm along the tool).
+position are one field). Overlapping fields are matched to a fraction of a pixel (100 µm of
+overlap across and 70 µm along the tool are plenty).
 
 PROFILE.csv: z_mm,radius_mm (and wear_mm with --nominal: nominal + runout - measured), one row per
 pixel row from the lowest point of the tool up; z from --tip-row, the row of the first picture

@@ -115,7 +115,7 @@ fn groove() -> String {
 
 /// The tool-wear demo into `out`.
 pub fn tool_wear(out: &Path) -> Result<()> {
-    println!("\nseed 003, tool wear: a 0.5 mm ball end mill imaged turning (36 frames, 0.71 µm pixels), new and worn");
+    println!("\ntool wear: a 0.5 mm ball end mill imaged turning (36 frames, 0.71 µm pixels), new and worn");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let mut commands = Vec::new();
     for (name, worn, seed, time) in

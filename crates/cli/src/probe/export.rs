@@ -16,7 +16,7 @@ use crate::files::write_output;
 /// Options of `kezuri probe export`.
 #[derive(Args, Debug)]
 #[command(after_help = "\
---dxf writes AutoCAD R12 ASCII: one 3D POLYLINE per row on layer ROWS (the paper's cross
+--dxf writes AutoCAD R12 ASCII: one 3D POLYLINE per row on layer ROWS (cross
 sections), with --columns one per column on layer COLS too. --stl is the surface through the
 points (two triangles per cell, not a closed solid). --mirror x reflects the data in the last
 column (the largest X, the symmetry line, kept once), --mirror y in the last row: a model

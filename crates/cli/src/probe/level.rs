@@ -18,13 +18,12 @@ use crate::files::{read_text, write_output};
 The reference region holds the points that should lie in one horizontal plane (the model's flat
 part): corners, border, rows:A,B or cols:A,B (numbered from 1; row 1 is the first measured) or
 mask:FILE (one line per row, row 1 first, a 0 or 1 per point). Candidates: plane (the
-least-squares plane turned horizontal), and the paper's lines (least-squares lines along two
+least-squares plane turned horizontal), and lines (least-squares lines along two
 reference rows or columns, the straight line between them subtracted row by row: takes out a
 twist too; with the border, both the row pair and the column pair). Every candidate keeps the
 reference's mean height. The table gives count, max, min, mean and standard deviation of the
 reference points for the raw data and every candidate; --method auto keeps the smallest
-standard deviation, as the paper advises. (The paper's own table is inconsistent — a mean
-above the max — so it is a layout, not numbers to reproduce.)
+standard deviation.
 
 The levelled data are written in the format read (a capture file gains a `# levelled` line).
 

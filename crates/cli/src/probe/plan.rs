@@ -13,13 +13,13 @@ use crate::files::write_output;
 /// Options of `kezuri probe plan`.
 #[derive(Args, Debug)]
 #[command(after_help = "\
-The stylus travels at --z-safe and plunges by --plunge at each point (the paper's G01 Z-50.
-stroke): the bottom is z-safe - plunge. Rows run along X stepping +Y, the first row toward +X;
+The stylus travels at --z-safe and plunges by --plunge at each point (a G01 Z-50.
+stroke, say): the bottom is z-safe - plunge. Rows run along X stepping +Y, the first row toward +X;
 zigzag (default) runs every other row back toward -X, oneway returns at z-safe. Points are
 numbered 1, 2, ... in that order, the order `probe capture` stores them in.
 
 Styles:
-  subprogram  the paper's shape: the main program positions in G90 at the origin and z-safe,
+  subprogram  the classic shape: the main program positions in G90 at the origin and z-safe,
               then G91 and M98 P<row> L<rows>; the row subprogram measures its first point and
               repeats the point subprogram (a pitch in X, plunge, trigger, retract) nx-1 times.
               Zigzag repeats a pair of rows (+X, then -X); an odd last row is in the main
@@ -32,7 +32,7 @@ Styles:
               the skip position less the length offset). No touch above the bottom: the line
               gives the bottom. No trigger (the skip signal is the trigger).
 
-The trigger (subprogram and expanded) is given at every bottom: the paper's M07 (air blow on:
+The trigger (subprogram and expanded) is given at every bottom: M07 (air blow on:
 the PC reads the indicator), G04 X0.5, M09 by default. Each block may hold no motion and no G
 code but G04. Every program retracts with G91 G28 Z0. before it positions and at the end, and
 is framed by %. Lengths must be whole numbers of 10^-digits mm, so every grid point is written
