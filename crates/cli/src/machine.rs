@@ -373,7 +373,7 @@ impl Machine {
             match upper.as_str() {
                 "HOME" => settings.home = a,
                 "REF2" | "REF3" | "REF4" => {
-                    settings.coords.reference_points[usize::from(name.as_bytes()[3] - b'2')] = a
+                    settings.coords.reference_points[usize::from(upper.as_bytes()[3] - b'2')] = a
                 }
                 g => match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
                     Some(n @ 54..=59) => settings.work_offsets[n - 54] = a,
@@ -418,6 +418,9 @@ mod tests {
         let l =
             Machine::parse("[coordinates]\ncontrol = \"LinuxCNC\"\nrotation_incremental = true\n[offsets]\nref4 = [1]")
                 .unwrap();
+        // A key written with a space is the same key (it panicked on the space).
+        let spaced = Machine::parse("[offsets]\n\"ref 3\" = [7]").unwrap();
+        assert_eq!(spaced.settings.coords.reference_points[1].x, 7.0);
         assert_eq!(l.settings.coords.control, Control::LinuxCnc);
         assert!(l.settings.coords.rotation_incremental);
         assert_eq!(l.settings.coords.reference_points[2].x, 1.0);

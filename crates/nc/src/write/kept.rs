@@ -33,15 +33,15 @@ impl Writer {
             self.code(line);
             self.out.push('\n');
             // The block may set G90/G91.
-            if line.contains("G91") {
+            if has(line, 'G', 91.0) {
                 self.relative = Some(true);
-            } else if line.contains("G90") {
+            } else if has(line, 'G', 90.0) {
                 self.relative = Some(false);
             }
         }
-        let units = if self.inch { "G20" } else { "G21" };
-        if k.text.contains(if self.inch { "G21" } else { "G20" }) {
-            self.line(units);
+        let (ours, other) = if self.inch { ("G20", 21.0) } else { ("G21", 20.0) };
+        if k.text.lines().any(|line| has(line, 'G', other)) {
+            self.line(ours);
         }
         if k.moves > 0 {
             self.motion = None;
@@ -72,21 +72,27 @@ impl Writer {
 /// offsets set by `G10 L2`/`L20`, and `G92`, `G92.1`.
 fn grbl_has(text: &str) -> bool {
     text.lines().all(|line| {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        let rest = line.trim().split_once(char::is_whitespace).map_or("", |(_, r)| r.trim());
-        (matches!(words.first(), Some(&("M00" | "M01" | "M0" | "M1"))) && (rest.is_empty() || rest.starts_with('(')))
-            || (words.contains(&"G10") && (words.contains(&"L2") || words.contains(&"L20")))
-            || words.contains(&"G92")
-            || words.contains(&"G92.1")
-            || words.contains(&"G30")
+        let w = words(line);
+        let stop = w.len() == 1 && (w[0] == ('M', 0.0) || w[0] == ('M', 1.0));
+        let g10 = has(line, 'G', 10.0) && (has(line, 'L', 2.0) || has(line, 'L', 20.0));
+        stop || g10 || has(line, 'G', 92.0) || has(line, 'G', 92.1) || has(line, 'G', 30.0)
     })
 }
 
-/// Whether kept text holds an axis word (`X5.`, `Z-1`).
+/// The words of a line outside its comments, as letters and values.
+fn words(line: &str) -> Vec<(char, f64)> {
+    crate::rewrite::words(line)
+        .into_iter()
+        .map(|w| (w.letter, line[w.number.0..w.number.1].parse().unwrap_or(f64::NAN)))
+        .collect()
+}
+
+/// Whether a line holds the word `letter` `value` (`G91`, not `G91.1`).
+fn has(line: &str, letter: char, value: f64) -> bool {
+    words(line).contains(&(letter, value))
+}
+
+/// Whether kept text holds an axis word (`X5.`, `Z-1`; not in a comment).
 fn has_axis_words(text: &str) -> bool {
-    text.split_whitespace().any(|w| {
-        let mut c = w.chars();
-        matches!(c.next(), Some('X' | 'Y' | 'Z' | 'A' | 'B' | 'C'))
-            && c.next().is_some_and(|d| d.is_ascii_digit() || d == '-' || d == '.' || d == '+')
-    })
+    text.lines().any(|line| words(line).iter().any(|(l, _)| "XYZABC".contains(*l)))
 }
