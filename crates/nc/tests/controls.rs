@@ -248,3 +248,9 @@ fn stops_keep_their_words_and_their_message_reaches_grbl() {
     let outcome = common::run("t.nc", "#7001=5.\nG0 X#7001\nM30\n", &control(Control::Fanuc)).completed();
     assert!(outcome.model_reads.is_empty(), "{:?}", outcome.model_reads);
 }
+
+#[test]
+fn a_skip_move_in_inverse_time_is_refused() {
+    // It had the feed 0, silently.
+    assert!(error("G93 G31 X10. F2.\nM30\n", &control(Control::Fanuc)).contains("G94 first"));
+}

@@ -598,9 +598,12 @@ impl State {
                 }
                 return Ok(w.any_axis());
             }
-            Some((GCode::Skip, _)) => {
+            Some((GCode::Skip, gspan)) => {
                 if !w.any_axis() {
                     return Ok(false);
+                }
+                if self.modal.feed_mode == FeedMode::InverseTime {
+                    return Err(Diagnostic::error(gspan, "a skip move in inverse time feed (G93): give G94 first"));
                 }
                 let end = self.target(w);
                 let feed = self.feed_mm_min(span);
@@ -667,7 +670,7 @@ impl State {
         let (i, j, _) = plane.axes();
         // A mirror image (or a negative scale) on one axis of the plane
         // reverses the direction; an R arc's radius is scaled.
-        let ccw = (self.modal.motion == Motion::Ccw) != self.arc_reversed();
+        let ccw = (self.modal.motion == Motion::Ccw) != self.plane_reversed();
         let scale = self.arc_scale(span)?;
         let s = self.tip.xyz();
         let e = end.xyz();

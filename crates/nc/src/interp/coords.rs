@@ -222,15 +222,6 @@ impl State {
         Axes::from_array(add(self.coords.inverse(self.local_position()), self.coords.delta))
     }
 
-    /// A word in mm (linear axes, centres) from program units.
-    fn length(&self, v: f64) -> f64 {
-        if self.modal.units == Units::Inch {
-            v * 25.4
-        } else {
-            v
-        }
-    }
-
     /// A ratio or angle word: where it was written without a decimal point
     /// on a Fanuc control it counts 0.001 whatever the units (the reader
     /// divided inch words by 10,000).
@@ -259,7 +250,7 @@ impl State {
             let incremental = self.modal.distance == Distance::Incremental;
             for (i, &letter) in LETTERS.iter().enumerate() {
                 if let Some(v) = w.get(letter) {
-                    let v = if i < 3 { self.length(v) } else { v };
+                    let v = if i < 3 { self.mm(v) } else { v };
                     p[i] = if incremental { p[i] + v } else { v };
                 }
             }
@@ -276,13 +267,13 @@ impl State {
                 continue;
             }
             if let Some(v) = w.get(letter) {
-                let v = if i < 3 { self.length(v) } else { v };
+                let v = if i < 3 { self.mm(v) } else { v };
                 p[i] = if incremental { p[i] + v } else { v };
             }
         }
         if self.coords.polar {
             let (i, j) = (plane.0, plane.1);
-            let (radius, angle) = (w.get(LETTERS[i]).map(|v| self.length(v)), w.get(LETTERS[j]));
+            let (radius, angle) = (w.get(LETTERS[i]).map(|v| self.mm(v)), w.get(LETTERS[j]));
             if radius.is_some() || angle.is_some() {
                 // The radius measured from the work zero, or (an incremental
                 // radius) from the tool; the angle from the plane's first
@@ -358,7 +349,7 @@ impl State {
         let mut p = self.program_position().to_array();
         for (i, &letter) in LETTERS.iter().enumerate() {
             if let Some(v) = w.get(letter) {
-                p[i] = if i < 3 { self.length(v) } else { v };
+                p[i] = if i < 3 { self.mm(v) } else { v };
                 if self.settings.coords.control != Control::LinuxCnc {
                     self.coords.local[i] = 0.0;
                 }
@@ -384,7 +375,7 @@ impl State {
         let incremental = self.modal.distance == Distance::Incremental;
         for (i, &letter) in LETTERS.iter().enumerate() {
             if let Some(v) = w.get(letter) {
-                let v = if i < 3 { self.length(v) } else { v };
+                let v = if i < 3 { self.mm(v) } else { v };
                 match self.settings.coords.control {
                     Control::Fanuc | Control::Haas if incremental => self.coords.local[i] += v,
                     Control::Fanuc | Control::Haas => self.coords.local[i] = v,
@@ -441,13 +432,9 @@ impl State {
         self.keep(text, 1, false, line);
     }
 
-    /// Whether the arc's direction is reversed by a mirror image.
-    pub(super) fn arc_reversed(&self) -> bool {
-        self.coords.reverses(self.modal.plane)
-    }
-
-    /// Whether G41/G42 are swapped by a mirror image (for compensation).
-    pub(super) fn comp_side_swapped(&self) -> bool {
+    /// Whether a mirror image turns the plane over: arcs run the other
+    /// way, and G41/G42 swap.
+    pub(super) fn plane_reversed(&self) -> bool {
         self.coords.reverses(self.modal.plane)
     }
 
@@ -483,7 +470,7 @@ impl State {
         let mut any = false;
         for (k, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
             if let Some(x) = w.get(letter) {
-                v[k] = self.length(x);
+                v[k] = self.mm(x);
                 any = true;
             }
         }
@@ -548,7 +535,7 @@ impl State {
                 for (i, &letter) in LETTERS[..3].iter().enumerate() {
                     if on {
                         if let Some(v) = w.get(letter) {
-                            self.coords.mirror[i] = Some(self.length(v));
+                            self.coords.mirror[i] = Some(self.mm(v));
                         }
                     } else if named.is_empty() || named.contains(&i) {
                         self.coords.mirror[i] = None;
@@ -572,7 +559,7 @@ impl State {
         let mut c = self.program_position().to_array();
         for k in [i, j] {
             if let Some(v) = w.get(LETTERS[k]) {
-                c[k] = self.length(v);
+                c[k] = self.mm(v);
             }
         }
         let c = self.coords.sm(c);
@@ -614,7 +601,7 @@ impl State {
         let (i, j, _) = self.modal.plane.axes();
         self.centre_known(w, &[i, j], gspan, "G51")?;
         let p0 = self.program_position().to_array();
-        let centre: [f64; 3] = std::array::from_fn(|i| w.get(LETTERS[i]).map_or(p0[i], |v| self.length(v)));
+        let centre: [f64; 3] = std::array::from_fn(|i| w.get(LETTERS[i]).map_or(p0[i], |v| self.mm(v)));
         let mut factor = [1.0; 3];
         if let Some(p) = self.ratio(w, b'P') {
             factor = [p; 3];
@@ -672,11 +659,5 @@ impl State {
             }
             _ => return None,
         })
-    }
-
-    /// Whether anything maps program points other than by offsets.
-    #[allow(dead_code)]
-    pub(super) fn transformed(&self) -> bool {
-        self.coords.active()
     }
 }

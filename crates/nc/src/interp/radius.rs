@@ -161,7 +161,7 @@ impl State {
     /// with the compensation in force now.
     pub(super) fn comp_tag(&mut self) {
         // A programmable mirror on one axis of the plane swaps G41 and G42.
-        let swapped = self.comp_side_swapped();
+        let swapped = self.plane_reversed();
         let tag = self.radius.on.map(|on| {
             let side = match (on.side, swapped) {
                 (side, false) => side,
@@ -200,7 +200,8 @@ impl State {
                     alarm = Some(Diagnostic::error(span, format!("cutter compensation: {}", e.message)));
                     end = since + e.move_index;
                 }
-                Err(_) => break None,
+                // The moves before the alarm fail in turn: stop before theirs too.
+                Err(e) => end = since + e.move_index,
             }
         };
         if alarm.is_some() {

@@ -232,7 +232,7 @@ impl State {
         let values = std::mem::take(&mut self.settings.macro_variables.values);
         for (&n, &v) in &values {
             // Checked before the run: each is a kept common variable.
-            let _ = self.write_var(f64::from(n), Value::Num(v));
+            self.write_var(f64::from(n), Value::Num(v)).expect("Settings::check saw every starting value");
         }
         self.settings.macro_variables.values = values;
     }
@@ -257,7 +257,6 @@ impl State {
         if let Some(v) = self.read_signal(n) {
             return Ok(v);
         }
-        let work = self.work_position();
         Ok(match n {
             2001..=2200 => self.settings.tool_lengths.get(&(n - 2000)).copied().unwrap_or(0.0),
             2201..=2400 => self.settings.tool_radii.get(&(n - 2200)).copied().unwrap_or(0.0),
@@ -290,13 +289,15 @@ impl State {
             4120 => self.pending_tool as f64,
             // The P of G54.1 P in force (0 under G54 … G59).
             4130 => (self.modal.work_offset + 1).saturating_sub(super::EXTRA_OFFSETS) as f64,
-            5001..=5006 => axis(work, n - 5001).unwrap_or(0.0),
+            5001..=5006 => axis(self.work_position(), n - 5001).unwrap_or(0.0),
             5021..=5026 => axis(self.machine_position(), n - 5021).unwrap_or(0.0),
             // As on a Fanuc control, #5001… is the programmed end point (no
             // tool length offset); #5021…, #5041… and #5061… include it: they
             // are where the spindle's reference point is, and #5081… is the
             // offset itself (so #5063-#5083 is the tool tip).
-            5041..=5046 => axis(work, n - 5041).unwrap_or(0.0) + if n == 5043 { self.length_offset() } else { 0.0 },
+            5041..=5046 => {
+                axis(self.work_position(), n - 5041).unwrap_or(0.0) + if n == 5043 { self.length_offset() } else { 0.0 }
+            }
             5061..=5066 => axis(self.skip_position, n - 5061).unwrap_or(0.0),
             5081..=5086 => {
                 if n == 5083 {
