@@ -57,22 +57,33 @@ enum Command {
         out: PathBuf,
     },
     /// Parse and run a program (macros and subprograms too) and report blocks,
-    /// motions, lengths, cycle time, bounds and warnings.
+    /// motions, lengths, cycle time, bounds, canned-cycle holes and warnings.
     #[command(
-        after_help = "Examples:\n  kezuri check O1011.nc\n  kezuri check part.nc --json --machine mill.toml\n\n\
+        after_help = "Examples:\n  kezuri check O1011.nc\n  kezuri check part.nc --json --machine mill.toml\n  \
+kezuri check haas-job.nc --machine haas.toml   # G154 P1, G41 D1, G83, G84: radii and offsets from the file\n\n\
+Values the program read from the machine file rather than set itself (a work offset #5221, a tool \
+offset #2001, the machine position #5021, an input #1000, the clock #3001) are listed as notes: a \
+program expanded from them holds this machine's values.\n\n\
 Exit code 1 when the program has errors (each shown with file:line:column)."
     )]
     Check {
         #[command(flatten)]
         run: RunOptions,
-        /// Print one JSON object: blocks, motions, feed_length_mm,
-        /// rapid_length_mm, time_s, bounds, warnings.
+        /// Print one JSON object: blocks, motions, holes, feed_length_mm,
+        /// rapid_length_mm, time_s, bounds, errors, warnings, machine_values.
         #[arg(long)]
         json: bool,
     },
     /// Execute macros and subprograms and write the expanded motion program.
     #[command(
-        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --emit csv -o moves.csv\n  kezuri run part.nc --emit linuxcnc --svg part.svg -o part.ngc"
+        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --emit csv -o moves.csv\n  \
+kezuri run part.nc --emit linuxcnc --svg part.svg -o part.ngc\n  \
+kezuri run drill.nc --keep-cycles -o drill-cycles.nc   # G81/G83 stay cycle blocks\n  \
+kezuri run contour.nc --machine mill.toml --apply-comp --emit grbl -o c.gcode  # tool centre\n\n\
+What the machine must do itself is written where the program had it: M codes kezuri does not \
+follow (M00, M19, clamps), G10, G92, G52, smoothing codes (G05.1, G187), output signals, taps \
+(G84/G74, always as cycles), G41/G42 D. A move the program made as an increment from a \
+position it never named (after G28, G53, a tool change) stays an increment."
     )]
     Run {
         #[command(flatten)]

@@ -31,7 +31,10 @@ pub struct RunOptions {
     /// Folder of subprogram files `O1234.nc` [default: the program's folder].
     #[arg(long, value_name = "DIR")]
     pub lib: Option<PathBuf>,
-    /// Machine file (TOML): rapids, acceleration, tool table, offsets.
+    /// Machine file (TOML): rapids, acceleration, tool table ([tools] H and D
+    /// registers), offsets (G54…, G54.1 P, reference points), the control
+    /// ([coordinates] fanuc, haas, linuxcnc), [cycles], [comp], [macro],
+    /// [signals].
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
     /// How axis words without a decimal point are read.
