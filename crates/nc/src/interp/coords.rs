@@ -389,8 +389,9 @@ impl State {
         }
     }
 
-    /// `G53` under G91: `true` when the block is then an ordinary move.
-    pub(super) fn g53_incremental(&mut self, gspan: Span) -> Result<bool, Diagnostic> {
+    /// `G53` under G91: refused on LinuxCNC; on Fanuc the block is then an
+    /// ordinary move, with a warning.
+    pub(super) fn g53_incremental(&mut self, gspan: Span) -> Result<(), Diagnostic> {
         match self.settings.coords.control {
             Control::LinuxCnc => Err(Diagnostic::error(gspan, "Cannot use G53 incremental (LinuxCNC stops here)")),
             Control::Fanuc | Control::Haas => {
@@ -399,7 +400,7 @@ impl State {
                     gspan,
                     "G53 under G91: a Fanuc control ignores the G53 and moves by the words as increments in the work coordinates; write G90 G53",
                 );
-                Ok(true)
+                Ok(())
             }
         }
     }

@@ -161,9 +161,8 @@ impl State {
     /// with the compensation in force now.
     pub(super) fn comp_tag(&mut self) {
         // A programmable mirror on one axis of the plane swaps G41 and G42.
-        let swapped = self.plane_reversed();
         let tag = self.radius.on.map(|on| {
-            let side = match (on.side, swapped) {
+            let side = match (on.side, self.plane_reversed()) {
                 (side, false) => side,
                 (Side::Left, true) => Side::Right,
                 (Side::Right, true) => Side::Left,

@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, ToolState, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
+use crate::interp::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 
 /// The words that differ between dialects.
 pub(super) struct Codes {
@@ -184,7 +185,7 @@ impl Writer {
             coolant: Coolant::default(),
             tool: 0,
             frame: Some(Frame::default()),
-            origins: vec![None; 6 + 99],
+            origins: vec![None; EXTRA_OFFSETS + EXTRA_OFFSET_COUNT],
             reckoned: false,
             inch: o.inch,
             cycle_open: false,

@@ -5,6 +5,7 @@ use kezuri_geom::{Axes, Frame};
 
 use super::blocks::{push_uint, Writer, AXIS_LETTERS};
 use super::gcode::{Dialect, WriteError};
+use crate::interp::EXTRA_OFFSETS;
 
 impl Writer {
     /// Brings the control to frame `f`: the work offset (`G54`…`G59`, and a
@@ -31,10 +32,10 @@ impl Writer {
             self.distance(false);
             // G54 … G59: L2 P1 … P6; the additional ones: Fanuc's L20 P,
             // LinuxCNC's L2 P7 … P9.
-            let (l, p) = match work {
-                0..6 => ("G10 L2", work + 1),
-                _ if self.dialect == Dialect::Fanuc => ("G10 L20", work - 5),
-                _ => ("G10 L2", work + 1),
+            let (l, p) = if work >= EXTRA_OFFSETS && self.dialect == Dialect::Fanuc {
+                ("G10 L20", work + 1 - EXTRA_OFFSETS)
+            } else {
+                ("G10 L2", work + 1)
             };
             self.code(l);
             self.space();
@@ -93,14 +94,15 @@ impl Writer {
     /// (Fanuc) or G59.1 … G59.3 (LinuxCNC); what the dialect has not is
     /// refused.
     fn work_code(&self, work: usize) -> Result<String, WriteError> {
+        let p = (work + 1).saturating_sub(EXTRA_OFFSETS);
         Ok(match work {
-            0..6 => ["G54", "G55", "G56", "G57", "G58", "G59"][work].to_string(),
-            _ if self.dialect == Dialect::Fanuc => format!("G54.1 P{}", work - 5),
-            6..9 if self.dialect == Dialect::LinuxCnc => format!("G59.{}", work - 5),
+            0..EXTRA_OFFSETS => ["G54", "G55", "G56", "G57", "G58", "G59"][work].to_string(),
+            _ if self.dialect == Dialect::Fanuc => format!("G54.1 P{p}"),
+            _ if self.dialect == Dialect::LinuxCnc && p <= 3 => format!("G59.{p}"),
             _ => {
                 return Err(WriteError::Kept {
                     line: self.at.1,
-                    text: format!("G54.1 P{} (an additional work offset)", work - 5),
+                    text: format!("G54.1 P{p} (an additional work offset)"),
                     dialect: self.dialect,
                 })
             }

@@ -301,12 +301,12 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
     for (index, machine) in toolpath.moves.iter().enumerate() {
         w.at = (index, machine.line);
         let frame = toolpath.frame(machine);
+        let m = &in_program(machine, frame.zero(), unit);
         if index < covered {
             // Made by the kept block before it, spindle reversals and all.
-            w.made(in_program(machine, frame.zero(), unit).end)?;
+            w.made(m.end)?;
             continue;
         }
-        let m = &in_program(machine, frame.zero(), unit);
         // The kept blocks before this move, each in the tool, spindle and
         // coolant state it came in; a cycle in the move's frame.
         while let Some(k) = kept.next_if(|k| k.before <= index) {
@@ -314,7 +314,7 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
             if k.moves > 0 {
                 w.frame(in_units(frame, unit), last)?;
             }
-            w.kept(k, options.dialect)?;
+            w.kept(k)?;
             covered = covered.max(k.before + k.moves);
         }
         w.state(ToolState::of(machine))?;
@@ -342,7 +342,7 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
     }
     for k in kept {
         w.state(k.state)?;
-        w.kept(k, options.dialect)?;
+        w.kept(k)?;
     }
     Ok(w.finish())
 }

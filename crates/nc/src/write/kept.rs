@@ -10,7 +10,8 @@ impl Writer {
     /// A block kept as the program wrote it ([`Kept`]), a line each. Only
     /// the Fanuc and LinuxCNC writers can give it to the control; what GRBL
     /// has not is refused.
-    pub(super) fn kept(&mut self, k: &Kept, dialect: Dialect) -> Result<(), WriteError> {
+    pub(super) fn kept(&mut self, k: &Kept) -> Result<(), WriteError> {
+        let dialect = self.dialect;
         let refused = match dialect {
             Dialect::Grbl => !grbl_has(&k.text),
             // Compensation by a diameter is LinuxCNC's alone.
