@@ -8,26 +8,20 @@ use std::collections::BTreeMap;
 
 use kezuri_geom::{Move, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::{Approach, Rules};
-use kezuri_nc::interp::{self, IntegerInput, Outcome, Settings};
+use kezuri_nc::interp::{IntegerInput, Outcome, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
-use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+use kezuri_nc::Sources;
+
+mod common;
 
 fn run(text: &str, settings: &Settings) -> (Outcome, Sources) {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("t.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    assert!(!diagnostics.iter().any(Diagnostic::is_error), "{}", diagnostics[0].render(&sources));
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
-    (outcome, sources)
+    let ran = common::run("t.nc", text, settings);
+    (ran.outcome, ran.sources)
 }
 
 /// Runs `text`, which must complete without errors.
 fn centre(text: &str, settings: &Settings) -> Outcome {
-    let (outcome, sources) = run(text, settings);
-    let errors: Vec<String> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.render(&sources)).collect();
-    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
-    outcome
+    common::run("t.nc", text, settings).completed()
 }
 
 fn radii(pairs: &[(u32, f64)]) -> Settings {

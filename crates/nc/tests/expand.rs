@@ -5,22 +5,13 @@
 use std::collections::BTreeMap;
 
 use kezuri_geom::{Axes, MoveKind, Toolpath};
-use kezuri_nc::interp::{self, IntegerInput, Settings};
+use kezuri_nc::interp::{IntegerInput, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
-use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 
 mod common;
 
 fn run(text: &str, settings: &Settings) -> Toolpath {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("t.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    assert!(!diagnostics.iter().any(Diagnostic::is_error), "{}", diagnostics[0].render(&sources));
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
-    let errors: Vec<String> = outcome.diagnostics.iter().filter(|d| d.is_error()).map(|d| d.render(&sources)).collect();
-    assert!(outcome.completed && errors.is_empty(), "{errors:?}\n{text}");
-    outcome.toolpath
+    common::run("t.nc", text, settings).path()
 }
 
 /// Settings to read a program of `dialect` with: LinuxCNC and GRBL read
