@@ -139,7 +139,7 @@ fn measure(a: &MeasureArgs) -> Result<()> {
 /// `kezuri thermal fit MEAS.csv -o MODEL.json`.
 #[derive(Args, Debug)]
 #[command(after_help = "MEAS.csv has the header axis,command_mm,ex_mm,ey_mm,ez_mm and optional b_deg and state
-columns (../shared/CLI.md): one row per measurement of the edge, the error being where the
+columns: one row per measurement of the edge, the error being where the
 tool was less where it was commanded. With a state column (cold/warm) the error is warm - cold
 at the same axis, angle and command.
 
@@ -259,7 +259,7 @@ fn plan(a: &PlanArgs) -> Result<()> {
 /// `kezuri thermal edge PROFILE.csv`.
 #[derive(Args, Debug)]
 #[command(after_help = "The profile is a CSV with the header x_mm,z_mm, one point per row in order across the
-corner of the square reference tool (../shared/CLI.md). Points more than three robust
+corner of the square reference tool. Points more than three robust
 standard deviations off their side's line are left out.
 
 Examples:

@@ -54,7 +54,7 @@ pub struct DbFile {
 /// `kezuri tool db add`.
 #[derive(Args, Debug)]
 #[command(after_help = "PROFILE.csv is a profile as `kezuri tool profile` writes it: header z_mm,radius_mm, z up
-from the nominal tip (../shared/CLI.md). Each add is one transaction: concurrent adds wait
+from the nominal tip. Each add is one transaction: concurrent adds wait
 for each other (up to 10 s) and an add that is interrupted stores nothing.
 
 Examples:
