@@ -13,6 +13,12 @@
 //! lengths = { 1 = 100.5, 21 = 87.25 }    # H registers, mm
 //! radii = { 1 = 3.0 }                    # D registers, mm
 //!
+//! [tools.T5]                             # the tool in pocket 5
+//! shape = "ball:6"                       # cutter SPEC (what sim cuts with)
+//! h = 5                                  # its length register [default: 5]
+//! d = 25                                 # its radius register [default: none]
+//! name = "6 mm ball, 2 flutes"
+//!
 //! [comp]                                 # cutter compensation (G41/G42)
 //! startup = "A"                          # Fanuc start-up/cancel type A or B
 //!
@@ -55,6 +61,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use kezuri_cam::Cutter;
 use kezuri_geom::{Axes, Dynamics};
 use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
@@ -247,13 +254,62 @@ struct Motion {
     junction_deviation_mm: Option<f64>,
 }
 
+/// `[tools]`: no `deny_unknown_fields` (serde cannot have it with
+/// `flatten`): a key that is not `lengths` or `radii` must name a tool.
 #[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
 struct Tools {
     #[serde(default)]
     lengths: BTreeMap<String, f64>,
     #[serde(default)]
     radii: BTreeMap<String, f64>,
+    /// `T5 = { shape, h, d, name }`: the tool table, one entry a tool.
+    #[serde(flatten)]
+    table: BTreeMap<String, ToolFile>,
+}
+
+/// `[tools.T5]`: one tool of the table.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct ToolFile {
+    shape: Option<String>,
+    h: Option<u32>,
+    d: Option<u32>,
+    name: Option<String>,
+}
+
+/// One tool of the machine's tool table (`[tools.T5]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolEntry {
+    /// The cutter, where the table says its shape.
+    pub shape: Option<Cutter>,
+    /// The tool length offset register (`G43 H`): the tool number unless
+    /// the table says otherwise.
+    pub h: u32,
+    /// The cutter radius register (`G41 D`), where the table gives one.
+    pub d: Option<u32>,
+    /// What the shop calls it.
+    pub name: Option<String>,
+}
+
+/// The tool table of `[tools]`: keys `T1`, `T2`, … (or `1`, `2`, …).
+fn tool_table(table: &BTreeMap<String, ToolFile>) -> Result<BTreeMap<u32, ToolEntry>> {
+    table
+        .iter()
+        .map(|(key, t)| {
+            let number: u32 = key
+                .trim()
+                .trim_start_matches(['T', 't'])
+                .parse()
+                .ok()
+                .filter(|&n| n > 0)
+                .with_context(|| format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths or radii"))?;
+            let shape = match &t.shape {
+                Some(spec) => Some(spec.parse::<Cutter>().with_context(|| format!("tools.{key}.shape"))?),
+                None => None,
+            };
+            Ok((number, ToolEntry { shape, h: t.h.unwrap_or(number), d: t.d, name: t.name.clone() }))
+        })
+        .collect()
 }
 
 #[derive(Deserialize, Default)]
@@ -283,11 +339,18 @@ pub struct Machine {
     pub settings: Settings,
     /// Which axes carry the tool and which the work.
     pub kinematics: Kinematics,
+    /// The tool table, by tool number.
+    pub tools: BTreeMap<u32, ToolEntry>,
 }
 
 impl Default for Machine {
     fn default() -> Machine {
-        Machine { dynamics: Dynamics::default(), settings: Settings::default(), kinematics: Kinematics::mill() }
+        Machine {
+            dynamics: Dynamics::default(),
+            settings: Settings::default(),
+            kinematics: Kinematics::mill(),
+            tools: BTreeMap::new(),
+        }
     }
 }
 
@@ -392,7 +455,8 @@ impl Machine {
             Some(c) => chains(c)?,
             None => Kinematics::mill(),
         };
-        Ok(Machine { dynamics, settings, kinematics })
+        let tools = tool_table(&file.tools.table)?;
+        Ok(Machine { dynamics, settings, kinematics, tools })
     }
 }
 
@@ -413,6 +477,10 @@ mod tests {
         let m = Machine::parse(&example).unwrap();
         assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
         assert_eq!(m.settings.tool_lengths[&21], 87.25);
+        let t5 = &m.tools[&5];
+        assert_eq!((t5.shape, t5.h, t5.d), (Some("ball:6".parse().unwrap()), 5, Some(25)));
+        let h_is_not_t = Machine::parse("[tools]\nT3 = { shape = \"flat:10\", h = 13 }").unwrap();
+        assert_eq!((h_is_not_t.tools[&3].h, h_is_not_t.tools[&3].d), (13, None));
         assert_eq!(m.settings.coords.reference_points[0], Axes { z: -10.0, ..Axes::ZERO });
         assert_eq!(m.settings.coords.control, Control::Fanuc);
         let l =
@@ -463,6 +531,9 @@ mod tests {
             ("[macro]\ncommon = [\"100 to 199\"]", "macro.common: '100 to 199' is not a variable range"),
             ("[macro]\nvalues = { 100 = 1 }", "[macro]: #100 is not kept over a reset"),
             ("[macro]\nsharp = true", "unknown field `sharp`"),
+            ("[tools]\nT0 = { shape = \"ball:6\" }", "'T0' is not a tool"),
+            ("[tools]\nT1 = { shape = \"ball:-6\" }", "tools.T1.shape"),
+            ("[tools]\nT1 = { shape = \"ball:6\", length = 3 }", "unknown field `length`"),
             ("[signals]\ninputs = { 1000 = 3 }", "[signals]: input #1000 is one bit"),
             ("[signals]\ninputs = { door = 1 }", "signals.inputs: 'door' is not a variable number"),
         ] {

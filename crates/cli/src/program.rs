@@ -12,7 +12,7 @@ use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
 
 use crate::files::{read_text, write_output, Folder};
-use crate::machine::Machine;
+use crate::machine::{Machine, ToolEntry};
 
 /// How axis words without a decimal point are read.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -180,6 +180,9 @@ pub struct Report {
     pub rapid_length_mm: f64,
     pub time_s: f64,
     pub bounds: Option<([f64; 3], [f64; 3])>,
+    /// The tools that make moves, in the order they first do (0: none
+    /// loaded), each with what the machine file's tool table says of it.
+    pub tools: Vec<(u32, Option<ToolEntry>)>,
 }
 
 impl Report {
@@ -194,6 +197,41 @@ impl Report {
             rapid_length_mm: path.rapid_length(),
             time_s: cycle_time(path, &ran.machine.dynamics).0,
             bounds: path.bounds(),
+            tools: tools_used(path).into_iter().map(|t| (t, ran.machine.tools.get(&t).cloned())).collect(),
+        }
+    }
+}
+
+/// The tool numbers that make moves in `path`, in the order they first do.
+pub fn tools_used(path: &Toolpath) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    for m in &path.moves {
+        if !out.contains(&m.tool) {
+            out.push(m.tool);
+        }
+    }
+    out
+}
+
+/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, `T5 (not in the
+/// tool table)`, or `no tool (T0)`.
+fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
+    match entry {
+        _ if t == 0 => "no tool (T0)".to_string(),
+        None => format!("T{t} (not in the tool table)"),
+        Some(e) => {
+            let mut s = format!("T{t}");
+            if let Some(c) = e.shape {
+                s += &format!(" {c}");
+            }
+            s += &format!(" H{}", e.h);
+            if let Some(d) = e.d {
+                s += &format!(" D{d}");
+            }
+            if let Some(n) = &e.name {
+                s += &format!(" ({n})");
+            }
+            s
         }
     }
 }
@@ -234,6 +272,13 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             "rapid_length_mm": report.rapid_length_mm,
             "time_s": report.time_s,
             "bounds": {"min": lo, "max": hi},
+            "tools": report.tools.iter().map(|(t, e)| json!({
+                "number": t,
+                "shape": e.as_ref().and_then(|e| e.shape).map(|c| c.to_string()),
+                "h": e.as_ref().map(|e| e.h),
+                "d": e.as_ref().and_then(|e| e.d),
+                "name": e.as_ref().and_then(|e| e.name.clone()),
+            })).collect::<Vec<_>>(),
             "errors": headlines(true),
             "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
             "machine_values": model_notes(&ran.outcome),
@@ -254,6 +299,9 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
         );
         if report.holes > 0 {
             text += &format!("  holes {} (canned cycles)\n", report.holes);
+        }
+        for (t, e) in &report.tools {
+            text += &format!("  tool  {}\n", tool_line(*t, e));
         }
         if let Some((lo, hi)) = report.bounds {
             for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
