@@ -304,10 +304,12 @@ pub struct SimReport {
     pub rotary_moves: usize,
     /// Rapids (G00, G28, G53) that lowered the stock, in program order.
     pub rapid_hits: Vec<RapidHit>,
-    /// Moves not simulated because they start where the tool's position is
-    /// not known ([`Toolpath::unknown_start`]): before the program has named
-    /// X, Y and Z, and after a return to the reference point until it names
-    /// them again.
+    /// Moves not simulated: returns to the reference point and moves in
+    /// machine coordinates (G28, G30, G53: their ends are the machine's
+    /// setup, not the model's), and moves that start where the tool's
+    /// position is not known ([`Toolpath::unknown_start`]) — before the
+    /// program has named X, Y and Z, and after such a return until it
+    /// names them again.
     pub unplaced_moves: usize,
 }
 
@@ -470,15 +472,16 @@ fn segments(path: &Toolpath, shape: &Shape<'_>, tol: f64) -> Result<(Vec<Segment
             return Err(SimError::NonFinite { index, line: m.line });
         }
         report.moves += 1;
-        let placed = known & 0b111 == 0b111;
-        known = match m.kind {
-            // The reference point is the machine's, not the model's.
-            MoveKind::Home => known & !m.named.0,
-            _ => known | m.named.0,
-        };
+        // A return to the reference point (G28, G30) and a move in machine
+        // coordinates (G53) go where the machine's setup puts them, which
+        // the model only guesses: not simulated, and the axes they move
+        // are unknown until the program names them again.
+        let to_machine = matches!(m.kind, MoveKind::Home | MoveKind::Machine);
+        let placed = known & 0b111 == 0b111 && !to_machine;
+        known = if to_machine { known & !m.named.0 } else { known | m.named.0 };
         if !placed {
             report.unplaced_moves += 1;
-            if m.is_rapid() {
+            if m.is_rapid() && !to_machine {
                 unplaced_rapids.push(index);
             }
             continue;

@@ -7,7 +7,8 @@ use kezuri_geom::{Axes, MoveKind, Toolpath};
 
 use crate::files::read_text;
 use crate::files::write_output;
-use crate::program::{run_text, write_toolpath, Ran, RunOptions, WriteArgs};
+use crate::machine::Machine;
+use crate::program::{run_text, write_toolpath, Origin, Ran, RunOptions, WriteArgs};
 
 /// The program to correct, read and run: its text and the run, refused
 /// with its errors shown, where `check` refuses it, or where it moves an
@@ -92,6 +93,7 @@ pub fn write_corrected(
     text: &str,
     path: &Toolpath,
     what: &str,
+    machine: &Machine,
 ) -> Result<()> {
     let name = run.file.display().to_string();
     if keep_text {
@@ -101,7 +103,7 @@ pub fn write_corrected(
         let mut write = write.clone();
         let title = run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
         write.digits = Some(write_digits(&write));
-        write_toolpath(path, &format!("{title} {what}"), &write)
+        write_toolpath(path, &format!("{title} {what}"), &write, machine, Origin::Transformed)
     }
 }
 

@@ -88,6 +88,8 @@ struct File {
     cycles: Cycles,
     #[serde(default)]
     coordinates: Coordinates,
+    #[serde(default)]
+    post: crate::post::PostFile,
 }
 
 #[derive(Deserialize, Default)]
@@ -341,6 +343,8 @@ pub struct Machine {
     pub kinematics: Kinematics,
     /// The tool table, by tool number.
     pub tools: BTreeMap<u32, ToolEntry>,
+    /// How programs are written for this machine (`[post]`).
+    pub post: crate::post::PostFile,
 }
 
 impl Default for Machine {
@@ -350,6 +354,7 @@ impl Default for Machine {
             settings: Settings::default(),
             kinematics: Kinematics::mill(),
             tools: BTreeMap::new(),
+            post: crate::post::PostFile::default(),
         }
     }
 }
@@ -381,6 +386,22 @@ fn registers(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f6
             Ok((n, v))
         })
         .collect()
+}
+
+/// `--machine M.toml` of the commands that make programs.
+#[derive(clap::Args, Clone, Debug)]
+pub struct MachineArg {
+    /// Machine file (TOML): its [post] (how the program is written for the
+    /// control) and tool table ([tools.T1] h = 1: the length register of G43 H).
+    #[arg(long, value_name = "M.toml")]
+    pub machine: Option<std::path::PathBuf>,
+}
+
+impl MachineArg {
+    /// The machine file read, or the default machine.
+    pub fn load(&self) -> Result<Machine> {
+        self.machine.as_deref().map_or_else(|| Ok(Machine::default()), Machine::load)
+    }
 }
 
 impl Machine {
@@ -456,7 +477,9 @@ impl Machine {
             None => Kinematics::mill(),
         };
         let tools = tool_table(&file.tools.table)?;
-        Ok(Machine { dynamics, settings, kinematics, tools })
+        // Any mistake in [post] is found now, not when a program is written.
+        crate::post::options(&file.post, None, &tools)?;
+        Ok(Machine { dynamics, settings, kinematics, tools, post: file.post })
     }
 }
 

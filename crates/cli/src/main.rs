@@ -10,6 +10,7 @@ mod files;
 mod machine;
 mod mill;
 mod plot;
+mod post;
 mod probe;
 mod program;
 mod progress;

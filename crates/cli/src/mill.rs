@@ -5,7 +5,8 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
 use kezuri_cam::{scallop, Cutter};
 
-use crate::program::{write_toolpath, WriteArgs};
+use crate::machine::MachineArg;
+use crate::program::{write_toolpath, Origin, WriteArgs};
 use crate::surface::read_surface;
 
 /// Options of `kezuri mill`.
@@ -76,6 +77,8 @@ pub struct MillArgs {
     #[arg(long, value_name = "T", default_value_t = 1)]
     pub tool_number: u32,
     #[command(flatten)]
+    pub machine: MachineArg,
+    #[command(flatten)]
     pub write: WriteArgs,
 }
 
@@ -121,6 +124,7 @@ impl From<RowPattern> for Pattern {
 /// Runs `kezuri mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
     let cutter: Cutter = args.tool.parse()?;
+    let machine = args.machine.load()?;
     let surface = read_surface(&args.surface)?;
     let [x0, y0, x1, y1] = match &args.region {
         Some(text) => parse_region(text)?,
@@ -133,7 +137,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         step: args.step.unwrap_or(cutter.radius() / 4.0),
         tolerance: args.tolerance,
         gouge: args.tolerance,
-        quantum: args.write.quantum(),
+        quantum: args.write.quantum(&machine)?,
         safe_z: args.safe_z.unwrap_or(surface.top() + 5.0),
         feed: args.feed,
         plunge_feed: args.plunge_feed,
@@ -187,7 +191,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         bar.finish_and_clear();
     }
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write)
+    write_toolpath(&path, &title, &args.write, &machine, Origin::Made)
 }
 
 /// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of

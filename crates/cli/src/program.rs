@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 use kezuri_geom::{cycle_time, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::write::WriteOptions;
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
@@ -202,6 +203,41 @@ impl Report {
     }
 }
 
+/// Whether `check` looks for Z moves without a length offset: on a Fanuc
+/// or Haas control (length offsets are how their tools are set), or where
+/// the machine file's `[post] length_offset` says the machine uses them.
+fn uses_length_offsets(o: &RunOptions, machine: &Machine) -> bool {
+    machine.post.length_offset.unwrap_or(!linuxcnc(o) && machine.settings.coords.control != Control::LinuxCnc)
+}
+
+/// The first move that changes Z after each tool change with no tool
+/// length offset in force: on a machine whose tools are set with length
+/// offsets, that Z is the spindle gauge line, not the tool tip.
+pub fn unoffset_z_moves(path: &Toolpath) -> Vec<String> {
+    let mut out = Vec::new();
+    let (mut tool, mut armed) = (0, false);
+    for m in &path.moves {
+        if m.tool != tool {
+            tool = m.tool;
+            armed = tool != 0;
+        }
+        // Returns and G53 moves are in machine coordinates: no offset needed.
+        let machine_coordinates = matches!(m.kind, MoveKind::Home | MoveKind::Machine | MoveKind::Dwell(_));
+        if !armed || machine_coordinates || (m.start.z == m.end.z && !m.named.contains(2)) {
+            continue;
+        }
+        armed = false;
+        if path.frame(m).length.is_none() {
+            out.push(format!(
+                "line {}: Z moves after the change to T{tool} with no tool length offset (G43 H) in force: on a \
+                 machine whose tools are set with length offsets this Z is the spindle's, not the tool tip's",
+                m.line
+            ));
+        }
+    }
+    out
+}
+
 /// The tool numbers that make moves in `path`, in the order they first do.
 pub fn tools_used(path: &Toolpath) -> Vec<u32> {
     let mut out: Vec<u32> = Vec::new();
@@ -255,6 +291,15 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             })
             .collect(),
         None => Vec::new(),
+    };
+    let missing: Vec<String> = if uses_length_offsets(o, &ran.machine) {
+        let file = o.file.display();
+        missing
+            .into_iter()
+            .chain(unoffset_z_moves(&ran.outcome.toolpath).into_iter().map(|w| format!("{file}: {w}")))
+            .collect()
+    } else {
+        missing
     };
     if as_json {
         let (lo, hi) = report.bounds.unwrap_or(([0.0; 3], [0.0; 3]));
@@ -325,13 +370,13 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
 }
 
 /// What `run` writes.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Emit {
-    /// Fanuc G-code (`X10.` style, `%` and `O` framing).
+    /// Fanuc G-code (`X10.` style, `%` and `O` framing): the fanuc post.
     Fanuc,
-    /// LinuxCNC G-code.
+    /// LinuxCNC G-code: the linuxcnc post.
     Linuxcnc,
-    /// GRBL G-code.
+    /// GRBL G-code: the grbl post.
     Grbl,
     /// `line,kind,x,y,z,a,b,c,feed` rows, full precision.
     Csv,
@@ -340,25 +385,30 @@ enum Emit {
     Rml,
 }
 
-/// `kezuri run`.
-/// How `kezuri run` writes its result.
+/// How a program is written: G-code by a post, CSV or RML-1.
 #[derive(Args, Clone, Debug)]
 pub struct WriteArgs {
-    /// Output format (--to is the same).
-    #[arg(long, alias = "to", value_enum, default_value = "fanuc")]
-    emit: Emit,
+    /// G-code for this control: fanuc, haas, linuxcnc, grbl or mach3 [default: the
+    /// machine file's [post] preset, else fanuc]. The machine file's [post] changes
+    /// what it names.
+    #[arg(long, value_name = "NAME")]
+    post: Option<String>,
+    /// Output format: csv or rml (--to is the same); fanuc, linuxcnc and grbl are
+    /// the posts of those names.
+    #[arg(long, alias = "to", value_enum)]
+    emit: Option<Emit>,
     /// Output file (default: standard output).
     #[arg(short, long, value_name = "OUT")]
     output: Option<PathBuf>,
-    /// Decimals written in the program [default: 3 in mm, 4 in inches].
+    /// Decimals written in the program [default: the post's; 3 in mm, 4 in inches].
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
     pub digits: Option<u8>,
     /// Write the program in inches (G20) instead of mm (G21).
     #[arg(long)]
     pub inch: bool,
-    /// Number the blocks N10, N20, … (the step; 0 for none).
-    #[arg(long, value_name = "STEP", default_value_t = 0)]
-    line_numbers: u32,
+    /// Number the blocks N10, N20, … (the step; 0 for none) [default: the post's].
+    #[arg(long, value_name = "STEP")]
+    line_numbers: Option<u32>,
     /// Write the moves after the first complete positioning in incremental
     /// coordinates (G91); G90 again before the end.
     #[arg(long)]
@@ -375,15 +425,67 @@ pub struct WriteArgs {
     pub apply_comp: bool,
 }
 
+/// Whether kezuri made the program (it gets the post's start, tool changes
+/// and end) or transforms one (which keeps its own).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    Made,
+    Transformed,
+}
+
 impl WriteArgs {
-    /// Whether the output is Fanuc G-code.
-    pub fn is_fanuc(&self) -> bool {
-        matches!(self.emit, Emit::Fanuc)
+    /// Whether the output is G-code (not CSV or RML-1).
+    fn is_gcode(&self) -> bool {
+        !matches!(self.emit, Some(Emit::Csv | Emit::Rml))
+    }
+
+    /// Whether the output is Fanuc-style G-code (the fanuc or haas post).
+    pub fn is_fanuc(&self, machine: &Machine) -> bool {
+        self.is_gcode()
+            && self.options(machine, Origin::Transformed).is_ok_and(|o| o.dialect == kezuri_nc::write::Dialect::Fanuc)
     }
 
     /// The output file (`None`: standard output).
     pub fn output(&self) -> Option<&Path> {
         self.output.as_deref()
+    }
+
+    /// How G-code is written: the post (`--post`, `--emit fanuc|linuxcnc|grbl`,
+    /// the machine file's `[post]`), then `--digits`, `--inch`,
+    /// `--line-numbers` and `--incremental`. A transformed program keeps its
+    /// own start, tool changes and end (no [`Setup`](kezuri_nc::write::Setup)).
+    pub fn options(&self, machine: &Machine, origin: Origin) -> Result<WriteOptions> {
+        let from_emit = match self.emit {
+            Some(Emit::Fanuc) => Some("fanuc"),
+            Some(Emit::Linuxcnc) => Some("linuxcnc"),
+            Some(Emit::Grbl) => Some("grbl"),
+            Some(Emit::Csv | Emit::Rml) if self.post.is_some() => {
+                bail!("--post writes G-code: it cannot go with --emit csv or rml")
+            }
+            _ => None,
+        };
+        let name = match (self.post.as_deref(), from_emit) {
+            (Some(p), Some(e)) if !p.trim().eq_ignore_ascii_case(e) => {
+                bail!("--post {p} and --emit {e} ask for two different controls: give one")
+            }
+            (p, e) => p.or(e),
+        };
+        if let Some(n) = name.filter(|n| !crate::post::is_preset(n)) {
+            bail!("--post {n}: not a post; the posts are {}", kezuri_nc::write::PRESETS.join(", "));
+        }
+        let mut o = crate::post::options(&machine.post, name, &machine.tools)?;
+        if self.digits.is_some() || self.inch {
+            o.digits = self.digits.unwrap_or(if self.inch { 4 } else { o.digits });
+        }
+        o.inch = self.inch;
+        if let Some(step) = self.line_numbers {
+            o.line_numbers = (step > 0).then_some(step);
+        }
+        o.incremental = self.incremental;
+        if origin == Origin::Transformed {
+            o.setup = None;
+        }
+        Ok(o)
     }
 }
 
@@ -401,21 +503,28 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     }
     let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
     let centre = &ran.outcome.toolpath;
-    let written = match (&ran.outcome.programmed, w.emit) {
-        (Some(p), Emit::Fanuc | Emit::Linuxcnc) if !w.apply_comp => p,
-        (Some(_), Emit::Grbl | Emit::Rml) if !w.apply_comp => bail!(
-            "{}: the program uses cutter radius compensation (G41/G42), which {} has not: give --apply-comp to \
+    // Which of the programmed contour and the tool-centre path is written.
+    let without_comp = match w.emit {
+        Some(Emit::Csv) => None,
+        Some(Emit::Rml) => Some("RML-1"),
+        _ => {
+            (w.options(&ran.machine, Origin::Transformed)?.dialect == kezuri_nc::write::Dialect::Grbl).then_some("GRBL")
+        }
+    };
+    let written = match (&ran.outcome.programmed, without_comp) {
+        (Some(_), Some(control)) if !w.apply_comp => bail!(
+            "{}: the program uses cutter radius compensation (G41/G42), which {control} has not: give --apply-comp to \
              write the tool centre path (radii from the machine file's [tools] radii)",
             o.file.display(),
-            if matches!(w.emit, Emit::Grbl) { "GRBL" } else { "RML-1" }
         ),
+        (Some(p), None) if !w.apply_comp && w.is_gcode() => p,
         _ => centre,
     };
     let notes = model_notes(&ran.outcome);
     for note in &notes {
         eprintln!("warning: {}: {note}", o.file.display());
     }
-    write_program(written, centre, &title, &notes, w)
+    write_program(written, centre, &title, &notes, w, &ran.machine, Origin::Transformed)
 }
 
 /// One line per kind of value the run took from the machine file rather
@@ -448,37 +557,32 @@ pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
     Ok(())
 }
 
-/// Writes `path` as `w` asks: a program in a dialect or CSV, and the SVG.
-pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs) -> Result<()> {
-    write_program(path, path, title, &[], w)
+/// Writes `path` as `w` asks: a program by the post, CSV or RML-1, and
+/// the SVG.
+pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs, machine: &Machine, origin: Origin) -> Result<()> {
+    write_program(path, path, title, &[], w, machine, origin)
 }
 
 /// [`write_toolpath`] with the SVG drawing `drawn`.
-fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, notes: &[String], w: &WriteArgs) -> Result<()> {
+fn write_program(
+    path: &Toolpath,
+    drawn: &Toolpath,
+    title: &str,
+    notes: &[String],
+    w: &WriteArgs,
+    machine: &Machine,
+    origin: Origin,
+) -> Result<()> {
     let text = match w.emit {
-        Emit::Csv => kezuri_nc::write::csv(path),
-        Emit::Rml => {
+        Some(Emit::Csv) => kezuri_nc::write::csv(path),
+        Some(Emit::Rml) => {
             crate::convert::warn_rml_drops(title, path);
             kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?
         }
-        Emit::Fanuc | Emit::Linuxcnc | Emit::Grbl => {
-            use kezuri_nc::write::{program, Dialect, WriteOptions};
-            let dialect = match w.emit {
-                Emit::Linuxcnc => Dialect::LinuxCnc,
-                Emit::Grbl => Dialect::Grbl,
-                _ => Dialect::Fanuc,
-            };
-            let options = WriteOptions {
-                dialect,
-                digits: w.digits.unwrap_or(if w.inch { 4 } else { 3 }),
-                inch: w.inch,
-                line_numbers: (w.line_numbers > 0).then_some(w.line_numbers),
-                title: Some(title.to_string()),
-                notes: notes.to_vec(),
-                incremental: w.incremental,
-                ..WriteOptions::default()
-            };
-            program(path, &options)?
+        _ => {
+            let options =
+                WriteOptions { title: Some(title.to_string()), notes: notes.to_vec(), ..w.options(machine, origin)? };
+            kezuri_nc::write::program(path, &options)?
         }
     };
     write_output(w.output.as_deref(), text.as_bytes())?;
@@ -490,12 +594,13 @@ fn write_program(path: &Toolpath, drawn: &Toolpath, title: &str, notes: &[String
 
 impl WriteArgs {
     /// The program's smallest increment in mm: a unit of the last decimal
-    /// written (`--digits`, in inches with `--inch`), or RML-1's step.
-    pub fn quantum(&self) -> f64 {
-        if let Emit::Rml = self.emit {
-            return kezuri_nc::rml::RmlOptions::default().unit;
+    /// written (`--digits` or the post's, in inches with `--inch`), or
+    /// RML-1's step.
+    pub fn quantum(&self, machine: &Machine) -> Result<f64> {
+        if let Some(Emit::Rml) = self.emit {
+            return Ok(kezuri_nc::rml::RmlOptions::default().unit);
         }
-        let digits = self.digits.unwrap_or(if self.inch { 4 } else { 3 });
-        10f64.powi(-i32::from(digits)) * if self.inch { 25.4 } else { 1.0 }
+        let digits = self.options(machine, Origin::Made)?.digits;
+        Ok(10f64.powi(-i32::from(digits)) * if self.inch { 25.4 } else { 1.0 })
     }
 }

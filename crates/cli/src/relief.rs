@@ -12,8 +12,9 @@ use kezuri_cam::Cutter;
 use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
 
 use crate::files::write_output_with;
+use crate::machine::MachineArg;
 use crate::mill::{RowDirection, RowPattern};
-use crate::program::{write_toolpath, WriteArgs};
+use crate::program::{write_toolpath, Origin, WriteArgs};
 
 /// Most pixels of a picture (8 bytes of height each, and the picture).
 pub const MAX_PIXELS: u64 = 64_000_000;
@@ -137,6 +138,8 @@ pub struct ReliefArgs {
     #[arg(long, value_name = "FILE.stl")]
     pub surface_stl: Option<PathBuf>,
     #[command(flatten)]
+    pub machine: MachineArg,
+    #[command(flatten)]
     pub write: WriteArgs,
 }
 
@@ -172,6 +175,7 @@ pub fn read_gray(path: &Path) -> Result<Gray> {
 /// Runs `kezuri relief`.
 pub fn run(args: &ReliefArgs) -> Result<()> {
     let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let machine = args.machine.load()?;
     let rough: Option<Cutter> = args.rough.as_deref().map(str::parse).transpose().context("--rough")?;
     let mapping = match (&args.levels, args.depth) {
         (Some(text), _) => Mapping::Levels(parse_levels(text)?),
@@ -206,7 +210,7 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         step: args.step.unwrap_or(pixel),
         tolerance: args.tolerance,
         gouge: GOUGE.min(args.tolerance),
-        quantum: args.write.quantum(),
+        quantum: args.write.quantum(&machine)?,
         safe_z: args.safe_z,
         feed: args.feed,
         plunge_feed: args.plunge_feed,
@@ -257,7 +261,7 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         t0.elapsed().as_secs_f64()
     );
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write)?;
+    write_toolpath(&path, &title, &args.write, &machine, Origin::Made)?;
     match &args.surface_stl {
         Some(stl) => write_surface_stl(stl, &field),
         None => Ok(()),

@@ -7,7 +7,7 @@ use kezuri_cam::texture::{bake, check, is_textured, Dist, TextureOptions};
 use kezuri_nc::texture_macro::TextureMacro;
 
 use crate::files::{read_text, write_output};
-use crate::program::{run_text, write_toolpath, RunOptions, WriteArgs};
+use crate::program::{run_text, write_toolpath, Origin, RunOptions, WriteArgs};
 
 /// How the texture is made.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -127,11 +127,17 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         Mode::Bake => {
             let t = bake(path, &options).with_context(|| name.clone())?;
             let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-            write_toolpath(&t.toolpath, &format!("{title} TEXTURED, SEED {}", a.seed), &a.write)?;
+            write_toolpath(
+                &t.toolpath,
+                &format!("{title} TEXTURED, SEED {}", a.seed),
+                &a.write,
+                &ran.machine,
+                Origin::Transformed,
+            )?;
             eprintln!("{name}: {} cutting moves textured, {} strokes of {} mm", t.moves, t.knots, a.segment);
         }
         Mode::Macro => {
-            if !a.write.is_fanuc() {
+            if !a.write.is_fanuc(&ran.machine) {
                 bail!("--mode macro writes a Fanuc Custom Macro B program: leave --emit at fanuc");
             }
             let uniform = match a.dist {

@@ -566,7 +566,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     }
     let seconds = t0.elapsed().as_secs_f64();
     set_ends(&mut path, &corrected, ArcCentre::FollowsEnd);
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT")?;
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &ran.machine)?;
     let v = json!({
         "points": corrected.len(),
         "max_correction_mm": largest,

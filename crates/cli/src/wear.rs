@@ -214,7 +214,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             }
         }
     }
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR")?;
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR", &ran.machine)?;
     if let Some(&(line, d)) = gouges.first() {
         eprintln!(
             "warning: {name}: {} point(s) where the new tool itself cuts more than {} mm into the surface (first at \

@@ -5,9 +5,11 @@ mod csv;
 mod frames;
 mod gcode;
 mod kept;
+mod post;
 
 pub use csv::csv;
 pub use gcode::{program, Dialect, UnknownDialect, WriteError, WriteOptions};
+pub use post::{Arcs, CoolantChoice, Home, Retract, Setup, UnknownPost, PRESETS};
 
 /// A number as hand-made program text writes it: `digits` decimals,
 /// trailing zeros dropped, a decimal point always (`2.`, `-0.05`, never

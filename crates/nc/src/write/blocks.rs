@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, ToolState, Toolpath};
 
 use super::gcode::{Dialect, WriteError, WriteOptions};
+use super::post::{Arcs, CoolantChoice, Home, Retract, Setup};
 use crate::interp::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 
 /// The words that differ between dialects.
@@ -16,6 +17,7 @@ pub(super) struct Codes {
     probe: &'static str,
     spindle: [&'static str; 3],
     tool_change: &'static str,
+    optional_stop: &'static str,
     mist: &'static str,
     flood: &'static str,
     coolant_off: &'static str,
@@ -32,6 +34,7 @@ static FANUC: Codes = Codes {
     probe: "G31",
     spindle: ["M05", "M03", "M04"],
     tool_change: "M06",
+    optional_stop: "M01",
     mist: "M07",
     flood: "M08",
     coolant_off: "M09",
@@ -48,6 +51,7 @@ static SHORT: Codes = Codes {
     probe: "G38.2",
     spindle: ["M5", "M3", "M4"],
     tool_change: "M6",
+    optional_stop: "M1",
     mist: "M7",
     flood: "M8",
     coolant_off: "M9",
@@ -135,6 +139,22 @@ pub(super) struct Writer {
     words: u32,
     /// Index and source line of the move being written.
     pub(super) at: (usize, u32),
+    /// A made program's start, tool changes and end.
+    setup: Option<Setup>,
+    /// Write comments.
+    comments: bool,
+    arcs: Arcs,
+    /// Dwell `P` in milliseconds.
+    dwell_ms: bool,
+    /// The length register to apply (`G43 H`) on the next block that moves
+    /// Z: set by a made program's tool change.
+    pending_length: Option<u32>,
+    /// The tools of the toolpath in the order they are loaded, and how many
+    /// of those changes are written: the next tool is pre-staged.
+    loads: Vec<u32>,
+    changes: usize,
+    block_limit: Option<u32>,
+    byte_limit: Option<u64>,
 }
 
 impl Dialect {
@@ -192,7 +212,21 @@ impl Writer {
             generated: !toolpath.unknown_start,
             words: 0,
             at: (0, 0),
+            setup: o.setup.clone(),
+            comments: o.comments,
+            arcs: o.arcs,
+            dwell_ms: o.dwell_ms.unwrap_or(o.dialect == Dialect::Fanuc),
+            pending_length: None,
+            loads: Vec::new(),
+            changes: 0,
+            block_limit: o.block_limit,
+            byte_limit: o.byte_limit,
         };
+        for m in toolpath.moves.iter().filter(|m| m.tool != 0) {
+            if w.loads.last() != Some(&m.tool) {
+                w.loads.push(m.tool);
+            }
+        }
         // Rotary axes are written only if the toolpath turns them, or (a
         // program read) names them: `G00 A0.` moves A from wherever it is.
         for (index, m) in toolpath.moves.iter().enumerate() {
@@ -221,7 +255,7 @@ impl Writer {
     }
 
     pub(super) fn header(&mut self, o: &WriteOptions) {
-        let title = o.title.as_deref().map(str::trim).filter(|t| !t.is_empty());
+        let title = o.title.as_deref().map(str::trim).filter(|t| !t.is_empty() && o.comments);
         if self.dialect == Dialect::Fanuc {
             self.out.push_str("%\nO");
             push_padded(&mut self.out, u64::from(o.program_number), 4);
@@ -234,28 +268,132 @@ impl Writer {
             push_comment(&mut self.out, t);
             self.out.push('\n');
         }
-        for note in &o.notes {
+        for note in o.notes.iter().filter(|_| o.comments) {
             push_comment(&mut self.out, note);
             self.out.push('\n');
         }
-        self.block();
-        self.code(if o.inch { "G20" } else { "G21" });
-        self.code(SAFE_START);
-        self.out.push('\n');
+        let units = if o.inch { "G20" } else { "G21" };
+        match &o.setup {
+            // The units, the safe start and the work offset each on a block
+            // of its own: a control reads only so many G codes in one.
+            Some(s) => {
+                for code in [units, &s.start, &s.work_offset].into_iter().filter(|c| !c.trim().is_empty()) {
+                    self.line(code.trim());
+                }
+            }
+            None => {
+                self.block();
+                self.code(units);
+                self.code(SAFE_START);
+                self.out.push('\n');
+            }
+        }
     }
 
     /// The last block and the closing line; the program text. An
     /// incremental program goes back to `G90` first.
-    pub(super) fn finish(mut self) -> String {
+    pub(super) fn finish(mut self) -> Result<String, WriteError> {
         self.end_cycle();
         self.absolute_line();
+        let end = match self.setup.clone() {
+            Some(setup) => {
+                self.stop_spindle_and_coolant();
+                self.retract(setup.retract);
+                match setup.home {
+                    Home::Reference => self.reference_return("X0. Y0."),
+                    Home::Park(p) => {
+                        let (x, y) = (self.fixed(p[0], 'X')?, self.fixed(p[1], 'Y')?);
+                        self.block();
+                        self.code("G53");
+                        self.code(self.codes.motion[Motion::Rapid as usize]);
+                        self.word('X', x, self.point);
+                        self.word('Y', y, self.point);
+                        self.out.push('\n');
+                    }
+                    Home::None => {}
+                }
+                setup.end.trim().to_string()
+            }
+            None => self.codes.end.to_string(),
+        };
         self.block();
-        self.code(self.codes.end);
+        self.code(&end);
         self.out.push('\n');
         if self.dialect == Dialect::Fanuc {
             self.out.push_str("%\n");
         }
-        self.out
+        self.check_limits()?;
+        Ok(self.out)
+    }
+
+    /// Refuses a program longer than the control's memory, or with a block
+    /// longer than its line buffer.
+    fn check_limits(&self) -> Result<(), WriteError> {
+        if let Some(limit) = self.block_limit {
+            let kept = |l: &str| kept_length(l) as u64;
+            if let Some((n, l)) = self.out.lines().enumerate().find(|(_, l)| kept(l) > u64::from(limit)) {
+                return Err(WriteError::Limit {
+                    what: format!("block {} of the program ('{l}')", n + 1),
+                    length: kept(l),
+                    limit: u64::from(limit),
+                    unit: "characters",
+                });
+            }
+        }
+        match self.byte_limit {
+            Some(limit) if self.out.len() as u64 > limit => Err(WriteError::Limit {
+                what: "the program".into(),
+                length: self.out.len() as u64,
+                limit,
+                unit: "bytes (drip-feed it, or cut it in parts)",
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// `G91 G28` of `axes` (`Z0.`), then `G90`: every return is followed
+    /// by absolute before any motion.
+    fn reference_return(&mut self, axes: &str) {
+        self.block();
+        self.code("G91");
+        self.code(self.codes.home);
+        self.code(axes);
+        self.out.push('\n');
+        self.relative = Some(true);
+        self.absolute_line();
+    }
+
+    /// A made program's retract before a tool change and at the end.
+    fn retract(&mut self, retract: Retract) {
+        match retract {
+            Retract::Reference => self.reference_return("Z0."),
+            Retract::MachineZero => {
+                self.absolute_line();
+                self.block();
+                self.code("G53");
+                self.code(self.codes.motion[Motion::Rapid as usize]);
+                self.code("Z0.");
+                self.out.push('\n');
+                self.motion = Some(Motion::Rapid);
+            }
+            Retract::None => {}
+        }
+        if retract != Retract::None {
+            self.pos[2] = None;
+            self.exact[2] = false;
+        }
+    }
+
+    /// `M05` and `M09` where the spindle or the coolant is on.
+    fn stop_spindle_and_coolant(&mut self) {
+        if self.spindle != Spindle::Off {
+            self.line(self.codes.spindle[0]);
+            self.spindle = Spindle::Off;
+        }
+        if self.coolant != Coolant::default() {
+            self.line(self.codes.coolant_off);
+            self.coolant = Coolant::default();
+        }
     }
 
     /// A value in units of the last digit, or an error for a value no
@@ -390,10 +528,21 @@ impl Writer {
 
     /// Tool, spindle and coolant blocks that bring the control to state
     /// `m`.
-    pub(super) fn state(&mut self, m: ToolState) -> Result<(), WriteError> {
+    pub(super) fn state(&mut self, mut m: ToolState) -> Result<(), WriteError> {
         if m.tool != self.tool {
             self.tool_change(m.tool);
         }
+        // A made program's coolant comes on with the spindle.
+        let dwell = match &self.setup {
+            Some(s) => {
+                if m.spindle != Spindle::Off {
+                    m.coolant =
+                        Coolant { flood: s.coolant == CoolantChoice::Flood, mist: s.coolant == CoolantChoice::Mist };
+                }
+                s.spindle_dwell
+            }
+            None => 0.0,
+        };
         let speed = self.non_negative(m.speed, 'S')?;
         let turns_on = m.spindle != Spindle::Off && m.spindle != self.spindle;
         // A speed of 0 is no speed (an M03 without S, RML-1's !MC1): S0
@@ -415,6 +564,10 @@ impl Writer {
                 self.spindle = m.spindle;
             }
             self.out.push('\n');
+            // Time to come up to speed before the first move.
+            if turns_on && dwell > 0.0 {
+                self.dwell(dwell)?;
+            }
         }
         let (was, now) = (self.coolant, m.coolant);
         if was != now {
@@ -437,18 +590,22 @@ impl Writer {
         self.end_cycle();
         // The macro runs in absolute.
         self.absolute_line();
-        if self.spindle != Spindle::Off {
-            self.line(self.codes.spindle[0]);
-            self.spindle = Spindle::Off;
-        }
-        if self.coolant != Coolant::default() {
-            self.line(self.codes.coolant_off);
-            self.coolant = Coolant::default();
+        let setup = self.setup.clone();
+        self.stop_spindle_and_coolant();
+        if let Some(s) = &setup {
+            self.retract(s.retract);
+            // An optional stop to look at the last tool's work, the tool
+            // up and everything off.
+            if s.optional_stop && self.changes > 0 {
+                self.line(self.codes.optional_stop);
+            }
         }
         if self.dialect == Dialect::Grbl {
-            self.out.push_str("(TOOL CHANGE: PUT IN TOOL ");
-            push_uint(&mut self.out, u64::from(tool));
-            self.out.push_str(", THEN RESUME)\n");
+            if self.comments {
+                self.out.push_str("(TOOL CHANGE: PUT IN TOOL ");
+                push_uint(&mut self.out, u64::from(tool));
+                self.out.push_str(", SET Z ZERO ON ITS TIP, THEN RESUME)\n");
+            }
             self.line("M0");
         } else {
             self.block();
@@ -457,7 +614,19 @@ impl Writer {
             push_uint(&mut self.out, u64::from(tool));
             self.code(self.codes.tool_change);
             self.out.push('\n');
+            let next = self.loads.get(self.changes + 1).copied().filter(|&t| t != tool);
+            if let (Some(next), true) = (next, setup.as_ref().is_some_and(|s| s.prestage)) {
+                self.block();
+                self.space();
+                self.out.push('T');
+                push_uint(&mut self.out, u64::from(next));
+                self.out.push('\n');
+            }
         }
+        if tool != 0 {
+            self.changes += 1;
+        }
+        self.pending_length = setup.as_ref().filter(|s| s.length_offset && tool != 0).map(|s| s.register(tool));
         // A tool change macro may move the axes and change modal words.
         self.tool = tool;
         for k in 0..6 {
@@ -540,6 +709,17 @@ impl Writer {
     ) -> Result<(), WriteError> {
         let t = self.target(end)?;
         let feed = feed.map(|f| self.non_negative(f, 'F')).transpose()?;
+        // A made program's first rapid after a tool change never moves Z
+        // and X Y together from a height it does not know: after a
+        // retract, X Y first at the top, then Z (with the length offset);
+        // without one, Z first.
+        if let (Some(s), Some(Motion::Rapid), None) = (&self.setup, motion, self.pos[2]) {
+            let xy = (0..2).any(|k| self.writes(k, &t, named));
+            if xy && self.writes(2, &t, named) {
+                let first = if s.retract == Retract::None { AxisSet::NONE.with(2) } else { AxisSet(named.0 & !0b100) };
+                self.straight_to(motion, t, feed, first);
+            }
+        }
         self.straight_to(motion, t, feed, named);
         Ok(())
     }
@@ -549,6 +729,13 @@ impl Writer {
             return;
         }
         self.motion_block();
+        // A made program's length offset comes on with the first Z move
+        // after the tool change, the motion code written with it (LinuxCNC
+        // refuses G43 with Z and no motion mode).
+        let length = if self.writes(2, &t, named) { self.pending_length.take() } else { None };
+        if length.is_some() {
+            self.motion = None;
+        }
         match motion {
             Some(g) if self.motion != Some(g) => {
                 self.code(self.codes.motion[g as usize]);
@@ -559,6 +746,12 @@ impl Writer {
                 self.code(self.codes.probe);
                 self.motion = None;
             }
+        }
+        if let Some(h) = length {
+            self.code(self.codes.length[0]);
+            self.space();
+            self.out.push('H');
+            push_uint(&mut self.out, u64::from(h));
         }
         let moved = self.axis_words(&t, named);
         if motion.is_none() {
@@ -633,9 +826,17 @@ impl Writer {
         self.block();
         self.code(self.codes.dwell);
         self.space();
-        self.out.push('P');
-        // Milliseconds for Fanuc, seconds (to the millisecond) otherwise.
-        push_fixed(&mut self.out, ms, if self.dialect == Dialect::Fanuc { 0 } else { 3 }, false);
+        if self.dwell_ms {
+            self.out.push('P');
+            push_fixed(&mut self.out, ms, 0, false);
+        } else if self.dialect == Dialect::Fanuc {
+            // Fanuc's P is milliseconds: seconds are X.
+            self.out.push('X');
+            push_fixed(&mut self.out, ms, 3, true);
+        } else {
+            self.out.push('P');
+            push_fixed(&mut self.out, ms, 3, false);
+        }
         self.out.push('\n');
         Ok(())
     }
@@ -654,6 +855,9 @@ impl Writer {
         });
         if away {
             self.straight_to(Some(Motion::Linear), start, Some(feed), AxisSet::ALL);
+        }
+        if self.arcs == Arcs::Lines {
+            return self.chords(m, arc, feed);
         }
         let single = Arc { turns: 0, ..arc };
         let mut from = m.start;
@@ -677,6 +881,41 @@ impl Writer {
         self.single_arc(from, m.end, single, feed, m.named)
     }
 
+    /// Arc `m` as straight moves whose chords stray from it by at most one
+    /// unit of the last digit (for controls without arcs); the helical and
+    /// rotary axes share out their travel by angle.
+    fn chords(&mut self, m: &Move, arc: Arc, feed: i64) -> Result<(), WriteError> {
+        let (i, j, _) = arc.plane.axes();
+        let (s, e) = (m.start.to_array(), m.end.to_array());
+        let c = arc.center;
+        let (di, dj) = (s[i] - c[i], s[j] - c[j]);
+        let radius = di.hypot(dj);
+        let total = arc.sweep(m.start, m.end);
+        let tolerance = 1.0 / self.scale;
+        let step = if radius > tolerance { 2.0 * (1.0 - tolerance / radius).acos() } else { PI };
+        let count = (total / step).ceil().clamp(1.0, 1e7);
+        if !count.is_finite() {
+            return Err(self.number_error('R', radius));
+        }
+        let count = count as u32;
+        let sign = if arc.ccw { 1.0 } else { -1.0 };
+        for k in 1..=count {
+            let p = if k == count {
+                e
+            } else {
+                let f = f64::from(k) / f64::from(count);
+                let (sin, cos) = (sign * total * f).sin_cos();
+                let mut p: [f64; 6] = std::array::from_fn(|a| s[a] + (e[a] - s[a]) * f);
+                p[i] = c[i] + di * cos - dj * sin;
+                p[j] = c[j] + di * sin + dj * cos;
+                p
+            };
+            let t = self.target(Axes::from_array(p))?;
+            self.straight_to(Some(Motion::Linear), t, Some(feed), m.named);
+        }
+        Ok(())
+    }
+
     /// One arc of at most a full turn from the control's position, which is
     /// `start` rounded.
     fn single_arc(&mut self, start: Axes, end: Axes, arc: Arc, feed: i64, named: AxisSet) -> Result<(), WriteError> {
@@ -696,6 +935,17 @@ impl Writer {
             if exact_sweep <= PI {
                 self.straight_to(Some(Motion::Linear), t, Some(feed), named);
                 return Ok(());
+            }
+            if self.arcs == Arcs::Radius {
+                // R cannot give a full circle: two half circles, the helical
+                // and rotary axes half way at the middle.
+                let (sv, ev) = (start.to_array(), end.to_array());
+                let mut mid: [f64; 6] = std::array::from_fn(|k| (sv[k] + ev[k]) / 2.0);
+                mid[i] = 2.0 * arc.center[i] - sv[i];
+                mid[j] = 2.0 * arc.center[j] - sv[j];
+                let mid = Axes::from_array(mid);
+                self.single_arc(start, mid, arc, feed, named)?;
+                return self.single_arc(mid, end, arc, feed, named);
             }
             plain
         } else {
@@ -737,11 +987,18 @@ impl Writer {
             self.motion = Some(g);
         }
         self.axis_words(&t, named);
-        for (k, letter) in letters.into_iter().enumerate() {
-            if k == i {
-                self.word(letter, offset[0], self.point);
-            } else if k == j {
-                self.word(letter, offset[1], self.point);
+        if self.arcs == Arcs::Radius {
+            // R is the radius, negative past half a turn.
+            let r = (offset[0] as f64).hypot(offset[1] as f64).round() as i64;
+            let written = self.written_sweep(arc, &s, &t, offset);
+            self.word('R', if written > PI + 1e-9 { -r } else { r }, self.point);
+        } else {
+            for (k, letter) in letters.into_iter().enumerate() {
+                if k == i {
+                    self.word(letter, offset[0], self.point);
+                } else if k == j {
+                    self.word(letter, offset[1], self.point);
+                }
             }
         }
         self.feed_word(feed);
@@ -759,6 +1016,23 @@ impl Writer {
         center[j] = unit(s[j] + offset[1]);
         Arc { center, ..arc }.sweep(point(s), point(t))
     }
+}
+
+/// The characters of block `line` a control keeps in its line buffer: its
+/// words, without spaces and comments.
+fn kept_length(line: &str) -> usize {
+    let mut depth = 0;
+    let mut n = 0;
+    for c in line.chars() {
+        match c {
+            ';' if depth == 0 => break,
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            c if depth == 0 && !c.is_whitespace() => n += 1,
+            _ => {}
+        }
+    }
+    n
 }
 
 /// The centre offset (in units of the last digit) to write: `plain`, the

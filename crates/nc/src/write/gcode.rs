@@ -100,6 +100,7 @@ use std::str::FromStr;
 use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, ToolState, Toolpath};
 
 use super::blocks::{Motion, Writer};
+use super::post::{Arcs, Setup};
 
 /// An NC dialect the writer speaks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -155,8 +156,8 @@ impl FromStr for Dialect {
     }
 }
 
-/// How [`program`] writes.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// How [`program`] writes. [`WriteOptions::preset`] gives a control's.
+#[derive(Clone, Debug, PartialEq)]
 pub struct WriteOptions {
     /// The dialect.
     pub dialect: Dialect,
@@ -178,11 +179,26 @@ pub struct WriteOptions {
     /// Write the motions in incremental coordinates (`G91`) from the first
     /// block at which every axis is known on: see the module documentation.
     pub incremental: bool,
+    /// How arcs are written.
+    pub arcs: Arcs,
+    /// Write comments (the title, notes, a GRBL tool change's message):
+    /// some controls stop on them.
+    pub comments: bool,
+    /// Dwell `P` in milliseconds (`Some(true)`) or seconds (`Some(false)`);
+    /// `None`: the dialect's (Fanuc milliseconds, the others seconds).
+    pub dwell_ms: Option<bool>,
+    /// The most characters a block may have (the control's line buffer).
+    pub block_limit: Option<u32>,
+    /// The most bytes the program may have (the control's memory).
+    pub byte_limit: Option<u64>,
+    /// For a program kezuri makes: its start, tool changes and end. `None`
+    /// for a program kezuri transforms, which keeps its own.
+    pub setup: Option<Setup>,
 }
 
 impl Default for WriteOptions {
     /// Fanuc, mm with 3 decimals, absolute, no `N` words, `O0001`, no
-    /// title.
+    /// title, `I J K` arcs, comments, no limits, no [`Setup`].
     fn default() -> WriteOptions {
         WriteOptions {
             dialect: Dialect::Fanuc,
@@ -193,6 +209,12 @@ impl Default for WriteOptions {
             title: None,
             notes: Vec::new(),
             incremental: false,
+            arcs: Arcs::Ijk,
+            comments: true,
+            dwell_ms: None,
+            block_limit: None,
+            byte_limit: None,
+            setup: None,
         }
     }
 }
@@ -244,6 +266,17 @@ pub enum WriteError {
         /// The dialect.
         dialect: Dialect,
     },
+    /// The program breaks a limit of the control.
+    Limit {
+        /// What is too long: `a block` (with its line) or `the program`.
+        what: String,
+        /// Its length.
+        length: u64,
+        /// The limit.
+        limit: u64,
+        /// The unit of both (`characters`, `bytes`).
+        unit: &'static str,
+    },
 }
 
 impl fmt::Display for WriteError {
@@ -269,6 +302,9 @@ impl fmt::Display for WriteError {
             }
             WriteError::Kept { line, text, dialect } => {
                 write!(f, "line {line}: {dialect} has no '{text}', which the machine must get as written")
+            }
+            WriteError::Limit { what, length, limit, unit } => {
+                write!(f, "{what} is {length} {unit}, more than the {limit} the control takes")
             }
         }
     }
@@ -344,7 +380,7 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
         w.state(k.state)?;
         w.kept(k)?;
     }
-    Ok(w.finish())
+    w.finish()
 }
 
 /// `p - origin`, its linear axes times `unit` (rotary axes stay degrees).

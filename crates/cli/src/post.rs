@@ -1,0 +1,207 @@
+//! `--post NAME` and the machine file's `[post]`: how G-code is written for
+//! a control. A preset (`fanuc`, `haas`, `linuxcnc`, `grbl`, `mach3`) gives
+//! everything; the machine file's `[post]` changes what it names:
+//!
+//! ```toml
+//! [post]
+//! preset = "haas"            # used when --post is not given
+//! program_number = 1001      # O1001 (Fanuc, Haas)
+//! start = "G90 G17 G94 G40 G49 G80"   # safe start codes, after G21/G20
+//! work_offset = "G54"
+//! retract = "G28"            # before tool changes and at the end: G28, G53 or none
+//! prestage = true            # T<next> after M06
+//! optional_stop = true       # M01 before each tool change after the first
+//! length_offset = true       # G43 H<the tool's H> on the first Z move after a change
+//! spindle_dwell_s = 0        # dwell after the spindle starts
+//! dwell_unit = "ms"          # G04 P in ms or s (Mach3 is set either way)
+//! coolant = "flood"          # flood, mist or none
+//! home = "G28"               # X Y at the end: G28, none, or a park position [X, Y]
+//! end = "M30"
+//! line_numbers = 10          # N10, N20, … (0: none)
+//! digits = 3
+//! arcs = "ijk"               # ijk, r or lines
+//! comments = true
+//! block_limit = 128          # characters a block may have
+//! byte_limit = 512000        # bytes a program may have
+//! ```
+
+use std::collections::BTreeMap;
+
+use anyhow::{bail, Result};
+use kezuri_nc::write::{Arcs, CoolantChoice, Home, Retract, WriteOptions, PRESETS};
+use serde::Deserialize;
+
+use crate::machine::ToolEntry;
+
+/// The machine file's `[post]`, as written: every key optional.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PostFile {
+    preset: Option<String>,
+    program_number: Option<u32>,
+    start: Option<String>,
+    work_offset: Option<String>,
+    retract: Option<String>,
+    prestage: Option<bool>,
+    optional_stop: Option<bool>,
+    pub length_offset: Option<bool>,
+    spindle_dwell_s: Option<f64>,
+    dwell_unit: Option<String>,
+    coolant: Option<String>,
+    home: Option<toml::Value>,
+    end: Option<String>,
+    line_numbers: Option<u32>,
+    digits: Option<u8>,
+    arcs: Option<String>,
+    comments: Option<bool>,
+    block_limit: Option<u32>,
+    byte_limit: Option<u64>,
+}
+
+/// The write options of preset `name` (else `[post] preset`, else
+/// `fanuc`) with the machine file's `[post]` on top, and the length
+/// register of every tool of the table whose H is not its number.
+pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEntry>) -> Result<WriteOptions> {
+    let name = name.or(file.preset.as_deref()).unwrap_or("fanuc");
+    let mut o = WriteOptions::preset(name).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let Some(setup) = o.setup.as_mut() else { unreachable!("a preset has a setup") };
+    let word = |key: &str, v: &Option<String>| -> Result<Option<String>> {
+        match v {
+            Some(t) if t.contains(['(', ')', ';', '%', '\n']) => {
+                bail!("post.{key}: '{t}' must be codes only (no comment, no %)")
+            }
+            v => Ok(v.as_ref().map(|t| t.trim().to_ascii_uppercase())),
+        }
+    };
+    if let Some(n) = file.program_number {
+        o.program_number = n;
+    }
+    if let Some(t) = word("start", &file.start)? {
+        setup.start = t;
+    }
+    if let Some(t) = word("work_offset", &file.work_offset)? {
+        setup.work_offset = t;
+    }
+    if let Some(t) = word("end", &file.end)? {
+        setup.end = t;
+    }
+    if let Some(r) = &file.retract {
+        setup.retract = match r.trim().to_ascii_uppercase().as_str() {
+            "G28" => Retract::Reference,
+            "G53" => Retract::MachineZero,
+            "NONE" => Retract::None,
+            _ => bail!("post.retract: '{r}' is not G28, G53 or none"),
+        };
+    }
+    setup.prestage = file.prestage.unwrap_or(setup.prestage);
+    setup.optional_stop = file.optional_stop.unwrap_or(setup.optional_stop);
+    setup.length_offset = file.length_offset.unwrap_or(setup.length_offset);
+    if let Some(d) = file.spindle_dwell_s {
+        if !(0.0..=3600.0).contains(&d) {
+            bail!("post.spindle_dwell_s: {d} is not 0 to 3600 seconds");
+        }
+        setup.spindle_dwell = d;
+    }
+    if let Some(u) = &file.dwell_unit {
+        o.dwell_ms = Some(match u.trim() {
+            "ms" => true,
+            "s" => false,
+            _ => bail!("post.dwell_unit: '{u}' is not ms or s"),
+        });
+    }
+    if let Some(c) = &file.coolant {
+        setup.coolant = match c.trim().to_ascii_lowercase().as_str() {
+            "flood" => CoolantChoice::Flood,
+            "mist" => CoolantChoice::Mist,
+            "none" => CoolantChoice::Off,
+            _ => bail!("post.coolant: '{c}' is not flood, mist or none"),
+        };
+    }
+    if let Some(h) = &file.home {
+        setup.home = match h {
+            toml::Value::String(t) if t.eq_ignore_ascii_case("G28") => Home::Reference,
+            toml::Value::String(t) if t.eq_ignore_ascii_case("none") => Home::None,
+            toml::Value::Array(a) => {
+                let v: Vec<f64> = a.iter().filter_map(|v| v.as_float().or(v.as_integer().map(|i| i as f64))).collect();
+                match v[..] {
+                    [x, y] if a.len() == 2 && x.is_finite() && y.is_finite() => Home::Park([x, y]),
+                    _ => bail!("post.home: a park position is two numbers [X, Y], machine coordinates in mm"),
+                }
+            }
+            _ => bail!("post.home: '{h}' is not G28, none or a park position [X, Y]"),
+        };
+    }
+    if let Some(step) = file.line_numbers {
+        o.line_numbers = (step > 0).then_some(step);
+    }
+    if let Some(d) = file.digits {
+        if d > 6 {
+            bail!("post.digits: {d} is not 0 to 6");
+        }
+        o.digits = d;
+    }
+    if let Some(a) = &file.arcs {
+        o.arcs = match a.trim().to_ascii_lowercase().as_str() {
+            "ijk" => Arcs::Ijk,
+            "r" => Arcs::Radius,
+            "lines" | "none" => Arcs::Lines,
+            _ => bail!("post.arcs: '{a}' is not ijk, r or lines"),
+        };
+    }
+    o.comments = file.comments.unwrap_or(o.comments);
+    o.block_limit = file.block_limit.or(o.block_limit);
+    o.byte_limit = file.byte_limit.or(o.byte_limit);
+    setup.registers = tools.iter().filter(|(t, e)| e.h != **t).map(|(t, e)| (*t, e.h)).collect();
+    Ok(o)
+}
+
+/// Whether `name` is a preset.
+pub fn is_preset(name: &str) -> bool {
+    PRESETS.iter().any(|p| p.eq_ignore_ascii_case(name.trim()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<WriteOptions> {
+        let file: PostFile = toml::from_str(text)?;
+        options(&file, None, &BTreeMap::new())
+    }
+
+    #[test]
+    fn the_documented_example_reads() {
+        let doc = include_str!("post.rs");
+        let example: String = doc
+            .lines()
+            .skip_while(|l| !l.contains("```toml"))
+            .skip(2)
+            .take_while(|l| !l.contains("```"))
+            .map(|l| l.trim_start_matches("//!").trim_start().to_string() + "\n")
+            .collect();
+        let o = parse(&example).unwrap();
+        let s = o.setup.unwrap();
+        assert_eq!((o.program_number, o.line_numbers, o.block_limit), (1001, Some(10), Some(128)));
+        assert_eq!((s.retract, s.home, s.coolant), (Retract::Reference, Home::Reference, CoolantChoice::Flood));
+        assert!(s.prestage && s.length_offset);
+    }
+
+    #[test]
+    fn overrides_and_refusals() {
+        let o = parse("preset = \"linuxcnc\"\nhome = [10, -5.5]\narcs = \"r\"\nretract = \"none\"").unwrap();
+        let s = o.setup.unwrap();
+        assert_eq!((s.home, s.retract, o.arcs), (Home::Park([10.0, -5.5]), Retract::None, Arcs::Radius));
+        for (text, words) in [
+            ("preset = \"okuma\"", "unknown post 'okuma'"),
+            ("retract = \"G30\"", "post.retract: 'G30'"),
+            ("home = [1]", "two numbers"),
+            ("start = \"G90 (SAFE)\"", "codes only"),
+            ("spindle_dwell_s = -1", "0 to 3600"),
+            ("coolant = \"air\"", "post.coolant"),
+            ("program = 5", "unknown field `program`"),
+        ] {
+            let e = format!("{:#}", parse(text).expect_err(text));
+            assert!(e.contains(words), "{text}: {e}");
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! The post presets on a made two-tool toolpath: each preset's start, tool
+//! change and end against a program written by hand
+//! (`testdata/write/post/`; where each convention comes from is in
+//! `docs/post.md`), and the formatting options one by one.
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+use kezuri_geom::{Arc, Axes, Move, MoveKind, Plane, Spindle, Toolpath};
+use kezuri_nc::write::{program, Arcs, WriteError, WriteOptions, PRESETS};
+
+fn at(x: f64, y: f64, z: f64) -> Axes {
+    Axes { x, y, z, ..Axes::ZERO }
+}
+
+/// A made toolpath: tool 1 plunges, cuts, turns a quarter circle and
+/// rises; tool 2 plunges, cuts and rises.
+fn two_tools() -> Toolpath {
+    let mut path = Toolpath::default();
+    let mut last = at(10.0, 10.0, 5.0);
+    let mut push = |kind, end: Axes, feed: f64, tool: u32, speed: f64| {
+        path.push(Move { kind, start: last, end, feed, speed, spindle: Spindle::Cw, tool, ..Move::default() });
+        last = end;
+    };
+    push(MoveKind::Rapid, at(10.0, 10.0, 5.0), 0.0, 1, 8000.0);
+    push(MoveKind::Feed, at(10.0, 10.0, -1.0), 200.0, 1, 8000.0);
+    push(MoveKind::Feed, at(30.0, 10.0, -1.0), 800.0, 1, 8000.0);
+    let quarter = Arc { center: [30.0, 20.0, -1.0], plane: Plane::Xy, ccw: true, turns: 0 };
+    push(MoveKind::Arc(quarter), at(40.0, 20.0, -1.0), 800.0, 1, 8000.0);
+    push(MoveKind::Rapid, at(40.0, 20.0, 5.0), 0.0, 1, 8000.0);
+    push(MoveKind::Rapid, at(0.0, 0.0, 5.0), 0.0, 2, 12000.0);
+    push(MoveKind::Feed, at(0.0, 0.0, -0.5), 200.0, 2, 12000.0);
+    push(MoveKind::Feed, at(20.0, 0.0, -0.5), 1000.0, 2, 12000.0);
+    push(MoveKind::Rapid, at(20.0, 0.0, 5.0), 0.0, 2, 12000.0);
+    path
+}
+
+fn written(name: &str, change: impl FnOnce(&mut WriteOptions)) -> Result<String, WriteError> {
+    let mut o = WriteOptions { title: Some("POST TEST".into()), ..WriteOptions::preset(name).unwrap() };
+    change(&mut o);
+    program(&two_tools(), &o)
+}
+
+#[test]
+fn every_preset_writes_the_program_written_by_hand() {
+    let expected = [
+        ("fanuc", include_str!("../testdata/write/post/fanuc.nc")),
+        ("haas", include_str!("../testdata/write/post/haas.nc")),
+        ("linuxcnc", include_str!("../testdata/write/post/linuxcnc.ngc")),
+        ("grbl", include_str!("../testdata/write/post/grbl.nc")),
+        ("mach3", include_str!("../testdata/write/post/mach3.nc")),
+    ];
+    assert_eq!(expected.map(|(n, _)| n), PRESETS);
+    for (name, text) in expected {
+        assert_eq!(written(name, |_| {}).unwrap(), text, "{name}");
+    }
+}
+
+/// The safety rules every preset keeps, line by line: G90 right after
+/// every `G91 G28`; after each tool change the length offset on the first
+/// block that moves Z (where the preset uses offsets) and the spindle on
+/// before it; M05 before the end.
+#[test]
+fn every_preset_keeps_the_safety_rules() {
+    for name in PRESETS {
+        let text = written(name, |_| {}).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let uses_offsets = WriteOptions::preset(name).unwrap().setup.unwrap().length_offset;
+        let (mut changed, mut spindle_on) = (false, false);
+        for (k, line) in lines.iter().enumerate() {
+            if line.contains("G91 G28") {
+                assert!(lines[k + 1].starts_with("G90"), "{name}: no G90 after '{line}'");
+            }
+            if line.contains("M06") || line.contains("M6") || line.starts_with("M0") && line.len() == 2 {
+                (changed, spindle_on) = (true, false);
+            }
+            if line.contains("M03") || line.contains(" M3") {
+                spindle_on = true;
+            }
+            let moves_z =
+                line.contains('Z') && !line.contains("G53") && !line.contains("G28") && !line.starts_with('(');
+            if changed && moves_z {
+                assert!(spindle_on, "{name}: Z moves before the spindle is on: '{line}'");
+                assert_eq!(line.contains("G43 H"), uses_offsets, "{name}: first Z move '{line}'");
+                changed = false;
+            }
+        }
+        let end = lines.iter().rposition(|l| l.starts_with("M30") || l.starts_with("M2")).unwrap();
+        let stop = lines.iter().rposition(|l| *l == "M05" || *l == "M5").unwrap();
+        assert!(stop < end, "{name}: M05 after the end");
+    }
+}
+
+#[test]
+fn the_length_register_is_the_tool_tables() {
+    let text = written("fanuc", |o| {
+        o.setup.as_mut().unwrap().registers = BTreeMap::from([(2, 22)]);
+    })
+    .unwrap();
+    assert!(text.contains("G00 G43 H1 Z5.\n") && text.contains("G00 G43 H22 Z5.\n"), "{text}");
+}
+
+#[test]
+fn arcs_as_radius_and_as_lines() {
+    let text = written("fanuc", |o| o.arcs = Arcs::Radius).unwrap();
+    assert!(text.contains("G17 G03 X40. Y20. R10.\n"), "{text}");
+    let text = written("fanuc", |o| o.arcs = Arcs::Lines).unwrap();
+    assert!(!text.contains("G03") && !text.contains('I'), "{text}");
+    // Every chord end on the circle to the rounding of its two words
+    // (√2 · 0.0005 mm), every chord within one unit (1 µm) of it and that
+    // rounding: the sagitta of a chord c is r − √(r² − c²/4).
+    let ends: Vec<[f64; 2]> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("X30."))
+        .skip(1)
+        .take_while(|l| !l.starts_with("G00"))
+        .map(|l| {
+            let v = |c: char| l.split(' ').find_map(|w| w.strip_prefix(c)).map(|n| n.parse::<f64>().unwrap());
+            [v('X').unwrap(), v('Y').unwrap()]
+        })
+        .collect();
+    assert!(ends.len() > 10, "{ends:?}");
+    let mut last = [30.0, 10.0];
+    for p in &ends {
+        let r = (p[0] - 30.0).hypot(p[1] - 20.0);
+        assert!((r - 10.0).abs() <= 0.000_71, "{p:?} is {r} from the centre");
+        let chord = (p[0] - last[0]).hypot(p[1] - last[1]);
+        let sagitta = 10.0 - (100.0 - chord * chord / 4.0).sqrt();
+        assert!(sagitta <= 0.001 + 0.000_71, "chord {chord} strays {sagitta}");
+        last = *p;
+    }
+    assert_eq!(ends.last(), Some(&[40.0, 20.0]));
+}
+
+#[test]
+fn a_full_circle_with_radius_arcs_is_two_half_circles() {
+    let mut path = Toolpath::default();
+    let start = at(10.0, 0.0, -1.0);
+    path.push(Move { kind: MoveKind::Rapid, start, end: start, spindle: Spindle::Cw, tool: 1, ..Move::default() });
+    let full = Arc { center: [0.0, 0.0, -1.0], plane: Plane::Xy, ccw: false, turns: 0 };
+    path.push(Move { kind: MoveKind::Arc(full), start, end: start, feed: 500.0, tool: 1, ..Move::default() });
+    assert!((full.sweep(start, start) - 2.0 * PI).abs() < 1e-9);
+    let o = WriteOptions { arcs: Arcs::Radius, ..WriteOptions::preset("fanuc").unwrap() };
+    let text = program(&path, &o).unwrap();
+    assert!(text.contains("G17 G02 X-10. R10. F500.\nX10. R10.\n"), "{text}");
+}
+
+#[test]
+fn limits_comments_and_dwell_units() {
+    let e = written("fanuc", |o| o.block_limit = Some(12)).unwrap_err();
+    // Spaces and comments are not kept: 'G90G17G94G40G49G80' is 18.
+    assert_eq!(
+        e.to_string(),
+        "block 4 of the program ('G90 G17 G94 G40 G49 G80') is 18 characters, more than the 12 the control takes"
+    );
+    let whole = written("fanuc", |_| {}).unwrap().len() as u64;
+    let e = written("fanuc", |o| o.byte_limit = Some(whole - 1)).unwrap_err();
+    assert!(e.to_string().starts_with(&format!("the program is {whole} bytes (drip-feed it")), "{e}");
+    assert!(written("fanuc", |o| o.byte_limit = Some(whole)).is_ok());
+    let bare = written("grbl", |o| o.comments = false).unwrap();
+    assert!(!bare.contains('('), "{bare}");
+    assert!(bare.starts_with("G21\nG90 G17 G94\nG54\nM0\n"), "{bare}");
+    let ms = written("mach3", |o| o.dwell_ms = Some(true)).unwrap();
+    assert!(ms.contains("\nG4 P2000\n"), "{ms}");
+    let seconds = written("fanuc", |o| {
+        o.dwell_ms = Some(false);
+        o.setup.as_mut().unwrap().spindle_dwell = 1.5;
+    })
+    .unwrap();
+    assert!(seconds.contains("S8000 M03\nG04 X1.5\n"), "{seconds}");
+}
+
+/// A program kezuri transforms (no setup) keeps its own start, tool
+/// changes and end: no retract, no G43, no M01 is added.
+#[test]
+fn a_transformed_program_gets_only_the_formatting() {
+    let o = WriteOptions { setup: None, line_numbers: Some(5), ..WriteOptions::preset("haas").unwrap() };
+    let text = program(&two_tools(), &o).unwrap();
+    for absent in ["G28", "G53", "G43", "M01", "M08"] {
+        assert!(!text.contains(absent), "{absent} in\n{text}");
+    }
+    assert!(text.starts_with("%\nO0001\nN5 G21 G90 G17 G94 G40 G49 G80 G54\nN10 T1 M06\n"), "{text}");
+}
