@@ -12,6 +12,11 @@
 //! [tools]
 //! lengths = { 1 = 100.5, 21 = 87.25 }    # H registers, mm
 //! radii = { 1 = 3.0 }                    # D registers, mm
+//! # import = "tool.tbl"                  # a tool table, beside this file:
+//! # units = "inch"                       #   LinuxCNC .tbl (needs units),
+//!                                        #   FreeCAD .fctl/.fctb, Fusion 360
+//!                                        #   .json/.tools; what this file
+//!                                        #   says overrides what it gives
 //!
 //! [tools.T5]                             # the tool in pocket 5
 //! shape = "ball:6"                       # cutter SPEC (what sim cuts with)
@@ -67,6 +72,8 @@ use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
+
+use crate::tool_table::{self, Notes, Units};
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -255,13 +262,19 @@ struct Motion {
 }
 
 /// `[tools]`: no `deny_unknown_fields` (serde cannot have it with
-/// `flatten`): a key that is not `lengths` or `radii` must name a tool.
+/// `flatten`): a key that is not `lengths`, `radii`, `import` or `units`
+/// must name a tool.
 #[derive(Deserialize, Default)]
 struct Tools {
     #[serde(default)]
     lengths: BTreeMap<String, f64>,
     #[serde(default)]
     radii: BTreeMap<String, f64>,
+    /// A tool table file to import (docs/tool-tables.md), relative to the
+    /// machine file.
+    import: Option<String>,
+    /// The units of an imported table that does not say them: mm or inch.
+    units: Option<String>,
     /// `T5 = { shape, h, d, name }`: the tool table, one entry a tool.
     #[serde(flatten)]
     table: BTreeMap<String, ToolFile>,
@@ -291,25 +304,44 @@ pub struct ToolEntry {
     pub name: Option<String>,
 }
 
-/// The tool table of `[tools]`: keys `T1`, `T2`, … (or `1`, `2`, …).
-fn tool_table(table: &BTreeMap<String, ToolFile>) -> Result<BTreeMap<u32, ToolEntry>> {
-    table
-        .iter()
-        .map(|(key, t)| {
-            let number: u32 = key
-                .trim()
-                .trim_start_matches(['T', 't'])
-                .parse()
-                .ok()
-                .filter(|&n| n > 0)
-                .with_context(|| format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths or radii"))?;
-            let shape = match &t.shape {
-                Some(spec) => Some(spec.parse::<Cutter>().with_context(|| format!("tools.{key}.shape"))?),
-                None => None,
-            };
-            Ok((number, ToolEntry { shape, h: t.h.unwrap_or(number), d: t.d, name: t.name.clone() }))
-        })
-        .collect()
+/// The tool table of `[tools]`: keys `T1`, `T2`, … (or `1`, `2`, …), each
+/// on top of the imported entry of its number where there is one (what
+/// the machine file says overrides what the import gives).
+fn tool_table(
+    table: &BTreeMap<String, ToolFile>,
+    mut imported: BTreeMap<u32, ToolEntry>,
+) -> Result<BTreeMap<u32, ToolEntry>> {
+    for (key, t) in table {
+        let number: u32 =
+            key.trim().trim_start_matches(['T', 't']).parse().ok().filter(|&n| n > 0).with_context(|| {
+                format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths, radii, import or units")
+            })?;
+        let shape = match &t.shape {
+            Some(spec) => Some(spec.parse::<Cutter>().with_context(|| format!("tools.{key}.shape"))?),
+            None => None,
+        };
+        let base = imported.remove(&number);
+        let entry = ToolEntry {
+            shape: shape.or(base.as_ref().and_then(|b| b.shape)),
+            h: t.h.or(base.as_ref().map(|b| b.h)).unwrap_or(number),
+            d: t.d.or(base.as_ref().and_then(|b| b.d)),
+            name: t.name.clone().or(base.and_then(|b| b.name)),
+        };
+        imported.insert(number, entry);
+    }
+    Ok(imported)
+}
+
+/// The tool table `[tools] import` names, read from beside the machine file.
+fn import_tools(tools: &Tools, dir: &Path) -> Result<Option<tool_table::Table>> {
+    let Some(file) = &tools.import else {
+        if tools.units.is_some() {
+            bail!("tools.units: the units of an imported table, but tools.import names none");
+        }
+        return Ok(None);
+    };
+    let units = tools.units.as_deref().map(Units::parse).transpose().context("tools.units")?;
+    tool_table::read(&dir.join(file), units).context("tools.import").map(Some)
 }
 
 #[derive(Deserialize, Default)]
@@ -371,6 +403,17 @@ fn axes(name: &str, v: &[f64]) -> Result<Axes> {
     Ok(Axes::from_array(a))
 }
 
+/// The registers an import gives, with the machine file's on top.
+fn imported_registers(
+    imported: Option<&BTreeMap<u32, f64>>,
+    name: &str,
+    map: &BTreeMap<String, f64>,
+) -> Result<BTreeMap<u32, f64>> {
+    let mut all = imported.cloned().unwrap_or_default();
+    all.extend(registers(name, map)?);
+    Ok(all)
+}
+
 fn registers(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f64>> {
     map.iter()
         .map(|(k, &v)| {
@@ -384,14 +427,38 @@ fn registers(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f6
 }
 
 impl Machine {
-    /// Reads a machine file.
+    /// Reads a machine file; what its imported tool table left out or lacks
+    /// is told in one line on stderr (`kezuri tool table --machine` lists it).
     pub fn load(path: &Path) -> Result<Machine> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-        Machine::parse(&text).with_context(|| format!("in machine file {}", path.display()))
+        let (machine, notes) = Machine::read(path)?;
+        if !notes.is_empty() {
+            eprintln!(
+                "warning: {}: the imported tool table left out {} entries and has {} warnings \
+                 (kezuri tool table --machine {0} lists them)",
+                path.display(),
+                notes.skipped.len(),
+                notes.warnings.len()
+            );
+        }
+        Ok(machine)
     }
 
+    /// Reads a machine file, with what its imported tool table left out or lacks.
+    pub fn read(path: &Path) -> Result<(Machine, Notes)> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        Machine::parse_in(&text, dir).with_context(|| format!("in machine file {}", path.display()))
+    }
+
+    #[cfg(test)]
     fn parse(text: &str) -> Result<Machine> {
+        Ok(Machine::parse_in(text, Path::new(""))?.0)
+    }
+
+    /// Reads a machine file's text; `dir` is the folder its imports are in.
+    fn parse_in(text: &str, dir: &Path) -> Result<(Machine, Notes)> {
         let file: File = toml::from_str(text)?;
+        let imported = import_tools(&file.tools, dir)?;
         let d = Dynamics::default();
         let m = &file.motion;
         let rapid = match &m.rapid_mm_min {
@@ -412,8 +479,12 @@ impl Machine {
             junction_deviation_mm: positive("junction_deviation_mm", m.junction_deviation_mm, d.junction_deviation_mm)?,
         };
         let mut settings = Settings {
-            tool_lengths: registers("tools.lengths", &file.tools.lengths)?,
-            tool_radii: registers("tools.radii", &file.tools.radii)?,
+            tool_lengths: imported_registers(
+                imported.as_ref().map(|t| &t.lengths),
+                "tools.lengths",
+                &file.tools.lengths,
+            )?,
+            tool_radii: imported_registers(imported.as_ref().map(|t| &t.radii), "tools.radii", &file.tools.radii)?,
             macro_variables: macro_variables(&file.macro_variables)?,
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
             cycles: cycle_settings(&file.cycles)?,
@@ -455,8 +526,9 @@ impl Machine {
             Some(c) => chains(c)?,
             None => Kinematics::mill(),
         };
-        let tools = tool_table(&file.tools.table)?;
-        Ok(Machine { dynamics, settings, kinematics, tools })
+        let (imported_tools, notes) = imported.map(|t| (t.tools, t.notes)).unwrap_or_default();
+        let tools = tool_table(&file.tools.table, imported_tools)?;
+        Ok((Machine { dynamics, settings, kinematics, tools }, notes))
     }
 }
 

@@ -22,6 +22,7 @@ mod texture;
 mod thermal;
 mod tool;
 mod tool_db;
+mod tool_table;
 mod wear;
 
 use std::path::PathBuf;
