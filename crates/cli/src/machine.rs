@@ -588,6 +588,33 @@ mod tests {
     }
 
     #[test]
+    fn imports_a_tool_table_under_its_own_entries() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/tools");
+        let text = "[tools]\nimport = \"tool.tbl\"\nunits = \"inch\"\nlengths = { 2 = 50 }\n\
+                    [tools.T1]\nshape = \"flat:6.35\"\n[tools.T7]\nh = 17\n[tools.T8]\nshape = \"ball:2\"\n";
+        let (m, notes) = Machine::parse_in(text, &dir).unwrap();
+        assert_eq!(m.tools.keys().copied().collect::<Vec<_>>(), [1, 2, 3, 7, 8]);
+        let t1 = &m.tools[&1];
+        assert_eq!((t1.shape, t1.h, t1.d), (Some("flat:6.35".parse().unwrap()), 1, Some(1)));
+        assert_eq!(t1.name.as_deref(), Some("1/4 flat end mill"));
+        assert_eq!((m.tools[&7].h, m.tools[&7].d, m.tools[&7].name.as_deref()), (17, Some(7), Some("3/16 drill")));
+        assert_eq!((m.tools[&8].h, m.tools[&8].d), (8, None));
+        assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_lengths[&2]), (31.75, 50.0));
+        assert_eq!(m.settings.tool_radii[&7], 2.38125);
+        assert!(notes.warnings.iter().any(|w| w.contains("not shapes")), "{notes:?}");
+        for (text, words) in [
+            ("[tools]\nimport = \"tool.tbl\"", "no units"),
+            ("[tools]\nunits = \"mm\"", "tools.import names none"),
+            ("[tools]\nimport = \"tool.tbl\"\nunits = \"furlong\"", "tools.units: 'furlong' is not a unit"),
+            ("[tools]\nimport = \"missing.fctl\"", "tools.import: cannot read"),
+            ("[tools]\nimport = \"mill.toml\"", "which tool file is it?"),
+        ] {
+            let e = format!("{:#}", Machine::parse_in(text, &dir).err().expect(text));
+            assert!(e.contains(words), "{text}: {e}");
+        }
+    }
+
+    #[test]
     fn rejects_nonsense() {
         assert!(Machine::parse("[motion]\nacceleration_mm_s2 = -1").is_err());
         assert!(Machine::parse("[motion]\nrapid = 1").is_err());

@@ -169,7 +169,7 @@ Examples (samples/tools/ holds one file of each kind):
   kezuri tool table --machine samples/tools/mill.toml")]
 pub struct TableArgs {
     /// Tool tables: .tbl, .fctb, .fctl, .json, .tools.
-    #[arg(value_name = "FILE")]
+    #[arg(value_name = "FILE", required_unless_present = "machine")]
     pub files: Vec<PathBuf>,
     /// The units of a LinuxCNC tool table: mm or inch.
     #[arg(long, value_name = "mm|inch")]
@@ -191,9 +191,6 @@ struct Shown {
 
 /// Runs `kezuri tool table`.
 pub fn run(a: &TableArgs) -> Result<()> {
-    if a.files.is_empty() && a.machine.is_none() {
-        bail!("name a tool table (FILE…) or a machine file (--machine M.toml)");
-    }
     let units = a.units.as_deref().map(Units::parse).transpose()?;
     let mut shown = Vec::new();
     for file in &a.files {

@@ -92,9 +92,10 @@ fn words(name: &str, n: usize, line: &str, part: &str) -> Result<Words> {
                 _ => bail!("{at}: '{token}': {letter} takes a number"),
             }
         };
+        // LinuxCNC reads these with %d: Q2.0 is 2 (and T1.5 would be T1, refused here).
         let whole = || -> Result<i64> {
-            match value.parse::<i64>() {
-                Ok(v) => Ok(v),
+            match value.parse::<f64>() {
+                Ok(v) if v.fract() == 0.0 && v.abs() < 1e15 => Ok(v as i64),
                 _ => bail!("{at}: '{token}': {letter} takes a whole number"),
             }
         };
@@ -127,7 +128,7 @@ mod tests {
 
     #[test]
     fn reads_tools_lengths_and_diameters() {
-        let text = "; my mill\nT1 P1 Z0.511 D0.125 ;1/8 end mill\n\nt2 p4 z+0.1 d0.0625\nT0 P0 ;empty\n\
+        let text = "; my mill\nT1 P1 Z0.511 D0.125 ;1/8 end mill\n\nt2 p4 z+0.1 d0.0625 Q0.0\nT0 P0 ;empty\n\
                     T1 P7 D1 ;again\nT3 P3 X0.5 D0.2 Q6\n";
         let t = parse("a.tbl", text, Units::Inch).unwrap();
         assert_eq!(t.tools.len(), 3);
