@@ -194,7 +194,7 @@ mod tests {
             ),
             (r#"{"data": [{"type": "drill", "post-process": {"number": -1}}]}"#, "number -1 is not a register number"),
         ] {
-            let e = format!("{:#}", parse("lib.json", text).err().expect(text));
+            let e = format!("{:#}", parse("lib.json", text).expect_err(text));
             assert!(e.contains(words), "{text}: {e}");
         }
     }

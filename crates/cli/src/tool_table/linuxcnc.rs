@@ -163,7 +163,7 @@ mod tests {
                 "a.tbl:1:6: this is the tool table of LinuxCNC before 2.4",
             ),
         ] {
-            let e = format!("{:#}", parse("a.tbl", text, Units::Mm).err().expect(text));
+            let e = format!("{:#}", parse("a.tbl", text, Units::Mm).expect_err(text));
             assert!(e.contains(words), "{text}: {e}");
         }
     }
