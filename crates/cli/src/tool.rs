@@ -1,6 +1,7 @@
 //! `kezuri tool`: a tool's measured cutting profile from backlit images
-//! (`tool profile`) and the database of each tool's profiles as it wears
-//! (`tool db`). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
+//! (`tool profile`), the database of each tool's profiles as it wears
+//! (`tool db`) and the tool tables of other programs' files (`tool table`,
+//! in tool_table.rs). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

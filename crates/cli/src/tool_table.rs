@@ -255,7 +255,9 @@ fn plain_text(s: &Shown) -> String {
     }
     let widths: Vec<usize> = (0..7).map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0)).collect();
     let n = t.tools.len();
-    let mut out = format!("{} ({}): {n} tool{}\n", s.file, t.format, if n == 1 { "" } else { "s" });
+    let bare = t.tools.values().filter(|e| e.shape.is_none()).count();
+    let mut out =
+        format!("{} ({}): {n} tool{}, {bare} without a shape\n", s.file, t.format, if n == 1 { "" } else { "s" });
     for r in &rows {
         let cells: Vec<String> = r.iter().zip(&widths).map(|(c, w)| format!("{c:<w$}")).collect();
         out += &format!("  {}\n", cells.join("  ").trim_end());

@@ -63,7 +63,7 @@ fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
     }
     if !table.tools.is_empty() {
         table.notes.warnings.push(
-            "a tool.tbl gives diameters, not shapes: give each tool its shape in the machine file \
+            "a tool.tbl gives diameters, not shapes: a tool's shape is written in the machine file \
              ([tools.T1] shape = \"flat:6\")"
                 .into(),
         );
