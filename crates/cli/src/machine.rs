@@ -12,12 +12,20 @@
 //! [tools]
 //! lengths = { 1 = 100.5, 21 = 87.25 }    # H registers, mm
 //! radii = { 1 = 3.0 }                    # D registers, mm
+//! # import = "tool.tbl"                  # a tool table, beside this file:
+//! # units = "inch"                       #   LinuxCNC .tbl (needs units),
+//!                                        #   FreeCAD .fctl/.fctb, Fusion 360
+//!                                        #   .json/.tools; what this file
+//!                                        #   says overrides what it gives
 //!
 //! [tools.T5]                             # the tool in pocket 5
 //! shape = "ball:6"                       # cutter SPEC (what sim cuts with)
 //! h = 5                                  # its length register [default: 5]
 //! d = 25                                 # its radius register [default: none]
 //! name = "6 mm ball, 2 flutes"
+//!
+//! [post]                                 # how programs are written: a preset
+//! preset = "fanuc"                       # and what to change (`kezuri mill --help`)
 //!
 //! [comp]                                 # cutter compensation (G41/G42)
 //! startup = "A"                          # Fanuc start-up/cancel type A or B
@@ -67,6 +75,8 @@ use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
+
+use crate::tool_table::{self, Notes, Units};
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -257,13 +267,19 @@ struct Motion {
 }
 
 /// `[tools]`: no `deny_unknown_fields` (serde cannot have it with
-/// `flatten`): a key that is not `lengths` or `radii` must name a tool.
+/// `flatten`): a key that is not `lengths`, `radii`, `import` or `units`
+/// must name a tool.
 #[derive(Deserialize, Default)]
 struct Tools {
     #[serde(default)]
     lengths: BTreeMap<String, f64>,
     #[serde(default)]
     radii: BTreeMap<String, f64>,
+    /// A tool table file to import (docs/tool-tables.md), relative to the
+    /// machine file.
+    import: Option<String>,
+    /// The units of an imported table that does not say them: mm or inch.
+    units: Option<String>,
     /// `T5 = { shape, h, d, name }`: the tool table, one entry a tool.
     #[serde(flatten)]
     table: BTreeMap<String, ToolFile>,
@@ -293,25 +309,44 @@ pub struct ToolEntry {
     pub name: Option<String>,
 }
 
-/// The tool table of `[tools]`: keys `T1`, `T2`, … (or `1`, `2`, …).
-fn tool_table(table: &BTreeMap<String, ToolFile>) -> Result<BTreeMap<u32, ToolEntry>> {
-    table
-        .iter()
-        .map(|(key, t)| {
-            let number: u32 = key
-                .trim()
-                .trim_start_matches(['T', 't'])
-                .parse()
-                .ok()
-                .filter(|&n| n > 0)
-                .with_context(|| format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths or radii"))?;
-            let shape = match &t.shape {
-                Some(spec) => Some(spec.parse::<Cutter>().with_context(|| format!("tools.{key}.shape"))?),
-                None => None,
-            };
-            Ok((number, ToolEntry { shape, h: t.h.unwrap_or(number), d: t.d, name: t.name.clone() }))
-        })
-        .collect()
+/// The tool table of `[tools]`: keys `T1`, `T2`, … (or `1`, `2`, …), each
+/// on top of the imported entry of its number where there is one (what
+/// the machine file says overrides what the import gives).
+fn tool_table(
+    table: &BTreeMap<String, ToolFile>,
+    mut imported: BTreeMap<u32, ToolEntry>,
+) -> Result<BTreeMap<u32, ToolEntry>> {
+    for (key, t) in table {
+        let number: u32 =
+            key.trim().trim_start_matches(['T', 't']).parse().ok().filter(|&n| n > 0).with_context(|| {
+                format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths, radii, import or units")
+            })?;
+        let shape = match &t.shape {
+            Some(spec) => Some(spec.parse::<Cutter>().with_context(|| format!("tools.{key}.shape"))?),
+            None => None,
+        };
+        let base = imported.remove(&number);
+        let entry = ToolEntry {
+            shape: shape.or(base.as_ref().and_then(|b| b.shape)),
+            h: t.h.or(base.as_ref().map(|b| b.h)).unwrap_or(number),
+            d: t.d.or(base.as_ref().and_then(|b| b.d)),
+            name: t.name.clone().or(base.and_then(|b| b.name)),
+        };
+        imported.insert(number, entry);
+    }
+    Ok(imported)
+}
+
+/// The tool table `[tools] import` names, read from beside the machine file.
+fn import_tools(tools: &Tools, dir: &Path) -> Result<Option<tool_table::Table>> {
+    let Some(file) = &tools.import else {
+        if tools.units.is_some() {
+            bail!("tools.units: the units of an imported table, but tools.import names none");
+        }
+        return Ok(None);
+    };
+    let units = tools.units.as_deref().map(Units::parse).transpose().context("tools.units")?;
+    tool_table::read(&dir.join(file), units).context("tools.import").map(Some)
 }
 
 #[derive(Deserialize, Default)]
@@ -376,6 +411,17 @@ fn axes(name: &str, v: &[f64]) -> Result<Axes> {
     Ok(Axes::from_array(a))
 }
 
+/// The registers an import gives, with the machine file's on top.
+fn imported_registers(
+    imported: Option<&BTreeMap<u32, f64>>,
+    name: &str,
+    map: &BTreeMap<String, f64>,
+) -> Result<BTreeMap<u32, f64>> {
+    let mut all = imported.cloned().unwrap_or_default();
+    all.extend(registers(name, map)?);
+    Ok(all)
+}
+
 fn registers(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f64>> {
     map.iter()
         .map(|(k, &v)| {
@@ -405,14 +451,38 @@ impl MachineArg {
 }
 
 impl Machine {
-    /// Reads a machine file.
+    /// Reads a machine file; what its imported tool table left out or lacks
+    /// is told in one line on stderr (`kezuri tool table --machine` lists it).
     pub fn load(path: &Path) -> Result<Machine> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-        Machine::parse(&text).with_context(|| format!("in machine file {}", path.display()))
+        let (machine, notes) = Machine::read(path)?;
+        if !notes.is_empty() {
+            eprintln!(
+                "warning: {}: the imported tool table left out {} entries and has {} warnings \
+                 (kezuri tool table --machine {0} lists them)",
+                path.display(),
+                notes.skipped.len(),
+                notes.warnings.len()
+            );
+        }
+        Ok(machine)
     }
 
+    /// Reads a machine file, with what its imported tool table left out or lacks.
+    pub fn read(path: &Path) -> Result<(Machine, Notes)> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        Machine::parse_in(&text, dir).with_context(|| format!("in machine file {}", path.display()))
+    }
+
+    #[cfg(test)]
     fn parse(text: &str) -> Result<Machine> {
+        Ok(Machine::parse_in(text, Path::new(""))?.0)
+    }
+
+    /// Reads a machine file's text; `dir` is the folder its imports are in.
+    fn parse_in(text: &str, dir: &Path) -> Result<(Machine, Notes)> {
         let file: File = toml::from_str(text)?;
+        let imported = import_tools(&file.tools, dir)?;
         let d = Dynamics::default();
         let m = &file.motion;
         let rapid = match &m.rapid_mm_min {
@@ -433,8 +503,12 @@ impl Machine {
             junction_deviation_mm: positive("junction_deviation_mm", m.junction_deviation_mm, d.junction_deviation_mm)?,
         };
         let mut settings = Settings {
-            tool_lengths: registers("tools.lengths", &file.tools.lengths)?,
-            tool_radii: registers("tools.radii", &file.tools.radii)?,
+            tool_lengths: imported_registers(
+                imported.as_ref().map(|t| &t.lengths),
+                "tools.lengths",
+                &file.tools.lengths,
+            )?,
+            tool_radii: imported_registers(imported.as_ref().map(|t| &t.radii), "tools.radii", &file.tools.radii)?,
             macro_variables: macro_variables(&file.macro_variables)?,
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
             cycles: cycle_settings(&file.cycles)?,
@@ -476,10 +550,11 @@ impl Machine {
             Some(c) => chains(c)?,
             None => Kinematics::mill(),
         };
-        let tools = tool_table(&file.tools.table)?;
+        let (imported_tools, notes) = imported.map(|t| (t.tools, t.notes)).unwrap_or_default();
+        let tools = tool_table(&file.tools.table, imported_tools)?;
         // Any mistake in [post] is found now, not when a program is written.
         crate::post::options(&file.post, None, &tools)?;
-        Ok(Machine { dynamics, settings, kinematics, tools, post: file.post })
+        Ok((Machine { dynamics, settings, kinematics, tools, post: file.post }, notes))
     }
 }
 
@@ -536,6 +611,33 @@ mod tests {
         assert_eq!(haas.settings.macro_variables.kept, [500..=999]);
         let small = Machine::parse("[macro]\ncommon = [\"100-149\"]").unwrap();
         assert!(small.settings.macro_variables.kept.is_empty());
+    }
+
+    #[test]
+    fn imports_a_tool_table_under_its_own_entries() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/tools");
+        let text = "[tools]\nimport = \"tool.tbl\"\nunits = \"inch\"\nlengths = { 2 = 50 }\n\
+                    [tools.T1]\nshape = \"flat:6.35\"\n[tools.T7]\nh = 17\n[tools.T8]\nshape = \"ball:2\"\n";
+        let (m, notes) = Machine::parse_in(text, &dir).unwrap();
+        assert_eq!(m.tools.keys().copied().collect::<Vec<_>>(), [1, 2, 3, 7, 8]);
+        let t1 = &m.tools[&1];
+        assert_eq!((t1.shape, t1.h, t1.d), (Some("flat:6.35".parse().unwrap()), 1, Some(1)));
+        assert_eq!(t1.name.as_deref(), Some("1/4 flat end mill"));
+        assert_eq!((m.tools[&7].h, m.tools[&7].d, m.tools[&7].name.as_deref()), (17, Some(7), Some("3/16 drill")));
+        assert_eq!((m.tools[&8].h, m.tools[&8].d), (8, None));
+        assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_lengths[&2]), (31.75, 50.0));
+        assert_eq!(m.settings.tool_radii[&7], 2.38125);
+        assert!(notes.warnings.iter().any(|w| w.contains("not shapes")), "{notes:?}");
+        for (text, words) in [
+            ("[tools]\nimport = \"tool.tbl\"", "no units"),
+            ("[tools]\nunits = \"mm\"", "tools.import names none"),
+            ("[tools]\nimport = \"tool.tbl\"\nunits = \"furlong\"", "tools.units: 'furlong' is not a unit"),
+            ("[tools]\nimport = \"missing.fctl\"", "tools.import: cannot read"),
+            ("[tools]\nimport = \"mill.toml\"", "which tool file is it?"),
+        ] {
+            let e = format!("{:#}", Machine::parse_in(text, &dir).err().expect(text));
+            assert!(e.contains(words), "{text}: {e}");
+        }
     }
 
     #[test]

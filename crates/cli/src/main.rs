@@ -23,6 +23,7 @@ mod texture;
 mod thermal;
 mod tool;
 mod tool_db;
+mod tool_table;
 mod wear;
 
 use std::path::PathBuf;
@@ -118,7 +119,8 @@ position it never named (after G28, G53, a tool change) stays an increment."
         after_help = "The pipeline:\n  kezuri thermal plan --machine mill-turn.toml -o O2007.nc\n  kezuri thermal measure index.csv -o meas.csv\n  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json\n  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc"
     )]
     Thermal(thermal::ThermalCommand),
-    /// A tool's measured cutting profile from backlit images, and the database of its wear.
+    /// A tool's measured cutting profile from backlit images, the database of its wear, and tool
+    /// tables read from LinuxCNC, FreeCAD and Fusion 360 files.
     #[command(subcommand)]
     Tool(tool::ToolCommand),
     /// The program corrected for the measured tool's wear and runout (seed 003).

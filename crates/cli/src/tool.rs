@@ -1,6 +1,7 @@
 //! `kezuri tool`: a tool's measured cutting profile from backlit images
-//! (`tool profile`) and the database of each tool's profiles as it wears
-//! (`tool db`). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
+//! (`tool profile`), the database of each tool's profiles as it wears
+//! (`tool db`) and the tool tables of other programs' files (`tool table`,
+//! in tool_table.rs). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -15,7 +16,7 @@ use serde_json::json;
 
 use crate::files::{read_text, write_output};
 use crate::table::Table;
-use crate::tool_db;
+use crate::{tool_db, tool_table};
 
 /// `kezuri tool profile IMAGE… --pixel-um UM -o PROFILE.csv`.
 #[derive(Args, Debug)]
@@ -82,6 +83,8 @@ pub enum ToolCommand {
     /// The database of each tool's measured profiles: add, list, show.
     #[command(subcommand)]
     Db(tool_db::DbCommand),
+    /// What a tool table file gives: LinuxCNC tool.tbl, FreeCAD .fctb/.fctl, Fusion 360 .json/.tools.
+    Table(tool_table::TableArgs),
 }
 
 /// Runs a `tool` command.
@@ -89,6 +92,7 @@ pub fn run(command: &ToolCommand) -> Result<()> {
     match command {
         ToolCommand::Profile(args) => profile(args),
         ToolCommand::Db(command) => tool_db::run(command),
+        ToolCommand::Table(args) => tool_table::run(args),
     }
 }
 
