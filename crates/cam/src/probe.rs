@@ -28,6 +28,7 @@
 pub mod data;
 pub mod export;
 pub mod level;
+pub mod smooth;
 pub mod stylus;
 
 use kezuri_geom::{Heightfield, HeightfieldError};

@@ -235,9 +235,11 @@ fn bare_files_flat_margins_incremental_and_split() {
     assert!(std::fs::read_to_string(&again).unwrap().contains("G91"));
     same_ends(&ends(&moves), &ends(&ok(&kezuri(&["run", &again, "--emit", "csv"]))));
 
-    // Split: parts under the limit, each a whole program.
-    let limit = absolute.len() / 3;
-    ok(&mill(&["--split-bytes", &limit.to_string()]));
+    // Split: parts under the limit, each a whole program (a finer step
+    // along the rows, for a program worth splitting).
+    ok(&mill(&["--step", "0.25"]));
+    let limit = std::fs::read_to_string(&nc).unwrap().len() / 3;
+    ok(&mill(&["--step", "0.25", "--split-bytes", &limit.to_string()]));
     let mut parts = 0;
     for k in 1.. {
         let p = dir.path().join(format!("ume-{k}.nc"));

@@ -53,6 +53,7 @@
 use kezuri_geom::{Axes, Heightfield, Move, MoveKind, Toolpath};
 use rayon::prelude::*;
 
+use super::smooth::Smooth;
 use super::ProbeGrid;
 use crate::cutter::Cutter;
 
@@ -82,9 +83,6 @@ pub fn subdivision(pitch: f64, resolution: f64) -> usize {
 /// making the spacing at most `resolution`.
 pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
     let g = &data.grid;
-    if !(resolution.is_finite() && resolution > 0.0) {
-        return Err(StylusError(format!("the resolution must be a positive number of mm, got {resolution}")));
-    }
     let r = stylus.radius();
     // Every point of the grid's box must be under some stylus.
     if r < g.pitch * std::f64::consts::FRAC_1_SQRT_2 {
@@ -94,14 +92,62 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
             g.pitch * std::f64::consts::FRAC_1_SQRT_2
         )));
     }
-    let m = subdivision(g.pitch, resolution);
+    let m = fine(data, resolution)?;
+    envelope(&data.z, [g.nx, g.ny], m, g.origin, g.pitch / m as f64, stylus)
+}
+
+/// The model under the smooth surface of the stylus's tip: the lowest of
+/// the stylus shapes hung from every point of `smooth` (for a ball, the
+/// stylus-centre surface offset inward by its radius; where that surface
+/// bends tighter than the stylus, the part of the offset that would fold
+/// over itself is left out), sampled like [`reconstruct`] does. The
+/// stylus hangs from the fine grid's nodes, not from every point between:
+/// each height is at or above the exact model's, by at most about
+/// `δ²/4 · (1/R_c + 1/(R·cos³θ))` for node spacing `δ`, the surface's
+/// radius of curvature `R_c` and slope `θ`, and a stylus of radius `R`.
+pub fn model(smooth: &Smooth, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
+    let g = smooth.grid();
+    let data = ProbeGrid { grid: *g, z: Vec::new() };
+    let m = fine(&data, resolution)?;
+    let step = g.pitch / m as f64;
     let (fx, fy) = ((g.nx - 1) * m + 1, (g.ny - 1) * m + 1);
+    let tip: Vec<f64> = (0..fx * fy)
+        .into_par_iter()
+        .map(|k| smooth.z(g.origin[0] + (k % fx) as f64 * step, g.origin[1] + (k / fx) as f64 * step))
+        .collect();
+    envelope(&tip, [fx, fy], 1, g.origin, step, stylus)
+}
+
+/// The subdivision of the pitch for a node spacing of at most
+/// `resolution`, checked to give a grid of at most [`MAX_NODES`].
+fn fine(data: &ProbeGrid, resolution: f64) -> Result<usize, StylusError> {
+    let g = &data.grid;
+    if !(resolution.is_finite() && resolution > 0.0) {
+        return Err(StylusError(format!("the resolution must be a positive number of mm, got {resolution}")));
+    }
+    let m = subdivision(g.pitch, resolution);
+    let (fx, fy) = ((g.nx - 1).saturating_mul(m) + 1, (g.ny - 1).saturating_mul(m) + 1);
     if fx.saturating_mul(fy) > MAX_NODES {
         return Err(StylusError(format!(
             "a fine grid of {fx} × {fy} nodes is too large: raise the resolution (now {resolution} mm)"
         )));
     }
-    let step = g.pitch / m as f64;
+    Ok(m)
+}
+
+/// The lowest of the stylus shapes with their tips at the heights `src`
+/// (`size[0] × size[1]` of them, row by row, every `stride` nodes of a
+/// fine grid of `step` from `origin`), at every node of that fine grid.
+fn envelope(
+    src: &[f64],
+    size: [usize; 2],
+    stride: usize,
+    origin: [f64; 2],
+    step: f64,
+    stylus: &Cutter,
+) -> Result<Heightfield, StylusError> {
+    let (fx, fy) = ((size[0] - 1) * stride + 1, (size[1] - 1) * stride + 1);
+    let r = stylus.radius();
     // The stylus height at every offset (di, dj) fine steps from its tip.
     let k = (r / step).floor() as usize;
     let w = 2 * k + 1;
@@ -116,21 +162,21 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
             }
         })
         .collect();
-    // Measured points within k fine steps of fine index f: [lo, hi].
-    let span = |f: usize, n: usize| ((f.saturating_sub(k)).div_ceil(m), ((f + k) / m).min(n - 1));
+    // Source points within k fine steps of fine index f: [lo, hi].
+    let span = |f: usize, n: usize| ((f.saturating_sub(k)).div_ceil(stride), ((f + k) / stride).min(n - 1));
     let rows: Vec<Vec<f64>> = (0..fy)
         .into_par_iter()
         .map(|fj| {
-            let (j0, j1) = span(fj, g.ny);
+            let (j0, j1) = span(fj, size[1]);
             (0..fx)
                 .map(|fi| {
-                    let (i0, i1) = span(fi, g.nx);
+                    let (i0, i1) = span(fi, size[0]);
                     let mut best = f64::INFINITY;
                     for j in j0..=j1 {
-                        let dj = j * m + k - fj;
+                        let dj = j * stride + k - fj;
+                        let (line, heights) = (&table[dj * w..(dj + 1) * w], &src[j * size[0]..(j + 1) * size[0]]);
                         for i in i0..=i1 {
-                            let h = table[dj * w + i * m + k - fi];
-                            best = best.min(data.z(i, j) + h);
+                            best = best.min(heights[i] + line[i * stride + k - fi]);
                         }
                     }
                     best
@@ -142,7 +188,7 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
     if z.iter().any(|v| !v.is_finite()) {
         return Err(StylusError("a point of the grid is under no stylus position".into()));
     }
-    Heightfield::new(g.origin[0], g.origin[1], step, fx, fy, z).map_err(|e| StylusError(e.to_string()))
+    Heightfield::new(origin[0], origin[1], step, fx, fy, z).map_err(|e| StylusError(e.to_string()))
 }
 
 /// The height of a flat margin at the top of the data: the highest height
