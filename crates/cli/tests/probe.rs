@@ -153,9 +153,8 @@ fn the_stylus_ball_as_cutter_at_the_pitch_follows_the_readings() {
         let (x, y, pz): (f64, f64, f64) = (f[2].parse().unwrap(), f[3].parse().unwrap(), f[4].parse().unwrap());
         if (x - x.round()).abs() < 1e-9 && (y - y.round()).abs() < 1e-9 {
             let d = z[y.round() as usize * N + x.round() as usize];
-            // 0.5 µm output rounding, the rest the sampled surface's
-            // chords at pitch / 8.
-            assert!((pz - d).abs() <= 0.0025, "({x}, {y}): path {pz}, reading {d}");
+            // The reading rounded to the nearest thousandth.
+            assert!((pz - d).abs() <= 0.0005 + 1e-9, "({x}, {y}): path {pz}, reading {d}");
             on_nodes += 1;
         }
     }
