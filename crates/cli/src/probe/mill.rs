@@ -33,7 +33,8 @@ noise, a pitch too coarse) the report warns: no ball rolling on a model gives su
 
 --between bound keeps the former behaviour: the highest surface the readings allow (the lowest
 of the stylus shapes over each point), which never cuts below any stylus position but leaves the
-cusps between readings (about 25 µm at 1 mm pitch with a 10 mm ball); heights are rounded up.
+cusps between readings (25 µm along the rows, 50 µm mid-cell, at 1 mm pitch with a 10 mm ball);
+heights are rounded up. See docs/probe-copy.md.
 
 Rows run along X in zig-zag, over the data's XY box. Cuts that run along the flat top of the
 data (--floor-z: auto finds a flat margin at the top, held by 5% of the points or more) are
