@@ -189,18 +189,23 @@ fn envelope(
             }
         })
         .collect();
-    // Source points within k fine steps of fine index f: [lo, hi].
-    let span = |f: usize, n: usize| ((f.saturating_sub(k)).div_ceil(stride), ((f + k) / stride).min(n - 1));
+    // Half the width of the stylus's disc on each row of the table.
+    let half: Vec<usize> =
+        (0..w).map(|dj| (0..=k).rev().find(|&d| table[dj * w + k + d].is_finite()).unwrap_or(0)).collect();
+    // Source points within `reach` fine steps of fine index f: [lo, hi].
+    let span = |f: usize, reach: usize, n: usize| {
+        ((f.saturating_sub(reach)).div_ceil(stride), ((f + reach) / stride).min(n - 1))
+    };
     let rows: Vec<Vec<f64>> = (0..fy)
         .into_par_iter()
         .map(|fj| {
-            let (j0, j1) = span(fj, size[1]);
+            let (j0, j1) = span(fj, k, size[1]);
             (0..fx)
                 .map(|fi| {
-                    let (i0, i1) = span(fi, size[0]);
                     let mut best = f64::INFINITY;
                     for j in j0..=j1 {
                         let dj = j * stride + k - fj;
+                        let (i0, i1) = span(fi, half[dj], size[0]);
                         let (line, heights) = (&table[dj * w..(dj + 1) * w], &src[j * size[0]..(j + 1) * size[0]]);
                         for i in i0..=i1 {
                             best = best.min(heights[i] + line[i * stride + k - fi]);
