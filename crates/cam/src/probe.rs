@@ -1,6 +1,6 @@
 //! Digitizing a model on an NC machine and copy-milling it (seed 000): grid
-//! data, levelling, export geometry and the surface a ball stylus's readings
-//! imply.
+//! data, levelling, export geometry and the surfaces a ball stylus's
+//! readings imply.
 //!
 //! # The grid and capture order
 //! A probed model is `nx × ny` points at `pitch` mm from `origin`. The
@@ -21,13 +21,18 @@
 //!   table.
 //! - [`export`]: DXF cross sections, a surface mesh, a shaded picture,
 //!   mirroring a half-measured model.
-//! - [`stylus`]: the highest surface consistent with ball-stylus readings,
-//!   on which any cutter is placed with drop-cutter, and the flat margins a
-//!   program can cross at rapid.
+//! - [`smooth`]: a smooth (C¹, shape-preserving bicubic) surface through
+//!   the readings, each cell between its readings, with the places where it
+//!   bends tighter than the stylus.
+//! - [`stylus`]: the model under that surface (the default of `probe
+//!   mill`) or the highest surface consistent with the readings (`--between
+//!   bound`), on which any cutter is placed with drop-cutter, and the flat
+//!   margins a program can cross at rapid.
 
 pub mod data;
 pub mod export;
 pub mod level;
+pub mod smooth;
 pub mod stylus;
 
 use kezuri_geom::{Heightfield, HeightfieldError};

@@ -153,9 +153,8 @@ fn the_stylus_ball_as_cutter_at_the_pitch_follows_the_readings() {
         let (x, y, pz): (f64, f64, f64) = (f[2].parse().unwrap(), f[3].parse().unwrap(), f[4].parse().unwrap());
         if (x - x.round()).abs() < 1e-9 && (y - y.round()).abs() < 1e-9 {
             let d = z[y.round() as usize * N + x.round() as usize];
-            // 0.5 µm output rounding, the rest the sampled surface's
-            // chords at pitch / 8.
-            assert!((pz - d).abs() <= 0.0025, "({x}, {y}): path {pz}, reading {d}");
+            // The reading rounded to the nearest thousandth.
+            assert!((pz - d).abs() <= 0.0005 + 1e-9, "({x}, {y}): path {pz}, reading {d}");
             on_nodes += 1;
         }
     }
@@ -235,9 +234,11 @@ fn bare_files_flat_margins_incremental_and_split() {
     assert!(std::fs::read_to_string(&again).unwrap().contains("G91"));
     same_ends(&ends(&moves), &ends(&ok(&kezuri(&["run", &again, "--emit", "csv"]))));
 
-    // Split: parts under the limit, each a whole program.
-    let limit = absolute.len() / 3;
-    ok(&mill(&["--split-bytes", &limit.to_string()]));
+    // Split: parts under the limit, each a whole program (a finer step
+    // along the rows, for a program worth splitting).
+    ok(&mill(&["--step", "0.25"]));
+    let limit = std::fs::read_to_string(&nc).unwrap().len() / 3;
+    ok(&mill(&["--step", "0.25", "--split-bytes", &limit.to_string()]));
     let mut parts = 0;
     for k in 1.. {
         let p = dir.path().join(format!("ume-{k}.nc"));

@@ -1,10 +1,35 @@
-//! The surface a stylus's readings imply, and flat margins to cross at
+//! The surfaces a stylus's readings imply, and flat margins to cross at
 //! rapid.
 //!
-//! # Readings are CL points of the stylus
-//! A reading is where the stylus's tip (its lowest point, the same
-//! convention as a cutter's) stopped on the model: the stylus rested on the
-//! surface there without entering it. So with `c_i` the point's XY, `z_i`
+//! # Two surfaces
+//! The readings are exact points of the surface the stylus's tip traces;
+//! between them it is unknown. [`model`] (the default of `probe mill`)
+//! draws the smooth surface of [`super::smooth`] through them and takes the
+//! model to be the lowest of the stylus shapes hung from it: for a ball,
+//! the stylus-centre surface offset inward by the radius. The stylus's own
+//! shape placed on that model follows the smooth surface itself, through
+//! every reading; another cutter is placed on the sampled model with
+//! drop-cutter. [`reconstruct`] (`--between bound`) hangs the stylus from
+//! the readings alone: the highest surface consistent with them, below.
+//!
+//! What is exact and what is bounded, for the smooth surface: the surface
+//! passes through the readings exactly; the model is sampled at the fine
+//! grid's nodes with the stylus hung from every node (not every point
+//! between), so each sampled height is at or above the exact model by at
+//! most about `δ²/4 · (1/R_c + 1/(R·cos³θ))` (node spacing `δ`, the
+//! surface's radius of curvature `R_c` and slope `θ`, stylus radius `R`:
+//! 0.7 µm on a 30 mm sphere read by a 10 mm ball at `δ` = 0.125 mm);
+//! drop-cutter is exact on the triangles between the nodes, which depart
+//! from the model by their chords, `δ²/(8·R_c)`. Where the smooth surface
+//! bends tighter than a ball stylus ([`super::smooth::Smooth::tighter_than`])
+//! the offset would fold over itself: the lowest of the stylus shapes
+//! leaves the fold out, and no ball rolling on a model gives such readings
+//! (a sharp edge, noise, a pitch too coarse), which `probe mill` reports.
+//!
+//! # The highest surface the readings allow (`--between bound`)
+//! Readings are CL points of the stylus. A reading is where the stylus's
+//! tip (its lowest point, the same convention as a cutter's) stopped on the
+//! model: the stylus rested on the surface there without entering it. So with `c_i` the point's XY, `z_i`
 //! its height and `h` the stylus profile (`h(r)` above the tip at radius
 //! `r`, [`Cutter::height`]), the real surface `S` lies below every stylus
 //! position:
@@ -31,7 +56,7 @@
 //! where two styli's pieces meet — where `U` is normally well above `S`
 //! (the crease is the top of the cusp between two readings).
 //!
-//! # How far the copy can be from the model
+//! # How far the bound's copy can be from the model
 //! Between readings the model can be anywhere below `U`: on a flat, the
 //! cusp between neighbouring stylus positions is `h(p/2)` along the rows
 //! and `h(p/√2)` at the middle of a cell (for a 10 mm ball at 1 mm pitch,
@@ -46,13 +71,16 @@
 //! adds material, not a gouge). The end-to-end test
 //! (`crates/cli/tests/probe.rs`: a 6 mm high bump with ρ ≥ 11 mm at its
 //! foot, a 10 mm ball stylus at 1 mm pitch, tilt, ±0.002 mm noise, a 6 mm
-//! ball at 0.5 mm stepover) holds these bounds: gouge ≤ 0.015 mm
-//! (noise 0.002 + tolerance 0.01 + samplings), material left ≤ 0.12 mm
-//! (`0.050·(1 + 5/11)² = 0.105` plus the cutter's 0.010 mm cusp).
+//! ball at 0.5 mm stepover) holds these bounds, now with the smooth
+//! surface: gouge ≤ 0.015 mm (noise 0.002 + tolerance 0.01 + samplings),
+//! material left ≤ 0.12 mm (`0.050·(1 + 5/11)² = 0.105` plus the cutter's
+//! 0.010 mm cusp); `crates/cli/tests/probe_copy.rs` shows the smooth
+//! surface's copy within 2 µm where the bound's leaves 43–48 µm.
 
 use kezuri_geom::{Axes, Heightfield, Move, MoveKind, Toolpath};
 use rayon::prelude::*;
 
+use super::smooth::Smooth;
 use super::ProbeGrid;
 use crate::cutter::Cutter;
 
@@ -82,9 +110,6 @@ pub fn subdivision(pitch: f64, resolution: f64) -> usize {
 /// making the spacing at most `resolution`.
 pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
     let g = &data.grid;
-    if !(resolution.is_finite() && resolution > 0.0) {
-        return Err(StylusError(format!("the resolution must be a positive number of mm, got {resolution}")));
-    }
     let r = stylus.radius();
     // Every point of the grid's box must be under some stylus.
     if r < g.pitch * std::f64::consts::FRAC_1_SQRT_2 {
@@ -94,14 +119,62 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
             g.pitch * std::f64::consts::FRAC_1_SQRT_2
         )));
     }
-    let m = subdivision(g.pitch, resolution);
+    let m = fine(data, resolution)?;
+    envelope(&data.z, [g.nx, g.ny], m, g.origin, g.pitch / m as f64, stylus)
+}
+
+/// The model under the smooth surface of the stylus's tip: the lowest of
+/// the stylus shapes hung from every point of `smooth` (for a ball, the
+/// stylus-centre surface offset inward by its radius; where that surface
+/// bends tighter than the stylus, the part of the offset that would fold
+/// over itself is left out), sampled like [`reconstruct`] does. The
+/// stylus hangs from the fine grid's nodes, not from every point between:
+/// each height is at or above the exact model's, by at most about
+/// `δ²/4 · (1/R_c + 1/(R·cos³θ))` for node spacing `δ`, the surface's
+/// radius of curvature `R_c` and slope `θ`, and a stylus of radius `R`.
+pub fn model(smooth: &Smooth, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
+    let g = smooth.grid();
+    let data = ProbeGrid { grid: *g, z: Vec::new() };
+    let m = fine(&data, resolution)?;
+    let step = g.pitch / m as f64;
     let (fx, fy) = ((g.nx - 1) * m + 1, (g.ny - 1) * m + 1);
+    let tip: Vec<f64> = (0..fx * fy)
+        .into_par_iter()
+        .map(|k| smooth.z(g.origin[0] + (k % fx) as f64 * step, g.origin[1] + (k / fx) as f64 * step))
+        .collect();
+    envelope(&tip, [fx, fy], 1, g.origin, step, stylus)
+}
+
+/// The subdivision of the pitch for a node spacing of at most
+/// `resolution`, checked to give a grid of at most [`MAX_NODES`].
+fn fine(data: &ProbeGrid, resolution: f64) -> Result<usize, StylusError> {
+    let g = &data.grid;
+    if !(resolution.is_finite() && resolution > 0.0) {
+        return Err(StylusError(format!("the resolution must be a positive number of mm, got {resolution}")));
+    }
+    let m = subdivision(g.pitch, resolution);
+    let (fx, fy) = ((g.nx - 1).saturating_mul(m) + 1, (g.ny - 1).saturating_mul(m) + 1);
     if fx.saturating_mul(fy) > MAX_NODES {
         return Err(StylusError(format!(
             "a fine grid of {fx} × {fy} nodes is too large: raise the resolution (now {resolution} mm)"
         )));
     }
-    let step = g.pitch / m as f64;
+    Ok(m)
+}
+
+/// The lowest of the stylus shapes with their tips at the heights `src`
+/// (`size[0] × size[1]` of them, row by row, every `stride` nodes of a
+/// fine grid of `step` from `origin`), at every node of that fine grid.
+fn envelope(
+    src: &[f64],
+    size: [usize; 2],
+    stride: usize,
+    origin: [f64; 2],
+    step: f64,
+    stylus: &Cutter,
+) -> Result<Heightfield, StylusError> {
+    let (fx, fy) = ((size[0] - 1) * stride + 1, (size[1] - 1) * stride + 1);
+    let r = stylus.radius();
     // The stylus height at every offset (di, dj) fine steps from its tip.
     let k = (r / step).floor() as usize;
     let w = 2 * k + 1;
@@ -116,21 +189,26 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
             }
         })
         .collect();
-    // Measured points within k fine steps of fine index f: [lo, hi].
-    let span = |f: usize, n: usize| ((f.saturating_sub(k)).div_ceil(m), ((f + k) / m).min(n - 1));
+    // Half the width of the stylus's disc on each row of the table.
+    let half: Vec<usize> =
+        (0..w).map(|dj| (0..=k).rev().find(|&d| table[dj * w + k + d].is_finite()).unwrap_or(0)).collect();
+    // Source points within `reach` fine steps of fine index f: [lo, hi].
+    let span = |f: usize, reach: usize, n: usize| {
+        ((f.saturating_sub(reach)).div_ceil(stride), ((f + reach) / stride).min(n - 1))
+    };
     let rows: Vec<Vec<f64>> = (0..fy)
         .into_par_iter()
         .map(|fj| {
-            let (j0, j1) = span(fj, g.ny);
+            let (j0, j1) = span(fj, k, size[1]);
             (0..fx)
                 .map(|fi| {
-                    let (i0, i1) = span(fi, g.nx);
                     let mut best = f64::INFINITY;
                     for j in j0..=j1 {
-                        let dj = j * m + k - fj;
+                        let dj = j * stride + k - fj;
+                        let (i0, i1) = span(fi, half[dj], size[0]);
+                        let (line, heights) = (&table[dj * w..(dj + 1) * w], &src[j * size[0]..(j + 1) * size[0]]);
                         for i in i0..=i1 {
-                            let h = table[dj * w + i * m + k - fi];
-                            best = best.min(data.z(i, j) + h);
+                            best = best.min(heights[i] + line[i * stride + k - fi]);
                         }
                     }
                     best
@@ -142,7 +220,7 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
     if z.iter().any(|v| !v.is_finite()) {
         return Err(StylusError("a point of the grid is under no stylus position".into()));
     }
-    Heightfield::new(g.origin[0], g.origin[1], step, fx, fy, z).map_err(|e| StylusError(e.to_string()))
+    Heightfield::new(origin[0], origin[1], step, fx, fy, z).map_err(|e| StylusError(e.to_string()))
 }
 
 /// The height of a flat margin at the top of the data: the highest height
@@ -282,7 +360,9 @@ fn same_direction(p: Axes, a: Axes, b: Axes) -> bool {
 /// so the exact location lies in the band [`rapid_margins`] turns into
 /// rapids, and the bound does too. On a flat run too short to become a
 /// rapid the bound leaves at most `tol + h(p/√2)` more material than the
-/// exact location; it never cuts deeper.
+/// exact location; it never cuts deeper. The same holds on the smooth
+/// surface's model ([`model`]): its cells stay between their readings, so
+/// under the axis it lies between `flat_z − tol` and `flat_z + tol`.
 #[derive(Clone, Debug)]
 pub struct OverFlat {
     grid: super::Grid,

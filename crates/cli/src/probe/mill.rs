@@ -7,9 +7,10 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::{raster_with, ClRowsFn, Direction, Pattern, RasterOptions, Region};
-use kezuri_cam::probe::stylus::{detect_flat, rapid_margins, reconstruct, OverFlat};
+use kezuri_cam::probe::smooth::Smooth;
+use kezuri_cam::probe::stylus::{detect_flat, model, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
-use kezuri_geom::{cycle_time, Axes, AxisSet, Move, MoveKind, Toolpath};
+use kezuri_geom::{cycle_time, Axes, AxisSet, Heightfield, Move, MoveKind, Toolpath};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
 
 use super::DataArgs;
@@ -19,12 +20,21 @@ use crate::machine::Machine;
 /// Options of `kezuri probe mill`.
 #[derive(Args, Debug)]
 #[command(after_help = "\
-The data are the positions of the stylus's tip (its lowest point) where it rested on the model.
-The real surface lies below every stylus position, so the highest surface the readings allow is
-the lowest of the stylus shapes over each point; it is sampled every --resolution and the cutter
-is placed on it with drop-cutter: the program never cuts below any stylus position, so never
-into the model (within --tolerance and the sampling, see the docs). With the stylus's own ball
-as cutter, --stepover and --step equal to the pitch, the program passes through the readings.
+The data are the positions of the stylus's tip (its lowest point) where it rested on the model:
+exact points of the surface the tip traces. By default (--between smooth) a smooth surface is
+drawn through every reading (bicubic, with slopes that never swing past the readings: each cell
+stays between its lowest and highest reading), and the model is that surface lowered by the
+stylus's shape (for a ball, offset inward by its radius). With the stylus's own ball as cutter
+the program follows that surface: it passes through every reading (rounded to the nearest last
+digit), straight from reading to reading when --step is the pitch, as the original copy system's
+programs did. Any other cutter is placed on the model, sampled every --resolution, with
+drop-cutter. Where the surface through the readings bends tighter than the stylus (a sharp edge,
+noise, a pitch too coarse) the report warns: no ball rolling on a model gives such readings.
+
+--between bound keeps the former behaviour: the highest surface the readings allow (the lowest
+of the stylus shapes over each point), which never cuts below any stylus position but leaves the
+cusps between readings (25 µm along the rows, 50 µm mid-cell, at 1 mm pitch with a 10 mm ball);
+heights are rounded up. See docs/probe-copy.md.
 
 Rows run along X in zig-zag, over the data's XY box. Cuts that run along the flat top of the
 data (--floor-z: auto finds a flat margin at the top, held by 5% of the points or more) are
@@ -54,6 +64,10 @@ pub struct MillArgs {
     /// How far the path may stray from the exact cutter locations, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.01)]
     pub tolerance: f64,
+    /// Between the readings: smooth (a surface through them) or bound (the highest
+    /// surface they allow, the former default).
+    #[arg(long, value_enum, default_value = "smooth")]
+    pub between: Between,
     /// Node spacing of the reconstructed surface, mm [default: pitch / 8].
     #[arg(long, value_name = "MM")]
     pub resolution: Option<f64>,
@@ -104,6 +118,15 @@ pub struct MillArgs {
     pub svg: Option<PathBuf>,
 }
 
+/// `--between`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Between {
+    /// A smooth surface through the readings; the model under it.
+    Smooth,
+    /// The highest surface the readings allow; heights rounded up.
+    Bound,
+}
+
 /// `--emit`.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Emit {
@@ -142,9 +165,28 @@ pub fn run(args: &MillArgs) -> Result<()> {
         None => Machine::default(),
     };
     let t0 = std::time::Instant::now();
-    let field = reconstruct(grid, &stylus, resolution).with_context(|| args.data.data.display().to_string())?;
-    let [x0, y0, x1, y1] = field.xy_box();
+    let g = grid.grid;
+    let (x1, y1) = (g.x(g.nx - 1), g.y(g.ny - 1));
     let top = grid.range().1;
+    let smooth = match args.between {
+        Between::Smooth => Some(Smooth::new(grid).with_context(|| args.data.data.display().to_string())?),
+        Between::Bound => None,
+    };
+    // The stylus's own shape follows the smooth surface itself; any other
+    // cutter (and every cutter with --between bound) is placed on a fine
+    // sampling of the surface with drop-cutter.
+    let follow = smooth.as_ref().filter(|_| cutter == stylus);
+    let field = match (&smooth, follow) {
+        (_, Some(_)) => None,
+        (Some(s), None) => Some(model(s, &stylus, resolution)),
+        (None, _) => Some(reconstruct(grid, &stylus, resolution)),
+    }
+    .transpose()
+    .with_context(|| args.data.data.display().to_string())?;
+    let tight = match (&smooth, stylus) {
+        (Some(s), Cutter::Ball(_)) => s.tighter_than(stylus.radius()),
+        _ => None,
+    };
     let options = RasterOptions {
         direction: Direction::X,
         pattern: Pattern::ZigZag,
@@ -152,7 +194,13 @@ pub fn run(args: &MillArgs) -> Result<()> {
         step,
         tolerance: args.tolerance,
         gouge: args.tolerance,
-        quantum: 10f64.powi(-i32::from(args.digits.unwrap_or(3))),
+        // Bound: positions on the output grid and heights rounded up to it
+        // (never below the bound); smooth: exact positions, the writer
+        // rounds to the nearest.
+        quantum: match args.between {
+            Between::Bound => 10f64.powi(-i32::from(args.digits.unwrap_or(3))),
+            Between::Smooth => 0.0,
+        },
         safe_z: args.safe_z.unwrap_or(top + 5.0),
         feed: args.feed,
         plunge_feed: args.plunge_feed,
@@ -175,22 +223,39 @@ pub fn run(args: &MillArgs) -> Result<()> {
     // Over the flat margin, which becomes rapids, a bound of the cutter's
     // location serves: no drop-cutter there.
     let over_flat = flat.map(|z| OverFlat::new(grid, &stylus, z, FLAT_TOLERANCE));
-    let cl =
-        |x: f64, y: f64| over_flat.as_ref().and_then(|f| f.height(x, y)).or_else(|| drop_cutter(&cutter, &field, x, y));
-    let rows = |along_y: bool, asked: &[(f64, &[f64])]| {
-        let mut found = drop_cutter_rows(&cutter, &field, along_y, asked);
-        if let Some(flat) = &over_flat {
-            for (&(v, us), zs) in asked.iter().zip(&mut found) {
-                for (&u, z) in us.iter().zip(zs) {
-                    let (x, y) = if along_y { (v, u) } else { (u, v) };
-                    *z = flat.height(x, y).or(*z);
-                }
+    let flat_at = |x: f64, y: f64| over_flat.as_ref().and_then(|f| f.height(x, y));
+    // With --step the pitch, straight from reading to reading along the rows.
+    let straight = (step - pitch).abs() <= 1e-9 * pitch;
+    let on_tip = |s: &Smooth, x: f64, y: f64| {
+        if !straight {
+            return s.z(x, y);
+        }
+        let i = (((x - g.origin[0]) / pitch).floor().max(0.0) as usize).min(g.nx - 2);
+        let t = ((x - g.x(i)) / pitch).clamp(0.0, 1.0);
+        (1.0 - t) * s.z(g.x(i), y) + t * s.z(g.x(i + 1), y)
+    };
+    let cl = |x: f64, y: f64| {
+        flat_at(x, y).or_else(|| match (follow, &field) {
+            (Some(s), _) => Some(on_tip(s, x, y)),
+            (None, Some(f)) => drop_cutter(&cutter, f, x, y),
+            (None, None) => None,
+        })
+    };
+    let rows = |f: &Heightfield, along_y: bool, asked: &[(f64, &[f64])]| {
+        let mut found = drop_cutter_rows(&cutter, f, along_y, asked);
+        for (&(v, us), zs) in asked.iter().zip(&mut found) {
+            for (&u, z) in us.iter().zip(zs) {
+                let (x, y) = if along_y { (v, u) } else { (u, v) };
+                *z = flat_at(x, y).or(*z);
             }
         }
         found
     };
-    let rows_at = rows_at_once(&cutter).then_some(&rows as &ClRowsFn);
-    let path = raster_with(&cl, rows_at, Region { x0, y0, x1, y1 }, &options, None, &|_, _| {})?;
+    let on_field =
+        field.as_ref().filter(|_| rows_at_once(&cutter)).map(|f| move |a: bool, q: &[(f64, &[f64])]| rows(f, a, q));
+    let rows_at = on_field.as_ref().map(|r| r as &ClRowsFn);
+    let region = Region { x0: g.origin[0], y0: g.origin[1], x1, y1 };
+    let path = raster_with(&cl, rows_at, region, &options, None, &|_, _| {})?;
     let (path, margins) = match flat {
         Some(z) => {
             rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
@@ -238,22 +303,41 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     let bytes: usize = parts.iter().map(|p| p.len()).sum();
     let lines: usize = parts.iter().map(|p| p.lines().count()).sum();
+    let surface = match (&field, args.between) {
+        (Some(f), Between::Bound) => {
+            format!("the highest the readings allow, {} × {} nodes at {:.4} mm", f.nx(), f.ny(), f.step())
+        }
+        (Some(f), Between::Smooth) => {
+            format!("smooth through the readings, the model {} × {} nodes at {:.4} mm", f.nx(), f.ny(), f.step())
+        }
+        (None, _) => "smooth through the readings, followed by the stylus's own shape".to_string(),
+    };
     let mut report = format!(
-        "{}: {} × {} points, pitch {pitch} mm; surface {} × {} nodes at {:.4} mm\n\
+        "{}: {} × {} points, pitch {pitch} mm; surface {surface}\n\
          program: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm\n\
          cycle time {} ({time:.1} s); computed in {seconds_cam:.2} s\n",
         args.data.data.display(),
-        grid.grid.nx,
-        grid.grid.ny,
-        field.nx(),
-        field.ny(),
-        field.step(),
+        g.nx,
+        g.ny,
         parts.len(),
         path.moves.len(),
         path.feed_length(),
         path.rapid_length(),
         hms(time),
     );
+    if let Some(t) = tight {
+        let _ = writeln!(
+            report,
+            "warning: the surface through the readings bends tighter than the stylus (radius {} mm) in {} cell(s), \
+             tightest radius {:.3} mm at X{:.3} Y{:.3}: no ball rolling on a model reads like that (a sharp edge, \
+             noise or a pitch too coarse); the model there is what the stylus could reach",
+            stylus.radius(),
+            t.cells,
+            t.radius,
+            t.at[0],
+            t.at[1]
+        );
+    }
     if let Some(z) = flat {
         let _ = writeln!(
             report,
