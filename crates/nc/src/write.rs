@@ -8,7 +8,7 @@ mod kept;
 mod post;
 
 pub use csv::csv;
-pub use gcode::{program, Dialect, UnknownDialect, WriteError, WriteOptions};
+pub use gcode::{made_text, program, Dialect, MadeText, UnknownDialect, WriteError, WriteOptions};
 pub use post::{Arcs, CoolantChoice, Home, Retract, Setup, UnknownPost, PRESETS};
 
 /// A number as hand-made program text writes it: `digits` decimals,

@@ -363,6 +363,12 @@ impl Writer {
         self.absolute_line();
     }
 
+    /// The words that apply the length offset a made program's tool change
+    /// left to do (`G43 H1`), taken: the caller writes them.
+    pub(super) fn take_pending_length(&mut self) -> Option<String> {
+        self.pending_length.take().map(|h| format!("{} H{h}", self.codes.length[0]))
+    }
+
     /// A made program's retract before a tool change and at the end.
     fn retract(&mut self, retract: Retract) {
         match retract {

@@ -383,6 +383,43 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
     w.finish()
 }
 
+/// What a made program written as text (the measuring programs) gets from
+/// the post around its own blocks.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MadeText {
+    /// The header, the safe start and the change to the program's tool
+    /// (with its retract): everything before the first move.
+    pub start: String,
+    /// The words that apply the tool's length offset (`G43 H1`), to be
+    /// written on the first block that moves Z; `None` where the post
+    /// applies none.
+    pub length: Option<String>,
+    /// The end: spindle and coolant off, retract, home, program end.
+    pub end: String,
+}
+
+/// The post's start, tool change to `tool` and end of `options` (which
+/// must have a [`Setup`]), for a program kezuri writes as text.
+///
+/// ```
+/// use kezuri_nc::write::{made_text, WriteOptions};
+/// let haas = WriteOptions { title: Some("PROBE".into()), ..WriteOptions::preset("haas").unwrap() };
+/// let t = made_text(&haas, 9).unwrap();
+/// assert!(t.start.ends_with("G53 G00 Z0.\nT9 M06\n"), "{}", t.start);
+/// assert_eq!(t.length.as_deref(), Some("G43 H9"));
+/// assert_eq!(t.end, "G53 G00 Z0.\nG53 G00 X0. Y0.\nM30\n%\n");
+/// ```
+pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, WriteError> {
+    let empty = Toolpath::default();
+    let mut w = Writer::new(&empty, options)?;
+    w.header(options);
+    w.state(ToolState { tool, ..ToolState::default() })?;
+    let length = w.take_pending_length();
+    let start = std::mem::take(&mut w.out);
+    let end = w.finish()?;
+    Ok(MadeText { start, length, end })
+}
+
 /// `p - origin`, its linear axes times `unit` (rotary axes stay degrees).
 fn scaled(p: Axes, origin: Axes, unit: f64) -> Axes {
     let (p, o) = (p.to_array(), origin.to_array());
