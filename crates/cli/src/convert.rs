@@ -10,11 +10,12 @@ use kezuri_cam::Cutter;
 use kezuri_geom::{Axes, Move, MoveKind, Plane, Spindle, Toolpath};
 use kezuri_nc::interp::{self, IntegerInput};
 use kezuri_nc::rml::{self, RmlOptions};
-use kezuri_nc::write::{program, Dialect, WriteOptions};
+use kezuri_nc::write::{program, WriteOptions};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 
 use crate::files::{read_text, write_output, Folder};
-use crate::machine::Machine;
+use crate::machine::MachineArg;
+use crate::program::post_options;
 
 /// A program format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -113,6 +114,13 @@ pub struct ConvertArgs {
     /// Folder of subprogram files `O1234.nc` [default: the input's folder].
     #[arg(long, value_name = "DIR")]
     pub lib: Option<PathBuf>,
+    /// G-code for this control: fanuc, haas, linuxcnc, grbl or mach3 (its number
+    /// format, arcs, line numbers; the program keeps its own start, tool changes
+    /// and end) [default: --to, else the machine file's [post] preset, else fanuc].
+    #[arg(long, value_name = "NAME")]
+    pub post: Option<String>,
+    #[command(flatten)]
+    pub machine: MachineArg,
 }
 
 fn number(s: &str) -> Result<f64, String> {
@@ -190,6 +198,9 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     let name = if a.input == Path::new("-") { "<stdin>".to_string() } else { a.input.display().to_string() };
     let from = a.from.unwrap_or_else(|| guess_from(&a.input, &text));
     let to = a.to.unwrap_or_else(|| guess_to(a.output.as_deref()));
+    if a.post.is_some() && to == Format::Rml {
+        usage("--post writes G-code: it cannot go with an RML-1 output");
+    }
     if a.arcs && to == Format::Rml {
         usage("--arcs fits G02/G03 arcs, which RML-1 has not: drop --arcs, or write G-code (--to fanuc)");
     }
@@ -237,13 +248,17 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
             rml::write_rml(&path, &options)?
         }
         Format::Fanuc | Format::Linuxcnc | Format::Grbl => {
-            let dialect = match to {
-                Format::Linuxcnc => Dialect::LinuxCnc,
-                Format::Grbl => Dialect::Grbl,
-                _ => Dialect::Fanuc,
+            let name = |t: Format| match t {
+                Format::Linuxcnc => "linuxcnc",
+                Format::Grbl => "grbl",
+                _ => "fanuc",
             };
+            // --to, or without --post the format the output's name says.
+            let named = a.to.or(a.post.is_none().then_some(to)).map(name);
+            let post = post_options(a.post.as_deref(), named, &a.machine.load()?)?;
             let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-            let options = WriteOptions { dialect, digits: a.digits, title: Some(title), ..WriteOptions::default() };
+            // A converted program keeps its own start, tool changes and end.
+            let options = WriteOptions { digits: a.digits, title: Some(title), setup: None, ..post };
             program(&path, &options)?
         }
     };
@@ -274,7 +289,7 @@ fn read_rml(a: &ConvertArgs, sources: &Sources, id: u32) -> Result<Toolpath> {
 /// Parses and runs the G-code input as `kezuri run` does; diagnostics and
 /// DPRNT lines go to stderr.
 fn run_gcode(a: &ConvertArgs, from: Format, sources: &mut Sources, id: u32) -> Result<Toolpath> {
-    let machine = Machine::default();
+    let machine = a.machine.load()?;
     let settings = interp::Settings {
         integer_input: if from == Format::Fanuc { IntegerInput::Increments } else { IntegerInput::Units },
         ..machine.settings.clone()

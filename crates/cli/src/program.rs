@@ -455,7 +455,7 @@ impl WriteArgs {
     /// `--line-numbers` and `--incremental`. A transformed program keeps its
     /// own start, tool changes and end (no [`Setup`](kezuri_nc::write::Setup)).
     pub fn options(&self, machine: &Machine, origin: Origin) -> Result<WriteOptions> {
-        let from_emit = match self.emit {
+        let emit = match self.emit {
             Some(Emit::Fanuc) => Some("fanuc"),
             Some(Emit::Linuxcnc) => Some("linuxcnc"),
             Some(Emit::Grbl) => Some("grbl"),
@@ -464,16 +464,7 @@ impl WriteArgs {
             }
             _ => None,
         };
-        let name = match (self.post.as_deref(), from_emit) {
-            (Some(p), Some(e)) if !p.trim().eq_ignore_ascii_case(e) => {
-                bail!("--post {p} and --emit {e} ask for two different controls: give one")
-            }
-            (p, e) => p.or(e),
-        };
-        if let Some(n) = name.filter(|n| !crate::post::is_preset(n)) {
-            bail!("--post {n}: not a post; the posts are {}", kezuri_nc::write::PRESETS.join(", "));
-        }
-        let mut o = crate::post::options(&machine.post, name, &machine.tools)?;
+        let mut o = post_options(self.post.as_deref(), emit, machine)?;
         if self.digits.is_some() || self.inch {
             o.digits = self.digits.unwrap_or(if self.inch { 4 } else { o.digits });
         }
@@ -555,6 +546,22 @@ pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The write options of `--post NAME` or `--emit DIALECT` (the older name of
+/// the fanuc, linuxcnc and grbl posts), else the machine file's `[post]
+/// preset`, else fanuc; with the machine file's `[post]` on top.
+pub fn post_options(post: Option<&str>, emit: Option<&str>, machine: &Machine) -> Result<WriteOptions> {
+    let name = match (post, emit) {
+        (Some(p), Some(e)) if !p.trim().eq_ignore_ascii_case(e) => {
+            bail!("--post {p} and --emit {e} ask for two different controls: give one")
+        }
+        (p, e) => p.or(e),
+    };
+    if let Some(n) = name.filter(|n| !crate::post::is_preset(n)) {
+        bail!("--post {n}: not a post; the posts are {}", kezuri_nc::write::PRESETS.join(", "));
+    }
+    crate::post::options(&machine.post, name, &machine.tools)
 }
 
 /// Writes `path` as `w` asks: a program by the post, CSV or RML-1, and

@@ -11,11 +11,12 @@ use kezuri_cam::probe::smooth::Smooth;
 use kezuri_cam::probe::stylus::{detect_flat, model, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Axes, AxisSet, Heightfield, Move, MoveKind, Toolpath};
-use kezuri_nc::write::{program, Dialect, WriteOptions};
+use kezuri_nc::write::{program, WriteOptions};
 
 use super::DataArgs;
 use crate::files::write_output;
 use crate::machine::Machine;
+use crate::program::post_options;
 
 /// Options of `kezuri probe mill`.
 #[derive(Args, Debug)]
@@ -92,21 +93,25 @@ pub struct MillArgs {
     /// Tool number.
     #[arg(long, value_name = "T", default_value_t = 1)]
     pub tool_number: u32,
-    /// Machine file (TOML) for the cycle time.
+    /// Machine file (TOML): the cycle time, its [post] and tool table (the tool's H register).
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
-    /// Output format.
-    #[arg(long, value_enum, default_value = "fanuc")]
-    pub emit: Emit,
+    /// G-code for this control: fanuc, haas, linuxcnc, grbl or mach3 [default: the
+    /// machine file's [post] preset, else fanuc].
+    #[arg(long, value_name = "NAME")]
+    pub post: Option<String>,
+    /// The older name of --post fanuc, linuxcnc or grbl.
+    #[arg(long, value_enum, hide = true)]
+    pub emit: Option<Emit>,
     /// The program (`-` for stdout).
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
-    /// Decimals written [default: 3].
+    /// Decimals written [default: the post's, 3].
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
     pub digits: Option<u8>,
-    /// Fanuc program number (parts count on from it).
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    pub program_number: u32,
+    /// Fanuc program number (parts count on from it) [default: the post's, 1].
+    #[arg(long, value_name = "N")]
+    pub program_number: Option<u32>,
     /// Moves after the first positioning in incremental coordinates (G91).
     #[arg(long)]
     pub incremental: bool,
@@ -127,7 +132,7 @@ pub enum Between {
     Bound,
 }
 
-/// `--emit`.
+/// `--emit`, the older name of `--post` for three of the posts.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Emit {
     /// Fanuc (`%` framing, `O` number).
@@ -164,6 +169,13 @@ pub fn run(args: &MillArgs) -> Result<()> {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
     };
+    let emit = args.emit.map(|e| match e {
+        Emit::Fanuc => "fanuc",
+        Emit::Linuxcnc => "linuxcnc",
+        Emit::Grbl => "grbl",
+    });
+    let mut post = post_options(args.post.as_deref(), emit, &machine)?;
+    post.digits = args.digits.unwrap_or(post.digits);
     let t0 = std::time::Instant::now();
     let g = grid.grid;
     let (x1, y1) = (g.x(g.nx - 1), g.y(g.ny - 1));
@@ -198,7 +210,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         // (never below the bound); smooth: exact positions, the writer
         // rounds to the nearest.
         quantum: match args.between {
-            Between::Bound => 10f64.powi(-i32::from(args.digits.unwrap_or(3))),
+            Between::Bound => 10f64.powi(-i32::from(post.digits)),
             Between::Smooth => 0.0,
         },
         safe_z: args.safe_z.unwrap_or(top + 5.0),
@@ -267,18 +279,12 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     let seconds_cam = t0.elapsed().as_secs_f64();
     let title = format!("COPY {} {} STYLUS {} STEPOVER {}", args.data.data.display(), cutter, stylus, stepover);
-    let digits = args.digits.unwrap_or(3);
+    let first_number = args.program_number.unwrap_or(post.program_number);
     let write_options = |k: usize, of: usize| WriteOptions {
-        dialect: match args.emit {
-            Emit::Fanuc => Dialect::Fanuc,
-            Emit::Linuxcnc => Dialect::LinuxCnc,
-            Emit::Grbl => Dialect::Grbl,
-        },
-        digits,
-        program_number: args.program_number + k as u32,
+        program_number: first_number + k as u32,
         title: Some(if of > 1 { format!("{title} PART {}/{of}", k + 1) } else { title.clone() }),
         incremental: args.incremental,
-        ..WriteOptions::default()
+        ..post.clone()
     };
     let text_of =
         |path: &Toolpath, k: usize, of: usize| -> Result<String> { Ok(program(path, &write_options(k, of))?) };
