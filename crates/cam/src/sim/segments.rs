@@ -87,7 +87,7 @@ fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
 
 /// The straight segments to simulate (program order), the report so far
 /// (with [`SimReport::tools`] but no volumes yet), the tools' shapes by
-/// slot, and the rapids whose start is not known (see
+/// slot, and the rapids whose start is not known but whose end Z is (see
 /// [`SimReport::unplaced_moves`]).
 #[allow(clippy::type_complexity)]
 pub(super) fn segments<'a>(
@@ -124,7 +124,8 @@ pub(super) fn segments<'a>(
         };
         if !placed {
             report.unplaced_moves += 1;
-            if m.is_rapid() {
+            // Its end is judged where its Z is known: a guessed Z is no depth.
+            if m.is_rapid() && known & 0b100 != 0 {
                 unplaced_rapids.push(index);
             }
             continue;
