@@ -384,7 +384,9 @@ pub fn simulate_tools(
     let done = AtomicU64::new(0);
     progress(0, total);
 
-    let bands: Vec<(Vec<(u32, f64)>, Vec<f64>)> = zmap
+    // Each band's rapid hits and what each tool removed from it.
+    type BandCut = (Vec<(u32, f64)>, Vec<f64>);
+    let bands: Vec<BandCut> = zmap
         .z
         .par_chunks_mut(band_rows * nx)
         .zip(report.cut_by.par_chunks_mut(band_rows * nx))
@@ -399,14 +401,8 @@ pub fn simulate_tools(
             for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
                 let slot = segs[run[0] as usize].slot;
                 let shape = slots.shapes[slot as usize];
-                let window = run.iter().fold(Window { rows: usize::MAX..0, cols: usize::MAX..0 }, |w, &k| {
-                    let (reach, xs) = (&reaches[k as usize], &cols[k as usize]);
-                    Window {
-                        rows: w.rows.start.min(reach.j0.max(first) - first)..w.rows.end.max(reach.j1.min(last) - first),
-                        // A cell to spare beyond the footprint's box.
-                        cols: w.cols.start.min(xs.start.saturating_sub(1))..w.cols.end.max((xs.end + 1).min(nx)),
-                    }
-                });
+                let reached = run.iter().map(|&k| (reaches[k as usize].j0..reaches[k as usize].j1, &cols[k as usize]));
+                let window = Window::around(reached, first..last, nx);
                 ledger.open(band.cells, nx, &window);
                 for (n, &k) in run.iter().enumerate() {
                     if n % PROGRESS_STEP == PROGRESS_STEP - 1 {

@@ -105,6 +105,29 @@ pub(super) struct Window {
     pub cols: Range<usize>,
 }
 
+impl Window {
+    /// The box of the cells of the band of grid rows `band` that segments
+    /// reaching grid rows × columns can lower, with a column to spare on
+    /// each side (of `nx`).
+    pub fn around<'a>(
+        reached: impl Iterator<Item = (Range<usize>, &'a Range<usize>)>,
+        band: Range<usize>,
+        nx: usize,
+    ) -> Window {
+        let (mut j0, mut j1, mut i0, mut i1) = (usize::MAX, 0, usize::MAX, 0);
+        for (rows, cols) in reached {
+            j0 = j0.min(rows.start.max(band.start));
+            j1 = j1.max(rows.end.min(band.end));
+            i0 = i0.min(cols.start.saturating_sub(1));
+            i1 = i1.max((cols.end + 1).min(nx));
+        }
+        if j0 >= j1 || i0 >= i1 {
+            return Window { rows: 0..0, cols: 0..0 };
+        }
+        Window { rows: j0 - band.start..j1 - band.start, cols: i0..i1 }
+    }
+}
+
 /// A band's account of what each tool removed.
 pub(super) struct Ledger {
     /// Σ (before − after) per slot, mm (times the cell area: mm³).
