@@ -148,13 +148,13 @@ pub struct SimOptions {
     /// A rapid that lowers some cell by more than this (mm) is a rapid
     /// into the stock.
     pub rapid_tolerance: f64,
-    /// Most cells a grid may have (memory: 8 bytes a cell).
+    /// Most cells a grid may have (memory: 9 bytes a cell, its height and the tool that cut it last).
     pub max_cells: usize,
 }
 
 impl SimOptions {
     /// Defaults at `resolution`: 1 µm chords, 1 µm rapid tolerance, at most
-    /// 250 million cells (2 GB).
+    /// 250 million cells (2.25 GB).
     pub fn new(resolution: f64) -> SimOptions {
         SimOptions { resolution, chord_tolerance: 1e-3, rapid_tolerance: 1e-3, max_cells: 250_000_000 }
     }
@@ -252,10 +252,10 @@ impl fmt::Display for SimError {
                 "a grid of {nx} × {ny} = {:.0} cells ({:.1} GB) is more than the limit of {limit} cells; \
                  use a coarser resolution or a smaller stock",
                 nx * ny,
-                nx * ny * 8.0 / 1e9
+                nx * ny * 9.0 / 1e9
             ),
             SimError::OutOfMemory { cells } => {
-                write!(f, "not enough memory for a grid of {cells} cells ({:.1} GB)", *cells as f64 * 8.0 / 1e9)
+                write!(f, "not enough memory for a grid of {cells} cells ({:.1} GB)", *cells as f64 * 9.0 / 1e9)
             }
             SimError::NonFinite { index, line } => {
                 write!(f, "move {index} (line {line}) has a coordinate that is not a finite number")

@@ -117,7 +117,7 @@ pub struct SimArgs {
     /// Largest sagitta of the chords arcs are cut as, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.001)]
     pub chord_tol: f64,
-    /// Most cells the grid may have (8 bytes each).
+    /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
     #[arg(long, value_name = "N", default_value_t = 250_000_000)]
     pub max_cells: usize,
     /// Bins of the deviation histogram.
@@ -161,7 +161,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let mut zmap = stock.grid(&options)?;
     let top = zmap.range().1;
     let t0 = Instant::now();
-    let bar = LateBar::new("sim", "pieces", Duration::from_secs(1));
+    let bar = LateBar::new("cutting", "pieces", Duration::from_secs(1));
     let progress = |done: u64, total: u64| {
         if let Some(bar) = &bar {
             bar.update(done, total)
