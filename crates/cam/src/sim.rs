@@ -72,16 +72,24 @@
 
 pub mod compare;
 pub mod measured;
+mod segments;
+pub mod stock;
 pub mod sweep;
+pub mod tools;
 
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 
-use kezuri_geom::{MoveKind, Toolpath};
+use kezuri_geom::Toolpath;
 use rayon::prelude::*;
 
 use crate::Cutter;
 pub use measured::MeasuredTool;
+use segments::segments;
+pub use stock::{Cylinder, Stock, ZMap};
 use sweep::{cell_range, Band, Prep, Reach, Shape};
+pub use tools::{cutting_tools, ToolCut, Tooling, UNCUT};
+use tools::{Ledger, Window};
 
 /// What cuts: a nominal cutter or a measured tool.
 #[derive(Clone, Debug, PartialEq)]
@@ -130,60 +138,6 @@ impl fmt::Display for Tool {
     }
 }
 
-/// The stock box: `x0..x1` × `y0..y1` in XY (mm), its top at `top`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stock {
-    /// Lowest X.
-    pub x0: f64,
-    /// Lowest Y.
-    pub y0: f64,
-    /// Highest X.
-    pub x1: f64,
-    /// Highest Y.
-    pub y1: f64,
-    /// Height of the top face.
-    pub top: f64,
-}
-
-impl Stock {
-    /// The stock a program implies: the XY bounds of its cutting moves
-    /// (feeds, arcs, probes) grown by the cutter radius, the top at their
-    /// highest point. Rapids are left out: a return to a far home position
-    /// must not grow the grid, and a rapid approach to just above the
-    /// work must not count as cutting. Without cutting moves, all moves.
-    pub fn around(path: &Toolpath, cutter: &Cutter) -> Result<Stock, SimError> {
-        Stock::around_tool(path, &Tool::Cutter(*cutter))
-    }
-
-    /// [`Stock::around`] for any [`Tool`]: the cutting moves' box grown by
-    /// the tool's radius.
-    pub fn around_tool(path: &Toolpath, tool: &Tool) -> Result<Stock, SimError> {
-        let cutting: Vec<_> =
-            path.moves.iter().filter(|m| !m.is_rapid() && !matches!(m.kind, MoveKind::Dwell(_))).copied().collect();
-        let bounds = if cutting.is_empty() { path.bounds() } else { Toolpath::from(cutting).bounds() };
-        let (lo, hi) = bounds.ok_or(SimError::EmptyToolpath)?;
-        if !lo.iter().chain(&hi).all(|v| v.is_finite()) {
-            return Err(SimError::BadStock("the program's bounds are not finite".into()));
-        }
-        let r = tool.radius();
-        Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top: hi[2] })
-    }
-
-    fn check(&self) -> Result<(), SimError> {
-        let v = [self.x0, self.y0, self.x1, self.y1, self.top];
-        if !v.iter().all(|v| v.is_finite()) {
-            return Err(SimError::BadStock(format!("{:?} is not finite", v)));
-        }
-        if !(self.x1 > self.x0 && self.y1 > self.y0) {
-            return Err(SimError::BadStock(format!(
-                "empty box: X {} to {}, Y {} to {} (need X0 < X1 and Y0 < Y1)",
-                self.x0, self.x1, self.y0, self.y1
-            )));
-        }
-        Ok(())
-    }
-}
-
 /// How to simulate.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SimOptions {
@@ -194,91 +148,15 @@ pub struct SimOptions {
     /// A rapid that lowers some cell by more than this (mm) is a rapid
     /// into the stock.
     pub rapid_tolerance: f64,
-    /// Most cells a grid may have (memory: 8 bytes a cell).
+    /// Most cells a grid may have (memory: 9 bytes a cell, its height and the tool that cut it last).
     pub max_cells: usize,
 }
 
 impl SimOptions {
     /// Defaults at `resolution`: 1 µm chords, 1 µm rapid tolerance, at most
-    /// 250 million cells (2 GB).
+    /// 250 million cells (2.25 GB).
     pub fn new(resolution: f64) -> SimOptions {
         SimOptions { resolution, chord_tolerance: 1e-3, rapid_tolerance: 1e-3, max_cells: 250_000_000 }
-    }
-}
-
-/// A height per cell: cell `(i, j)` is centred at
-/// `(x0 + (i + ½)·res, y0 + (j + ½)·res)`; rows of constant `j` are
-/// contiguous in `z`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ZMap {
-    /// X of the grid's left edge.
-    pub x0: f64,
-    /// Y of the grid's bottom edge.
-    pub y0: f64,
-    /// Cell size.
-    pub res: f64,
-    /// Cells along X.
-    pub nx: usize,
-    /// Cells along Y.
-    pub ny: usize,
-    /// Heights, `z[j·nx + i]`.
-    pub z: Vec<f64>,
-}
-
-impl ZMap {
-    /// The stock as a grid at `options.resolution`, every cell at the top.
-    /// The grid covers the box, the last cell reaching past its edge when
-    /// the size is not a whole number of cells.
-    pub fn new(stock: &Stock, options: &SimOptions) -> Result<ZMap, SimError> {
-        let res = options.resolution;
-        if !(res.is_finite() && res > 0.0) {
-            return Err(SimError::BadResolution(res));
-        }
-        if !(options.chord_tolerance.is_finite() && options.chord_tolerance > 0.0) {
-            return Err(SimError::BadTolerance(options.chord_tolerance));
-        }
-        stock.check()?;
-        let count = |len: f64| {
-            let n = len / res;
-            // 100 / 0.05 is 2000.0000000000002: a whole number of cells.
-            if (n - n.round()).abs() <= 1e-9 * n.max(1.0) {
-                n.round().max(1.0)
-            } else {
-                n.ceil()
-            }
-        };
-        let (fx, fy) = (count(stock.x1 - stock.x0), count(stock.y1 - stock.y0));
-        let cells = fx * fy;
-        if cells > options.max_cells as f64 {
-            return Err(SimError::TooManyCells { nx: fx, ny: fy, limit: options.max_cells });
-        }
-        let (nx, ny) = (fx as usize, fy as usize);
-        let mut z = Vec::new();
-        if z.try_reserve_exact(nx * ny).is_err() {
-            return Err(SimError::OutOfMemory { cells: nx * ny });
-        }
-        z.resize(nx * ny, stock.top);
-        Ok(ZMap { x0: stock.x0, y0: stock.y0, res, nx, ny, z })
-    }
-
-    /// Number of cells.
-    pub fn cells(&self) -> usize {
-        self.nx * self.ny
-    }
-
-    /// Centre of cell `(i, j)`.
-    pub fn centre(&self, i: usize, j: usize) -> [f64; 2] {
-        [self.x0 + (i as f64 + 0.5) * self.res, self.y0 + (j as f64 + 0.5) * self.res]
-    }
-
-    /// Height of cell `(i, j)`.
-    pub fn height(&self, i: usize, j: usize) -> f64 {
-        self.z[j * self.nx + i]
-    }
-
-    /// Lowest and highest cell.
-    pub fn range(&self) -> (f64, f64) {
-        self.z.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &z| (lo.min(z), hi.max(z)))
     }
 }
 
@@ -311,6 +189,12 @@ pub struct SimReport {
     /// program has named X, Y and Z, and after such a return until it
     /// names them again.
     pub unplaced_moves: usize,
+    /// Each tool, in the order it first moves: its moves and the material
+    /// it removed. The volumes add up to all the material removed.
+    pub tools: Vec<ToolCut>,
+    /// Per cell (as [`ZMap::z`]), the index in [`SimReport::tools`] of the
+    /// tool whose move lowered it last; [`UNCUT`] where none did.
+    pub cut_by: Vec<u8>,
 }
 
 /// Why a simulation cannot run.
@@ -347,6 +231,15 @@ pub enum SimError {
     },
     /// Arcs split into more chords than can be indexed.
     TooManySegments(usize),
+    /// A move is made by a tool the table does not give.
+    NoTool {
+        /// The tool number.
+        number: u32,
+        /// The source line of its first move.
+        line: u32,
+    },
+    /// The program uses more tools than one simulation tells apart.
+    TooManyTools(usize),
 }
 
 impl fmt::Display for SimError {
@@ -361,10 +254,10 @@ impl fmt::Display for SimError {
                 "a grid of {nx} × {ny} = {:.0} cells ({:.1} GB) is more than the limit of {limit} cells; \
                  use a coarser resolution or a smaller stock",
                 nx * ny,
-                nx * ny * 8.0 / 1e9
+                nx * ny * 9.0 / 1e9
             ),
             SimError::OutOfMemory { cells } => {
-                write!(f, "not enough memory for a grid of {cells} cells ({:.1} GB)", *cells as f64 * 8.0 / 1e9)
+                write!(f, "not enough memory for a grid of {cells} cells ({:.1} GB)", *cells as f64 * 9.0 / 1e9)
             }
             SimError::NonFinite { index, line } => {
                 write!(f, "move {index} (line {line}) has a coordinate that is not a finite number")
@@ -372,153 +265,15 @@ impl fmt::Display for SimError {
             SimError::TooManySegments(n) => {
                 write!(f, "arcs split into {n} chords, too many: raise the chord tolerance")
             }
+            SimError::NoTool { number, line } => {
+                write!(f, "T{number} (first moving at line {line}) has no shape to cut with")
+            }
+            SimError::TooManyTools(n) => write!(f, "the program uses more than {n} tools"),
         }
     }
 }
 
 impl std::error::Error for SimError {}
-
-/// A straight piece of a move.
-#[derive(Clone, Copy, Debug)]
-struct Segment {
-    prep: Prep,
-    /// Index of the move it belongs to.
-    index: u32,
-    rapid: bool,
-    /// The slab `from ≤ s ≤ to` of along-track distances whose cells this
-    /// segment evaluates (see [`continuations`]).
-    from: f64,
-    to: f64,
-    a: [f64; 3],
-    b: [f64; 3],
-}
-
-/// Narrows each cutting segment's slab where the path runs straight on.
-///
-/// Where a cell lies behind a segment's start (`s < 0`) and the tip does
-/// not descend (`Δz ≥ 0`), the envelope's minimum over the segment is at
-/// its start: the derivative `−g + height'(ρ)·σ/ρ` is ≤ 0 for every
-/// `σ ≤ s ≤ 0`. Likewise ahead of its end when it does not climb. For the
-/// closed-form shapes the bound is sharper: the minimum is at the start
-/// when `s ≤ q·k`, so when `s ≤ min(0, k·R)`. So where the previous segment
-/// ends exactly at this one's start and runs in the same XY direction, the
-/// cells behind `min(0, k·R)` (−R when descending, for the general shapes;
-/// for a measured tool the bound from its flattest slope,
-/// [`MeasuredTool::monotone_beyond`]) are cut at least as deep by the
-/// previous segment through that shared point, and the same holds ahead of
-/// the end. Following such cells from
-/// segment to segment always ends at one that evaluates them (the same
-/// direction means "behind this one's start" is never "ahead of the
-/// previous one's end"), so the result is unchanged while a raster move
-/// of 0.1 mm with a 6 mm ball evaluates a slab of about 0.7 mm instead of
-/// its whole 6.1 mm footprint. Rapids are never narrowed, so each rapid is
-/// judged on everything it cuts.
-fn continuations(segs: &mut [Segment], shape: &Shape<'_>) {
-    let r = shape.radius();
-    let eps = 1e-9 * (1.0 + r);
-    let joined = |p: &Segment, q: &Segment| {
-        !p.rapid
-            && !q.rapid
-            && p.b == q.a
-            && p.prep.len > 0.0
-            && q.prep.len > 0.0
-            && (p.prep.ux - q.prep.ux).abs() <= 1e-12
-            && (p.prep.uy - q.prep.uy).abs() <= 1e-12
-    };
-    for k in 0..segs.len() {
-        let p = segs[k].prep;
-        let (back, ahead) = match shape {
-            Shape::Closed { .. } => ((p.k * r).min(0.0), (p.k * r).max(0.0)),
-            Shape::General(_) => (if p.dz < 0.0 { -r } else { 0.0 }, if p.dz > 0.0 { r } else { 0.0 }),
-            Shape::Measured(m) => {
-                let d = if p.dz == 0.0 { 0.0 } else { m.monotone_beyond(p.dz.abs() * p.inv_len) };
-                (if p.dz < 0.0 { -d } else { 0.0 }, if p.dz > 0.0 { d } else { 0.0 })
-            }
-        };
-        if k > 0 && joined(&segs[k - 1], &segs[k]) {
-            segs[k].from = back - eps;
-        }
-        if k + 1 < segs.len() && joined(&segs[k], &segs[k + 1]) {
-            segs[k].to = p.len + ahead + eps;
-        }
-    }
-}
-
-/// The chords of an arc: `n` with sagitta ≤ `tol` (at least 1, at most 10⁷).
-fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
-    if radius <= tol {
-        return ((sweep / std::f64::consts::PI).ceil() as usize).max(1);
-    }
-    let step = 2.0 * (1.0 - tol / radius).acos();
-    ((sweep / step).ceil().max(1.0) as usize).min(10_000_000)
-}
-
-/// Splits the toolpath into straight segments (program order).
-/// The straight segments to simulate, the report so far, and the rapids
-/// whose start is not known (see [`SimReport::unplaced_moves`]).
-#[allow(clippy::type_complexity)]
-fn segments(path: &Toolpath, shape: &Shape<'_>, tol: f64) -> Result<(Vec<Segment>, SimReport, Vec<usize>), SimError> {
-    let mut out = Vec::with_capacity(path.moves.len());
-    let mut report = SimReport::default();
-    // Axes (X Y Z bits) whose position is known: none at the start of an
-    // NC program, where the start is only the interpreter's assumption.
-    let mut known = if path.unknown_start { 0u8 } else { 0b111 };
-    let mut unplaced_rapids = Vec::new();
-    for (index, m) in path.moves.iter().enumerate() {
-        if matches!(m.kind, MoveKind::Dwell(_)) {
-            continue;
-        }
-        if !m.start.to_array().iter().chain(&m.end.to_array()).all(|v| v.is_finite()) {
-            return Err(SimError::NonFinite { index, line: m.line });
-        }
-        report.moves += 1;
-        // A return to the reference point (G28, G30) and a move in machine
-        // coordinates (G53) go where the machine's setup puts them, which
-        // the model only guesses: not simulated, and the axes they move
-        // are unknown until the program names them again.
-        let to_machine = matches!(m.kind, MoveKind::Home | MoveKind::Machine);
-        let placed = known & 0b111 == 0b111 && !to_machine;
-        known = if to_machine { known & !m.named.0 } else { known | m.named.0 };
-        if !placed {
-            report.unplaced_moves += 1;
-            if m.is_rapid() && !to_machine {
-                unplaced_rapids.push(index);
-            }
-            continue;
-        }
-        if (m.start.a, m.start.b, m.start.c) != (m.end.a, m.end.b, m.end.c) {
-            report.rotary_moves += 1;
-        }
-        let index32 = u32::try_from(index).map_err(|_| SimError::TooManySegments(index))?;
-        let rapid = m.is_rapid();
-        let r = shape.radius();
-        let mut push = |a: [f64; 3], b: [f64; 3]| {
-            let prep = Prep::new(a, b, shape);
-            out.push(Segment { prep, index: index32, rapid, from: -r, to: prep.len + r, a, b })
-        };
-        match m.kind {
-            MoveKind::Arc(arc) => {
-                let n = chords(arc.radius(m.start), arc.sweep(m.start, m.end), tol);
-                let mut a = m.start.xyz();
-                for k in 1..=n {
-                    let b = if k == n { m.end.xyz() } else { arc.point_at(m.start, m.end, k as f64 / n as f64).xyz() };
-                    push(a, b);
-                    a = b;
-                }
-            }
-            _ => push(m.start.xyz(), m.end.xyz()),
-        }
-        if out.len() > u32::MAX as usize {
-            return Err(SimError::TooManySegments(out.len()));
-        }
-    }
-    if report.moves == 0 {
-        return Err(SimError::EmptyToolpath);
-    }
-    report.segments = out.len();
-    continuations(&mut out, shape);
-    Ok((out, report, unplaced_rapids))
-}
 
 /// Runs the toolpath over `zmap`, lowering it; reports rapids that cut.
 pub fn simulate(
@@ -530,24 +285,59 @@ pub fn simulate(
     simulate_tool(path, &Tool::Cutter(*cutter), zmap, options)
 }
 
-/// [`simulate`] with any [`Tool`]: a nominal cutter or a measured one.
+/// [`simulate`] with any [`Tool`]: a nominal cutter or a measured one, for
+/// every move whatever tools the program loads.
 pub fn simulate_tool(
     path: &Toolpath,
     tool: &Tool,
     zmap: &mut ZMap,
     options: &SimOptions,
 ) -> Result<SimReport, SimError> {
+    simulate_tools(path, Tooling::One(tool), zmap, options, &|_, _| {})
+}
+
+/// Segments cut between two reports of progress.
+const PROGRESS_STEP: usize = 1024;
+
+/// [`simulate`] with the tool each move is made by ([`Tooling`]), the
+/// volume each tool removed and the tool that last lowered each cell.
+/// `progress(done, total)` is told, now and then from the worker threads,
+/// how many of the `total` pieces of work are done.
+pub fn simulate_tools(
+    path: &Toolpath,
+    tooling: Tooling<'_>,
+    zmap: &mut ZMap,
+    options: &SimOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<SimReport, SimError> {
     if !(options.chord_tolerance.is_finite() && options.chord_tolerance > 0.0) {
         return Err(SimError::BadTolerance(options.chord_tolerance));
     }
-    let shape = tool.shape();
-    let r = shape.radius();
-    let (segs, mut report, unplaced_rapids) = segments(path, &shape, options.chord_tolerance)?;
+    let (segs, mut report, slots, unplaced_rapids) = segments(path, tooling, options.chord_tolerance)?;
     let (nx, ny, res, x0, y0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0);
+    let mut cut_by = Vec::new();
+    if cut_by.try_reserve_exact(zmap.cells()).is_err() {
+        return Err(SimError::OutOfMemory { cells: zmap.cells() });
+    }
+    cut_by.resize(zmap.cells(), UNCUT);
+    report.cut_by = cut_by;
     if nx == 0 || ny == 0 {
         return Ok(report);
     }
     let top = zmap.range().1;
+    // A rapid from an unknown position is not simulated, but if it ends
+    // inside the stock (as it stands before the program) it went through it.
+    let mut all: Vec<(u32, f64)> = Vec::new();
+    for index in unplaced_rapids {
+        let e = path.moves[index].end;
+        let (i, j) = (((e.x - x0) / res).floor(), ((e.y - y0) / res).floor());
+        if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
+            let depth = zmap.height(i as usize, j as usize) - e.z;
+            if depth > options.rapid_tolerance {
+                all.push((index as u32, depth));
+            }
+        }
+    }
     // A margin of a millionth of a cell keeps cells on the footprint's edge.
     let margin = 1e-6 * res;
 
@@ -557,9 +347,11 @@ pub fn simulate_tool(
     let band_rows = ny.div_ceil(8 * threads).clamp(1, 32);
     let bands = ny.div_ceil(band_rows);
     let mut reaches = Vec::with_capacity(segs.len());
+    let mut cols = Vec::with_capacity(segs.len());
     let mut counts = vec![0u32; bands + 1];
     for s in &segs {
         let p = &s.prep;
+        let r = slots.shapes[s.slot as usize].radius();
         let (bx, by) = (p.ax + p.ux * p.len, p.ay + p.uy * p.len);
         let xs = cell_range(p.ax.min(bx) - r - margin, p.ax.max(bx) + r + margin, x0, res, nx);
         // A segment at or above every cell cannot cut.
@@ -574,6 +366,7 @@ pub fn simulate_tool(
             }
         }
         reaches.push(Reach { j0: rows.start, j1: rows.end, from: s.from, to: s.to });
+        cols.push(xs);
     }
     for b in 0..bands {
         counts[b + 1] += counts[b];
@@ -589,44 +382,67 @@ pub fn simulate_tool(
         }
     }
     let xs: Vec<f64> = (0..nx).map(|i| x0 + (i as f64 + 0.5) * res).collect();
+    let total = listed.len() as u64;
+    let done = AtomicU64::new(0);
+    progress(0, total);
 
-    let hits: Vec<Vec<(u32, f64)>> = zmap
+    // Each band's rapid hits and what each tool removed from it.
+    type BandCut = (Vec<(u32, f64)>, Vec<f64>);
+    let bands: Vec<BandCut> = zmap
         .z
         .par_chunks_mut(band_rows * nx)
+        .zip(report.cut_by.par_chunks_mut(band_rows * nx))
         .enumerate()
-        .map(|(b, cells)| {
-            let mut band = Band { cells, first: b * band_rows, nx, xs: &xs, x0, y0, res };
+        .map(|(b, (cells, cut_by))| {
+            let first = b * band_rows;
+            let last = first + cells.len() / nx;
+            let mut band = Band { cells, first, nx, xs: &xs, x0, y0, res };
             let mut hits: Vec<(u32, f64)> = Vec::new();
-            for &k in &listed[counts[b] as usize..counts[b + 1] as usize] {
-                let s = &segs[k as usize];
-                let reach = &reaches[k as usize];
-                let deepest = match shape {
-                    Shape::Closed { r, r2, hs } if s.rapid => {
-                        sweep::closed_rows::<true>(&s.prep, r, r2, hs, reach, &mut band)
+            let mut ledger = Ledger::new(slots.shapes.len());
+            let list = &listed[counts[b] as usize..counts[b + 1] as usize];
+            for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
+                let slot = segs[run[0] as usize].slot;
+                let shape = slots.shapes[slot as usize];
+                let reached = run.iter().map(|&k| (reaches[k as usize].j0..reaches[k as usize].j1, &cols[k as usize]));
+                let window = Window::around(reached, first..last, nx);
+                ledger.open(band.cells, nx, &window);
+                for (n, &k) in run.iter().enumerate() {
+                    if n % PROGRESS_STEP == PROGRESS_STEP - 1 {
+                        let step = PROGRESS_STEP as u64;
+                        progress(done.fetch_add(step, Ordering::Relaxed) + step, total);
                     }
-                    Shape::Closed { r, r2, hs } => sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band),
-                    Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
-                    Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
-                };
-                if s.rapid && deepest > options.rapid_tolerance {
-                    hits.push((s.index, deepest));
+                    let s = &segs[k as usize];
+                    let reach = &reaches[k as usize];
+                    let deepest = match shape {
+                        Shape::Closed { r, r2, hs } if s.rapid => {
+                            sweep::closed_rows::<true>(&s.prep, r, r2, hs, reach, &mut band)
+                        }
+                        Shape::Closed { r, r2, hs } => {
+                            sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band)
+                        }
+                        Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
+                        Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
+                    };
+                    if s.rapid && deepest > options.rapid_tolerance {
+                        hits.push((s.index, deepest));
+                    }
                 }
+                ledger.close(band.cells, cut_by, nx, &window, slot);
+                let n = (run.len() % PROGRESS_STEP) as u64;
+                progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
             }
-            hits
+            (hits, ledger.removed)
         })
         .collect();
 
-    // Merge the bands' hits: one per move, the deepest.
-    let mut all: Vec<(u32, f64)> = hits.into_iter().flatten().collect();
-    // A rapid from an unknown position is not simulated, but if it ends
-    // inside the stock it went through it.
-    for index in unplaced_rapids {
-        let e = path.moves[index].end;
-        let (i, j) = (((e.x - x0) / res).floor(), ((e.y - y0) / res).floor());
-        if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny && e.z < top - options.rapid_tolerance {
-            all.push((index as u32, top - e.z));
+    let area = res * res;
+    for (hits, removed) in bands {
+        all.extend(hits);
+        for (cut, v) in report.tools.iter_mut().zip(removed) {
+            cut.volume += v * area;
         }
     }
+    // Merge the bands' hits: one per move, the deepest.
     all.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
     all.dedup_by_key(|h| h.0);
     report.rapid_hits = all

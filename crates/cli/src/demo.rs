@@ -223,13 +223,19 @@ fn copy_milling(out: &Path) -> Result<()> {
 
 /// Seed 002: the bundled sketch of a plum blossom carved as a relief 64 mm
 /// wide and 3 mm deep, roughed with a 6 mm flat end mill and finished with
-/// a 2 mm ball, and its simulation against the relief surface.
+/// a 2 mm ball, and its simulation against the relief surface, each tool
+/// with its own cutter from a machine file's tool table.
 fn relief_carving(out: &Path) -> Result<()> {
     let sketch = out.join("samples").join("plum-sketch.png");
     write_atomic(&sketch, include_bytes!("../../../samples/plum-sketch.png"))?;
     println!("\nsamples/plum-sketch.png  (a grayscale sketch for a relief, 256 x 192 pixels)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let sketch = sketch.to_string_lossy().into_owned();
+    // The machine's tool table: the simulation cuts each tool's moves
+    // with its own cutter.
+    let tools = "[tools.T1]\nshape = \"flat:6\"\nname = \"roughing end mill\"\n\n\
+                 [tools.T2]\nshape = \"ball:2\"\nname = \"finishing ball\"\n";
+    write_atomic(&out.join("plum-tools.toml"), tools.as_bytes())?;
     let commands: [Vec<String>; 2] = [
         words(&[
             "relief",
@@ -256,8 +262,8 @@ fn relief_carving(out: &Path) -> Result<()> {
         words(&[
             "sim",
             &at("plum-relief.nc"),
-            "--tool",
-            "ball:2",
+            "--machine",
+            &at("plum-tools.toml"),
             "--res",
             "0.1",
             "--stock",
@@ -269,8 +275,9 @@ fn relief_carving(out: &Path) -> Result<()> {
         ]),
     ];
     run_shown(out, &commands)?;
-    println!("\nwrote plum-relief.nc (roughing T1, finishing T2), plum-relief.stl (the relief surface),");
-    println!("plum-relief.png (the simulated carving) and plum-relief-deviation.png");
+    println!("\nwrote plum-relief.nc (roughing T1, finishing T2), plum-tools.toml (their cutters, simulated each");
+    println!("with its own), plum-relief.stl (the relief surface), plum-relief.png (the simulated carving)");
+    println!("and plum-relief-deviation.png");
     Ok(())
 }
 

@@ -155,6 +155,7 @@ fn demo_makes_its_files() {
         "plum-copy-deviation.png",
         "samples/plum-sketch.png",
         "plum-relief.nc",
+        "plum-tools.toml",
         "plum-relief.stl",
         "plum-relief.png",
         "samples/nameplate-cam.nc",

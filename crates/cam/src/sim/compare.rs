@@ -80,6 +80,8 @@ pub struct Comparison {
     pub max_gouge: f64,
     /// Where (cell centre), if anywhere below the target.
     pub gouge_at: Option<[f64; 2]>,
+    /// Its cell (index into [`ZMap::z`]).
+    pub gouge_cell: Option<usize>,
     /// Most material left above the target (≥ 0, mm).
     pub max_left: f64,
     /// Where (cell centre), if anywhere above the target.
@@ -111,6 +113,7 @@ pub fn compare(sim: &ZMap, target: &[f64], bins: usize) -> Comparison {
         if -d > c.max_gouge {
             c.max_gouge = -d;
             c.gouge_at = Some(at());
+            c.gouge_cell = Some(k);
         }
         if d > c.max_left {
             c.max_left = d;
@@ -135,4 +138,28 @@ pub fn compare(sim: &ZMap, target: &[f64], bins: usize) -> Comparison {
         c.histogram.counts[b] += 1;
     }
     c
+}
+
+/// The deepest gouge of one tool.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolGouge {
+    /// Depth below the target (> 0, mm).
+    pub depth: f64,
+    /// Where (cell centre).
+    pub at: [f64; 2],
+}
+
+/// For each of `tools` tools (indices of `cut_by`, from
+/// [`super::SimReport::cut_by`]), the deepest gouge among the cells it
+/// lowered last, if any went below the target.
+pub fn gouges_by_tool(sim: &ZMap, target: &[f64], cut_by: &[u8], tools: usize) -> Vec<Option<ToolGouge>> {
+    let mut out: Vec<Option<ToolGouge>> = vec![None; tools];
+    for (k, ((&z, &t), &by)) in sim.z.iter().zip(target).zip(cut_by).enumerate() {
+        let depth = t - z;
+        let Some(worst) = out.get_mut(by as usize) else { continue };
+        if t != f64::NEG_INFINITY && depth > 0.0 && worst.is_none_or(|g| depth > g.depth) {
+            *worst = Some(ToolGouge { depth, at: sim.centre(k % sim.nx, k / sim.nx) });
+        }
+    }
+    out
 }

@@ -1,0 +1,207 @@
+//! `sim`'s report, as text and as one JSON object: the grid, the rapids,
+//! each tool (moves, time, volume removed, its worst gouge) and the
+//! comparison with the target.
+
+use std::fmt::Write as _;
+
+use kezuri_cam::sim::compare::{Comparison, ToolGouge};
+use kezuri_cam::sim::{SimReport, ToolCut, ZMap, UNCUT};
+use serde_json::json;
+
+use super::stock::StockSpec;
+use super::tools::ToolSet;
+use super::SimArgs;
+
+/// A simulation done, all its report needs.
+pub struct Done<'a> {
+    pub args: &'a SimArgs,
+    pub file: &'a str,
+    pub tools: &'a ToolSet,
+    pub stock: &'a StockSpec,
+    /// The stock's highest point before cutting.
+    pub top: f64,
+    pub zmap: &'a ZMap,
+    pub report: &'a SimReport,
+    /// Seconds of each tool of `tools.table`.
+    pub times: Vec<f64>,
+    /// With --compare, each tool's worst gouge (by `report.tools`).
+    pub gouges: Vec<Option<ToolGouge>>,
+    pub comparison: Option<&'a Comparison>,
+    pub seconds: f64,
+}
+
+impl Done<'_> {
+    /// The name and the time of a tool of the report.
+    fn tool(&self, cut: &ToolCut) -> (&str, f64) {
+        let k = self.tools.table.iter().position(|(n, _)| *n == cut.number).unwrap_or(0);
+        (&self.tools.names[k], self.times.get(k).copied().unwrap_or(0.0))
+    }
+
+    /// The number of the tool that lowered the cell of the worst gouge last.
+    fn gouge_tool(&self) -> Option<u32> {
+        let cell = self.comparison?.gouge_cell?;
+        let by = *self.report.cut_by.get(cell)?;
+        (by != UNCUT).then(|| self.report.tools[by as usize].number)
+    }
+
+    fn removed(&self) -> f64 {
+        self.report.tools.iter().map(|t| t.volume).sum()
+    }
+
+    pub fn json(&self) -> serde_json::Value {
+        let (zmap, report) = (self.zmap, self.report);
+        let (lo, hi) = zmap.range();
+        let tools: Vec<_> = report
+            .tools
+            .iter()
+            .enumerate()
+            .map(|(k, cut)| {
+                let (name, time) = self.tool(cut);
+                let mut t = json!({
+                    "number": cut.number,
+                    "shape": name,
+                    "moves": cut.moves,
+                    "segments": cut.segments,
+                    "time_s": time,
+                    "volume_mm3": cut.volume,
+                });
+                if self.comparison.is_some() {
+                    let g = self.gouges.get(k).copied().flatten();
+                    t["max_gouge_mm"] = json!(g.map_or(0.0, |g| g.depth));
+                    t["max_gouge_at"] = json!(g.map(|g| g.at));
+                }
+                t
+            })
+            .collect();
+        let mut v = json!({
+            "file": self.file,
+            "tool": self.tools.summary(),
+            "tools_from": self.tools.from,
+            "tools": tools,
+            "volume_mm3": self.removed(),
+            "res_mm": zmap.res,
+            "nx": zmap.nx,
+            "ny": zmap.ny,
+            "cells": zmap.cells(),
+            "stock": self.stock.json(zmap, self.top),
+            "moves": report.moves,
+            "segments": report.segments,
+            "rotary_moves": report.rotary_moves,
+            "unplaced_moves": report.unplaced_moves,
+            "chord_tol_mm": self.args.chord_tol,
+            "min_z_mm": lo,
+            "max_z_mm": hi,
+            "rapids_into_stock": report.rapid_hits.len(),
+            "first_rapid_into_stock_line": report.rapid_hits.first().map(|h| h.line),
+            "rapid_hits": report.rapid_hits.iter().take(100)
+                .map(|h| json!({"line": h.line, "move": h.index, "depth_mm": h.depth})).collect::<Vec<_>>(),
+            "seconds": self.seconds,
+        });
+        if let Some(m) = self.tools.measured() {
+            v["tool_profile"] = json!({
+                "samples": m.samples(),
+                "diameter_mm": 2.0 * m.radius(),
+                "tip_mm": m.tip(),
+                "lower_surface_corners": m.corners().len(),
+            });
+        }
+        if let Some(c) = self.comparison {
+            let extra = json!({
+                "max_gouge_mm": c.max_gouge,
+                "max_left_mm": c.max_left,
+                "mean_abs_dev_mm": c.mean_abs_dev,
+                "max_gouge_at": c.gouge_at,
+                "max_gouge_tool": self.gouge_tool(),
+                "max_left_at": c.left_at,
+                "compared_cells": c.compared,
+                "cells_without_target": c.missing,
+                "deviation_range_mm": [c.range.0, c.range.1],
+                "histogram": {"edges_mm": c.histogram.edges, "counts": c.histogram.counts},
+            });
+            if let (Some(o), Some(e)) = (v.as_object_mut(), extra.as_object()) {
+                o.extend(e.clone());
+            }
+        }
+        v
+    }
+
+    pub fn text(&self) -> String {
+        let (zmap, report) = (self.zmap, self.report);
+        let mut t = String::new();
+        let name = match self.tools.measured() {
+            Some(m) => format!(
+                "{} (measured: Ø{:.4}, tip at {:.4}, {} samples)",
+                self.tools.summary(),
+                2.0 * m.radius(),
+                m.tip(),
+                m.samples()
+            ),
+            None => self.tools.summary(),
+        };
+        let _ = writeln!(
+            t,
+            "{}: {name} over {} at {} mm: {} × {} = {} cells",
+            self.file,
+            self.stock.describe(zmap),
+            zmap.res,
+            zmap.nx,
+            zmap.ny,
+            zmap.cells()
+        );
+        let _ =
+            writeln!(t, "  moves      {} ({} straight segments), {:.2} s", report.moves, report.segments, self.seconds);
+        let (lo, hi) = zmap.range();
+        let _ = writeln!(t, "  surface    {lo:.4} … {hi:.4} mm");
+        let _ = writeln!(t, "  removed    {:.3} mm³ (tools from {})", self.removed(), self.tools.from);
+        for (k, cut) in report.tools.iter().enumerate() {
+            let (name, time) = self.tool(cut);
+            let label = if cut.number == 0 { name.to_string() } else { format!("T{} {name}", cut.number) };
+            let gouge = match self.gouges.get(k).copied().flatten() {
+                Some(g) => format!(", gouge {:.4} mm at ({:.3}, {:.3})", g.depth, g.at[0], g.at[1]),
+                None if self.comparison.is_some() => ", no gouge".to_string(),
+                None => String::new(),
+            };
+            let _ =
+                writeln!(t, "    {label:<16} {:>7} moves {:>9.1} s {:>12.3} mm³{gouge}", cut.moves, time, cut.volume);
+        }
+        if report.unplaced_moves > 0 {
+            let _ = writeln!(
+                t,
+                "  unplaced   {} moves before the program names X, Y and Z (or after G28) are not simulated",
+                report.unplaced_moves
+            );
+        }
+        if report.rotary_moves > 0 {
+            let _ = writeln!(t, "  rotary     {} moves turn A/B/C (simulated in X Y Z only)", report.rotary_moves);
+        }
+        match report.rapid_hits.first() {
+            None => t.push_str("  rapids     none into the stock\n"),
+            Some(h) => {
+                let _ = writeln!(
+                    t,
+                    "  RAPIDS     {} into the stock; first at line {} ({:.4} mm deep)",
+                    report.rapid_hits.len(),
+                    h.line,
+                    h.depth
+                );
+            }
+        }
+        if let Some(c) = self.comparison {
+            let target = self.args.compare.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
+            let _ = writeln!(t, "compare with {target}: {} cells ({} outside the target)", c.compared, c.missing);
+            let at = |p: Option<[f64; 2]>| p.map(|[x, y]| format!(" at ({x:.3}, {y:.3})")).unwrap_or_default();
+            let by = self.gouge_tool().filter(|&n| n != 0).map(|n| format!(", cut last by T{n}")).unwrap_or_default();
+            let _ = writeln!(t, "  max gouge  {:.4} mm{}{by}", c.max_gouge, at(c.gouge_at));
+            let _ = writeln!(t, "  max left   {:.4} mm{}", c.max_left, at(c.left_at));
+            let _ = writeln!(t, "  mean |dev| {:.4} mm", c.mean_abs_dev);
+            t.push_str("  deviation (simulated − target), mm:\n");
+            let most = c.histogram.counts.iter().copied().max().unwrap_or(1).max(1);
+            for (k, &n) in c.histogram.counts.iter().enumerate() {
+                let bar = "#".repeat(((n as f64 / most as f64) * 40.0).round() as usize);
+                let (a, b) = (c.histogram.edges[k], c.histogram.edges[k + 1]);
+                let _ = writeln!(t, "    {a:>9.4} … {b:>9.4} {n:>10} {bar}");
+            }
+        }
+        t
+    }
+}

@@ -1,0 +1,171 @@
+//! Which cutter `sim` cuts each tool's moves with: the machine file's
+//! tool table, `--tool`/`--tool-profile`, or one tool for all; and each
+//! tool's cycle time.
+
+use std::collections::BTreeMap;
+
+use anyhow::{bail, Result};
+use kezuri_cam::sim::{cutting_tools, MeasuredTool, Tool};
+use kezuri_cam::Cutter;
+use kezuri_geom::{cycle_time, Dynamics, Toolpath};
+
+use super::SimArgs;
+use crate::machine::ToolEntry;
+
+/// The cutter of each tool number the program cuts with, in the order they
+/// first move.
+pub struct ToolSet {
+    /// Tool number and cutter.
+    pub table: Vec<(u32, Tool)>,
+    /// How the reports name each: `flat:6`, `profile:FILE`.
+    pub names: Vec<String>,
+    /// Where the cutters came from, for the report.
+    pub from: &'static str,
+}
+
+impl ToolSet {
+    /// The widest radius of the tools.
+    pub fn reach(&self) -> f64 {
+        self.table.iter().map(|(_, t)| t.radius()).fold(0.0, f64::max)
+    }
+
+    /// The one measured tool, when `--tool-profile` gave it.
+    pub fn measured(&self) -> Option<&MeasuredTool> {
+        match &self.table.first()?.1 {
+            Tool::Measured(m) => Some(m),
+            Tool::Cutter(_) => None,
+        }
+    }
+
+    /// The name of every tool, `T1 flat:6, T2 ball:3`, or the one name
+    /// where one cutter cuts every move.
+    pub fn summary(&self) -> String {
+        match self.names.as_slice() {
+            [first, rest @ ..] if rest.iter().all(|n| n == first) => first.clone(),
+            _ => {
+                let each = self.table.iter().zip(&self.names).map(|((n, _), name)| format!("T{n} {name}"));
+                each.collect::<Vec<_>>().join(", ")
+            }
+        }
+    }
+}
+
+/// The numbers of the tools that cut `path`'s moves, in the order they
+/// first do (a single 0 for a program that loads none).
+fn numbers(path: &Toolpath) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    for n in cutting_tools(path) {
+        if !out.contains(&n) {
+            out.push(n);
+        }
+    }
+    out
+}
+
+/// `T1`, `T1 and T2`, `T1, T2 and T3`.
+fn listed(numbers: &[u32]) -> String {
+    let names: Vec<String> = numbers.iter().map(|n| format!("T{n}")).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.concat(),
+    }
+}
+
+/// The cutters to simulate `path` with. Never a cutter the user did not
+/// name for that tool: a program that changes tools takes its shapes from
+/// the machine file's tool table, and `--tool` alone is refused for it
+/// (unless `--same-tool-for-all`); `--tool` for a tool the table gives
+/// another shape is refused too.
+pub fn tool_set(args: &SimArgs, table: &BTreeMap<u32, ToolEntry>, path: &Toolpath) -> Result<ToolSet> {
+    let given = match (&args.tool, &args.tool_profile) {
+        (Some(spec), None) => {
+            let c: Cutter = spec.parse()?;
+            Some((Tool::Cutter(c), c.to_string()))
+        }
+        (None, Some(file)) => Some((
+            Tool::Measured(MeasuredTool::new(&crate::tool::read_profile(file)?)),
+            format!("profile:{}", file.display()),
+        )),
+        (None, None) => None,
+        _ => bail!("give one of --tool SPEC and --tool-profile PROFILE.csv, not both"),
+    };
+    let numbers = numbers(path);
+    let loaded: Vec<u32> = numbers.iter().copied().filter(|&n| n != 0).collect();
+    let shape = |n: u32| table.get(&n).and_then(|e| e.shape);
+    let every = |tool: Tool, name: String, from| ToolSet {
+        table: numbers.iter().map(|&n| (n, tool.clone())).collect(),
+        names: vec![name; numbers.len()],
+        from,
+    };
+    let needs = |extra: &str| {
+        let each: Vec<String> =
+            loaded.iter().map(|&n| format!("T{n} = {}", shape(n).map_or("?".to_string(), |c| c.to_string()))).collect();
+        format!(
+            "the program uses {}: give {} in the machine file's tool table (--machine M.toml, \
+             [tools.T{}] shape = \"flat:6\"){extra} — {}",
+            listed(&loaded),
+            if loaded.len() == 1 { "its shape" } else { "their shapes" },
+            loaded[0],
+            each.join(", ")
+        )
+    };
+    match given {
+        Some((tool, name)) if args.same_tool_for_all => Ok(every(tool, name, "--same-tool-for-all")),
+        Some((tool, name)) if loaded.len() <= 1 => {
+            if let (Some(&n), Tool::Cutter(c)) = (loaded.first(), &tool) {
+                if let Some(s) = shape(n).filter(|s| s != c) {
+                    bail!(
+                        "--tool {c}, but the machine file's tool table says T{n} is {s}: \
+                         leave out --tool to cut with the table's, or mend the table"
+                    );
+                }
+            }
+            Ok(every(tool, name, if args.tool.is_some() { "--tool" } else { "--tool-profile" }))
+        }
+        Some(_) => {
+            let option = if args.tool.is_some() { "--tool" } else { "--tool-profile" };
+            if loaded.iter().all(|&n| shape(n).is_some()) {
+                bail!(
+                    "{option} is the cutter of a program with one tool; this one uses {} and the machine file \
+                     gives them all: leave out {option}, or give --same-tool-for-all to cut every move with it",
+                    listed(&loaded)
+                );
+            }
+            bail!("{}", needs(&format!(", or --same-tool-for-all to cut every move with {option}")));
+        }
+        None if args.same_tool_for_all => {
+            bail!("--same-tool-for-all needs the one tool: --tool SPEC or --tool-profile")
+        }
+        None if loaded.is_empty() => {
+            bail!("the program loads no tool (no T… M06): give its cutter with --tool SPEC or --tool-profile")
+        }
+        None => {
+            let mut table_out = Vec::with_capacity(loaded.len());
+            for &n in &loaded {
+                match shape(n) {
+                    Some(c) => table_out.push((n, Tool::Cutter(c))),
+                    None => bail!("{}", needs(if loaded.len() == 1 { ", or --tool SPEC" } else { "" })),
+                }
+            }
+            let names = table_out.iter().map(|(_, t)| t.to_string()).collect();
+            Ok(ToolSet { table: table_out, names, from: "the machine file's tool table" })
+        }
+    }
+}
+
+/// Seconds each tool's moves take (its runs of moves, each from a stop:
+/// a tool change stops the machine), in the order of `tools`.
+pub fn times(path: &Toolpath, tools: &[(u32, Tool)], dynamics: &Dynamics) -> Vec<f64> {
+    let mut out = vec![0.0; tools.len()];
+    let numbers: Vec<u32> = cutting_tools(path).collect();
+    let mut start = 0;
+    while start < path.moves.len() {
+        let n = numbers[start];
+        let end = numbers[start..].iter().position(|&m| m != n).map_or(numbers.len(), |k| start + k);
+        if let Some(k) = tools.iter().position(|(t, _)| *t == n) {
+            out[k] += cycle_time(&Toolpath::from(path.moves[start..end].to_vec()), dynamics).0;
+        }
+        start = end;
+    }
+    out
+}
