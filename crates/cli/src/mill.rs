@@ -25,10 +25,16 @@ between the rows, from the slope across them, stays within H (the pick feed in t
 plane from `kezuri scallop`, converted to the stepover in plan); --stepover is then the widest
 it may be.
 
+The program is written for the control --post names (fanuc, haas, linuxcnc, grbl, mach3; the
+machine file's [post] changes any part, its tool table gives the tool's H register): the safe
+start, the tool change with its retract and G43 H on the first Z move, spindle, coolant, end.
+
 Examples:
   kezuri mill part.stl --tool ball:6 --stepover 0.5 -o part.nc
   kezuri mill part.stl --tool oval:16,24 --stepover 1.5 --cusp 0.01 --direction both -o egg.nc
-  kezuri mill relief.xyz --tool ball:3 --stepover 0.3 --pattern oneway --emit grbl -o relief.gcode")]
+  kezuri mill relief.xyz --tool ball:3 --stepover 0.3 --pattern oneway --post grbl -o relief.gcode
+  kezuri mill part.stl --tool ball:6 --stepover 0.5 --tool-number 5 --post haas \\
+      --machine vf2.toml -o part.nc")]
 pub struct MillArgs {
     /// The surface: an STL (binary or ASCII), or a height grid of `x y z`
     /// lines; `-` reads stdin.

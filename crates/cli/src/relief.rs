@@ -40,14 +40,23 @@ relief: rows are sampled every --step and refined until the path stays within 0.
 and --tolerance above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
 --to rml, hold it to about 0.003 mm). --rough SPEC first
 clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
---surface-stl writes the relief surface for `kezuri sim --compare`.
+--surface-stl writes the relief surface for `kezuri sim --compare`. With --rough the roughing
+cutter is T1 and the finishing one T2: give both shapes in a machine file's tool table to
+simulate each with its own cutter (`kezuri sim --machine`).
+
+The program is written for the control --post names (fanuc, haas, linuxcnc, grbl, mach3; the
+machine file's [post] changes any part): its safe start, and at each tool change the retract,
+T M06 and the tool length offset (G43 H, the tool table's h, on the first Z move), spindle and
+coolant, and its end.
 
 Examples:
   kezuri relief sketch.png --width 120 --depth 5 --tool ball:3 --stepover 0.3 -o sketch.nc
   kezuri relief logo.png --pixel 0.1 --levels 0-63:0,64-191:2.5,192-255:5 --tool ball:6 \\
       --stepover 0.4 --rough flat:6 --step-down 2 --allowance 0.3 --surface-stl logo.stl -o logo.nc
-  kezuri relief face.jpg --width 80 --depth 8 --invert --gamma 0.8 --smooth 1.5 --mask face-mask.png \\
-      --tool ball:2 --stepover 0.2 --direction both --emit linuxcnc -o face.ngc")]
+  kezuri relief face.jpg --width 80 --depth 8 --invert --gamma 0.8 --smooth 1.5 \\
+      --mask face-mask.png --tool ball:2 --stepover 0.2 --direction both --post linuxcnc -o face.ngc
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 --rough flat:6 \\
+      --stepover 1 --post haas --machine shop.toml -o plum.nc")]
 pub struct ReliefArgs {
     /// The sketch: PNG, JPEG, BMP, TIFF or PGM.
     #[arg(value_name = "IMAGE")]
