@@ -21,6 +21,7 @@
 //! digits = 3
 //! arcs = "ijk"               # ijk, r or lines
 //! comments = true
+//! percent = true             # % first and last line [default: Fanuc, Haas]
 //! block_limit = 128          # characters a block may have
 //! byte_limit = 512000        # bytes a program may have
 //! ```
@@ -54,6 +55,7 @@ pub struct PostFile {
     digits: Option<u8>,
     arcs: Option<String>,
     comments: Option<bool>,
+    percent: Option<bool>,
     block_limit: Option<u32>,
     byte_limit: Option<u64>,
 }
@@ -149,6 +151,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
         };
     }
     o.comments = file.comments.unwrap_or(o.comments);
+    o.percent = file.percent.or(o.percent);
     o.block_limit = file.block_limit.or(o.block_limit);
     o.byte_limit = file.byte_limit.or(o.byte_limit);
     setup.registers = tools.iter().filter(|(t, e)| e.h != **t).map(|(t, e)| (*t, e.h)).collect();
@@ -188,7 +191,9 @@ mod tests {
 
     #[test]
     fn overrides_and_refusals() {
-        let o = parse("preset = \"linuxcnc\"\nhome = [10, -5.5]\narcs = \"r\"\nretract = \"none\"").unwrap();
+        let o = parse("preset = \"linuxcnc\"\nhome = [10, -5.5]\narcs = \"r\"\nretract = \"none\"\npercent = true")
+            .unwrap();
+        assert_eq!(o.percent, Some(true));
         let s = o.setup.unwrap();
         assert_eq!((s.home, s.retract, o.arcs), (Home::Park([10.0, -5.5]), Retract::None, Arcs::Radius));
         for (text, words) in [

@@ -157,6 +157,10 @@ fn limits_comments_and_dwell_units() {
     let e = written("fanuc", |o| o.byte_limit = Some(whole - 1)).unwrap_err();
     assert!(e.to_string().starts_with(&format!("the program is {whole} bytes (drip-feed it")), "{e}");
     assert!(written("fanuc", |o| o.byte_limit = Some(whole)).is_ok());
+    let framed = written("linuxcnc", |o| o.percent = Some(true)).unwrap();
+    assert!(framed.starts_with("%\n(POST TEST)\n") && framed.ends_with("M2\n%\n"), "{framed}");
+    let bare = written("fanuc", |o| o.percent = Some(false)).unwrap();
+    assert!(bare.starts_with("O0001 (POST TEST)\n") && bare.ends_with("M30\n"), "{bare}");
     let bare = written("grbl", |o| o.comments = false).unwrap();
     assert!(!bare.contains('('), "{bare}");
     assert!(bare.starts_with("G21\nG90 G17 G94\nG54\nM0\n"), "{bare}");

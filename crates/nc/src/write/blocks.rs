@@ -155,6 +155,8 @@ pub(super) struct Writer {
     changes: usize,
     block_limit: Option<u32>,
     byte_limit: Option<u64>,
+    /// `%` first and last.
+    percent: bool,
 }
 
 impl Dialect {
@@ -221,6 +223,7 @@ impl Writer {
             changes: 0,
             block_limit: o.block_limit,
             byte_limit: o.byte_limit,
+            percent: o.percent.unwrap_or(o.dialect == Dialect::Fanuc),
         };
         for m in toolpath.moves.iter().filter(|m| m.tool != 0) {
             if w.loads.last() != Some(&m.tool) {
@@ -256,8 +259,11 @@ impl Writer {
 
     pub(super) fn header(&mut self, o: &WriteOptions) {
         let title = o.title.as_deref().map(str::trim).filter(|t| !t.is_empty() && o.comments);
+        if self.percent {
+            self.out.push_str("%\n");
+        }
         if self.dialect == Dialect::Fanuc {
-            self.out.push_str("%\nO");
+            self.out.push('O');
             push_padded(&mut self.out, u64::from(o.program_number), 4);
             if let Some(t) = title {
                 self.out.push(' ');
@@ -319,7 +325,7 @@ impl Writer {
         self.block();
         self.code(&end);
         self.out.push('\n');
-        if self.dialect == Dialect::Fanuc {
+        if self.percent {
             self.out.push_str("%\n");
         }
         self.check_limits()?;

@@ -191,6 +191,9 @@ pub struct WriteOptions {
     pub block_limit: Option<u32>,
     /// The most bytes the program may have (the control's memory).
     pub byte_limit: Option<u64>,
+    /// `%` as the first and last line; `None`: the dialect's (Fanuc yes,
+    /// the others no).
+    pub percent: Option<bool>,
     /// For a program kezuri makes: its start, tool changes and end. `None`
     /// for a program kezuri transforms, which keeps its own.
     pub setup: Option<Setup>,
@@ -214,6 +217,7 @@ impl Default for WriteOptions {
             dwell_ms: None,
             block_limit: None,
             byte_limit: None,
+            percent: None,
             setup: None,
         }
     }
