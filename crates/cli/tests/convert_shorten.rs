@@ -6,7 +6,7 @@
 use std::path::Path;
 
 mod common;
-use common::{kezuri, ok};
+use common::{feed_points, kezuri, ok};
 
 /// A small deterministic generator (splitmix64), numbers in [0, 1).
 struct Random(u64);
@@ -62,19 +62,6 @@ fn random_program(seed: u64) -> String {
     text + "G00 Z5.\nM30\n"
 }
 
-/// The feed points of a program in order, from `kezuri run --emit csv`.
-fn points(file: &str) -> Vec<[f64; 3]> {
-    let csv = ok(&kezuri(&["run", file, "--emit", "csv"]));
-    csv.lines()
-        .skip(1)
-        .filter(|l| l.split(',').nth(1) == Some("feed"))
-        .map(|l| {
-            let f: Vec<f64> = l.split(',').skip(2).take(3).map(|v| v.parse().unwrap()).collect();
-            [f[0], f[1], f[2]]
-        })
-        .collect()
-}
-
 /// Distance from `p` to the polyline through `line`.
 fn distance(p: [f64; 3], line: &[[f64; 3]]) -> f64 {
     let segment = |a: [f64; 3], b: [f64; 3]| {
@@ -108,11 +95,11 @@ fn the_written_program_stays_within_the_tolerance_both_ways() {
     for seed in 1..=6u64 {
         let input = file(dir.path(), &format!("p{seed}.nc"));
         std::fs::write(&input, random_program(seed)).unwrap();
-        let original = points(&input);
+        let original = feed_points(&input);
         for tol in [0.002, 0.02, 0.2] {
             let short = file(dir.path(), "short.nc");
             ok(&kezuri(&["convert", &input, "--shorten", &tol.to_string(), "-o", &short]));
-            let merged = points(&short);
+            let merged = feed_points(&short);
             assert!(merged.len() < original.len(), "seed {seed} tol {tol}: nothing merged");
             let d = both_ways(&original, &merged);
             assert!(d <= tol + slack, "seed {seed}, --shorten {tol}: {d} mm apart");
@@ -127,7 +114,7 @@ fn the_written_program_stays_within_the_tolerance_both_ways() {
             let (rml, back) = (file(dir.path(), "arcs.rml"), file(dir.path(), "back.nc"));
             ok(&kezuri(&["convert", &arcs, "--rml-unit", "0.001", "-o", &rml]));
             ok(&kezuri(&["convert", &rml, "--rml-unit", "0.001", "-o", &back]));
-            let chords = points(&back);
+            let chords = feed_points(&back);
             let d = both_ways(&original, &chords);
             assert!(d <= tol + slack + 0.001, "seed {seed}, --shorten {tol} --arcs ({fitted} arcs): {d} mm apart");
             arcs_fitted += fitted;

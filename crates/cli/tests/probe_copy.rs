@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 mod common;
-use common::{kezuri, ok, path};
+use common::{feed_points, kezuri, ok, path};
 
 /// `f` as an `x y z` grid every `step` over `[a, b]²`.
 fn write_xyz(dir: &Path, name: &str, a: f64, b: f64, step: f64, f: impl Fn(f64, f64) -> f64) -> String {
@@ -85,19 +85,6 @@ fn the_copy_of_a_tilted_plane_and_a_sphere_is_the_model() {
         assert!(left <= 0.002, "{name}: left {left}");
         assert!(gouge <= 0.0005, "{name}: gouge {gouge}");
     }
-}
-
-/// Feed points of `nc` as `(x, y, z)` text, written as the program has them.
-fn feed_points(nc: &str) -> Vec<[f64; 3]> {
-    let csv = ok(&kezuri(&["run", nc, "--emit", "csv"]));
-    csv.lines()
-        .skip(1)
-        .filter(|l| l.split(',').nth(1) == Some("feed"))
-        .map(|l| {
-            let f: Vec<f64> = l.split(',').skip(2).take(3).map(|v| v.parse().unwrap()).collect();
-            [f[0], f[1], f[2]]
-        })
-        .collect()
 }
 
 #[test]

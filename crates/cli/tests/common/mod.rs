@@ -20,3 +20,17 @@ pub fn ok(o: &Output) -> String {
 pub fn path(dir: &Path, name: &str) -> String {
     dir.join(name).to_string_lossy().into_owned()
 }
+
+/// The end points of the feed moves of program `nc`, in order, from
+/// `kezuri run --emit csv`.
+pub fn feed_points(nc: &str) -> Vec<[f64; 3]> {
+    let csv = ok(&kezuri(&["run", nc, "--emit", "csv"]));
+    csv.lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(1) == Some("feed"))
+        .map(|l| {
+            let f: Vec<f64> = l.split(',').skip(2).take(3).map(|v| v.parse().unwrap()).collect();
+            [f[0], f[1], f[2]]
+        })
+        .collect()
+}
