@@ -470,10 +470,7 @@ impl WriteArgs {
             }
             (p, e) => p.or(e),
         };
-        if let Some(n) = name.filter(|n| !crate::post::is_preset(n)) {
-            bail!("--post {n}: not a post; the posts are {}", kezuri_nc::write::PRESETS.join(", "));
-        }
-        let mut o = crate::post::options(&machine.post, name, &machine.tools)?;
+        let mut o = crate::post::for_machine(machine, name)?;
         if self.digits.is_some() || self.inch {
             o.digits = self.digits.unwrap_or(if self.inch { 4 } else { o.digits });
         }
