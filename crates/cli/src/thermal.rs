@@ -20,7 +20,7 @@ use crate::table::{read_columns, Table};
 /// The thermal commands.
 #[derive(Subcommand, Debug)]
 pub enum ThermalCommand {
-    /// The measuring program (the paper's O2007): the reference tool's edge stepped through
+    /// The measuring program (O2007): the reference tool's edge stepped through
     /// the line sensors along each linear axis at each indexed B angle, a dwell at every stop.
     Plan(PlanArgs),
     /// The reference tool's edge in a line-sensor profile: the profile split into its two

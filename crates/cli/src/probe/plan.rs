@@ -83,12 +83,12 @@ pub struct PlanArgs {
     /// How rows follow each other.
     #[arg(long, value_enum, default_value = "zigzag")]
     pub pattern: PlanPattern,
-    /// Feed of the plunge (G01, or G31), mm/min [default: 6000, the paper's;
+    /// Feed of the plunge (G01, or G31), mm/min [default: 6000, for an indicator stylus;
     /// 200 for g31].
     #[arg(long, value_name = "MM/MIN")]
     pub plunge_feed: Option<f64>,
     /// Feed of the retract and the moves between points, mm/min [default:
-    /// rapid, G00, as the paper's G00 X1.].
+    /// rapid, G00].
     #[arg(long, value_name = "MM/MIN")]
     pub feed: Option<f64>,
     /// Number of the main program (subprograms take the next three) [default: the
@@ -119,7 +119,7 @@ pub struct PlanArgs {
 /// Program styles on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum PlanStyle {
-    /// The paper's main program and repeated incremental subprograms.
+    /// The main program and repeated incremental subprograms (fanuc, haas).
     Subprogram,
     /// Every point written out, absolute.
     Expanded,
