@@ -32,14 +32,14 @@ use anyhow::{bail, Result};
 use kezuri_nc::write::{Arcs, CoolantChoice, Home, Retract, WriteOptions, PRESETS};
 use serde::Deserialize;
 
-use crate::machine::ToolEntry;
+use crate::machine::{Machine, ToolEntry};
 
 /// The machine file's `[post]`, as written: every key optional.
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PostFile {
     preset: Option<String>,
-    program_number: Option<u32>,
+    pub program_number: Option<u32>,
     start: Option<String>,
     work_offset: Option<String>,
     retract: Option<String>,
@@ -158,9 +158,13 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
     Ok(o)
 }
 
-/// Whether `name` is a preset.
-pub fn is_preset(name: &str) -> bool {
-    PRESETS.iter().any(|p| p.eq_ignore_ascii_case(name.trim()))
+/// The write options of `--post NAME` (else the machine file's preset,
+/// else fanuc) for `machine`: its `[post]` and tool table.
+pub fn for_machine(machine: &Machine, name: Option<&str>) -> Result<WriteOptions> {
+    if let Some(n) = name.filter(|n| !PRESETS.iter().any(|p| p.eq_ignore_ascii_case(n.trim()))) {
+        bail!("--post {n}: not a post; the posts are {}", PRESETS.join(", "));
+    }
+    options(&machine.post, name, &machine.tools)
 }
 
 #[cfg(test)]

@@ -558,10 +558,7 @@ pub fn post_options(post: Option<&str>, emit: Option<&str>, machine: &Machine) -
         }
         (p, e) => p.or(e),
     };
-    if let Some(n) = name.filter(|n| !crate::post::is_preset(n)) {
-        bail!("--post {n}: not a post; the posts are {}", kezuri_nc::write::PRESETS.join(", "));
-    }
-    crate::post::options(&machine.post, name, &machine.tools)
+    crate::post::for_machine(machine, name)
 }
 
 /// Writes `path` as `w` asks: a program by the post, CSV or RML-1, and

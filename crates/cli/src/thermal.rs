@@ -20,7 +20,7 @@ use crate::table::{read_columns, Table};
 /// The thermal commands.
 #[derive(Subcommand, Debug)]
 pub enum ThermalCommand {
-    /// The measuring program (the paper's O2007): the reference tool's edge stepped through
+    /// The measuring program (O2007): the reference tool's edge stepped through
     /// the line sensors along each linear axis at each indexed B angle, a dwell at every stop.
     Plan(PlanArgs),
     /// The reference tool's edge in a line-sensor profile: the profile split into its two
@@ -168,10 +168,17 @@ pub struct FitArgs {
 #[command(after_help = "Without --at, the standard stations: B 0 from X -2 Z -74, B -90 from X -145 Z -135; each
 steps Z then X six times by -4 mm (Z -74 ... -94, then X -2 ... -22 at Z -94).
 
+The program begins as --post begins a program it makes (safe start, retract, T<n> M06 for the
+reference tool, --tool-number), applies the tool's length offset on its first Z move (G43 H<its
+H> from the machine file's tool table, else H<n>), and ends as the post ends one (retract, home,
+M30 or M2). The dwell is G04 X<s> on fanuc and haas, G4 P<s> on linuxcnc and mach3 (in ms where
+the machine file's [post] dwell_unit is ms). GRBL has no B axis to index: --post grbl is refused.
+
 Examples:
   kezuri thermal plan -o O2007.nc
   kezuri thermal plan --machine mill-turn.toml --at 0:-2,0,-74 --at -90:-145,0,-135 -o O2007.nc
-  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 --dwell 2 -o drift.nc")]
+  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 --dwell 2 -o drift.nc
+  kezuri thermal plan --machine mill-turn.toml --post linuxcnc --tool-number 20 -o O2007.ngc")]
 pub struct PlanArgs {
     /// A station: B angle and the first stop, `B:X,Y,Z` (repeat for each angle).
     #[arg(long = "at", value_name = "B:X,Y,Z", allow_hyphen_values = true)]
@@ -194,12 +201,21 @@ pub struct PlanArgs {
     /// Z for the moves between stations.
     #[arg(long, value_name = "Z", default_value_t = 0.0, allow_negative_numbers = true)]
     pub safe_z: f64,
-    /// Program number.
-    #[arg(long, value_name = "N", default_value_t = 2007)]
-    pub number: u32,
-    /// Machine file (TOML): the program may use only axes it has [default: a 3-axis mill].
+    /// Program number [default: the machine file's [post] program_number, else 2007].
+    #[arg(long, value_name = "N")]
+    pub number: Option<u32>,
+    /// Machine file (TOML): the program may use only axes it has [default: a 3-axis mill];
+    /// its [post] (how the program is written for the control) and tool table (the H register
+    /// of G43 H).
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
+    /// G-code for this control: fanuc, haas, linuxcnc or mach3 [default: the machine file's
+    /// [post] preset, else fanuc].
+    #[arg(long, value_name = "NAME")]
+    pub post: Option<String>,
+    /// The reference tool's number: T<n> M06, and G43 H<its H register> on the first Z move.
+    #[arg(long, value_name = "T", default_value_t = 1)]
+    pub tool_number: u32,
     /// Output file (default: standard output).
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
@@ -239,7 +255,7 @@ fn plan(a: &PlanArgs) -> Result<()> {
         bail!("--at {}: the machine has no B axis to index (give --machine with one)", s.b_deg);
     }
     let p = ThermalPlan {
-        number: a.number,
+        number: a.number.or(machine.post.program_number).unwrap_or(2007),
         stations,
         axes,
         steps: a.steps,
@@ -247,6 +263,8 @@ fn plan(a: &PlanArgs) -> Result<()> {
         dwell: a.dwell,
         feed: a.feed,
         safe_z: a.safe_z,
+        post: crate::post::for_machine(&machine, a.post.as_deref())?,
+        tool: a.tool_number,
     };
     let text = p.program()?;
     write_output(a.output.as_deref(), text.as_bytes())?;

@@ -9,10 +9,16 @@
 //! toward −X ([`order`] gives the points in the order they are measured: the
 //! order a capture numbers them, 1-based).
 //!
-//! [`Plan::program`] writes the program in one of three [`Style`]s, Fanuc
-//! text with a decimal point on every axis word and `%` framing:
+//! [`Plan::program`] writes the program in one of three [`Style`]s, with a
+//! decimal point on every axis word. It begins and ends as the post
+//! ([`Plan::post`]) begins and ends a program it makes
+//! ([`made_text`]): its header (with the comments below), safe start,
+//! retract and change to the stylus ([`Plan::tool`]); the tool length offset
+//! on the first Z move (`G00 G43 H1 Z30.`); and its end (retract, home,
+//! `M30`). The moves between are in the post's dialect (`G00`, or `G0` for
+//! LinuxCNC, Mach3 and GRBL).
 //!
-//! - [`Style::Subprogram`]: the paper's O1011/O1012/O1013 shape. The main
+//! - [`Style::Subprogram`] (Fanuc and Haas): the O1011/O1012/O1013 shape. The main
 //!   program positions at the origin and `z_safe` in G90, then switches to
 //!   G91 and repeats a row subprogram with `M98 P… L…`; the row subprogram
 //!   measures its first point and repeats a point subprogram (step one pitch,
@@ -20,9 +26,10 @@
 //!   Zig-zag repeats a row-pair subprogram (a +X row, a −X row); an odd last
 //!   row is written in the main program. Subprograms are numbered after the
 //!   main one: `O n+1` row (one-way) or row pair (zig-zag), `O n+2` the +X
-//!   point, `O n+3` the −X point (zig-zag).
-//! - [`Style::Expanded`]: every point written out in absolute coordinates.
-//! - [`Style::G31`]: for a touch probe. At each point `G31` goes down toward
+//!   point, `O n+3` the −X point (zig-zag). `G90` comes back before the end.
+//! - [`Style::Expanded`] (every dialect): every point written out in absolute
+//!   coordinates.
+//! - [`Style::G31`] (Fanuc and Haas, custom macro B): for a touch probe. At each point `G31` goes down toward
 //!   the bottom and stops at the touch; the control then writes the touch
 //!   point with `DPRNT` to the I/O device opened by `POPEN` (the RS-232 port
 //!   a capture listens on), one line `x y z` per point: `#5061`, `#5062` and
@@ -30,19 +37,23 @@
 //!   offset). Where the probe meets nothing the line gives the bottom.
 //!
 //! The subprogram and expanded styles give the trigger at every bottom (by
-//! default the paper's `M07`, `G04 X0.5`, `M09`: the air-blow signal tells
-//! the PC to read the indicator). Every program retracts with `G91 G28 Z0.`
-//! before it positions (the start is unknown) and at the end.
+//! default [`default_trigger`]: `M07`, `G04 X0.5`, `M09` on Fanuc, the air-blow
+//! signal that tells the PC to read the indicator). Measuring programs give
+//! their dwells in seconds (Fanuc `G04 X0.5`, others `G4 P0.5`) unless the
+//! post's dwell unit is set to milliseconds ([`text_options`]).
 //!
 //! All coordinates are integers of `10^-digits` mm inside, so the grid points
 //! are written exactly and the incremental steps add up to them.
 
 use std::fmt;
 
+use crate::write::{dwell_block, made_text, text_options, Dialect, WriteOptions};
 use crate::{interp, parse, Program, SourceFile, Sources};
 
-/// The paper's trigger at each plunge bottom: air blow on, dwell, off.
-pub const DEFAULT_TRIGGER: [&str; 3] = ["M07", "G04 X0.5", "M09"];
+/// The dwell of the default trigger, s.
+pub const TRIGGER_DWELL: f64 = 0.5;
+/// The default stylus (tool) number.
+pub const DEFAULT_TOOL: u32 = 1;
 /// The paper's main program number.
 pub const DEFAULT_PROGRAM: u32 = 1011;
 /// The paper's plunge feed (mm/min), for an indicator stylus.
@@ -152,6 +163,11 @@ pub struct Plan {
     /// Decimals of the coordinates, 0 to [`MAX_DIGITS`]: every given length
     /// must be a whole number of `10^-digits` mm.
     pub digits: u32,
+    /// How the program begins, changes to the stylus and ends, and the
+    /// dialect of its blocks (default: the fanuc preset).
+    pub post: WriteOptions,
+    /// The stylus's tool number (its length register is the post's `H`).
+    pub tool: u32,
 }
 
 /// Why a plan cannot be written.
@@ -174,9 +190,10 @@ fn err<T>(message: impl Into<String>) -> Result<T, PlanError> {
 const MAX_UNITS: i64 = 99_999_999;
 
 impl Plan {
-    /// A plan with the defaults: subprogram style, zig-zag, the paper's feed,
-    /// program number and trigger, 3 decimals.
+    /// A plan with the defaults: subprogram style, zig-zag, the paper's feed
+    /// and program number, the fanuc post and its trigger, 3 decimals, T1.
     pub fn new(origin: [f64; 2], count: [u32; 2], pitch: f64, z_safe: f64, plunge: f64) -> Plan {
+        let post = WriteOptions::preset("fanuc").unwrap_or_default();
         Plan {
             origin,
             count,
@@ -188,8 +205,10 @@ impl Plan {
             plunge_feed: DEFAULT_PLUNGE_FEED,
             feed: None,
             program: DEFAULT_PROGRAM,
-            trigger: DEFAULT_TRIGGER.iter().map(|s| s.to_string()).collect(),
+            trigger: default_trigger(&post).unwrap_or_default(),
             digits: 3,
+            post,
+            tool: DEFAULT_TOOL,
         }
     }
 
@@ -209,15 +228,34 @@ impl Plan {
         self.layout().map(|_| ())
     }
 
-    /// The program text (`%`-framed, `\n` line ends).
+    /// The program text (`\n` line ends), framed by the post.
     pub fn program(&self) -> Result<String, PlanError> {
         let g = self.layout()?;
-        let mut w = Writer { out: String::new(), digits: self.digits, plan: self, g };
+        let mut w = Writer { out: String::new(), digits: self.digits, plan: self, g, length: None };
+        let options = WriteOptions {
+            program_number: self.program,
+            title: Some(format!("KEZURI PROBE PLAN, {} STYLE", self.style.name().to_ascii_uppercase())),
+            notes: w.notes(),
+            ..text_options(&self.post)
+        };
+        let made = made_text(&options, self.tool).map_err(|e| PlanError(e.to_string()))?;
+        w.out = made.start;
+        w.length = made.length;
         match self.style {
             Style::Subprogram => w.subprogram(),
             Style::Expanded => w.expanded(),
             Style::G31 => w.g31(),
         }
+        // The subprograms follow the main program's end, inside its `%`.
+        let (end, tape) = match made.end.strip_suffix("%\n") {
+            Some(end) => (end, "%\n"),
+            None => (made.end.as_str(), ""),
+        };
+        w.out.push_str(end);
+        if self.style == Style::Subprogram {
+            w.subprograms();
+        }
+        w.out.push_str(tape);
         Ok(w.out)
     }
 
@@ -287,6 +325,21 @@ impl Plan {
             Style::Subprogram => self.program.checked_add(3),
             _ => Some(self.program),
         };
+        let dialect = self.post.dialect;
+        if dialect != Dialect::Fanuc && self.style != Style::Expanded {
+            let (style, what) = match self.style {
+                Style::G31 => ("g31", "G31 and DPRNT (Fanuc custom macro B)"),
+                _ => ("subprogram", "M98 P… L… subprograms"),
+            };
+            let controls = if dialect == Dialect::Grbl { "GRBL" } else { "LinuxCNC and Mach3" };
+            return err(format!(
+                "the {style} style writes {what}, which only Fanuc and Haas controls run; for {controls} write \
+                 the expanded style (--style expanded)"
+            ));
+        }
+        if self.tool > 9999 {
+            return err(format!("the stylus's tool number must be 0 to 9999, got {}", self.tool));
+        }
         if self.program < 1 || !matches!(last, Some(l) if l <= 9999) {
             let what = if self.style == Style::Subprogram { " (it and the 3 after it)" } else { "" };
             return err(format!("the program number{what} must be 1 to 9999, got {}", self.program));
@@ -304,7 +357,8 @@ impl Plan {
                 return err("the trigger needs at least one block (default M07, G04 X0.5, M09)");
             }
             for (k, block) in self.trigger.iter().enumerate() {
-                check_trigger(block).map_err(|m| PlanError(format!("trigger block {} '{block}': {m}", k + 1)))?;
+                check_trigger(block, dialect)
+                    .map_err(|m| PlanError(format!("trigger block {} '{block}': {m}", k + 1)))?;
             }
         }
         Ok(Grid { x0, y0, pitch, plunge, z_safe, bottom })
@@ -325,7 +379,7 @@ struct Grid {
 /// A trigger block must be one plain block that does not move the stylus,
 /// change a modal G code or end, call or leave the program: only `G04` may
 /// appear as a G code, and the block is run between two moves to prove it.
-fn check_trigger(block: &str) -> Result<(), String> {
+fn check_trigger(block: &str, dialect: Dialect) -> Result<(), String> {
     let b = block.trim();
     if b.is_empty() {
         return Err("an empty block".into());
@@ -359,14 +413,14 @@ fn check_trigger(block: &str) -> Result<(), String> {
     }
     // Run it between two absolute moves: it must neither move nor change how
     // the next move is read, and the program must go on to its M30.
-    let text = format!("G90 G00 X5. Y0. Z0.\n{b}\nG00 X1.\nM30\n");
+    let text = format!("G90 G0 X5. Y0. Z0.\n{b}\nG0 X1.\nM30\n");
     let mut sources = Sources::default();
     let file = sources.add(SourceFile::new("trigger", text.clone()));
     let mut program = Program::default();
     if let Some(d) = parse(&mut program, file, &text).first() {
         return Err(d.message.clone());
     }
-    let settings = interp::Settings::default();
+    let settings = read_as(dialect);
     let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, &settings);
     if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
         return Err(d.message.clone());
@@ -383,11 +437,32 @@ fn check_trigger(block: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// The trigger at each plunge bottom in `post`'s words: air blow on
+/// (`M07`), a dwell of [`TRIGGER_DWELL`] s, off (`M09`).
+pub fn default_trigger(post: &WriteOptions) -> Result<Vec<String>, PlanError> {
+    let codes = post.dialect.codes();
+    let dwell = dwell_block(&text_options(post), TRIGGER_DWELL).map_err(|e| PlanError(e.to_string()))?;
+    Ok(vec![codes.mist.to_string(), dwell, codes.coolant_off.to_string()])
+}
+
+/// How kezuri's interpreter reads a program of `dialect`: a LinuxCNC or
+/// GRBL `P` of `G4` is seconds, and a number without a point is mm.
+pub fn read_as(dialect: Dialect) -> interp::Settings {
+    let mut settings = interp::Settings::default();
+    if dialect != Dialect::Fanuc {
+        settings.integer_input = interp::IntegerInput::Units;
+        settings.coords.control = interp::Control::LinuxCnc;
+    }
+    settings
+}
+
 struct Writer<'a> {
     out: String,
     digits: u32,
     plan: &'a Plan,
     g: Grid,
+    /// The post's length offset words, taken by the first Z move.
+    length: Option<String>,
 }
 
 impl Writer<'_> {
@@ -416,57 +491,89 @@ impl Writer<'_> {
         self.out.push('\n');
     }
 
-    /// Header: `%`, the program number and comments that say what it does.
-    fn header(&mut self) {
+    /// The comments after the title that say what the program does.
+    fn notes(&self) -> Vec<String> {
         let p = self.plan;
         let g = self.g;
         let [nx, ny] = p.count;
-        let style = match p.style {
-            Style::Subprogram => "SUBPROGRAM",
-            Style::Expanded => "EXPANDED",
-            Style::G31 => "G31",
-        };
-        self.line("%");
-        self.line(&format!("O{:04} (KEZURI PROBE PLAN, {style} STYLE)", p.program));
-        self.line(&format!(
-            "(GRID {nx} X {ny} = {} POINTS AT PITCH {}, FIRST X{} Y{})",
-            u64::from(nx) * u64::from(ny),
-            self.n(g.pitch),
-            self.n(g.x0),
-            self.n(g.y0)
-        ));
-        self.line(&format!(
-            "(THE STYLUS TRAVELS AT Z{} AND PLUNGES {} TO Z{} AT EACH POINT)",
-            self.n(g.z_safe),
-            self.n(g.plunge),
-            self.n(g.bottom)
-        ));
         let rows = match p.pattern {
             Pattern::Zigzag => "ZIGZAG, EVERY OTHER ROW BACK TOWARD -X",
             Pattern::OneWay => "ONE WAY, EVERY ROW TOWARD +X",
         };
-        self.line(&format!("(ROWS ALONG X STEPPING +Y, THE FIRST ROW TOWARD +X, {rows})"));
+        let mut notes = vec![
+            format!(
+                "GRID {nx} X {ny} = {} POINTS AT PITCH {}, FIRST X{} Y{}",
+                u64::from(nx) * u64::from(ny),
+                self.n(g.pitch),
+                self.n(g.x0),
+                self.n(g.y0)
+            ),
+            format!(
+                "THE STYLUS TRAVELS AT Z{} AND PLUNGES {} TO Z{} AT EACH POINT",
+                self.n(g.z_safe),
+                self.n(g.plunge),
+                self.n(g.bottom)
+            ),
+            format!("ROWS ALONG X STEPPING +Y, THE FIRST ROW TOWARD +X, {rows}"),
+        ];
+        let style: &[&str] = match p.style {
+            Style::Subprogram => &["THE SUBPROGRAMS MOVE INCREMENTALLY, SO G91 FOLLOWS THE POSITIONING"],
+            Style::Expanded => &["EVERY POINT WRITTEN OUT IN ABSOLUTE COORDINATES"],
+            Style::G31 => &[
+                "SKIP-SIGNAL PROBING, G31 STOPS AT THE TOUCH AND THE CONTROL RECORDS IT",
+                "DPRNT WRITES ONE LINE X Y Z PER POINT TO THE DEVICE OPENED BY POPEN",
+                "X AND Y ARE VARIABLES 5061 AND 5062, Z IS THE TIP, 5063 LESS THE LENGTH OFFSET 5083",
+            ],
+        };
+        notes.extend(style.iter().map(|s| s.to_string()));
+        if p.style == Style::G31 {
+            notes.push(format!("NO TOUCH ABOVE THE BOTTOM, THE LINE GIVES Z{}", self.n(g.bottom)));
+        }
+        notes
     }
 
-    /// Retract, position at the origin, go down to z-safe.
+    /// ` (TEXT)`, or nothing where the post writes no comments.
+    fn comment(&self, text: &str) -> String {
+        if self.plan.post.comments {
+            format!(" ({text})")
+        } else {
+            String::new()
+        }
+    }
+
+    /// A line `(TEXT)` where the post writes comments.
+    fn comment_line(&mut self, text: &str) {
+        if self.plan.post.comments {
+            self.line(&format!("({text})"));
+        }
+    }
+
+    /// A subprogram's first line: `O1012 (WHAT IT DOES)`.
+    fn subprogram_start(&mut self, number: u32, what: &str) {
+        let line = format!("O{number:04}{}", self.comment(what));
+        self.line(&line);
+    }
+
+    /// The dialect's motion code: 0 rapid, 1 feed.
+    fn motion(&self, k: usize) -> &'static str {
+        self.plan.post.dialect.codes().motion[k]
+    }
+
+    /// Position at the origin, go down to z-safe with the stylus's length
+    /// offset: the post has retracted and changed to the stylus.
     fn approach(&mut self) {
         let g = self.g;
-        self.line("G91 G28 Z0. (RETRACT FIRST, THE START IS UNKNOWN)");
-        self.line(&format!("G90 G00 X{} Y{}", self.n(g.x0), self.n(g.y0)));
-        self.line(&format!("G00 Z{}", self.n(g.z_safe)));
+        let rapid = self.motion(0);
+        self.line(&format!("G90 {rapid} X{} Y{}", self.n(g.x0), self.n(g.y0)));
+        let length = self.length.take().map(|l| l + " ").unwrap_or_default();
+        self.line(&format!("{rapid} {length}Z{}", self.n(g.z_safe)));
     }
 
-    fn finish(&mut self) {
-        self.line("G91 G28 Z0.");
-        self.line("G90");
-        self.line("M30");
-    }
-
-    /// A move between points (or the retract): `G00`, or `G01` at the feed.
+    /// A move between points (or the retract): rapid, or feed at the feed.
     fn travel(&self, words: &str) -> String {
         match self.plan.feed {
-            None => format!("G00 {words}"),
-            Some(f) => format!("G01 {words} F{}", Self::f(f)),
+            None => format!("{} {words}", self.motion(0)),
+            Some(f) => format!("{} {words} F{}", self.motion(1), Self::f(f)),
         }
     }
 
@@ -474,7 +581,7 @@ impl Writer<'_> {
     fn touch(&mut self, incremental: bool) {
         let g = self.g;
         let (down, up) = if incremental { (-g.plunge, g.plunge) } else { (g.bottom, g.z_safe) };
-        self.line(&format!("G01 Z{} F{}", self.n(down), Self::f(self.plan.plunge_feed)));
+        self.line(&format!("{} Z{} F{}", self.motion(1), self.n(down), Self::f(self.plan.plunge_feed)));
         for t in &self.plan.trigger {
             self.line(t.trim());
         }
@@ -484,11 +591,8 @@ impl Writer<'_> {
 
     fn subprogram(&mut self) {
         let p = self.plan;
-        let g = self.g;
         let [nx, ny] = p.count;
-        let (row, fwd, back) = (p.program + 1, p.program + 2, p.program + 3);
-        self.header();
-        self.line("(THE SUBPROGRAMS MOVE INCREMENTALLY, SO G91 FOLLOWS THE POSITIONING)");
+        let (row, fwd) = (p.program + 1, p.program + 2);
         self.approach();
         self.line("G91");
         let past = match p.pattern {
@@ -501,7 +605,7 @@ impl Writer<'_> {
                     self.line(&format!("M98 P{row:04} L{}", ny / 2));
                 }
                 if ny % 2 == 1 {
-                    self.line("(THE LAST ROW, TOWARD +X)");
+                    self.comment_line("THE LAST ROW, TOWARD +X");
                     self.touch(true);
                     if nx > 1 {
                         self.line(&format!("M98 P{fwd:04} L{}", nx - 1));
@@ -511,13 +615,22 @@ impl Writer<'_> {
             }
         };
         if past {
-            self.line("(THE STYLUS IS ONE PITCH PAST THE LAST ROW, AT Z-SAFE)");
+            self.comment_line("THE STYLUS IS ONE PITCH PAST THE LAST ROW, AT Z-SAFE");
         }
-        self.finish();
+        // The subprograms leave the control in G91: the end is absolute.
+        self.line("G90");
+    }
+
+    /// The subprograms, after the main program's end.
+    fn subprograms(&mut self) {
+        let p = self.plan;
+        let g = self.g;
+        let [nx, ny] = p.count;
+        let (row, fwd, back) = (p.program + 1, p.program + 2, p.program + 3);
         let step = self.n(g.pitch);
         match p.pattern {
             Pattern::OneWay => {
-                self.line(&format!("O{row:04} (ONE ROW TOWARD +X, THEN BACK TO ITS START AND ONE PITCH IN Y)"));
+                self.subprogram_start(row, "ONE ROW TOWARD +X, THEN BACK TO ITS START AND ONE PITCH IN Y");
                 self.touch(true);
                 if nx > 1 {
                     self.line(&format!("M98 P{fwd:04} L{}", nx - 1));
@@ -531,7 +644,7 @@ impl Writer<'_> {
                 self.line("M99");
             }
             Pattern::Zigzag if ny >= 2 => {
-                self.line(&format!("O{row:04} (TWO ROWS, TOWARD +X AND BACK TOWARD -X, EACH THEN ONE PITCH IN Y)"));
+                self.subprogram_start(row, "TWO ROWS, TOWARD +X AND BACK TOWARD -X, EACH THEN ONE PITCH IN Y");
                 for sub in [fwd, back] {
                     self.touch(true);
                     if nx > 1 {
@@ -550,14 +663,13 @@ impl Writer<'_> {
                 subs.push((back, -g.pitch, "-X"));
             }
             for (sub, dx, dir) in subs {
-                self.line(&format!("O{sub:04} (ONE POINT, A PITCH TOWARD {dir}, PLUNGE, TRIGGER, RETRACT)"));
+                self.subprogram_start(sub, &format!("ONE POINT, A PITCH TOWARD {dir}, PLUNGE, TRIGGER, RETRACT"));
                 let s = self.travel(&format!("X{}", self.n(dx)));
                 self.line(&s);
                 self.touch(true);
                 self.line("M99");
             }
         }
-        self.line("%");
     }
 
     /// Each point's `[x, y]` in units, in order.
@@ -584,8 +696,6 @@ impl Writer<'_> {
     }
 
     fn expanded(&mut self) {
-        self.header();
-        self.line("(EVERY POINT WRITTEN OUT IN ABSOLUTE COORDINATES)");
         self.approach();
         let mut at = [self.g.x0, self.g.y0];
         let points: Vec<[i64; 2]> = self.grid_points().collect();
@@ -593,19 +703,12 @@ impl Writer<'_> {
             self.position(&mut at, to);
             self.touch(false);
         }
-        self.finish();
-        self.line("%");
     }
 
     fn g31(&mut self) {
         let g = self.g;
         let frac = self.digits.max(3);
         let fmt = format!("[{}{}]", 8 - frac, frac);
-        self.header();
-        self.line("(SKIP-SIGNAL PROBING, G31 STOPS AT THE TOUCH AND THE CONTROL RECORDS IT)");
-        self.line("(DPRNT WRITES ONE LINE X Y Z PER POINT TO THE DEVICE OPENED BY POPEN)");
-        self.line("(X AND Y ARE VARIABLES 5061 AND 5062, Z IS THE TIP, 5063 LESS THE LENGTH OFFSET 5083)");
-        self.line(&format!("(NO TOUCH ABOVE THE BOTTOM, THE LINE GIVES Z{})", self.n(g.bottom)));
         self.approach();
         self.line("POPEN");
         let mut at = [g.x0, g.y0];
@@ -618,8 +721,6 @@ impl Writer<'_> {
             self.line(&format!("G00 Z{}", self.n(g.z_safe)));
         }
         self.line("PCLOS");
-        self.finish();
-        self.line("%");
     }
 }
 
@@ -631,7 +732,7 @@ mod tests {
     fn numbers_have_a_decimal_point() {
         let plan = Plan::new([0.0, 0.0], [1, 1], 1.0, 30.0, 50.0);
         let g = plan.layout().unwrap();
-        let w = Writer { out: String::new(), digits: 3, plan: &plan, g };
+        let w = Writer { out: String::new(), digits: 3, plan: &plan, g, length: None };
         let got: Vec<String> = [0, 1000, -500, 1, -1_234_567, 120].iter().map(|&u| w.n(u)).collect();
         assert_eq!(got, ["0.", "1.", "-0.5", "0.001", "-1234.567", "0.12"]);
         assert_eq!(Writer::f(6000.0), "6000.");
@@ -654,10 +755,13 @@ mod tests {
     #[test]
     fn triggers_are_checked() {
         for ok in ["M07", "G04 X0.5", "M09", "G4 P500", "M00", "M07 (AIR ON)"] {
-            assert_eq!(check_trigger(ok), Ok(()), "{ok}");
+            assert_eq!(check_trigger(ok, Dialect::Fanuc), Ok(()), "{ok}");
         }
         for bad in ["", "G91", "G01 X1.", "M07 X5.", "M30", "M98 P1234", "O1234", "M99", "G20", "G04 X0.5 %"] {
-            assert!(check_trigger(bad).is_err(), "{bad} is refused");
+            assert!(check_trigger(bad, Dialect::Fanuc).is_err(), "{bad} is refused");
+        }
+        for ok in ["M7", "G4 P0.5", "M9"] {
+            assert_eq!(check_trigger(ok, Dialect::LinuxCnc), Ok(()), "{ok}");
         }
     }
 }

@@ -1,5 +1,5 @@
-//! Seed 003's measuring program for thermal drift (the paper's O2007,
-//! `kezuri thermal plan`): at each indexed B angle the reference tool's
+//! The measuring program for thermal drift (O2007, `kezuri thermal plan`):
+//! at each indexed B angle the reference tool's
 //! edge is brought into the two line sensors and stepped along each linear
 //! axis in known steps, with a dwell at every stop while the sensors read.
 //!
@@ -9,10 +9,17 @@
 //! paper's program does: Z −74 … −94, then X −2 … −22 at Z −94).
 //! [`ThermalPlan::stops`] lists the positions in order; the tests run the
 //! program through kezuri's interpreter and compare.
+//!
+//! The program begins and ends as the post ([`ThermalPlan::post`]) begins
+//! and ends a program it makes ([`made_text`]): safe start, retract, change
+//! to the reference tool ([`ThermalPlan::tool`]) with its length offset on
+//! the first Z move, and the post's end. Its blocks are in the post's
+//! dialect (`G00`/`G0`, the dwell `G04 X1.` on Fanuc, `G4 P1` elsewhere).
+//! GRBL has no rotary axis to index, so it is refused.
 
 use std::fmt::Write;
 
-use crate::write::number;
+use crate::write::{dwell_block, made_text, number, text_options, Dialect, WriteOptions};
 
 /// One indexed angle's measurements.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,6 +49,11 @@ pub struct ThermalPlan {
     pub feed: f64,
     /// Z for moves between angles.
     pub safe_z: f64,
+    /// How the program begins, changes to the reference tool and ends, and
+    /// the dialect of its blocks.
+    pub post: WriteOptions,
+    /// The reference tool's number (its length register is the post's `H`).
+    pub tool: u32,
 }
 
 /// Why no program.
@@ -80,6 +92,14 @@ impl ThermalPlan {
         if finite.into_iter().any(|v| !v.is_finite()) || self.pitch == 0.0 || self.dwell < 0.0 || self.feed <= 0.0 {
             return bad("--pitch must be non-zero, --dwell not negative, --feed positive, all finite".into());
         }
+        if self.post.dialect == Dialect::Grbl {
+            return bad(
+                "GRBL has no rotary axis to index B: write the program for fanuc, haas, linuxcnc or mach3".into()
+            );
+        }
+        if self.tool > 9999 {
+            return bad(format!("the tool number must be 0 to 9999, got {}", self.tool));
+        }
         Ok(())
     }
 
@@ -99,38 +119,44 @@ impl ThermalPlan {
         out
     }
 
-    /// The program text (Fanuc, `%` framed).
+    /// The program text, framed by the post.
     pub fn program(&self) -> Result<String, PlanError> {
         self.check()?;
-        let mut t = String::new();
+        let text_error = |e: crate::write::WriteError| PlanError(e.to_string());
+        let options = WriteOptions {
+            program_number: self.number,
+            title: Some("THERMAL DRIFT MEASUREMENT: THE EDGE THROUGH THE LINE SENSORS".into()),
+            notes: vec![format!(
+                "{} STOPS PER AXIS, {} MM APART, {} S DWELL FOR THE SENSORS",
+                self.steps,
+                num(self.pitch),
+                num(self.dwell)
+            )],
+            ..text_options(&self.post)
+        };
+        let made = made_text(&options, self.tool).map_err(text_error)?;
+        let comment = |text: &str| if options.comments { format!(" ({text})") } else { String::new() };
+        let (safe, index, read) = (comment("SAFE"), comment("INDEX B"), comment("SENSORS READ"));
+        let [rapid, feed, ..] = self.post.dialect.codes().motion;
+        let dwell = dwell_block(&options, self.dwell).map_err(text_error)?;
+        let mut t = made.start;
         let w = &mut t;
-        let _ = writeln!(w, "%");
-        let _ =
-            writeln!(w, "O{:04} (THERMAL DRIFT MEASUREMENT, SEED 003: THE EDGE THROUGH THE LINE SENSORS)", self.number);
-        let _ = writeln!(
-            w,
-            "({} STOPS PER AXIS, {} MM APART, {} S DWELL FOR THE SENSORS)",
-            self.steps,
-            num(self.pitch),
-            num(self.dwell)
-        );
-        let _ = writeln!(w, "G21 G90 G17 G94");
+        let mut length = made.length.map(|l| l + " ").unwrap_or_default();
         let per_station = 1 + self.axes.len() * (self.steps - 1);
         for (s, stops) in self.stations.iter().zip(self.stops().chunks(per_station)) {
-            let _ = writeln!(w, "G00 Z{} (SAFE)", num(self.safe_z));
-            let _ = writeln!(w, "G00 B{} (INDEX B)", num(s.b_deg));
-            let _ = writeln!(w, "G00 X{} Y{}", num(s.start[0]), num(s.start[1]));
-            let _ = writeln!(w, "G01 Z{} F{}", num(s.start[2]), num(self.feed));
+            let _ = writeln!(w, "{rapid} {}Z{}{safe}", std::mem::take(&mut length), num(self.safe_z));
+            let _ = writeln!(w, "{rapid} B{}{index}", num(s.b_deg));
+            let _ = writeln!(w, "{rapid} X{} Y{}", num(s.start[0]), num(s.start[1]));
+            let _ = writeln!(w, "{feed} Z{} F{}", num(s.start[2]), num(self.feed));
             for (k, (_, at)) in stops.iter().enumerate() {
                 if k > 0 {
-                    let _ = writeln!(w, "G01 X{} Y{} Z{}", num(at[0]), num(at[1]), num(at[2]));
+                    let _ = writeln!(w, "{feed} X{} Y{} Z{}", num(at[0]), num(at[1]), num(at[2]));
                 }
-                let _ = writeln!(w, "G04 X{} (SENSORS READ)", num(self.dwell));
+                let _ = writeln!(w, "{dwell}{read}");
             }
         }
-        let _ = writeln!(w, "G00 Z{}", num(self.safe_z));
-        let _ = writeln!(w, "M30");
-        let _ = writeln!(w, "%");
+        let _ = writeln!(w, "{rapid} Z{}", num(self.safe_z));
+        t.push_str(&made.end);
         Ok(t)
     }
 }

@@ -5,26 +5,37 @@
 
 use kezuri_geom::{Axes, Move, MoveKind};
 use kezuri_nc::interp::{self, Outcome, Settings};
-use kezuri_nc::probe_plan::{grid_index, order, Pattern, Plan, Style};
+use kezuri_nc::probe_plan::{grid_index, order, read_as, Pattern, Plan, Style};
+use kezuri_nc::write::{Dialect, WriteOptions, PRESETS};
 use kezuri_nc::{parse, Program, SourceFile, Sources};
 
 const STYLES: [Style; 3] = [Style::Subprogram, Style::Expanded, Style::G31];
 const PATTERNS: [Pattern; 2] = [Pattern::Zigzag, Pattern::OneWay];
 const SIZES: [[u32; 2]; 8] = [[1, 1], [1, 5], [6, 1], [4, 3], [4, 4], [2, 2], [3, 2], [85, 105]];
 
-/// The machine's reference point: Z above everything the tests use.
-fn settings() -> Settings {
-    Settings { home: Axes { z: 200.0, ..Axes::ZERO }, ..Settings::default() }
+/// The machine's reference point: Z above everything the tests use (machine
+/// zero, G53 Z0., is work Z0.); the stylus's length offset H1; the
+/// dialect's reading of `G4 P`.
+fn settings(dialect: Dialect) -> Settings {
+    Settings {
+        home: Axes { z: 200.0, ..Axes::ZERO },
+        tool_lengths: [(1, 50.0)].into_iter().collect(),
+        ..read_as(dialect)
+    }
 }
 
 fn run_text(text: &str) -> Outcome {
+    run_as(text, Dialect::Fanuc)
+}
+
+fn run_as(text: &str, dialect: Dialect) -> Outcome {
     let mut sources = Sources::default();
     let file = sources.add(SourceFile::new("plan.nc", text.to_string()));
     let mut program = Program::default();
     let diagnostics = parse(&mut program, file, text);
     let rendered: Vec<String> = diagnostics.iter().map(|d| d.render(&sources)).collect();
     assert!(diagnostics.is_empty(), "the plan parses without diagnostics:\n{}", rendered.join("\n"));
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, &settings());
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, &settings(dialect));
     let all: Vec<String> = outcome.diagnostics.iter().map(|d| d.render(&sources)).collect();
     assert!(all.is_empty(), "the plan runs without errors or warnings:\n{}", all.join("\n"));
     assert!(outcome.completed, "the plan runs to its M30");
@@ -39,8 +50,8 @@ fn close(a: f64, b: f64) -> bool {
 fn check(plan: &Plan) {
     let what = format!("{:?} {:?} {:?} pitch {}", plan.style, plan.pattern, plan.count, plan.pitch);
     let text = plan.program().unwrap_or_else(|e| panic!("{what}: {e}"));
-    check_text(&text, &what);
-    let outcome = run_text(&text);
+    check_text(&text, &what, plan.post.dialect);
+    let outcome = run_as(&text, plan.post.dialect);
     let moves = &outcome.toolpath.moves;
     let (zs, bottom) = (plan.z_safe, plan.bottom());
     // The grid, row by row from y0, the first row toward +X and (zig-zag)
@@ -100,7 +111,7 @@ fn check(plan: &Plan) {
             assert!(up.end.x == m.end.x && up.end.y == m.end.y, "{what}: the retract is vertical");
             assert!(!up.coolant.mist, "{what}: M09 before the retract");
             count += 1;
-        } else if m.kind != MoveKind::Home {
+        } else if !matches!(m.kind, MoveKind::Home | MoveKind::Machine) {
             // Everything else happens at z-safe (the approach comes down to it
             // from the reference point), and nothing but a plunge goes lower.
             assert!(m.end.z > zs - 1e-9, "{what}: {m:?} ends below z-safe");
@@ -127,18 +138,23 @@ fn check(plan: &Plan) {
         assert!(outcome.prints.is_empty());
     }
 
-    // It ends at z-safe or above: the last moves are the return home in Z.
+    // It ends at z-safe or above, then the post's retract and home (G28 or
+    // G53; none on GRBL).
     let last = moves.last().unwrap();
-    assert_eq!(last.kind, MoveKind::Home, "{what}: ends with G28 Z");
-    assert!(last.end.z >= zs && last.start.z >= zs - 1e-9, "{what}: ends above z-safe");
+    match last.kind {
+        MoveKind::Home => assert!(last.start.z >= zs - 1e-9 && last.end.z >= zs, "{what}: {last:?}"),
+        MoveKind::Machine => assert!(last.start.z >= zs - 1e-9, "{what}: {last:?}"),
+        _ => assert!(plan.post.dialect == Dialect::Grbl && close(last.end.z, zs), "{what}: {last:?}"),
+    }
 }
 
 /// The text itself: `%` framing, a decimal point on every axis word, and
 /// (subprogram style) the repeats.
-fn check_text(text: &str, what: &str) {
+fn check_text(text: &str, what: &str, dialect: Dialect) {
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.first(), Some(&"%"), "{what}");
-    assert_eq!(lines.last(), Some(&"%"), "{what}");
+    let fanuc = dialect == Dialect::Fanuc;
+    assert_eq!(lines.first() == Some(&"%"), fanuc, "{what}: % first on Fanuc only");
+    assert_eq!(lines.last() == Some(&"%"), fanuc, "{what}: % last on Fanuc only");
     for line in &lines {
         let code = match line.find('(') {
             Some(c) => &line[..c],
@@ -149,7 +165,7 @@ fn check_text(text: &str, what: &str) {
         }
         for word in code.split_whitespace() {
             let letter = word.as_bytes()[0];
-            if b"XYZIJKR".contains(&letter) && !(word.starts_with('X') && code.starts_with("G04")) {
+            if b"XYZIJKR".contains(&letter) && !(word.starts_with('X') && code.starts_with("G04")) && word != "G91.1" {
                 assert!(word.contains('.'), "{what}: axis word without a decimal point: {word} in {line:?}");
             }
         }
@@ -197,8 +213,7 @@ fn subprogram_style_repeats_the_paper_shape() {
     // Zig-zag: 52 row pairs and the last row in the main program.
     for block in [
         "O1011 (KEZURI PROBE PLAN, SUBPROGRAM STYLE)",
-        "G90 G00 X0. Y0.",
-        "G00 Z30.",
+        "T1 M06\nG90 G00 X0. Y0.\nG00 G43 H1 Z30.\n",
         "G91",
         "M98 P1012 L52",
         "M98 P1013 L84",
@@ -210,7 +225,7 @@ fn subprogram_style_repeats_the_paper_shape() {
         "G00 X-1.",
         "G01 Z-50. F6000.",
         "M07\nG04 X0.5\nM09\nG00 Z50.",
-        "G91 G28 Z0.\nG90\nM30",
+        "G90\nG91 G28 Z0.\nG90\nG91 G28 X0. Y0.\nG90\nM30\nO1012 (",
     ] {
         assert!(text.contains(block), "{block:?} in\n{text}");
     }
@@ -222,6 +237,45 @@ fn subprogram_style_repeats_the_paper_shape() {
     }
     assert!(!text.contains("O1014"), "one-way needs no -X point");
     assert!(text.len() < 2000, "the subprogram style stays short: {} bytes", text.len());
+}
+
+#[test]
+fn every_post_writes_the_expanded_style_in_its_own_words() {
+    for name in PRESETS {
+        let post = WriteOptions::preset(name).unwrap();
+        let dialect = post.dialect;
+        for pattern in PATTERNS {
+            for count in [[4, 3], [1, 1], [3, 2]] {
+                // Below machine zero, where G53 Z0. takes the gauge line (the tip 50 below).
+                let mut plan = Plan::new([10.0, 20.0], count, 1.0, -60.0, 15.0);
+                plan.trigger = kezuri_nc::probe_plan::default_trigger(&post).unwrap();
+                plan.post = post.clone();
+                plan.style = Style::Expanded;
+                plan.pattern = pattern;
+                check(&plan);
+                let text = plan.program().unwrap();
+                let short = dialect != Dialect::Fanuc;
+                let (plunge, trigger) = if short {
+                    ("G1 Z-75. F6000.", "M7\nG4 P0.5\nM9\nG0 Z-60.\n")
+                } else {
+                    ("G01 Z-75. F6000.", "M07\nG04 X0.5\nM09\nG00 Z-60.\n")
+                };
+                assert!(text.contains(plunge) && text.contains(trigger), "{name}:\n{text}");
+                assert_eq!(text.contains("G00") || text.contains("G01") || text.contains("M07"), !short, "{name}");
+            }
+        }
+        for style in [Style::Subprogram, Style::G31] {
+            let plan = Plan { style, post: post.clone(), ..Plan::new([0.0, 0.0], [4, 3], 1.0, 30.0, 50.0) };
+            match (dialect, plan.program()) {
+                (Dialect::Fanuc, Ok(_)) => {}
+                (_, Err(e)) if dialect != Dialect::Fanuc => {
+                    let e = e.to_string();
+                    assert!(e.contains("only Fanuc and Haas") && e.contains("--style expanded"), "{name}: {e}");
+                }
+                (_, other) => panic!("{name} {style:?}: {other:?}"),
+            }
+        }
+    }
 }
 
 #[test]

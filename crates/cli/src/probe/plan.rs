@@ -7,8 +7,10 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kezuri_nc::probe_plan::{self, Pattern, Plan, Style};
+use kezuri_nc::write::Dialect;
 
 use crate::files::write_output;
+use crate::machine::MachineArg;
 
 /// Options of `kezuri probe plan`.
 #[derive(Args, Debug)]
@@ -18,25 +20,31 @@ stroke, say): the bottom is z-safe - plunge. Rows run along X stepping +Y, the f
 zigzag (default) runs every other row back toward -X, oneway returns at z-safe. Points are
 numbered 1, 2, ... in that order, the order `probe capture` stores them in.
 
+The program begins as --post begins a program it makes (safe start, retract, T<n> M06 for the
+stylus, --tool-number), applies the stylus's length offset on its first Z move (G43 H<its H>
+from the machine file's tool table, else H<n>; none on grbl), and ends as the post ends one
+(retract, home, M30 or M2).
+
 Styles:
-  subprogram  the classic shape: the main program positions in G90 at the origin and z-safe,
+  subprogram  (fanuc, haas) the classic shape: the main program positions in G90 at the origin and z-safe,
               then G91 and M98 P<row> L<rows>; the row subprogram measures its first point and
               repeats the point subprogram (a pitch in X, plunge, trigger, retract) nx-1 times.
               Zigzag repeats a pair of rows (+X, then -X); an odd last row is in the main
               program. Subprograms are numbered after the main one (O n+1 row or row pair,
               O n+2 the +X point, O n+3 the -X point). Load them all into the control's memory.
-  expanded    every point written out in absolute coordinates (long: for DNC or small grids).
-  g31         for a touch probe: at each point G31 goes down toward the bottom and stops at the
+  expanded    every point written out in absolute coordinates (long: for DNC or small grids);
+              the one style for linuxcnc, mach3 and grbl, in their words (G1, M7, G4 P0.5).
+  g31         (fanuc, haas) for a touch probe: at each point G31 goes down toward the bottom and stops at the
               touch; the control writes one line `x y z` per point with DPRNT to the device
               opened by POPEN (the RS-232 port): #5061, #5062 and the tip Z (#5063 - #5083,
               the skip position less the length offset). No touch above the bottom: the line
               gives the bottom. No trigger (the skip signal is the trigger).
 
 The trigger (subprogram and expanded) is given at every bottom: M07 (air blow on:
-the PC reads the indicator), G04 X0.5, M09 by default. Each block may hold no motion and no G
-code but G04. Every program retracts with G91 G28 Z0. before it positions and at the end, and
-is framed by %. Lengths must be whole numbers of 10^-digits mm, so every grid point is written
-exactly and the incremental steps add up to it.
+the PC reads the indicator), G04 X0.5, M09 by default (M7, G4 P0.5, M9 on linuxcnc, mach3 and
+grbl; the dwell in ms where the machine file's [post] dwell_unit is ms). Each block may hold no
+motion and no G code but G04. Lengths must be whole numbers of 10^-digits mm, so every grid
+point is written exactly and the incremental steps add up to it.
 
 Examples:
   kezuri probe plan --origin 0,0 --count 85,105 --pitch 1 --z-safe 30 --plunge 50 -o O1011.nc
@@ -46,10 +54,13 @@ Examples:
       --plunge-feed 150 -o probe.nc
   kezuri probe plan --origin 0,0 --count 4,3 --pitch 1 --z-safe 30 --plunge 50 \\
       --trigger \"M08,G04 X1.,M09\" --program 2000 -o -
+  kezuri probe plan --origin 0,0 --count 40,30 --pitch 1 --z-safe 5 --plunge 20 --style expanded \\
+      --post linuxcnc --machine mill.toml --tool-number 9 -o grid.ngc
 
 Exit code 1 for a count below 1, a pitch or plunge that is not positive, a length with more
-decimals than --digits, a trigger block that moves or changes modes, or a program number or
-repeat count the control cannot take; nothing is written then.")]
+decimals than --digits, a trigger block that moves or changes modes, a program number or
+repeat count the control cannot take, or the subprogram or g31 style with a post other than
+fanuc or haas; nothing is written then.")]
 pub struct PlanArgs {
     /// X and Y of the first point (grid index 0,0), mm.
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
@@ -72,17 +83,18 @@ pub struct PlanArgs {
     /// How rows follow each other.
     #[arg(long, value_enum, default_value = "zigzag")]
     pub pattern: PlanPattern,
-    /// Feed of the plunge (G01, or G31), mm/min [default: 6000, the paper's;
+    /// Feed of the plunge (G01, or G31), mm/min [default: 6000, for an indicator stylus;
     /// 200 for g31].
     #[arg(long, value_name = "MM/MIN")]
     pub plunge_feed: Option<f64>,
     /// Feed of the retract and the moves between points, mm/min [default:
-    /// rapid, G00, as the paper's G00 X1.].
+    /// rapid, G00].
     #[arg(long, value_name = "MM/MIN")]
     pub feed: Option<f64>,
-    /// Number of the main program (subprograms take the next three).
-    #[arg(long, value_name = "N", default_value_t = probe_plan::DEFAULT_PROGRAM)]
-    pub program: u32,
+    /// Number of the main program (subprograms take the next three) [default: the
+    /// machine file's [post] program_number, else 1011].
+    #[arg(long, value_name = "N")]
+    pub program: Option<u32>,
     /// Blocks given at each plunge bottom, separated by commas [default:
     /// "M07,G04 X0.5,M09"]; not for --style g31.
     #[arg(long, value_name = "BLOCKS")]
@@ -90,6 +102,15 @@ pub struct PlanArgs {
     /// Decimals of the coordinates (0 to 4).
     #[arg(long, value_name = "N", default_value_t = 3)]
     pub digits: u32,
+    /// G-code for this control: fanuc, haas, linuxcnc, grbl or mach3 [default: the
+    /// machine file's [post] preset, else fanuc].
+    #[arg(long, value_name = "NAME")]
+    pub post: Option<String>,
+    #[command(flatten)]
+    pub machine: MachineArg,
+    /// The stylus's tool number: T<n> M06, and G43 H<its H register> on the first Z move.
+    #[arg(long, value_name = "T", default_value_t = probe_plan::DEFAULT_TOOL)]
+    pub tool_number: u32,
     /// The program file to write (`-`: standard output).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
@@ -98,7 +119,7 @@ pub struct PlanArgs {
 /// Program styles on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum PlanStyle {
-    /// The paper's main program and repeated incremental subprograms.
+    /// The main program and repeated incremental subprograms (fanuc, haas).
     Subprogram,
     /// Every point written out, absolute.
     Expanded,
@@ -147,14 +168,18 @@ pub fn plan(args: &PlanArgs) -> Result<Plan> {
         probe_plan::DEFAULT_PLUNGE_FEED
     });
     plan.feed = args.feed;
-    plan.program = args.program;
     plan.digits = args.digits;
-    if let Some(t) = &args.trigger {
-        if style == Style::G31 {
-            bail!("--trigger is for the subprogram and expanded styles: g31 records with the skip signal");
+    let machine = args.machine.load()?;
+    plan.post = crate::post::for_machine(&machine, args.post.as_deref())?;
+    plan.program = args.program.or(machine.post.program_number).unwrap_or(probe_plan::DEFAULT_PROGRAM);
+    plan.tool = args.tool_number;
+    plan.trigger = match &args.trigger {
+        Some(_) if style == Style::G31 => {
+            bail!("--trigger is for the subprogram and expanded styles: g31 records with the skip signal")
         }
-        plan.trigger = t.split(',').map(|b| b.trim().to_string()).collect();
-    }
+        Some(t) => t.split(',').map(|b| b.trim().to_string()).collect(),
+        None => probe_plan::default_trigger(&plan.post)?,
+    };
     Ok(plan)
 }
 
@@ -166,9 +191,9 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     let [nx, ny] = plan.count;
     let name =
         if args.output.as_os_str() == "-" { "standard output".into() } else { args.output.display().to_string() };
+    let number = if plan.post.dialect == Dialect::Fanuc { format!("O{:04}, ", plan.program) } else { String::new() };
     eprintln!(
-        "{name}: O{:04}, {nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
-        plan.program,
+        "{name}: {number}{nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
         u64::from(nx) * u64::from(ny),
         plan.pitch,
         plan.style.name(),

@@ -9,18 +9,23 @@ use super::gcode::{Dialect, WriteError, WriteOptions};
 use super::post::{Arcs, CoolantChoice, Home, Retract, Setup};
 use crate::interp::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 
-/// The words that differ between dialects.
-pub(super) struct Codes {
-    motion: [&'static str; 4],
+/// The words that differ between dialects ([`Dialect::codes`]), for
+/// programs kezuri writes as text.
+#[derive(Debug)]
+pub struct Codes {
+    /// Rapid, feed, clockwise and counter-clockwise arc (`G00`…`G03`).
+    pub motion: [&'static str; 4],
     plane: [&'static str; 3],
     dwell: &'static str,
     probe: &'static str,
     spindle: [&'static str; 3],
     tool_change: &'static str,
     optional_stop: &'static str,
-    mist: &'static str,
+    /// Mist coolant, or the air blow (`M07`).
+    pub mist: &'static str,
     flood: &'static str,
-    coolant_off: &'static str,
+    /// Coolant off (`M09`).
+    pub coolant_off: &'static str,
     home: &'static str,
     pub(super) length: [&'static str; 2],
     pub(super) length_cancel: &'static str,
@@ -160,7 +165,8 @@ pub(super) struct Writer {
 }
 
 impl Dialect {
-    fn codes(self) -> &'static Codes {
+    /// The dialect's words: `G00 M07` (Fanuc) or `G0 M7`.
+    pub fn codes(self) -> &'static Codes {
         match self {
             Dialect::Fanuc => &FANUC,
             Dialect::LinuxCnc | Dialect::Grbl => &SHORT,

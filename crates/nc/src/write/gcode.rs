@@ -424,6 +424,24 @@ pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, WriteErr
     Ok(MadeText { start, length, end })
 }
 
+/// A dwell of `seconds` as `options` writes it (`G04 P500`, `G04 X0.5`,
+/// `G4 P0.5`), one block without its line end, for a program kezuri writes
+/// as text.
+///
+/// ```
+/// use kezuri_nc::write::{dwell_block, WriteOptions};
+/// let fanuc = WriteOptions::preset("fanuc").unwrap();
+/// assert_eq!(dwell_block(&fanuc, 0.5).unwrap(), "G04 P500");
+/// assert_eq!(dwell_block(&WriteOptions { dwell_ms: Some(false), ..fanuc }, 0.5).unwrap(), "G04 X0.5");
+/// assert_eq!(dwell_block(&WriteOptions::preset("linuxcnc").unwrap(), 0.5).unwrap(), "G4 P0.5");
+/// ```
+pub fn dwell_block(options: &WriteOptions, seconds: f64) -> Result<String, WriteError> {
+    let empty = Toolpath::default();
+    let mut w = Writer::new(&empty, &WriteOptions { line_numbers: None, ..options.clone() })?;
+    w.dwell(seconds)?;
+    Ok(w.out.trim_end().to_string())
+}
+
 /// `p - origin`, its linear axes times `unit` (rotary axes stay degrees).
 fn scaled(p: Axes, origin: Axes, unit: f64) -> Axes {
     let (p, o) = (p.to_array(), origin.to_array());
