@@ -92,7 +92,7 @@ fn keeps_the_rules(what: &str, post: &str, text: &str) {
     let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('(')).collect();
     let offsets = post != "grbl";
     let word = |l: &str, w: &str| l.split_whitespace().any(|x| x == w);
-    let (mut changed, mut spindle, mut first_z_done) = (false, false, true);
+    let (mut changed, mut spindle, mut first_z_done, mut xy) = (false, false, true, false);
     for (k, l) in lines.iter().enumerate() {
         let at = format!("{what} --post {post}, block {}: '{l}'", k + 1);
         if l.contains("G91 G28") || l.contains("G91 G30") {
@@ -100,7 +100,7 @@ fn keeps_the_rules(what: &str, post: &str, text: &str) {
         }
         let change = word(l, "M06") || word(l, "M6") || (post == "grbl" && word(l, "M0"));
         if change {
-            (changed, spindle, first_z_done) = (true, false, false);
+            (changed, spindle, first_z_done, xy) = (true, false, false, false);
         }
         if word(l, "M03") || word(l, "M3") {
             spindle = true;
@@ -109,8 +109,12 @@ fn keeps_the_rules(what: &str, post: &str, text: &str) {
             spindle = false;
         }
         let machine_move = l.contains("G28") || l.contains("G53");
+        xy |= !machine_move && (l.contains('X') || l.contains('Y'));
         if changed && !first_z_done && l.contains('Z') && !machine_move {
             assert_eq!(l.contains("G43 H"), offsets, "{at}: the first Z move after the tool change");
+            // After a retract the tool is placed in X Y at the top first;
+            // GRBL (no retract) takes Z up first.
+            assert!(xy || post == "grbl", "{at}: Z goes down before X Y are placed");
             first_z_done = true;
         }
         let feed = word(l, "G01") || word(l, "G1") || (l.starts_with('X') || l.starts_with('Y') || l.starts_with('Z'));

@@ -6,8 +6,8 @@
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
-use kezuri_geom::{Arc, Axes, Move, MoveKind, Plane, Spindle, Toolpath};
-use kezuri_nc::write::{program, Arcs, WriteError, WriteOptions, PRESETS};
+use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane, Spindle, Toolpath};
+use kezuri_nc::write::{program, Arcs, Retract, WriteError, WriteOptions, PRESETS};
 
 fn at(x: f64, y: f64, z: f64) -> Axes {
     Axes { x, y, z, ..Axes::ZERO }
@@ -58,37 +58,62 @@ fn every_preset_writes_the_program_written_by_hand() {
 
 /// The safety rules every preset keeps, line by line: G90 right after
 /// every `G91 G28`; after each tool change the length offset on the first
-/// block that moves Z (where the preset uses offsets) and the spindle on
-/// before it; M05 before the end.
+/// block that moves Z (where the preset uses offsets), X and Y placed
+/// before Z goes down (after a retract) and the spindle on before any feed;
+/// M05 before the end.
 #[test]
 fn every_preset_keeps_the_safety_rules() {
     for name in PRESETS {
         let text = written(name, |_| {}).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        let uses_offsets = WriteOptions::preset(name).unwrap().setup.unwrap().length_offset;
-        let (mut changed, mut spindle_on) = (false, false);
+        let setup = WriteOptions::preset(name).unwrap().setup.unwrap();
+        let (mut changed, mut spindle_on, mut xy) = (false, false, false);
         for (k, line) in lines.iter().enumerate() {
             if line.contains("G91 G28") {
                 assert!(lines[k + 1].starts_with("G90"), "{name}: no G90 after '{line}'");
             }
-            if line.contains("M06") || line.contains("M6") || line.starts_with("M0") && line.len() == 2 {
-                (changed, spindle_on) = (true, false);
+            if line.contains("M06") || line.contains("M6") || *line == "M0" {
+                (changed, spindle_on, xy) = (true, false, false);
             }
             if line.contains("M03") || line.contains(" M3") {
                 spindle_on = true;
             }
-            let moves_z =
-                line.contains('Z') && !line.contains("G53") && !line.contains("G28") && !line.starts_with('(');
-            if changed && moves_z {
-                assert!(spindle_on, "{name}: Z moves before the spindle is on: '{line}'");
-                assert_eq!(line.contains("G43 H"), uses_offsets, "{name}: first Z move '{line}'");
+            let machine = line.contains("G53") || line.contains("G28") || line.starts_with('(');
+            xy |= !machine && (line.contains('X') || line.contains('Y'));
+            if changed && !machine && line.contains('Z') {
+                assert_eq!(line.contains("G43 H"), setup.length_offset, "{name}: first Z move '{line}'");
+                assert!(xy || setup.retract == Retract::None, "{name}: Z goes down before X Y: '{line}'");
                 changed = false;
+            }
+            if line.contains('F') {
+                assert!(spindle_on, "{name}: a feed with the spindle off: '{line}'");
             }
         }
         let end = lines.iter().rposition(|l| l.starts_with("M30") || l.starts_with("M2")).unwrap();
         let stop = lines.iter().rposition(|l| *l == "M05" || *l == "M5").unwrap();
         assert!(stop < end, "{name}: M05 after the end");
     }
+}
+
+/// A made toolpath that starts as the raster does: up to the safe height
+/// (naming Z only), then across. After the retract X and Y still go first.
+#[test]
+fn x_and_y_go_first_after_a_retract_whichever_axes_the_first_move_names() {
+    let mut path = Toolpath::default();
+    let safe = at(10.0, 20.0, 5.0);
+    let base = Move { spindle: Spindle::Cw, speed: 1000.0, tool: 1, ..Move::default() };
+    path.push(Move { kind: MoveKind::Rapid, start: safe, end: safe, named: AxisSet(0b100), ..base });
+    path.push(Move { kind: MoveKind::Rapid, start: safe, end: safe, named: AxisSet(0b011), ..base });
+    let bottom = at(10.0, 20.0, -1.0);
+    path.push(Move { kind: MoveKind::Feed, start: safe, end: bottom, feed: 100.0, ..base });
+    let text = program(&path, &WriteOptions::preset("fanuc").unwrap()).unwrap();
+    assert!(text.contains("T1 M06\nS1000 M03\nM08\nG00 X10. Y20.\nG00 G43 H1 Z5.\nG01 Z-1. F100.\n"), "{text}");
+    let grbl = program(&path, &WriteOptions::preset("grbl").unwrap()).unwrap();
+    assert!(grbl.contains("M0\nG0 Z5.\nS1000 M3\nG4 P3\nX10. Y20.\nG1 Z-1. F100.\n"), "{grbl}");
+    // The later part of a split program: the tool is in, no pause for it.
+    let part = WriteOptions { loaded_tool: Some(1), ..WriteOptions::preset("grbl").unwrap() };
+    let grbl = program(&path, &part).unwrap();
+    assert!(!grbl.contains("M0\n") && grbl.contains("G54\nG0 Z5.\nS1000 M3\n"), "{grbl}");
 }
 
 #[test]

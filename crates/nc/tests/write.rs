@@ -269,8 +269,8 @@ fn tool_change_stops_spindle_and_coolant_and_grbl_pauses() {
     let fanuc = fanuc.into_iter().chain(["S5000 M03", "M07", "M08", "G00 X0. Y0. Z5."]).collect::<Vec<_>>();
     assert_eq!(body(&p.path, &dialect(Dialect::Fanuc)), fanuc);
     let grbl = body(&p.path, &dialect(Dialect::Grbl));
-    assert_eq!(grbl[..3], ["(TOOL CHANGE: PUT IN TOOL 1, SET Z ZERO ON ITS TIP, THEN RESUME)", "M0", "S5000 M3"]);
-    assert_eq!(grbl[6..9], ["M5", "M9", "(TOOL CHANGE: PUT IN TOOL 2, SET Z ZERO ON ITS TIP, THEN RESUME)"]);
+    assert_eq!(grbl[..3], ["(TOOL CHANGE: PUT IN TOOL 1, THEN RESUME)", "M0", "S5000 M3"]);
+    assert_eq!(grbl[6..9], ["M5", "M9", "(TOOL CHANGE: PUT IN TOOL 2, THEN RESUME)"]);
 }
 
 #[test]

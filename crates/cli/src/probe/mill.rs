@@ -282,6 +282,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let first_number = args.program_number.unwrap_or(post.program_number);
     let write_options = |k: usize, of: usize| WriteOptions {
         program_number: first_number + k as u32,
+        // The later parts begin with the tool in the spindle.
+        loaded_tool: (k > 0).then_some(args.tool_number),
         title: Some(if of > 1 { format!("{title} PART {}/{of}", k + 1) } else { title.clone() }),
         incremental: args.incremental,
         ..post.clone()

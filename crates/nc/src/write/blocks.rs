@@ -162,6 +162,13 @@ pub(super) struct Writer {
     byte_limit: Option<u64>,
     /// `%` first and last.
     percent: bool,
+    /// The tool in the spindle when the program starts (no pause for it
+    /// on a control without a tool changer).
+    loaded: Option<u32>,
+    /// The height of the next move where it is a rapid, in program units:
+    /// where a made program with no retract takes the new tool before its
+    /// spindle starts.
+    pub(super) next_rapid_z: Option<f64>,
 }
 
 impl Dialect {
@@ -230,6 +237,8 @@ impl Writer {
             block_limit: o.block_limit,
             byte_limit: o.byte_limit,
             percent: o.percent.unwrap_or(o.dialect == Dialect::Fanuc),
+            loaded: o.loaded_tool,
+            next_rapid_z: None,
         };
         for m in toolpath.moves.iter().filter(|m| m.tool != 0) {
             if w.loads.last() != Some(&m.tool) {
@@ -549,6 +558,12 @@ impl Writer {
     pub(super) fn state(&mut self, mut m: ToolState) -> Result<(), WriteError> {
         if m.tool != self.tool {
             self.tool_change(m.tool);
+            // After a hand change the tip may rest on the stock: up to the
+            // next rapid's height before the spindle starts.
+            let by_hand = self.setup.as_ref().is_some_and(|s| s.retract == Retract::None);
+            if let (true, Some(z)) = (by_hand, self.next_rapid_z) {
+                self.straight(Some(Motion::Rapid), Axes { z, ..Axes::ZERO }, None, AxisSet::NONE.with(2))?;
+            }
         }
         // A made program's coolant comes on with the spindle.
         let dwell = match &self.setup {
@@ -619,12 +634,22 @@ impl Writer {
             }
         }
         if self.dialect == Dialect::Grbl {
-            if self.comments {
-                self.out.push_str("(TOOL CHANGE: PUT IN TOOL ");
-                push_uint(&mut self.out, u64::from(tool));
-                self.out.push_str(", SET Z ZERO ON ITS TIP, THEN RESUME)\n");
+            if self.loaded == Some(tool) {
+                // The operator started the program with it in.
+            } else {
+                if self.comments {
+                    self.out.push_str("(TOOL CHANGE: PUT IN TOOL ");
+                    push_uint(&mut self.out, u64::from(tool));
+                    // Without a length offset in the program (a made one),
+                    // the new tip must be set to the program's Z zero by
+                    // hand; a program's own G43.1 sets it.
+                    if setup.as_ref().is_some_and(|s| !s.length_offset) {
+                        self.out.push_str(", SET Z ZERO ON ITS TIP AT THE PROGRAM'S Z ZERO");
+                    }
+                    self.out.push_str(", THEN RESUME)\n");
+                }
+                self.line("M0");
             }
-            self.line("M0");
         } else {
             self.block();
             self.space();
@@ -728,14 +753,18 @@ impl Writer {
         let t = self.target(end)?;
         let feed = feed.map(|f| self.non_negative(f, 'F')).transpose()?;
         // A made program's first rapid after a tool change never moves Z
-        // and X Y together from a height it does not know: after a
-        // retract, X Y first at the top, then Z (with the length offset);
-        // without one, Z first.
+        // from a height it does not know over a place it does not know:
+        // after a retract, X Y first at the top (the made toolpath's end
+        // is real, whichever axes the move names), then Z with the length
+        // offset; without one (a hand change, the tool on the stock), Z
+        // first.
         if let (Some(s), Some(Motion::Rapid), None) = (&self.setup, motion, self.pos[2]) {
-            let xy = (0..2).any(|k| self.writes(k, &t, named));
-            if xy && self.writes(2, &t, named) {
-                let first = if s.retract == Retract::None { AxisSet::NONE.with(2) } else { AxisSet(named.0 & !0b100) };
-                self.straight_to(motion, t, feed, first);
+            if self.writes(2, &t, named) {
+                if s.retract != Retract::None && self.generated && (self.pos[0].is_none() || self.pos[1].is_none()) {
+                    self.straight_to(motion, t, feed, AxisSet(0b011));
+                } else if s.retract == Retract::None && (0..2).any(|k| self.writes(k, &t, named)) {
+                    self.straight_to(motion, t, feed, AxisSet::NONE.with(2));
+                }
             }
         }
         self.straight_to(motion, t, feed, named);

@@ -194,6 +194,10 @@ pub struct WriteOptions {
     /// `%` as the first and last line; `None`: the dialect's (Fanuc yes,
     /// the others no).
     pub percent: Option<bool>,
+    /// The tool the operator has in the spindle when the program starts
+    /// (the later parts of a program split in parts): on GRBL, which has
+    /// no tool changer, no pause to put it in.
+    pub loaded_tool: Option<u32>,
     /// For a program kezuri makes: its start, tool changes and end. `None`
     /// for a program kezuri transforms, which keeps its own.
     pub setup: Option<Setup>,
@@ -218,6 +222,7 @@ impl Default for WriteOptions {
             block_limit: None,
             byte_limit: None,
             percent: None,
+            loaded_tool: None,
             setup: None,
         }
     }
@@ -349,6 +354,7 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
         }
         // The kept blocks before this move, each in the tool, spindle and
         // coolant state it came in; a cycle in the move's frame.
+        w.next_rapid_z = None;
         while let Some(k) = kept.next_if(|k| k.before <= index) {
             w.state(k.state)?;
             if k.moves > 0 {
@@ -357,6 +363,7 @@ pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Wr
             w.kept(k)?;
             covered = covered.max(k.before + k.moves);
         }
+        w.next_rapid_z = (m.kind == MoveKind::Rapid).then_some(m.end.z);
         w.state(ToolState::of(machine))?;
         w.frame(in_units(frame, unit), last)?;
         last = Some(scaled(machine.end, Axes::ZERO, unit));
