@@ -45,7 +45,7 @@ pub struct PostFile {
     retract: Option<String>,
     prestage: Option<bool>,
     optional_stop: Option<bool>,
-    pub length_offset: Option<bool>,
+    length_offset: Option<bool>,
     spindle_dwell_s: Option<f64>,
     dwell_unit: Option<String>,
     coolant: Option<String>,
@@ -79,12 +79,21 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
         o.program_number = n;
     }
     if let Some(t) = word("start", &file.start)? {
+        // The writer gives the units and keeps positions absolute with
+        // incremental arc centres: a start that changed them would move
+        // every position of the program.
+        if let Some(w) = t.split_whitespace().find(|w| ["G20", "G21", "G91", "G90.1"].contains(w)) {
+            bail!("post.start: '{w}' would change what every position of the program means (units, G91, G90.1): leave it out");
+        }
         setup.start = t;
     }
     if let Some(t) = word("work_offset", &file.work_offset)? {
         setup.work_offset = t;
     }
     if let Some(t) = word("end", &file.end)? {
+        if !t.split_whitespace().any(|w| ["M30", "M02", "M2"].contains(&w)) {
+            bail!("post.end: '{t}' does not end the program: it must hold M30 or M02");
+        }
         setup.end = t;
     }
     if let Some(r) = &file.retract {
@@ -158,6 +167,19 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
     Ok(o)
 }
 
+impl PostFile {
+    /// Whether this `[post]` says the machine uses tool length offsets:
+    /// its `length_offset`, else its preset's; `None` where it says
+    /// neither.
+    pub fn length_offset(&self) -> Option<bool> {
+        match (self.length_offset, &self.preset) {
+            (Some(on), _) => Some(on),
+            (None, Some(p)) => WriteOptions::preset(p).ok().and_then(|o| o.setup).map(|s| s.length_offset),
+            (None, None) => None,
+        }
+    }
+}
+
 /// The write options of `--post NAME` (else the machine file's preset,
 /// else fanuc) for `machine`: its `[post]` and tool table.
 pub fn for_machine(machine: &Machine, name: Option<&str>) -> Result<WriteOptions> {
@@ -205,6 +227,10 @@ mod tests {
             ("retract = \"G30\"", "post.retract: 'G30'"),
             ("home = [1]", "two numbers"),
             ("start = \"G90 (SAFE)\"", "codes only"),
+            ("start = \"G20 G90 G17\"", "'G20' would change"),
+            ("start = \"G91 G17\"", "'G91' would change"),
+            ("end = \"\"", "does not end the program"),
+            ("end = \"M05\"", "does not end the program"),
             ("spindle_dwell_s = -1", "0 to 3600"),
             ("coolant = \"air\"", "post.coolant"),
             ("program = 5", "unknown field `program`"),

@@ -1,10 +1,11 @@
 //! `kezuri check` and `kezuri run`: read a program, run it, report or write.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
-use kezuri_geom::{cycle_time, MoveKind, Toolpath};
+use kezuri_geom::{cycle_time, LengthOffset, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::write::WriteOptions;
@@ -204,36 +205,54 @@ impl Report {
 }
 
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
-/// or Haas control (length offsets are how their tools are set), or where
-/// the machine file's `[post] length_offset` says the machine uses them.
+/// or Haas control (length offsets are how their tools are set), unless
+/// the machine file's `[post]` says otherwise (its `length_offset`, or its
+/// preset's: GRBL has none).
 fn uses_length_offsets(o: &RunOptions, machine: &Machine) -> bool {
-    machine.post.length_offset.unwrap_or(!linuxcnc(o) && machine.settings.coords.control != Control::LinuxCnc)
+    machine.post.length_offset().unwrap_or(!linuxcnc(o) && machine.settings.coords.control != Control::LinuxCnc)
 }
 
 /// The first move that changes Z after each tool change with no tool
-/// length offset in force: on a machine whose tools are set with length
-/// offsets, that Z is the spindle gauge line, not the tool tip.
-pub fn unoffset_z_moves(path: &Toolpath) -> Vec<String> {
+/// length offset of its own in force: none (or H0), the one the last tool
+/// had (G43 is modal across M06), or a register other than the tool
+/// table's for that tool. On a machine whose tools are set with length
+/// offsets that Z is not the new tool's tip.
+pub fn unoffset_z_moves(path: &Toolpath, tools: &BTreeMap<u32, ToolEntry>) -> Vec<String> {
     let mut out = Vec::new();
     let (mut tool, mut armed) = (0, false);
+    let mut before: Option<LengthOffset> = None;
+    let mut last: Option<LengthOffset> = None;
     for m in &path.moves {
         if m.tool != tool {
             tool = m.tool;
             armed = tool != 0;
+            before = last;
         }
         // Returns and G53 moves are in machine coordinates: no offset needed.
         let machine_coordinates = matches!(m.kind, MoveKind::Home | MoveKind::Machine | MoveKind::Dwell(_));
+        let length = path.frame(m).length.filter(|l| l.register != 0);
+        if !machine_coordinates {
+            last = length;
+        }
         if !armed || machine_coordinates || (m.start.z == m.end.z && !m.named.contains(2)) {
             continue;
         }
         armed = false;
-        if path.frame(m).length.is_none() {
-            out.push(format!(
-                "line {}: Z moves after the change to T{tool} with no tool length offset (G43 H) in force: on a \
-                 machine whose tools are set with length offsets this Z is the spindle's, not the tool tip's",
-                m.line
-            ));
-        }
+        let what = match (length, tools.get(&tool)) {
+            (None, _) => "no tool length offset (G43 H) in force".to_string(),
+            (Some(l), _) if before.is_some_and(|b| b.register == l.register) => {
+                format!("the last tool's length offset (H{}) still in force", l.register)
+            }
+            (Some(l), Some(e)) if e.h != l.register => {
+                format!("H{} in force where the tool table gives T{tool} H{}", l.register, e.h)
+            }
+            _ => continue,
+        };
+        out.push(format!(
+            "line {}: Z moves after the change to T{tool} with {what}: on a machine whose tools are set with \
+             length offsets this Z is not the tool tip's",
+            m.line
+        ));
     }
     out
 }
@@ -296,7 +315,9 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
         let file = o.file.display();
         missing
             .into_iter()
-            .chain(unoffset_z_moves(&ran.outcome.toolpath).into_iter().map(|w| format!("{file}: {w}")))
+            .chain(
+                unoffset_z_moves(&ran.outcome.toolpath, &ran.machine.tools).into_iter().map(|w| format!("{file}: {w}")),
+            )
             .collect()
     } else {
         missing

@@ -160,10 +160,34 @@ fn check_warns_on_a_z_move_without_a_length_offset() {
     let w = warned(&["check", &nc, "--json"]);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].contains("line 7: Z moves after the change to T1 with no tool length offset (G43 H)"), "{w:?}");
-    // A machine file that says the machine does not use length offsets.
-    let m = path(dir.path(), "router.toml");
-    std::fs::write(&m, "[post]\nlength_offset = false\n").unwrap();
-    assert!(warned(&["check", &nc, "--machine", &m, "--json"]).is_empty());
+    // A machine file that says the machine does not use length offsets, or
+    // whose post is GRBL's (which has none).
+    for said in ["[post]\nlength_offset = false\n", "[post]\npreset = \"grbl\"\n"] {
+        let m = path(dir.path(), "router.toml");
+        std::fs::write(&m, said).unwrap();
+        assert!(warned(&["check", &nc, "--machine", &m, "--json"]).is_empty(), "{said}");
+    }
+    // T2 cut with T1's offset, still in force after the change (G43 is
+    // modal across M06); T3 with H0; T4 with a register the table does not
+    // give it: each is a Z that is not the tool tip's.
+    let table = path(dir.path(), "table.toml");
+    std::fs::write(&table, "[tools]\nlengths = { 1 = 100.0, 2 = 120.0, 4 = 90.0, 24 = 95.0 }\n[tools.T4]\nh = 24\n")
+        .unwrap();
+    let program = "%\nO0002\nG21 G90 G54\nT1 M06\nG00 X0. Y0.\nG00 G43 H1 Z20.\nG01 Z-1. F100.\nG91 G28 Z0.\nG90\n\
+                   T2 M06\nG00 X10. Y10.\nZ20.\nG01 Z-1. F100.\nT3 M06\nG00 G43 H0 Z20.\nT4 M06\nG00 G43 H4 Z20.\n\
+                   T1 M06\nG00 G43 H1 Z20.\nM30\n%\n";
+    std::fs::write(&nc, program).unwrap();
+    let w = warned(&["check", &nc, "--machine", &table, "--json"]);
+    assert_eq!(w.len(), 3, "{w:#?}");
+    assert!(
+        w[0].contains("line 12: Z moves after the change to T2 with the last tool's length offset (H1) still"),
+        "{w:?}"
+    );
+    assert!(w[1].contains("line 15: Z moves after the change to T3 with no tool length offset (G43 H)"), "{w:?}");
+    assert!(
+        w[2].contains("line 17: Z moves after the change to T4 with H4 in force where the tool table gives T4 H24"),
+        "{w:?}"
+    );
     // With G43 H1 on that move: no warning.
     std::fs::write(&nc, "%\nO0001\nG21 G90 G54\nT1 M06\nG00 X0. Y0.\nG00 G43 H1 Z5.\nM30\n%\n").unwrap();
     let with = path(dir.path(), "with.toml");

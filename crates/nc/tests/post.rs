@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane, Spindle, Toolpath};
-use kezuri_nc::write::{program, Arcs, Retract, WriteError, WriteOptions, PRESETS};
+use kezuri_nc::write::{program, Arcs, Home, Retract, WriteError, WriteOptions, PRESETS};
 
 fn at(x: f64, y: f64, z: f64) -> Axes {
     Axes { x, y, z, ..Axes::ZERO }
@@ -168,6 +168,66 @@ fn a_full_circle_with_radius_arcs_is_two_half_circles() {
     let o = WriteOptions { arcs: Arcs::Radius, ..WriteOptions::preset("fanuc").unwrap() };
     let text = program(&path, &o).unwrap();
     assert!(text.contains("G17 G02 X-10. R10. F500.\nX10. R10.\n"), "{text}");
+}
+
+/// R arcs whose ends rounding moved apart (a half circle of 10.001 mm
+/// chord about a 5 mm radius; a full circle split at a rounded middle):
+/// every R is at least half its written chord, so a control finds a circle
+/// (GRBL's error 33 otherwise), and the centre it finds is within a unit
+/// of the arc's.
+#[test]
+fn radius_arcs_always_reach_their_written_ends() {
+    let cases = [
+        (at(0.0, 0.0, 0.0), at(10.001, 0.0, 0.0), [5.0, 0.0, 0.0]),
+        (at(0.0, 0.0, 0.0), at(10.004, 0.0, 0.0), [5.0, 0.0, 0.0]),
+        (at(1.234, 2.345, 0.0), at(1.234, 2.345, 0.0), [4.565, 3.462, 0.0]),
+    ];
+    for inch in [false, true] {
+        for (start, end, center) in cases {
+            let mut path = Toolpath::default();
+            let base = Move { spindle: Spindle::Cw, speed: 1000.0, tool: 1, ..Move::default() };
+            path.push(Move { kind: MoveKind::Rapid, start, end: start, ..base });
+            let arc = Arc { center, plane: Plane::Xy, ccw: false, turns: 0 };
+            path.push(Move { kind: MoveKind::Arc(arc), start, end, feed: 100.0, ..base });
+            let o = WriteOptions { arcs: Arcs::Radius, inch, ..WriteOptions::preset("fanuc").unwrap() };
+            let text = program(&path, &o).unwrap();
+            let mut p = [0.0, 0.0];
+            let mut arcs = 0;
+            for l in text.lines().filter(|l| !l.starts_with('(') && !l.starts_with('%') && !l.starts_with('O')) {
+                let v = |c: char| l.split(' ').find_map(|w| w.strip_prefix(c)).and_then(|n| n.parse::<f64>().ok());
+                let q = [v('X').unwrap_or(p[0]), v('Y').unwrap_or(p[1])];
+                if let Some(r) = v('R') {
+                    let half = (q[0] - p[0]).hypot(q[1] - p[1]) / 2.0;
+                    assert!(r.abs() >= half, "{l}: R {r} is short of half the chord {half}\n{text}");
+                    arcs += 1;
+                }
+                p = q;
+            }
+            assert!(arcs >= 1, "{text}");
+        }
+    }
+}
+
+/// A park position is mm in the machine file, written in the program's
+/// units; Mach3 probes with G31.
+#[test]
+fn park_in_inches_and_mach3_probing() {
+    let text = written("haas", |o| {
+        o.inch = true;
+        o.digits = 4;
+        o.setup.as_mut().unwrap().home = Home::Park([-300.0, -10.0]);
+    })
+    .unwrap();
+    assert!(text.contains("\nG53 G00 X-11.811 Y-0.3937\nM30\n"), "{text}");
+    let mut path = Toolpath::default();
+    let base = Move { tool: 1, ..Move::default() };
+    path.push(Move { kind: MoveKind::Rapid, start: at(0.0, 0.0, 5.0), end: at(0.0, 0.0, 5.0), ..base });
+    let probe = Move { kind: MoveKind::Probe, start: at(0.0, 0.0, 5.0), end: at(0.0, 0.0, -10.0), feed: 100.0, ..base };
+    path.push(probe);
+    let mach3 = program(&path, &WriteOptions { setup: None, ..WriteOptions::preset("mach3").unwrap() }).unwrap();
+    assert!(mach3.contains("\nG31 Z-10. F100.\n"), "{mach3}");
+    let linuxcnc = program(&path, &WriteOptions { setup: None, ..WriteOptions::preset("linuxcnc").unwrap() }).unwrap();
+    assert!(linuxcnc.contains("\nG38.2 Z-10. F100.\n"), "{linuxcnc}");
 }
 
 #[test]

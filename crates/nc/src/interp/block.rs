@@ -290,7 +290,8 @@ impl State {
                 // LinuxCNC: G43 without H takes the tool in the spindle.
                 let default = if self.settings.coords.control == Control::LinuxCnc { self.tool } else { 0 };
                 let h = w.get(b'H').map_or(Ok(default), |h| whole(h, w.span(b'H'), "H number"))?;
-                if self.tool_length(h).is_none() {
+                // H0 is no offset on every control: it always reads 0.
+                if h != 0 && self.tool_length(h).is_none() {
                     let at = if w.has(b'H') { w.span(b'H') } else { gspan };
                     self.warn("offset", at, format!("tool length offset H{h} is not in the tool table: it reads 0"));
                 }

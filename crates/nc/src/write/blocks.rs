@@ -162,6 +162,7 @@ pub(super) struct Writer {
     byte_limit: Option<u64>,
     /// `%` first and last.
     percent: bool,
+    probe_code: Option<&'static str>,
     /// The tool in the spindle when the program starts (no pause for it
     /// on a control without a tool changer).
     loaded: Option<u32>,
@@ -238,6 +239,7 @@ impl Writer {
             byte_limit: o.byte_limit,
             percent: o.percent.unwrap_or(o.dialect == Dialect::Fanuc),
             loaded: o.loaded_tool,
+            probe_code: o.probe_code,
             next_rapid_z: None,
         };
         for m in toolpath.moves.iter().filter(|m| m.tool != 0) {
@@ -323,7 +325,9 @@ impl Writer {
                 match setup.home {
                     Home::Reference => self.reference_return("X0. Y0."),
                     Home::Park(p) => {
-                        let (x, y) = (self.fixed(p[0], 'X')?, self.fixed(p[1], 'Y')?);
+                        // mm in the machine file; the program's units here.
+                        let unit = if self.inch { 1.0 / 25.4 } else { 1.0 };
+                        let (x, y) = (self.fixed(p[0] * unit, 'X')?, self.fixed(p[1] * unit, 'Y')?);
                         self.block();
                         self.code("G53");
                         self.code(self.codes.motion[Motion::Rapid as usize]);
@@ -790,7 +794,7 @@ impl Writer {
             }
             Some(_) => {}
             None => {
-                self.code(self.codes.probe);
+                self.code(self.probe_code.unwrap_or(self.codes.probe));
                 self.motion = None;
             }
         }
@@ -1035,8 +1039,16 @@ impl Writer {
         }
         self.axis_words(&t, named);
         if self.arcs == Arcs::Radius {
-            // R is the radius, negative past half a turn.
-            let r = (offset[0] as f64).hypot(offset[1] as f64).round() as i64;
+            // R is the radius, negative past half a turn: rounded up from
+            // the largest of the written start's and end's distances to
+            // the centre and half the chord, so that a control always finds
+            // a circle through the written ends (GRBL's error 33, Fanuc's
+            // alarm, where R is short of half the chord).
+            let chord = [t[i] - s[i], t[j] - s[j]];
+            let r_end = ((chord[0] - offset[0]) as f64).hypot((chord[1] - offset[1]) as f64);
+            let r_start = (offset[0] as f64).hypot(offset[1] as f64);
+            let half = (chord[0] as f64).hypot(chord[1] as f64) / 2.0;
+            let r = r_start.max(r_end).max(half).ceil() as i64;
             let written = self.written_sweep(arc, &s, &t, offset);
             self.word('R', if written > PI + 1e-9 { -r } else { r }, self.point);
         } else {

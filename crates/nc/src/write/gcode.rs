@@ -194,6 +194,9 @@ pub struct WriteOptions {
     /// `%` as the first and last line; `None`: the dialect's (Fanuc yes,
     /// the others no).
     pub percent: Option<bool>,
+    /// The straight-probe code where the control's is not its dialect's
+    /// (Mach3 reads LinuxCNC's words but probes with `G31`).
+    pub probe_code: Option<&'static str>,
     /// The tool the operator has in the spindle when the program starts
     /// (the later parts of a program split in parts): on GRBL, which has
     /// no tool changer, no pause to put it in.
@@ -223,6 +226,7 @@ impl Default for WriteOptions {
             byte_limit: None,
             percent: None,
             loaded_tool: None,
+            probe_code: None,
             setup: None,
         }
     }

@@ -195,6 +195,8 @@ impl WriteOptions {
             ),
             _ => return Err(UnknownPost(name)),
         };
-        Ok(WriteOptions { dialect, setup: Some(setup), dwell_ms, block_limit, ..WriteOptions::default() })
+        // Mach3 probes with G31 (it has no G38.2).
+        let probe_code = (name == "mach3").then_some("G31");
+        Ok(WriteOptions { dialect, setup: Some(setup), dwell_ms, block_limit, probe_code, ..WriteOptions::default() })
     }
 }
