@@ -199,7 +199,7 @@ fn demo_makes_its_files() {
     assert!(after < 0.1, "{line}");
     assert!(gouges[0] <= 0.01 && gouges[2] <= 0.01, "{gouges:?}");
     let warned: f64 = stderr(&o)
-        .split("the copy may cut up to ")
+        .split("the copy may cut about ")
         .nth(1)
         .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
         .expect("probe mill warns of the rim");

@@ -188,7 +188,7 @@ fn over_a_sharp_ridge_the_copy_follows_the_ball_between_the_readings() {
     let (followed, report) = gouge(&[]);
     eprintln!("roof: straight {straight:.5}, followed {followed:.5}\n{report}");
     let warned: f64 = report
-        .split("may cut up to ")
+        .split("may cut about ")
         .nth(1)
         .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
         .expect(&report);

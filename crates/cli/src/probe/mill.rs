@@ -31,9 +31,10 @@ follows the higher of that surface and the straight line from reading to reading
 of the pitch; with --step the pitch it goes straight from reading to reading, as the original
 copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ (25 µm at
 1 mm round a sharp edge). Where the readings bend down so sharply that the copy may cut more
-than --tolerance below the model between them, the report warns. Any other cutter is placed on the model, sampled every --resolution, with
-drop-cutter. Where the surface through the readings bends tighter than the stylus (a sharp edge,
-noise, a pitch too coarse) the report warns: no ball rolling on a model gives such readings.
+than --tolerance below the model between them, the report warns. Any other cutter is placed on
+the model, sampled every --resolution, with drop-cutter. Where the surface through the readings
+bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) the report warns: no ball
+rolling on a model gives such readings.
 
 --between bound keeps the former behaviour: the highest surface the readings allow (the lowest
 of the stylus shapes over each point), which never cuts below any stylus position but leaves the
@@ -192,7 +193,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         Between::Smooth => Some(Smooth::new(grid).with_context(|| args.data.data.display().to_string())?),
         Between::Bound => None,
     };
-    // The stylus's own shape follows the smooth surface itself; any other
+    // The stylus's own shape follows the smooth surface itself (or the
+    // straight line between readings where that is higher); any other
     // cutter (and every cutter with --between bound) is placed on a fine
     // sampling of the surface with drop-cutter.
     let follow = smooth.as_ref().filter(|_| follows);
@@ -350,7 +352,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         let _ = writeln!(
             report,
             "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
-             copy may cut up to {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --tolerance {}; a finer \
+             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --tolerance {}; a finer \
              pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm between readings \
              on a flat)",
             b.points,
