@@ -2,7 +2,7 @@
 //! C¹ across the patch borders, no overshoot, exact on planes; the
 //! curvature warning; the model under it.
 
-use kezuri_cam::probe::smooth::{slopes, Smooth};
+use kezuri_cam::probe::smooth::{sharpest_bend, slopes, Smooth};
 use kezuri_cam::probe::stylus::model;
 use kezuri_cam::probe::{Grid, Order, ProbeGrid};
 use kezuri_cam::Cutter;
@@ -204,4 +204,74 @@ fn bad_readings_are_refused() {
     d.z[4] = f64::NAN;
     assert!(Smooth::new(&d).unwrap_err().to_string().contains("(1, 1)"));
     assert!(Smooth::new(&data(grid(1, 3, 1.0), |_, _| 1.0)).is_err());
+}
+
+/// `(x, y)` every tenth of the pitch along every row of readings.
+fn along_rows(g: &Grid) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+    cells(g).flat_map(move |(i, j)| (0..=10).map(move |k| (i, j, k as f64 / 10.0)))
+}
+
+#[test]
+fn the_path_followed_is_the_higher_of_the_surface_and_the_straight_line() {
+    for d in [rough(), data(grid(9, 6, 1.0), |x, y| (x * 0.7).sin() * (y * 0.4).cos())] {
+        let s = Smooth::new(&d).unwrap();
+        let g = d.grid;
+        for (i, j, t) in along_rows(&g) {
+            let (x, y) = (g.x(i) + t * g.pitch, g.y(j));
+            let (a, b) = (d.z(i, j), d.z(i + 1, j));
+            let line = a + t * (b - a);
+            let f = s.over_chord(x, y);
+            assert!((s.chord(x, y) - line).abs() <= 1e-12, "({x}, {y})");
+            assert!((f - line.max(s.z(x, y))).abs() <= 1e-12, "({x}, {y})");
+            // Through the readings and between them, as the surface.
+            assert!(f >= a.min(b) - 1e-12 && f <= a.max(b) + 1e-12, "({x}, {y}): {f} outside [{a}, {b}]");
+        }
+    }
+}
+
+#[test]
+fn next_to_a_bottom_reading_the_path_stays_above_the_valley() {
+    // A valley whose bottom lies just before a reading: the surface starts
+    // flat at that reading (its slope must be 0) and falls below the
+    // valley; the straight line does not (a valley lies under its chords).
+    let f = |x: f64, y: f64| (x + 0.4).powi(2) + 0.1 * y;
+    let d = data(grid(9, 4, 1.0), f);
+    let s = Smooth::new(&d).unwrap();
+    let g = d.grid;
+    let (mut surface, mut path) = (0.0f64, 0.0f64);
+    for (i, j, t) in along_rows(&g) {
+        let (x, y) = (g.x(i) + t * g.pitch, g.y(j));
+        surface = surface.max(f(x, y) - s.z(x, y));
+        path = path.max(f(x, y) - s.over_chord(x, y));
+    }
+    assert!(surface > 0.1, "the surface falls {surface} below the valley");
+    assert!(path <= 1e-12, "the path falls {path} below the valley");
+}
+
+#[test]
+fn on_a_crest_the_path_is_the_surface_and_the_bend_is_the_chords_sag() {
+    // A crest of radius 5 mm (a ball rolled over a sharp ridge) with its
+    // top on the middle reading: the surface is above its chords, and the
+    // readings' bend, −Δ²z/8 at the top, is the sag of the straight line
+    // between two readings.
+    let rho = 5.0;
+    let arc = |x: f64, _: f64| (rho * rho - (x + 2.0).powi(2)).sqrt();
+    let d = data(grid(3, 3, 1.0), arc);
+    let s = Smooth::new(&d).unwrap();
+    let g = d.grid;
+    let mut sag: f64 = 0.0;
+    for (i, j, t) in along_rows(&g) {
+        let (x, y) = (g.x(i) + t * g.pitch, g.y(j));
+        assert!((s.over_chord(x, y) - s.z(x, y)).abs() <= 1e-12, "({x}, {y})");
+        sag = sag.max(arc(x, y) - s.chord(x, y));
+    }
+    let b = sharpest_bend(&d, 0.001).expect("a crest of radius 5 mm bends 25 µm at 1 mm");
+    assert!((b.depth - sag).abs() <= 0.03 * sag, "bend {} against the chords' sag {sag}", b.depth);
+    assert!((b.depth - 1.0 / (8.0 * rho)).abs() <= 0.02 / (8.0 * rho), "{}", b.depth);
+    assert_eq!(b.at, [g.x(1), g.y(0)]);
+    assert_eq!(b.points, 3, "{b:?}");
+    assert_eq!(sharpest_bend(&d, sag * 1.1), None);
+    // A plane and a valley do not bend down.
+    assert_eq!(sharpest_bend(&data(grid(6, 5, 1.0), |x, y| 2.0 + 0.3 * x - 0.8 * y), 1e-12), None);
+    assert_eq!(sharpest_bend(&data(grid(6, 5, 1.0), |x, y| x * x + y * y), 1e-12), None);
 }

@@ -102,7 +102,9 @@ fn with_the_same_ball_at_the_pitch_the_program_is_the_readings() {
         readings[j * 11 + if j % 2 == 1 { 10 - i } else { i }]
     };
     let nc = path(dir.path(), "same.nc");
-    ok(&kezuri(&["probe", "mill", &data, "--stylus", "ball:10", "--tool", "ball:10", "--floor-z", "off", "-o", &nc]));
+    #[rustfmt::skip]
+    let args = ["probe", "mill", &data, "--stylus", "ball:10", "--tool", "ball:10", "--step", "1", "--floor-z", "off", "-o", &nc];
+    ok(&kezuri(&args));
     let points = feed_points(&nc);
     let mut on_nodes = 0;
     for [x, y, z] in &points {
@@ -134,4 +136,49 @@ fn a_reading_of_ten_is_written_z10() {
     assert!(!text.contains("Z10.001"), "{text}");
     // The bound rounds up, never below it.
     assert!(mill("bound").contains("Z10.001"));
+}
+
+fn roof(x: f64, _: f64) -> f64 {
+    10.0 - 0.5 * (x - 0.37).abs()
+}
+
+#[test]
+fn over_a_sharp_ridge_the_copy_follows_the_ball_between_the_readings() {
+    // The ball rolls round the roof's ridge on an arc of its own radius:
+    // straight lines from reading to reading (--step the pitch) cut about
+    // p²/(8R) = 25 µm below the roof; the default follows the surface
+    // between the readings, and `probe mill` warns of the ridge.
+    let dir = tempfile::tempdir().unwrap();
+    let data = digitize(dir.path(), "roof", roof);
+    let target = write_xyz(dir.path(), "roof-target.xyz", -4.0, 4.0, 0.05, roof);
+    let gouge = |extra: &[&str]| {
+        let nc = path(dir.path(), "roof.nc");
+        #[rustfmt::skip]
+        let args = [&["probe", "mill", &data, "--stylus", "ball:10", "--tool", "ball:10", "--floor-z", "off", "-o", &nc][..], extra].concat();
+        let o = kezuri(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&[
+            "sim",
+            &nc,
+            "--tool",
+            "ball:10",
+            "--res",
+            "0.025",
+            "--compare",
+            &target,
+            "--json",
+        ])))
+        .unwrap();
+        (v["max_gouge_mm"].as_f64().unwrap(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (straight, _) = gouge(&["--step", "1"]);
+    let (followed, report) = gouge(&[]);
+    eprintln!("roof: straight {straight:.5}, followed {followed:.5}\n{report}");
+    let warned: f64 = report
+        .split("may cut about ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
+        .expect(&report);
+    assert!(straight > 0.02, "{straight}");
+    assert!(followed <= 0.5 * straight && followed <= warned, "{followed} (straight {straight}, warned {warned})");
 }

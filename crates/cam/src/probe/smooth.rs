@@ -39,6 +39,28 @@
 //! **every patch lies between the lowest and highest of its four
 //! readings**, and along every row and column of the grid the surface is
 //! the one-dimensional monotone curve above.
+//!
+//! # Following
+//! Between readings the surface the stylus traced is not known, and no
+//! interpolant can place a bend that falls inside a cell. Two measured
+//! cases on the demo's plum mould (10 mm ball, 1 mm pitch, exact
+//! readings), the surface against the exact tip surface along the rows:
+//! - **next to a bottom reading** the slope is 0 (it must be, for the
+//!   cell beyond to stay above that reading and the surface to be C¹),
+//!   while the traced surface already rises there: the patch starts flat
+//!   and falls up to `4/27·|slope|·p` below it (40 µm, slope 0.27). The
+//!   straight line between the readings is above a valley;
+//! - **on a ridge** bent tighter than about twice the stylus (a sharp rim
+//!   the ball rolls round), the straight line passes `p²/(8ρ)` below it
+//!   (29 µm) and the surface, which puts the bend where the neighbouring
+//!   readings suggest, up to 12 µm.
+//!
+//! So a cutter of the stylus's own shape follows [`Smooth::over_chord`],
+//! the higher of the two: 13 µm at most below the traced surface on the
+//! mould where the straight lines alone go 29 µm below, exact on planes,
+//! and the surface itself on spheres and other ridges (which lie over
+//! their chords). [`sharpest_bend`] finds where the readings bend so
+//! sharply that this is more than a tolerance.
 
 use super::ProbeGrid;
 use super::{stylus::StylusError, Grid};
@@ -94,6 +116,48 @@ pub struct Tight {
     pub radius: f64,
     /// Where, (x, y).
     pub at: [f64; 2],
+}
+
+/// Where the readings bend down (a ridge, seen from above) most sharply:
+/// how far a straight line between two readings there may pass below the
+/// surface the stylus traced.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bend {
+    /// Readings where that depth is over the limit asked.
+    pub points: usize,
+    /// The largest depth, mm: `−Δ²z / 8` of the three readings about it.
+    pub depth: f64,
+    /// Where, (x, y).
+    pub at: [f64; 2],
+}
+
+/// The readings where the row or column bends down so that a straight
+/// line between two readings passes more than `limit` below an arc
+/// through them of the same bend: `−(z₋ − 2z + z₊) / 8`, which is
+/// `p²/(8ρ)` on an arc of radius `ρ` (nearly level) at pitch `p`: about
+/// the depth a copy may cut below the model there (module docs,
+/// *Following*). `None` where no reading bends that sharply.
+pub fn sharpest_bend(data: &ProbeGrid, limit: f64) -> Option<Bend> {
+    let g = data.grid;
+    let mut found: Option<Bend> = None;
+    for j in 0..g.ny {
+        for i in 0..g.nx {
+            let along = |a: Option<(usize, usize)>, b: Option<(usize, usize)>| match (a, b) {
+                (Some(a), Some(b)) => (2.0 * data.z(i, j) - data.z(a.0, a.1) - data.z(b.0, b.1)) / 8.0,
+                _ => 0.0,
+            };
+            let depth = along(i.checked_sub(1).map(|a| (a, j)), (i + 1 < g.nx).then_some((i + 1, j)))
+                .max(along(j.checked_sub(1).map(|b| (i, b)), (j + 1 < g.ny).then_some((i, j + 1))));
+            if depth > limit {
+                let b = found.get_or_insert(Bend { points: 0, depth, at: [g.x(i), g.y(j)] });
+                b.points += 1;
+                if depth > b.depth {
+                    (b.depth, b.at) = (depth, [g.x(i), g.y(j)]);
+                }
+            }
+        }
+    }
+    found
 }
 
 /// The held slope at each of `v`'s points, in rise per point (module docs).
@@ -229,6 +293,24 @@ impl Smooth {
     /// The height at `(x, y)` (clamped to the grid's box).
     pub fn z(&self, x: f64, y: f64) -> f64 {
         self.derivative(x, y, 0, 0)
+    }
+
+    /// The higher of the surface and the straight line along X between
+    /// the heights of the surface at the nodes of its cell, at `(x, y)`:
+    /// what the stylus's own ball follows (module docs, *Following*).
+    pub fn over_chord(&self, x: f64, y: f64) -> f64 {
+        self.chord(x, y).max(self.z(x, y))
+    }
+
+    /// The straight line along X between the heights of the surface at
+    /// the nodes of `(x, y)`'s cell (on a row of readings, between the
+    /// readings), at `(x, y)`.
+    pub fn chord(&self, x: f64, y: f64) -> f64 {
+        let g = &self.grid;
+        let s = ((x - g.origin[0]) / g.pitch).clamp(0.0, (g.nx - 1) as f64);
+        let i = (s.floor() as usize).min(g.nx - 2);
+        let t = s - i as f64;
+        (1.0 - t) * self.z(g.x(i), y) + t * self.z(g.x(i + 1), y)
     }
 
     /// Height, slopes and second derivatives at `(x, y)` (clamped to the

@@ -7,7 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::{raster_with, ClRowsFn, Direction, Pattern, RasterOptions, Region};
-use kezuri_cam::probe::smooth::Smooth;
+use kezuri_cam::probe::smooth::{sharpest_bend, Smooth};
 use kezuri_cam::probe::stylus::{detect_flat, model, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Axes, AxisSet, Heightfield, Move, MoveKind, Toolpath};
@@ -26,11 +26,15 @@ exact points of the surface the tip traces. By default (--between smooth) a smoo
 drawn through every reading (bicubic, with slopes that never swing past the readings: each cell
 stays between its lowest and highest reading), and the model is that surface lowered by the
 stylus's shape (for a ball, offset inward by its radius). With the stylus's own ball as cutter
-the program follows that surface: it passes through every reading (rounded to the nearest last
-digit), straight from reading to reading when --step is the pitch, as the original copy system's
-programs did. Any other cutter is placed on the model, sampled every --resolution, with
-drop-cutter. Where the surface through the readings bends tighter than the stylus (a sharp edge,
-noise, a pitch too coarse) the report warns: no ball rolling on a model gives such readings.
+the program passes through every reading (rounded to the nearest last digit) and between them
+follows the higher of that surface and the straight line from reading to reading, every quarter
+of the pitch; with --step the pitch it goes straight from reading to reading, as the original
+copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ (25 µm at
+1 mm round a sharp edge). Where the readings bend down so sharply that the copy may cut more
+than --tolerance below the model between them, the report warns. Any other cutter is placed on
+the model, sampled every --resolution, with drop-cutter. Where the surface through the readings
+bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) the report warns: no ball
+rolling on a model gives such readings.
 
 --between bound keeps the former behaviour: the highest surface the readings allow (the lowest
 of the stylus shapes over each point), which never cuts below any stylus position but leaves the
@@ -59,7 +63,8 @@ pub struct MillArgs {
     /// Distance between rows, mm [default: the pitch].
     #[arg(long, value_name = "MM")]
     pub stepover: Option<f64>,
-    /// Sampling step along a row, mm [default: the pitch].
+    /// Sampling step along a row, mm [default: a quarter of the pitch with the stylus's own
+    /// ball, else the pitch].
     #[arg(long, value_name = "MM")]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm.
@@ -162,7 +167,11 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let grid = &data.grid;
     let pitch = grid.grid.pitch;
     let stepover = positive("--stepover", args.stepover.unwrap_or(pitch))?;
-    let step = positive("--step", args.step.unwrap_or(pitch))?;
+    // The stylus's own ball follows the surface between the readings at a
+    // quarter of the pitch: straight lines from reading to reading (--step
+    // the pitch) cut p²/(8ρ) into a ridge of radius ρ (docs/probe-copy.md).
+    let follows = args.between == Between::Smooth && cutter == stylus;
+    let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
     let resolution = positive("--resolution", args.resolution.unwrap_or(pitch / 8.0))?;
     positive("--clearance", args.clearance)?;
     let machine = match &args.machine {
@@ -184,10 +193,11 @@ pub fn run(args: &MillArgs) -> Result<()> {
         Between::Smooth => Some(Smooth::new(grid).with_context(|| args.data.data.display().to_string())?),
         Between::Bound => None,
     };
-    // The stylus's own shape follows the smooth surface itself; any other
+    // The stylus's own shape follows the smooth surface itself (or the
+    // straight line between readings where that is higher); any other
     // cutter (and every cutter with --between bound) is placed on a fine
     // sampling of the surface with drop-cutter.
-    let follow = smooth.as_ref().filter(|_| cutter == stylus);
+    let follow = smooth.as_ref().filter(|_| follows);
     let field = match (&smooth, follow) {
         (_, Some(_)) => None,
         (Some(s), None) => Some(model(s, &stylus, resolution)),
@@ -199,6 +209,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         (Some(s), Cutter::Ball(_)) => s.tighter_than(stylus.radius()),
         _ => None,
     };
+    let bend = smooth.as_ref().and_then(|_| sharpest_bend(grid, args.tolerance));
     let options = RasterOptions {
         direction: Direction::X,
         pattern: Pattern::ZigZag,
@@ -238,14 +249,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let flat_at = |x: f64, y: f64| over_flat.as_ref().and_then(|f| f.height(x, y));
     // With --step the pitch, straight from reading to reading along the rows.
     let straight = (step - pitch).abs() <= 1e-9 * pitch;
-    let on_tip = |s: &Smooth, x: f64, y: f64| {
-        if !straight {
-            return s.z(x, y);
-        }
-        let i = (((x - g.origin[0]) / pitch).floor().max(0.0) as usize).min(g.nx - 2);
-        let t = ((x - g.x(i)) / pitch).clamp(0.0, 1.0);
-        (1.0 - t) * s.z(g.x(i), y) + t * s.z(g.x(i + 1), y)
-    };
+    let on_tip = |s: &Smooth, x: f64, y: f64| if straight { s.chord(x, y) } else { s.over_chord(x, y) };
     let cl = |x: f64, y: f64| {
         flat_at(x, y).or_else(|| match (follow, &field) {
             (Some(s), _) => Some(on_tip(s, x, y)),
@@ -344,6 +348,21 @@ pub fn run(args: &MillArgs) -> Result<()> {
             t.radius,
             t.at[0],
             t.at[1]
+        );
+    }
+    if let Some(b) = bend {
+        let _ = writeln!(
+            report,
+            "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
+             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --tolerance {}; a finer \
+             pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm between readings \
+             on a flat)",
+            b.points,
+            b.depth,
+            b.at[0],
+            b.at[1],
+            args.tolerance,
+            stylus.height(0.5 * pitch)
         );
     }
     if let Some(z) = flat {
