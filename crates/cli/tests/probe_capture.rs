@@ -30,10 +30,13 @@ fn parser_table() {
     use Format::*;
     // (line, format, value in mm, decimals, channel)
     let good: &[(&str, Format, f64, u32, Option<u32>)] = &[
-        ("01A+00012.345", Auto, 12.345, 3, Some(1)),
-        ("01A+00012.345\r", Digimatic, 12.345, 3, Some(1)),
-        ("01A-001.2340", Auto, -1.234, 4, Some(1)), // GageMux manual's Mux-10 example
-        ("01A+0000.123", Auto, 0.123, 3, Some(1)),  // Mitutoyo 99MAF600B, mm 0.001
+        ("01A+0012.345", Auto, 12.345, 3, Some(1)),
+        ("01A+0012.345\r", Digimatic, 12.345, 3, Some(1)),
+        ("01A+00012.35", Auto, 12.35, 2, Some(1)),
+        ("01A+000012.3", Auto, 12.3, 1, Some(1)),
+        ("01A+00.12345", Auto, 0.12345, 5, Some(1)), // 99MAF600B, inch 0.00005
+        ("01A-001.2340", Auto, -1.234, 4, Some(1)),  // GageMux manual's Mux-10 example
+        ("01A+0000.123", Auto, 0.123, 3, Some(1)),   // Mitutoyo 99MAF600B, mm 0.001
         ("01A+000.1234", Digimatic, 0.1234, 4, Some(1)), // same, inch resolution digits
         ("07A-00000.00", Auto, -0.0, 2, Some(7)),
         ("10A+00019.16", Auto, 19.16, 2, Some(10)),
@@ -55,7 +58,15 @@ fn parser_table() {
     let bad: &[(&str, Format)] = &[
         ("", Auto),
         ("   ", Auto),
-        ("01A+0001?.345", Auto),
+        ("01A+001?.345", Auto),
+        ("01A+0001345", Auto),   // the point lost: not 1345 mm
+        ("01A+0001", Auto),      // the rest lost: not 1 mm
+        ("01A+00012.345", Auto), // one digit too many
+        ("01A+.0012345", Auto),  // no digit before the point
+        ("01A+0012345.", Auto),  // no digit after it
+        ("01A+0012.3.5", Auto),
+        ("01A+00123456", Auto), // no point
+        ("01A", Auto),
         ("01A00012.345", Auto),
         ("01A+", Auto),
         ("01A+12.3.4", Auto),
@@ -104,12 +115,12 @@ fn disconnect_and_resume_lose_and_duplicate_nothing() {
     let err = join(job).expect_err("a disconnect is an error");
     let msg = format!("{err:#}");
     assert!(msg.contains("4 of 15 points are stored"), "{msg}");
-    assert!(msg.contains("restart the measuring program at point 5"), "{msg}");
+    assert!(msg.contains("restart the measuring program at point 4 (measured again"), "{msg}");
     assert!(msg.contains("--resume"), "{msg}");
     let seen = log.drain().join("\n");
     eprintln!("session 1 messages:\n{seen}\nerror: {msg}");
-    assert!(seen.contains("line ignored") && seen.contains("01A+0001?.345"), "{seen}");
-    assert!(seen.contains("outside --range 0,50") && seen.contains("01A+00075.000"), "{seen}");
+    assert!(seen.contains("line ignored") && seen.contains("01A+001?.345"), "{seen}");
+    assert!(seen.contains("outside --range 0,50") && seen.contains("01A+0075.000"), "{seen}");
     assert_eq!(points(&data).len(), 4);
 
     // A crash while writing point 5: a truncated last line.
@@ -126,22 +137,22 @@ fn disconnect_and_resume_lose_and_duplicate_nothing() {
     let e = format!("{:#}", capture::run_with(&a, false, &mut |_| {}).unwrap_err());
     assert!(e.contains("other options") && e.contains("nx=6"), "{e}");
 
-    // Session 2: a new instrument session from point 5, with a silence.
+    // Session 2: a new instrument session from point 4 (checked), with a silence.
     let mut p2 = pty();
     let (tx, mut log) = Log::new();
     let a = args(&capture_words(&p2.path, &data, true));
     let job = thread::spawn(move || capture::run_with(&a, false, &mut |m| tx.send(m.to_string()).unwrap()));
     log.wait_for("dropped an incomplete last line \"5,-3\"");
-    log.wait_for("continuing with point 5");
+    log.wait_for("restart the measuring program at point 4");
     log.wait_for("waiting for readings");
-    for no in 5..=NX * NY {
+    for no in 4..=NX * NY {
         if no == 9 {
             log.wait_for("no reading for");
         }
         p2.send(&plunge(no));
     }
     // Readings after the last point are not stored.
-    p2.send("01A+00001.000\r");
+    p2.send("01A+0001.000\r");
     join(job).expect("capture completes");
     let eta = log.wait_for("predicted end");
     assert!(eta.starts_with("started 20") && eta.contains("; predicted end 20"), "{eta}");
@@ -174,9 +185,9 @@ fn binary_killed_and_resumed() {
 
     let mut p2 = pty();
     let (mut child, mut log) = spawn_capture(&capture_words(&p2.path, &data, true));
-    log.wait_for("continuing with point 7");
+    log.wait_for("restart the measuring program at point 6");
     log.wait_for("waiting for readings");
-    for no in 7..=10 {
+    for no in 6..=10 {
         p2.send(&plunge(no));
     }
     wait_points(&data, 10);
@@ -190,7 +201,7 @@ fn binary_killed_and_resumed() {
     let mut p3 = pty();
     let (mut child, mut log) = spawn_capture(&capture_words(&p3.path, &data, true));
     log.wait_for("waiting for readings");
-    for no in 11..=NX * NY {
+    for no in 10..=NX * NY {
         p3.send(&plunge(no));
     }
     assert!(wait_child(&mut child).success());

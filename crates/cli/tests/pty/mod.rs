@@ -154,15 +154,15 @@ pub fn plunge(no: usize) -> String {
     let um = reading_um(no);
     let mm = format!("{}.{:03}", um / 1000, um % 1000);
     let good = match no % 4 {
-        0 => format!("01A+{:0>9}\r", mm),   // Mitutoyo multiplexer, CR
+        0 => format!("01A+{:0>8}\r", mm),   // Mitutoyo multiplexer, CR
         1 => format!("{mm}\r\n"),           // plain number, CR LF
         2 => format!("FFFF0{:06}30\r", um), // Digimatic nibbles
         _ => format!("01A+{:0>8}\n", mm),   // USB-ITN style, LF
     };
     let noise = match no % 3 {
-        0 => "01A+0001?.345\r", // garbled digit
-        1 => "01A+00075.000\r", // out of --range 0,50
-        _ => "\r\n\u{1}#@!\r",  // blank and binary junk
+        0 => "01A+001?.345\r", // garbled digit
+        1 => "01A+0075.000\r", // out of --range 0,50
+        _ => "\r\n\u{1}#@!\r", // blank and binary junk
     };
     format!("{noise}{good}")
 }

@@ -51,26 +51,39 @@ fn decimal(s: &str) -> Option<(f64, u32)> {
     v.is_finite().then_some((v, frac.len() as u32))
 }
 
-/// Mitutoyo multiplexer / USB line: `01A+00012.345`. `None` when the line
-/// does not look like one at all, `Some(Err)` when it does but is damaged.
+/// Mitutoyo multiplexer / USB record `01A+0012.345` (D1–D2 channel, D3 `A`,
+/// D4 sign, D5–D12 the value: eight characters, seven digits and one
+/// decimal point with a digit on each side). `None` when the line does not
+/// look like one at all, `Some(Err)` when it does but is damaged: a record
+/// with characters lost or added is never read as another value.
 fn parse_mitutoyo(t: &str) -> Option<Result<Reading, String>> {
     let b = t.as_bytes();
-    if b.len() < 4 || !b[0].is_ascii_digit() || !b[1].is_ascii_digit() || b[2] != b'A' {
+    if b.len() < 3 || !b[0].is_ascii_digit() || !b[1].is_ascii_digit() || b[2] != b'A' {
         return None;
     }
-    if b[3] != b'+' && b[3] != b'-' {
-        return Some(Err("Mitutoyo line without a sign after the channel".into()));
-    }
+    let negative = match b.get(3) {
+        Some(b'+') => false,
+        Some(b'-') => true,
+        _ => return Some(Err("Mitutoyo record without a sign after the channel".into())),
+    };
     let channel = u32::from(b[0] - b'0') * 10 + u32::from(b[1] - b'0');
-    let data = &t[4..];
-    if data.len() > 13 {
-        return Some(Err("Mitutoyo line with too many digits".into()));
+    let data = &b[4..];
+    if data.len() != 8 {
+        return Some(Err(format!(
+            "Mitutoyo record with {} characters after the sign where the protocol sends 8 \
+             (characters lost or added)",
+            data.len()
+        )));
     }
-    match decimal(data) {
-        Some((v, decimals)) if !data.starts_with(['+', '-']) => {
-            Some(Ok(Reading { mm: if b[3] == b'-' { -v } else { v }, decimals, channel: Some(channel) }))
+    let point = data.iter().position(|&c| c == b'.');
+    let well_formed = data.iter().filter(|&&c| c == b'.').count() == 1
+        && data.iter().all(|&c| c.is_ascii_digit() || c == b'.')
+        && point.is_some_and(|p| (1..=6).contains(&p));
+    match (well_formed, decimal(&t[4..])) {
+        (true, Some((v, decimals))) => {
+            Some(Ok(Reading { mm: if negative { -v } else { v }, decimals, channel: Some(channel) }))
         }
-        _ => Some(Err("Mitutoyo line with a damaged value".into())),
+        _ => Some(Err("Mitutoyo record with a damaged value (7 digits and one decimal point expected)".into())),
     }
 }
 
@@ -152,7 +165,7 @@ mod tests {
     #[test]
     fn tip_z_rounds_to_the_inputs_decimals() {
         let t = TipZ { bottom: -20.0, sign: -1, zero: 0.0 };
-        let r = parse_reading("01A+00012.345", Format::Auto).unwrap();
+        let r = parse_reading("01A+0012.345", Format::Auto).unwrap();
         assert_eq!(t.tip_z(&r).to_string(), "-32.345");
         let t = TipZ { bottom: -70.5, sign: 1, zero: 0.01 };
         let r = parse_reading("19.16", Format::Auto).unwrap();
