@@ -1,7 +1,7 @@
 //! `kezuri probe capture`: read a dial indicator over a serial port, one
-//! reading per plunge of the measuring program, into a `No,Z` data file
-//! (seed 000: a Mitutoyo Digimatic indicator behind a MUX-10 multiplexer,
-//! read by a PC over RS-232C at each plunge).
+//! reading per plunge of the measuring program (the machine's M07 at the
+//! bottom of each plunge triggers it), into a `No,Z` data file. The user's
+//! page is docs/capture.md.
 //!
 //! # Data file
 //!
@@ -16,35 +16,31 @@
 //!
 //! `No` counts from 1 in capture order, `Z` is the stylus tip Z in mm
 //! (shortest round-trip float, rounded to the decimals of the reading,
-//! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). Every
-//! point is appended in one write and fsync'd as it arrives, so a crash loses
-//! at most the line being written; `--resume` drops such a truncated last line
-//! and measures that point again.
+//! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). The
+//! file is created with its first point, locked while a capture writes it,
+//! and every point is appended in one write and fsync'd before the next is
+//! taken (`store`).
 //!
-//! # Reading lines (sources)
+//! # Readings
 //!
-//! Lines end with CR, LF or CR LF; blank lines are skipped.
-//! - Mitutoyo multiplexer / USB output (MUX-10 "Mux-10 format" as described
-//!   in the GageMux operating manual, p. 7: `0CASRRRRRRRR<CR>`; Mitutoyo
-//!   QM-Height manual No. 99MAF600B §6.3 "USB data output": D1 code `0`,
-//!   D2 channel, D3 measurement item `A`, D4 sign, D5–D12 data with a
-//!   floating decimal point, D13 CR), e.g. `01A+00012.345`, `01A-001.2340`,
-//!   `01A+0000.123`. The two digits before `A` are taken as the channel.
-//! - Digimatic raw frame written as its 13 hexadecimal nibbles d1…d13
-//!   (Mitutoyo manuals No. 99MBA043A and 99MAF600B §6.2 "Digimatic data
-//!   output"): `FFFF`, sign nibble (0 `+`, 8 `-`), six BCD digits, the
-//!   decimal point position (0–5), the unit (0 mm, 1 inch; inch readings are
-//!   converted to mm), e.g. `FFFF8012345 30` → −12.345 mm.
-//! - A plain number, optionally signed and followed by `mm`: `-12.345`,
-//!   `+19.16`, `19.16 mm` (what most USB cables and terminal-style interfaces
-//!   send).
+//! Lines end with CR, LF or CR LF; blank lines are skipped. A reading is a
+//! whole, well-formed record (`reading` has the formats and their sources):
+//! a line in none of the forms, a Mitutoyo record with characters lost or
+//! added, the rest of a line over 256 bytes, a reading outside `--range` or
+//! from another `--channel` is reported (with its raw text) and never
+//! becomes a point.
 //!
-//! A line in none of these forms is reported (with its raw text) and never
-//! becomes a point, as are readings outside `--range` and readings from
-//! another `--channel`. A long silence is reported and the capture keeps
-//! waiting; a read error or end of file (cable pulled, converter unplugged)
-//! ends the capture with the number of points stored and the command that
-//! resumes it.
+//! # Interruptions
+//!
+//! The port's input is flushed on open and what arrives until the line has
+//! been quiet for `SETTLE` is discarded (a reading sent while kezuri was
+//! stopped, or the tail of one under way). Readings carry no point number,
+//! so `--resume` takes the last stored point again first (the operator
+//! restarts the measuring program there) and compares its Z with the stored
+//! one within `--recheck-tol`: a mismatch stops the capture with nothing
+//! new stored. A long silence is reported and the capture keeps waiting; a
+//! read error or end of file (cable pulled, converter unplugged) ends it
+//! with the number of points stored and the command that resumes it.
 
 // By path, so that the test that compiles this file by path
 // (tests/probe_capture.rs) finds them too.
@@ -87,11 +83,17 @@ How a reading becomes the tip Z (recorded in the file's header):
           showing `zero`; sign: +1 when the reading grows as the stylus is pushed in
           (Mitutoyo indicators), -1 otherwise. The defaults (0, +1, 0) store the raw reading.
 
-Accepted lines: Mitutoyo multiplexer/USB `01A+00012.345` (channel, item A, sign, value),
-Digimatic raw nibbles `FFFF0012345 30` (13 hex digits), plain numbers `-12.345`, `19.16 mm`.
-Garbled lines, values outside --range and long silences are reported on stderr and never
-stored. Every point is fsync'd as it arrives; after a disconnect, --resume continues after
-the last stored point (restart the measuring program at the point it names).
+Accepted lines: Mitutoyo multiplexer/USB records `01A+0012.345` (channel, A, sign, then
+exactly 8 characters: 7 digits and a decimal point), Digimatic raw nibbles `FFFF0012345 30`
+(13 hex digits), plain numbers `-12.345`, `19.16 mm`. Damaged records, over-long lines,
+values outside --range and long silences are reported on stderr and never stored.
+
+Interruptions: what the instrument sent while kezuri was stopped is discarded when the port
+opens. Every point is on disk before the next is taken; the data file exists from the first
+point on, and two captures cannot write one file. After a stop, --resume names the point to
+restart the measuring program at: the last stored point, measured again and compared with the
+stored Z (--recheck-tol) before new points are taken; on a mismatch nothing new is stored.
+A last record cut off by a power loss is dropped and taken again.
 
 Examples:
   kezuri probe capture --port /dev/ttyUSB0 --count 85,105 -o ume.csv

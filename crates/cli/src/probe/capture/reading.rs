@@ -1,5 +1,30 @@
-//! One indicator reading from a line the instrument sent (the formats are
-//! in the parent module's docs), and how it becomes the tip Z.
+//! One indicator reading from a line the instrument sent, and how it
+//! becomes the tip Z. The formats and where they are defined:
+//!
+//! - **Mitutoyo multiplexer / USB record**, `01A+0012.345` then CR. Mitutoyo
+//!   QM-Height manual No. 99MAF600B, §6.2.2 "USB data output
+//!   specifications" (9600 bps, 8 data bits, no parity, 1 stop bit): D1 code
+//!   `0`, D2 channel, D3 measurement item `A`, D4 sign `+` or `-`, D5–D12 the
+//!   data with a floating decimal point, D13 CR; its examples `01A+0000.123`
+//!   (mm, 0.001), `01A+00.12345` and `01A+000.1234` (inch). The GageMux
+//!   operating manual (ASD document 10040PF), p. 7, "Mitutoyo Mux-10
+//!   format": `0CASRRRRRRRR<CR>`, first character `0`, C the channel, `A`,
+//!   S the sign, RRRRRRRR the reading, e.g. `01A-001.2340`. So the data field
+//!   is exactly eight characters, seven digits and one decimal point; kezuri
+//!   also wants a digit on each side of the point (every example has one).
+//!   A record with characters lost (`01A+0001345`, `01A+0001`) or added is
+//!   refused, never read as another value. The two characters before `A` are
+//!   read as the channel number (for `--channel`).
+//! - **Digimatic frame** written as its 13 hexadecimal nibbles d1…d13
+//!   (99MAF600B §6.2.1 and Mitutoyo manual No. 99MBA043A, "Digimatic data
+//!   output"): `FFFF`, the sign (0 `+`, 8 `-`), six BCD digits, the decimal
+//!   point position (0–5), the unit (0 mm, 1 inch; inch readings are
+//!   converted to mm), e.g. `FFFF8012345 30` → −12.345 mm.
+//! - **A plain number**, optionally signed and followed by `mm`: `-12.345`,
+//!   `+19.16`, `19.16 mm` (what most USB cables and terminal-style interfaces
+//!   send). It has no fixed form to check, so only the port's settling on
+//!   open and the check of the last point on `--resume` guard it against a
+//!   line cut in two.
 
 use super::Format;
 
