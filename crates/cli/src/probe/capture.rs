@@ -445,6 +445,8 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     const MAX_LINE: usize = 256;
 
     let result = 'capture: loop {
+        // The point the next reading is for: on --resume, first the check.
+        let point = check.map_or(next, |(no, _)| no);
         match port.read(&mut buf, Duration::from_millis(200)) {
             Got::Data(n) => {
                 last_data = Instant::now();
@@ -473,6 +475,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
                     if raw.trim().is_empty() {
                         continue;
                     }
+                    // (a check earlier in this buffer may have been taken)
                     let point = check.map_or(next, |(no, _)| no);
                     let reading = match accept(args, &raw) {
                         Ok(r) => r,
@@ -540,7 +543,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
                     skipping = false;
                     if !line.is_empty() {
                         let raw = String::from_utf8_lossy(&line).into_owned();
-                        out.say(&format!("point {next}: incomplete line ignored after a silence: {raw:?}"));
+                        out.say(&format!("point {point}: incomplete line ignored after a silence: {raw:?}"));
                         rejected += 1;
                         line.clear();
                     }
@@ -553,7 +556,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
                         String::new()
                     };
                     out.say(&format!(
-                        "no reading for {} (point {next} of {total} is next); still waiting — check the \
+                        "no reading for {} (point {point} of {total} is next); still waiting — check the \
                          machine and the cable{lost}",
                         human(last_data.elapsed())
                     ));
@@ -562,7 +565,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
             Got::Gone(why) => {
                 if !line.is_empty() {
                     let raw = String::from_utf8_lossy(&line).into_owned();
-                    out.say(&format!("point {next}: incomplete line dropped at the disconnect: {raw:?}"));
+                    out.say(&format!("point {point}: incomplete line dropped at the disconnect: {raw:?}"));
                 }
                 break 'capture Err(args.gone(&why, next));
             }
