@@ -177,7 +177,7 @@ impl From<Pattern> for Order {
 pub enum Format {
     /// Any of the formats below.
     Auto,
-    /// Mitutoyo multiplexer/USB lines (`01A+00012.345`) and raw Digimatic nibbles.
+    /// Mitutoyo multiplexer/USB records (`01A+0012.345`) and raw Digimatic nibbles.
     Digimatic,
     /// Plain numbers (`-12.345`, `19.16 mm`).
     Number,

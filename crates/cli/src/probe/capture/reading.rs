@@ -58,7 +58,7 @@ pub fn parse_reading(line: &str, format: Format) -> Result<Reading, String> {
         Some(Err(e)) => Err(e),
         None => Err(match format {
             Format::Auto => "not a Mitutoyo line, Digimatic frame or number".into(),
-            Format::Digimatic => "not a Mitutoyo line (01A+00012.345) or Digimatic frame".into(),
+            Format::Digimatic => "not a Mitutoyo record (01A+0012.345) or Digimatic frame".into(),
             Format::Number => "not a number".into(),
         }),
     }
