@@ -4,7 +4,9 @@
 //!   one of them `# grid nx=85 ny=105 pitch=1 origin=0,0 pattern=zigzag`;
 //!   the others (how a reading becomes the tip Z, times, …) are kept as they
 //!   are. Then `No,Z` and one `No,Z` record per point, `No` from 1 in
-//!   capture order.
+//!   capture order, each ending with a line feed: a last record without
+//!   one was cut off by a crash or a power loss while it was written (it
+//!   may read as another number: `15,-5` of `15,-50.63`) and is refused.
 //! - **Bare `No,Z`** (the paper's files): the same records without a
 //!   header; the grid comes from the caller ([`Hint`]). A record `No 0` is
 //!   ignored (the paper's files begin with `0,0`) and written back.
@@ -166,6 +168,16 @@ pub fn read(text: &str, hint: &Hint) -> Result<Data, DataError> {
         let grid = header_grid(lines[g], g + 1, hint)?;
         let header: Vec<String> =
             lines.iter().filter(|l| l.trim_start().starts_with('#')).map(|l| l.to_string()).collect();
+        if let Some(last) = lines.last().filter(|l| !text.ends_with('\n') && !is_comment(l)) {
+            return err(
+                Some(lines.len()),
+                format!(
+                    "the last record '{}' has no end of line: the capture was cut off while writing it \
+                     (`kezuri probe capture … --resume` drops it and measures that point again)",
+                    last.trim()
+                ),
+            );
+        }
         let (z, _, _) = records(&lines, &grid)?;
         return Ok(Data { grid: ProbeGrid { grid, z }, format: Format::Capture { header } });
     }
