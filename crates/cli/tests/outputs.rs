@@ -179,3 +179,52 @@ fn a_failure_between_the_renames_names_what_was_replaced() {
     assert_eq!(read(&d), "DEPTH 2.500\n");
     assert!(temporaries(dir.path()).is_empty(), "{:?}", temporaries(dir.path()));
 }
+
+#[test]
+fn a_split_job_refuses_the_parts_an_earlier_longer_one_left() {
+    use std::fmt::Write as _;
+    let dir = tempfile::tempdir().unwrap();
+    // A pocket in a flat top, 21 × 15 readings 1 mm apart.
+    let mut text = String::from("0,0\n");
+    for k in 0..21 * 15 {
+        let (i, j) = ((k % 21) as f64, (k / 21) as f64);
+        let r = ((i - 10.0).powi(2) + (j - 7.0).powi(2)).sqrt();
+        writeln!(text, "{},{:.4}", k + 1, 19.16 - if r < 5.0 { (25.0 - r * r).sqrt() * 0.6 } else { 0.0 }).unwrap();
+    }
+    let data = path(dir.path(), "ume.txt");
+    std::fs::write(&data, &text).unwrap();
+    let nc = path(dir.path(), "ume.nc");
+    let mill = |extra: &[&str]| {
+        let fixed = ["probe", "mill", &data, "--count", "21,15", "--pitch", "1", "--step", "0.25"];
+        kezuri(&[&fixed[..], &["--stylus", "ball:10", "--tool", "ball:10", "-o", &nc], extra].concat())
+    };
+    ok(&mill(&[]));
+    let whole = read(&nc).len();
+    let parts = |dir: &Path| {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with("ume-"))
+            .collect();
+        names.sort();
+        names
+    };
+    ok(&mill(&["--split-bytes", &(whole / 3).to_string()]));
+    let three = parts(dir.path());
+    assert!(three.len() >= 4, "{three:?}");
+    let before: Vec<String> = three.iter().map(|n| read(&path(dir.path(), n))).collect();
+    // Fewer, larger parts: the last ones of the earlier job would be left.
+    let fewer = (whole / 2).to_string();
+    let e = err(&mill(&["--split-bytes", &fewer]));
+    let last = three.last().unwrap();
+    assert!(e.contains(last.as_str()) && e.contains("--overwrite-parts"), "{e}");
+    let after: Vec<String> = three.iter().map(|n| read(&path(dir.path(), n))).collect();
+    assert_eq!(before, after, "nothing is written");
+    ok(&mill(&["--split-bytes", &fewer, "--overwrite-parts"]));
+    let now = parts(dir.path());
+    assert!(now.len() < three.len() && !now.contains(last), "{now:?}");
+    // One part (the whole program in ume.nc): every earlier part is in the way.
+    let e = err(&mill(&["--split-bytes", &(2 * whole).to_string()]));
+    assert!(now.iter().all(|n| e.contains(n.as_str())), "{e}");
+}
