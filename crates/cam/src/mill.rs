@@ -584,8 +584,9 @@ impl RowSampling {
                 self.added.push((u, z));
                 next.push([a, (u, z)]);
                 next.push([(u, z), b]);
-            } else if q.cells(a.0, b.0) <= FEW_CELLS {
-                // Its checks were grid positions: it is held against the
+            } else if q.cells(a.0, b.0) <= FEW_CELLS && (a.1 - b.1).abs() > r.band.below {
+                // Its checks were grid positions: a chord that rises (where
+                // the CL may bulge over it between them) is held against the
                 // CL between them too.
                 self.cells.push([a, b]);
             }
