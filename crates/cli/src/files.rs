@@ -4,7 +4,7 @@
 mod live;
 mod outputs;
 
-use std::io::{Read, Write};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 pub use outputs::Outputs;
@@ -33,15 +33,8 @@ pub fn read_text(path: &Path) -> Result<String> {
 /// Writes `data` to `path`, or to stdout when `path` is `None` or `-`:
 /// an [`Outputs`] of one.
 pub fn write_output(path: Option<&Path>, data: &[u8]) -> Result<()> {
-    write_output_with(path, |w| w.write_all(data))
-}
-
-/// As [`write_output`], with the bytes made by `fill` as it goes (through
-/// a buffer): an output file larger than memory, a large surface's STL, is
-/// never held whole.
-pub fn write_output_with(path: Option<&Path>, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     let mut out = Outputs::new();
-    out.add_with(path, fill)?;
+    out.add(path, data)?;
     out.commit()
 }
 
