@@ -5,8 +5,9 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
 use kezuri_cam::{scallop, Cutter};
 
+use crate::files::Outputs;
 use crate::machine::MachineArg;
-use crate::program::{write_toolpath, Origin, WriteArgs};
+use crate::program::{stage_toolpath, Origin, WriteArgs};
 use crate::surface::read_surface;
 
 /// Options of `kezuri mill`.
@@ -197,7 +198,9 @@ pub fn run(args: &MillArgs) -> Result<()> {
         bar.finish_and_clear();
     }
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write, &machine, Origin::Made)
+    let mut out = Outputs::new();
+    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made)?;
+    out.commit()
 }
 
 /// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of

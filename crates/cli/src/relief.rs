@@ -11,10 +11,10 @@ use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
 use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
 
-use crate::files::write_output_with;
+use crate::files::Outputs;
 use crate::machine::MachineArg;
 use crate::mill::{RowDirection, RowPattern};
-use crate::program::{write_toolpath, Origin, WriteArgs};
+use crate::program::{stage_toolpath, Origin, WriteArgs};
 
 /// Most pixels of a picture (8 bytes of height each, and the picture).
 pub const MAX_PIXELS: u64 = 64_000_000;
@@ -270,11 +270,12 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         t0.elapsed().as_secs_f64()
     );
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write, &machine, Origin::Made)?;
-    match &args.surface_stl {
-        Some(stl) => write_surface_stl(stl, &field),
-        None => Ok(()),
+    let mut out = Outputs::new();
+    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made)?;
+    if let Some(stl) = &args.surface_stl {
+        stage_surface_stl(&mut out, stl, &field)?;
     }
+    out.commit()
 }
 
 /// The picture's lower-left corner for `--origin`: the named corner (or
@@ -319,9 +320,9 @@ fn with_bar(
     Ok(path?)
 }
 
-/// Writes the surface of `field` as a binary STL, a triangle at a time (a
-/// 64-million-pixel relief is 128 million triangles, 6.4 GB of STL, and
-/// never in memory).
-pub fn write_surface_stl(path: &Path, field: &Heightfield) -> Result<()> {
-    write_output_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
+/// Adds the surface of `field` to `out` as a binary STL, a triangle at a
+/// time (a 64-million-pixel relief is 128 million triangles, 6.4 GB of STL,
+/// never in memory when written to a file).
+pub fn stage_surface_stl(out: &mut Outputs, path: &Path, field: &Heightfield) -> Result<()> {
+    out.add_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
 }

@@ -146,8 +146,10 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let stock = args.stock.as_deref().map(stock::parse).transpose()?;
 
-    let (ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
+    let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
     ran.print_diagnostics(&parse_diagnostics);
+    // Every output file (the DPRNT file too) is written together, or none.
+    let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
     if ran.errors() > 0 {
         bail!("{file}: {} error(s); nothing simulated", ran.errors());
@@ -187,34 +189,35 @@ pub fn run(args: &SimArgs) -> Result<()> {
         None => None,
     };
 
-    if let Some(out) = &args.output {
-        write_output(Some(out), &picture::height_png(&zmap)?)?;
+    if let Some(png) = &args.output {
+        out.add(Some(png), &picture::height_png(&zmap)?)?;
     }
-    if let Some(out) = &args.stl {
-        picture::write_surface_stl(out, &zmap)?;
+    if let Some(stl) = &args.stl {
+        picture::stage_surface_stl(&mut out, stl, &zmap)?;
     }
     let mut deviation_note = None;
     if let Some((c, heights)) = &comparison {
-        let out = args.deviation_png.clone().or_else(|| {
+        let deviation = args.deviation_png.clone().or_else(|| {
             args.output.as_ref().filter(|o| o.as_path() != Path::new("-")).map(|o| {
                 let stem = o.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
                 o.with_file_name(format!("{stem}-deviation.png"))
             })
         });
-        if let Some(out) = out {
+        if let Some(png) = deviation {
             let scale = match args.deviation_scale {
                 Some(s) if s.is_finite() && s > 0.0 => s,
                 Some(s) => bail!("--deviation-scale must be a positive number of mm, got {s}"),
                 None => c.max_gouge.max(c.max_left).max(1e-9),
             };
-            write_output(Some(&out), &picture::deviation_png(&zmap, heights, scale)?)?;
+            out.add(Some(&png), &picture::deviation_png(&zmap, heights, scale)?)?;
             deviation_note = Some(format!(
                 "{}: red = below the target (gouge), blue = above (material left), white = on it; \
                  full colour at ±{scale:.4} mm; grey = no target",
-                out.display()
+                png.display()
             ));
         }
     }
+    out.commit()?;
 
     if !report.rapid_hits.is_empty() {
         let first = report.rapid_hits[0];

@@ -516,7 +516,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
     let (model, chains) = load_model(&a.model)?;
     // The model's machine is checked before the program's axes against it.
-    let (text, ran) = run_to_correct(&a.run, |ran| {
+    let (text, mut ran) = run_to_correct(&a.run, |ran| {
         let here = chain_letters(&ran.machine.kinematics);
         if here != chains {
             bail!(
@@ -584,7 +584,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     }
     let seconds = t0.elapsed().as_secs_f64();
     set_ends(&mut path, &corrected, ArcCentre::FollowsEnd);
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &ran.machine)?;
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &mut ran)?;
     let v = json!({
         "points": corrected.len(),
         "max_correction_mm": largest,

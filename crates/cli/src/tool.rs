@@ -14,7 +14,7 @@ use kezuri_post::microscope::{frame_centre, measure, runout_mm, Envelope, Measur
 use kezuri_post::tool_image::GrayImage;
 use serde_json::json;
 
-use crate::files::{read_text, write_output};
+use crate::files::{read_text, Outputs};
 use crate::table::Table;
 use crate::{tool_db, tool_table};
 
@@ -195,10 +195,12 @@ fn profile(a: &ProfileArgs) -> Result<()> {
     });
     // Everything made before anything is written.
     let picture = a.png.as_ref().map(|_| overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)).transpose()?;
-    write_output(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
+    let mut out = Outputs::new();
+    out.add(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
     if let (Some(png), Some(picture)) = (&a.png, picture) {
-        write_output(Some(png), &picture)?;
+        out.add(Some(png), &picture)?;
     }
+    out.commit()?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }

@@ -117,7 +117,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     if mesh.is_empty() {
         bail!("{stl}: no triangles");
     }
-    let (text, ran) = run_to_correct(&a.run, |_| Ok(()))?;
+    let (text, mut ran) = run_to_correct(&a.run, |_| Ok(()))?;
     let k = &ran.machine.kinematics;
     let mut path = ran.outcome.toolpath.clone();
     let surface = Surface::new(&mesh);
@@ -214,7 +214,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             }
         }
     }
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR", &ran.machine)?;
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR", &mut ran)?;
     if let Some(&(line, d)) = gouges.first() {
         eprintln!(
             "warning: {name}: {} point(s) where the new tool itself cuts more than {} mm into the surface (first at \
