@@ -120,9 +120,9 @@ pub struct SimArgs {
     /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
     #[arg(long, value_name = "N", default_value_t = 250_000_000)]
     pub max_cells: usize,
-    /// Bins of the deviation histogram.
-    #[arg(long, value_name = "N", default_value_t = 10)]
-    pub bins: usize,
+    /// Bins of the deviation histogram (1 to 10000).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u16).range(1..=10_000))]
+    pub bins: u16,
     /// Exit with code 1 when a rapid cuts into the stock.
     #[arg(long)]
     pub fail_on_rapid: bool,
@@ -178,7 +178,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         Some(target) => {
             let triangles = crate::surface::read_surface(target)?.triangles();
             let heights = target_heights(&zmap, triangles);
-            let c = compare(&zmap, &heights, args.bins);
+            let c = compare(&zmap, &heights, args.bins.into());
             if c.compared == 0 {
                 bail!("{}: the target covers none of the {} cells", target.display(), zmap.cells());
             }
