@@ -121,8 +121,8 @@ pub fn is_textured(m: &Move) -> bool {
 /// Checks the options.
 pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
     let bad = |m: String| Err(TextureError::Option(m));
-    if !(o.segment.is_finite() && o.segment > 0.0) {
-        return bad(format!("--segment must be a positive length, got {}", o.segment));
+    if let Err(e) = kezuri_geom::limits::length(o.segment, "--segment") {
+        return bad(e);
     }
     if !(o.spread.is_finite() && o.spread >= 0.0) {
         return bad(format!("--spread must be zero or a positive length, got {}", o.spread));

@@ -50,3 +50,75 @@ fn histogram_bins_are_bounded() {
     let o = kezuri(&["sim", &nc, "--tool", "ball:2", "--res", "0.1", "--bins", "18446744073709551615"]);
     refused(&o, "--bins");
 }
+
+#[test]
+fn lengths_from_a_nanometre_to_a_kilometre() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = path(dir.path(), "plan.nc");
+    for (args, words) in [
+        (
+            &[
+                "probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1e-300", "--z-safe", "5", "--plunge",
+                "1",
+            ][..],
+            "'--pitch <MM>': it must be a length from 0.000001 to 1000000 mm, got 1e-300",
+        ),
+        (
+            &["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "NaN", "--z-safe", "5", "--plunge", "1"],
+            "'NaN' for '--pitch <MM>'",
+        ),
+        (
+            &["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1", "--z-safe", "inf", "--plunge", "1"],
+            "coordinate from -1000000 to 1000000 mm, got inf",
+        ),
+        (
+            &["probe", "simulate", "model.stl", "--count", "3,3", "--pitch", "1e-300", "--stylus", "ball:1"],
+            "'--pitch <MM>': it must be a length",
+        ),
+    ] {
+        let o = kezuri(&[args, &["-o", &out]].concat());
+        refused(&o, words);
+    }
+    let stl = path(dir.path(), "flat.stl");
+    std::fs::write(&stl, "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n").unwrap();
+    let o = kezuri(&["dropcut", &stl, "--tool", "ball:1e-300", "--grid", "0,0,1,1,0.5"]);
+    refused(&o, "the diameter must be a length from 0.000001");
+}
+
+#[test]
+fn dropcut_points_are_weighed_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let stl = path(dir.path(), "flat.stl");
+    std::fs::write(&stl, "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n").unwrap();
+    let o = kezuri(&["dropcut", &stl, "--tool", "ball:1", "--grid", "0,0,1,1,0.00015"]);
+    refused(&o, "--grid: 44.5 million points would take about 2.5 GB of memory (at most 2.1 GB");
+}
+
+/// A binary STL of two triangles: a 50 mm square ramp.
+fn square(dir: &std::path::Path) -> String {
+    let stl = path(dir, "square.stl");
+    let mut b = vec![0u8; 80];
+    b.extend(2u32.to_le_bytes());
+    for t in [
+        [[0.0f32, 0.0, 0.0], [50.0, 0.0, 0.0], [50.0, 50.0, 1.0]],
+        [[0.0, 0.0, 0.0], [50.0, 50.0, 1.0], [0.0, 50.0, 1.0]],
+    ] {
+        b.extend([0f32; 3].iter().chain(t.iter().flatten()).flat_map(|v| v.to_le_bytes()));
+        b.extend([0, 0]);
+    }
+    std::fs::write(&stl, b).unwrap();
+    stl
+}
+
+#[test]
+fn a_cusp_height_is_weighed_by_its_rows_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let stl = square(dir.path());
+    let nc = path(dir.path(), "m.nc");
+    let t = std::time::Instant::now();
+    let args =
+        ["mill", &stl, "--tool", "ball:6", "--stepover", "1", "--cusp", "1e-6", "--step", "0.001", "--safe-z", "10"];
+    let o = kezuri(&[&args[..], &["-o", &nc]].concat());
+    refused(&o, "10208 rows (the pick feed of the cusp height on the flat");
+    assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
+}

@@ -101,7 +101,14 @@ impl XyIndex {
         let of: Vec<usize> = boxes.iter().map(level_of).collect();
         let count = of.iter().max().map_or(1, |l| l + 1);
         let mut levels: Vec<Level> = (0..count)
-            .map(|l| Level { origin: lo, cell: cell * f64::powi(2.0, l as i32), nx: 0, ny: 0, start: vec![0], items: vec![] })
+            .map(|l| Level {
+                origin: lo,
+                cell: cell * f64::powi(2.0, l as i32),
+                nx: 0,
+                ny: 0,
+                start: vec![0],
+                items: vec![],
+            })
             .collect();
         for &l in &of {
             let level = &mut levels[l];
@@ -111,7 +118,11 @@ impl XyIndex {
                 level.start = vec![0; level.nx * level.ny + 1];
             }
         }
-        let low = boxes.iter().zip(&of).map(|(b, &l)| [levels[l].cell_of(b[0], 0) as u32, levels[l].cell_of(b[1], 1) as u32]).collect();
+        let low = boxes
+            .iter()
+            .zip(&of)
+            .map(|(b, &l)| [levels[l].cell_of(b[0], 0) as u32, levels[l].cell_of(b[1], 1) as u32])
+            .collect();
         // Counting sort of (cell, triangle) pairs, level by level: at most
         // four pairs a triangle, so the u32 counts cannot overflow.
         for (b, &l) in boxes.iter().zip(&of) {

@@ -33,6 +33,7 @@
 mod alloc;
 mod heightfield;
 mod index;
+pub mod limits;
 mod mesh;
 mod random;
 mod stl;
