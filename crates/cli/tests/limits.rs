@@ -19,7 +19,7 @@ fn refused(o: &Output, words: &str) {
 /// A small program cutting one line, in `dir`.
 fn program(dir: &std::path::Path) -> String {
     let nc = path(dir, "p.nc");
-    std::fs::write(&nc, "G90 G21\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10 Y5\nM30\n").unwrap();
+    std::fs::write(&nc, "G90 G21\nG0 X0. Y0. Z5.\nG1 Z-1. F100.\nG1 X10. Y5.\nM30\n").unwrap();
     nc
 }
 
@@ -121,4 +121,13 @@ fn a_cusp_height_is_weighed_by_its_rows_before_the_work() {
     let o = kezuri(&[&args[..], &["-o", &nc]].concat());
     refused(&o, "10208 rows (the pick feed of the cusp height on the flat");
     assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
+}
+
+#[test]
+fn texture_knots_are_weighed_by_the_travel_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = program(dir.path());
+    let out = path(dir.path(), "t.nc");
+    let o = kezuri(&["texture", &nc, "--seed", "1", "--segment", "1e-6", "-o", &out]);
+    refused(&o, "--segment 0.000001 mm: 11 mm of cutting travel would make 1.118e7 knots, more than 10 million");
 }
