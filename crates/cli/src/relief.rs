@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::{raster_with, ClRowsFn, RasterOptions, Region};
-use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
+use kezuri_cam::relief::{check_smoothing, inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
 use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
@@ -155,13 +155,19 @@ pub struct ReliefArgs {
 
 /// Reads a picture as gray values, refusing one too large to hold before
 /// decoding it.
-pub fn read_gray(path: &Path) -> Result<Gray> {
+/// The width and height a picture file declares, read from its header.
+fn dimensions(path: &Path) -> Result<(u32, u32)> {
     let name = path.display();
     let reader = image::ImageReader::open(path)
         .with_context(|| format!("cannot open {name}"))?
         .with_guessed_format()
         .with_context(|| format!("cannot read {name}"))?;
-    let (w, h) = reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))?;
+    reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))
+}
+
+pub fn read_gray(path: &Path) -> Result<Gray> {
+    let name = path.display();
+    let (w, h) = dimensions(path)?;
     let pixels = u64::from(w) * u64::from(h);
     if pixels > MAX_PIXELS {
         bail!(
@@ -196,6 +202,8 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     if !(args.safe_z.is_finite() && args.safe_z > 0.0) {
         bail!("--safe-z {} must be above the stock top, z = 0", args.safe_z);
     }
+    let (w, h) = dimensions(&args.image)?;
+    check_smoothing(args.smooth, w as usize, h as usize).context("--smooth")?;
     let picture = read_gray(&args.image)?;
     let mask = args.mask.as_deref().map(read_gray).transpose()?;
     let pixel = match (args.width, args.pixel) {

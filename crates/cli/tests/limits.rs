@@ -131,3 +131,34 @@ fn texture_knots_are_weighed_by_the_travel_before_the_work() {
     let o = kezuri(&["texture", &nc, "--seed", "1", "--segment", "1e-6", "-o", &out]);
     refused(&o, "--segment 0.000001 mm: 11 mm of cutting travel would make 1.118e7 knots, more than 10 million");
 }
+
+/// A PNG of a few bytes whose header declares `w` × `h` pixels.
+fn declared_png(file: &str, w: u32, h: u32) {
+    let mut png = Vec::new();
+    image::GrayImage::new(8, 8).write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
+    png[16..20].copy_from_slice(&w.to_be_bytes());
+    png[20..24].copy_from_slice(&h.to_be_bytes());
+    // The IHDR chunk's CRC-32, over its type and data.
+    let mut crc = !0u32;
+    for &b in &png[12..29] {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+        }
+    }
+    png[29..33].copy_from_slice(&(!crc).to_be_bytes());
+    std::fs::write(file, png).unwrap();
+}
+
+#[test]
+fn relief_smoothing_is_weighed_from_the_pictures_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = path(dir.path(), "huge.png");
+    declared_png(&png, 7900, 7900);
+    let nc = path(dir.path(), "r.nc");
+    let args = ["relief", &png, "--width", "100", "--depth", "2", "--tool", "ball:3", "--stepover", "0.3"];
+    let t = std::time::Instant::now();
+    let o = kezuri(&[&args[..], &["--smooth", "100", "-o", &nc]].concat());
+    refused(&o, "--smooth: smoothing 100 pixels over 7900 × 7900 pixels is 7.5e10 products");
+    assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
+}
