@@ -162,3 +162,41 @@ fn relief_smoothing_is_weighed_from_the_pictures_header() {
     refused(&o, "--smooth: smoothing 100 pixels over 7900 × 7900 pixels is 7.5e10 products");
     assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
 }
+
+#[test]
+fn huge_numbers_in_files_are_refused_where_they_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // A profile of a corner drawn 1e305 mm wide: its fit overflows to NaN.
+    let profile = path(dir.path(), "edge.csv");
+    let mut text = String::from("x_mm,z_mm\n");
+    for k in -200..=200 {
+        text += &format!("{:e},{:e}\n", k as f64 * 1e305, (k as f64).abs() * 0.8e305);
+    }
+    std::fs::write(&profile, text).unwrap();
+    refused(
+        &kezuri(&["thermal", "edge", &profile, "--json"]),
+        "line 2, column 1: '-2e307' (x_mm) must be a coordinate",
+    );
+    // Readings of 1e300 mm.
+    let data = path(dir.path(), "huge.txt");
+    std::fs::write(&data, "# grid nx=2 ny=2 pitch=1 origin=0,0 order=zigzag\n1,0\n2,1e300\n3,0\n4,0\n").unwrap();
+    let out = path(dir.path(), "level.txt");
+    refused(&kezuri(&["probe", "level", &data, "-o", &out]), "line 3, column 3: '1e300' must be a coordinate");
+    // A tool length of 1e308 mm.
+    let machine = path(dir.path(), "m.toml");
+    std::fs::write(&machine, "[tools]\nlengths = { 1 = 1e308 }\n").unwrap();
+    let nc = program(dir.path());
+    refused(&kezuri(&["check", &nc, "--machine", &machine, "--json"]), "tools.lengths.1 must be a coordinate");
+}
+
+#[test]
+fn a_simulated_tilt_is_a_slope() {
+    let dir = tempfile::tempdir().unwrap();
+    let stl = square(dir.path());
+    let out = path(dir.path(), "r.txt");
+    let o = kezuri(&[
+        "probe", "simulate", &stl, "--count", "3,3", "--pitch", "1", "--stylus", "ball:1", "--tilt", "1e308,0", "-o",
+        &out,
+    ]);
+    refused(&o, "--tilt 1e308,0: a slope is at most 1 mm per mm");
+}

@@ -69,6 +69,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         bail!("--count {nx},{ny}: the grid needs 2 to 10,000 points a side and at most 100 million in all");
     }
     let tilt = pair::<f64>("--tilt", &args.tilt)?;
+    if !tilt.iter().all(|t| t.abs() <= 1.0) {
+        bail!("--tilt {}: a slope is at most 1 mm per mm (45°) either way", args.tilt);
+    }
     let order: Order = args.pattern.parse().map_err(anyhow::Error::msg)?;
     let model = read_surface(&args.model)?;
     let [x0, y0, x1, y1] = model.xy_box();
