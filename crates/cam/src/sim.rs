@@ -267,7 +267,12 @@ impl fmt::Display for SimError {
                 write!(f, "move {index} (line {line}) has a coordinate that is not a finite number")
             }
             SimError::TooManySegments(n) => {
-                write!(f, "arcs split into {n} chords, too many: raise the chord tolerance")
+                write!(
+                    f,
+                    "the moves split into {n} straight segments (arcs in chords), more than {}: raise the chord \
+                     tolerance",
+                    segments::MAX_SEGMENTS
+                )
             }
             SimError::NoTool { number, line } => {
                 write!(f, "T{number} (first moving at line {line}) has no shape to cut with")

@@ -200,3 +200,15 @@ fn a_simulated_tilt_is_a_slope() {
     ]);
     refused(&o, "--tilt 1e308,0: a slope is at most 1 mm per mm");
 }
+
+#[test]
+fn the_chords_of_a_simulation_are_weighed_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "circles.nc");
+    let text = "G90 G21\nG0 X0. Y0. Z5.\nG1 Z-1. F100.\n#1=0\nWHILE [#1 LT 700] DO1\nG02 I50.\n#1=#1+1\nEND1\nM30\n";
+    std::fs::write(&nc, text).unwrap();
+    let t = std::time::Instant::now();
+    let o = kezuri(&["sim", &nc, "--tool", "ball:2", "--res", "1", "--chord-tol", "0.000001", "--json"]);
+    refused(&o, "into 10995602 straight segments (arcs in chords), more than 10000000: raise the chord tolerance");
+    assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
+}
