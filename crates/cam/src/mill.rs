@@ -181,12 +181,13 @@ pub fn raster_with(
     on_row: &Progress,
 ) -> Result<Toolpath, MillError> {
     check(region, o)?;
-    let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
     let passes: &[bool] = match o.direction {
         Direction::X => &[false],
         Direction::Y => &[true],
         Direction::Both => &[false, true],
     };
+    least_points(region, o, pick_feed, passes)?;
+    let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
     // Where the rows go, pass by pass (pick-feed control measures the
     // surface for each next row), then the rows themselves in parallel.
     let mut plans = Vec::new();
@@ -289,13 +290,7 @@ pub fn raster_with(
 }
 
 fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
-    let positive = |v: f64, what: &str| {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(MillError::Option(format!("{what} must be a positive number, got {v}")))
-        }
-    };
+    let positive = |v: f64, what: &str| kezuri_geom::limits::length(v, what).map(|_| ()).map_err(MillError::Option);
     positive(o.stepover, "the stepover")?;
     positive(o.step, "the sampling step")?;
     positive(o.tolerance, "the tolerance")?;
@@ -316,13 +311,6 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
     }
     if ![r.x0, r.y0, r.x1, r.y1].iter().all(|v| v.is_finite()) || r.x1 < r.x0 || r.y1 < r.y0 {
         return Err(MillError::Option(format!("the region {r:?} must be finite with x0 ≤ x1 and y0 ≤ y1")));
-    }
-    let rows = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.stepover).ceil();
-    let samples = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.step).ceil();
-    if rows * samples > 1e9 {
-        return Err(MillError::Option(format!(
-            "{rows} rows of {samples} samples is more than a billion CL points: raise the stepover or the step"
-        )));
     }
     Ok(())
 }
@@ -406,6 +394,38 @@ fn first_level(samples: &[f64], q: Quantum) -> Vec<f64> {
 
 /// The samples of a row from `from` to `to`, every `step` or less, on the
 /// output grid, each once.
+/// Most CL points the rows may ask before refining (as a drop-cutter grid).
+const MAX_POINTS: f64 = crate::dropcut::Grid::MAX_POINTS as f64;
+
+/// Refuses, before any work, a raster whose rows hold more than
+/// [`MAX_POINTS`] samples even at the widest stepover it can take (on the
+/// flat, with pick-feed control).
+fn least_points(
+    region: Region,
+    o: &RasterOptions,
+    pick_feed: Option<&PickFeedFn>,
+    passes: &[bool],
+) -> Result<(), MillError> {
+    let widest = pick_feed.and_then(|pf| pf(0.0)).map_or(o.stepover, |w| w.min(o.stepover));
+    let (w, h) = (region.x1 - region.x0, region.y1 - region.y0);
+    let (mut rows, mut samples) = (0.0, 0.0);
+    for &along_y in passes {
+        let (u, v) = if along_y { (h, w) } else { (w, h) };
+        rows += (v / widest).ceil() + 1.0;
+        samples = f64::max(samples, (u / o.step).ceil() + 1.0);
+    }
+    if rows * samples > MAX_POINTS {
+        let by = if pick_feed.is_some() { "the pick feed of the cusp height on the flat" } else { "the stepover" };
+        return Err(MillError::Option(format!(
+            "{rows:.0} rows ({by}, {widest:.3e} mm) of {samples:.0} samples (the step, {} mm) is more than {} million \
+             CL points: raise the stepover, the cusp height or the step",
+            o.step,
+            MAX_POINTS / 1e6
+        )));
+    }
+    Ok(())
+}
+
 fn row_samples(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
     let q = Quantum(o.quantum);
     let n = (((to - from).abs() / o.step).ceil() as usize).max(1);

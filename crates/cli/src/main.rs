@@ -1,6 +1,7 @@
 //! `kezuri`: the command line. Only this crate touches files, the terminal,
 //! the clock and the environment; the libraries take values and return values.
 
+mod budget;
 mod chart;
 mod convert;
 mod corrected;
@@ -9,6 +10,7 @@ mod dropcut;
 mod files;
 mod machine;
 mod mill;
+mod numbers;
 mod plot;
 mod post;
 mod probe;
@@ -167,7 +169,16 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    match dispatch(&Cli::parse().command) {
+    // A number out of its range is bad input (exit 1, as every other bad
+    // value); a malformed command line stays clap's usage error (exit 2).
+    let cli = Cli::try_parse().unwrap_or_else(|e| {
+        if e.kind() == clap::error::ErrorKind::ValueValidation {
+            let _ = e.print();
+            std::process::exit(1)
+        }
+        e.exit()
+    });
+    match dispatch(&cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");

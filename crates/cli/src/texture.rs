@@ -55,11 +55,11 @@ pub struct TextureArgs {
     #[arg(long, value_enum, default_value = "bake")]
     pub mode: Mode,
     /// XY travel per stroke, mm: each ends at a new random depth.
-    #[arg(long, value_name = "MM", default_value_t = 20.0)]
+    #[arg(long, value_name = "MM", default_value_t = 20.0, value_parser = crate::numbers::length)]
     pub segment: f64,
     /// A fixed depth the offsets are added to (the paper: -2.0) [default: the
     /// program's own Z on each move].
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub base: Option<f64>,
     /// Largest offset up or down, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.8, allow_negative_numbers = true)]
@@ -75,7 +75,7 @@ pub struct TextureArgs {
     #[arg(long, value_name = "MIN,MAX")]
     pub step_range: Option<String>,
     /// No textured point goes below this Z (a safety clamp).
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub max_depth: Option<f64>,
     /// The macro's program number (--mode macro).
     #[arg(long, value_name = "N", default_value_t = 7023)]

@@ -22,6 +22,8 @@
 
 use std::fmt::Write as _;
 
+use kezuri_geom::limits;
+
 use super::{Grid, Order, ProbeGrid};
 
 /// What the caller knows of the grid (the command line's `--count`,
@@ -146,11 +148,14 @@ fn texts<'a>(fields: &[Field<'a>]) -> Vec<&'a str> {
     fields.iter().map(|f| f.text).collect()
 }
 
-/// A finite number, or an error naming the line and column.
+/// A coordinate (every number of a data file is in mm: within ±1000000),
+/// or an error naming the line and column.
 fn number(field: Field<'_>, n: usize) -> Result<f64, DataError> {
     let message = match field.text.parse::<f64>() {
-        Ok(v) if v.is_finite() => return Ok(v),
-        Ok(_) => format!("'{}' is not a finite number", field.text),
+        Ok(v) => match limits::coordinate(v, &format!("'{}'", field.text)) {
+            Ok(v) => return Ok(v),
+            Err(e) => e,
+        },
         Err(_) => format!("'{}' is not a number", field.text),
     };
     Err(DataError { line: Some(n), column: Some(field.column), message })
@@ -232,11 +237,11 @@ fn checked_grid(nx: usize, ny: usize, pitch: f64, origin: [f64; 2], order: Order
     if nx.checked_mul(ny).is_none_or(|n| n > 100_000_000) {
         return err(None, format!("a grid of {nx} × {ny} points is too large"));
     }
-    if !(pitch.is_finite() && pitch > 0.0) {
-        return err(None, format!("the pitch must be a positive number of mm, got {pitch}"));
+    if let Err(e) = limits::length(pitch, "the pitch") {
+        return err(None, e);
     }
-    if !origin.iter().all(|v| v.is_finite()) {
-        return err(None, "the origin must be finite");
+    if let Some(e) = origin.iter().find_map(|&v| limits::coordinate(v, "the origin").err()) {
+        return err(None, e);
     }
     Ok(Grid { nx, ny, pitch, origin, order })
 }

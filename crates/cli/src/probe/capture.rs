@@ -210,7 +210,13 @@ fn parse_pitch(s: &str) -> Result<f64, String> {
 }
 
 fn parse_timeout(s: &str) -> Result<f64, String> {
-    parse_finite(s).and_then(|v| if v > 0.0 { Ok(v) } else { Err("the timeout must be > 0 s".into()) })
+    parse_finite(s).and_then(|v| {
+        if v > 0.0 && v <= 86_400.0 {
+            Ok(v)
+        } else {
+            Err(format!("the timeout must be more than 0 s and at most 86400 s (a day), got {v}"))
+        }
+    })
 }
 
 fn parse_tolerance(s: &str) -> Result<f64, String> {

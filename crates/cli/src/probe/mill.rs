@@ -64,39 +64,39 @@ pub struct MillArgs {
     #[arg(long, value_name = "SPEC")]
     pub tool: String,
     /// Distance between rows, mm [default: the pitch].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub stepover: Option<f64>,
     /// Sampling step along a row, mm [default: a quarter of the pitch with the stylus's own
     /// ball, else the pitch].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub tolerance: f64,
     /// Between the readings: smooth (a surface through them) or bound (the highest
     /// surface they allow, the former default).
     #[arg(long, value_enum, default_value = "smooth")]
     pub between: Between,
     /// Node spacing of the reconstructed surface, mm [default: pitch / 8].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub resolution: Option<f64>,
     /// Height for rapids [default: 5 mm above the highest cut].
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: Option<f64>,
     /// The flat top to cross at rapid: auto, off or a height.
     #[arg(long, value_name = "auto|off|Z", default_value = "auto", allow_hyphen_values = true)]
     pub floor_z: String,
     /// Height of rapids over the flat top, mm.
-    #[arg(long, value_name = "MM", default_value_t = 1.0)]
+    #[arg(long, value_name = "MM", default_value_t = 1.0, value_parser = crate::numbers::length)]
     pub clearance: f64,
     /// Cutting feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 1800.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1800.0, value_parser = crate::numbers::positive)]
     pub feed: f64,
     /// Plunge feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0, value_parser = crate::numbers::positive)]
     pub plunge_feed: f64,
     /// Spindle speed, rpm.
-    #[arg(long, value_name = "RPM", default_value_t = 15000.0)]
+    #[arg(long, value_name = "RPM", default_value_t = 15000.0, value_parser = crate::numbers::positive)]
     pub speed: f64,
     /// Tool number.
     #[arg(long, value_name = "T", default_value_t = 1)]
@@ -157,12 +157,9 @@ pub enum Emit {
     Grbl,
 }
 
+/// `v` if it is a length (the data's pitch sets the defaults).
 fn positive(name: &str, v: f64) -> Result<f64> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        bail!("{name} must be a positive number, got {v}")
-    }
+    kezuri_geom::limits::length(v, name).map_err(anyhow::Error::msg)
 }
 
 /// How far from the flat top a reading may be and still be on it, mm.
@@ -182,7 +179,6 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let follows = args.between == Between::Smooth && cutter == stylus;
     let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
     let resolution = positive("--resolution", args.resolution.unwrap_or(pitch / 8.0))?;
-    positive("--clearance", args.clearance)?;
     let machine = match &args.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
