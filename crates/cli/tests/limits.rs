@@ -75,6 +75,10 @@ fn lengths_from_a_nanometre_to_a_kilometre() {
             &["probe", "simulate", "model.stl", "--count", "3,3", "--pitch", "1e-300", "--stylus", "ball:1"],
             "'--pitch <MM>': it must be a length",
         ),
+        (
+            &["probe", "capture", "--port", "/dev/null", "--count", "3,3", "--pitch", "1e-300"],
+            "'--pitch <P>': it must be a length",
+        ),
     ] {
         let o = kezuri(&[args, &["-o", &out]].concat());
         refused(&o, words);

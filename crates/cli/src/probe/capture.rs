@@ -205,8 +205,10 @@ fn parse_finite(s: &str) -> Result<f64, String> {
     s.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or(format!("`{s}` is not a finite number"))
 }
 
+/// A pitch is a length (this file stands alone in its tests: the
+/// shared parsers of `numbers.rs` are not here).
 fn parse_pitch(s: &str) -> Result<f64, String> {
-    parse_finite(s).and_then(|v| if v > 0.0 { Ok(v) } else { Err("the pitch must be > 0".into()) })
+    parse_finite(s).and_then(|v| kezuri_geom::limits::length(v, "it"))
 }
 
 fn parse_timeout(s: &str) -> Result<f64, String> {
