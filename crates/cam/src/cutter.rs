@@ -17,6 +17,7 @@ mod flat;
 mod oval;
 mod vee;
 
+use kezuri_geom::limits;
 use std::fmt;
 use std::str::FromStr;
 
@@ -282,12 +283,11 @@ impl FromStr for Cutter {
             }
         };
         let positive = |v: f64, what: &str| {
-            if v > 0.0 && v <= MAX_SIZE {
+            let v = limits::length(v, &format!("the {what}")).map_err(fail)?;
+            if v <= MAX_SIZE {
                 Ok(v)
-            } else if v > MAX_SIZE {
-                Err(fail(format!("the {what} must be at most {MAX_SIZE} mm, got {v}")))
             } else {
-                Err(fail(format!("the {what} must be positive, got {v}")))
+                Err(fail(format!("the {what} must be at most {MAX_SIZE} mm, got {v}")))
             }
         };
         match kind.trim().to_lowercase().as_str() {
@@ -358,15 +358,17 @@ mod tests {
             assert_eq!(c.to_string().parse::<Cutter>().unwrap(), c);
         }
         for (bad, why) in [
-            ("ball:-3", "positive"),
-            ("oval:16,0", "positive"),
+            ("ball:-3", "must be a length from"),
+            ("ball:1e-300", "must be a length from"),
+            ("oval:16,0", "must be a length from"),
             ("bull:10,6", "corner radius"),
             ("v:6,180", "angle"),
             ("ball", "SHAPE:NUMBERS"),
             ("ball:6,1", "takes"),
             ("cone:6", "unknown shape"),
             ("ball:NaN", "not a list"),
-            ("ball:1e308", "at most"),
+            ("ball:1e308", "must be a length from"),
+            ("ball:20000", "at most 10000 mm"),
         ] {
             let e = bad.parse::<Cutter>().unwrap_err().to_string();
             assert!(e.contains(why), "{bad}: {e}");

@@ -181,12 +181,13 @@ pub fn raster_with(
     on_row: &Progress,
 ) -> Result<Toolpath, MillError> {
     check(region, o)?;
-    let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
     let passes: &[bool] = match o.direction {
         Direction::X => &[false],
         Direction::Y => &[true],
         Direction::Both => &[false, true],
     };
+    least_points(region, o, pick_feed, passes)?;
+    let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
     // Where the rows go, pass by pass (pick-feed control measures the
     // surface for each next row), then the rows themselves in parallel.
     let mut plans = Vec::new();
@@ -289,13 +290,7 @@ pub fn raster_with(
 }
 
 fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
-    let positive = |v: f64, what: &str| {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(MillError::Option(format!("{what} must be a positive number, got {v}")))
-        }
-    };
+    let positive = |v: f64, what: &str| kezuri_geom::limits::length(v, what).map(|_| ()).map_err(MillError::Option);
     positive(o.stepover, "the stepover")?;
     positive(o.step, "the sampling step")?;
     positive(o.tolerance, "the tolerance")?;
@@ -316,13 +311,6 @@ fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
     }
     if ![r.x0, r.y0, r.x1, r.y1].iter().all(|v| v.is_finite()) || r.x1 < r.x0 || r.y1 < r.y0 {
         return Err(MillError::Option(format!("the region {r:?} must be finite with x0 ≤ x1 and y0 ≤ y1")));
-    }
-    let rows = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.stepover).ceil();
-    let samples = ((r.y1 - r.y0).max(r.x1 - r.x0) / o.step).ceil();
-    if rows * samples > 1e9 {
-        return Err(MillError::Option(format!(
-            "{rows} rows of {samples} samples is more than a billion CL points: raise the stepover or the step"
-        )));
     }
     Ok(())
 }
@@ -360,13 +348,15 @@ fn sample_rows(ask: &AskRows, ahead: bool, jobs: &[Job], o: &RasterOptions) -> V
                 wanted,
                 open: Vec::new(),
                 added: Vec::new(),
+                cells: Vec::new(),
+                lifted: HashMap::default(),
             }
         })
         .collect();
     ask_wanted(ask, &mut rows);
     rows.par_iter_mut().for_each(|row| row.open_between_samples(q));
     let stages: &[Want] = if ahead { &[Want::TwoLevels] } else { &[Want::Middles, Want::Quarters] };
-    while rows.iter().any(|row| !row.open.is_empty()) {
+    while rows.iter().any(|row| !row.open.is_empty() || !row.cells.is_empty()) {
         for &stage in stages {
             rows.par_iter_mut().for_each(|row| row.want(r, stage));
             ask_wanted(ask, &mut rows);
@@ -404,6 +394,38 @@ fn first_level(samples: &[f64], q: Quantum) -> Vec<f64> {
 
 /// The samples of a row from `from` to `to`, every `step` or less, on the
 /// output grid, each once.
+/// Most CL points the rows may ask before refining (as a drop-cutter grid).
+const MAX_POINTS: f64 = crate::dropcut::Grid::MAX_POINTS as f64;
+
+/// Refuses, before any work, a raster whose rows hold more than
+/// [`MAX_POINTS`] samples even at the widest stepover it can take (on the
+/// flat, with pick-feed control).
+fn least_points(
+    region: Region,
+    o: &RasterOptions,
+    pick_feed: Option<&PickFeedFn>,
+    passes: &[bool],
+) -> Result<(), MillError> {
+    let widest = pick_feed.and_then(|pf| pf(0.0)).map_or(o.stepover, |w| w.min(o.stepover));
+    let (w, h) = (region.x1 - region.x0, region.y1 - region.y0);
+    let (mut rows, mut samples) = (0.0, 0.0);
+    for &along_y in passes {
+        let (u, v) = if along_y { (h, w) } else { (w, h) };
+        rows += (v / widest).ceil() + 1.0;
+        samples = f64::max(samples, (u / o.step).ceil() + 1.0);
+    }
+    if rows * samples > MAX_POINTS {
+        let by = if pick_feed.is_some() { "the pick feed of the cusp height on the flat" } else { "the stepover" };
+        return Err(MillError::Option(format!(
+            "{rows:.0} rows ({by}, {widest:.3e} mm) of {samples:.0} samples (the step, {} mm) is more than {} million \
+             CL points: raise the stepover, the cusp height or the step",
+            o.step,
+            MAX_POINTS / 1e6
+        )));
+    }
+    Ok(())
+}
+
 fn row_samples(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
     let q = Quantum(o.quantum);
     let n = (((to - from).abs() / o.step).ceil() as usize).max(1);
@@ -411,6 +433,17 @@ fn row_samples(from: f64, to: f64, o: &RasterOptions) -> Vec<f64> {
         (0..=n).map(|k| q.snap(if k == n { to } else { from + (to - from) * k as f64 / n as f64 })).collect();
     us.dedup();
     us
+}
+
+/// Chords of at most this many grid steps are also held against the CL
+/// between the grid positions.
+const FEW_CELLS: usize = 4;
+
+/// The positions asked between the grid positions of a chord of a few
+/// grid steps: the quarters of each step.
+fn between_grid(a: f64, b: f64, q: Quantum) -> impl Iterator<Item = f64> {
+    let n = q.cells(a, b).clamp(1, FEW_CELLS);
+    (1..4 * n).filter(|k| k % 4 != 0).map(move |k| a + (b - a) * k as f64 / (4 * n) as f64)
 }
 
 /// The middle and the quarter points tried between `a` and `b`.
@@ -468,6 +501,11 @@ struct RowSampling {
     open: Vec<[(f64, f64); 2]>,
     /// Points refining added.
     added: Vec<(f64, f64)>,
+    /// Chords of a few grid steps whose CL between the grid positions is
+    /// still to be asked and held against them ([`RowSampling::hold`]).
+    cells: Vec<[(f64, f64); 2]>,
+    /// Heights points are lifted to, by the bits of `u`.
+    lifted: HashMap<u64, f64, BuildHasherDefault<BitsHasher>>,
 }
 
 impl RowSampling {
@@ -527,6 +565,9 @@ impl RowSampling {
                 }
             }
         }
+        for &[a, b] in &self.cells {
+            wanted.extend(between_grid(a.0, b.0, q).filter(|&u| unknown(u)));
+        }
         wanted.sort_by(f64::total_cmp);
         wanted.dedup();
         self.wanted = wanted;
@@ -538,6 +579,7 @@ impl RowSampling {
     /// kept (the row is cut there only where a sample misses).
     fn halve(&mut self, r: Refining) {
         let q = r.quantum;
+        let cells = std::mem::take(&mut self.cells);
         let mut next = Vec::new();
         for [a, b] in std::mem::take(&mut self.open) {
             if (b.0 - a.0).abs() <= r.min_gap {
@@ -546,7 +588,10 @@ impl RowSampling {
             let within = |u: f64| (u - a.0) * (b.0 - u) > 0.0;
             let [u, u1, u3] = checks(a.0, b.0, q);
             if !within(u) {
-                continue; // no grid position in between
+                // No grid position in between: the CL inside is asked and
+                // held against the chord next time.
+                self.cells.push([a, b]);
+                continue;
             }
             let Some(z) = self.cl(u) else { continue };
             // The chord is tried at its middle and quarters: a narrow bump
@@ -559,9 +604,58 @@ impl RowSampling {
                 self.added.push((u, z));
                 next.push([a, (u, z)]);
                 next.push([(u, z), b]);
+            } else if q.cells(a.0, b.0) <= FEW_CELLS && (a.1 - b.1).abs() > r.band.below {
+                // Its checks were grid positions: a chord that rises (where
+                // the CL may bulge over it between them) is held against the
+                // CL between them too.
+                self.cells.push([a, b]);
             }
         }
+        for [a, b] in cells {
+            self.hold(r, a, b, &mut next);
+        }
         self.open = next;
+    }
+
+    /// Holds the chord `a b` of a few grid steps against the CL between the
+    /// grid positions (asked since). Where it passes below by more than the
+    /// band, a chord with a grid position inside is halved there (into
+    /// `next`); a chord between neighbours, with none left to add, has both
+    /// ends lifted to the highest CL over it, rounded up, so that it is
+    /// above the CL all across; so has one between neighbours that rises
+    /// by more than the band, where the CL may jump unseen. A steep CL (a
+    /// flat cutter's rim going over a steep flank: 0.07 mm in a 0.01 mm
+    /// step) bulges over such a chord; lifting leaves material within that
+    /// step instead of cutting in.
+    fn hold(&mut self, r: Refining, a: (f64, f64), b: (f64, f64), next: &mut Vec<[(f64, f64); 2]>) {
+        let q = r.quantum;
+        let inside: Vec<(f64, f64)> = between_grid(a.0, b.0, q).filter_map(|u| Some((u, self.cl(u)?))).collect();
+        let below = |&(u, z): &(f64, f64)| z - (a.1 + (u - a.0) / (b.0 - a.0) * (b.1 - a.1)) > r.band.below;
+        let m = checks(a.0, b.0, q)[0];
+        let neighbours = (m - a.0) * (b.0 - m) <= 0.0;
+        // Between neighbours the CL may jump anywhere (a flat cutter's rim
+        // leaving a steep flank) where no sample shows it: a chord that
+        // rises there is lifted as well.
+        let rises = neighbours && (a.1 - b.1).abs() > r.band.below;
+        if !(rises || inside.iter().any(below)) {
+            return;
+        }
+        match self.cl(m) {
+            Some(z) if !neighbours => {
+                let z = q.up(z);
+                self.added.push((m, z));
+                next.push([a, (m, z)]);
+                next.push([(m, z), b]);
+            }
+            _ => {
+                let top = inside.iter().map(|p| p.1).chain([a.1, b.1]).fold(f64::NEG_INFINITY, f64::max);
+                let top = q.up(top);
+                for u in [a.0, b.0] {
+                    let h = self.lifted.entry(u.to_bits()).or_insert(top);
+                    *h = h.max(top);
+                }
+            }
+        }
     }
 
     /// The samples and the added points in the row's order, in pieces where
@@ -570,6 +664,11 @@ impl RowSampling {
         let q = Quantum(o.quantum);
         let mut all: Vec<(f64, Option<f64>)> = self.samples.iter().map(|&u| (u, self.z(u, q))).collect();
         all.extend(self.added.iter().map(|&(u, z)| (u, Some(z))));
+        for (u, z) in &mut all {
+            if let (Some(z), Some(&h)) = (z.as_mut(), self.lifted.get(&u.to_bits())) {
+                *z = z.max(h);
+            }
+        }
         all.sort_by(|a, b| if self.ascending { a.0.total_cmp(&b.0) } else { b.0.total_cmp(&a.0) });
         all.split(|p| p.1.is_none())
             .filter(|piece| !piece.is_empty())
@@ -589,6 +688,16 @@ impl Quantum {
             (v / self.0).round() * self.0
         } else {
             v
+        }
+    }
+
+    /// How many grid steps lie between `a` and `b` (`usize::MAX` without a
+    /// grid).
+    fn cells(self, a: f64, b: f64) -> usize {
+        if self.0 > 0.0 {
+            ((b - a).abs() / self.0).round() as usize
+        } else {
+            usize::MAX
         }
     }
 

@@ -189,9 +189,7 @@ pub fn surface(
             return error(format!("the mask is {} × {} pixels, the picture {w} × {h}", m.width, m.height));
         }
     }
-    if !(smooth.is_finite() && (0.0..=100.0).contains(&smooth)) {
-        return error(format!("the smoothing must be 0 to 100 pixels, got {smooth}"));
-    }
+    check_smoothing(smooth, w, h)?;
     let mut z: Vec<f64> = picture.v.iter().map(|&v| mapping.z(v)).collect();
     if smooth > 0.0 {
         z = gaussian(&z, w, h, smooth);
@@ -221,6 +219,27 @@ pub fn inside(mask: Option<&Gray>, placement: Placement, x: f64, y: f64) -> bool
     }
     let row = m.height - 1 - up as usize;
     m.v[row * m.width + column as usize] >= 0.5
+}
+
+/// Most products a smoothing may take (some seconds).
+const MAX_SMOOTHING: f64 = 1e10;
+
+/// Refuses a smoothing of `smooth` pixels outside 0 to 100, or one whose
+/// work over a `w` × `h` picture is more than [`MAX_SMOOTHING`] products:
+/// weighed from the picture's size, before it is read.
+pub fn check_smoothing(smooth: f64, w: usize, h: usize) -> Result<(), ReliefError> {
+    if !(smooth.is_finite() && (0.0..=100.0).contains(&smooth)) {
+        return error(format!("the smoothing must be 0 to 100 pixels, got {smooth}"));
+    }
+    // Each pixel, twice, times the kernel's width.
+    let products = (w * h) as f64 * 2.0 * (2.0 * (3.0 * smooth).ceil() + 1.0);
+    if smooth > 0.0 && products > MAX_SMOOTHING {
+        return error(format!(
+            "smoothing {smooth} pixels over {w} × {h} pixels is {products:.1e} products, more than {MAX_SMOOTHING:.0e}: \
+             smooth less or scale the picture down"
+        ));
+    }
+    Ok(())
 }
 
 /// A Gaussian blur of standard deviation `sigma` pixels, rows then

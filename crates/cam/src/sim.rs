@@ -80,7 +80,7 @@ pub mod tools;
 use std::fmt;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use kezuri_geom::Toolpath;
+use kezuri_geom::{limits, Toolpath};
 use rayon::prelude::*;
 
 use crate::Cutter;
@@ -245,8 +245,12 @@ pub enum SimError {
 impl fmt::Display for SimError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SimError::BadResolution(r) => write!(f, "the resolution must be a positive number of mm, got {r}"),
-            SimError::BadTolerance(t) => write!(f, "the chord tolerance must be a positive number of mm, got {t}"),
+            SimError::BadResolution(r) => {
+                write!(f, "{}", limits::length(*r, "the resolution").err().unwrap_or_default())
+            }
+            SimError::BadTolerance(t) => {
+                write!(f, "{}", limits::length(*t, "the chord tolerance").err().unwrap_or_default())
+            }
             SimError::BadStock(why) => write!(f, "bad stock: {why}"),
             SimError::EmptyToolpath => write!(f, "the program makes no motion: nothing to simulate"),
             SimError::TooManyCells { nx, ny, limit } => write!(
@@ -263,7 +267,12 @@ impl fmt::Display for SimError {
                 write!(f, "move {index} (line {line}) has a coordinate that is not a finite number")
             }
             SimError::TooManySegments(n) => {
-                write!(f, "arcs split into {n} chords, too many: raise the chord tolerance")
+                write!(
+                    f,
+                    "the moves split into {n} straight segments (arcs in chords), more than {}: raise the chord \
+                     tolerance",
+                    segments::MAX_SEGMENTS
+                )
             }
             SimError::NoTool { number, line } => {
                 write!(f, "T{number} (first moving at line {line}) has no shape to cut with")
@@ -310,7 +319,7 @@ pub fn simulate_tools(
     options: &SimOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<SimReport, SimError> {
-    if !(options.chord_tolerance.is_finite() && options.chord_tolerance > 0.0) {
+    if limits::length(options.chord_tolerance, "").is_err() {
         return Err(SimError::BadTolerance(options.chord_tolerance));
     }
     let (segs, mut report, slots, unplaced_rapids) = segments(path, tooling, options.chord_tolerance)?;

@@ -121,8 +121,8 @@ pub fn is_textured(m: &Move) -> bool {
 /// Checks the options.
 pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
     let bad = |m: String| Err(TextureError::Option(m));
-    if !(o.segment.is_finite() && o.segment > 0.0) {
-        return bad(format!("--segment must be a positive length, got {}", o.segment));
+    if let Err(e) = kezuri_geom::limits::length(o.segment, "--segment") {
+        return bad(e);
     }
     if !(o.spread.is_finite() && o.spread >= 0.0) {
         return bad(format!("--spread must be zero or a positive length, got {}", o.spread));
@@ -165,9 +165,24 @@ pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
     Ok(())
 }
 
+/// Most knots a baked texture may have (a move each, some 200 bytes).
+pub const MAX_KNOTS: f64 = 10e6;
+
 /// The texture of seed 004 on `path` (see the module docs).
 pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureError> {
     check(o)?;
+    // Weighed before the work: one move a knot.
+    let travel: f64 =
+        path.moves.iter().filter(|m| is_textured(m)).map(|m| (m.end.x - m.start.x).hypot(m.end.y - m.start.y)).sum();
+    let knots = (travel / o.segment).ceil();
+    if knots > MAX_KNOTS {
+        return Err(TextureError::Option(format!(
+            "--segment {} mm: {travel:.0} mm of cutting travel would make {knots:.3e} knots, more than {} million: \
+             give a longer segment",
+            o.segment,
+            MAX_KNOTS / 1e6
+        )));
+    }
     let mut depths = Depths::new(o);
     let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
     let (mut moves, mut knots) = (0, 0);

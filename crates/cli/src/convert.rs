@@ -82,28 +82,28 @@ pub struct ConvertArgs {
     #[arg(long, value_enum, value_name = "FORMAT")]
     pub to: Option<Format>,
     /// Millimetres per RML-1 step.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = positive)]
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub rml_unit: f64,
     /// Scale factor for X and Y (about the program zero).
-    #[arg(long, value_name = "K", default_value_t = 1.0, value_parser = positive)]
+    #[arg(long, value_name = "K", default_value_t = 1.0, value_parser = crate::numbers::positive)]
     pub scale_xy: f64,
     /// Scale factor for Z (about the program zero).
-    #[arg(long, value_name = "S", default_value_t = 1.0, value_parser = positive)]
+    #[arg(long, value_name = "S", default_value_t = 1.0, value_parser = crate::numbers::positive)]
     pub scale_z: f64,
     /// Merge consecutive moves while the path stays within TOL mm of the original.
-    #[arg(long, value_name = "TOL", value_parser = non_negative)]
+    #[arg(long, value_name = "TOL", value_parser = crate::numbers::length_or_zero)]
     pub shorten: Option<f64>,
     /// With --shorten: also fit G02/G03 arcs (XY plane, constant Z).
     #[arg(long, requires = "shorten")]
     pub arcs: bool,
     /// Tool-up height, mm: where RML-1 ^PU travels (read) and where rapids travel (written).
-    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = finite)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: Option<f64>,
     /// Feed, mm/min, for cutting moves whose program sets none.
-    #[arg(long, value_name = "MM/MIN", value_parser = positive)]
+    #[arg(long, value_name = "MM/MIN", value_parser = crate::numbers::positive)]
     pub feed: Option<f64>,
     /// Spindle speed, rpm, where the spindle runs and the program gives no speed (RML-1 !MC1).
-    #[arg(long, value_name = "RPM", value_parser = positive)]
+    #[arg(long, value_name = "RPM", value_parser = crate::numbers::positive)]
     pub speed: Option<f64>,
     /// The cutter the program was made for (flat:D, ball:D, bull:D,R, oval:D,RL, v:D,ANGLE).
     #[arg(long, value_name = "SPEC", value_parser = cutter)]
@@ -121,37 +121,6 @@ pub struct ConvertArgs {
     pub post: Option<String>,
     #[command(flatten)]
     pub machine: MachineArg,
-}
-
-fn number(s: &str) -> Result<f64, String> {
-    s.trim().parse::<f64>().map_err(|_| format!("'{s}' is not a number"))
-}
-
-fn positive(s: &str) -> Result<f64, String> {
-    let v = number(s)?;
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("{s} must be a number more than 0"))
-    }
-}
-
-fn non_negative(s: &str) -> Result<f64, String> {
-    let v = number(s)?;
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("{s} must be a number of at least 0"))
-    }
-}
-
-fn finite(s: &str) -> Result<f64, String> {
-    let v = number(s)?;
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("{s} must be a finite number"))
-    }
 }
 
 fn cutter(s: &str) -> Result<Cutter, String> {

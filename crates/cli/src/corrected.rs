@@ -6,9 +6,7 @@ use anyhow::{bail, Result};
 use kezuri_geom::{Axes, MoveKind, Toolpath};
 
 use crate::files::read_text;
-use crate::files::write_output;
-use crate::machine::Machine;
-use crate::program::{run_text, write_toolpath, Origin, Ran, RunOptions, WriteArgs};
+use crate::program::{run_text, stage_toolpath, Origin, Ran, RunOptions, WriteArgs};
 
 /// The program to correct, read and run: its text and the run, refused
 /// with its errors shown, where `check` refuses it, or where it moves an
@@ -93,18 +91,21 @@ pub fn write_corrected(
     text: &str,
     path: &Toolpath,
     what: &str,
-    machine: &Machine,
+    ran: &mut Ran,
 ) -> Result<()> {
     let name = run.file.display().to_string();
+    // With the run's own outputs (the DPRNT file).
+    let mut out = std::mem::take(&mut ran.outputs);
     if keep_text {
         let text = rewritten(&name, text, path, usize::from(write_digits(write)))?;
-        write_output(write.output(), text.as_bytes())
+        out.add(write.output(), text.as_bytes())?;
     } else {
         let mut write = write.clone();
         let title = run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
         write.digits = Some(write_digits(&write));
-        write_toolpath(path, &format!("{title} {what}"), &write, machine, Origin::Transformed)
+        stage_toolpath(&mut out, path, &format!("{title} {what}"), &write, &ran.machine, Origin::Transformed)?;
     }
+    out.commit()
 }
 
 /// The decimals a corrected program is written with: 4 unless given

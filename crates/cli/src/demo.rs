@@ -84,7 +84,9 @@ fn dome(x: f64, y: f64) -> f64 {
 fn geometry(out: &Path) -> Result<()> {
     let surface = Heightfield::from_fn(0.0, 0.0, 0.5, 121, 121, dome)?;
     let stl = out.join("samples").join("dome.stl");
-    crate::relief::write_surface_stl(&stl, &surface)?;
+    let mut files = crate::files::Outputs::new();
+    crate::relief::stage_surface_stl(&mut files, &stl, &surface)?;
+    files.commit()?;
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let stl = stl.to_string_lossy().into_owned();
     println!("\nsamples/dome.stl  (a 60 x 60 mm rippled dome, 28,800 triangles)");

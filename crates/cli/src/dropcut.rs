@@ -43,7 +43,7 @@ pub struct DropcutArgs {
     pub grid: String,
     /// Write this z for points with no triangle under the cutter (default:
     /// leave them out).
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub fill: Option<f64>,
     /// Output file; `-` or none for stdout.
     #[arg(short, long, value_name = "CL")]
@@ -54,11 +54,8 @@ pub struct DropcutArgs {
 pub fn run(args: &DropcutArgs) -> Result<()> {
     let cutter: Cutter = args.tool.parse()?;
     let grid: Grid = args.grid.parse().with_context(|| "--grid")?;
-    if let Some(z) = args.fill {
-        if !z.is_finite() {
-            bail!("--fill must be a finite number, got {z}");
-        }
-    }
+    // Each point's height (16 bytes) and its line of text (about 40).
+    crate::budget::memory("--grid", grid.len() as f64, "points", 56.0)?;
     let bytes = read_bytes(&args.mesh)?;
     let mesh = Mesh::from_stl(&bytes).with_context(|| format!("{}", args.mesh.display()))?;
     drop(bytes);

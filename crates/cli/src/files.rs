@@ -1,8 +1,13 @@
 //! Files in and out: reading inputs (`-` is stdin), writing outputs whole or
 //! not at all, and the subprogram library folder.
 
-use std::io::{Read, Write};
+mod live;
+mod outputs;
+
+use std::io::Read;
 use std::path::{Path, PathBuf};
+
+pub use outputs::Outputs;
 
 use anyhow::{Context, Result};
 use kezuri_nc::interp::Library;
@@ -25,73 +30,17 @@ pub fn read_text(path: &Path) -> Result<String> {
     Ok(String::from_utf8_lossy(&read_bytes(path)?).into_owned())
 }
 
-/// Writes `data` to `path`, or to stdout when `path` is `None` or `-`.
-/// A file is written to a temporary name in the same folder and renamed, so
-/// no half-written output is ever left behind.
+/// Writes `data` to `path`, or to stdout when `path` is `None` or `-`:
+/// an [`Outputs`] of one.
 pub fn write_output(path: Option<&Path>, data: &[u8]) -> Result<()> {
-    write_output_with(path, |w| w.write_all(data))
+    let mut out = Outputs::new();
+    out.add(path, data)?;
+    out.commit()
 }
 
-/// As [`write_output`], with the bytes made by `fill` as it goes (through
-/// a buffer): an output larger than memory, a large surface's STL, is never
-/// held whole.
-pub fn write_output_with(path: Option<&Path>, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
-    match path {
-        None => write_stdout(fill),
-        Some(p) if p == Path::new("-") => write_stdout(fill),
-        Some(p) => write_atomic_with(p, fill),
-    }
-}
-
-fn write_stdout(fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
-    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-    match fill(&mut out).and_then(|_| out.flush()) {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        r => r.context("cannot write to standard output"),
-    }
-}
-
-/// Writes a file through a temporary file and a rename.
+/// Writes the file `path`, whole or not at all.
 pub fn write_atomic(path: &Path, data: &[u8]) -> Result<()> {
-    write_atomic_with(path, |w| w.write_all(data))
-}
-
-/// Writes a file through a temporary file and a rename, its bytes made by
-/// `fill` as it goes; when `fill` fails, the temporary file is removed and
-/// `path` is left as it was.
-///
-/// A path that is not a regular file — `/dev/null`, `/dev/stdout`, a named
-/// pipe — is written straight into: renaming a file over it would put a
-/// plain file where the device was (and a later reader of `/dev/null` would
-/// read what was written there).
-pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
-    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
-        let f = std::fs::OpenOptions::new()
-            .write(true)
-            .open(path)
-            .with_context(|| format!("cannot open {}", path.display()))?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
-        return fill(&mut w).and_then(|_| w.flush()).with_context(|| format!("cannot write {}", path.display()));
-    }
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let f = std::fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
-        fill(&mut w).and_then(|_| w.flush()).with_context(|| format!("cannot write {}", tmp.display()))?;
-        let f =
-            w.into_inner().map_err(|e| e.into_error()).with_context(|| format!("cannot write {}", tmp.display()))?;
-        f.sync_all().ok();
-        std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
-    })();
-    if result.is_err() {
-        std::fs::remove_file(&tmp).ok();
-    }
-    result
+    write_output(Some(path), data)
 }
 
 /// A folder of subprogram files named `O1234.nc` (also `O1234`, `o1234.nc`,

@@ -4,6 +4,7 @@
 //! The commands are this library so that the fuzz targets (`fuzz/`) and the
 //! tests can reach them: `src/main.rs` is only the process around [`Cli`].
 
+mod budget;
 mod chart;
 mod convert;
 mod corrected;
@@ -12,6 +13,7 @@ mod dropcut;
 mod files;
 mod machine;
 mod mill;
+mod numbers;
 mod plot;
 mod post;
 mod probe;

@@ -70,7 +70,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_cam::Cutter;
-use kezuri_geom::{Axes, Dynamics};
+use kezuri_geom::{limits, Axes, Dynamics};
 use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
 use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
@@ -418,20 +418,15 @@ fn imported_registers(
     map: &BTreeMap<String, f64>,
 ) -> Result<BTreeMap<u32, f64>> {
     let mut all = imported.cloned().unwrap_or_default();
-    all.extend(registers(name, map)?);
+    for (k, &v) in map {
+        let n: u32 = k.parse().with_context(|| format!("{name}: '{k}' is not a register number"))?;
+        all.insert(n, v);
+    }
+    // Lengths and radii in mm, imported or given.
+    for (n, &v) in &all {
+        limits::coordinate(v, &format!("{name}.{n}")).map_err(anyhow::Error::msg)?;
+    }
     Ok(all)
-}
-
-fn registers(name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f64>> {
-    map.iter()
-        .map(|(k, &v)| {
-            let n: u32 = k.parse().with_context(|| format!("{name}: '{k}' is not a register number"))?;
-            if !v.is_finite() {
-                bail!("{name}.{k} is not a finite number");
-            }
-            Ok((n, v))
-        })
-        .collect()
 }
 
 /// `--machine M.toml` of the commands that make programs.

@@ -18,7 +18,16 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    match kezuri::Cli::parse().run() {
+    // A number out of its range is bad input (exit 1, as every other bad
+    // value); a malformed command line stays clap's usage error (exit 2).
+    let cli = kezuri::Cli::try_parse().unwrap_or_else(|e| {
+        if e.kind() == clap::error::ErrorKind::ValueValidation {
+            let _ = e.print();
+            std::process::exit(1)
+        }
+        e.exit()
+    });
+    match cli.run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");

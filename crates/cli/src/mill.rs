@@ -5,8 +5,9 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
 use kezuri_cam::{scallop, Cutter};
 
+use crate::files::Outputs;
 use crate::machine::MachineArg;
-use crate::program::{write_toolpath, Origin, WriteArgs};
+use crate::program::{stage_toolpath, Origin, WriteArgs};
 use crate::surface::read_surface;
 
 /// Options of `kezuri mill`.
@@ -44,10 +45,10 @@ pub struct MillArgs {
     #[arg(long, value_name = "SPEC")]
     pub tool: String,
     /// Distance between rows in plan, mm (the widest, with --cusp).
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub stepover: f64,
     /// Pick-feed control: the largest cusp between rows, mm.
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub cusp: Option<f64>,
     /// Row direction.
     #[arg(long, value_enum, default_value = "x")]
@@ -57,10 +58,10 @@ pub struct MillArgs {
     #[arg(long, value_enum, default_value = "zigzag")]
     pub pattern: RowPattern,
     /// Sampling step along a row, mm [default: a quarter of the cutter radius].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub tolerance: f64,
     /// Area the cutter's centre covers in plan [default: the surface's XY box;
     /// a larger one finishes the edges, with the cutter resting on the
@@ -68,16 +69,16 @@ pub struct MillArgs {
     #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true)]
     pub region: Option<String>,
     /// Height for rapids [default: 5 mm above the surface's top].
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: Option<f64>,
     /// Cutting feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 1000.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1000.0, value_parser = crate::numbers::positive)]
     pub feed: f64,
     /// Plunge feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 300.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 300.0, value_parser = crate::numbers::positive)]
     pub plunge_feed: f64,
     /// Spindle speed, rpm.
-    #[arg(long, value_name = "RPM", default_value_t = 10000.0)]
+    #[arg(long, value_name = "RPM", default_value_t = 10000.0, value_parser = crate::numbers::positive)]
     pub speed: f64,
     /// Tool number for the tool change.
     #[arg(long, value_name = "T", default_value_t = 1)]
@@ -165,7 +166,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
             args.tolerance
         );
     }
-    let pick_feeds = args.cusp.map(|h| pick_feed_table(&cutter, h)).transpose()?;
+    let pick_feeds = args.cusp.map(|h| pick_feed_table(&cutter, h));
     let pick_feed = pick_feeds.as_ref().map(|table| {
         move |angle: f64| {
             // The smaller of the two tabulated angles around `angle`.
@@ -197,18 +198,17 @@ pub fn run(args: &MillArgs) -> Result<()> {
         bar.finish_and_clear();
     }
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write, &machine, Origin::Made)
+    let mut out = Outputs::new();
+    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made)?;
+    out.commit()
 }
 
 /// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of
 /// a degree from 0 to 89.9°.
-fn pick_feed_table(cutter: &Cutter, cusp: f64) -> Result<Vec<Option<f64>>> {
-    if !(cusp.is_finite() && cusp > 0.0) {
-        bail!("--cusp must be a positive number of mm, got {cusp}");
-    }
-    Ok((0..900)
+fn pick_feed_table(cutter: &Cutter, cusp: f64) -> Vec<Option<f64>> {
+    (0..900)
         .map(|k| scallop::pick_feed(cutter, (k as f64 / 10.0).to_radians(), cusp).ok().map(|s| s.pick_feed))
-        .collect())
+        .collect()
 }
 
 fn parse_region(text: &str) -> Result<[f64; 4]> {

@@ -63,7 +63,7 @@ pub struct DataArgs {
     #[arg(long, value_name = "NX,NY")]
     pub count: Option<String>,
     /// Grid pitch, mm (for bare No,Z files).
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub pitch: Option<f64>,
     /// Capture order of a bare No,Z file [default: zigzag].
     #[arg(long, value_name = "zigzag|oneway")]

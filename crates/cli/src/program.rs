@@ -13,7 +13,7 @@ use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
 
-use crate::files::{read_text, write_output, Folder};
+use crate::files::{read_text, write_output, Folder, Outputs};
 use crate::machine::{Machine, ToolEntry};
 
 /// How axis words without a decimal point are read.
@@ -68,6 +68,9 @@ pub struct Ran {
     pub outcome: Outcome,
     pub machine: Machine,
     pub parse_errors: usize,
+    /// The outputs of the run (the DPRNT file), written with the command's
+    /// others.
+    pub outputs: Outputs,
 }
 
 impl Ran {
@@ -149,13 +152,14 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
     } else {
         interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings)
     };
+    let mut outputs = Outputs::new();
     if !outcome.prints.is_empty() {
         match &o.dprnt {
-            Some(p) => write_output(Some(p), (outcome.prints.join("\n") + "\n").as_bytes())?,
+            Some(p) => outputs.add(Some(p), (outcome.prints.join("\n") + "\n").as_bytes())?,
             None => outcome.prints.iter().for_each(|l| eprintln!("DPRNT: {l}")),
         }
     }
-    Ok((Ran { sources, outcome, machine, parse_errors }, parse_diagnostics))
+    Ok((Ran { sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
 }
 
 /// The axes `path` moves that `machine` does not have, each with the first
@@ -298,7 +302,8 @@ fn hms(s: f64) -> String {
 
 /// `kezuri check`.
 pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
-    let (ran, parse_diagnostics) = read_and_run(o)?;
+    let (mut ran, parse_diagnostics) = read_and_run(o)?;
+    std::mem::take(&mut ran.outputs).commit()?;
     let report = Report::new(&ran);
     let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
     // Axes the program commands that the machine file's chains lack.
@@ -508,7 +513,7 @@ impl WriteArgs {
 /// `--apply-comp` output the tool-centre path; GRBL and RML-1, which have
 /// no compensation, need `--apply-comp`.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
-    let (ran, parse_diagnostics) = if w.apply_comp { read_and_run_centre(o)? } else { read_and_run(o)? };
+    let (mut ran, parse_diagnostics) = if w.apply_comp { read_and_run_centre(o)? } else { read_and_run(o)? };
     ran.print_diagnostics(&parse_diagnostics);
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
@@ -536,7 +541,9 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     for note in &notes {
         eprintln!("warning: {}: {note}", o.file.display());
     }
-    write_program(written, centre, &title, &notes, w, &ran.machine, Origin::Transformed)
+    let mut out = std::mem::take(&mut ran.outputs);
+    write_program(&mut out, written, centre, &title, &notes, w, &ran.machine, Origin::Transformed)?;
+    out.commit()
 }
 
 /// One line per kind of value the run took from the machine file rather
@@ -582,14 +589,23 @@ pub fn post_options(post: Option<&str>, emit: Option<&str>, machine: &Machine) -
     crate::post::for_machine(machine, name)
 }
 
-/// Writes `path` as `w` asks: a program by the post, CSV or RML-1, and
-/// the SVG.
-pub fn write_toolpath(path: &Toolpath, title: &str, w: &WriteArgs, machine: &Machine, origin: Origin) -> Result<()> {
-    write_program(path, path, title, &[], w, machine, origin)
+/// Adds to `out` what `w` asks for `path`: a program by the post, CSV or
+/// RML-1, and the SVG.
+pub fn stage_toolpath(
+    out: &mut Outputs,
+    path: &Toolpath,
+    title: &str,
+    w: &WriteArgs,
+    machine: &Machine,
+    origin: Origin,
+) -> Result<()> {
+    write_program(out, path, path, title, &[], w, machine, origin)
 }
 
-/// [`write_toolpath`] with the SVG drawing `drawn`.
+/// [`stage_toolpath`] with the SVG drawing `drawn`.
+#[allow(clippy::too_many_arguments)]
 fn write_program(
+    out: &mut Outputs,
     path: &Toolpath,
     drawn: &Toolpath,
     title: &str,
@@ -610,9 +626,9 @@ fn write_program(
             kezuri_nc::write::program(path, &options)?
         }
     };
-    write_output(w.output.as_deref(), text.as_bytes())?;
+    out.add(w.output.as_deref(), text.as_bytes())?;
     if let Some(svg) = &w.svg {
-        write_output(Some(svg), crate::plot::svg(drawn, title).as_bytes())?;
+        out.add(Some(svg), crate::plot::svg(drawn, title).as_bytes())?;
     }
     Ok(())
 }

@@ -6,15 +6,15 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::{raster_with, ClRowsFn, RasterOptions, Region};
-use kezuri_cam::relief::{inside, parse_levels, surface, Gray, Mapping, Placement};
+use kezuri_cam::relief::{check_smoothing, inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
 use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
 
-use crate::files::write_output_with;
+use crate::files::Outputs;
 use crate::machine::MachineArg;
 use crate::mill::{RowDirection, RowPattern};
-use crate::program::{write_toolpath, Origin, WriteArgs};
+use crate::program::{stage_toolpath, Origin, WriteArgs};
 
 /// Most pixels of a picture (8 bytes of height each, and the picture).
 pub const MAX_PIXELS: u64 = 64_000_000;
@@ -67,11 +67,12 @@ pub struct ReliefArgs {
         value_name = "MM",
         required_unless_present = "pixel",
         conflicts_with = "pixel",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = crate::numbers::length,
     )]
     pub width: Option<f64>,
     /// Size of one pixel, mm.
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub pixel: Option<f64>,
     /// Depth of black (white with --invert) below the stock top, mm.
     #[arg(
@@ -105,7 +106,7 @@ pub struct ReliefArgs {
     #[arg(long, value_name = "SPEC")]
     pub tool: String,
     /// Distance between finishing rows, mm.
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub stepover: f64,
     /// Row direction.
     #[arg(long, value_enum, default_value = "x")]
@@ -114,34 +115,34 @@ pub struct ReliefArgs {
     #[arg(long, value_enum, default_value = "zigzag")]
     pub pattern: RowPattern,
     /// Sampling step along a row, mm [default: the pixel size].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How much material the path may leave above the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub tolerance: f64,
     /// Roughing cutter: clear the stock in levels first.
     #[arg(long, value_name = "SPEC")]
     pub rough: Option<String>,
     /// Depth of each roughing level, mm.
-    #[arg(long, value_name = "MM", default_value_t = 2.0)]
+    #[arg(long, value_name = "MM", default_value_t = 2.0, value_parser = crate::numbers::length)]
     pub step_down: f64,
     /// Material the roughing leaves on the relief, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.3)]
+    #[arg(long, value_name = "MM", default_value_t = 0.3, value_parser = crate::numbers::length_or_zero)]
     pub allowance: f64,
     /// Distance between roughing rows, mm [default: 40 % of the roughing cutter's diameter].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub rough_stepover: Option<f64>,
     /// Height for rapids, above the stock top.
-    #[arg(long, value_name = "Z", default_value_t = 5.0)]
+    #[arg(long, value_name = "Z", default_value_t = 5.0, value_parser = crate::numbers::coordinate)]
     pub safe_z: f64,
     /// Cutting feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 1500.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1500.0, value_parser = crate::numbers::positive)]
     pub feed: f64,
     /// Plunge feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 300.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 300.0, value_parser = crate::numbers::positive)]
     pub plunge_feed: f64,
     /// Spindle speed, rpm.
-    #[arg(long, value_name = "RPM", default_value_t = 10000.0)]
+    #[arg(long, value_name = "RPM", default_value_t = 10000.0, value_parser = crate::numbers::positive)]
     pub speed: f64,
     /// Also write the relief surface as a binary STL (for `kezuri sim --compare`).
     #[arg(long, value_name = "FILE.stl")]
@@ -154,13 +155,19 @@ pub struct ReliefArgs {
 
 /// Reads a picture as gray values, refusing one too large to hold before
 /// decoding it.
-pub fn read_gray(path: &Path) -> Result<Gray> {
+/// The width and height a picture file declares, read from its header.
+fn dimensions(path: &Path) -> Result<(u32, u32)> {
     let name = path.display();
     let reader = image::ImageReader::open(path)
         .with_context(|| format!("cannot open {name}"))?
         .with_guessed_format()
         .with_context(|| format!("cannot read {name}"))?;
-    let (w, h) = reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))?;
+    reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))
+}
+
+pub fn read_gray(path: &Path) -> Result<Gray> {
+    let name = path.display();
+    let (w, h) = dimensions(path)?;
     let pixels = u64::from(w) * u64::from(h);
     if pixels > MAX_PIXELS {
         bail!(
@@ -195,6 +202,8 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     if !(args.safe_z.is_finite() && args.safe_z > 0.0) {
         bail!("--safe-z {} must be above the stock top, z = 0", args.safe_z);
     }
+    let (w, h) = dimensions(&args.image)?;
+    check_smoothing(args.smooth, w as usize, h as usize).context("--smooth")?;
     let picture = read_gray(&args.image)?;
     let mask = args.mask.as_deref().map(read_gray).transpose()?;
     let pixel = match (args.width, args.pixel) {
@@ -270,11 +279,12 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         t0.elapsed().as_secs_f64()
     );
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
-    write_toolpath(&path, &title, &args.write, &machine, Origin::Made)?;
-    match &args.surface_stl {
-        Some(stl) => write_surface_stl(stl, &field),
-        None => Ok(()),
+    let mut out = Outputs::new();
+    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made)?;
+    if let Some(stl) = &args.surface_stl {
+        stage_surface_stl(&mut out, stl, &field)?;
     }
+    out.commit()
 }
 
 /// The picture's lower-left corner for `--origin`: the named corner (or
@@ -319,9 +329,9 @@ fn with_bar(
     Ok(path?)
 }
 
-/// Writes the surface of `field` as a binary STL, a triangle at a time (a
-/// 64-million-pixel relief is 128 million triangles, 6.4 GB of STL, and
-/// never in memory).
-pub fn write_surface_stl(path: &Path, field: &Heightfield) -> Result<()> {
-    write_output_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
+/// Adds the surface of `field` to `out` as a binary STL, a triangle at a
+/// time (a 64-million-pixel relief is 128 million triangles, 6.4 GB of STL,
+/// never in memory when written to a file).
+pub fn stage_surface_stl(out: &mut Outputs, path: &Path, field: &Heightfield) -> Result<()> {
+    out.add_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
 }

@@ -33,10 +33,10 @@ pub struct ScallopArgs {
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub angle: f64,
     /// Pick feed in the inclined plane, mm: report the cusp it leaves.
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub pick_feed: Option<f64>,
     /// Target cusp height, mm: report the largest pick feed that meets it.
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub target: Option<f64>,
     /// Print one JSON object: tool, angle_deg, pick_feed_mm, cusp_mm,
     /// step_up_cusp_mm, step_down_cusp_mm, plan_stepover_mm, z_step_mm, …

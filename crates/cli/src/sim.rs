@@ -91,7 +91,7 @@ pub struct SimArgs {
     #[arg(long)]
     pub same_tool_for_all: bool,
     /// Cell size of the simulation grid, mm.
-    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub res: f64,
     /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm
     /// [default: the cutting moves' XY box grown by the widest cutter's radius, top at their
@@ -112,17 +112,17 @@ pub struct SimArgs {
     #[arg(long, value_name = "DEV.png")]
     pub deviation_png: Option<PathBuf>,
     /// Deviation shown in full colour, mm [default: the largest deviation].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub deviation_scale: Option<f64>,
     /// Largest sagitta of the chords arcs are cut as, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.001)]
+    #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
     pub chord_tol: f64,
     /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
     #[arg(long, value_name = "N", default_value_t = 250_000_000)]
     pub max_cells: usize,
-    /// Bins of the deviation histogram.
-    #[arg(long, value_name = "N", default_value_t = 10)]
-    pub bins: usize,
+    /// Bins of the deviation histogram (1 to 10000).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u16).range(1..=10_000))]
+    pub bins: u16,
     /// Exit with code 1 when a rapid cuts into the stock.
     #[arg(long)]
     pub fail_on_rapid: bool,
@@ -141,13 +141,12 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let mut options = SimOptions::new(args.res);
     options.chord_tolerance = args.chord_tol;
     options.max_cells = args.max_cells;
-    if !(options.resolution.is_finite() && options.resolution > 0.0) {
-        bail!("--res must be a positive number of mm, got {}", args.res);
-    }
     let stock = args.stock.as_deref().map(stock::parse).transpose()?;
 
-    let (ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
+    let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
     ran.print_diagnostics(&parse_diagnostics);
+    // Every output file (the DPRNT file too) is written together, or none.
+    let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
     if ran.errors() > 0 {
         bail!("{file}: {} error(s); nothing simulated", ran.errors());
@@ -178,7 +177,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         Some(target) => {
             let triangles = crate::surface::read_surface(target)?.triangles();
             let heights = target_heights(&zmap, triangles);
-            let c = compare(&zmap, &heights, args.bins);
+            let c = compare(&zmap, &heights, args.bins.into());
             if c.compared == 0 {
                 bail!("{}: the target covers none of the {} cells", target.display(), zmap.cells());
             }
@@ -187,34 +186,34 @@ pub fn run(args: &SimArgs) -> Result<()> {
         None => None,
     };
 
-    if let Some(out) = &args.output {
-        write_output(Some(out), &picture::height_png(&zmap)?)?;
+    if let Some(png) = &args.output {
+        out.add(Some(png), &picture::height_png(&zmap)?)?;
     }
-    if let Some(out) = &args.stl {
-        picture::write_surface_stl(out, &zmap)?;
+    if let Some(stl) = &args.stl {
+        picture::stage_surface_stl(&mut out, stl, &zmap)?;
     }
     let mut deviation_note = None;
     if let Some((c, heights)) = &comparison {
-        let out = args.deviation_png.clone().or_else(|| {
+        let deviation = args.deviation_png.clone().or_else(|| {
             args.output.as_ref().filter(|o| o.as_path() != Path::new("-")).map(|o| {
                 let stem = o.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
                 o.with_file_name(format!("{stem}-deviation.png"))
             })
         });
-        if let Some(out) = out {
+        if let Some(png) = deviation {
             let scale = match args.deviation_scale {
-                Some(s) if s.is_finite() && s > 0.0 => s,
-                Some(s) => bail!("--deviation-scale must be a positive number of mm, got {s}"),
+                Some(s) => s,
                 None => c.max_gouge.max(c.max_left).max(1e-9),
             };
-            write_output(Some(&out), &picture::deviation_png(&zmap, heights, scale)?)?;
+            out.add(Some(&png), &picture::deviation_png(&zmap, heights, scale)?)?;
             deviation_note = Some(format!(
                 "{}: red = below the target (gouge), blue = above (material left), white = on it; \
                  full colour at ±{scale:.4} mm; grey = no target",
-                out.display()
+                png.display()
             ));
         }
     }
+    out.commit()?;
 
     if !report.rapid_hits.is_empty() {
         let first = report.rapid_hits[0];

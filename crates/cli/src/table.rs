@@ -77,11 +77,17 @@ impl Table {
     }
 
     /// The finite number in row `r`, column `c`.
+    /// A column in mm (its name ends `_mm`) holds coordinates within
+    /// ±1000000 mm (`kezuri_geom::limits`).
     pub fn number(&self, r: usize, c: usize) -> Result<f64> {
         let text = self.text(r, c)?;
+        let name = &self.names[c];
         match text.parse::<f64>() {
+            Ok(v) if name.ends_with("_mm") => {
+                kezuri_geom::limits::coordinate(v, &format!("'{text}' ({name})")).map_err(|e| self.error_at(r, c, &e))
+            }
             Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(self.error_at(r, c, &format!("'{text}' is not a number ({})", self.names[c]))),
+            _ => Err(self.error_at(r, c, &format!("'{text}' is not a number ({name})"))),
         }
     }
 
@@ -111,6 +117,11 @@ mod tests {
         assert_eq!(read_columns("p.csv", t, &["x_mm", "z_mm"]).unwrap(), vec![vec![2.0, 1.0], vec![4.0, 3.0]]);
         let e = read_columns("p.csv", "x_mm,z_mm\n1,2\n3,abc\n", &["x_mm", "z_mm"]).unwrap_err().to_string();
         assert_eq!(e, "p.csv: line 3, column 3: 'abc' is not a number (z_mm)");
+        let e = read_columns("p.csv", "x_mm,z_mm\n1,2\n3,1e307\n", &["x_mm", "z_mm"]).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "p.csv: line 3, column 3: '1e307' (z_mm) must be a coordinate from -1000000 to 1000000 mm, got 1e307"
+        );
         let e = read_columns("p.csv", "x,z\n1,2\n", &["x_mm", "z_mm"]).unwrap_err().to_string();
         assert!(e.starts_with("p.csv: line 1: no column 'x_mm'"), "{e}");
         let e = read_columns("p.csv", "x_mm,z_mm\n1\n", &["x_mm", "z_mm"]).unwrap_err().to_string();

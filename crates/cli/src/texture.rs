@@ -6,8 +6,8 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::texture::{bake, check, is_textured, Dist, TextureOptions};
 use kezuri_nc::texture_macro::TextureMacro;
 
-use crate::files::{read_text, write_output};
-use crate::program::{run_text, write_toolpath, Origin, RunOptions, WriteArgs};
+use crate::files::read_text;
+use crate::program::{run_text, stage_toolpath, Origin, RunOptions, WriteArgs};
 
 /// How the texture is made.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -55,11 +55,11 @@ pub struct TextureArgs {
     #[arg(long, value_enum, default_value = "bake")]
     pub mode: Mode,
     /// XY travel per stroke, mm: each ends at a new random depth.
-    #[arg(long, value_name = "MM", default_value_t = 20.0)]
+    #[arg(long, value_name = "MM", default_value_t = 20.0, value_parser = crate::numbers::length)]
     pub segment: f64,
     /// A fixed depth the offsets are added to (the paper: -2.0) [default: the
     /// program's own Z on each move].
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub base: Option<f64>,
     /// Largest offset up or down, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.8, allow_negative_numbers = true)]
@@ -75,7 +75,7 @@ pub struct TextureArgs {
     #[arg(long, value_name = "MIN,MAX")]
     pub step_range: Option<String>,
     /// No textured point goes below this Z (a safety clamp).
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub max_depth: Option<f64>,
     /// The macro's program number (--mode macro).
     #[arg(long, value_name = "N", default_value_t = 7023)]
@@ -111,23 +111,27 @@ pub fn run(a: &TextureArgs) -> Result<()> {
              expanded program instead (kezuri run {name} -o expanded.nc)"
         );
     }
-    let (ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
+    let (mut ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }
     crate::program::refuse_comp(&ran, &a.run.file, "texturing changes")?;
+    // With the run's own outputs (the DPRNT file).
+    let mut out = std::mem::take(&mut ran.outputs);
     let path = &ran.outcome.toolpath;
     let cutting: Vec<u32> = path.moves.iter().filter(|m| is_textured(m)).map(|m| m.line).collect();
     if cutting.is_empty() {
         eprintln!("warning: {name}: no straight cutting move with XY travel: the program is copied through unchanged");
-        return write_output(a.write.output(), text.as_bytes());
+        out.add(a.write.output(), text.as_bytes())?;
+        return out.commit();
     }
     match a.mode {
         Mode::Bake => {
             let t = bake(path, &options).with_context(|| name.clone())?;
             let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-            write_toolpath(
+            stage_toolpath(
+                &mut out,
                 &t.toolpath,
                 &format!("{title} TEXTURED, SEED {}", a.seed),
                 &a.write,
@@ -189,7 +193,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
                 max_depth: a.max_depth,
                 vars: a.macro_vars,
             };
-            write_output(a.write.output(), m.wrap(&text, first, last).as_bytes())?;
+            out.add(a.write.output(), m.wrap(&text, first, last).as_bytes())?;
             eprintln!(
                 "{name}: G66.1 P{:04} before line {first}, G67 after line {last}; the macro draws each depth \
                  from #3001 (--seed is not used)",
@@ -197,7 +201,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
             );
         }
     }
-    Ok(())
+    out.commit()
 }
 
 /// `MIN,MAX`.

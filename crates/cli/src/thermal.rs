@@ -190,16 +190,16 @@ pub struct PlanArgs {
     #[arg(long, value_name = "N", default_value_t = 6)]
     pub steps: usize,
     /// Step between stops, mm (signed).
-    #[arg(long, value_name = "MM", default_value_t = -4.0, allow_negative_numbers = true)]
+    #[arg(long, value_name = "MM", default_value_t = -4.0, allow_negative_numbers = true, value_parser = crate::numbers::signed_length)]
     pub pitch: f64,
     /// Dwell at each stop for the sensors, s.
     #[arg(long, value_name = "S", default_value_t = 1.0)]
     pub dwell: f64,
     /// Feed between stops, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0, value_parser = crate::numbers::positive)]
     pub feed: f64,
     /// Z for the moves between stations.
-    #[arg(long, value_name = "Z", default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: f64,
     /// Program number [default: the machine file's [post] program_number, else 2007].
     #[arg(long, value_name = "N")]
@@ -288,7 +288,7 @@ pub struct EdgeArgs {
     /// The profile CSV (`x_mm,z_mm`; `-` for standard input).
     pub profile: PathBuf,
     /// Where the second side starts, x in mm [default: where the two lines fit best].
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub split: Option<f64>,
     /// Print one JSON object: edge, angle_deg, rms_residual_mm, inliers, outliers, sides.
     #[arg(long)]
@@ -516,7 +516,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
     let (model, chains) = load_model(&a.model)?;
     // The model's machine is checked before the program's axes against it.
-    let (text, ran) = run_to_correct(&a.run, |ran| {
+    let (text, mut ran) = run_to_correct(&a.run, |ran| {
         let here = chain_letters(&ran.machine.kinematics);
         if here != chains {
             bail!(
@@ -584,7 +584,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     }
     let seconds = t0.elapsed().as_secs_f64();
     set_ends(&mut path, &corrected, ArcCentre::FollowsEnd);
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &ran.machine)?;
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &mut ran)?;
     let v = json!({
         "points": corrected.len(),
         "max_correction_mm": largest,

@@ -14,7 +14,7 @@ use kezuri_post::microscope::{frame_centre, measure, runout_mm, Envelope, Measur
 use kezuri_post::tool_image::GrayImage;
 use serde_json::json;
 
-use crate::files::{read_text, write_output};
+use crate::files::{read_text, Outputs};
 use crate::table::Table;
 use crate::{tool_db, tool_table};
 
@@ -43,7 +43,7 @@ pub struct ProfileArgs {
     #[arg(required = true, value_name = "IMAGE")]
     pub images: Vec<PathBuf>,
     /// Side of a pixel on the tool, micrometres (0.71 in the paper).
-    #[arg(long, value_name = "UM")]
+    #[arg(long, value_name = "UM", value_parser = crate::numbers::length)]
     pub pixel_um: f64,
     /// The row of the first picture where a new tool's tip sits (the tool-length reference);
     /// without it the lowest point seen is z = 0.
@@ -53,7 +53,7 @@ pub struct ProfileArgs {
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
     /// How far the pictures may be off their stage positions, micrometres.
-    #[arg(long, value_name = "UM", default_value_t = 15.0)]
+    #[arg(long, value_name = "UM", default_value_t = 15.0, value_parser = crate::numbers::length)]
     pub search_um: f64,
     /// Gray level at or below which a pixel is tool, 0-1 of full scale (Otsu's split of the
     /// pictures if not given).
@@ -138,9 +138,6 @@ fn profile(a: &ProfileArgs) -> Result<()> {
     if a.json && a.output == Path::new("-") {
         bail!("--json prints to standard output: give the profile a file with -o");
     }
-    if !(a.pixel_um > 0.0 && a.pixel_um.is_finite()) {
-        bail!("--pixel-um must be a positive number of micrometres, got {}", a.pixel_um);
-    }
     if let Some(t) = a.threshold.filter(|t| !(0.0..=1.0).contains(t)) {
         bail!("--threshold is a gray level from 0 to 1 of full scale, got {t}");
     }
@@ -195,10 +192,12 @@ fn profile(a: &ProfileArgs) -> Result<()> {
     });
     // Everything made before anything is written.
     let picture = a.png.as_ref().map(|_| overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)).transpose()?;
-    write_output(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
+    let mut out = Outputs::new();
+    out.add(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
     if let (Some(png), Some(picture)) = (&a.png, picture) {
-        write_output(Some(png), &picture)?;
+        out.add(Some(png), &picture)?;
     }
+    out.commit()?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }

@@ -60,7 +60,7 @@ pub struct ApplyArgs {
     #[arg(long, value_name = "PART.stl")]
     pub surface: PathBuf,
     /// Points whose new tool is farther than this from the surface are kept (mm).
-    #[arg(long, value_name = "MM", default_value_t = 0.05)]
+    #[arg(long, value_name = "MM", default_value_t = 0.05, value_parser = crate::numbers::length)]
     pub reach: f64,
     /// Print one JSON object: points, max_correction_mm, max_residual_mm, seconds, and the
     /// counts of corrected and kept points.
@@ -104,9 +104,6 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         bail!("--json prints to standard output: give the program a file with -o");
     }
     let nominal = nominal(&a.nominal)?;
-    if !(a.reach > 0.0 && a.reach.is_finite()) {
-        bail!("--reach must be a positive distance in mm, got {}", a.reach);
-    }
     let worn: ToolProfile = match (&a.profile, &a.tool_id) {
         (Some(p), _) => crate::tool::read_profile(p)?,
         (None, Some(id)) => crate::tool_db::latest_profile(&a.db, id)?,
@@ -117,7 +114,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     if mesh.is_empty() {
         bail!("{stl}: no triangles");
     }
-    let (text, ran) = run_to_correct(&a.run, |_| Ok(()))?;
+    let (text, mut ran) = run_to_correct(&a.run, |_| Ok(()))?;
     let k = &ran.machine.kinematics;
     let mut path = ran.outcome.toolpath.clone();
     let surface = Surface::new(&mesh);
@@ -214,7 +211,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             }
         }
     }
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR", &ran.machine)?;
+    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR", &mut ran)?;
     if let Some(&(line, d)) = gouges.first() {
         eprintln!(
             "warning: {name}: {} point(s) where the new tool itself cuts more than {} mm into the surface (first at \

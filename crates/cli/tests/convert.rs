@@ -178,23 +178,23 @@ fn errors_leave_the_output_alone() {
 }
 
 #[test]
-fn bad_usage_is_exit_code_2() {
+fn bad_usage_is_exit_code_2_and_a_bad_number_1() {
     let input = rml_data("relief_rows.rml");
-    for args in [
-        vec!["--scale-xy", "0"],
-        vec!["--scale-z", "-1"],
-        vec!["--scale-xy", "nan"],
-        vec!["--rml-unit", "inf"],
-        vec!["--tool", "drill:3"],
-        vec!["--arcs"],
-        vec!["--shorten", "-0.1"],
-        vec!["--shorten", "0.01", "--arcs", "--to", "rml"],
-        vec!["--from", "heidenhain"],
+    for (args, code) in [
+        (vec!["--scale-xy", "0"], 1),
+        (vec!["--scale-z", "-1"], 2),
+        (vec!["--scale-xy", "nan"], 1),
+        (vec!["--rml-unit", "inf"], 1),
+        (vec!["--tool", "drill:3"], 1),
+        (vec!["--arcs"], 2),
+        (vec!["--shorten", "-0.1"], 2),
+        (vec!["--shorten", "0.01", "--arcs", "--to", "rml"], 2),
+        (vec!["--from", "heidenhain"], 2),
     ] {
         let mut words = vec!["convert", input.as_str()];
         words.extend(&args);
         let o = kezuri(&words);
-        failed(&o, 2);
+        failed(&o, code);
         assert!(o.stdout.is_empty(), "{args:?}");
     }
 }

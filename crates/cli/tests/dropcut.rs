@@ -109,7 +109,7 @@ fn bad_input_is_exit_code_1_with_a_reason() {
         (vec![nan_path.to_str().unwrap(), "--tool", "ball:6", "--grid", "0,0,1,1,1"], "triangle 1 has a NaN"),
         (vec![empty.to_str().unwrap(), "--tool", "ball:6", "--grid", "0,0,1,1,1"], "empty STL"),
         (vec![short.to_str().unwrap(), "--tool", "ball:6", "--grid", "0,0,1,1,1"], "truncated"),
-        (vec![good, "--tool", "ball:-3", "--grid", "0,0,1,1,1"], "positive"),
+        (vec![good, "--tool", "ball:-3", "--grid", "0,0,1,1,1"], "the diameter must be a length"),
         (vec![good, "--tool", "ball:6", "--grid", "0,0,1,1,0"], "step must be positive"),
         (vec![good, "--tool", "ball:6", "--grid", "0,0,1"], "X0,Y0,X1,Y1,STEP"),
         (vec!["/nonexistent.stl", "--tool", "ball:6", "--grid", "0,0,1,1,1"], "cannot read"),

@@ -78,7 +78,7 @@ fn bad_input_is_a_clear_error() {
     let flat = grid(dir.path(), "flat.xyz", 5.0, 1.0, |_, _| 0.0);
     for (args, why) in [
         (vec!["--tool", "ball:6", "--stepover", "0"], "stepover"),
-        (vec!["--tool", "ball:-6", "--stepover", "1"], "positive"),
+        (vec!["--tool", "ball:-6", "--stepover", "1"], "the diameter must be a length"),
         (vec!["--tool", "ball:6", "--stepover", "1", "--cusp", "-1"], "--cusp"),
         (vec!["--tool", "ball:6", "--stepover", "1", "--region", "50,50,60,60"], "nothing to cut"),
     ] {

@@ -285,7 +285,11 @@ fn bad_input_is_a_clear_error_and_nothing_is_written() {
     let cases = [
         ("1,0\n2,0\n3,0\n4,0\n5,0\n", "5 points, but the 3 × 2 grid has 6", "border"),
         ("1,0\n2,0\n3,abc\n4,0\n5,0\n6,0\n", "line 3, column 3: 'abc' is not a number", "border"),
-        ("1,0\n2,0\n3,0\n4,NaN\n5,0\n6,0\n", "line 4, column 3: 'NaN' is not a finite number", "border"),
+        (
+            "1,0\n2,0\n3,0\n4,NaN\n5,0\n6,0\n",
+            "line 4, column 3: 'NaN' must be a coordinate from -1000000 to 1000000 mm, got NaN",
+            "border",
+        ),
         ("1,0\n2,0\n4,0\n", "line 3: point No 4 where No 3", "border"),
         ("1,0\n2,0\n3,0\n4,0\n5,0\n6,0\n", "row 3 is outside the grid's rows 1..2", "rows:1,3"),
     ];

@@ -113,9 +113,9 @@ fn a_grid_off_the_model_is_an_error_and_nothing_is_written() {
     assert!(!out.exists());
     for (flag, value, says) in [
         ("--count", "1,5", "the grid needs 2 to"),
-        ("--pitch", "0", "--pitch must be a positive"),
+        ("--pitch", "0", "'--pitch <MM>': it must be a length"),
         ("--tilt", "0.1", "--tilt '0.1': expected two numbers"),
-        ("--noise", "NaN", "--noise must be zero or a positive"),
+        ("--noise", "NaN", "'--noise <MM>': it must be zero or a length"),
     ] {
         let mut args = vec!["probe", "simulate", "x.stl", "--count", "3,3", "--pitch", "1", "--stylus", "ball:6"];
         args.extend(["-o", "never.txt"]);

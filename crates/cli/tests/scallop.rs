@@ -59,13 +59,13 @@ fn bad_input_exits_1_with_a_reason() {
         (&["--tool", "oval:16,24", "--angle", "90", "--pick-feed", "1"][..], "angle"),
         (&["--tool", "oval:16,24", "--angle", "-5", "--pick-feed", "1"], "angle"),
         (&["--tool", "oval:16,24", "--angle", "NaN", "--pick-feed", "1"], "angle"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "-1"], "pick feed"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "NaN"], "pick feed"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "-1"], "--pick-feed"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "NaN"], "--pick-feed"),
         (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "40"], "uncut strip"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--target", "-0.01"], "target"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--target", "-0.01"], "--target"),
         (&["--tool", "oval:16,24", "--angle", "30", "--target", "NaN"], "target"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--target", "0"], "no pick feed"),
-        (&["--tool", "ball:-3", "--angle", "30", "--target", "0.01"], "positive"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--target", "0"], "--target"),
+        (&["--tool", "ball:-3", "--angle", "30", "--target", "0.01"], "the diameter must be a length"),
     ] {
         let mut all = vec!["scallop"];
         all.extend_from_slice(args);

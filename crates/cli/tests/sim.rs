@@ -193,10 +193,10 @@ fn bad_input_is_a_clear_error() {
     let empty = write(dir.path(), "empty.nc", b"%\nO0001\nM30\n%\n");
     let junk = write(dir.path(), "junk.txt", b"hello\nworld\n");
     let cases: Vec<(Vec<&str>, &str)> = vec![
-        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0"], "--res must be a positive number"),
-        (vec!["sim", &nc, "--tool", "ball:6", "--res", "-1"], "--res must be a positive number"),
-        (vec!["sim", &nc, "--tool", "ball:6", "--res", "NaN"], "--res must be a positive number"),
-        (vec!["sim", &nc, "--tool", "ball:-6", "--res", "0.1"], "positive"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "0"], "'--res <MM>': it must be a length from 0.000001"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "-1"], "it must be a length"),
+        (vec!["sim", &nc, "--tool", "ball:6", "--res", "NaN"], "it must be a length"),
+        (vec!["sim", &nc, "--tool", "ball:-6", "--res", "0.1"], "the diameter must be a length"),
         (vec!["sim", &empty, "--tool", "ball:6", "--res", "0.1"], "no motion"),
         (vec!["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--stock", "0,0,10"], "five numbers"),
         (vec!["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--stock", "10,0,0,10,0"], "X0 < X1"),

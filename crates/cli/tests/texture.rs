@@ -191,7 +191,7 @@ fn bad_input_gets_clear_messages() {
         assert!(!o.status.success() && e.contains(words), "{args:?}: {e}");
         assert!(!std::path::Path::new(&out).exists(), "nothing written");
     };
-    fails(&["--segment", "0"], "--segment must be a positive length");
+    fails(&["--segment", "0"], "'--segment <MM>': it must be a length from 0.000001");
     fails(&["--spread", "-0.5"], "--spread must be zero or a positive length");
     fails(&["--step-range", "0.2"], "--step-range '0.2': expected MIN,MAX");
     fails(&["--mode", "macro", "--dist", "smooth"], "--dist digits or uniform");

@@ -122,6 +122,16 @@ fn tiles_by_their_stage_offsets_and_bad_pictures() {
     let o = kezuri(&["tool", "profile", &a, &b, "--pixel-um", "0.71", "--offsets", &apart, "-o", &csv]);
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("field 2 does not overlap"), "{e}");
+    // A search of a metre: bounded by the pictures, then weighed.
+    args.extend(["--search-um", "1e6"].map(String::from));
+    let t = std::time::Instant::now();
+    let o = kezuri(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.code() == Some(1) && e.contains("a search of 330 pixels over 6 overlaps is up to 1.0e11 comparisons"),
+        "{e}"
+    );
+    assert!(t.elapsed().as_secs() < 10, "{:?}", t.elapsed());
 }
 
 #[test]

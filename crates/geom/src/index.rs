@@ -1,17 +1,32 @@
-//! A uniform grid over XY that finds the triangles near a point.
+//! A grid over XY that finds the triangles near a point.
 //!
-//! Cells are square, as large as the median triangle (the larger side of
-//! its XY bounding box), so a query visits a number of cells and triangles
-//! proportional to its own area, whatever the size of the mesh. A triangle
-//! is listed in every cell its XY bounding box meets; a query reports it
-//! once, from the cell that holds the lower-left corner of the overlap of
-//! the two boxes, without a "seen" set.
+//! Cells are square. The finest level's cells are as large as the median
+//! triangle (the larger side of its XY bounding box), so a query visits a
+//! number of cells and triangles proportional to its own area, whatever the
+//! size of the mesh. Each coarser level has cells twice as large, and a
+//! triangle is listed in the finest level whose cells are at least as large
+//! as its box: in at most 2 × 2 cells. So the index holds at most four
+//! entries a triangle, whatever the size of the boxes (a few large
+//! triangles among many small ones cost no more than small ones). A query
+//! reports a triangle once, from the cell of its level that holds the
+//! lower-left corner of the overlap of the two boxes, without a "seen" set.
 
 use crate::mesh::Mesh;
 
 /// The XY grid index of a mesh's triangles.
 #[derive(Clone, Debug)]
 pub struct XyIndex {
+    /// Finest first; a level with no triangle has no cell.
+    levels: Vec<Level>,
+    /// XY box of each triangle: min x, min y, max x, max y.
+    boxes: Vec<[f64; 4]>,
+    /// The cell of each box's low corner, in the triangle's level.
+    low: Vec<[u32; 2]>,
+}
+
+/// One uniform grid of the index.
+#[derive(Clone, Debug)]
+struct Level {
     origin: [f64; 2],
     cell: f64,
     nx: usize,
@@ -19,17 +34,31 @@ pub struct XyIndex {
     /// Cell `k` lists `items[start[k]..start[k + 1]]`.
     start: Vec<u32>,
     items: Vec<u32>,
-    /// XY box of each triangle: min x, min y, max x, max y.
-    boxes: Vec<[f64; 4]>,
-    /// The cell of each box's low corner.
-    low: Vec<[u32; 2]>,
+}
+
+impl Level {
+    #[inline]
+    fn cell_of(&self, v: f64, axis: usize) -> usize {
+        let n = if axis == 0 { self.nx } else { self.ny };
+        let k = ((v - self.origin[axis]) / self.cell).floor();
+        if k >= 0.0 {
+            (k as usize).min(n - 1)
+        } else {
+            0
+        }
+    }
+
+    #[inline]
+    fn cell_range(&self, b: &[f64; 4]) -> (usize, usize, usize, usize) {
+        (self.cell_of(b[0], 0), self.cell_of(b[1], 1), self.cell_of(b[2], 0), self.cell_of(b[3], 1))
+    }
 }
 
 impl XyIndex {
     /// The index of `mesh`, cells sized from its median triangle.
     pub fn new(mesh: &Mesh) -> XyIndex {
         let boxes: Vec<[f64; 4]> = mesh.iter().map(|t| t.xy_box()).collect();
-        let mut sizes: Vec<f64> = boxes.iter().map(|b| (b[2] - b[0]).max(b[3] - b[1])).collect();
+        let mut sizes: Vec<f64> = boxes.iter().map(side).collect();
         let median = if sizes.is_empty() {
             1.0
         } else {
@@ -39,8 +68,8 @@ impl XyIndex {
         XyIndex::build(boxes, median)
     }
 
-    /// The index of `mesh` with cells of side `cell` (enlarged if the grid
-    /// would have more than about four cells a triangle).
+    /// The index of `mesh` with finest cells of side `cell` (enlarged if the
+    /// grid would have more than about four cells a triangle).
     pub fn with_cell(mesh: &Mesh, cell: f64) -> XyIndex {
         XyIndex::build(mesh.iter().map(|t| t.xy_box()).collect(), cell)
     }
@@ -56,82 +85,91 @@ impl XyIndex {
             (lo, hi) = ([0.0; 2], [0.0; 2]);
         }
         let extent = [hi[0] - lo[0], hi[1] - lo[1]];
-        // Never more than ~4 cells a triangle (or 2^26 in all), never zero.
+        // Never more than ~4 finest cells a triangle (or 2^26 in all), never zero.
         let most = (4 * boxes.len() + 16).min(1 << 26) as f64;
         let floor = (extent[0] * extent[1] / most).sqrt().max(extent[0].max(extent[1]) / 65536.0);
         let cell = if cell.is_finite() && cell > floor { cell } else { floor };
         let cell = if cell > 0.0 { cell } else { 1.0 };
-        let nx = (extent[0] / cell) as usize + 1;
-        let ny = (extent[1] / cell) as usize + 1;
-        let mut index = XyIndex {
-            origin: lo,
-            cell,
-            nx,
-            ny,
-            start: vec![0; nx * ny + 1],
-            items: Vec::new(),
-            boxes,
-            low: Vec::new(),
+        // The level of each triangle: the finest whose cell holds its box.
+        let level_of = |b: &[f64; 4]| {
+            let mut l = 0;
+            while cell * f64::powi(2.0, l) < side(b) && l < 64 {
+                l += 1;
+            }
+            l as usize
         };
-        index.low =
-            index.boxes.iter().map(|b| [index.cell_of(b[0], 0) as u32, index.cell_of(b[1], 1) as u32]).collect();
-        // Counting sort of (cell, triangle) pairs.
-        for b in &index.boxes {
-            let (i0, j0, i1, j1) = index.cell_range(b);
+        let of: Vec<usize> = boxes.iter().map(level_of).collect();
+        let count = of.iter().max().map_or(1, |l| l + 1);
+        let mut levels: Vec<Level> = (0..count)
+            .map(|l| Level {
+                origin: lo,
+                cell: cell * f64::powi(2.0, l as i32),
+                nx: 0,
+                ny: 0,
+                start: vec![0],
+                items: vec![],
+            })
+            .collect();
+        for &l in &of {
+            let level = &mut levels[l];
+            if level.nx == 0 {
+                level.nx = (extent[0] / level.cell) as usize + 1;
+                level.ny = (extent[1] / level.cell) as usize + 1;
+                level.start = vec![0; level.nx * level.ny + 1];
+            }
+        }
+        let low = boxes
+            .iter()
+            .zip(&of)
+            .map(|(b, &l)| [levels[l].cell_of(b[0], 0) as u32, levels[l].cell_of(b[1], 1) as u32])
+            .collect();
+        // Counting sort of (cell, triangle) pairs, level by level: at most
+        // four pairs a triangle, so the u32 counts cannot overflow.
+        for (b, &l) in boxes.iter().zip(&of) {
+            let level = &mut levels[l];
+            let (i0, j0, i1, j1) = level.cell_range(b);
             for j in j0..=j1 {
                 for i in i0..=i1 {
-                    index.start[j * nx + i + 1] += 1;
+                    level.start[j * level.nx + i + 1] += 1;
                 }
             }
         }
-        for k in 1..index.start.len() {
-            index.start[k] += index.start[k - 1];
+        let mut fill = Vec::with_capacity(count);
+        for level in &mut levels {
+            for k in 1..level.start.len() {
+                level.start[k] += level.start[k - 1];
+            }
+            level.items = vec![0; *level.start.last().unwrap_or(&0) as usize];
+            fill.push(level.start.clone());
         }
-        let mut fill = index.start.clone();
-        index.items = vec![0; *index.start.last().unwrap() as usize];
-        for (t, b) in index.boxes.iter().enumerate() {
-            let (i0, j0, i1, j1) = index.cell_range(b);
+        for (t, (b, &l)) in boxes.iter().zip(&of).enumerate() {
+            let level = &mut levels[l];
+            let (i0, j0, i1, j1) = level.cell_range(b);
             for j in j0..=j1 {
                 for i in i0..=i1 {
-                    let slot = &mut fill[j * nx + i];
-                    index.items[*slot as usize] = t as u32;
+                    let slot = &mut fill[l][j * level.nx + i];
+                    level.items[*slot as usize] = t as u32;
                     *slot += 1;
                 }
             }
         }
-        index
+        XyIndex { levels, boxes, low }
     }
 
-    /// Side of a cell, mm.
+    /// Side of a finest cell, mm.
     pub fn cell_size(&self) -> f64 {
-        self.cell
+        self.levels.first().map_or(1.0, |l| l.cell)
+    }
+
+    /// Entries in all cells of all levels: at most four a triangle.
+    pub fn entries(&self) -> usize {
+        self.levels.iter().map(|l| l.items.len()).sum()
     }
 
     /// XY bounding box `[min x, min y, max x, max y]` of triangle `t`.
     #[inline]
     pub fn triangle_box(&self, t: u32) -> [f64; 4] {
         self.boxes[t as usize]
-    }
-
-    /// Number of cells along X and Y.
-    pub fn cells(&self) -> (usize, usize) {
-        (self.nx, self.ny)
-    }
-
-    #[inline]
-    fn cell_of(&self, v: f64, axis: usize) -> usize {
-        let n = if axis == 0 { self.nx } else { self.ny };
-        let k = ((v - self.origin[axis]) / self.cell).floor();
-        if k >= 0.0 {
-            (k as usize).min(n - 1)
-        } else {
-            0
-        }
-    }
-
-    #[inline]
-    fn cell_range(&self, b: &[f64; 4]) -> (usize, usize, usize, usize) {
-        (self.cell_of(b[0], 0), self.cell_of(b[1], 1), self.cell_of(b[2], 0), self.cell_of(b[3], 1))
     }
 
     /// Calls `f` once for each triangle whose XY bounding box meets the box
@@ -159,17 +197,19 @@ impl XyIndex {
         if self.boxes.is_empty() || !(q[0] <= q[2] && q[1] <= q[3]) {
             return;
         }
-        let (i0, j0, i1, j1) = self.cell_range(&q);
-        for j in j0..=j1 {
-            for i in i0..=i1 {
-                let k = j * self.nx + i;
-                for &t in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
-                    // Report from one cell only: the one holding the low
-                    // corner of the overlap of the two boxes (cell_of is
-                    // monotone, so that is the larger of the low cells).
-                    let [ti, tj] = self.low[t as usize];
-                    if (ti as usize).max(i0) == i && (tj as usize).max(j0) == j && meets(&self.boxes[t as usize]) {
-                        f(t);
+        for level in self.levels.iter().filter(|l| !l.items.is_empty()) {
+            let (i0, j0, i1, j1) = level.cell_range(&q);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let k = j * level.nx + i;
+                    for &t in &level.items[level.start[k] as usize..level.start[k + 1] as usize] {
+                        // Report from one cell only: the one holding the low
+                        // corner of the overlap of the two boxes (cell_of is
+                        // monotone, so that is the larger of the low cells).
+                        let [ti, tj] = self.low[t as usize];
+                        if (ti as usize).max(i0) == i && (tj as usize).max(j0) == j && meets(&self.boxes[t as usize]) {
+                            f(t);
+                        }
                     }
                 }
             }
@@ -191,6 +231,11 @@ impl XyIndex {
         out.sort_unstable();
         out
     }
+}
+
+/// The larger side of an XY box.
+fn side(b: &[f64; 4]) -> f64 {
+    (b[2] - b[0]).max(b[3] - b[1])
 }
 
 #[cfg(test)]
@@ -250,5 +295,20 @@ mod tests {
         assert!(index.cell_size() > 0.7 && index.cell_size() < 1.5, "{}", index.cell_size());
         let empty = XyIndex::new(&Mesh::default());
         assert!(empty.query_disk([0.0, 0.0], 10.0).is_empty());
+    }
+
+    #[test]
+    fn large_boxes_cost_no_more_than_small_ones() {
+        // Many small triangles under a few that span the whole part: each
+        // large one listed in every small cell would be millions of entries.
+        let small = scatter(4000);
+        let large = (0..400).map(|k| {
+            let z = k as f64 * 0.01;
+            Triangle::new(Vec3::new(-5.0, -5.0, z), Vec3::new(105.0, -5.0, z), Vec3::new(50.0, 65.0, z))
+        });
+        let mesh = Mesh::from_triangles(small.iter().chain(large));
+        let index = XyIndex::new(&mesh);
+        assert!(index.entries() <= 4 * mesh.len(), "{} entries for {} triangles", index.entries(), mesh.len());
+        assert_eq!(index.query_disk([50.0, 30.0], 0.0).iter().filter(|&&t| t >= 4000).count(), 400);
     }
 }

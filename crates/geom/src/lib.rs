@@ -7,8 +7,9 @@
 //!
 //! The surfaces CAM places cutters on live here too: [`Mesh`] (an indexed
 //! triangle mesh, read from binary or ASCII STL by [`Mesh::from_stl`], whose
-//! typed [`StlError`] says what is wrong with a bad file), [`XyIndex`] (a
-//! uniform XY grid of its triangles, cells sized from the median triangle)
+//! typed [`StlError`] says what is wrong with a bad file), [`XyIndex`] (XY
+//! grids of its triangles, the finest sized from the median triangle, each
+//! triangle in the grid its box fits: at most four entries a triangle)
 //! and [`Heightfield`] (z over a regular grid, a triangulated surface).
 //!
 //! # Units and frames
@@ -33,6 +34,7 @@
 mod alloc;
 mod heightfield;
 mod index;
+pub mod limits;
 mod mesh;
 mod random;
 mod stl;

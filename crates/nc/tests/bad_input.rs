@@ -154,3 +154,33 @@ fn sources_of(text: &str) -> Sources {
     sources.add(SourceFile::new("bad.nc", text));
     sources
 }
+
+#[test]
+fn a_wait_loop_of_dwells_is_one_dwell() {
+    // 50,000 turns of a dwell-only wait loop: one move of 50 s, not 50,000.
+    let text = "O1\n#1=0\nWHILE [#1 LT 50000] DO1\nG04 P1000\n#1=#1+1\nEND1\nG04 P500\nM30\n";
+    let (_, outcome) = parse_run(text, &Settings { step_limit: 1_000_000, ..Settings::default() });
+    let o = outcome.unwrap();
+    assert!(o.completed);
+    let dwells: Vec<f64> = o
+        .toolpath
+        .moves
+        .iter()
+        .filter_map(|m| match m.kind {
+            kezuri_geom::MoveKind::Dwell(s) => Some(s),
+            _ => None,
+        })
+        .collect();
+    assert_eq!((dwells.len(), dwells.first().copied()), (2, Some(50_000.0)), "dwells of the wait loop and after it");
+}
+
+#[test]
+fn a_runaway_loop_that_moves_is_stopped_by_its_moves() {
+    let text = "O1\nG90 G00 X0. Y0. Z5.\nM98 P2 L99999999\nM30\nO2\nG91 G01 X0.001 F100.\nG90\nM99\n";
+    let settings = Settings { step_limit: 100_000_000, move_limit: 10_000, ..Settings::default() };
+    let (_, outcome) = parse_run(text, &settings);
+    let o = outcome.unwrap();
+    let e = o.diagnostics.iter().find(|d| d.is_error()).expect("stopped").message.clone();
+    assert!(e.starts_with("stopped after 10000 moves, the most a run keeps"), "{e}");
+    assert!(o.toolpath.moves.len() <= 10_001);
+}

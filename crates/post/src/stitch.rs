@@ -70,25 +70,45 @@ const FLAT: f64 = 0.05;
 /// Least overlap, pixels in each direction, for a pair to be refined.
 const MIN_OVERLAP: f64 = 8.0;
 
+/// Most pixel comparisons the whole-pixel search may make (some seconds).
+const MAX_COMPARISONS: f64 = 1e10;
+
 /// The fields `(picture, stage offset)` placed: see the module.
 pub fn place(fields: &[(&GrayImage, [f64; 2])], search: usize) -> Result<Placement, StitchError> {
     let n = fields.len();
-    let mut overlaps = Vec::new();
+    let mut pairs = Vec::new();
     for a in 0..n {
         for b in a + 1..n {
             let (ia, pa) = fields[a];
             let (ib, pb) = fields[b];
             let stage = [pb[0] - pa[0], pb[1] - pa[1]];
             let wide = |d: f64, wa: usize, wb: usize| (wa as f64).min(d + wb as f64) - d.max(0.0);
-            if wide(stage[0], ia.width, ib.width) < MIN_OVERLAP || wide(stage[1], ia.height, ib.height) < MIN_OVERLAP {
-                continue;
+            if wide(stage[0], ia.width, ib.width) >= MIN_OVERLAP && wide(stage[1], ia.height, ib.height) >= MIN_OVERLAP
+            {
+                pairs.push((a, b, stage));
             }
-            let (measured, hessian) = register(ia, ib, stage, search)
-                .ok_or_else(|| StitchError(format!("fields {} and {} do not overlap once shifted", a + 1, b + 1)))?;
-            let hessian = fixed_part(hessian);
-            let strength = [hessian[0][0].sqrt(), hessian[1][1].sqrt()];
-            overlaps.push(Pair { overlap: Overlap { fields: (a, b), stage, measured, strength }, hessian });
         }
+    }
+    // A shift beyond the pictures overlaps nothing; the rest is weighed
+    // before the work: each overlap tries every shift at up to 40,000
+    // sampled pixels.
+    let widest = fields.iter().map(|(i, _)| i.width.max(i.height)).max().unwrap_or(0);
+    let search = search.min(widest);
+    let comparisons = pairs.len() as f64 * ((2 * search + 1) as f64).powi(2) * 40_000.0;
+    if comparisons > MAX_COMPARISONS {
+        return Err(StitchError(format!(
+            "a search of {search} pixels over {} overlaps is up to {comparisons:.1e} comparisons, more than \
+             {MAX_COMPARISONS:.0e}: give a smaller --search-um (about the stage's error)",
+            pairs.len()
+        )));
+    }
+    let mut overlaps = Vec::new();
+    for (a, b, stage) in pairs {
+        let (measured, hessian) = register(fields[a].0, fields[b].0, stage, search)
+            .ok_or_else(|| StitchError(format!("fields {} and {} do not overlap once shifted", a + 1, b + 1)))?;
+        let hessian = fixed_part(hessian);
+        let strength = [hessian[0][0].sqrt(), hessian[1][1].sqrt()];
+        overlaps.push(Pair { overlap: Overlap { fields: (a, b), stage, measured, strength }, hessian });
     }
     connected(n, &overlaps)?;
     Ok(solve(fields, overlaps))

@@ -164,6 +164,8 @@ pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorM
         }
         let degree = match degree {
             Some(d) => d,
+            // One measurement: a constant (none to leave out).
+            None if n < 2 => 0,
             None => {
                 // The lowest degree whose leave-one-out error is within 1 %
                 // (or (1 nm)²) of the least: more terms must earn their place.
@@ -234,7 +236,7 @@ fn least_squares(ms: &[Measurement], degree: usize) -> Polynomial {
         let mut x = vec![0.0; cols];
         for j in (0..cols).rev() {
             let s: f64 = (j + 1..cols).map(|c| a[c][j] * x[c]).sum();
-            x[j] = if a[j][j].abs() > 1e-300 { (b[k][j] - s) / a[j][j] } else { 0.0 };
+            x[j] = if j < rows && a[j][j].abs() > 1e-300 { (b[k][j] - s) / a[j][j] } else { 0.0 };
         }
         x
     });

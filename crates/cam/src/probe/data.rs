@@ -4,7 +4,9 @@
 //!   one of them `# grid nx=85 ny=105 pitch=1 origin=0,0 pattern=zigzag`;
 //!   the others (how a reading becomes the tip Z, times, …) are kept as they
 //!   are. Then `No,Z` and one `No,Z` record per point, `No` from 1 in
-//!   capture order.
+//!   capture order, each ending with a line feed: a last record without
+//!   one was cut off by a crash or a power loss while it was written (it
+//!   may read as another number: `15,-5` of `15,-50.63`) and is refused.
 //! - **Bare `No,Z`** (the paper's files): the same records without a
 //!   header; the grid comes from the caller ([`Hint`]). A record `No 0` is
 //!   ignored (the paper's files begin with `0,0`) and written back.
@@ -19,6 +21,8 @@
 //! spreadsheet programs put first in a CSV file) is ignored.
 
 use std::fmt::Write as _;
+
+use kezuri_geom::limits;
 
 use super::{Grid, Order, ProbeGrid};
 
@@ -144,11 +148,14 @@ fn texts<'a>(fields: &[Field<'a>]) -> Vec<&'a str> {
     fields.iter().map(|f| f.text).collect()
 }
 
-/// A finite number, or an error naming the line and column.
+/// A coordinate (every number of a data file is in mm: within ±1000000),
+/// or an error naming the line and column.
 fn number(field: Field<'_>, n: usize) -> Result<f64, DataError> {
     let message = match field.text.parse::<f64>() {
-        Ok(v) if v.is_finite() => return Ok(v),
-        Ok(_) => format!("'{}' is not a finite number", field.text),
+        Ok(v) => match limits::coordinate(v, &format!("'{}'", field.text)) {
+            Ok(v) => return Ok(v),
+            Err(e) => e,
+        },
         Err(_) => format!("'{}' is not a number", field.text),
     };
     Err(DataError { line: Some(n), column: Some(field.column), message })
@@ -166,6 +173,16 @@ pub fn read(text: &str, hint: &Hint) -> Result<Data, DataError> {
         let grid = header_grid(lines[g], g + 1, hint)?;
         let header: Vec<String> =
             lines.iter().filter(|l| l.trim_start().starts_with('#')).map(|l| l.to_string()).collect();
+        if let Some(last) = lines.last().filter(|l| !text.ends_with('\n') && !is_comment(l)) {
+            return err(
+                Some(lines.len()),
+                format!(
+                    "the last record '{}' has no end of line: the capture was cut off while writing it \
+                     (`kezuri probe capture … --resume` drops it and measures that point again)",
+                    last.trim()
+                ),
+            );
+        }
         let (z, _, _) = records(&lines, &grid)?;
         return Ok(Data { grid: ProbeGrid { grid, z }, format: Format::Capture { header } });
     }
@@ -220,11 +237,11 @@ fn checked_grid(nx: usize, ny: usize, pitch: f64, origin: [f64; 2], order: Order
     if nx.checked_mul(ny).is_none_or(|n| n > 100_000_000) {
         return err(None, format!("a grid of {nx} × {ny} points is too large"));
     }
-    if !(pitch.is_finite() && pitch > 0.0) {
-        return err(None, format!("the pitch must be a positive number of mm, got {pitch}"));
+    if let Err(e) = limits::length(pitch, "the pitch") {
+        return err(None, e);
     }
-    if !origin.iter().all(|v| v.is_finite()) {
-        return err(None, "the origin must be finite");
+    if let Some(e) = origin.iter().find_map(|&v| limits::coordinate(v, "the origin").err()) {
+        return err(None, e);
     }
     Ok(Grid { nx, ny, pitch, origin, order })
 }

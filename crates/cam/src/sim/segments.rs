@@ -76,6 +76,9 @@ fn continuations(segs: &mut [Segment], shapes: &[Shape<'_>]) {
     }
 }
 
+/// Most straight segments a simulation holds (some 200 bytes each).
+pub(super) const MAX_SEGMENTS: usize = 10_000_000;
+
 /// The chords of an arc: `n` with sagitta ≤ `tol` (at least 1, at most 10⁷).
 fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
     if radius <= tol {
@@ -95,6 +98,18 @@ pub(super) fn segments<'a>(
     tooling: Tooling<'a>,
     tol: f64,
 ) -> Result<(Vec<Segment>, SimReport, Slots<'a>, Vec<usize>), SimError> {
+    // Weighed before the work: every arc's chords at `tol`.
+    let total = path
+        .moves
+        .iter()
+        .map(|m| match m.kind {
+            MoveKind::Arc(arc) => chords(arc.radius(m.start), arc.sweep(m.start, m.end), tol),
+            _ => 1,
+        })
+        .fold(0usize, usize::saturating_add);
+    if total > MAX_SEGMENTS {
+        return Err(SimError::TooManySegments(total));
+    }
     let mut out = Vec::with_capacity(path.moves.len());
     let mut report = SimReport::default();
     let mut slots = Slots::new(tooling);
@@ -156,9 +171,6 @@ pub(super) fn segments<'a>(
             _ => push(m.start.xyz(), m.end.xyz()),
         }
         cut.segments += out.len() - before;
-        if out.len() > u32::MAX as usize {
-            return Err(SimError::TooManySegments(out.len()));
-        }
     }
     if report.moves == 0 {
         return Err(SimError::EmptyToolpath);

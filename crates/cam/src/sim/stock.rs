@@ -5,7 +5,7 @@
 //! what is seen of it from above. Where a cylinder or a solid does not
 //! reach, the cells start at its bottom: there is no stock above it.
 
-use kezuri_geom::{MoveKind, Toolpath};
+use kezuri_geom::{limits, MoveKind, Toolpath};
 
 use super::compare::target_heights;
 use super::{SimError, SimOptions, Tool};
@@ -95,10 +95,10 @@ impl ZMap {
     /// the size is not a whole number of cells.
     pub fn new(stock: &Stock, options: &SimOptions) -> Result<ZMap, SimError> {
         let res = options.resolution;
-        if !(res.is_finite() && res > 0.0) {
+        if limits::length(res, "").is_err() {
             return Err(SimError::BadResolution(res));
         }
-        if !(options.chord_tolerance.is_finite() && options.chord_tolerance > 0.0) {
+        if limits::length(options.chord_tolerance, "").is_err() {
             return Err(SimError::BadTolerance(options.chord_tolerance));
         }
         stock.check()?;

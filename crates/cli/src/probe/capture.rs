@@ -1,7 +1,7 @@
 //! `kezuri probe capture`: read a dial indicator over a serial port, one
-//! reading per plunge of the measuring program, into a `No,Z` data file
-//! (seed 000: a Mitutoyo Digimatic indicator behind a MUX-10 multiplexer,
-//! read by a PC over RS-232C at each plunge).
+//! reading per plunge of the measuring program (the machine's M07 at the
+//! bottom of each plunge triggers it), into a `No,Z` data file. The user's
+//! page is docs/capture.md.
 //!
 //! # Data file
 //!
@@ -16,35 +16,31 @@
 //!
 //! `No` counts from 1 in capture order, `Z` is the stylus tip Z in mm
 //! (shortest round-trip float, rounded to the decimals of the reading,
-//! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). Every
-//! point is appended in one write and fsync'd as it arrives, so a crash loses
-//! at most the line being written; `--resume` drops such a truncated last line
-//! and measures that point again.
+//! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). The
+//! file is created with its first point, locked while a capture writes it,
+//! and every point is appended in one write and fsync'd before the next is
+//! taken (`store`).
 //!
-//! # Reading lines (sources)
+//! # Readings
 //!
-//! Lines end with CR, LF or CR LF; blank lines are skipped.
-//! - Mitutoyo multiplexer / USB output (MUX-10 "Mux-10 format" as described
-//!   in the GageMux operating manual, p. 7: `0CASRRRRRRRR<CR>`; Mitutoyo
-//!   QM-Height manual No. 99MAF600B §6.3 "USB data output": D1 code `0`,
-//!   D2 channel, D3 measurement item `A`, D4 sign, D5–D12 data with a
-//!   floating decimal point, D13 CR), e.g. `01A+00012.345`, `01A-001.2340`,
-//!   `01A+0000.123`. The two digits before `A` are taken as the channel.
-//! - Digimatic raw frame written as its 13 hexadecimal nibbles d1…d13
-//!   (Mitutoyo manuals No. 99MBA043A and 99MAF600B §6.2 "Digimatic data
-//!   output"): `FFFF`, sign nibble (0 `+`, 8 `-`), six BCD digits, the
-//!   decimal point position (0–5), the unit (0 mm, 1 inch; inch readings are
-//!   converted to mm), e.g. `FFFF8012345 30` → −12.345 mm.
-//! - A plain number, optionally signed and followed by `mm`: `-12.345`,
-//!   `+19.16`, `19.16 mm` (what most USB cables and terminal-style interfaces
-//!   send).
+//! Lines end with CR, LF or CR LF; blank lines are skipped. A reading is a
+//! whole, well-formed record (`reading` has the formats and their sources):
+//! a line in none of the forms, a Mitutoyo record with characters lost or
+//! added, the rest of a line over 256 bytes, a reading outside `--range` or
+//! from another `--channel` is reported (with its raw text) and never
+//! becomes a point.
 //!
-//! A line in none of these forms is reported (with its raw text) and never
-//! becomes a point, as are readings outside `--range` and readings from
-//! another `--channel`. A long silence is reported and the capture keeps
-//! waiting; a read error or end of file (cable pulled, converter unplugged)
-//! ends the capture with the number of points stored and the command that
-//! resumes it.
+//! # Interruptions
+//!
+//! The port's input is flushed on open and what arrives until the line has
+//! been quiet for `SETTLE` is discarded (a reading sent while kezuri was
+//! stopped, or the tail of one under way). Readings carry no point number,
+//! so `--resume` takes the last stored point again first (the operator
+//! restarts the measuring program there) and compares its Z with the stored
+//! one within `--recheck-tol`: a mismatch stops the capture with nothing
+//! new stored. A long silence is reported and the capture keeps waiting; a
+//! read error or end of file (cable pulled, converter unplugged) ends it
+//! with the number of points stored and the command that resumes it.
 
 // By path, so that the test that compiles this file by path
 // (tests/probe_capture.rs) finds them too.
@@ -54,22 +50,29 @@ mod clock;
 mod port;
 #[path = "capture/reading.rs"]
 mod reading;
+#[path = "capture/store.rs"]
+mod store;
 
 use std::fmt::Write as _;
-use std::fs::{File, OpenOptions};
-use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime};
 
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use kezuri_cam::probe::data::grid_header;
+use kezuri_cam::probe::data::{grid_header, num};
 use kezuri_cam::probe::{Grid, Order};
 
 use clock::{human, local_time, utc_iso};
 use port::{Got, Port};
 pub use reading::{parse_reading, TipZ};
+use store::Store;
+
+/// How long the line must be quiet after the port is opened before a
+/// reading is taken: what arrives before is discarded, as a line already
+/// under way when the port opened is only its tail.
+const SETTLE: Duration = Duration::from_millis(300);
 
 /// Reads one dial-indicator value per plunge from a serial port into a `No,Z` data file.
 #[derive(Args, Debug, Clone)]
@@ -80,11 +83,17 @@ How a reading becomes the tip Z (recorded in the file's header):
           showing `zero`; sign: +1 when the reading grows as the stylus is pushed in
           (Mitutoyo indicators), -1 otherwise. The defaults (0, +1, 0) store the raw reading.
 
-Accepted lines: Mitutoyo multiplexer/USB `01A+00012.345` (channel, item A, sign, value),
-Digimatic raw nibbles `FFFF0012345 30` (13 hex digits), plain numbers `-12.345`, `19.16 mm`.
-Garbled lines, values outside --range and long silences are reported on stderr and never
-stored. Every point is fsync'd as it arrives; after a disconnect, --resume continues after
-the last stored point (restart the measuring program at the point it names).
+Accepted lines: Mitutoyo multiplexer/USB records `01A+0012.345` (channel, A, sign, then
+exactly 8 characters: 7 digits and a decimal point), Digimatic raw nibbles `FFFF0012345 30`
+(13 hex digits), plain numbers `-12.345`, `19.16 mm`. Damaged records, over-long lines,
+values outside --range and long silences are reported on stderr and never stored.
+
+Interruptions: what the instrument sent while kezuri was stopped is discarded when the port
+opens. Every point is on disk before the next is taken; the data file exists from the first
+point on, and two captures cannot write one file. After a stop, --resume names the point to
+restart the measuring program at: the last stored point, measured again and compared with the
+stored Z (--recheck-tol) before new points are taken; on a mismatch nothing new is stored.
+A last record cut off by a power loss is dropped and taken again.
 
 Examples:
   kezuri probe capture --port /dev/ttyUSB0 --count 85,105 -o ume.csv
@@ -135,6 +144,11 @@ pub struct CaptureArgs {
     /// Plausible raw readings in mm (e.g. 0,50 for a 50 mm indicator); others are rejected.
     #[arg(long, value_name = "MIN,MAX", value_parser = parse_range, allow_hyphen_values = true)]
     pub range: Option<(f64, f64)>,
+    /// On --resume the last stored point is measured again first (restart the measuring program
+    /// there): its Z must agree with the stored one within this many mm (the indicator's
+    /// accuracy), or the capture stops and stores nothing new.
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = parse_tolerance)]
+    pub recheck_tol: f64,
     /// Report a silence longer than S seconds (again every S seconds) while waiting.
     #[arg(long, value_name = "S", default_value_t = 60.0, value_parser = parse_timeout)]
     pub timeout: f64,
@@ -163,7 +177,7 @@ impl From<Pattern> for Order {
 pub enum Format {
     /// Any of the formats below.
     Auto,
-    /// Mitutoyo multiplexer/USB lines (`01A+00012.345`) and raw Digimatic nibbles.
+    /// Mitutoyo multiplexer/USB records (`01A+0012.345`) and raw Digimatic nibbles.
     Digimatic,
     /// Plain numbers (`-12.345`, `19.16 mm`).
     Number,
@@ -191,12 +205,24 @@ fn parse_finite(s: &str) -> Result<f64, String> {
     s.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or(format!("`{s}` is not a finite number"))
 }
 
+/// A pitch is a length (this file stands alone in its tests: the
+/// shared parsers of `numbers.rs` are not here).
 fn parse_pitch(s: &str) -> Result<f64, String> {
-    parse_finite(s).and_then(|v| if v > 0.0 { Ok(v) } else { Err("the pitch must be > 0".into()) })
+    parse_finite(s).and_then(|v| kezuri_geom::limits::length(v, "it"))
 }
 
 fn parse_timeout(s: &str) -> Result<f64, String> {
-    parse_finite(s).and_then(|v| if v > 0.0 { Ok(v) } else { Err("the timeout must be > 0 s".into()) })
+    parse_finite(s).and_then(|v| {
+        if v > 0.0 && v <= 86_400.0 {
+            Ok(v)
+        } else {
+            Err(format!("the timeout must be more than 0 s and at most 86400 s (a day), got {v}"))
+        }
+    })
+}
+
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    parse_finite(s).and_then(|v| if v >= 0.0 { Ok(v) } else { Err("the tolerance must be ≥ 0 mm".into()) })
 }
 
 fn parse_pair(s: &str) -> Result<(f64, f64), String> {
@@ -276,8 +302,40 @@ impl CaptureArgs {
         if let Some((lo, hi)) = self.range {
             let _ = write!(c, " --range {lo},{hi}");
         }
-        let _ = write!(c, " --timeout {} -o {} --resume", self.timeout, quote(&self.output.display().to_string()));
+        let _ = write!(
+            c,
+            " --recheck-tol {} --timeout {} -o {} --resume",
+            self.recheck_tol,
+            self.timeout,
+            quote(&self.output.display().to_string())
+        );
         c
+    }
+
+    /// Where the operator restarts the measuring program to take point
+    /// `next` on: at the last stored point, which is measured again.
+    fn restart(&self, next: usize) -> String {
+        match next - 1 {
+            0 => "restart the measuring program at point 1".into(),
+            last => format!(
+                "restart the measuring program at point {last} (measured again to check the restart; \
+                 point {next} follows)"
+            ),
+        }
+    }
+
+    /// The error when the instrument goes away with point `next` to take.
+    fn gone(&self, why: &str, next: usize) -> anyhow::Error {
+        anyhow::anyhow!(
+            "the instrument went away ({why} on {}): {} of {} points are stored in {}.\n\
+             To continue, {} and run:\n  {}",
+            self.port,
+            next - 1,
+            self.total(),
+            self.output.display(),
+            self.restart(next),
+            self.resume_command()
+        )
     }
 }
 
@@ -288,95 +346,6 @@ fn quote(s: &str) -> String {
     } else {
         format!("'{}'", s.replace('\'', r"'\''"))
     }
-}
-
-/// Opens DATA for appending: a new file with its header, or (`--resume`)
-/// the existing one after checking its header and dropping a truncated last
-/// line. Returns the file and the number of points already stored.
-fn open_data(args: &CaptureArgs, say: &mut dyn FnMut(&str)) -> Result<(File, usize)> {
-    let path = &args.output;
-    if path.as_os_str() == "-" {
-        bail!("probe capture writes a file (-o DATA), not standard output");
-    }
-    if !args.resume || !path.exists() {
-        let mut f = OpenOptions::new().append(true).create_new(true).open(path).map_err(|e| {
-            if e.kind() == std::io::ErrorKind::AlreadyExists {
-                anyhow::anyhow!(
-                    "{} exists: add --resume to continue that capture, or choose another file",
-                    path.display()
-                )
-            } else {
-                anyhow::Error::new(e).context(format!("cannot create {}", path.display()))
-            }
-        })?;
-        f.write_all(args.header(SystemTime::now()).as_bytes())
-            .and_then(|_| f.sync_all())
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        sync_dir(path);
-        return Ok((f, 0));
-    }
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let complete = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
-    let text = String::from_utf8_lossy(&bytes[..complete]);
-    let name = path.display();
-    let lines: Vec<&str> = text.lines().collect();
-    let want = args.header_fixed();
-    for (i, w) in want.iter().enumerate() {
-        match lines.get(i) {
-            Some(l) if l.trim_end() == w => {}
-            Some(l) => bail!(
-                "{name}:{}: the file was captured with other options:\n  file:    {}\n  options: {w}\n\
-                 (give the options it was started with, or capture to another file)",
-                i + 1,
-                l.trim_end()
-            ),
-            None => bail!("{name} has no complete capture header; remove it and start again"),
-        }
-    }
-    let Some(table) = lines.iter().position(|l| l.trim_end() == "No,Z") else {
-        bail!("{name} has no complete capture header (no `No,Z` line); remove it and start again");
-    };
-    if let Some((i, l)) = lines[3..table].iter().enumerate().find(|(_, l)| !l.starts_with('#')) {
-        bail!("{name}:{}: unexpected line in the header: {l:?}", i + 4);
-    }
-    let mut stored = 0usize;
-    for (i, l) in lines.iter().enumerate().skip(table + 1) {
-        let bad = || anyhow::anyhow!("{name}:{}: not point {} as `No,Z`: {l:?}", i + 1, stored + 1);
-        let (no, z) = l.trim_end().split_once(',').ok_or_else(bad)?;
-        if no.parse::<usize>().ok() != Some(stored + 1) || !z.parse::<f64>().is_ok_and(f64::is_finite) {
-            return Err(bad());
-        }
-        stored += 1;
-    }
-    if stored > args.total() {
-        bail!("{name} holds {stored} points, more than the {} of the grid", args.total());
-    }
-    if complete < bytes.len() {
-        let tail = String::from_utf8_lossy(&bytes[complete..]).into_owned();
-        say(&format!(
-            "{name}: dropped an incomplete last line {tail:?} (the capture stopped while writing it); \
-             point {} will be measured again",
-            stored + 1
-        ));
-    }
-    let f = OpenOptions::new().write(true).open(path).with_context(|| format!("cannot open {name}"))?;
-    f.set_len(complete as u64).and_then(|_| f.sync_all()).with_context(|| format!("cannot truncate {name}"))?;
-    drop(f);
-    let f = OpenOptions::new().append(true).open(path).with_context(|| format!("cannot open {name}"))?;
-    Ok((f, stored))
-}
-
-/// Makes a new file's name durable (best effort).
-fn sync_dir(path: &Path) {
-    #[cfg(unix)]
-    if let Some(dir) = path.parent() {
-        let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
-        if let Ok(d) = File::open(dir) {
-            let _ = d.sync_all();
-        }
-    }
-    #[cfg(not(unix))]
-    let _ = path;
 }
 
 /// Messages go through `log`, above the progress bar when there is one.
@@ -400,12 +369,30 @@ pub fn run(args: &CaptureArgs) -> Result<()> {
     run_with(args, bar, &mut |m| eprintln!("{m}"))
 }
 
+/// The reading of one line, or why it is ignored (and whether that counts
+/// as a rejected line: another channel's reading does not).
+fn accept(args: &CaptureArgs, raw: &str) -> Result<reading::Reading, (String, bool)> {
+    let reading = parse_reading(raw, args.format).map_err(|why| (format!("line ignored ({why})"), true))?;
+    if let (Some(want), Some(ch)) = (args.channel, reading.channel) {
+        if want != ch {
+            return Err((format!("reading from channel {ch} ignored (--channel {want})"), false));
+        }
+    }
+    if let Some((lo, hi)) = args.range {
+        if !(lo..=hi).contains(&reading.mm) {
+            return Err((format!("reading {} mm ignored (outside --range {lo},{hi})", reading.mm), true));
+        }
+    }
+    Ok(reading)
+}
+
 /// The capture, with every message passed to `log` (one message a call)
 /// and a progress bar on stderr when `bar`.
 pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Result<()> {
     let total = args.total();
     let name = args.output.display().to_string();
-    let (mut file, stored) = open_data(args, log)?;
+    let mut store = Store::open(args, log)?;
+    let stored = store.stored;
     if stored == total {
         log(&format!("{name} already holds all {total} points; nothing to capture"));
         return Ok(());
@@ -413,8 +400,29 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     let mut port = Port::open(&args.port, args.baud)?;
     let started = SystemTime::now();
     let mut out = Out { log, bar: None };
+    // Readings carry no point number: a resume takes the last stored point
+    // again and checks it before taking new ones.
+    let mut check = store.last.map(|z| (stored, z));
     if stored > 0 {
-        out.say(&format!("{name}: {stored} of {total} points stored; continuing with point {}", stored + 1));
+        out.say(&format!("{name}: {stored} of {total} points stored; {}", args.restart(stored + 1)));
+    }
+    let timeout = Duration::from_secs_f64(args.timeout);
+    let settled =
+        port.settle(SETTLE, timeout.max(Duration::from_secs(1))).map_err(|why| args.gone(&why, stored + 1))?;
+    if settled.discarded > 0 {
+        out.say(&format!(
+            "discarded {} byte(s) that were arriving as the port opened (sent while kezuri was stopped, \
+             or a line already begun): {:?}",
+            settled.discarded,
+            String::from_utf8_lossy(&settled.sample)
+        ));
+    }
+    // A line under way when the settling gave up may be partial: skip to its end.
+    let mut skipping = !settled.quiet;
+    if skipping {
+        out.say(
+            "the instrument sends without a pause: its first line is dropped (set it to send one reading per trigger)",
+        );
     }
     out.say(&format!(
         "capture: {total} points ({}×{}) to {name}; waiting for readings on {} at {} baud (point {} is next)",
@@ -422,7 +430,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
         args.count.1,
         args.port,
         args.baud,
-        stored + 1
+        check.map_or(stored + 1, |(no, _)| no)
     ));
     if bar && total - stored > 1 {
         let b = ProgressBar::new(total as u64);
@@ -435,7 +443,6 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     }
 
     let tip = args.tip();
-    let timeout = Duration::from_secs_f64(args.timeout);
     let mut next = stored + 1;
     let mut line: Vec<u8> = Vec::new();
     let mut buf = [0u8; 512];
@@ -446,62 +453,73 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     const MAX_LINE: usize = 256;
 
     let result = 'capture: loop {
+        // The point the next reading is for: on --resume, first the check.
+        let point = check.map_or(next, |(no, _)| no);
         match port.read(&mut buf, Duration::from_millis(200)) {
             Got::Data(n) => {
                 last_data = Instant::now();
                 silences = 0;
                 for &b in &buf[..n] {
                     if b != b'\r' && b != b'\n' {
+                        if skipping {
+                            continue;
+                        }
                         line.push(b);
                         if line.len() > MAX_LINE {
                             let raw = String::from_utf8_lossy(&line).into_owned();
                             out.say(&format!(
-                                "line ignored (over {MAX_LINE} bytes without an end of line; wrong --baud?): {raw:?}"
+                                "line ignored to its end (over {MAX_LINE} bytes without an end of line; \
+                                 wrong --baud?): {raw:?}"
                             ));
                             rejected += 1;
                             line.clear();
+                            skipping = true;
                         }
                         continue;
                     }
+                    skipping = false;
                     let raw = String::from_utf8_lossy(&line).into_owned();
                     line.clear();
                     if raw.trim().is_empty() {
                         continue;
                     }
-                    let reading = match parse_reading(&raw, args.format) {
+                    // (a check earlier in this buffer may have been taken)
+                    let point = check.map_or(next, |(no, _)| no);
+                    let reading = match accept(args, &raw) {
                         Ok(r) => r,
-                        Err(why) => {
-                            rejected += 1;
-                            let hint = if session.is_empty() { " (check --baud and --format)" } else { "" };
-                            out.say(&format!("point {next}: line ignored ({why}){hint}: {raw:?}"));
+                        Err((why, counts)) => {
+                            rejected += usize::from(counts);
+                            let hint = if counts && session.is_empty() { " (check --baud and --format)" } else { "" };
+                            out.say(&format!("point {point}: {why}{hint}: {raw:?}"));
                             continue;
                         }
                     };
-                    if let (Some(want), Some(ch)) = (args.channel, reading.channel) {
-                        if want != ch {
-                            out.say(&format!(
-                                "point {next}: reading from channel {ch} ignored (--channel {want}): {raw:?}"
-                            ));
-                            continue;
-                        }
-                    }
-                    if let Some((lo, hi)) = args.range {
-                        if !(lo..=hi).contains(&reading.mm) {
-                            rejected += 1;
-                            out.say(&format!(
-                                "point {next}: reading {} mm ignored (outside --range {lo},{hi}): {raw:?}",
-                                reading.mm
-                            ));
-                            continue;
-                        }
-                    }
                     let z = tip.tip_z(&reading);
-                    let record = format!("{next},{z}\n");
-                    if let Err(e) = file.write_all(record.as_bytes()).and_then(|_| file.sync_data()) {
-                        break 'capture Err(anyhow::Error::new(e).context(format!(
-                            "cannot write point {next} to {name}; {} of {total} points are stored — \
-                             free the disk, then resume with:\n  {}",
+                    if let Some((no, was)) = check.take() {
+                        if (z - was).abs() > args.recheck_tol + 1e-9 {
+                            break 'capture Err(anyhow::anyhow!(
+                                "point {no} measured again reads Z {z}, but {name} holds Z {was} for it \
+                                 ({} mm apart, more than --recheck-tol {}): the measuring program did not \
+                                 restart at point {no}, or the part or the indicator moved; nothing new was \
+                                 stored.\nTo continue, {} and run:\n  {}",
+                                num((z - was).abs(), 6),
+                                args.recheck_tol,
+                                args.restart(next),
+                                args.resume_command()
+                            ));
+                        }
+                        out.say(&format!(
+                            "point {no} measured again: Z {z}, stored {was} (within --recheck-tol {}); \
+                             point {next} is next",
+                            args.recheck_tol
+                        ));
+                        continue;
+                    }
+                    if let Err(e) = store.append(next, z) {
+                        break 'capture Err(e.context(format!(
+                            "{} of {total} points are stored — free the disk; to continue, {} and run:\n  {}",
                             next - 1,
+                            args.restart(next),
                             args.resume_command()
                         )));
                     }
@@ -530,9 +548,10 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
             Got::Quiet => {
                 if last_data.elapsed() >= timeout * (silences + 1) {
                     silences += 1;
+                    skipping = false;
                     if !line.is_empty() {
                         let raw = String::from_utf8_lossy(&line).into_owned();
-                        out.say(&format!("point {next}: incomplete line ignored after a silence: {raw:?}"));
+                        out.say(&format!("point {point}: incomplete line ignored after a silence: {raw:?}"));
                         rejected += 1;
                         line.clear();
                     }
@@ -545,7 +564,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
                         String::new()
                     };
                     out.say(&format!(
-                        "no reading for {} (point {next} of {total} is next); still waiting — check the \
+                        "no reading for {} (point {point} of {total} is next); still waiting — check the \
                          machine and the cable{lost}",
                         human(last_data.elapsed())
                     ));
@@ -554,15 +573,9 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
             Got::Gone(why) => {
                 if !line.is_empty() {
                     let raw = String::from_utf8_lossy(&line).into_owned();
-                    out.say(&format!("point {next}: incomplete line dropped at the disconnect: {raw:?}"));
+                    out.say(&format!("point {point}: incomplete line dropped at the disconnect: {raw:?}"));
                 }
-                break 'capture Err(anyhow::anyhow!(
-                    "the instrument went away ({why} on {}): {} of {total} points are stored in {name}.\n\
-                     To continue, restart the measuring program at point {next} and run:\n  {}",
-                    args.port,
-                    next - 1,
-                    args.resume_command()
-                ));
+                break 'capture Err(args.gone(&why, next));
             }
         }
     };

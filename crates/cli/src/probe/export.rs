@@ -11,7 +11,7 @@ use kezuri_cam::probe::export::{dxf, mirror, shade, shade_size, triangles, Mirro
 use kezuri_geom::write_binary_stl;
 
 use super::DataArgs;
-use crate::files::write_output;
+use crate::files::Outputs;
 
 /// Options of `kezuri probe export`.
 #[derive(Args, Debug)]
@@ -103,8 +103,9 @@ pub fn run(args: &ExportArgs) -> Result<()> {
     if let Some(p) = &args.csv {
         outputs.push((p, data::write(&grid, &Format::Csv).into_bytes()));
     }
+    let mut out = Outputs::new();
     for (path, bytes) in outputs {
-        write_output(Some(path), &bytes)?;
+        out.add(Some(path), &bytes)?;
     }
-    Ok(())
+    out.commit()
 }

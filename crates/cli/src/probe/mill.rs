@@ -1,5 +1,7 @@
 //! `kezuri probe mill`: the copy-milling program from ball-stylus readings.
 
+mod parts;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -14,9 +16,10 @@ use kezuri_geom::{cycle_time, Axes, AxisSet, Heightfield, Move, MoveKind, Toolpa
 use kezuri_nc::write::{program, WriteOptions};
 
 use super::DataArgs;
-use crate::files::write_output;
+use crate::files::Outputs;
 use crate::machine::Machine;
 use crate::program::post_options;
+use parts::{check_left_over, part_name, remove_left_over};
 
 /// Options of `kezuri probe mill`.
 #[derive(Args, Debug)]
@@ -61,39 +64,39 @@ pub struct MillArgs {
     #[arg(long, value_name = "SPEC")]
     pub tool: String,
     /// Distance between rows, mm [default: the pitch].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub stepover: Option<f64>,
     /// Sampling step along a row, mm [default: a quarter of the pitch with the stylus's own
     /// ball, else the pitch].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub tolerance: f64,
     /// Between the readings: smooth (a surface through them) or bound (the highest
     /// surface they allow, the former default).
     #[arg(long, value_enum, default_value = "smooth")]
     pub between: Between,
     /// Node spacing of the reconstructed surface, mm [default: pitch / 8].
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub resolution: Option<f64>,
     /// Height for rapids [default: 5 mm above the highest cut].
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: Option<f64>,
     /// The flat top to cross at rapid: auto, off or a height.
     #[arg(long, value_name = "auto|off|Z", default_value = "auto", allow_hyphen_values = true)]
     pub floor_z: String,
     /// Height of rapids over the flat top, mm.
-    #[arg(long, value_name = "MM", default_value_t = 1.0)]
+    #[arg(long, value_name = "MM", default_value_t = 1.0, value_parser = crate::numbers::length)]
     pub clearance: f64,
     /// Cutting feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 1800.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 1800.0, value_parser = crate::numbers::positive)]
     pub feed: f64,
     /// Plunge feed, mm/min.
-    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0)]
+    #[arg(long, value_name = "MM/MIN", default_value_t = 500.0, value_parser = crate::numbers::positive)]
     pub plunge_feed: f64,
     /// Spindle speed, rpm.
-    #[arg(long, value_name = "RPM", default_value_t = 15000.0)]
+    #[arg(long, value_name = "RPM", default_value_t = 15000.0, value_parser = crate::numbers::positive)]
     pub speed: f64,
     /// Tool number.
     #[arg(long, value_name = "T", default_value_t = 1)]
@@ -120,9 +123,15 @@ pub struct MillArgs {
     /// Moves after the first positioning in incremental coordinates (G91).
     #[arg(long)]
     pub incremental: bool,
-    /// Split into parts of at most this many bytes (controls with little memory).
+    /// Split into parts of at most this many bytes (controls with little memory):
+    /// OUT-1.nc, OUT-2.nc, … Parts of OUT's name that this run would not write
+    /// (of an earlier, longer job) are refused.
     #[arg(long, value_name = "N")]
     pub split_bytes: Option<usize>,
+    /// With --split-bytes, remove the parts of OUT's name that this run does
+    /// not write (once the new ones are written).
+    #[arg(long, requires = "split_bytes")]
+    pub overwrite_parts: bool,
     /// Also draw the toolpath to this SVG file.
     #[arg(long, value_name = "FILE.svg")]
     pub svg: Option<PathBuf>,
@@ -148,12 +157,9 @@ pub enum Emit {
     Grbl,
 }
 
+/// `v` if it is a length (the data's pitch sets the defaults).
 fn positive(name: &str, v: f64) -> Result<f64> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        bail!("{name} must be a positive number, got {v}")
-    }
+    kezuri_geom::limits::length(v, name).map_err(anyhow::Error::msg)
 }
 
 /// How far from the flat top a reading may be and still be on it, mm.
@@ -173,7 +179,6 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let follows = args.between == Between::Smooth && cutter == stylus;
     let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
     let resolution = positive("--resolution", args.resolution.unwrap_or(pitch / 8.0))?;
-    positive("--clearance", args.clearance)?;
     let machine = match &args.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
@@ -299,20 +304,28 @@ pub fn run(args: &MillArgs) -> Result<()> {
         Some(limit) => split(&path, limit, options.safe_z, args.plunge_feed, &text_of)?,
     };
     let (time, _) = cycle_time(&path, &machine.dynamics);
-    // Everything is made before anything is written.
+    // Everything is made before anything is written, and written together.
+    let to_file = args.output != Path::new("-");
+    if parts.len() > 1 && !to_file {
+        bail!("--split-bytes writes files: give -o FILE");
+    }
+    let left_over = match args.split_bytes {
+        Some(_) if to_file => check_left_over(&args.output, parts.len(), args.overwrite_parts)?,
+        _ => Vec::new(),
+    };
+    let mut out = Outputs::new();
     if parts.len() == 1 {
-        write_output(Some(&args.output), parts[0].as_bytes())?;
+        out.add(Some(&args.output), parts[0].as_bytes())?;
     } else {
-        if args.output == Path::new("-") {
-            bail!("--split-bytes writes files: give -o FILE");
-        }
         for (k, text) in parts.iter().enumerate() {
-            write_output(Some(&part_name(&args.output, k + 1)), text.as_bytes())?;
+            out.add(Some(&part_name(&args.output, k + 1)), text.as_bytes())?;
         }
     }
     if let Some(svg) = &args.svg {
-        write_output(Some(svg), crate::plot::svg(&path, &title).as_bytes())?;
+        out.add(Some(svg), crate::plot::svg(&path, &title).as_bytes())?;
     }
+    out.commit()?;
+    remove_left_over(&left_over)?;
     let bytes: usize = parts.iter().map(|p| p.len()).sum();
     let lines: usize = parts.iter().map(|p| p.lines().count()).sum();
     let surface = match (&field, args.between) {
@@ -379,16 +392,6 @@ pub fn run(args: &MillArgs) -> Result<()> {
 fn hms(s: f64) -> String {
     let t = s.round() as u64;
     format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
-}
-
-/// `part.nc` → `part-3.nc`.
-fn part_name(path: &Path, k: usize) -> PathBuf {
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let name = match path.extension() {
-        Some(e) => format!("{stem}-{k}.{}", e.to_string_lossy()),
-        None => format!("{stem}-{k}"),
-    };
-    path.with_file_name(name)
 }
 
 /// The toolpath in parts whose programs are at most `limit` bytes: each

@@ -69,13 +69,13 @@ pub struct PlanArgs {
     #[arg(long, value_name = "NX,NY")]
     pub count: String,
     /// Distance between points, in X and in Y, mm.
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub pitch: f64,
     /// Height the stylus travels at, mm (work coordinates).
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub z_safe: f64,
     /// Depth of each plunge below --z-safe, mm.
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub plunge: f64,
     /// How the program is written.
     #[arg(long, value_enum, default_value = "subprogram")]
@@ -85,11 +85,11 @@ pub struct PlanArgs {
     pub pattern: PlanPattern,
     /// Feed of the plunge (G01, or G31), mm/min [default: 6000, for an indicator stylus;
     /// 200 for g31].
-    #[arg(long, value_name = "MM/MIN")]
+    #[arg(long, value_name = "MM/MIN", value_parser = crate::numbers::positive)]
     pub plunge_feed: Option<f64>,
     /// Feed of the retract and the moves between points, mm/min [default:
     /// rapid, G00].
-    #[arg(long, value_name = "MM/MIN")]
+    #[arg(long, value_name = "MM/MIN", value_parser = crate::numbers::positive)]
     pub feed: Option<f64>,
     /// Number of the main program (subprograms take the next three) [default: the
     /// machine file's [post] program_number, else 1011].

@@ -36,7 +36,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "NX,NY")]
     pub count: String,
     /// Grid pitch, mm.
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub pitch: f64,
     /// The first point's X,Y [default: the grid centred on the model].
     #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
@@ -51,7 +51,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "AX,AY", allow_hyphen_values = true, default_value = "0,0")]
     pub tilt: String,
     /// Uniform noise added to each reading, ± mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = crate::numbers::length_or_zero)]
     pub noise: f64,
     /// Seed of the noise.
     #[arg(long, value_name = "N", default_value_t = 1)]
@@ -68,12 +68,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     if nx < 2 || ny < 2 || nx.saturating_mul(ny) > 100_000_000 {
         bail!("--count {nx},{ny}: the grid needs 2 to 10,000 points a side and at most 100 million in all");
     }
-    if !(args.pitch.is_finite() && args.pitch > 0.0) {
-        bail!("--pitch must be a positive number of mm, got {}", args.pitch);
-    }
     let tilt = pair::<f64>("--tilt", &args.tilt)?;
-    if !(args.noise.is_finite() && args.noise >= 0.0) {
-        bail!("--noise must be zero or a positive number of mm, got {}", args.noise);
+    if !tilt.iter().all(|t| t.abs() <= 1.0) {
+        bail!("--tilt {}: a slope is at most 1 mm per mm (45°) either way", args.tilt);
     }
     let order: Order = args.pattern.parse().map_err(anyhow::Error::msg)?;
     let model = read_surface(&args.model)?;

@@ -8,7 +8,7 @@ use image::{ExtendedColorType, ImageEncoder};
 use kezuri_cam::sim::ZMap;
 use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
 
-use crate::files::write_output_with;
+use crate::files::Outputs;
 
 /// Largest picture side; bigger grids are sampled every k-th cell.
 const MAX_SIDE: usize = 4096;
@@ -83,10 +83,10 @@ pub fn deviation_png(zmap: &ZMap, target: &[f64], scale: f64) -> Result<Vec<u8>>
     png(&rgb, w, h)
 }
 
-/// Writes the simulated surface as a binary STL, a triangle at a time:
-/// two per square of four neighbouring cell centres, facing up, split as a
-/// height grid's cells are.
-pub fn write_surface_stl(path: &Path, zmap: &ZMap) -> Result<()> {
+/// Adds the simulated surface to `out` as a binary STL, a triangle at a
+/// time: two per square of four neighbouring cell centres, facing up, split
+/// as a height grid's cells are.
+pub fn stage_surface_stl(out: &mut Outputs, path: &Path, zmap: &ZMap) -> Result<()> {
     let (cx, cy) = (zmap.nx.saturating_sub(1), zmap.ny.saturating_sub(1));
     let p = |i: usize, j: usize| {
         let [x, y] = zmap.centre(i, j);
@@ -101,5 +101,5 @@ pub fn write_surface_stl(path: &Path, zmap: &ZMap) -> Result<()> {
             Triangle::new(a, c, p(i, j + 1))
         }
     });
-    write_output_with(Some(path), |w| write_binary_stl_to(w, triangles))
+    out.add_with(Some(path), |w| write_binary_stl_to(w, triangles))
 }

@@ -418,6 +418,26 @@ impl State {
         self.program_target(w)
     }
 
+    /// A dwell of the same block again, with nothing between (a wait
+    /// loop): the last dwell made longer, so that waiting takes no memory.
+    /// False where it must be a move of its own.
+    fn longer_dwell(&mut self, seconds: f64, line: u32) -> bool {
+        let moves = self.toolpath.moves.len();
+        let kept_after = self.toolpath.kept.last().is_some_and(|k| k.before >= moves);
+        let frame = self.frame();
+        let same = self.toolpath.frames.last() == Some(&frame) && !self.comp_on() && !kept_after;
+        match self.toolpath.moves.last_mut() {
+            Some(m) if same && m.line == line && m.end == self.tip && m.tool == self.tool => match &mut m.kind {
+                MoveKind::Dwell(s) => {
+                    *s += seconds;
+                    true
+                }
+                _ => false,
+            },
+            _ => false,
+        }
+    }
+
     pub(super) fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
         let named = self.moved_axes(named, self.tip, end);
         let start = self.tip;
@@ -488,7 +508,9 @@ impl State {
                 if seconds < 0.0 {
                     return Err(Diagnostic::error(gspan, "a dwell time cannot be negative"));
                 }
-                self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
+                if !self.longer_dwell(seconds, line) {
+                    self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
+                }
                 // `G04 P.001 G00 X1. Y1.` (LinuxCNC programs write it): the
                 // dwell, then the block's motion. With X the dwell time,
                 // nothing moves.

@@ -179,7 +179,7 @@ impl<'a> Interp<'a> {
         }
         self.frame().pc = pc + 1;
         self.statements += 1;
-        if self.statements > self.st.settings.step_limit {
+        if self.statements > self.st.settings.step_limit || self.st.toolpath.moves.len() > self.st.settings.move_limit {
             return Err(self.runaway(pc));
         }
         let block = &self.program.blocks[pc as usize];
@@ -330,7 +330,15 @@ impl<'a> Interp<'a> {
     }
 
     fn runaway(&self, pc: u32) -> Diagnostic {
-        let limit = self.st.settings.step_limit;
+        let moves = self.st.settings.move_limit;
+        let (stopped, raise) = if self.st.toolpath.moves.len() > moves {
+            (format!("stopped after {moves} moves, the most a run keeps (some 300 bytes each)"), "")
+        } else {
+            (
+                format!("stopped after {} statements", self.st.settings.step_limit),
+                " (raise the step limit if it should run longer)",
+            )
+        };
         let at = self.last_back_jump.unwrap_or(pc);
         let block = &self.program.blocks[at as usize];
         let what = match block.statement {
@@ -339,10 +347,7 @@ impl<'a> Interp<'a> {
             _ if self.last_back_jump.is_some() => "the backward GOTO here".to_string(),
             _ => "this program".to_string(),
         };
-        Diagnostic::error(
-            block.span,
-            format!("stopped after {limit} statements: {what} does not seem to end (raise the step limit if it should run longer)"),
-        )
+        Diagnostic::error(block.span, format!("{stopped}: {what} does not seem to end{raise}"))
     }
 
     fn act(&mut self, action: Action, span: Span) -> Result<bool, Diagnostic> {

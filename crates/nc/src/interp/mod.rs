@@ -64,6 +64,9 @@ pub struct Settings {
     pub clock_seed: Option<u64>,
     /// Most statements executed before the run is stopped as a runaway loop.
     pub step_limit: u64,
+    /// Most moves a run makes, whatever the step limit (each some 300 bytes
+    /// as it is kept): a runaway loop that moves is stopped by its memory.
+    pub move_limit: usize,
     /// Skip blocks that start with `/` (the block delete switch is on).
     pub block_delete: bool,
     /// Tool length offsets by H number (mm).
@@ -112,6 +115,7 @@ impl Default for Settings {
             integer_input: IntegerInput::Increments,
             clock_seed: None,
             step_limit: 10_000_000,
+            move_limit: 10_000_000,
             block_delete: false,
             tool_lengths: BTreeMap::new(),
             tool_radii: BTreeMap::new(),

@@ -1,15 +1,28 @@
 //! The serial port, read with a bounded wait so that silences can be
-//! reported and a hang-up never blocks.
+//! reported and a hang-up never blocks. Its input is flushed on open: what
+//! the instrument sent while nobody read the port is not a reading of the
+//! points to come.
 
 use std::time::Duration;
 
 use anyhow::{Context, Result};
+use serialport::{ClearBuffer, SerialPort};
 
 /// What one wait on the port gave.
 pub(super) enum Got {
     Data(usize),
     Quiet,
     Gone(String),
+}
+
+/// What arrived before the line settled (`Port::settle`).
+pub(super) struct Settled {
+    /// The line went quiet (otherwise the wait gave up).
+    pub(super) quiet: bool,
+    /// Bytes discarded.
+    pub(super) discarded: usize,
+    /// The first of them.
+    pub(super) sample: Vec<u8>,
 }
 
 /// The serial port, read with a bounded wait.
@@ -21,6 +34,7 @@ pub(super) struct Port {
 }
 
 impl Port {
+    /// Opens the port and discards its pending input (tcflush on Unix).
     pub(super) fn open(path: &str, baud: u32) -> Result<Port> {
         let builder = serialport::new(path, baud)
             .data_bits(serialport::DataBits::Eight)
@@ -41,13 +55,41 @@ impl Port {
                     libc::fcntl(fd, libc::F_SETFL, flags | libc::O_NONBLOCK);
                 }
             }
+            port.clear(ClearBuffer::Input).with_context(|| format!("cannot flush serial port {path}"))?;
             Ok(Port { port })
         }
         #[cfg(not(unix))]
         {
             let port = builder.open().with_context(|| format!("cannot open serial port {path}"))?;
+            port.clear(ClearBuffer::Input).with_context(|| format!("cannot flush serial port {path}"))?;
             Ok(Port { port })
         }
+    }
+
+    /// Discards what arrives until the line has been quiet for `quiet`, or
+    /// for at most `limit`; `Err` when the port goes away.
+    pub(super) fn settle(&mut self, quiet: Duration, limit: Duration) -> Result<Settled, String> {
+        let start = std::time::Instant::now();
+        let mut last = start;
+        let mut got = Settled { quiet: false, discarded: 0, sample: Vec::new() };
+        let mut buf = [0u8; 512];
+        while start.elapsed() < limit {
+            match self.read(&mut buf, Duration::from_millis(20)) {
+                Got::Data(n) => {
+                    last = std::time::Instant::now();
+                    got.discarded += n;
+                    let room = 64usize.saturating_sub(got.sample.len()).min(n);
+                    got.sample.extend_from_slice(&buf[..room]);
+                }
+                Got::Quiet if last.elapsed() >= quiet => {
+                    got.quiet = true;
+                    break;
+                }
+                Got::Quiet => {}
+                Got::Gone(why) => return Err(why),
+            }
+        }
+        Ok(got)
     }
 
     #[cfg(unix)]

@@ -1,5 +1,30 @@
-//! One indicator reading from a line the instrument sent (the formats are
-//! in the parent module's docs), and how it becomes the tip Z.
+//! One indicator reading from a line the instrument sent, and how it
+//! becomes the tip Z. The formats and where they are defined:
+//!
+//! - **Mitutoyo multiplexer / USB record**, `01A+0012.345` then CR. Mitutoyo
+//!   QM-Height manual No. 99MAF600B, §6.2.2 "USB data output
+//!   specifications" (9600 bps, 8 data bits, no parity, 1 stop bit): D1 code
+//!   `0`, D2 channel, D3 measurement item `A`, D4 sign `+` or `-`, D5–D12 the
+//!   data with a floating decimal point, D13 CR; its examples `01A+0000.123`
+//!   (mm, 0.001), `01A+00.12345` and `01A+000.1234` (inch). The GageMux
+//!   operating manual (ASD document 10040PF), p. 7, "Mitutoyo Mux-10
+//!   format": `0CASRRRRRRRR<CR>`, first character `0`, C the channel, `A`,
+//!   S the sign, RRRRRRRR the reading, e.g. `01A-001.2340`. So the data field
+//!   is exactly eight characters, seven digits and one decimal point; kezuri
+//!   also wants a digit on each side of the point (every example has one).
+//!   A record with characters lost (`01A+0001345`, `01A+0001`) or added is
+//!   refused, never read as another value. The two characters before `A` are
+//!   read as the channel number (for `--channel`).
+//! - **Digimatic frame** written as its 13 hexadecimal nibbles d1…d13
+//!   (99MAF600B §6.2.1 and Mitutoyo manual No. 99MBA043A, "Digimatic data
+//!   output"): `FFFF`, the sign (0 `+`, 8 `-`), six BCD digits, the decimal
+//!   point position (0–5), the unit (0 mm, 1 inch; inch readings are
+//!   converted to mm), e.g. `FFFF8012345 30` → −12.345 mm.
+//! - **A plain number**, optionally signed and followed by `mm`: `-12.345`,
+//!   `+19.16`, `19.16 mm` (what most USB cables and terminal-style interfaces
+//!   send). It has no fixed form to check, so only the port's settling on
+//!   open and the check of the last point on `--resume` guard it against a
+//!   line cut in two.
 
 use super::Format;
 
@@ -33,7 +58,7 @@ pub fn parse_reading(line: &str, format: Format) -> Result<Reading, String> {
         Some(Err(e)) => Err(e),
         None => Err(match format {
             Format::Auto => "not a Mitutoyo line, Digimatic frame or number".into(),
-            Format::Digimatic => "not a Mitutoyo line (01A+00012.345) or Digimatic frame".into(),
+            Format::Digimatic => "not a Mitutoyo record (01A+0012.345) or Digimatic frame".into(),
             Format::Number => "not a number".into(),
         }),
     }
@@ -51,26 +76,39 @@ fn decimal(s: &str) -> Option<(f64, u32)> {
     v.is_finite().then_some((v, frac.len() as u32))
 }
 
-/// Mitutoyo multiplexer / USB line: `01A+00012.345`. `None` when the line
-/// does not look like one at all, `Some(Err)` when it does but is damaged.
+/// Mitutoyo multiplexer / USB record `01A+0012.345` (D1–D2 channel, D3 `A`,
+/// D4 sign, D5–D12 the value: eight characters, seven digits and one
+/// decimal point with a digit on each side). `None` when the line does not
+/// look like one at all, `Some(Err)` when it does but is damaged: a record
+/// with characters lost or added is never read as another value.
 fn parse_mitutoyo(t: &str) -> Option<Result<Reading, String>> {
     let b = t.as_bytes();
-    if b.len() < 4 || !b[0].is_ascii_digit() || !b[1].is_ascii_digit() || b[2] != b'A' {
+    if b.len() < 3 || !b[0].is_ascii_digit() || !b[1].is_ascii_digit() || b[2] != b'A' {
         return None;
     }
-    if b[3] != b'+' && b[3] != b'-' {
-        return Some(Err("Mitutoyo line without a sign after the channel".into()));
-    }
+    let negative = match b.get(3) {
+        Some(b'+') => false,
+        Some(b'-') => true,
+        _ => return Some(Err("Mitutoyo record without a sign after the channel".into())),
+    };
     let channel = u32::from(b[0] - b'0') * 10 + u32::from(b[1] - b'0');
-    let data = &t[4..];
-    if data.len() > 13 {
-        return Some(Err("Mitutoyo line with too many digits".into()));
+    let data = &b[4..];
+    if data.len() != 8 {
+        return Some(Err(format!(
+            "Mitutoyo record with {} characters after the sign where the protocol sends 8 \
+             (characters lost or added)",
+            data.len()
+        )));
     }
-    match decimal(data) {
-        Some((v, decimals)) if !data.starts_with(['+', '-']) => {
-            Some(Ok(Reading { mm: if b[3] == b'-' { -v } else { v }, decimals, channel: Some(channel) }))
+    let point = data.iter().position(|&c| c == b'.');
+    let well_formed = data.iter().filter(|&&c| c == b'.').count() == 1
+        && data.iter().all(|&c| c.is_ascii_digit() || c == b'.')
+        && point.is_some_and(|p| (1..=6).contains(&p));
+    match (well_formed, decimal(&t[4..])) {
+        (true, Some((v, decimals))) => {
+            Some(Ok(Reading { mm: if negative { -v } else { v }, decimals, channel: Some(channel) }))
         }
-        _ => Some(Err("Mitutoyo line with a damaged value".into())),
+        _ => Some(Err("Mitutoyo record with a damaged value (7 digits and one decimal point expected)".into())),
     }
 }
 
@@ -152,7 +190,7 @@ mod tests {
     #[test]
     fn tip_z_rounds_to_the_inputs_decimals() {
         let t = TipZ { bottom: -20.0, sign: -1, zero: 0.0 };
-        let r = parse_reading("01A+00012.345", Format::Auto).unwrap();
+        let r = parse_reading("01A+0012.345", Format::Auto).unwrap();
         assert_eq!(t.tip_z(&r).to_string(), "-32.345");
         let t = TipZ { bottom: -70.5, sign: 1, zero: 0.01 };
         let r = parse_reading("19.16", Format::Auto).unwrap();
