@@ -2,7 +2,7 @@
 //! the measuring program, the capture, levelling, export and the milling
 //! program.
 
-mod capture;
+pub(crate) mod capture;
 mod export;
 mod level;
 mod mill;

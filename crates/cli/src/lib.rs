@@ -1,0 +1,176 @@
+//! `kezuri`: the command line. Only this crate touches files, the terminal,
+//! the clock and the environment; the libraries take values and return values.
+//!
+//! The commands are this library so that the fuzz targets (`fuzz/`) and the
+//! tests can reach them: `src/main.rs` is only the process around [`Cli`].
+
+mod budget;
+mod chart;
+mod convert;
+mod corrected;
+mod demo;
+mod dropcut;
+mod files;
+mod machine;
+mod mill;
+mod numbers;
+mod plot;
+mod post;
+mod probe;
+mod program;
+mod progress;
+mod relief;
+mod scallop;
+mod sim;
+mod surface;
+mod table;
+mod texture;
+mod thermal;
+mod tool;
+mod tool_db;
+mod tool_table;
+mod wear;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use program::{RunOptions, WriteArgs};
+
+/// kezuri (削り): read, run, check and write NC programs — Fanuc Custom Macro B,
+/// LinuxCNC and GRBL — for NC routers and machining centres.
+#[derive(Parser, Debug)]
+#[command(name = "kezuri", version, about, long_about = None)]
+#[command(
+    after_help = "Examples:\n  kezuri demo\n  kezuri check part.nc\n  kezuri run texture.nc --clock-seed 7 --emit fanuc -o expanded.nc"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run every pipeline on the bundled samples and show what it made.
+    #[command(after_help = "Example:\n  kezuri demo --out kezuri-demo")]
+    Demo {
+        /// Folder for the outputs.
+        #[arg(long, default_value = "kezuri-demo")]
+        out: PathBuf,
+    },
+    /// Parse and run a program (macros and subprograms too) and report blocks,
+    /// motions, lengths, cycle time, bounds, canned-cycle holes and warnings.
+    #[command(
+        after_help = "Examples:\n  kezuri check O1011.nc\n  kezuri check part.nc --json --machine mill.toml\n  \
+kezuri check haas-job.nc --machine haas.toml   # G154 P1, G41 D1, G83, G84: radii and offsets from the file\n\n\
+Values the program read from the machine file rather than set itself (a work offset #5221, a tool \
+offset #2001, the machine position #5021, an input #1000, the clock #3001) are listed as notes: a \
+program expanded from them holds this machine's values.\n\n\
+Exit code 1 when the program has errors (each shown with file:line:column)."
+    )]
+    Check {
+        #[command(flatten)]
+        run: RunOptions,
+        /// Print one JSON object: blocks, motions, holes, feed_length_mm,
+        /// rapid_length_mm, time_s, bounds, errors, warnings, machine_values.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Execute macros and subprograms and write the expanded motion program.
+    #[command(
+        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --emit csv -o moves.csv\n  \
+kezuri run part.nc --emit linuxcnc --svg part.svg -o part.ngc\n  \
+kezuri run drill.nc --keep-cycles -o drill-cycles.nc   # G81/G83 stay cycle blocks\n  \
+kezuri run contour.nc --machine mill.toml --apply-comp --emit grbl -o c.gcode  # tool centre\n\n\
+What the machine must do itself is written where the program had it: M codes kezuri does not \
+follow (M00, M19, clamps), G10, G92, G52, smoothing codes (G05.1, G187), output signals, taps \
+(G84/G74, always as cycles), G41/G42 D. A move the program made as an increment from a \
+position it never named (after G28, G53, a tool change) stays an increment."
+    )]
+    Run {
+        #[command(flatten)]
+        run: RunOptions,
+        #[command(flatten)]
+        write: WriteArgs,
+    },
+    /// Cusp between neighbouring passes on an inclined plane, or the pick feed for a target cusp.
+    Scallop(scallop::ScallopArgs),
+    /// Cutter-location z over a grid of points on an STL mesh (drop-cutter).
+    Dropcut(dropcut::DropcutArgs),
+    /// Raster finishing program over an STL or a height grid, with pick-feed control.
+    Mill(Box<mill::MillArgs>),
+    /// Material-removal simulation (Z-map) of a program: picture, STL, rapids into the stock,
+    /// comparison with the intended surface.
+    Sim(Box<sim::SimArgs>),
+    /// Digitize a model on a grid and copy-mill it: plan, capture, level, export, mill.
+    #[command(subcommand)]
+    Probe(probe::ProbeCommand),
+    /// Carve a grayscale sketch as a relief: heights from gray, drop-cutter, roughing.
+    Relief(Box<relief::ReliefArgs>),
+    /// Convert between G-code dialects and Roland RML-1: units, scaling, shortening.
+    Convert(Box<convert::ConvertArgs>),
+    /// Random "hand-carved" texture on the cutting moves of a program: baked in, or as a Fanuc
+    /// macro that draws each depth from the control's clock.
+    Texture(Box<texture::TextureArgs>),
+    /// Thermal drift from on-machine measurements (seed 003): the measuring program, the
+    /// tool's edge in the sensors' profiles, the error model, the corrected program.
+    #[command(
+        subcommand,
+        after_help = "The pipeline:\n  kezuri thermal plan --machine mill-turn.toml -o O2007.nc\n  kezuri thermal measure index.csv -o meas.csv\n  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json\n  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc"
+    )]
+    Thermal(thermal::ThermalCommand),
+    /// A tool's measured cutting profile from backlit images, the database of its wear, and tool
+    /// tables read from LinuxCNC, FreeCAD and Fusion 360 files.
+    #[command(subcommand)]
+    Tool(tool::ToolCommand),
+    /// The program corrected for the measured tool's wear and runout (seed 003).
+    #[command(
+        subcommand,
+        after_help = "The pipeline:\n  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 -o t12.csv\n  kezuri wear apply part.nc --profile t12.csv --nominal ball:1 --surface part.stl -o part-t12.nc"
+    )]
+    Wear(wear::WearCommand),
+}
+
+/// Runs one command.
+fn dispatch(command: &Command) -> anyhow::Result<()> {
+    match command {
+        Command::Demo { out } => demo::run(out),
+        Command::Check { run, json } => program::check(run, *json),
+        Command::Run { run, write } => program::run(run, write),
+        Command::Scallop(args) => scallop::run(args),
+        Command::Dropcut(args) => dropcut::run(args),
+        Command::Mill(args) => mill::run(args),
+        Command::Sim(args) => sim::run(args),
+        Command::Probe(command) => probe::run(command),
+        Command::Relief(args) => relief::run(args),
+        Command::Convert(args) => convert::run(args),
+        Command::Texture(args) => texture::run(args),
+        Command::Thermal(command) => thermal::run(command),
+        Command::Tool(command) => tool::run(command),
+        Command::Wear(command) => wear::run(command),
+    }
+}
+
+impl Cli {
+    /// Runs the command given.
+    pub fn run(&self) -> anyhow::Result<()> {
+        dispatch(&self.command)
+    }
+}
+
+/// Runs `kezuri ARGS…` in this process, as the demo does: the words are
+/// parsed exactly as on the command line.
+fn run_words(words: &[&str]) -> anyhow::Result<()> {
+    let cli = Cli::try_parse_from(std::iter::once("kezuri").chain(words.iter().copied()))?;
+    dispatch(&cli.command)
+}
+
+/// The readers of what users give kezuri (machine files, pictures, CSV
+/// tables, instrument lines), for the fuzz targets in `fuzz/`: not an API.
+#[doc(hidden)]
+pub mod inputs {
+    pub use crate::machine::Machine;
+    pub use crate::probe::capture::{parse_reading, Format};
+    pub use crate::relief::read_gray;
+    pub use crate::table::read_columns;
+}
