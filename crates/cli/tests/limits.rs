@@ -79,6 +79,7 @@ fn lengths_from_a_nanometre_to_a_kilometre() {
             &["probe", "capture", "--port", "/dev/null", "--count", "3,3", "--pitch", "1e-300"],
             "'--pitch <P>': it must be a length",
         ),
+        (&["probe", "capture", "--port", "/dev/null", "--count", "3,3", "--channel", "100"], "'--channel <N>'"),
     ] {
         let o = kezuri(&[args, &["-o", &out]].concat());
         refused(&o, words);

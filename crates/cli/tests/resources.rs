@@ -67,8 +67,7 @@ const BASES: &[(&str, &str)] = &[
 
 /// Failures not fixed yet: command, option, value (`*` for every value),
 /// and why.
-const KNOWN: &[(&str, &str, &str, &str)] =
-    &[("thermal fit", "--degree", "18446744073709551615", "`degree + 1` overflows in kezuri_post::thermal::fit")];
+const KNOWN: &[(&str, &str, &str, &str)] = &[];
 
 /// The value type of an option, as far as this test cares.
 #[derive(Clone, Copy)]

@@ -120,7 +120,7 @@ impl fmt::Display for ThermalError {
                 f,
                 "axis {} at B {b_deg}°: {points} measurement(s), too few for a polynomial of degree {degree} ({} at least)",
                 name(*axis),
-                degree + 1
+                degree.saturating_add(1)
             ),
             ThermalError::Bad(k) => write!(f, "measurement {}: not finite, or not on X, Y or Z", k + 1),
             ThermalError::NoFunction { axis, b_deg } => {
@@ -158,7 +158,8 @@ pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorM
     let mut functions = Vec::new();
     for (axis, b_deg, ms) in groups {
         let n = ms.len();
-        let need = degree.unwrap_or(0) + 1;
+        // A degree past any file's size asks for too many points, not an overflow.
+        let need = degree.unwrap_or(0).saturating_add(1);
         if n < need {
             return Err(ThermalError::TooFew { axis, b_deg, points: n, degree: degree.unwrap_or(0) });
         }

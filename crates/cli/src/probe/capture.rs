@@ -129,8 +129,9 @@ pub struct CaptureArgs {
     /// Which reading lines to accept.
     #[arg(long, value_enum, default_value_t = Format::Auto)]
     pub format: Format,
-    /// Accept only readings from this multiplexer channel (Mitutoyo lines carry one).
-    #[arg(long, value_name = "N")]
+    /// Accept only readings from this multiplexer channel, 0 to 99 (Mitutoyo lines carry
+    /// it in two digits).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=99))]
     pub channel: Option<u32>,
     /// Tip Z (mm) at the bottom of the plunge when the indicator reads `--zero`.
     #[arg(long, value_name = "Z", default_value_t = 0.0, value_parser = parse_finite, allow_hyphen_values = true)]
