@@ -165,6 +165,24 @@ fn dimensions(path: &Path) -> Result<(u32, u32)> {
     reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))
 }
 
+/// Refuses a JPEG cut short: its data must end with the end-of-image
+/// marker (FF D9) after its last start of scan (FF DA). The decoder fills
+/// a cut-short picture with gray and reports nothing, and a relief of that
+/// gray is no carving of the picture (a 525-byte start of a 7900 × 7900
+/// JPEG decoded to 62 million gray pixels).
+fn cut_short_jpeg(path: &Path) -> Result<()> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let marker = |m: u8| bytes.windows(2).rposition(|w| w == [0xFF, m]);
+    match (marker(0xDA), marker(0xD9)) {
+        (Some(scan), Some(end)) if end > scan => Ok(()),
+        _ => bail!(
+            "{}: the JPEG ends before its picture does (no end-of-image marker after its data): the file was \
+             cut short",
+            path.display()
+        ),
+    }
+}
+
 pub fn read_gray(path: &Path) -> Result<Gray> {
     let name = path.display();
     let (w, h) = dimensions(path)?;
@@ -176,6 +194,9 @@ pub fn read_gray(path: &Path) -> Result<Gray> {
         );
     }
     let mut reader = image::ImageReader::open(path)?.with_guessed_format()?;
+    if reader.format() == Some(image::ImageFormat::Jpeg) {
+        cut_short_jpeg(path)?;
+    }
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(MAX_PIXELS * 8);
     reader.limits(limits);

@@ -217,3 +217,22 @@ fn the_chords_of_a_simulation_are_weighed_before_the_work() {
     refused(&o, "into 10995602 straight segments (arcs in chords), more than 10000000: raise the chord tolerance");
     assert!(t.elapsed().as_secs() < 5, "{:?}", t.elapsed());
 }
+
+/// A JPEG cut short (its start only, as a broken download leaves it) is
+/// refused, not decoded to gray and carved; the whole file is carved.
+#[test]
+fn a_jpeg_cut_short_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = path(dir.path(), "whole.jpg");
+    let gray = image::GrayImage::from_fn(64, 48, |x, y| image::Luma([((x * 4 + y) % 256) as u8]));
+    gray.save(&whole).unwrap();
+    let bytes = std::fs::read(&whole).unwrap();
+    let cut = path(dir.path(), "cut.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() * 3 / 5]).unwrap();
+    let out = path(dir.path(), "out.nc");
+    let relief = |picture: &str| {
+        kezuri(&["relief", picture, "--width", "20", "--depth", "1", "--tool", "ball:1", "--stepover", "1", "-o", &out])
+    };
+    assert!(relief(&whole).status.success());
+    refused(&relief(&cut), "the JPEG ends before its picture does");
+}
