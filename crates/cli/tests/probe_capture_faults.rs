@@ -36,6 +36,16 @@ fn first_four(p: &mut Pty, data: &Path) -> (std::process::Child, Log) {
     (child, log)
 }
 
+/// Four points captured, then the cable cut: the capture stops with exit 1.
+/// Returns the port it read.
+fn four_then_cut(data: &Path) -> String {
+    let mut p = pty();
+    let (mut child, _log) = first_four(&mut p, data);
+    p.cut();
+    assert_eq!(wait_child(&mut child).code(), Some(1));
+    p.path.clone()
+}
+
 /// A resumed capture through the binary: waits until it listens.
 fn resume(p: &Pty, data: &Path) -> (std::process::Child, Log) {
     let (child, mut log) = spawn_capture(&capture_words(&p.path, data, true));
@@ -132,10 +142,7 @@ fn damaged_and_overlong_lines_are_not_points() {
 fn two_resumes_on_one_file_refuse() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("ume.csv");
-    let mut p1 = pty();
-    let (mut child, _log1) = first_four(&mut p1, &data);
-    p1.cut();
-    assert_eq!(wait_child(&mut child).code(), Some(1));
+    let port = four_then_cut(&data);
     let mut p2 = pty();
     let (mut first, _log) = resume(&p2, &data);
     let p3 = pty();
@@ -146,7 +153,7 @@ fn two_resumes_on_one_file_refuse() {
         p2.send(&plunge(no));
     }
     assert!(wait_child(&mut first).success());
-    check_final(&data, &p1.path);
+    check_final(&data, &port);
 }
 
 /// Case 6: a capture that fails (or is killed) before its first point
@@ -181,10 +188,7 @@ fn no_points_no_data_file() {
 fn a_restart_at_the_wrong_point_stores_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("ume.csv");
-    let mut p1 = pty();
-    let (mut child, _log1) = first_four(&mut p1, &data);
-    p1.cut();
-    assert_eq!(wait_child(&mut child).code(), Some(1));
+    four_then_cut(&data);
     let before = std::fs::read(&data).unwrap();
     let mut p2 = pty();
     let (mut child, mut log) = resume(&p2, &data);

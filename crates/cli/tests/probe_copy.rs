@@ -54,18 +54,7 @@ fn copy(dir: &Path, data: &str, f: fn(f64, f64) -> f64, between: &str) -> (f64, 
     ];
     ok(&kezuri(&args));
     let target = write_xyz(dir, "target.xyz", -4.0, 4.0, 0.05, f);
-    let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&[
-        "sim",
-        &nc,
-        "--tool",
-        "ball:10",
-        "--res",
-        "0.025",
-        "--compare",
-        &target,
-        "--json",
-    ])))
-    .unwrap();
+    let v = sim_ball_10(&nc, &target);
     (v["max_left_mm"].as_f64().unwrap(), v["max_gouge_mm"].as_f64().unwrap())
 }
 
@@ -157,18 +146,7 @@ fn over_a_sharp_ridge_the_copy_follows_the_ball_between_the_readings() {
         let args = [&["probe", "mill", &data, "--stylus", "ball:10", "--tool", "ball:10", "--floor-z", "off", "-o", &nc][..], extra].concat();
         let o = kezuri(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&[
-            "sim",
-            &nc,
-            "--tool",
-            "ball:10",
-            "--res",
-            "0.025",
-            "--compare",
-            &target,
-            "--json",
-        ])))
-        .unwrap();
+        let v = sim_ball_10(&nc, &target);
         (v["max_gouge_mm"].as_f64().unwrap(), String::from_utf8_lossy(&o.stderr).into_owned())
     };
     let (straight, _) = gouge(&["--step", "1"]);
@@ -181,4 +159,11 @@ fn over_a_sharp_ridge_the_copy_follows_the_ball_between_the_readings() {
         .expect(&report);
     assert!(straight > 0.02, "{straight}");
     assert!(followed <= 0.5 * straight && followed <= warned, "{followed} (straight {straight}, warned {warned})");
+}
+
+/// `kezuri sim --json` of `nc` cut by a 10 mm ball at 0.025 mm against
+/// `target`.
+fn sim_ball_10(nc: &str, target: &str) -> serde_json::Value {
+    let o = kezuri(&["sim", nc, "--tool", "ball:10", "--res", "0.025", "--compare", target, "--json"]);
+    serde_json::from_str(&ok(&o)).unwrap()
 }
