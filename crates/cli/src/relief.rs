@@ -183,6 +183,20 @@ fn cut_short_jpeg(path: &Path) -> Result<()> {
     }
 }
 
+/// Decodes `reader`, a decoder's panic on a damaged file (zune-jpeg
+/// overflows on some damaged JPEGs where overflow checks are on) being
+/// an error like any other damage.
+fn decode_guarded(reader: image::ImageReader<std::io::BufReader<std::fs::File>>) -> Result<image::DynamicImage> {
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.decode()));
+    std::panic::set_hook(hook);
+    match decoded {
+        Ok(result) => Ok(result?),
+        Err(_) => bail!("the picture's data is damaged (its decoder gave up)"),
+    }
+}
+
 pub fn read_gray(path: &Path) -> Result<Gray> {
     let name = path.display();
     let (w, h) = dimensions(path)?;
@@ -200,7 +214,7 @@ pub fn read_gray(path: &Path) -> Result<Gray> {
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(MAX_PIXELS * 8);
     reader.limits(limits);
-    let picture = reader.decode().with_context(|| format!("{name}: not a picture kezuri can read"))?;
+    let picture = decode_guarded(reader).with_context(|| format!("{name}: not a picture kezuri can read"))?;
     let luma = picture.to_luma16();
     Ok(Gray {
         width: w as usize,

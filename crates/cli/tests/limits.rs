@@ -236,3 +236,15 @@ fn a_jpeg_cut_short_is_refused() {
     assert!(relief(&whole).status.success());
     refused(&relief(&cut), "the JPEG ends before its picture does");
 }
+
+/// A damaged JPEG the picture fuzz target found (zune-jpeg multiplies past
+/// its integers where overflow checks are on): a clear error, no panic.
+#[test]
+fn a_damaged_jpeg_found_by_the_fuzzer_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = path(dir.path(), "out.nc");
+    let jpeg = concat!(env!("CARGO_MANIFEST_DIR"), "/testdata/fuzz/jpeg-bitstream-overflow.jpg");
+    let o =
+        kezuri(&["relief", jpeg, "--width", "20", "--depth", "1", "--tool", "ball:1", "--stepover", "1", "-o", &out]);
+    refused(&o, "not a picture kezuri can read");
+}
