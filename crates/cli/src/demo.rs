@@ -78,7 +78,7 @@ fn dome(x: f64, y: f64) -> f64 {
     (cap + ripple).max(0.0)
 }
 
-/// The geometry core on a surface: the seed 001 pick feeds, a finishing
+/// The geometry core on a surface: the oval end mill pick feeds, a finishing
 /// program with pick-feed control, its simulation against the surface, and
 /// a grid of CL points — each as the `kezuri` command a user would type.
 fn geometry(out: &Path) -> Result<()> {
@@ -127,7 +127,7 @@ fn geometry(out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The master model of the copy-milling demo, after seed 000's rice mould
+/// The master model of the copy-milling demo, after the copy-milling study's rice mould
 /// (物相御飯木型, the "UME" type): an 84 × 104 mm block with a flat top at
 /// z = 30 and a five-petal plum-blossom pocket up to 20 mm deep, its walls
 /// no steeper than 45°.
@@ -138,11 +138,11 @@ fn plum_mould(x: f64, y: f64) -> f64 {
     30.0 - if s < 1.0 { 20.0 * (1.0 - s * s).powf(1.5) } else { 0.0 }
 }
 
-/// Seed 000's pipeline on a simulated capture of the plum mould: readings
-/// of a 10 mm ball stylus on the 85 × 105 grid at 1 mm (the paper's), set
-/// down out of level and with noise; levelling on the border; cross
-/// sections, mesh and picture; the copy with the paper's 10 mm ball end
-/// mill; and its simulation against the model.
+/// The digitize-and-copy pipeline on a simulated capture of the plum mould:
+/// readings of a 10 mm ball stylus on the 85 × 105 grid at 1 mm (the
+/// original system's), set down out of level and with noise; levelling on
+/// the border; cross sections, mesh and picture; the copy with a 10 mm ball
+/// end mill; and its simulation against the model.
 fn copy_milling(out: &Path) -> Result<()> {
     let model = out.join("samples").join("plum-mould.xyz");
     let mut text = String::with_capacity(1 << 20);
@@ -283,9 +283,10 @@ fn relief_carving(out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Seed 004 on a nameplate: the CAM's area clearing at Z 0 textured with
-/// the paper's numbers (base -2, digits, design rule 0.2–1.6 mm, a clamp),
-/// baked in and as the paper's macro, and the baked one simulated.
+/// The carved texture on a nameplate: the CAM's area clearing at Z 0
+/// textured with the original system's numbers (base -2, digits, design
+/// rule 0.2–1.6 mm, a clamp), baked in and as the Custom Macro B program,
+/// and the baked one simulated.
 fn textured_nameplate(out: &Path) -> Result<()> {
     let cam = out.join("samples").join("nameplate-cam.nc");
     write_atomic(&cam, include_bytes!("../../../samples/nameplate-cam.nc"))?;
