@@ -223,7 +223,7 @@ fn copy_milling(out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Seed 002: the bundled sketch of a plum blossom carved as a relief 64 mm
+/// Relief carving: the bundled sketch of a plum blossom carved as a relief 64 mm
 /// wide and 3 mm deep, roughed with a 6 mm flat end mill and finished with
 /// a 2 mm ball, and its simulation against the relief surface, each tool
 /// with its own cutter from a machine file's tool table.
@@ -319,7 +319,7 @@ fn textured_nameplate(out: &Path) -> Result<()> {
 }
 
 /// The warm machine's drift at an O2007 stop on `axis` (0 X, 2 Z) at
-/// command `c`, `t` of the way along its travel: the paper's shape — X
+/// command `c`, `t` of the way along its travel: the original study's shape — X
 /// moves 50 µm off in X and 0–50 µm in Y across the travel, Z moves within
 /// 20 µm — and Y a little.
 fn drift(axis: usize, t: f64) -> [f64; 3] {
@@ -330,7 +330,7 @@ fn drift(axis: usize, t: f64) -> [f64; 3] {
     }
 }
 
-/// Seed 003's thermal pipeline on the mill-turn: the measuring program,
+/// The thermal-drift pipeline on the mill-turn: the measuring program,
 /// simulated cold and warm profiles of its stops from both line sensors,
 /// the edges, the fitted model, the corrected O2007, and a before/after
 /// picture of the errors on the warm machine.
