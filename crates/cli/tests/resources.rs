@@ -3,7 +3,9 @@
 //! for counts; 0, -1 and the i64 extremes for signed whole numbers — each
 //! run of the binary under a 4 GB address-space limit and a 10 s time
 //! limit. Each must end in a clear error (exit 1 or 2 with a message) or a
-//! successful run: never a panic, an abort, a signal or a timeout.
+//! successful run: never a panic, an abort, a signal or a timeout. A
+//! successful run must not print or write NaN or an infinity: its standard
+//! output and every text file it leaves are searched for them.
 //!
 //! The options come from clap's own description of the command line
 //! (`kezuri::Cli::command()`), so a new option is covered without a word
@@ -226,14 +228,9 @@ impl Drop for Instrument {
 fn verdict(words: &[String], dir: &Path) -> Result<(i32, String), String> {
     let stderr_path = dir.join("stderr.txt");
     let stderr = std::fs::File::create(&stderr_path).map_err(|e| e.to_string())?;
+    let stdout = std::fs::File::create(dir.join("stdout.txt")).map_err(|e| e.to_string())?;
     let mut command = Command::new(env!("CARGO_BIN_EXE_kezuri"));
-    command
-        .args(words)
-        .current_dir(dir)
-        .env("RUST_BACKTRACE", "0")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(stderr);
+    command.args(words).current_dir(dir).env("RUST_BACKTRACE", "0").stdin(Stdio::null()).stdout(stdout).stderr(stderr);
     // SAFETY: setrlimit is async-signal-safe and touches nothing of the parent.
     unsafe {
         command.pre_exec(|| {
@@ -266,13 +263,45 @@ fn verdict(words: &[String], dir: &Path) -> Result<(i32, String), String> {
         return Err(format!("panic: {line}"));
     }
     match (status.code(), status.signal()) {
-        (Some(0), _) => Ok((0, last)),
+        (Some(0), _) => match not_a_number(dir) {
+            Some(found) => Err(format!("exit 0 with {found}")),
+            None => Ok((0, last)),
+        },
         (Some(code @ (1 | 2)), _) if !last.is_empty() => Ok((code, last)),
         (Some(1 | 2), _) => Err("an error without a message".to_string()),
         (Some(code), _) => Err(format!("exit {code}: {last}")),
         (None, Some(signal)) => Err(format!("killed by signal {signal}: {}", text.lines().next().unwrap_or(""))),
         (None, None) => Err("ended without an exit code".to_string()),
     }
+}
+
+/// The first NaN or infinity in the standard output or a text file a run
+/// left in `dir` (its stderr aside): a word `nan`, `inf` or `infinity` in
+/// any case, alone or after one address letter (`XNaN`, `Z-inf`).
+fn not_a_number(dir: &Path) -> Option<String> {
+    let entries = std::fs::read_dir(dir).ok()?;
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.file_name().is_some_and(|n| n == "stderr.txt") {
+            continue;
+        }
+        let Ok(text) = std::fs::read_to_string(&path) else { continue };
+        for (n, line) in text.lines().enumerate() {
+            let bad = line.split(|c: char| !c.is_ascii_alphanumeric()).any(|word| {
+                let word = word.to_ascii_lowercase();
+                let bare = match word.as_bytes() {
+                    [first, rest @ ..] if first.is_ascii_alphabetic() && rest.len() >= 3 => &word[1..],
+                    _ => word.as_str(),
+                };
+                ["nan", "inf", "infinity"].contains(&word.as_str()) || ["nan", "inf", "infinity"].contains(&bare)
+            });
+            if bad {
+                let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                return Some(format!("a number that is not one in {name} line {}: {}", n + 1, line.trim()));
+            }
+        }
+    }
+    None
 }
 
 /// A binary STL of `triangles`.
@@ -471,4 +500,20 @@ fn every_numeric_option_at_its_extremes_ends_cleanly() {
         .filter(|(c, o, v, _)| !failures.iter().any(|f| f.0 == *c && f.1 == *o && (*v == "*" || *v == f.2)))
         .collect();
     assert!(stale.is_empty(), "known failures that no longer happen (remove them from KNOWN): {stale:#?}");
+}
+
+#[test]
+fn the_search_for_numbers_that_are_not_finds_them() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let write = |name: &str, text: &str| std::fs::write(dir.path().join(name), text).expect("a file");
+    write("stderr.txt", "NaN here is only a message\n");
+    write("out.nc", "G01 X1.5 Y-2.\n(information: infeed 0.5)\n");
+    write("stdout.txt", "{\"snap\": 1, \"nanometres\": 2}\n");
+    assert_eq!(not_a_number(dir.path()), None);
+    for (line, text) in [("G01 XNaN Y1.", "out.nc"), ("G01 Z-inf", "out.nc"), ("cusp inf mm", "stdout.txt")] {
+        write(text, line);
+        let found = not_a_number(dir.path()).unwrap_or_default();
+        assert!(found.contains(line), "{line:?} in {text} not found: {found:?}");
+        write(text, "G01 X1.\n");
+    }
 }
