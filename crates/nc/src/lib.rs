@@ -30,6 +30,7 @@
 #![warn(missing_docs)]
 
 pub mod ast;
+mod dialect;
 pub mod interp;
 mod parse;
 pub mod probe_plan;
@@ -41,5 +42,6 @@ pub mod thermal_plan;
 pub mod write;
 
 pub use ast::Program;
-pub use parse::parse;
+pub use dialect::Dialect;
+pub use parse::{parse, parse_as};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

@@ -8,6 +8,7 @@
 
 use crate::ast::{BinOp, Block, Expr, ExprId, Func, PrintItem, Program, ProgramUnit, Statement, Word, WordValue};
 use crate::source::{Diagnostic, FileId, Span};
+use crate::Dialect;
 
 /// Deepest bracket nesting accepted (Fanuc allows five).
 const MAX_DEPTH: u32 = 64;
@@ -35,10 +36,16 @@ const OWORD_KEYWORDS: [&str; 15] = [
     "CONTINUE",
 ];
 
-/// Parses `text` (file `file` of the run) and appends its program units to
-/// `program`. Returns the diagnostics; the program is usable for the blocks
-/// that parsed.
+/// Parses `text` (file `file` of the run) as a Fanuc program and appends its
+/// program units to `program`: [`parse_as`] with [`Dialect::Fanuc`].
 pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic> {
+    parse_as(program, file, text, Dialect::Fanuc)
+}
+
+/// Parses `text` (file `file` of the run) in `dialect` and appends its
+/// program units to `program`. Returns the diagnostics; the program is
+/// usable for the blocks that parsed.
+pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialect) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
     let bytes = text.as_bytes();
     let units_before = program.units.len();
@@ -63,7 +70,7 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
     while pos < bytes.len() {
         line += 1;
         let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |i| pos + i);
-        let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0, operators: 0 };
+        let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0, operators: 0, dialect };
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
             percent_seen += 1;
@@ -166,6 +173,9 @@ struct LineParser<'a> {
     depth: u32,
     /// Binary operators read so far in this block.
     operators: u32,
+    /// The language the program is read in.
+    #[allow(dead_code)] // read by the LinuxCNC O-word parser
+    dialect: Dialect,
 }
 
 type Result<T> = std::result::Result<T, Diagnostic>;

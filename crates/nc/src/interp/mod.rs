@@ -57,6 +57,8 @@ pub enum IntegerInput {
 /// Everything a run needs besides the program.
 #[derive(Clone, Debug)]
 pub struct Settings {
+    /// The language the program is read in (the parser's too).
+    pub dialect: crate::Dialect,
     /// How axis words without a decimal point are read.
     pub integer_input: IntegerInput,
     /// `None`: the clock advances 16 ms per read; `Some(seed)`: by a
@@ -112,6 +114,7 @@ impl Settings {
 impl Default for Settings {
     fn default() -> Settings {
         Settings {
+            dialect: crate::Dialect::Fanuc,
             integer_input: IntegerInput::Increments,
             clock_seed: None,
             step_limit: 10_000_000,
