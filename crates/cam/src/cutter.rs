@@ -52,6 +52,34 @@ pub trait Profile {
         radius_above(self, z, 12)
     }
 
+    /// The exact inverse of the profile: the radius of the cutter's body at
+    /// height `z` above the tip, `max{r ≤ R : height(r) ≤ z}` (0 below the
+    /// tip, `R` from the rim up; at `z = 0` the radius of a flat bottom, if
+    /// any). Every shape gives it in closed form; unlike [`Profile::reach`]
+    /// it is not widened. The default bisects to the last bit.
+    fn body_radius(&self, z: f64) -> f64 {
+        if z < 0.0 {
+            return 0.0;
+        }
+        let radius = self.radius();
+        if z >= self.height(radius) {
+            return radius;
+        }
+        let (mut lo, mut hi) = (0.0, radius);
+        while hi - lo > 0.0 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if self.height(mid) <= z {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
     /// `d height / d r` at `r` (`0 ≤ r ≤ R`); `f64::INFINITY` where the
     /// profile turns vertical (the rim of a ball or an egg).
     fn slope(&self, r: f64) -> f64;
@@ -227,6 +255,13 @@ impl Cutter {
         each_shape!(self, s => radius_above(s, z, 200))
     }
 
+    /// See [`Profile::body_radius`]: the exact inverse of the profile, in
+    /// closed form.
+    #[inline]
+    pub fn body_radius(&self, z: f64) -> f64 {
+        each_shape!(self, s => s.body_radius(z))
+    }
+
     /// A radius at least [`Cutter::radius_at`]`(z)` and at most `R/4096`
     /// above it: how far from the axis a point `z` above the tip can
     /// touch the cutter, cheaply.
@@ -372,6 +407,47 @@ mod tests {
         ] {
             let e = bad.parse::<Cutter>().unwrap_err().to_string();
             assert!(e.contains(why), "{bad}: {e}");
+        }
+    }
+
+    /// The closed-form inverse undoes `height` and agrees with the default
+    /// bisection to the last bits.
+    #[test]
+    fn body_radius_inverts_the_profile() {
+        struct Bisect<'a>(&'a dyn Profile);
+        impl Profile for Bisect<'_> {
+            fn radius(&self) -> f64 {
+                self.0.radius()
+            }
+            fn height(&self, r: f64) -> f64 {
+                self.0.height(r)
+            }
+            fn slope(&self, r: f64) -> f64 {
+                self.0.slope(r)
+            }
+            fn facet_radius(&self, g: f64) -> f64 {
+                self.0.facet_radius(g)
+            }
+        }
+        for c in all() {
+            let r = c.radius();
+            let top = c.height(r);
+            assert_eq!(c.body_radius(-1e-9), 0.0, "{c}");
+            assert_eq!(c.body_radius(top + 1.0), r, "{c}");
+            for k in 1..1000 {
+                let z = top * k as f64 / 1000.0;
+                let w = c.body_radius(z);
+                let b = Bisect(c.profile()).body_radius(z);
+                assert!((w - b).abs() <= 1e-12 * r, "{c} z={z}: {w} vs {b}");
+                assert!((c.height(w) - z).abs() <= 1e-12 * (1.0 + top), "{c} z={z}");
+            }
+            for k in 1..1000 {
+                let x = r * k as f64 / 1000.0;
+                let h = c.height(x);
+                if c.slope(x) > 0.0 && c.slope(x).is_finite() && h < top {
+                    assert!((c.body_radius(h) - x).abs() <= 1e-9 * r, "{c} r={x}");
+                }
+            }
         }
     }
 

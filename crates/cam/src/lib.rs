@@ -26,6 +26,7 @@
 
 pub mod cutter;
 pub mod dropcut;
+pub mod engage;
 pub mod mill;
 pub mod probe;
 pub mod relief;

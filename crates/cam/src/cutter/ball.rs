@@ -43,6 +43,17 @@ impl Profile for Ball {
         }
     }
 
+    fn body_radius(&self, z: f64) -> f64 {
+        // r² = z (2R − z).
+        if z <= 0.0 {
+            0.0
+        } else if z >= self.radius {
+            self.radius
+        } else {
+            (z * (2.0 * self.radius - z)).sqrt()
+        }
+    }
+
     fn slope(&self, r: f64) -> f64 {
         let rest = ((self.radius - r) * (self.radius + r)).max(0.0).sqrt();
         if rest == 0.0 {

@@ -38,6 +38,19 @@ impl Profile for Bull {
         x * x / (c + ((c - x) * (c + x)).max(0.0).sqrt())
     }
 
+    fn body_radius(&self, z: f64) -> f64 {
+        // The flat centre at z = 0, then the corner circle:
+        // (r − (R − c))² = z (2c − z).
+        let c = self.corner;
+        if z < 0.0 {
+            0.0
+        } else if z >= c {
+            self.radius
+        } else {
+            self.flat() + (z * (2.0 * c - z)).sqrt()
+        }
+    }
+
     fn slope(&self, r: f64) -> f64 {
         let x = r - self.flat();
         if x <= 0.0 {

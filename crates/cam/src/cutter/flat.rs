@@ -24,6 +24,15 @@ impl Profile for Flat {
         0.0
     }
 
+    fn body_radius(&self, z: f64) -> f64 {
+        // The bottom face at z = 0, the shank above.
+        if z < 0.0 {
+            0.0
+        } else {
+            self.radius
+        }
+    }
+
     fn slope(&self, _r: f64) -> f64 {
         0.0
     }

@@ -32,6 +32,18 @@ impl Profile for Oval {
         self.axial * s * s / (1.0 + ((1.0 - s) * (1.0 + s)).max(0.0).sqrt())
     }
 
+    fn body_radius(&self, z: f64) -> f64 {
+        // r² = a² t (2 − t), t = z / b: the ellipse of eq. (1) from its tip.
+        if z <= 0.0 {
+            0.0
+        } else if z >= self.axial {
+            self.radius
+        } else {
+            let t = z / self.axial;
+            self.radius * (t * (2.0 - t)).sqrt()
+        }
+    }
+
     fn slope(&self, r: f64) -> f64 {
         let s = r / self.radius;
         let rest = ((1.0 - s) * (1.0 + s)).max(0.0).sqrt();

@@ -28,6 +28,15 @@ impl Profile for Vee {
         r * self.rise
     }
 
+    fn body_radius(&self, z: f64) -> f64 {
+        // r = z tan(angle / 2) up to the rim.
+        if z <= 0.0 {
+            0.0
+        } else {
+            (z / self.rise).min(self.radius)
+        }
+    }
+
     fn slope(&self, _r: f64) -> f64 {
         self.rise
     }
