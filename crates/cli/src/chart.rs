@@ -159,6 +159,32 @@ pub fn line_chart(title: &str, x_label: &str, y_label: &str, lines: &[Line]) -> 
     s + "</svg>\n"
 }
 
+/// The width and height of a chart made by [`line_chart`].
+fn size(svg: &str) -> (f64, f64) {
+    let attribute = |name: &str| {
+        let key = format!(" {name}=\"");
+        let start = svg.find(&key).map_or(0, |k| k + key.len());
+        svg[start..].split('"').next().and_then(|v| v.parse().ok()).unwrap_or(0.0)
+    };
+    (attribute("width"), attribute("height"))
+}
+
+/// Charts made by [`line_chart`] one under the other, as one SVG picture.
+pub fn stack(charts: &[String]) -> String {
+    let sizes: Vec<(f64, f64)> = charts.iter().map(|c| size(c)).collect();
+    let width = sizes.iter().map(|s| s.0).fold(0.0, f64::max);
+    let height: f64 = sizes.iter().map(|s| s.1).sum();
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width:.0}\" height=\"{height:.0}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    );
+    let mut y = 0.0;
+    for (chart, (_, h)) in charts.iter().zip(&sizes) {
+        s += &chart.replacen("<svg ", &format!("<svg y=\"{y:.0}\" "), 1);
+        y += h;
+    }
+    s + "</svg>\n"
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -177,5 +203,10 @@ mod tests {
         let svg =
             line_chart("a <b>", "x", "y", &[Line { label: "x & y".into(), points: vec![(0.0, 0.0), (1.0, 0.002)] }]);
         assert!(svg.contains("a &lt;b&gt;") && svg.contains("x &amp; y") && svg.contains("polyline"));
+        let (w, h) = size(&svg);
+        assert!(w > 600.0 && h > 400.0, "{w} x {h}");
+        let two = stack(&[svg.clone(), svg]);
+        assert_eq!(size(&two), (w, 2.0 * h));
+        assert!(two.contains(&format!("<svg y=\"{h:.0}\" ")), "the second chart stands under the first");
     }
 }

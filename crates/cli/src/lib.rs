@@ -10,6 +10,7 @@ mod convert;
 mod corrected;
 mod demo;
 mod dropcut;
+mod engage;
 mod files;
 mod machine;
 mod mill;
@@ -95,6 +96,8 @@ position it never named (after G28, G53, a tool change) stays an increment."
     },
     /// Cusp between neighbouring passes on an inclined plane, or the pick feed for a target cusp.
     Scallop(scallop::ScallopArgs),
+    /// Chip area, its distance from the axis (E_d) and a torque estimate per rotation angle on an inclined plane.
+    Engage(engage::EngageArgs),
     /// Cutter-location z over a grid of points on an STL mesh (drop-cutter).
     Dropcut(dropcut::DropcutArgs),
     /// Raster finishing program over an STL or a height grid, with pick-feed control.
@@ -138,6 +141,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Check { run, json } => program::check(run, *json),
         Command::Run { run, write } => program::run(run, write),
         Command::Scallop(args) => scallop::run(args),
+        Command::Engage(args) => engage::run(args),
         Command::Dropcut(args) => dropcut::run(args),
         Command::Mill(args) => mill::run(args),
         Command::Sim(args) => sim::run(args),
