@@ -47,6 +47,7 @@ const BASES: &[(&str, &str)] = &[
     ("check", "{in}/part.nc"),
     ("run", "{in}/part.nc -o out.nc"),
     ("scallop", "--tool ball:6 --angle 30 --target 0.01"),
+    ("engage", "--tool oval:16,24 --angle 45 --pick-feed 0.8 --depth 0.8 --feed-per-tooth 0.16 --csv out.csv"),
     ("dropcut", "{in}/part.stl --tool ball:2 --grid 0,0,10,10,1 -o out.cl"),
     ("mill", "{in}/part.stl --tool ball:2 --stepover 1 -o out.nc"),
     ("sim", "{in}/part.nc --tool ball:2 --res 0.5 --compare {in}/part.stl --deviation-png dev.png"),
