@@ -78,7 +78,8 @@ fn dome(x: f64, y: f64) -> f64 {
     (cap + ripple).max(0.0)
 }
 
-/// The geometry core on a surface: the oval end mill pick feeds, a finishing
+/// The geometry core on a surface: the oval end mill pick feeds and the chip
+/// its tooth cuts on inclined planes, a finishing
 /// program with pick-feed control, its simulation against the surface, and
 /// a grid of CL points — each as the `kezuri` command a user would type.
 fn geometry(out: &Path) -> Result<()> {
@@ -90,9 +91,28 @@ fn geometry(out: &Path) -> Result<()> {
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let stl = stl.to_string_lossy().into_owned();
     println!("\nsamples/dome.stl  (a 60 x 60 mm rippled dome, 28,800 triangles)");
-    let commands: [Vec<String>; 5] = [
+    let commands: [Vec<String>; 6] = [
         words(&["scallop", "--tool", "oval:16,24", "--angle", "15", "--target", "0.010"]),
         words(&["scallop", "--tool", "oval:16,24", "--angle", "60", "--target", "0.010"]),
+        words(&[
+            "engage",
+            "--tool",
+            "oval:16,24",
+            "--angle",
+            "0:75:15",
+            "--pick-feed",
+            "auto",
+            "--depth",
+            "0.8",
+            "--feed-per-tooth",
+            "0.16",
+            "--step",
+            "both",
+            "--png",
+            &at("oval-engage.png"),
+            "--csv",
+            &at("oval-engage.csv"),
+        ]),
         words(&[
             "mill",
             &stl,
@@ -122,8 +142,10 @@ fn geometry(out: &Path) -> Result<()> {
         words(&["dropcut", &stl, "--tool", "oval:16,24", "--grid", "0,0,60,60,2", "-o", &at("dome-oval.cl")]),
     ];
     run_shown(out, &commands)?;
-    println!("\nwrote dome-ball.nc (ball:6, pick-feed control), dome-ball.svg, dome-ball.png and");
-    println!("dome-ball-deviation.png (simulated cut against the surface), dome-oval.cl (CL points)");
+    println!("\nwrote oval-engage.png and .csv (the chip of one tooth per rotation angle, step-up and");
+    println!("step-down, pick feeds for a 10 µm cusp), dome-ball.nc (ball:6, pick-feed control),");
+    println!("dome-ball.svg, dome-ball.png and dome-ball-deviation.png (simulated cut against the");
+    println!("surface), dome-oval.cl (CL points)");
     Ok(())
 }
 

@@ -168,7 +168,7 @@ fn bad_input() {
         ("^PR;Z10,0,0;", "t.rml:1:5: warning: a relative move before the position is known: it is taken from X0 Y0 Z0"),
         ("12,3;", "t.rml:1:1: error: expected an RML-1 command, found '12,3'"),
         ("^12;", "t.rml:1:1: error: expected a two-letter command name in '^12'"),
-        ("^PA;Z0,0,0;!0;Z1,1,1;", "t.rml:1:12: warning: '!0' read as the end of the data, as seed 002's converter does; what follows it is not read"),
+        ("^PA;Z0,0,0;!0;Z1,1,1;", "t.rml:1:12: warning: '!0' read as the end of the data, as the original RML-1 converter does; what follows it is not read"),
         ("Z\u{3000}1,\u{3000}2,3;", ""),
         ("Z\u{ff11},2,3;", "t.rml:1:2: error: expected a number in 'Z', found '\u{ff11}'"),
     ];

@@ -171,7 +171,7 @@ fn connected(n: usize, pairs: &[Pair]) -> Result<(), StitchError> {
         None => Ok(()),
         Some(k) => Err(StitchError(format!(
             "field {} does not overlap the others by its stage offset (at least {MIN_OVERLAP} pixels each way \
-             are needed; the paper overlapped 100 and 70 µm)",
+             are needed; 100 and 70 µm overlaps are usual)",
             k + 1
         ))),
     }

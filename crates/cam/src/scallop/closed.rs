@@ -26,7 +26,7 @@ impl fmt::Display for ClosedForm {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             ClosedForm::Ball => "ball, R - sqrt(R^2 - Pf^2/4)",
-            ClosedForm::Iwabe => "oval, seed 001 equations (1)-(6), sign of (6) corrected",
+            ClosedForm::Iwabe => "oval, Iwabe's equations (1)-(6) with the sign of (6) corrected",
             ClosedForm::Flat => "flat, Pf sin(a) cos(a)",
             ClosedForm::Bull => "bull-nose corner circles",
             ClosedForm::Vee => "V-bit flanks",

@@ -339,7 +339,7 @@ impl<'a> Reader<'a> {
             self.warning(
                 span,
                 format!(
-                    "'{}' read as the end of the data, as seed 002's converter does{note}",
+                    "'{}' read as the end of the data, as the original RML-1 converter does{note}",
                     self.snippet(start, end)
                 ),
             );
