@@ -477,6 +477,7 @@ fn run_options(file: std::path::PathBuf, clock_seed: Option<u64>) -> RunOptions 
         lib: None,
         machine: None,
         dialect: None,
+        var: None,
         no_decimal: None,
         clock_seed,
         block_delete: false,

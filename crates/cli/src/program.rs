@@ -44,6 +44,12 @@ pub struct RunOptions {
     /// docs/linuxcnc.md, "Choosing the dialect"].
     #[arg(long, value_enum, value_name = "DIALECT")]
     pub dialect: Option<DialectArg>,
+    /// LinuxCNC's parameter file (`NUMBER VALUE` lines, as `rs274 -v` reads
+    /// it): the starting values of #5161… (G28, G30), #5211… (G92), #5220
+    /// (the coordinate system), #5221… (G54 …), lengths in mm. The
+    /// linuxcnc and grbl dialects only.
+    #[arg(long, value_name = "FILE.var")]
+    pub var: Option<PathBuf>,
     /// How axis words without a decimal point are read [default: units in
     /// LinuxCNC and GRBL, increments in Fanuc and Haas].
     #[arg(long, value_enum)]
@@ -176,6 +182,29 @@ pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine
     }
 }
 
+/// A LinuxCNC parameter file: each line with exactly two numbers is a
+/// parameter and its value (others are skipped, as LinuxCNC does); the
+/// numbers must ascend.
+pub fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
+    let text = read_text(path)?;
+    let mut out = BTreeMap::new();
+    let mut last = 0;
+    for (k, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let [n, v] = fields[..] else { continue };
+        let (Ok(n), Ok(v)) = (n.parse::<u32>(), v.parse::<f64>()) else { continue };
+        if !v.is_finite() || n == 0 {
+            bail!("{}:{}: '{line}' is not a parameter and a finite value", path.display(), k + 1);
+        }
+        if n <= last {
+            bail!("{}:{}: parameter #{n} after #{last}: a parameter file is in ascending order", path.display(), k + 1);
+        }
+        last = n;
+        out.insert(n, v);
+    }
+    Ok(out)
+}
+
 fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
     let machine = match &o.machine {
         Some(p) => Machine::load(p)?,
@@ -183,7 +212,18 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
     };
     let detected = choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?;
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
+    let parameters = match &o.var {
+        Some(_) if !whole_units(detected.dialect) => bail!(
+            "{}: --var is LinuxCNC's parameter file, and the program is read as {} ({}): give --dialect linuxcnc",
+            o.file.display(),
+            detected.dialect,
+            detected.reason
+        ),
+        Some(p) => read_var_file(p)?,
+        None => base.parameters.clone(),
+    };
     let settings = Settings {
+        parameters,
         radii_required,
         clock_seed: o.clock_seed,
         step_limit: o.step_limit,

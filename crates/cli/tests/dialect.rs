@@ -124,3 +124,26 @@ fn convert_from_is_the_old_name_of_dialect() {
     let report = ok(&kezuri(&["check", &file]));
     assert!(report.contains("  dialect fanuc: the default (no extension or marker of another dialect)\n"), "{report}");
 }
+
+#[test]
+fn var_file_gives_the_starting_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    // rs274 -v: G55 in force (#5220 = 2) at X100 (mm here); G28 at X10.
+    let var = path(dir.path(), "m.var");
+    std::fs::write(&var, "5161\t10.000000\n5220 2\n5241 100\nnot a parameter line\n").unwrap();
+    let file = path(dir.path(), "p.ngc");
+    std::fs::write(&file, "G1 X1 F100\nG28\nM2\n").unwrap();
+    let csv = ok(&kezuri(&["run", &file, "--var", &var, "--emit", "csv"]));
+    let xs: Vec<&str> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap()).collect();
+    assert_eq!(xs.first(), Some(&"101"), "{csv}");
+    assert_eq!(xs.last(), Some(&"10"), "{csv}");
+    // Out of order: refused with its line.
+    std::fs::write(&var, "5241 100\n5220 2\n").unwrap();
+    let o = kezuri(&["run", &file, "--var", &var, "--emit", "csv"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("m.var:2: parameter #5220 after #5241"));
+    // A Fanuc reading has no .var.
+    let nc = path(dir.path(), "p.nc");
+    std::fs::write(&nc, "G1 X1. F100.\nM30\n").unwrap();
+    let o = kezuri(&["run", &nc, "--var", &var, "--emit", "csv"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--var is LinuxCNC's parameter file"));
+}
