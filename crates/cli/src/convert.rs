@@ -8,20 +8,22 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::shorten::{shorten, ShortenOptions};
 use kezuri_cam::Cutter;
 use kezuri_geom::{Axes, Move, MoveKind, Plane, Spindle, Toolpath};
-use kezuri_nc::interp::{self, IntegerInput};
+use kezuri_nc::interp;
 use kezuri_nc::rml::{self, RmlOptions};
 use kezuri_nc::write::{program, WriteOptions};
-use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+use kezuri_nc::{parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
 use crate::files::{read_text, write_output, Folder};
 use crate::machine::MachineArg;
-use crate::program::post_options;
+use crate::program::{choose_dialect, dialect_settings, post_options};
 
 /// A program format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Format {
     /// Fanuc G-code (axis words without a decimal point are 0.001 mm).
     Fanuc,
+    /// Haas G-code: Fanuc's with Haas's codes.
+    Haas,
     /// LinuxCNC G-code (axis words without a decimal point are mm).
     Linuxcnc,
     /// GRBL G-code (axis words without a decimal point are mm).
@@ -37,11 +39,15 @@ The input is a G-code program, run through kezuri's interpreter (macros, subprog
 are expanded), or a Roland RML-1 program (CAMM-3, MODELA MDX). The output is one command per
 move of the input: nothing is merged unless --shorten.
 
---from defaults from the input: .rml and .prn files, or a text that starts with ^IN, ;;^IN or
-another RML-1 command, are RML-1; .ngc and .tap are LinuxCNC and .gcode and .gc GRBL (axis
-words without a decimal point are whole millimetres); anything else is Fanuc (X100 is 0.1 mm).
-Standard input (-) is guessed from its text. --to defaults from the output's extension the same
-way (.rml/.prn, .ngc/.tap, .gcode/.gc), else fanuc.
+--dialect (formerly --from) defaults from the input: .rml and .prn files, or a text that starts
+with ^IN, ;;^IN or another RML-1 command, are RML-1; any other input is G-code whose dialect
+every command chooses by one rule (docs/linuxcnc.md, \"Choosing the dialect\"): markers in the
+text (o100 sub, #<name>, G64 P: linuxcnc; an O1234 line, G65, GOTO, WHILE [..] DO1: fanuc;
+G154, G187: haas; $H, $J=: grbl), else the extension (.ngc linuxcnc, .gcode and .gc grbl),
+else fanuc. LinuxCNC and GRBL read axis words without a decimal point as whole millimetres,
+Fanuc and Haas as 0.001 mm (X100 is 0.1 mm). A text with markers of both is refused. The
+dialect used, and why, is said on standard error. --to defaults from the output's extension
+(.rml/.prn, .ngc/.tap, .gcode/.gc), else fanuc.
 
 RML-1 coordinates are steps of --rml-unit mm (0.01; the MDX-20 steps 0.025): the
 line Z39,0,-240 is X0.39 Z-2.4, not X39. Z240. Reading RML-1, Z x,y,z is a G01, ^PU x,y a G00 at
@@ -75,9 +81,11 @@ pub struct ConvertArgs {
     /// Output file (default: standard output).
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Format of the input [default: from its extension and text].
-    #[arg(long, value_enum, value_name = "FORMAT")]
-    pub from: Option<Format>,
+    /// The input's dialect, or rml [default: RML-1 by its extension or text,
+    /// else the dialect rule of every command (docs/linuxcnc.md)]. `--from`
+    /// is its older name.
+    #[arg(long, alias = "from", value_enum, value_name = "DIALECT")]
+    pub dialect: Option<Format>,
     /// Format of the output [default: from its extension, else fanuc].
     #[arg(long, value_enum, value_name = "FORMAT")]
     pub to: Option<Format>,
@@ -147,13 +155,28 @@ fn format_of(extension: &str) -> Option<Format> {
     }
 }
 
-/// `--from` by default: the extension, else the text.
-fn guess_from(input: &Path, text: &str) -> Format {
-    match format_of(&extension(input)) {
-        Some(f) => f,
-        None if rml::looks_like_rml(text) => Format::Rml,
-        None => Format::Fanuc,
-    }
+/// The input's format: `--dialect`, else RML-1 by its extension or text,
+/// else the G-code dialect by the rule of every command; with why.
+fn input_format(given: Option<Format>, input: &Path, text: &str) -> Result<(Format, Option<Detected>)> {
+    let dialect = match given {
+        Some(Format::Rml) => return Ok((Format::Rml, None)),
+        Some(Format::Fanuc) => Some(Dialect::Fanuc),
+        Some(Format::Haas) => Some(Dialect::Haas),
+        Some(Format::Linuxcnc) => Some(Dialect::LinuxCnc),
+        Some(Format::Grbl) => Some(Dialect::Grbl),
+        None if matches!(extension(input).as_str(), "rml" | "prn") || rml::looks_like_rml(text) => {
+            return Ok((Format::Rml, None))
+        }
+        None => None,
+    };
+    let detected = choose_dialect(dialect, input, text)?;
+    let format = match detected.dialect {
+        Dialect::Fanuc => Format::Fanuc,
+        Dialect::Haas => Format::Haas,
+        Dialect::LinuxCnc => Format::Linuxcnc,
+        Dialect::Grbl => Format::Grbl,
+    };
+    Ok((format, Some(detected)))
 }
 
 /// `--to` by default: the output's extension, else fanuc.
@@ -165,7 +188,10 @@ fn guess_to(output: Option<&Path>) -> Format {
 pub fn run(a: &ConvertArgs) -> Result<()> {
     let text = read_text(&a.input)?;
     let name = if a.input == Path::new("-") { "<stdin>".to_string() } else { a.input.display().to_string() };
-    let from = a.from.unwrap_or_else(|| guess_from(&a.input, &text));
+    let (from, detected) = input_format(a.dialect, &a.input, &text)?;
+    if let Some(d) = &detected {
+        eprintln!("{name}: {d}");
+    }
     let to = a.to.unwrap_or_else(|| guess_to(a.output.as_deref()));
     if a.post.is_some() && to == Format::Rml {
         usage("--post writes G-code: it cannot go with an RML-1 output");
@@ -177,7 +203,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     let id = sources.add(SourceFile::new(name.clone(), text));
     let mut path = match from {
         Format::Rml => read_rml(a, &sources, id)?,
-        _ => run_gcode(a, from, &mut sources, id)?,
+        _ => run_gcode(a, detected.map_or(Dialect::Fanuc, |d| d.dialect), &mut sources, id)?,
     };
     if !path.moves.iter().any(|m| !matches!(m.kind, MoveKind::Dwell(_))) {
         bail!("{name}: the program has no motion to convert; nothing written");
@@ -216,8 +242,9 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
             warn_rml_drops(&name, &path);
             rml::write_rml(&path, &options)?
         }
-        Format::Fanuc | Format::Linuxcnc | Format::Grbl => {
+        Format::Fanuc | Format::Haas | Format::Linuxcnc | Format::Grbl => {
             let name = |t: Format| match t {
+                Format::Haas => "haas",
                 Format::Linuxcnc => "linuxcnc",
                 Format::Grbl => "grbl",
                 _ => "fanuc",
@@ -257,16 +284,13 @@ fn read_rml(a: &ConvertArgs, sources: &Sources, id: u32) -> Result<Toolpath> {
 
 /// Parses and runs the G-code input as `kezuri run` does; diagnostics and
 /// DPRNT lines go to stderr.
-fn run_gcode(a: &ConvertArgs, from: Format, sources: &mut Sources, id: u32) -> Result<Toolpath> {
+fn run_gcode(a: &ConvertArgs, dialect: Dialect, sources: &mut Sources, id: u32) -> Result<Toolpath> {
     let machine = a.machine.load()?;
-    let settings = interp::Settings {
-        integer_input: if from == Format::Fanuc { IntegerInput::Increments } else { IntegerInput::Units },
-        ..machine.settings.clone()
-    };
+    let settings = dialect_settings(dialect, None, &machine);
     let text = sources.get(id).text.clone();
     let name = sources.get(id).name.clone();
     let mut program = Program::default();
-    let parse_diagnostics = parse(&mut program, id, &text);
+    let parse_diagnostics = parse_as(&mut program, id, &text, dialect);
     if print_diagnostics(sources, &parse_diagnostics) > 0 {
         bail!("{name}: parse errors; nothing written");
     }

@@ -11,7 +11,7 @@ use kezuri_nc::write::{csv, program, WriteOptions};
 
 use crate::files::write_atomic;
 use crate::plot;
-use crate::program::{read_and_run, NoDecimal, Report, RunOptions};
+use crate::program::{read_and_run, Report, RunOptions};
 
 /// The bundled samples: file name, what it shows, text.
 const SAMPLES: [(&str, &str, &str); 3] = [
@@ -498,7 +498,9 @@ fn run_options(file: std::path::PathBuf, clock_seed: Option<u64>) -> RunOptions 
         file,
         lib: None,
         machine: None,
-        no_decimal: NoDecimal::Increments,
+        dialect: None,
+        var: None,
+        no_decimal: None,
         clock_seed,
         block_delete: false,
         step_limit: 10_000_000,

@@ -9,7 +9,7 @@ use kezuri_geom::{cycle_time, LengthOffset, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::write::WriteOptions;
-use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
 
@@ -17,7 +17,7 @@ use crate::files::{read_text, write_output, Folder, Outputs};
 use crate::machine::{Machine, ToolEntry};
 
 /// How axis words without a decimal point are read.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum NoDecimal {
     /// Counts of the least increment (0.001 mm): `X100` is 0.1 mm (Fanuc).
     Increments,
@@ -39,9 +39,21 @@ pub struct RunOptions {
     /// [signals].
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
-    /// How axis words without a decimal point are read.
-    #[arg(long, value_enum, default_value = "increments")]
-    pub no_decimal: NoDecimal,
+    /// The language the program is written in: fanuc, haas, linuxcnc or
+    /// grbl [default: from the file's extension and content; see
+    /// docs/linuxcnc.md, "Choosing the dialect"].
+    #[arg(long, value_enum, value_name = "DIALECT")]
+    pub dialect: Option<DialectArg>,
+    /// LinuxCNC's parameter file (`NUMBER VALUE` lines, as `rs274 -v` reads
+    /// it): the starting values of #5161… (G28, G30), #5211… (G92), #5220
+    /// (the coordinate system), #5221… (G54 …), lengths in mm. The
+    /// linuxcnc and grbl dialects only.
+    #[arg(long, value_name = "FILE.var")]
+    pub var: Option<PathBuf>,
+    /// How axis words without a decimal point are read [default: units in
+    /// LinuxCNC and GRBL, increments in Fanuc and Haas].
+    #[arg(long, value_enum)]
+    pub no_decimal: Option<NoDecimal>,
     /// Seed for the #3001 clock: each read advances it a reproducible
     /// pseudo-random 1–1000 ms (default: one 16 ms tick per read).
     #[arg(long, value_name = "N")]
@@ -62,8 +74,41 @@ pub struct RunOptions {
     pub keep_cycles: bool,
 }
 
+/// The language a program is read in (`--dialect`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DialectArg {
+    /// Fanuc with Custom Macro B: `X100` is 0.1 mm (least increments).
+    Fanuc,
+    /// Haas: Fanuc with Haas's codes (G154 P, G187, G103, G47).
+    Haas,
+    /// LinuxCNC (rs274ngc): O-word subroutines, `#<name>`, `@ ^`; `X100` is 100 mm.
+    Linuxcnc,
+    /// GRBL 1.1: `X100` is 100 mm.
+    Grbl,
+}
+
+impl From<DialectArg> for Dialect {
+    fn from(d: DialectArg) -> Dialect {
+        match d {
+            DialectArg::Fanuc => Dialect::Fanuc,
+            DialectArg::Haas => Dialect::Haas,
+            DialectArg::Linuxcnc => Dialect::LinuxCnc,
+            DialectArg::Grbl => Dialect::Grbl,
+        }
+    }
+}
+
+/// The dialect of `file` holding `text`: `given` (`--dialect`), else the
+/// rule of [`kezuri_nc::detect`]; a mixed program is refused.
+pub fn choose_dialect(given: Option<Dialect>, file: &Path, text: &str) -> Result<Detected> {
+    let name = if file == Path::new("-") { String::new() } else { file.display().to_string() };
+    detect(given, &name, text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
+}
+
 /// A program read and run.
 pub struct Ran {
+    /// The dialect it was read in, and why.
+    pub dialect: Detected,
     pub sources: Sources,
     pub outcome: Outcome,
     pub machine: Machine,
@@ -106,10 +151,58 @@ pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> 
     run_program(o, text, false)
 }
 
-/// Whether `o` reads a LinuxCNC program: a `.ngc` file, or axis words
-/// without a decimal point read as whole units.
-fn linuxcnc(o: &RunOptions) -> bool {
-    matches!(o.no_decimal, NoDecimal::Units) || o.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("ngc"))
+/// Whether `dialect` reads whole units without a decimal point and
+/// follows LinuxCNC's coordinate and compensation rules (LinuxCNC, GRBL).
+fn whole_units(dialect: Dialect) -> bool {
+    matches!(dialect, Dialect::LinuxCnc | Dialect::Grbl)
+}
+
+/// The settings of a run of a program in `dialect` on `machine`: axis words
+/// without a decimal point by `no_decimal`, else by the dialect; LinuxCNC's
+/// cutter compensation and coordinate rules for LinuxCNC and GRBL, Haas's
+/// coordinate rules for Haas, the machine file's otherwise.
+pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine: &Machine) -> Settings {
+    let units = match no_decimal {
+        Some(n) => n == NoDecimal::Units,
+        None => whole_units(dialect),
+    };
+    let control = match dialect {
+        Dialect::LinuxCnc | Dialect::Grbl => Control::LinuxCnc,
+        Dialect::Haas => Control::Haas,
+        Dialect::Fanuc => machine.settings.coords.control,
+    };
+    Settings {
+        dialect,
+        integer_input: if units { IntegerInput::Units } else { IntegerInput::Increments },
+        // Cutter compensation by the dialect: LinuxCNC's, or Fanuc's with
+        // the machine file's start-up type.
+        comp_rules: if whole_units(dialect) { Rules::LinuxCnc } else { machine.settings.comp_rules },
+        coords: CoordSettings { control, ..machine.settings.coords.clone() },
+        ..machine.settings.clone()
+    }
+}
+
+/// A LinuxCNC parameter file: each line with exactly two numbers is a
+/// parameter and its value (others are skipped, as LinuxCNC does); the
+/// numbers must ascend.
+pub fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
+    let text = read_text(path)?;
+    let mut out = BTreeMap::new();
+    let mut last = 0;
+    for (k, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let [n, v] = fields[..] else { continue };
+        let (Ok(n), Ok(v)) = (n.parse::<u32>(), v.parse::<f64>()) else { continue };
+        if !v.is_finite() || n == 0 {
+            bail!("{}:{}: '{line}' is not a parameter and a finite value", path.display(), k + 1);
+        }
+        if n <= last {
+            bail!("{}:{}: parameter #{n} after #{last}: a parameter file is in ascending order", path.display(), k + 1);
+        }
+        last = n;
+        out.insert(n, v);
+    }
+    Ok(out)
 }
 
 fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
@@ -117,31 +210,33 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
     };
+    let detected = choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?;
+    let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
+    let parameters = match &o.var {
+        Some(_) if !whole_units(detected.dialect) => bail!(
+            "{}: --var is LinuxCNC's parameter file, and the program is read as {} ({}): give --dialect linuxcnc",
+            o.file.display(),
+            detected.dialect,
+            detected.reason
+        ),
+        Some(p) => read_var_file(p)?,
+        None => base.parameters.clone(),
+    };
     let settings = Settings {
-        integer_input: match o.no_decimal {
-            NoDecimal::Increments => IntegerInput::Increments,
-            NoDecimal::Units => IntegerInput::Units,
-        },
-        // Cutter compensation by the dialect: LinuxCNC's, or Fanuc's with
-        // the machine file's start-up type.
-        comp_rules: if linuxcnc(o) { Rules::LinuxCnc } else { machine.settings.comp_rules },
+        parameters,
         radii_required,
         clock_seed: o.clock_seed,
         step_limit: o.step_limit,
         block_delete: o.block_delete,
         cycles: CycleSettings { keep: o.keep_cycles, ..machine.settings.cycles },
-        coords: CoordSettings {
-            control: if linuxcnc(o) { Control::LinuxCnc } else { machine.settings.coords.control },
-            ..machine.settings.coords.clone()
-        },
-        ..machine.settings.clone()
+        ..base
     };
     let mut sources = Sources::default();
     let name = if o.file == Path::new("-") { "<stdin>".to_string() } else { o.file.display().to_string() };
     let id = sources.add(SourceFile::new(name, text));
     let mut program = Program::default();
     let text = sources.get(id).text.clone();
-    let parse_diagnostics = parse(&mut program, id, &text);
+    let parse_diagnostics = parse_as(&mut program, id, &text, detected.dialect);
     let parse_errors = parse_diagnostics.iter().filter(|d| d.is_error()).count();
     let dir = o.lib.clone().unwrap_or_else(|| match o.file.parent() {
         Some(p) if !p.as_os_str().is_empty() && o.file != Path::new("-") => p.to_path_buf(),
@@ -159,7 +254,7 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
             None => outcome.prints.iter().for_each(|l| eprintln!("DPRNT: {l}")),
         }
     }
-    Ok((Ran { sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
+    Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
 }
 
 /// The axes `path` moves that `machine` does not have, each with the first
@@ -212,8 +307,11 @@ impl Report {
 /// or Haas control (length offsets are how their tools are set), unless
 /// the machine file's `[post]` says otherwise (its `length_offset`, or its
 /// preset's: GRBL has none).
-fn uses_length_offsets(o: &RunOptions, machine: &Machine) -> bool {
-    machine.post.length_offset().unwrap_or(!linuxcnc(o) && machine.settings.coords.control != Control::LinuxCnc)
+fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
+    machine
+        .post
+        .length_offset()
+        .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
 }
 
 /// The first move that changes Z after each tool change with no tool
@@ -316,7 +414,7 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             .collect(),
         None => Vec::new(),
     };
-    let missing: Vec<String> = if uses_length_offsets(o, &ran.machine) {
+    let missing: Vec<String> = if uses_length_offsets(ran.dialect.dialect, &ran.machine) {
         let file = o.file.display();
         missing
             .into_iter()
@@ -334,6 +432,8 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
         };
         let value = json!({
             "file": o.file.display().to_string(),
+            "dialect": ran.dialect.dialect.name(),
+            "dialect_reason": ran.dialect.reason,
             "completed": ran.outcome.completed && ran.errors() == 0,
             "blocks": report.blocks,
             "statements": report.statements,
@@ -368,6 +468,7 @@ pub fn check(o: &RunOptions, as_json: bool) -> Result<()> {
             hms(report.time_s),
             report.time_s
         );
+        text += &format!("  {}\n", ran.dialect);
         if report.holes > 0 {
             text += &format!("  holes {} (canned cycles)\n", report.holes);
         }
@@ -518,6 +619,7 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
     }
+    eprintln!("{}: {}", o.file.display(), ran.dialect);
     let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
     let centre = &ran.outcome.toolpath;
     // Which of the programmed contour and the tool-centre path is written.

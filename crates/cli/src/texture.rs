@@ -113,6 +113,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
     }
     let (mut ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
+    eprintln!("{name}: {}", ran.dialect);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }

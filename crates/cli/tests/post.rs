@@ -138,7 +138,7 @@ fn every_made_program_keeps_the_rules_and_checks_clean() {
             let text = std::fs::read_to_string(&file).unwrap();
             keeps_the_rules(what, post, &text);
             // Mach3 reads as LinuxCNC does (G91.1, whole-unit words).
-            let reading: &[&str] = if post == "mach3" { &["--no-decimal", "units"] } else { &[] };
+            let reading: &[&str] = if post == "mach3" { &["--dialect", "linuxcnc"] } else { &[] };
             let o = kezuri(&[&["check", file.as_str(), "--machine", &machine, "--json"][..], reading].concat());
             let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
             assert_eq!(v["warnings"], serde_json::json!([]), "{what} --post {post}: {v}");

@@ -30,6 +30,7 @@
 #![warn(missing_docs)]
 
 pub mod ast;
+pub mod detect;
 mod dialect;
 pub mod interp;
 mod parse;
@@ -42,6 +43,7 @@ pub mod thermal_plan;
 pub mod write;
 
 pub use ast::Program;
+pub use detect::{detect, Detected};
 pub use dialect::Dialect;
 pub use parse::{parse, parse_as};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

@@ -20,6 +20,9 @@ use super::words::Words;
 use super::{Control, IntegerInput, State};
 use crate::source::{Diagnostic, Span};
 
+/// LinuxCNC's fixed G73 retract and G83 clearance: 0.010 inch.
+const LINUXCNC_PECK_CLEARANCE: f64 = 0.254;
+
 /// Most pecks one cycle block may make (all its repeats together).
 const MAX_PECKS: f64 = 1_000_000.0;
 
@@ -79,6 +82,8 @@ pub(super) struct HoleData {
     q: Option<f64>,
     /// Dwell at the bottom, seconds.
     dwell: f64,
+    /// A P has been given in this cycle (LinuxCNC's G86 needs one).
+    p_given: bool,
     /// G76/G87 shift given by I and J (plane axes), mm.
     shift: Option<[f64; 2]>,
     /// Machine coordinate of the tool tip on the depth axis when the cycle
@@ -142,6 +147,7 @@ impl State {
                 return Err(Diagnostic::error(w.span(b'P'), "a dwell time cannot be negative"));
             }
             self.hole.dwell = seconds;
+            self.hole.p_given = true;
         }
         if w.has(b'I') || w.has(b'J') {
             let shift = [w.get(b'I').map_or(0.0, |v| self.mm(v)), w.get(b'J').map_or(0.0, |v| self.mm(v))];
@@ -160,6 +166,16 @@ impl State {
             return Ok(false);
         }
         let g = cycle.number();
+        let lcnc_rules = self.settings.dialect == crate::Dialect::LinuxCnc;
+        if lcnc_rules && matches!(cycle, Cycle::BackBore | Cycle::BoreManual) {
+            return Err(Diagnostic::error(
+                span,
+                format!("G{g} is not defined in LinuxCNC (its manual: accepted, behaviour undefined): refused in the linuxcnc dialect"),
+            ));
+        }
+        if lcnc_rules && cycle == Cycle::BoreStop && !self.hole.p_given {
+            return Err(Diagnostic::error(span, "G86 needs the dwell P in LinuxCNC (P0 for none)"));
+        }
         if self.comp_on() {
             // LinuxCNC stops here; on Fanuc the holes would land off the
             // compensated path: refused rather than guessed.
@@ -291,8 +307,11 @@ impl State {
                     if cycle == Cycle::BoreDwell {
                         self.dwell_here(line);
                     }
-                    self.along(MoveKind::Feed, r_level, feed, line);
-                    if up != r_level {
+                    // LinuxCNC's G89 feeds out to the clear level; G85 and
+                    // Fanuc's G89 to R.
+                    let out = if lcnc_rules && cycle == Cycle::BoreDwell { up } else { r_level };
+                    self.along(MoveKind::Feed, out, feed, line);
+                    if self.tip.to_array()[n] != up {
                         self.along(MoveKind::Rapid, up, 0.0, line);
                     }
                 }
@@ -303,14 +322,20 @@ impl State {
                     self.along(MoveKind::Feed, bottom_level, feed, line);
                     self.dwell_here(line);
                     self.spindle = out;
-                    self.along(MoveKind::Feed, r_level, feed, line);
+                    // LinuxCNC feeds out to the clear level, Fanuc to R.
+                    self.along(MoveKind::Feed, if lcnc_rules { up } else { r_level }, feed, line);
                     self.spindle = cut;
-                    if up != r_level {
+                    if self.tip.to_array()[n] != up {
                         self.along(MoveKind::Rapid, up, 0.0, line);
                     }
                 }
                 Cycle::Peck | Cycle::HighSpeedPeck => {
                     let q = peck.unwrap_or(bottom_level - r_level);
+                    let (clearance, retract) = if lcnc_rules {
+                        (LINUXCNC_PECK_CLEARANCE, LINUXCNC_PECK_CLEARANCE)
+                    } else {
+                        (self.settings.cycles.peck_clearance, self.settings.cycles.peck_retract)
+                    };
                     let mut depth = r_level;
                     while depth > bottom_level {
                         let next = (depth - q).max(bottom_level);
@@ -318,9 +343,9 @@ impl State {
                             if cycle == Cycle::Peck {
                                 // Back to R, then down to the clearance above the last depth.
                                 self.along(MoveKind::Rapid, r_level, 0.0, line);
-                                self.along(MoveKind::Rapid, depth + self.settings.cycles.peck_clearance, 0.0, line);
+                                self.along(MoveKind::Rapid, depth + clearance, 0.0, line);
                             } else {
-                                self.along(MoveKind::Rapid, depth + self.settings.cycles.peck_retract, 0.0, line);
+                                self.along(MoveKind::Rapid, depth + retract, 0.0, line);
                             }
                         }
                         self.along(MoveKind::Feed, next, feed, line);

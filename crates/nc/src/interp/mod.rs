@@ -17,6 +17,7 @@ mod coords;
 mod cycle;
 mod modal;
 mod offsets;
+mod params;
 mod radius;
 mod signals;
 mod value;
@@ -100,6 +101,11 @@ pub struct Settings {
     /// Input signals by variable number: bits #1000–#1031 (0 or 1) and
     /// words #1033–#1035. One that is not here reads 0, with a warning.
     pub input_signals: BTreeMap<u32, f64>,
+    /// Starting values of numbered parameters in the linuxcnc and grbl
+    /// dialects (LinuxCNC's `.var` file): #5161… the G28 position, #5221…
+    /// the work offsets, #5220 the coordinate system, … (docs/linuxcnc.md,
+    /// "Parameters"). Lengths in mm.
+    pub parameters: BTreeMap<u32, f64>,
 }
 
 impl Settings {
@@ -131,6 +137,7 @@ impl Default for Settings {
             coords: CoordSettings::default(),
             macro_variables: MacroVariables::default(),
             input_signals: BTreeMap::new(),
+            parameters: BTreeMap::new(),
         }
     }
 }

@@ -253,6 +253,9 @@ impl State {
     }
 
     fn read_system(&mut self, n: u32) -> Result<f64, String> {
+        if super::params::linuxcnc_numbering(self.settings.dialect) && (5001..=5999).contains(&n) {
+            return Ok(self.read_linuxcnc(n));
+        }
         self.note_model_read(n);
         if let Some(v) = self.read_signal(n) {
             return Ok(v);
@@ -323,6 +326,9 @@ impl State {
     }
 
     fn write_system(&mut self, n: u32, value: Value) -> Result<(), String> {
+        if super::params::linuxcnc_numbering(self.settings.dialect) && (5001..=5999).contains(&n) {
+            return self.write_linuxcnc(n, value);
+        }
         if let Some(done) = self.write_signal(n, value) {
             return done;
         }

@@ -1,0 +1,300 @@
+//! Which dialect a program is written in, when nobody says: one rule from
+//! the file's extension and its content, the same for every command.
+//!
+//! The rule (docs/linuxcnc.md, "Choosing the dialect"):
+//! 1. The evidence: the extension (`.ngc` says linuxcnc, `.gcode` and `.gc`
+//!    say grbl; `.nc`, `.tap` and the rest say nothing) and the first
+//!    *marker* of each dialect in the text — a construct that dialect has
+//!    and the others refuse or read differently (`o100 sub`, `#<name>`,
+//!    `G64 P` for LinuxCNC; an `O1234` program-number line, `G65`, `GOTO`,
+//!    `IF […]`, `WHILE […] DO1` for Fanuc; `G154`, `G187` for Haas; `$H`,
+//!    `$J=` for GRBL). Markers are looked for outside comments, except the
+//!    comment commands `(debug,` and `(print,`.
+//! 2. Evidence for both families — Fanuc or Haas on one side, LinuxCNC or
+//!    GRBL (the extension included) on the other — is refused: the reader
+//!    must say `--dialect`.
+//! 3. Otherwise, first that applies: a Haas marker (haas), a Fanuc marker
+//!    (fanuc), a LinuxCNC marker (linuxcnc), `.ngc` (linuxcnc), `.gcode` or
+//!    `.gc` (grbl), a GRBL marker (grbl), else fanuc, the default.
+
+use std::fmt;
+
+use crate::Dialect;
+
+/// A dialect found, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Detected {
+    /// The dialect.
+    pub dialect: Dialect,
+    /// Why: `the extension .ngc`, `O1234 on line 1`, `given with --dialect`, `the
+    /// default (no extension or marker of another dialect)`.
+    pub reason: String,
+}
+
+impl fmt::Display for Detected {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "dialect {}: {}", self.dialect, self.reason)
+    }
+}
+
+/// A construct only one dialect has, where it was found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Marker {
+    /// The dialect it belongs to.
+    pub dialect: Dialect,
+    /// The construct as written (trimmed): `o100 sub`, `G65`.
+    pub text: String,
+    /// 1-based line.
+    pub line: u32,
+}
+
+impl fmt::Display for Marker {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} on line {}", self.text, self.line)
+    }
+}
+
+/// The dialect `given` (`--dialect`), else the one the rule of this module
+/// finds for a file named `name` (its extension counts; `-` or `<stdin>`
+/// has none) holding `text`. `Err` is the refusal of a file with both
+/// families' evidence, naming one piece of each.
+pub fn detect(given: Option<Dialect>, name: &str, text: &str) -> Result<Detected, String> {
+    if let Some(dialect) = given {
+        return Ok(Detected { dialect, reason: "given with --dialect".to_string() });
+    }
+    let ext = extension(name);
+    let by_extension = match ext.as_str() {
+        "ngc" => Some(Dialect::LinuxCnc),
+        "gcode" | "gc" => Some(Dialect::Grbl),
+        _ => None,
+    };
+    let found = markers(text);
+    let first = |d: Dialect| found.iter().find(|m| m.dialect == d);
+    let fanuc_side = first(Dialect::Haas).or_else(|| first(Dialect::Fanuc));
+    let fanuc_side = match (first(Dialect::Haas), first(Dialect::Fanuc)) {
+        (Some(h), Some(f)) if f.line < h.line => Some(f),
+        _ => fanuc_side,
+    };
+    let units_side = first(Dialect::LinuxCnc).or_else(|| first(Dialect::Grbl));
+    if let Some(f) = fanuc_side {
+        if let Some(u) = units_side {
+            return Err(format!(
+                "{f} is {}'s and {u} is {}'s: the program mixes dialects, so give --dialect fanuc|haas|linuxcnc|grbl",
+                f.dialect, u.dialect
+            ));
+        }
+        if let Some(d) = by_extension {
+            return Err(format!(
+                "the extension .{ext} says {d} but {f} is {}'s: give --dialect fanuc|haas|linuxcnc|grbl",
+                f.dialect
+            ));
+        }
+    }
+    let from = |m: &Marker| Detected { dialect: m.dialect, reason: m.to_string() };
+    if let Some(h) = first(Dialect::Haas) {
+        return Ok(from(h));
+    }
+    if let Some(f) = first(Dialect::Fanuc) {
+        return Ok(from(f));
+    }
+    if let Some(l) = first(Dialect::LinuxCnc) {
+        return Ok(from(l));
+    }
+    if let Some(d) = by_extension {
+        return Ok(Detected { dialect: d, reason: format!("the extension .{ext}") });
+    }
+    if let Some(g) = first(Dialect::Grbl) {
+        return Ok(from(g));
+    }
+    Ok(Detected { dialect: Dialect::Fanuc, reason: "the default (no extension or marker of another dialect)".into() })
+}
+
+/// The lower-case extension of a file name (`""` for none).
+fn extension(name: &str) -> String {
+    let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    match base.rsplit_once('.') {
+        Some((stem, ext)) if !stem.is_empty() => ext.to_ascii_lowercase(),
+        _ => String::new(),
+    }
+}
+
+/// LinuxCNC's O-word keywords: `o100 sub`, `o<name> call`.
+const O_KEYWORDS: [&str; 15] = [
+    "SUB",
+    "ENDSUB",
+    "CALL",
+    "RETURN",
+    "IF",
+    "ELSEIF",
+    "ELSE",
+    "ENDIF",
+    "WHILE",
+    "ENDWHILE",
+    "DO",
+    "REPEAT",
+    "ENDREPEAT",
+    "BREAK",
+    "CONTINUE",
+];
+
+/// The first marker of each dialect in `text` (at most one per dialect,
+/// in the order of the lines).
+pub fn markers(text: &str) -> Vec<Marker> {
+    let mut out: Vec<Marker> = Vec::new();
+    for (n, raw) in text.lines().enumerate() {
+        let line = n as u32 + 1;
+        for (dialect, what) in line_markers(raw) {
+            if !out.iter().any(|m| m.dialect == dialect) {
+                out.push(Marker { dialect, text: what, line });
+            }
+        }
+        if out.len() == 4 {
+            break;
+        }
+    }
+    out
+}
+
+/// `raw` without its comments, upper case, blanks removed; and the
+/// comments' bodies (lower case).
+fn split_comments(raw: &str) -> (String, Vec<String>) {
+    let mut code = String::new();
+    let mut comments = Vec::new();
+    let mut chars = raw.chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '(' => comments.push(chars.by_ref().take_while(|&c| c != ')').collect::<String>().to_lowercase()),
+            ';' => {
+                comments.push(chars.by_ref().collect::<String>().to_lowercase());
+                break;
+            }
+            c if c.is_whitespace() => {}
+            c => code.push(c.to_ascii_uppercase()),
+        }
+    }
+    (code, comments)
+}
+
+/// The G codes of a compacted, upper-case line: `G64`, `G43.1`.
+fn g_codes(code: &str) -> Vec<&str> {
+    let b = code.as_bytes();
+    let mut out = Vec::new();
+    for (i, _) in code.match_indices('G') {
+        // Not a letter of a keyword (GOTO, ATAN …) nor after '#'.
+        if i > 0 && (b[i - 1].is_ascii_alphabetic() || b[i - 1] == b'#') {
+            continue;
+        }
+        let rest = &code[i + 1..];
+        let len = rest.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(rest.len());
+        if len > 0 && rest.as_bytes()[0].is_ascii_digit() {
+            out.push(&code[i..i + 1 + len]);
+        }
+    }
+    out
+}
+
+/// Whether G code `g` (`G064`, `G64.`) is `number`.
+fn is_g(g: &str, number: f64) -> bool {
+    g[1..].parse::<f64>().is_ok_and(|v| (v - number).abs() < 1e-9)
+}
+
+/// The markers of one line, each as written.
+fn line_markers(raw: &str) -> Vec<(Dialect, String)> {
+    let mut out = Vec::new();
+    let trimmed = raw.trim();
+    let (code, comments) = split_comments(raw);
+    // Block delete and a sequence number go before what matters.
+    let body = code.trim_start_matches('/');
+    let body = match body.strip_prefix('N') {
+        Some(rest) => rest.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
+        None => body,
+    };
+    let shown = |s: &str| s.chars().take(24).collect::<String>();
+
+    // LinuxCNC.
+    if let Some(rest) = body.strip_prefix('O') {
+        if rest.starts_with('<') {
+            out.push((Dialect::LinuxCnc, shown(trimmed)));
+        } else {
+            let digits = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
+            let after = &rest[digits..];
+            if digits > 0 && O_KEYWORDS.iter().any(|k| after.starts_with(k)) {
+                out.push((Dialect::LinuxCnc, shown(trimmed)));
+            } else if digits > 0 && after.is_empty() {
+                // A program number alone: Fanuc's (LinuxCNC 2.9 reads it
+                // only for Fanuc programs).
+                out.push((Dialect::Fanuc, shown(trimmed)));
+            }
+        }
+    }
+    if code.contains("#<") {
+        out.push((Dialect::LinuxCnc, "#<…>".to_string()));
+    } else if code.contains("EXISTS[") {
+        out.push((Dialect::LinuxCnc, "EXISTS[…]".to_string()));
+    } else if code.contains("**") {
+        out.push((Dialect::LinuxCnc, "**".to_string()));
+    }
+    for c in &comments {
+        let c = c.trim_start();
+        for command in ["debug,", "print,", "logopen,", "logappend,", "probeopen"] {
+            if c.starts_with(command) {
+                out.push((Dialect::LinuxCnc, format!("({command}")));
+            }
+        }
+    }
+    let gs = g_codes(&code);
+    if let Some(g) = gs.iter().find(|g| is_g(g, 64.0)) {
+        if code.contains('P') || code.contains('Q') {
+            out.push((Dialect::LinuxCnc, format!("{g} P")));
+        }
+    }
+    if let Some(g) = gs.iter().find(|g| is_g(g, 33.1) || is_g(g, 43.2)) {
+        out.push((Dialect::LinuxCnc, g.to_string()));
+    }
+    if (code.contains('@') || code.contains('^')) && !code.starts_with('$') {
+        out.push((Dialect::LinuxCnc, if code.contains('@') { "@" } else { "^" }.to_string()));
+    }
+
+    // Fanuc (macro B) and Haas.
+    if let Some(g) = gs.iter().find(|g| is_g(g, 65.0) || is_g(g, 66.0) || is_g(g, 66.1) || is_g(g, 54.1)) {
+        out.push((Dialect::Fanuc, g.to_string()));
+    }
+    if body.starts_with("IF[") || body.starts_with("WHILE[") || code.contains("GOTO") {
+        let word = ["GOTO", "IF[", "WHILE["].into_iter().find(|w| code.contains(w)).unwrap_or("IF[");
+        out.push((Dialect::Fanuc, word.trim_end_matches('[').to_string()));
+    }
+    for word in ["DPRNT[", "BPRNT[", "POPEN", "PCLOS"] {
+        if code.contains(word) {
+            out.push((Dialect::Fanuc, word.trim_end_matches('[').to_string()));
+        }
+    }
+    if let Some(g) = gs.iter().find(|g| [154.0, 187.0, 103.0, 47.0, 150.0].iter().any(|&n| is_g(g, n))) {
+        out.push((Dialect::Haas, g.to_string()));
+    }
+
+    // GRBL's system commands.
+    if let Some(rest) = code.strip_prefix('$') {
+        let len = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '$')).map_or(rest.len(), |i| i + 1);
+        out.push((Dialect::Grbl, format!("${}", &rest[..len.min(rest.len())])));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions() {
+        assert_eq!(extension("a/b.NGC"), "ngc");
+        assert_eq!(extension("-"), "");
+        assert_eq!(extension(".hidden"), "");
+        assert_eq!(extension("dir.x/file"), "");
+    }
+
+    #[test]
+    fn g_codes_skip_keywords() {
+        assert_eq!(g_codes("GOTO10G64P0.01"), vec!["G64"]);
+        assert_eq!(g_codes("G43.1Z1#G1"), vec!["G43.1"]);
+    }
+}
