@@ -114,7 +114,8 @@ pub struct ReliefArgs {
     /// Row linking.
     #[arg(long, value_enum, default_value = "zigzag")]
     pub pattern: RowPattern,
-    /// Sampling step along a row, mm [default: the pixel size].
+    /// Sampling step along a row, mm [default: the pixel size, or the
+    /// program's increment where the pixel is finer].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How much material the path may leave above the exact cutter locations, mm.
@@ -256,14 +257,16 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     let field = surface(&picture, &mapping, args.smooth, mask.as_ref(), placement).context(name.clone())?;
     let [x0, y0, x1, y1] = field.xy_box();
     let region = Region { x0, y0, x1, y1 };
+    let quantum = args.write.quantum(&machine)?;
     let finish = RasterOptions {
         direction: args.direction.into(),
         pattern: args.pattern.into(),
         stepover: args.stepover,
-        step: args.step.unwrap_or(pixel),
+        // Sampling finer than the program's increment writes nothing finer.
+        step: args.step.unwrap_or(pixel.max(quantum)),
         tolerance: args.tolerance,
         gouge: GOUGE.min(args.tolerance),
-        quantum: args.write.quantum(&machine)?,
+        quantum,
         safe_z: args.safe_z,
         feed: args.feed,
         plunge_feed: args.plunge_feed,
