@@ -86,7 +86,8 @@ pub(super) fn arc(k: f64, rho: f64) -> f64 {
     }
     let x = k * rho;
     let q = (1.0 + x * x).sqrt();
-    let asinh_over = if x == 0.0 { rho } else { x.asinh() / k };
+    // asinh x = ln(1 + x + x²/(q + 1)) for x ≥ 0, without a second root.
+    let asinh_over = if x == 0.0 { rho } else { (x + x * x / (q + 1.0)).ln_1p() / k };
     0.5 * (rho * q + asinh_over)
 }
 
