@@ -278,7 +278,7 @@ impl Chip {
             volume: 0.0,
             cross_section: 0.0,
             cross_section_y: 0.0,
-            settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48 },
+            settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48, roots: [0.0, 0.0] },
         };
         let (zlo, zhi) = chip.height_range().ok_or(EngageError::NoChip)?;
         let flutes = reference + 2.0 * radius;
@@ -298,7 +298,9 @@ impl Chip {
         let scale = e.feed_per_tooth * e.depth;
         let tol = TOLERANCE * scale;
         let slab = volume::Slab { chip: &chip };
-        let settings = Settings { cells: CELLS, tol: [tol * e.feed_per_tooth, tol, tol * radius], eps, max_depth: 48 };
+        let roots = [0.0, chip.z2];
+        let settings =
+            Settings { cells: CELLS, tol: [tol * e.feed_per_tooth, tol, tol * radius], eps, max_depth: 48, roots };
         let ([v, a, m], _) = integrate(&slab, zlo, zhi, &chip.fixed, &settings);
         if v.is_nan() || v <= 0.0 {
             return Err(EngageError::NoChip);
@@ -328,6 +330,7 @@ impl Chip {
             tol: [tol, tol * radius, tol * radius, tol * zhi, tol * radius],
             eps: 1e-12 * (zhi - zlo).max(zhi.abs()),
             max_depth: 48,
+            roots: [0.0, self.z2],
         };
         self.sub = sub;
         let slab = volume::Slab { chip: self };

@@ -90,7 +90,7 @@ impl Lcg {
 /// error: a coarse grid over `[0, R] × [0, top]` finds the box (widened by
 /// 30 of its cells), then
 /// uniform samples in it weighted by `√(1 + k²ρ²)`.
-fn monte_carlo(solid: &Solid, theta: f64, samples: usize, seed: u64) -> (f64, f64, [f64; 3]) {
+fn monte_carlo(solid: &Solid, theta: f64, samples: usize, stream: u64) -> (f64, f64, [f64; 3]) {
     let r = solid.cutter.radius();
     let top = solid.stock + solid.slope * r;
     let n = 400;
@@ -113,7 +113,7 @@ fn monte_carlo(solid: &Solid, theta: f64, samples: usize, seed: u64) -> (f64, f6
     let (rlo, rhi) = pad(rlo, rhi, r / n as f64, r);
     let (zlo, zhi) = pad(zlo, zhi, top / n as f64, top);
     let boxed = (rhi - rlo) * (zhi - zlo);
-    let mut rng = Lcg(seed);
+    let mut rng = Lcg(stream);
     let (mut s, mut s2) = (0.0, 0.0);
     let mut m = [0.0; 3];
     for _ in 0..samples {
