@@ -278,7 +278,7 @@ impl Chip {
             volume: 0.0,
             cross_section: 0.0,
             cross_section_y: 0.0,
-            settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48, roots: [0.0, 0.0] },
+            settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48, roots: [f64::NAN; 3] },
         };
         let (zlo, zhi) = chip.height_range().ok_or(EngageError::NoChip)?;
         let flutes = reference + 2.0 * radius;
@@ -298,7 +298,7 @@ impl Chip {
         let scale = e.feed_per_tooth * e.depth;
         let tol = TOLERANCE * scale;
         let slab = volume::Slab { chip: &chip };
-        let roots = [0.0, chip.z2];
+        let roots = [0.0, chip.z2, f64::NAN];
         let settings =
             Settings { cells: CELLS, tol: [tol * e.feed_per_tooth, tol, tol * radius], eps, max_depth: 48, roots };
         let ([v, a, m], _) = integrate(&slab, zlo, zhi, &chip.fixed, &settings);
@@ -330,7 +330,7 @@ impl Chip {
             tol: [tol, tol * radius, tol * radius, tol * zhi, tol * radius],
             eps: 1e-12 * (zhi - zlo).max(zhi.abs()),
             max_depth: 48,
-            roots: [0.0, self.z2],
+            roots: [0.0, self.z2, f64::NAN],
         };
         self.sub = sub;
         let slab = volume::Slab { chip: self };
@@ -401,9 +401,11 @@ impl Chip {
         let rake = section::Rake { chip: self, theta };
         let mut sum = [0.0; 5];
         let mut run: Option<(usize, usize)> = None;
+        let touch = self.touch(theta);
         let mut flush = |from: usize, to: usize| {
             let mut settings = self.settings.clone();
             settings.cells = self.sub * (to - from);
+            settings.roots[2] = touch;
             let (v, _) = integrate(&rake, self.rows[from].z, self.rows[to].z, &self.fixed, &settings);
             for (s, v) in sum.iter_mut().zip(v) {
                 *s += v;
@@ -420,6 +422,25 @@ impl Chip {
             flush(a, b);
         }
         sum
+    }
+
+    /// Near the tip, where the body behind does not cover the axis: the
+    /// height at which the rake segment's line starts to meet the body
+    /// behind, `w(z) = S_z |cos ψ(z)|`. The integrand goes like a square
+    /// root from there even where the chip's intervals keep their shape.
+    /// NaN where that is not in the chip's heights.
+    fn touch(&self, theta: f64) -> f64 {
+        let s = self.feed_per_tooth;
+        if s >= self.cutter.radius() || self.zlo >= self.cutter.height(s) {
+            return f64::NAN;
+        }
+        // ψ hardly turns over these few micrometres: a fixed point.
+        let mut z = 0.0;
+        for _ in 0..4 {
+            let psi = theta + self.twist * (self.reference - z);
+            z = self.cutter.height(s * psi.cos().abs());
+        }
+        z
     }
 
     /// Whether the rake segments at heights between rows `i` and `i + 1`

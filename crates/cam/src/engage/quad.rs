@@ -91,8 +91,9 @@ pub(crate) struct Settings<const N: usize> {
     /// Most halvings of a piece that fails the tolerance.
     pub max_depth: u32,
     /// Heights where the integrand behaves like a square root from above
-    /// (the tips of the bodies).
-    pub roots: [f64; 2],
+    /// (the tips of the bodies; where a rake segment starts to meet the
+    /// body behind); NaN: none.
+    pub roots: [f64; 3],
 }
 
 /// 21-point Kronrod and 10-point Gauss results over `[a, b]` under the
@@ -291,7 +292,7 @@ mod tests {
                 [(z * (1.0 - z)).max(0.0).sqrt()]
             }
         }
-        let s = Settings { cells: 1, tol: [1e-15], eps: 1e-15, max_depth: 0, roots: [f64::NAN; 2] };
+        let s = Settings { cells: 1, tol: [1e-15], eps: 1e-15, max_depth: 0, roots: [f64::NAN; 3] };
         let (v, _) = integrate(&Sqrt, 0.0, 1.0, &[], &s);
         assert!((v[0] - std::f64::consts::PI / 8.0).abs() < 1e-14, "{}", v[0]);
         let (v, _) = integrate(&Power(7), 0.0, 2.0, &[], &s);
@@ -311,7 +312,7 @@ mod tests {
                 [(z - 0.3).abs()]
             }
         }
-        let s = Settings { cells: 1, tol: [1e-13], eps: 1e-15, max_depth: 60, roots: [f64::NAN; 2] };
+        let s = Settings { cells: 1, tol: [1e-13], eps: 1e-15, max_depth: 60, roots: [f64::NAN; 3] };
         let (v, _) = integrate(&Abs, 0.0, 1.0, &[], &s);
         assert!((v[0] - (0.045 + 0.245)).abs() < 1e-12, "{}", v[0]);
     }
