@@ -162,6 +162,8 @@ pub struct Chip {
     turns: Vec<(f64, f64)>,
     /// How far cos or sin of ψ can bulge between two rows.
     bulge: f64,
+    /// Sample cells per row.
+    sub: usize,
     volume: f64,
     cross_section: f64,
     cross_section_y: f64,
@@ -202,11 +204,11 @@ const ROWS: usize = 256;
 
 /// Cells of signature samples per row where a rake segment may meet the
 /// chip.
-const SUB: usize = 3;
+const SUB: usize = 2;
 
 /// Relative tolerance of the quadrature, per piece, on `|Kronrod − Gauss|`
 /// against the area scale `S_z·R_d`.
-const TOLERANCE: f64 = 1e-11;
+const TOLERANCE: f64 = 1e-10;
 
 /// Cells in which the signature is first sampled over the chip's height.
 const CELLS: usize = 48;
@@ -272,10 +274,11 @@ impl Chip {
             rows: Vec::new(),
             turns: Vec::new(),
             bulge: 0.0,
+            sub: SUB,
             volume: 0.0,
             cross_section: 0.0,
             cross_section_y: 0.0,
-            settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48 },
+            settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48, roots: [f64::NAN; 3] },
         };
         let (zlo, zhi) = chip.height_range().ok_or(EngageError::NoChip)?;
         let flutes = reference + 2.0 * radius;
@@ -294,33 +297,15 @@ impl Chip {
         let eps = 1e-14 * (zhi - zlo).max(zhi.abs());
         let scale = e.feed_per_tooth * e.depth;
         let tol = TOLERANCE * scale;
-        chip.settings = Settings {
-            cells: CELLS,
-            tol: [tol, tol * radius, tol * radius, tol * zhi, tol * radius],
-            eps,
-            max_depth: 48,
-        };
         let slab = volume::Slab { chip: &chip };
-        let settings = Settings { cells: CELLS, tol: [tol * e.feed_per_tooth, tol, tol * radius], eps, max_depth: 48 };
+        let roots = [0.0, chip.z2, f64::NAN];
+        let settings =
+            Settings { cells: CELLS, tol: [tol * e.feed_per_tooth, tol, tol * radius], eps, max_depth: 48, roots };
         let ([v, a, m], _) = integrate(&slab, zlo, zhi, &chip.fixed, &settings);
         if v.is_nan() || v <= 0.0 {
             return Err(EngageError::NoChip);
         }
-        chip.rows = (0..=ROWS)
-            .map(|i| {
-                let z = if i == ROWS { zhi } else { zlo + (zhi - zlo) * i as f64 / ROWS as f64 };
-                let (set, w) = slab.line(z);
-                let (mut ya, mut yb) = (f64::INFINITY, f64::NEG_INFINITY);
-                for (lo, hi) in set.iter() {
-                    ya = ya.min(lo);
-                    yb = yb.max(hi);
-                }
-                Row { z, w, ya, yb }
-            })
-            .collect();
-        chip.turns = chip.rows.iter().map(|r| (chip.twist * (reference - r.z)).sin_cos()).collect();
-        let arc = chip.twist * (zhi - zlo) / ROWS as f64;
-        chip.bulge = arc * arc / 8.0 + 1e-12;
+        chip.tabulate(ROWS, TOLERANCE, SUB);
         chip.volume = v;
         chip.cross_section = a;
         chip.cross_section_y = m / a;
@@ -332,6 +317,49 @@ impl Chip {
         };
         chip.behind = -chip.feed * e.feed_per_tooth;
         Ok(chip)
+    }
+
+    /// The table of rows, and the quadrature's settings: `tolerance`
+    /// relative to `S_z·R_d`, `sub` sample cells per row.
+    fn tabulate(&mut self, rows: usize, tolerance: f64, sub: usize) {
+        let (zlo, zhi) = (self.zlo, self.zhi);
+        let radius = self.cutter.radius();
+        let tol = tolerance * self.feed_per_tooth * self.e.depth;
+        self.settings = Settings {
+            cells: CELLS,
+            tol: [tol, tol * radius, tol * radius, tol * zhi, tol * radius],
+            eps: 1e-12 * (zhi - zlo).max(zhi.abs()),
+            max_depth: 48,
+            roots: [0.0, self.z2, f64::NAN],
+        };
+        self.sub = sub;
+        let slab = volume::Slab { chip: self };
+        let table: Vec<Row> = (0..=rows)
+            .map(|i| {
+                let z = if i == rows { zhi } else { zlo + (zhi - zlo) * i as f64 / rows as f64 };
+                let (set, w) = slab.line(z);
+                let (mut ya, mut yb) = (f64::INFINITY, f64::NEG_INFINITY);
+                for (lo, hi) in set.iter() {
+                    ya = ya.min(lo);
+                    yb = yb.max(hi);
+                }
+                Row { z, w, ya, yb }
+            })
+            .collect();
+        self.turns = table.iter().map(|r| (self.twist * (self.reference - r.z)).sin_cos()).collect();
+        self.rows = table;
+        let arc = self.twist * (zhi - zlo) / rows as f64;
+        self.bulge = arc * arc / 8.0 + 1e-12;
+    }
+
+    /// The same chip integrated far more finely (a thousandth of the
+    /// tolerance, four times the rows and samples): for measuring the
+    /// error of [`Chip::section`].
+    #[doc(hidden)]
+    pub fn refined(&self) -> Chip {
+        let mut chip = self.clone();
+        chip.tabulate(4 * ROWS, TOLERANCE / 1000.0, 4 * SUB);
+        chip
     }
 
     /// Heights between which the removed cross-section lies (a cover of
@@ -373,9 +401,11 @@ impl Chip {
         let rake = section::Rake { chip: self, theta };
         let mut sum = [0.0; 5];
         let mut run: Option<(usize, usize)> = None;
+        let touch = self.touch(theta);
         let mut flush = |from: usize, to: usize| {
             let mut settings = self.settings.clone();
-            settings.cells = SUB * (to - from);
+            settings.cells = self.sub * (to - from);
+            settings.roots[2] = touch;
             let (v, _) = integrate(&rake, self.rows[from].z, self.rows[to].z, &self.fixed, &settings);
             for (s, v) in sum.iter_mut().zip(v) {
                 *s += v;
@@ -392,6 +422,25 @@ impl Chip {
             flush(a, b);
         }
         sum
+    }
+
+    /// Near the tip, where the body behind does not cover the axis: the
+    /// height at which the rake segment's line starts to meet the body
+    /// behind, `w(z) = S_z |cos ψ(z)|`. The integrand goes like a square
+    /// root from there even where the chip's intervals keep their shape.
+    /// NaN where that is not in the chip's heights.
+    fn touch(&self, theta: f64) -> f64 {
+        let s = self.feed_per_tooth;
+        if s >= self.cutter.radius() || self.zlo >= self.cutter.height(s) {
+            return f64::NAN;
+        }
+        // ψ hardly turns over these few micrometres: a fixed point.
+        let mut z = 0.0;
+        for _ in 0..4 {
+            let psi = theta + self.twist * (self.reference - z);
+            z = self.cutter.height(s * psi.cos().abs());
+        }
+        z
     }
 
     /// Whether the rake segments at heights between rows `i` and `i + 1`

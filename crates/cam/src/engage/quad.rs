@@ -90,20 +90,30 @@ pub(crate) struct Settings<const N: usize> {
     pub eps: f64,
     /// Most halvings of a piece that fails the tolerance.
     pub max_depth: u32,
+    /// Heights where the integrand behaves like a square root from above
+    /// (the tips of the bodies; where a rake segment starts to meet the
+    /// body behind); NaN: none.
+    pub roots: [f64; 3],
 }
 
 /// 21-point Kronrod and 10-point Gauss results over `[a, b]` under the
-/// sine substitution.
-fn kronrod<const N: usize, F: Integrand<N>>(f: &F, a: f64, b: f64) -> ([f64; N], [f64; N]) {
+/// sine substitution; where a square-root point `p` of the integrand (a
+/// tip, where `w ~ √(z − p)`) lies just below `a`, in the variable
+/// `s = √(z − p)`, in which it is analytic.
+fn kronrod<const N: usize, F: Integrand<N>>(f: &F, a: f64, b: f64, roots: &[f64]) -> ([f64; N], [f64; N]) {
     let table = substitution();
-    let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+    let p = roots.iter().copied().filter(|&r| r <= a).fold(f64::NEG_INFINITY, f64::max);
+    let root = p.is_finite() && a - p < 4.0 * (b - a);
+    let (lo, hi) = if root { ((a - p).sqrt(), (b - p).sqrt()) } else { (a, b) };
+    let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
     let mut k = [0.0; N];
     let mut g = [0.0; N];
-    for (j, &(s, c)) in table.iter().enumerate() {
-        let jac = (b - a) * c;
+    for (j, &(sin, cos)) in table.iter().enumerate() {
         let signs: &[f64] = if j == 10 { &[1.0] } else { &[1.0, -1.0] };
         for &sign in signs {
-            let v = f.values(mid + sign * half * s);
+            let t = mid + sign * half * sin;
+            let (z, jac) = if root { (p + t * t, 2.0 * t * (hi - lo) * cos) } else { (t, (hi - lo) * cos) };
+            let v = f.values(z);
             for i in 0..N {
                 k[i] += WGK[j] * jac * v[i];
                 if j % 2 == 1 {
@@ -165,7 +175,7 @@ impl<const N: usize, F: Integrand<N>> Run<'_, N, F> {
     }
 
     fn piece(&mut self, a: f64, b: f64, sa: u64, depth: u32) {
-        let (k, g) = kronrod(self.f, a, b);
+        let (k, g) = kronrod(self.f, a, b, &self.s.roots);
         let bad = (0..N).any(|i| self.s.tol[i] > 0.0 && (k[i] - g[i]).abs() > self.s.tol[i]);
         if bad && depth < self.s.max_depth && b - a > 4.0 * self.s.eps {
             let m = 0.5 * (a + b);
@@ -282,7 +292,7 @@ mod tests {
                 [(z * (1.0 - z)).max(0.0).sqrt()]
             }
         }
-        let s = Settings { cells: 1, tol: [1e-15], eps: 1e-15, max_depth: 0 };
+        let s = Settings { cells: 1, tol: [1e-15], eps: 1e-15, max_depth: 0, roots: [f64::NAN; 3] };
         let (v, _) = integrate(&Sqrt, 0.0, 1.0, &[], &s);
         assert!((v[0] - std::f64::consts::PI / 8.0).abs() < 1e-14, "{}", v[0]);
         let (v, _) = integrate(&Power(7), 0.0, 2.0, &[], &s);
@@ -302,7 +312,7 @@ mod tests {
                 [(z - 0.3).abs()]
             }
         }
-        let s = Settings { cells: 1, tol: [1e-13], eps: 1e-15, max_depth: 60 };
+        let s = Settings { cells: 1, tol: [1e-13], eps: 1e-15, max_depth: 60, roots: [f64::NAN; 3] };
         let (v, _) = integrate(&Abs, 0.0, 1.0, &[], &s);
         assert!((v[0] - (0.045 + 0.245)).abs() < 1e-12, "{}", v[0]);
     }

@@ -70,33 +70,32 @@ impl Integrand<5> for Rake<'_> {
         let k = self.chip.twist;
         let (mut a, mut m1, mut mp) = (0.0, 0.0, 0.0);
         for (lo, hi) in set.iter() {
-            a += arc(k, hi) - arc(k, lo);
-            m1 += arc_moment(k, hi) - arc_moment(k, lo);
+            let (a1, m_1) = arc_both(k, hi);
+            let (a0, m_0) = arc_both(k, lo);
+            a += a1 - a0;
+            m1 += m_1 - m_0;
             mp += 0.5 * (hi - lo) * (hi + lo);
         }
         [a, m1 * s, m1 * co, z * a, mp]
     }
 }
 
-/// `∫₀^ρ √(1 + k²t²) dt = (ρ√(1 + k²ρ²) + asinh(kρ)/k) / 2`.
+/// `∫₀^ρ √(1 + k²t²) dt = (ρq + asinh(kρ)/k) / 2` and
+/// `∫₀^ρ t √(1 + k²t²) dt = (q³ − 1) / (3k²)`, `q = √(1 + k²ρ²)`; the
+/// second written as `ρ²(q² + q + 1) / (3(q + 1))` and `asinh x` as
+/// `ln(1 + x + x²/(q + 1))` (x ≥ 0) to keep their digits for small `kρ`.
 #[inline]
-pub(super) fn arc(k: f64, rho: f64) -> f64 {
+pub(super) fn arc_both(k: f64, rho: f64) -> (f64, f64) {
+    if rho == 0.0 {
+        return (0.0, 0.0);
+    }
     if k == 0.0 {
-        return rho;
+        return (rho, 0.5 * rho * rho);
     }
     let x = k * rho;
     let q = (1.0 + x * x).sqrt();
-    let asinh_over = if x == 0.0 { rho } else { x.asinh() / k };
-    0.5 * (rho * q + asinh_over)
-}
-
-/// `∫₀^ρ t √(1 + k²t²) dt = ((1 + k²ρ²)^{3/2} − 1) / (3k²)`, written as
-/// `ρ²(q² + q + 1) / (3(q + 1))` (`q = √(1 + k²ρ²)`) to keep its digits.
-#[inline]
-pub(super) fn arc_moment(k: f64, rho: f64) -> f64 {
-    let x = k * rho;
-    let q = (1.0 + x * x).sqrt();
-    rho * rho * (q * q + q + 1.0) / (3.0 * (q + 1.0))
+    let asinh_over = (x + x * x / (q + 1.0)).ln_1p() / k;
+    (0.5 * (rho * q + asinh_over), rho * rho * (q * q + q + 1.0) / (3.0 * (q + 1.0)))
 }
 
 #[cfg(test)]
@@ -105,6 +104,8 @@ mod tests {
 
     #[test]
     fn closed_forms_match_their_derivatives() {
+        let arc = |k: f64, r: f64| arc_both(k, r).0;
+        let arc_moment = |k: f64, r: f64| arc_both(k, r).1;
         for k in [0.0, 1e-9, 0.07, 0.5, 3.0] {
             for rho in [0.1, 1.0, 8.0] {
                 let e = 1e-5;
@@ -115,7 +116,15 @@ mod tests {
                 assert!((d1 - rho * q).abs() < 1e-8 * rho * q, "k={k} rho={rho}");
             }
         }
-        assert_eq!(arc(0.0, 2.0), 2.0);
-        assert!((arc_moment(0.0, 2.0) - 2.0).abs() < 1e-15);
+        // The closed forms against the textbook ones where those are exact.
+        for (k, rho) in [(0.5f64, 2.0f64), (3.0, 1.0)] {
+            let q: f64 = (1.0 + k * k * rho * rho).sqrt();
+            let want0 = 0.5 * (rho * q + (k * rho).asinh() / k);
+            let want1 = (q.powi(3) - 1.0) / (3.0 * k * k);
+            assert!((arc(k, rho) - want0).abs() < 1e-14 * want0);
+            assert!((arc_moment(k, rho) - want1).abs() < 1e-14 * want1);
+        }
+        assert_eq!(arc_both(0.0, 2.0), (2.0, 2.0));
+        assert_eq!(arc_both(0.3, 0.0), (0.0, 0.0));
     }
 }
