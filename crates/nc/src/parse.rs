@@ -365,6 +365,14 @@ fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u32) -> std:
         Flow::Break { start } | Flow::Continue { start } => {
             let found = open.iter().rev().take_while(|x| x.kind != OpenKind::Sub).find(|x| x.name == name);
             match found {
+                Some(l) if l.kind == OpenKind::Repeat => {
+                    // rs274ngc (LinuxCNC 2.9) refuses these too: "no matching while/do label".
+                    return Err(format!(
+                        "{name} {keyword}: LinuxCNC leaves or continues while and do loops only, not {name} repeat \
+                         (line {})",
+                        l.line
+                    ));
+                }
                 Some(l) if l.kind.is_loop() => *start = l.at,
                 Some(l) => {
                     return Err(format!(
