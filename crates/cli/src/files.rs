@@ -44,7 +44,7 @@ pub fn write_atomic(path: &Path, data: &[u8]) -> Result<()> {
 }
 
 /// A folder of subprogram files named `O1234.nc` (also `O1234`, `o1234.nc`,
-/// `O1234.NC`, `1234.nc`).
+/// `O1234.NC`, `1234.nc`), and of LinuxCNC subroutine files `name.ngc`.
 pub struct Folder {
     dir: PathBuf,
 }
@@ -72,6 +72,14 @@ impl Library for Folder {
             .collect();
         found.sort();
         let path = found.into_iter().next()?;
+        let text = read_text(&path).ok()?;
+        Some(SourceFile::new(path.display().to_string(), text))
+    }
+
+    /// LinuxCNC's `<stem>.ngc` (SUBROUTINE_PATH): the name as the program
+    /// gives it, in lower case.
+    fn load_ngc(&mut self, stem: &str) -> Option<SourceFile> {
+        let path = self.dir.join(format!("{stem}.ngc"));
         let text = read_text(&path).ok()?;
         Some(SourceFile::new(path.display().to_string(), text))
     }

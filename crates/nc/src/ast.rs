@@ -18,8 +18,11 @@ pub enum Expr {
     Number(f64),
     /// `#n` or `#[expr]`: the variable whose number is the expression's value.
     Var(ExprId),
-    /// `#<name>`: a LinuxCNC named parameter (parsed, not executed yet).
+    /// `#<name>`: a LinuxCNC named parameter, its name in lower case
+    /// without blanks (`#<_x>` reads a predefined one).
     Named(String),
+    /// `EXISTS[#<name>]` (LinuxCNC): 1 when the named parameter is set.
+    Exists(String),
     /// Unary minus.
     Neg(ExprId),
     /// A binary operator.
@@ -59,16 +62,37 @@ pub enum BinOp {
     Lt,
     /// `LE`
     Le,
+    /// `**` (LinuxCNC): power, binding tightest.
+    Pow,
 }
 
 impl BinOp {
-    /// Binding strength: 3 for `* / AND MOD`, 2 for `+ - OR XOR`, 1 for comparisons.
+    /// Binding strength on a Fanuc control: 3 for `* / AND MOD`, 2 for
+    /// `+ - OR XOR`, 1 for comparisons (`**` is LinuxCNC's: 4).
     pub fn precedence(self) -> u8 {
         use BinOp::*;
         match self {
+            Pow => 4,
             Mul | Div | And | Mod => 3,
             Add | Sub | Or | Xor => 2,
             Eq | Ne | Gt | Ge | Lt | Le => 1,
+        }
+    }
+
+    /// Binding strength in `dialect`. LinuxCNC (rs274ngc) binds `**`
+    /// tightest (5), then `* / MOD` (4), `+ -` (3), the comparisons (2),
+    /// and the logical `AND OR XOR` loosest (1); the others read as Fanuc.
+    pub fn precedence_in(self, dialect: crate::Dialect) -> u8 {
+        use BinOp::*;
+        if dialect != crate::Dialect::LinuxCnc {
+            return self.precedence();
+        }
+        match self {
+            Pow => 5,
+            Mul | Div | Mod => 4,
+            Add | Sub => 3,
+            Eq | Ne | Gt | Ge | Lt | Le => 2,
+            And | Or | Xor => 1,
         }
     }
 
@@ -90,6 +114,7 @@ impl BinOp {
             Ge => "GE",
             Lt => "LT",
             Le => "LE",
+            Pow => "**",
         }
     }
 
@@ -334,11 +359,183 @@ pub enum Statement {
     Pclos,
     /// `DPRNT[...]`: print a line.
     Dprnt(Vec<PrintItem>),
+    /// Several LinuxCNC parameter settings on one line (`#1=2 #2=[#1+1]`):
+    /// every value is read before any is set, as rs274ngc does.
+    Assigns(Vec<(ExprId, ExprId)>),
+    /// A LinuxCNC O-word: subroutines and structured control flow.
+    OWord(Box<OWord>),
+    /// A LinuxCNC `(debug,…)` or `(print,…)` comment: a line for the
+    /// report, with `#n` and `#<name>` replaced by their values.
+    Message(Vec<PrintItem>),
     /// Something recognised but not executed yet (LinuxCNC O-words, GRBL `$`
     /// commands, `BPRNT`); the text says what.
     Unsupported(String),
     /// Nothing but comments, a sequence number or an empty line.
     Empty,
+}
+
+/// The name of a LinuxCNC O-word: `o100` or `o<name>`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum OName {
+    /// `o100`.
+    Number(u32),
+    /// `o<name>`, in lower case without blanks (as rs274ngc reads it).
+    Named(String),
+}
+
+impl OName {
+    /// The stem of the file that holds the subroutine in the library:
+    /// `name` for `o<name>`, `123` for `o123`.
+    pub fn file_stem(&self) -> String {
+        match self {
+            OName::Number(n) => n.to_string(),
+            OName::Named(s) => s.clone(),
+        }
+    }
+}
+
+impl std::fmt::Display for OName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OName::Number(n) => write!(f, "o{n}"),
+            OName::Named(s) => write!(f, "o<{s}>"),
+        }
+    }
+}
+
+/// Block index of a partner not known yet (patched when it is read).
+pub const UNLINKED: u32 = u32::MAX;
+
+/// A LinuxCNC O-word statement. The block indices of its partners (the
+/// `endsub` of a `sub`, the `endif` of an `if`, …) are found by the parser
+/// within the file, so a program whose O-words do not match is refused
+/// before it runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OWord {
+    /// `o100` or `o<name>`.
+    pub name: OName,
+    /// What it does.
+    pub flow: Flow,
+}
+
+/// What an O-word does; `u32` fields are block indices in [`Program::blocks`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Flow {
+    /// `sub`: the start of a definition, skipped to after its `endsub`
+    /// where it is read.
+    Sub {
+        /// The `endsub`.
+        end: u32,
+    },
+    /// `endsub [value]`: the end of a definition, a return.
+    EndSub {
+        /// The value returned (`#<_value>`).
+        value: Option<ExprId>,
+    },
+    /// `return [value]`.
+    Return {
+        /// The value returned (`#<_value>`).
+        value: Option<ExprId>,
+    },
+    /// `call [a] [b] …`: the arguments go to #1, #2, … of the subroutine.
+    Call {
+        /// The arguments, at most 30.
+        args: Vec<ExprId>,
+    },
+    /// `if [cond]`.
+    If {
+        /// The condition.
+        cond: ExprId,
+        /// The first `elseif`, `else` or the `endif`.
+        next: u32,
+        /// The `endif`.
+        end: u32,
+    },
+    /// `elseif [cond]`.
+    ElseIf {
+        /// The condition.
+        cond: ExprId,
+        /// The `if` it belongs to.
+        start: u32,
+        /// The next `elseif`, `else` or the `endif`.
+        next: u32,
+    },
+    /// `else`.
+    Else {
+        /// The `if` it belongs to.
+        start: u32,
+    },
+    /// `endif`.
+    EndIf,
+    /// `while [cond]` that opens a loop.
+    While {
+        /// The condition.
+        cond: ExprId,
+        /// The `endwhile`.
+        end: u32,
+    },
+    /// `endwhile`.
+    EndWhile {
+        /// The `while`.
+        start: u32,
+    },
+    /// `do`.
+    Do {
+        /// The closing `while`.
+        end: u32,
+    },
+    /// `while [cond]` that closes a `do` loop.
+    DoWhile {
+        /// The condition.
+        cond: ExprId,
+        /// The `do`.
+        start: u32,
+    },
+    /// `repeat [count]`.
+    Repeat {
+        /// How many times (rounded to the nearest whole number).
+        count: ExprId,
+        /// The `endrepeat`.
+        end: u32,
+    },
+    /// `endrepeat`.
+    EndRepeat {
+        /// The `repeat`.
+        start: u32,
+    },
+    /// `break`: leaves the loop of the same name.
+    Break {
+        /// The loop's first block (`while`, `do` or `repeat`).
+        start: u32,
+    },
+    /// `continue`: the next turn of the loop of the same name.
+    Continue {
+        /// The loop's first block.
+        start: u32,
+    },
+}
+
+impl Flow {
+    /// The keyword, as written.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            Flow::Sub { .. } => "sub",
+            Flow::EndSub { .. } => "endsub",
+            Flow::Return { .. } => "return",
+            Flow::Call { .. } => "call",
+            Flow::If { .. } => "if",
+            Flow::ElseIf { .. } => "elseif",
+            Flow::Else { .. } => "else",
+            Flow::EndIf => "endif",
+            Flow::While { .. } | Flow::DoWhile { .. } => "while",
+            Flow::EndWhile { .. } => "endwhile",
+            Flow::Do { .. } => "do",
+            Flow::Repeat { .. } => "repeat",
+            Flow::EndRepeat { .. } => "endrepeat",
+            Flow::Break { .. } => "break",
+            Flow::Continue { .. } => "continue",
+        }
+    }
 }
 
 /// One line of the program.

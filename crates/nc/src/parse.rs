@@ -6,7 +6,10 @@
 //! and never fails: a block it cannot read becomes an error diagnostic and an
 //! empty block, and parsing goes on with the next line.
 
-use crate::ast::{BinOp, Block, Expr, ExprId, Func, PrintItem, Program, ProgramUnit, Statement, Word, WordValue};
+use crate::ast::{
+    BinOp, Block, Expr, ExprId, Flow, Func, OName, OWord, PrintItem, Program, ProgramUnit, Statement, Word, WordValue,
+    UNLINKED,
+};
 use crate::source::{Diagnostic, FileId, Span};
 use crate::Dialect;
 
@@ -17,24 +20,28 @@ const MAX_DEPTH: u32 = 64;
 /// chain like `1+1+…+1`, so an unbounded chain would exhaust the stack.
 const MAX_OPERATORS: u32 = 1000;
 
-/// LinuxCNC O-word keywords (`o100 sub`, `o101 if [...]`).
+/// LinuxCNC O-word keywords (`o100 sub`, `o101 if [...]`), longer ones
+/// before their prefixes.
 const OWORD_KEYWORDS: [&str; 15] = [
-    "SUB",
     "ENDSUB",
+    "ENDIF",
+    "ENDWHILE",
+    "ENDREPEAT",
+    "ELSEIF",
+    "ELSE",
+    "SUB",
     "CALL",
     "RETURN",
     "IF",
-    "ELSEIF",
-    "ELSE",
-    "ENDIF",
     "WHILE",
-    "ENDWHILE",
     "DO",
     "REPEAT",
-    "ENDREPEAT",
     "BREAK",
     "CONTINUE",
 ];
+
+/// Most arguments of a LinuxCNC `call` (#1–#30).
+pub(crate) const MAX_OWORD_ARGS: usize = 30;
 
 /// Parses `text` (file `file` of the run) as a Fanuc program and appends its
 /// program units to `program`: [`parse_as`] with [`Dialect::Fanuc`].
@@ -67,6 +74,8 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
     let mut notes: Option<(Span, u32)> = None;
     let mut pos = 0;
     let mut line = 0u32;
+    // LinuxCNC O-words opened and not closed yet.
+    let mut open_owords: Vec<OpenOWord> = Vec::new();
     while pos < bytes.len() {
         line += 1;
         let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |i| pos + i);
@@ -80,7 +89,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
                     .push(Diagnostic::warning(Span::new(file, p.pos, end), "text after the closing '%' is ignored"));
                 break;
             }
-        } else if let Some(header) = p.program_header(&mut diagnostics) {
+        } else if let Some(header) = p.program_header(&mut diagnostics).filter(|_| dialect != Dialect::LinuxCnc) {
             finish_unit(program, &mut unit);
             after_end = false;
             unit = ProgramUnit {
@@ -93,7 +102,12 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
             let words_mark = p.program.words.len();
             let exprs_mark = p.program.exprs.len();
             let block = match p.block(line) {
-                Ok(block) => {
+                Ok(mut block) => {
+                    if dialect == Dialect::LinuxCnc && block.statement == Statement::Empty {
+                        if let Some(message) = p.message(pos) {
+                            block.statement = message;
+                        }
+                    }
                     after_end |= ends_program(program, &block);
                     block
                 }
@@ -120,11 +134,23 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
             if unit.blocks.is_empty() && unit.number.is_none() {
                 unit.span = block.span;
             }
+            let linked = matches!(block.statement, Statement::OWord(_));
             program.blocks.push(block);
+            if linked {
+                let at = program.blocks.len() as u32 - 1;
+                if let Err(message) = link_oword(program, &mut open_owords, at) {
+                    refuse_block(program, at, message, &mut diagnostics);
+                }
+            }
         }
         pos = end + 1;
     }
     finish_unit(program, &mut unit);
+    for o in open_owords {
+        let (name, closer) = (&o.name, o.kind.closer());
+        let message = format!("{name} {} has no {name} {closer} after it in this file", o.kind.opener());
+        refuse_block(program, o.at, message, &mut diagnostics);
+    }
     if let Some((span, lines)) = notes {
         let more = match lines {
             1 => String::new(),
@@ -164,6 +190,217 @@ fn finish_unit(program: &mut Program, unit: &mut ProgramUnit) {
     }
 }
 
+/// Replaces block `at` by an error that the run stops on, and reports it.
+fn refuse_block(program: &mut Program, at: u32, message: String, diagnostics: &mut Vec<Diagnostic>) {
+    let block = &mut program.blocks[at as usize];
+    diagnostics.push(Diagnostic::error(block.span, message.clone()));
+    block.statement = Statement::Unsupported(message);
+}
+
+/// A LinuxCNC O-word that opens a construct, waiting for its partner.
+struct OpenOWord {
+    name: OName,
+    /// Its block.
+    at: u32,
+    /// Its line, for messages.
+    line: u32,
+    kind: OpenKind,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum OpenKind {
+    Sub,
+    /// `if`, with the last of its branches (the `if`, an `elseif` or the
+    /// `else`) and whether that is the `else`.
+    If {
+        last: u32,
+        has_else: bool,
+    },
+    While,
+    Do,
+    Repeat,
+}
+
+impl OpenKind {
+    fn opener(self) -> &'static str {
+        match self {
+            OpenKind::Sub => "sub",
+            OpenKind::If { .. } => "if",
+            OpenKind::While => "while",
+            OpenKind::Do => "do",
+            OpenKind::Repeat => "repeat",
+        }
+    }
+
+    fn closer(self) -> &'static str {
+        match self {
+            OpenKind::Sub => "endsub",
+            OpenKind::If { .. } => "endif",
+            OpenKind::While => "endwhile",
+            OpenKind::Do => "while",
+            OpenKind::Repeat => "endrepeat",
+        }
+    }
+
+    fn is_loop(self) -> bool {
+        matches!(self, OpenKind::While | OpenKind::Do | OpenKind::Repeat)
+    }
+}
+
+fn oword_mut(program: &mut Program, at: u32) -> Option<&mut OWord> {
+    match &mut program.blocks[at as usize].statement {
+        Statement::OWord(o) => Some(o),
+        _ => None,
+    }
+}
+
+/// Pops the construct that the closing O-word `closer` of `name` ends,
+/// which must be the innermost one open and of the kind `wanted` tells.
+fn close_oword(
+    open: &mut Vec<OpenOWord>,
+    name: &OName,
+    closer: &str,
+    opener: &str,
+    wanted: fn(OpenKind) -> bool,
+) -> std::result::Result<OpenOWord, String> {
+    match open.last() {
+        Some(o) if o.name == *name && wanted(o.kind) => Ok(open.pop().expect("an open O-word")),
+        Some(o) if open.iter().any(|x| x.name == *name && wanted(x.kind)) => Err(format!(
+            "{name} {closer} comes before the {} that ends {} {} (line {}): O-word constructs must nest",
+            o.kind.closer(),
+            o.name,
+            o.kind.opener(),
+            o.line
+        )),
+        _ => Err(format!("{name} {closer} has no {name} {opener} before it")),
+    }
+}
+
+/// Links the O-word of block `at` with the constructs open before it:
+/// checks that it matches, and fills in the block indices of its partners.
+fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u32) -> std::result::Result<(), String> {
+    let line = program.blocks[at as usize].line;
+    let Some(o) = oword_mut(program, at) else { return Ok(()) };
+    let name = o.name.clone();
+    let mut flow = o.flow.clone();
+    let push = |open: &mut Vec<OpenOWord>, kind| open.push(OpenOWord { name: name.clone(), at, line, kind });
+    let keyword = flow.keyword();
+    let is_else = matches!(flow, Flow::Else { .. });
+    match &mut flow {
+        Flow::Sub { .. } => {
+            if let Some(outer) = open.last() {
+                return Err(format!(
+                    "{name} sub is inside {} {} (line {}): a subroutine is defined at the top level of a file",
+                    outer.name,
+                    outer.kind.opener(),
+                    outer.line
+                ));
+            }
+            push(open, OpenKind::Sub);
+        }
+        Flow::EndSub { .. } => {
+            let sub = close_oword(open, &name, "endsub", "sub", |k| k == OpenKind::Sub)?;
+            if let Some(OWord { flow: Flow::Sub { end }, .. }) = oword_mut(program, sub.at) {
+                *end = at;
+            }
+        }
+        Flow::Return { .. } => {
+            if !open.first().is_some_and(|s| s.kind == OpenKind::Sub && s.name == name) {
+                return Err(format!("{name} return is not inside {name} sub … {name} endsub"));
+            }
+        }
+        Flow::Call { .. } => {}
+        Flow::If { .. } => push(open, OpenKind::If { last: at, has_else: false }),
+        Flow::ElseIf { start, .. } | Flow::Else { start } => {
+            let top = match open.last_mut() {
+                Some(top) if top.name == name && matches!(top.kind, OpenKind::If { .. }) => top,
+                _ => {
+                    close_oword(open, &name, keyword, "if", |k| matches!(k, OpenKind::If { .. }))?;
+                    unreachable!("close_oword fails where the innermost construct is not this if")
+                }
+            };
+            let OpenKind::If { last, has_else } = top.kind else { unreachable!("an if") };
+            if has_else {
+                return Err(format!("{name} {keyword} comes after {name} else: else is the last branch"));
+            }
+            *start = top.at;
+            top.kind = OpenKind::If { last: at, has_else: is_else };
+            set_next(program, last, at);
+        }
+        Flow::EndIf => {
+            let o = close_oword(open, &name, "endif", "if", |k| matches!(k, OpenKind::If { .. }))?;
+            let OpenKind::If { last, .. } = o.kind else { unreachable!("an if") };
+            set_next(program, last, at);
+            if let Some(OWord { flow: Flow::If { end, .. }, .. }) = oword_mut(program, o.at) {
+                *end = at;
+            }
+        }
+        Flow::While { cond, .. } => {
+            if open.last().is_some_and(|d| d.name == name && d.kind == OpenKind::Do) {
+                let d = open.pop().expect("the do");
+                flow = Flow::DoWhile { cond: *cond, start: d.at };
+                if let Some(OWord { flow: Flow::Do { end }, .. }) = oword_mut(program, d.at) {
+                    *end = at;
+                }
+            } else {
+                push(open, OpenKind::While);
+            }
+        }
+        Flow::EndWhile { start } => {
+            let w = close_oword(open, &name, "endwhile", "while", |k| k == OpenKind::While)?;
+            *start = w.at;
+            if let Some(OWord { flow: Flow::While { end, .. }, .. }) = oword_mut(program, w.at) {
+                *end = at;
+            }
+        }
+        Flow::Do { .. } => push(open, OpenKind::Do),
+        Flow::Repeat { .. } => push(open, OpenKind::Repeat),
+        Flow::EndRepeat { start } => {
+            let r = close_oword(open, &name, "endrepeat", "repeat", |k| k == OpenKind::Repeat)?;
+            *start = r.at;
+            if let Some(OWord { flow: Flow::Repeat { end, .. }, .. }) = oword_mut(program, r.at) {
+                *end = at;
+            }
+        }
+        Flow::Break { start } | Flow::Continue { start } => {
+            let found = open.iter().rev().take_while(|x| x.kind != OpenKind::Sub).find(|x| x.name == name);
+            match found {
+                Some(l) if l.kind == OpenKind::Repeat => {
+                    // rs274ngc (LinuxCNC 2.9) refuses these too: "no matching while/do label".
+                    return Err(format!(
+                        "{name} {keyword}: LinuxCNC leaves or continues while and do loops only, not {name} repeat \
+                         (line {})",
+                        l.line
+                    ));
+                }
+                Some(l) if l.kind.is_loop() => *start = l.at,
+                Some(l) => {
+                    return Err(format!(
+                        "{name} {keyword} names {name} {} (line {}), which is not a loop",
+                        l.kind.opener(),
+                        l.line
+                    ))
+                }
+                None => {
+                    return Err(format!("{name} {keyword} is not inside a loop named {name} (while, do or repeat)"))
+                }
+            }
+        }
+        Flow::DoWhile { .. } => {}
+    }
+    if let Some(o) = oword_mut(program, at) {
+        o.flow = flow;
+    }
+    Ok(())
+}
+
+/// Points the `if` or `elseif` of block `at` to its next branch `next`.
+fn set_next(program: &mut Program, at: u32, next: u32) {
+    if let Some(OWord { flow: Flow::If { next: n, .. } | Flow::ElseIf { next: n, .. }, .. }) = oword_mut(program, at) {
+        *n = next;
+    }
+}
+
 struct LineParser<'a> {
     b: &'a [u8],
     pos: usize,
@@ -174,7 +411,6 @@ struct LineParser<'a> {
     /// Binary operators read so far in this block.
     operators: u32,
     /// The language the program is read in.
-    #[allow(dead_code)] // read by the LinuxCNC O-word parser
     dialect: Dialect,
 }
 
@@ -255,7 +491,7 @@ impl LineParser<'_> {
     /// `O1234 (TITLE)` or `:1234`: returns the number and title.
     fn program_header(&mut self, diagnostics: &mut Vec<Diagnostic>) -> Option<(u32, Option<String>)> {
         let start = self.pos;
-        if !matches!(self.peek(), Some(b'O' | b':')) {
+        if !matches!(self.peek(), Some(b'O' | b':')) || self.dialect == Dialect::LinuxCnc {
             return None;
         }
         self.pos += 1;
@@ -332,6 +568,8 @@ impl LineParser<'_> {
     fn statement(&mut self) -> Result<Statement> {
         let Some(c) = self.peek() else { return Ok(Statement::Empty) };
         match c {
+            b'#' if self.dialect == Dialect::LinuxCnc => self.settings(),
+            b'O' if self.dialect == Dialect::LinuxCnc => self.oword(),
             b'#' => {
                 let var = self.variable_number()?;
                 self.expect(b'=', "'=' after the variable of an assignment")?;
@@ -375,6 +613,163 @@ impl LineParser<'_> {
             _ if self.at_keyword("BPRNT") => Ok(self.unsupported("BPRNT (binary output) is not supported yet")),
             _ => self.words(),
         }
+    }
+
+    /// LinuxCNC parameter settings: `#1=2 #<depth>=[#1*3] …`, every value
+    /// read before any is set.
+    fn settings(&mut self) -> Result<Statement> {
+        let mut list = Vec::new();
+        while self.peek() == Some(b'#') {
+            let var = self.variable_number()?;
+            self.expect(b'=', "'=' after the parameter of a setting")?;
+            list.push((var, self.expr(0)?));
+            self.skip_blanks();
+        }
+        if self.pos < self.end && self.b[self.pos] != b'(' {
+            return Err(self.error_here(
+                "kezuri reads LinuxCNC parameter settings on a line of their own: put the words on another line",
+            ));
+        }
+        Ok(match list[..] {
+            [(var, value)] => Statement::Assign { var, value },
+            _ => Statement::Assigns(list),
+        })
+    }
+
+    /// A LinuxCNC O-word: `o100 sub`, `o<name> call [1] [2]`, `o1 if [#1 GT 0]` …
+    fn oword(&mut self) -> Result<Statement> {
+        let start = self.pos;
+        self.pos += 1;
+        self.skip_blanks();
+        let name = match self.peek() {
+            Some(b'<') => {
+                let Some(close) = self.b[self.pos..self.end].iter().position(|&c| c == b'>') else {
+                    return Err(Diagnostic::error(self.span(start), "O-word name is missing its closing '>'"));
+                };
+                let name = named(&self.b[self.pos + 1..self.pos + close]);
+                self.pos += close + 1;
+                if name.is_empty() {
+                    return Err(Diagnostic::error(self.span(start), "an O-word name o<…> is empty"));
+                }
+                OName::Named(name)
+            }
+            Some(b'0'..=b'9') => {
+                let digits = self.b[self.pos..self.end].iter().take_while(|c| c.is_ascii_digit()).count();
+                let text = std::str::from_utf8(&self.b[self.pos..self.pos + digits]).unwrap_or("");
+                self.pos += digits;
+                OName::Number(
+                    text.parse().map_err(|_| Diagnostic::error(self.span(start), "O-word number is too large"))?,
+                )
+            }
+            _ => return Err(self.error_here("an O-word is o<name> or o and a number, then sub, call, if, while …")),
+        };
+        self.skip_blanks();
+        let keyword = OWORD_KEYWORDS
+            .iter()
+            .find(|k| self.at_keyword(k) && !self.b.get(self.pos + k.len()).is_some_and(|c| c.is_ascii_alphanumeric()));
+        let Some(&keyword) = keyword else {
+            return Err(self.error_here(format!(
+                "expected sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, \
+                 endrepeat, break or continue after {name}"
+            )));
+        };
+        self.pos += keyword.len();
+        self.skip_blanks();
+        let flow = match keyword {
+            "SUB" => Flow::Sub { end: UNLINKED },
+            "ENDSUB" => Flow::EndSub { value: self.optional_bracketed()? },
+            "RETURN" => Flow::Return { value: self.optional_bracketed()? },
+            "CALL" => {
+                let mut args = Vec::new();
+                while self.peek() == Some(b'[') {
+                    if args.len() == MAX_OWORD_ARGS {
+                        return Err(
+                            self.error_here(format!("a call passes at most {MAX_OWORD_ARGS} arguments (#1–#30)"))
+                        );
+                    }
+                    args.push(self.bracketed()?);
+                    self.skip_blanks();
+                }
+                Flow::Call { args }
+            }
+            "IF" => Flow::If { cond: self.condition(keyword)?, next: UNLINKED, end: UNLINKED },
+            "ELSEIF" => Flow::ElseIf { cond: self.condition(keyword)?, start: UNLINKED, next: UNLINKED },
+            "ELSE" => Flow::Else { start: UNLINKED },
+            "ENDIF" => Flow::EndIf,
+            "WHILE" => Flow::While { cond: self.condition(keyword)?, end: UNLINKED },
+            "ENDWHILE" => Flow::EndWhile { start: UNLINKED },
+            "DO" => Flow::Do { end: UNLINKED },
+            "REPEAT" => Flow::Repeat { count: self.condition(keyword)?, end: UNLINKED },
+            "ENDREPEAT" => Flow::EndRepeat { start: UNLINKED },
+            "BREAK" => Flow::Break { start: UNLINKED },
+            _ => Flow::Continue { start: UNLINKED },
+        };
+        Ok(Statement::OWord(Box::new(OWord { name, flow })))
+    }
+
+    /// The `[…]` an O-word needs after `keyword`.
+    fn condition(&mut self, keyword: &str) -> Result<ExprId> {
+        if self.peek() != Some(b'[') {
+            return Err(self.error_here(format!("{} needs its expression in brackets: [ … ]", keyword.to_lowercase())));
+        }
+        self.bracketed()
+    }
+
+    fn optional_bracketed(&mut self) -> Result<Option<ExprId>> {
+        if self.peek() == Some(b'[') {
+            Ok(Some(self.bracketed()?))
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// A LinuxCNC `(debug,…)` or `(print,…)` comment on this line: the
+    /// text after the comma, with each `#n` and `#<name>` an item.
+    fn message(&mut self, from: usize) -> Option<Statement> {
+        let line = &self.b[from..self.end];
+        let open = line.iter().position(|&c| c == b'(')?;
+        let close = open + line[open..].iter().position(|&c| c == b')')?;
+        let inner = &line[open + 1..close];
+        let skip = inner.iter().take_while(|c| matches!(c, b' ' | b'\t')).count();
+        let inner = &inner[skip..];
+        let lower = inner.to_ascii_lowercase();
+        let rest =
+            if lower.starts_with(b"debug,") || lower.starts_with(b"print,") { &inner[6..] } else { return None };
+        let mut items = Vec::new();
+        let mut text = Vec::new();
+        let mut i = 0;
+        while i < rest.len() {
+            let var = match (rest[i], rest.get(i + 1)) {
+                (b'#', Some(b'<')) => rest[i + 2..].iter().position(|&c| c == b'>').map(|n| {
+                    let name = named(&rest[i + 2..i + 2 + n]);
+                    (Expr::Named(name), i + 3 + n)
+                }),
+                (b'#', Some(b'0'..=b'9')) => {
+                    let n = rest[i + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
+                    let v = std::str::from_utf8(&rest[i + 1..i + 1 + n]).unwrap_or("0").parse::<f64>().unwrap_or(0.0);
+                    Some((Expr::Number(v), i + 1 + n))
+                }
+                _ => None,
+            };
+            match var {
+                Some((e, next)) => {
+                    if !text.is_empty() {
+                        items.push(PrintItem::Text(String::from_utf8_lossy(&std::mem::take(&mut text)).into_owned()));
+                    }
+                    let var = self.push(e);
+                    items.push(PrintItem::Var { var, int_digits: 0, frac_digits: 6 });
+                    i = next;
+                }
+                None => {
+                    text.push(rest[i]);
+                    i += 1;
+                }
+            }
+        }
+        if !text.is_empty() {
+            items.push(PrintItem::Text(String::from_utf8_lossy(&text).into_owned()));
+        }
+        Some(Statement::Message(items))
     }
 
     /// `WH[`: the short form of `WHILE` that Haas and Fanuc programs use.
@@ -651,7 +1046,7 @@ impl LineParser<'_> {
                 let Some(close) = close else {
                     return Err(Diagnostic::error(self.span(start), "named parameter is missing its closing '>'"));
                 };
-                let name = String::from_utf8_lossy(&self.b[self.pos + 1..self.pos + close]).to_string();
+                let name = named(&self.b[self.pos + 1..self.pos + close]);
                 self.pos += close + 1;
                 Ok(self.push(Expr::Named(name)))
             }
@@ -700,7 +1095,8 @@ impl LineParser<'_> {
         loop {
             self.skip_blanks();
             let Some((op, len)) = self.binop() else { break };
-            if op.precedence() < min_prec.max(1) {
+            let precedence = op.precedence_in(self.dialect);
+            if precedence < min_prec.max(1) {
                 break;
             }
             self.operators += 1;
@@ -709,7 +1105,7 @@ impl LineParser<'_> {
             }
             self.pos += len;
             self.skip_blanks();
-            let rhs = self.expr(op.precedence() + 1)?;
+            let rhs = self.expr(precedence + 1)?;
             lhs = self.push(Expr::Binary(op, lhs, rhs));
         }
         Ok(lhs)
@@ -717,6 +1113,9 @@ impl LineParser<'_> {
 
     fn binop(&self) -> Option<(BinOp, usize)> {
         match self.peek()? {
+            b'*' if self.dialect == Dialect::LinuxCnc && self.b.get(self.pos + 1) == Some(&b'*') => {
+                Some((BinOp::Pow, 2))
+            }
             b'*' => Some((BinOp::Mul, 1)),
             b'/' => Some((BinOp::Div, 1)),
             b'+' => Some((BinOp::Add, 1)),
@@ -764,12 +1163,20 @@ impl LineParser<'_> {
                 }
             }
             Some(b'[') => self.bracketed(),
+            Some(b'E') if self.dialect == Dialect::LinuxCnc && self.at_keyword("EXISTS") => self.exists(),
             Some(b'A'..=b'Z') => {
                 let Some(&(name, func)) = Func::ALL.iter().find(|(n, _)| self.at_keyword(n)) else {
                     return Err(self.error_here("expected a number, a variable, '[' or a function"));
                 };
                 let start = self.pos;
                 self.pos += name.len();
+                if self.dialect == Dialect::LinuxCnc && matches!(func, Func::Pow | Func::Bin | Func::Bcd) {
+                    let hint = if func == Func::Pow { ": write a ** b" } else { "" };
+                    return Err(Diagnostic::error(
+                        self.span(start),
+                        format!("{name} is a Fanuc function, not a LinuxCNC one{hint}"),
+                    ));
+                }
                 self.skip_blanks();
                 if self.peek() != Some(b'[') {
                     return Err(Diagnostic::error(
@@ -821,6 +1228,32 @@ impl LineParser<'_> {
             Some(_) => Err(self.error_here(format!("expected a value, found '{}'", self.char_here()))),
             None => Err(self.error_here("expected a value at the end of the line")),
         }
+    }
+}
+
+impl LineParser<'_> {
+    /// `EXISTS[#<name>]`.
+    fn exists(&mut self) -> Result<ExprId> {
+        let start = self.pos;
+        self.pos += "EXISTS".len();
+        self.skip_blanks();
+        let wrong = |p: &Self| Diagnostic::error(p.span(start), "EXISTS takes a named parameter: EXISTS[#<name>]");
+        if self.peek() != Some(b'[') {
+            return Err(wrong(self));
+        }
+        self.pos += 1;
+        self.skip_blanks();
+        if self.peek() != Some(b'#') {
+            return Err(wrong(self));
+        }
+        let var = self.variable_number()?;
+        let Expr::Named(name) = self.program.exprs[var as usize].clone() else { return Err(wrong(self)) };
+        self.skip_blanks();
+        if self.peek() != Some(b']') {
+            return Err(self.error_here("expected ']' to close EXISTS["));
+        }
+        self.pos += 1;
+        Ok(self.push(Expr::Exists(name)))
     }
 }
 
@@ -921,6 +1354,11 @@ fn digit_run(s: &[u8], mantissa: &mut u64) -> usize {
     }
     *mantissa = m;
     n
+}
+
+/// A LinuxCNC name as rs274ngc reads it: lower case, blanks removed.
+fn named(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect()
 }
 
 fn utf8_len(first: u8) -> usize {

@@ -1,14 +1,16 @@
 //! A fuzz test that needs no fuzzing tools: proptest makes NC-like programs
 //! (words, `#` variables, brackets, `IF`/`GOTO`/`WHILE`, `G65`/`M98` calls,
-//! comments) and plain random bytes, and each must parse and run without a
-//! panic and within a small step limit.
+//! comments), LinuxCNC programs (O-word subroutines and control flow,
+//! named parameters, `**`, `EXISTS`, `(debug,…)`), and plain random bytes
+//! read in both dialects; each must parse and run without a panic and
+//! within a small step limit.
 //!
 //! Slow, so it runs only when `KEZURI_FUZZ` is set (to the number of cases,
 //! or to anything else for 2,000):
 //! `KEZURI_FUZZ=20000 cargo test --release -p kezuri-nc --test fuzz`.
 //! The coverage-guided fuzz target is `fuzz/` (see fuzz/README.md).
 
-use kezuri_nc::{interp, parse, Program, SourceFile, Sources};
+use kezuri_nc::{interp, parse_as, Dialect, Program, SourceFile, Sources};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 
@@ -17,15 +19,36 @@ const STEP_LIMIT: u64 = 10_000;
 /// Parses and runs `text` as the fuzz target does; fails on a run that does
 /// not stop at the step limit. A panic fails the test by itself.
 fn parse_and_run(text: &str) -> Result<(), TestCaseError> {
+    parse_and_run_as(text, Dialect::Fanuc)
+}
+
+/// A library whose every LinuxCNC subroutine file is the program itself,
+/// so `o<name> call` of a name the program does not define loads it again.
+struct Itself(String);
+
+impl interp::Library for Itself {
+    fn load(&mut self, _: u32) -> Option<SourceFile> {
+        None
+    }
+
+    fn load_ngc(&mut self, stem: &str) -> Option<SourceFile> {
+        Some(SourceFile::new(format!("{stem}.ngc"), self.0.clone()))
+    }
+}
+
+fn parse_and_run_as(text: &str, dialect: Dialect) -> Result<(), TestCaseError> {
     let mut sources = Sources::default();
     let file = sources.add(SourceFile::new("fuzz.nc", text));
     let mut program = Program::default();
-    for d in parse(&mut program, file, text) {
+    for d in parse_as(&mut program, file, text, dialect) {
         d.render(&sources);
     }
-    let settings = interp::Settings { step_limit: STEP_LIMIT, ..interp::Settings::default() };
+    let integer_input =
+        if dialect == Dialect::LinuxCnc { interp::IntegerInput::Units } else { interp::IntegerInput::Increments };
+    let settings = interp::Settings { step_limit: STEP_LIMIT, dialect, integer_input, ..interp::Settings::default() };
+    let mut library = Itself(text.to_string());
     for main in 0..program.units.len().min(2) {
-        let outcome = interp::run(&mut program, &mut sources, main, &mut interp::NoLibrary, &settings);
+        let outcome = interp::run(&mut program, &mut sources, main, &mut library, &settings);
         prop_assert!(outcome.statements <= STEP_LIMIT + 1, "ran {} statements", outcome.statements);
         for d in &outcome.diagnostics {
             d.render(&sources);
@@ -125,6 +148,95 @@ fn program() -> impl Strategy<Value = String> {
     prop::collection::vec(line(), 0..40).prop_map(|lines| lines.join("\n"))
 }
 
+/// A LinuxCNC parameter: numbered or named, local, global or predefined.
+fn parameter() -> impl Strategy<Value = String> {
+    prop_oneof![
+        variable(),
+        prop::sample::select(vec![
+            "#<a>",
+            "#<b>",
+            "#<_g>",
+            "#<_x>",
+            "#<_z>",
+            "#<_value>",
+            "#<_value_returned>",
+            "#<_line>",
+            "#<_metric>",
+            "#<_feed>",
+            "#<_call_level>",
+            "#<_motion_mode>",
+            "#<unset>",
+            "#31",
+            "#4999",
+            "#5000",
+            "#< Spaced Name >",
+        ])
+        .prop_map(str::to_string),
+    ]
+}
+
+/// A LinuxCNC expression: rs274ngc's operators and functions.
+fn lexpr() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![number(), parameter()];
+    leaf.prop_recursive(3, 16, 3, |inner| {
+        let func = prop::sample::select(vec!["SIN", "ATAN", "SQRT", "ABS", "ROUND", "FIX", "FUP", "LN", "EXP"]);
+        let op = prop::sample::select(vec![
+            "+", "-", "*", "/", "**", " AND ", " OR ", " XOR ", " MOD ", " EQ ", " NE ", " GT ", " LT ",
+        ]);
+        prop_oneof![
+            (inner.clone(), op, inner.clone()).prop_map(|(a, o, b)| format!("[{a}{o}{b}]")),
+            (func, inner.clone()).prop_map(|(f, a)| format!("{f}[{a}]")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("ATAN[{a}]/[{b}]")),
+            prop::sample::select(vec!["a", "_g", "unset"]).prop_map(|n| format!("EXISTS[#<{n}>]")),
+            inner.prop_map(|a| format!("-{a}")),
+        ]
+    })
+}
+
+/// A LinuxCNC O-word line: names few, so that constructs meet, nest and
+/// cross.
+fn oword() -> impl Strategy<Value = String> {
+    let name = prop::sample::select(vec!["o1", "o2", "o3", "o<s>", "o<lib>", "o<T>"]);
+    let bare = prop::sample::select(vec![
+        "sub",
+        "endsub",
+        "return",
+        "else",
+        "endif",
+        "endwhile",
+        "do",
+        "endrepeat",
+        "break",
+        "continue",
+        "call",
+    ]);
+    let with_expr = prop::sample::select(vec!["if", "elseif", "while", "repeat", "endsub", "return"]);
+    prop_oneof![
+        (name.clone(), bare).prop_map(|(n, k)| format!("{n} {k}")),
+        (name.clone(), with_expr, lexpr()).prop_map(|(n, k, e)| format!("{n} {k} [{e}]")),
+        (name, prop::collection::vec(lexpr(), 0..4))
+            .prop_map(|(n, a)| format!("{n} call {}", a.iter().map(|e| format!("[{e}]")).collect::<String>())),
+    ]
+}
+
+fn linuxcnc_line() -> impl Strategy<Value = String> {
+    prop_oneof![
+        4 => oword(),
+        2 => prop::collection::vec(word(), 1..5).prop_map(|w| w.join(" ")),
+        2 => prop::collection::vec((parameter(), lexpr()), 1..4)
+            .prop_map(|s| s.iter().map(|(p, e)| format!("{p}={e}")).collect::<Vec<_>>().join(" ")),
+        1 => (parameter(), parameter()).prop_map(|(a, b)| format!("(debug, a={a} b={b})")),
+        1 => parameter().prop_map(|a| format!("(print,{a})")),
+        1 => (lexpr(), lexpr()).prop_map(|(a, b)| format!("G1 X{a} Y[{b}] F100")),
+        1 => prop::sample::select(vec!["M2", "M30", "%", "O100", "o", "o<", "o<> call", "o1 if", "#<=1", "#<_x>=1"])
+            .prop_map(str::to_string),
+    ]
+}
+
+fn linuxcnc_program() -> impl Strategy<Value = String> {
+    prop::collection::vec(linuxcnc_line(), 0..40).prop_map(|lines| lines.join("\n"))
+}
+
 fn cases() -> Option<u32> {
     let value = std::env::var("KEZURI_FUZZ").ok()?;
     Some(value.parse().unwrap_or(2_000))
@@ -138,12 +250,25 @@ fn nc_like_programs_end_without_a_panic() {
 }
 
 #[test]
+fn linuxcnc_programs_end_without_a_panic() {
+    let Some(cases) = cases() else { return };
+    let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
+    runner.run(&linuxcnc_program(), |text| parse_and_run_as(&text, Dialect::LinuxCnc)).unwrap();
+}
+
+#[test]
 fn random_bytes_end_without_a_panic() {
     let Some(cases) = cases() else { return };
     let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
     let bytes = prop::collection::vec(
-        prop_oneof![any::<u8>(), prop::sample::select(b"GXYZ#[]=.-+0123456789 \n()IFGOTOWHILEDOEND".to_vec())],
+        prop_oneof![any::<u8>(), prop::sample::select(b"GXYZ#[]=.-+0123456789 \n()IFGOTOWHILEDOENDo<>*sub".to_vec())],
         0..400,
     );
-    runner.run(&bytes, |data| parse_and_run(&String::from_utf8_lossy(&data))).unwrap();
+    runner
+        .run(&bytes, |data| {
+            let text = String::from_utf8_lossy(&data);
+            parse_and_run(&text)?;
+            parse_and_run_as(&text, Dialect::LinuxCnc)
+        })
+        .unwrap();
 }

@@ -33,6 +33,8 @@ pub(super) enum FrameKind {
     Local,
     Macro,
     ModalMacro,
+    /// A LinuxCNC `o… call` of a subroutine.
+    OSub,
 }
 
 impl FrameKind {

@@ -5,9 +5,10 @@ use std::collections::HashMap;
 use super::block::{Action, Call, FrameKind};
 use super::value::{self, Value};
 use super::{Library, Outcome, Settings, State};
-use crate::ast::{Expr, ExprId, PrintItem, Program, Statement};
-use crate::parse::parse;
+use crate::ast::{Expr, ExprId, Flow, OName, PrintItem, Program, Statement};
+use crate::parse::{parse, parse_as};
 use crate::source::{Diagnostic, Sources, Span};
+use crate::Dialect;
 
 /// Most moves reserved before a run (a hint; the toolpath grows past it).
 const MAX_RESERVED_MOVES: usize = 1 << 22;
@@ -15,6 +16,10 @@ const MAX_RESERVED_MOVES: usize = 1 << 22;
 const MAX_SUBPROGRAM_DEPTH: usize = 4;
 /// Deepest nesting of G65/G66 macro calls.
 const MAX_MACRO_DEPTH: usize = 5;
+/// Deepest nesting of LinuxCNC `o… call`s: rs274ngc runs nine levels
+/// below the main program and refuses the tenth ("Too many subroutine
+/// levels").
+const MAX_OSUB_DEPTH: usize = 9;
 
 struct Frame {
     unit: usize,
@@ -26,6 +31,9 @@ struct Frame {
     repeats_left: u32,
     call_span: Span,
     args: Option<Box<super::Locals>>,
+    /// LinuxCNC `repeat` loops running in this frame: the `repeat` block
+    /// and the turns left after this one, innermost last.
+    repeats: Vec<(u32, u64)>,
 }
 
 /// Sequence numbers and loop pairs of one program unit.
@@ -47,6 +55,10 @@ pub(super) struct Interp<'a> {
     statements: u64,
     completed: bool,
     last_back_jump: Option<u32>,
+    /// LinuxCNC subroutines found so far: the block of each `sub`.
+    subs: HashMap<OName, u32>,
+    /// Blocks searched for `sub` definitions.
+    subs_scanned: usize,
 }
 
 impl<'a> Interp<'a> {
@@ -66,6 +78,8 @@ impl<'a> Interp<'a> {
             statements: 0,
             completed: false,
             last_back_jump: None,
+            subs: HashMap::new(),
+            subs_scanned: 0,
         }
     }
 
@@ -89,6 +103,7 @@ impl<'a> Interp<'a> {
             repeats_left: 0,
             call_span: unit.span,
             args: None,
+            repeats: Vec::new(),
         });
         loop {
             match self.step() {
@@ -152,6 +167,13 @@ impl<'a> Interp<'a> {
                     FrameKind::Macro => "macro",
                     FrameKind::ModalMacro => "modal macro",
                     FrameKind::Main => "program",
+                    FrameKind::OSub => {
+                        let name = match &self.program.blocks[f.start as usize - 1].statement {
+                            Statement::OWord(o) => o.name.to_string(),
+                            _ => String::from("o?"),
+                        };
+                        return (format!("subroutine {name}"), f.call_span);
+                    }
                 };
                 (format!("{how} O{number:04}"), f.call_span)
             })
@@ -243,15 +265,260 @@ impl<'a> Interp<'a> {
                 let line = self.st.format_print(self.program, items).map_err(|m| Diagnostic::error(span, m))?;
                 self.st.prints.push(line);
             }
+            Statement::Assigns(list) => {
+                // rs274ngc reads every value of the line before it sets any.
+                let list = list.clone();
+                let mut values = Vec::with_capacity(list.len());
+                for &(_, value) in &list {
+                    values.push(located(self.st.eval(self.program, value))?);
+                }
+                for (&(var, _), v) in list.iter().zip(values) {
+                    self.assign(var, v, pc)?;
+                }
+            }
+            Statement::OWord(_) => return self.oword(pc, span),
+            Statement::Message(items) => {
+                let line = self.st.format_message(self.program, items);
+                self.st.prints.push(line);
+            }
             Statement::Unsupported(what) => return Err(Diagnostic::error(span, what.clone())),
         }
         Ok(true)
     }
 
+    /// Runs the LinuxCNC O-word of block `pc`.
+    fn oword(&mut self, pc: u32, span: Span) -> Result<bool, Diagnostic> {
+        let Statement::OWord(o) = &self.program.blocks[pc as usize].statement else { return Ok(true) };
+        let (name, flow) = (o.name.clone(), o.flow.clone());
+        let located = |r: Result<Value, String>| r.map_err(|m| Diagnostic::error(span, m));
+        match flow {
+            Flow::Sub { end } => self.frame().pc = self.target(end, span)? + 1,
+            Flow::EndSub { value } | Flow::Return { value } => {
+                if self.frames.last().map(|f| f.kind) != Some(FrameKind::OSub) {
+                    return Err(Diagnostic::error(
+                        span,
+                        format!("{name} {} is reached without a call", flow.keyword()),
+                    ));
+                }
+                self.st.returned = match value {
+                    Some(e) => Some(located(self.st.eval(self.program, e))?.num()),
+                    None => None,
+                };
+                return self.return_from(None, span);
+            }
+            Flow::Call { args } => self.o_call(&name, &args, span)?,
+            Flow::If { cond, next, .. } => {
+                if !located(self.st.eval(self.program, cond))?.truth() {
+                    let to = self.branch(next, span)?;
+                    self.frame().pc = to;
+                }
+            }
+            Flow::ElseIf { cond, start, .. } => {
+                // The end of the branch before: on to the endif. rs274ngc
+                // reads the condition all the same (a division by zero
+                // there stops it).
+                located(self.st.eval(self.program, cond))?;
+                self.frame().pc = self.end_of(start, span)? + 1;
+            }
+            Flow::Else { start } => self.frame().pc = self.end_of(start, span)? + 1,
+            Flow::EndIf | Flow::Do { .. } => {}
+            Flow::While { cond, end } => {
+                if !located(self.st.eval(self.program, cond))?.truth() {
+                    self.frame().pc = self.target(end, span)? + 1;
+                }
+            }
+            Flow::EndWhile { start } => {
+                self.last_back_jump = Some(start);
+                self.frame().pc = self.target(start, span)?;
+            }
+            Flow::DoWhile { cond, start } => {
+                if located(self.st.eval(self.program, cond))?.truth() {
+                    self.last_back_jump = Some(start);
+                    self.frame().pc = self.target(start, span)? + 1;
+                }
+            }
+            Flow::Repeat { count, end } => {
+                let n = located(self.st.eval(self.program, count))?.num().round();
+                if n < 1.0 {
+                    self.frame().pc = self.target(end, span)? + 1;
+                } else {
+                    self.frame().repeats.push((pc, n as u64 - 1));
+                }
+            }
+            Flow::EndRepeat { start } => {
+                let start = self.target(start, span)?;
+                let f = self.frame();
+                match f.repeats.last_mut() {
+                    Some((s, left)) if *s == start && *left > 0 => {
+                        *left -= 1;
+                        f.pc = start + 1;
+                        self.last_back_jump = Some(start);
+                    }
+                    Some((s, _)) if *s == start => {
+                        f.repeats.pop();
+                    }
+                    _ => {
+                        return Err(Diagnostic::error(span, format!("{name} endrepeat is reached without its repeat")))
+                    }
+                }
+            }
+            Flow::Break { start } => {
+                let end = self.end_of(start, span)?;
+                self.frame().repeats.retain(|&(s, _)| s < start);
+                self.frame().pc = end + 1;
+            }
+            Flow::Continue { start } => {
+                let end = self.end_of(start, span)?;
+                self.frame().repeats.retain(|&(s, _)| s <= start);
+                let to = match self.program.blocks[start as usize].statement {
+                    // A while loop tests its condition again; do and repeat
+                    // go to their closing block, which tests or counts.
+                    Statement::OWord(ref o) if matches!(o.flow, Flow::While { .. }) => start,
+                    _ => end,
+                };
+                self.last_back_jump = Some(start);
+                self.frame().pc = to;
+            }
+        }
+        Ok(true)
+    }
+
+    /// Checks a block index the parser linked.
+    fn target(&self, at: u32, span: Span) -> Result<u32, Diagnostic> {
+        if (at as usize) < self.program.blocks.len() {
+            Ok(at)
+        } else {
+            Err(Diagnostic::error(span, "this O-word has no partner in its file"))
+        }
+    }
+
+    /// The closing block of the O-word construct that block `start` opens.
+    fn end_of(&self, start: u32, span: Span) -> Result<u32, Diagnostic> {
+        let start = self.target(start, span)?;
+        let end = match &self.program.blocks[start as usize].statement {
+            Statement::OWord(o) => match o.flow {
+                Flow::If { end, .. }
+                | Flow::While { end, .. }
+                | Flow::Do { end }
+                | Flow::Repeat { end, .. }
+                | Flow::Sub { end } => end,
+                _ => u32::MAX,
+            },
+            _ => u32::MAX,
+        };
+        self.target(end, span)
+    }
+
+    /// Where an `if` whose condition is false goes on: the first branch
+    /// from `next` on (an `elseif` whose condition holds, the `else`) or
+    /// after the `endif`.
+    fn branch(&mut self, mut next: u32, span: Span) -> Result<u32, Diagnostic> {
+        loop {
+            next = self.target(next, span)?;
+            let block = &self.program.blocks[next as usize];
+            let (at, line) = (block.span, block.line);
+            match &block.statement {
+                Statement::OWord(o) => match o.flow {
+                    Flow::ElseIf { cond, next: after, .. } => {
+                        self.statements += 1;
+                        self.st.at = at;
+                        self.st.at_line = line;
+                        let holds = self.st.eval(self.program, cond).map_err(|m| Diagnostic::error(at, m))?;
+                        if holds.truth() {
+                            return Ok(next + 1);
+                        }
+                        next = after;
+                    }
+                    _ => return Ok(next + 1),
+                },
+                _ => return Ok(next + 1),
+            }
+        }
+    }
+
+    /// `o<name> call [a] [b] …`: finds the subroutine and runs it with the
+    /// arguments in #1, #2, ….
+    fn o_call(&mut self, name: &OName, args: &[ExprId], span: Span) -> Result<(), Diagnostic> {
+        let mut locals = [Value::Vacant; 33];
+        for (slot, &arg) in locals.iter_mut().zip(args) {
+            *slot = Value::Num(self.st.eval(self.program, arg).map_err(|m| Diagnostic::error(span, m))?.num());
+        }
+        let sub = self.find_sub(name, span)?;
+        let depth = self.frames.iter().filter(|f| f.kind == FrameKind::OSub).count();
+        if depth >= MAX_OSUB_DEPTH {
+            return Err(Diagnostic::error(
+                span,
+                format!(
+                    "subroutine calls nested deeper than {MAX_OSUB_DEPTH}, as LinuxCNC allows \
+                     (a subroutine that calls itself without end?)"
+                ),
+            ));
+        }
+        let unit = self.program.units.iter().position(|u| u.blocks.contains(&sub)).unwrap_or(0);
+        self.st.enter_level(&locals);
+        self.st.call_level += 1;
+        self.frames.push(Frame {
+            unit,
+            pc: sub + 1,
+            start: sub + 1,
+            kind: FrameKind::OSub,
+            repeats_left: 0,
+            call_span: span,
+            args: Some(Box::new(locals)),
+            repeats: Vec::new(),
+        });
+        Ok(())
+    }
+
+    /// The `sub` block of subroutine `name`: defined in a file read so far,
+    /// or in `<name>.ngc` of the library.
+    fn find_sub(&mut self, name: &OName, span: Span) -> Result<u32, Diagnostic> {
+        if let Some(sub) = self.scan_subs(name) {
+            return Ok(sub);
+        }
+        let stem = name.file_stem();
+        let Some(file) = self.library.load_ngc(&stem) else {
+            return Err(Diagnostic::error(
+                span,
+                format!("{name} is not defined in the program, and the subroutine library has no {stem}.ngc"),
+            ));
+        };
+        let file_name = file.name.clone();
+        let id = self.sources.add(file);
+        let text = self.sources.get(id).text.clone();
+        let diagnostics = parse_as(self.program, id, &text, Dialect::LinuxCnc);
+        let errors: Vec<_> = diagnostics.iter().filter(|d| d.is_error()).cloned().collect();
+        self.st.diagnostics.extend(diagnostics.into_iter().filter(|d| !d.is_error()));
+        if let Some(first) = errors.into_iter().next() {
+            return Err(first);
+        }
+        self.scan_subs(name).ok_or_else(|| Diagnostic::error(span, format!("{file_name} does not define {name} sub")))
+    }
+
+    /// Notes the `sub` definitions of blocks parsed since the last look
+    /// (the first definition of a name counts), and finds `name`'s.
+    fn scan_subs(&mut self, name: &OName) -> Option<u32> {
+        for (i, block) in self.program.blocks.iter().enumerate().skip(self.subs_scanned) {
+            if let Statement::OWord(o) = &block.statement {
+                if let Flow::Sub { .. } = o.flow {
+                    self.subs.entry(o.name.clone()).or_insert(i as u32);
+                }
+            }
+        }
+        self.subs_scanned = self.program.blocks.len();
+        self.subs.get(name).copied()
+    }
+
     fn assign(&mut self, var: ExprId, value: Value, pc: u32) -> Result<(), Diagnostic> {
         let block = &self.program.blocks[pc as usize];
         let span = block.span;
+        if let Expr::Named(name) = &self.program.exprs[var as usize] {
+            return self.st.write_named(name, value).map_err(|m| Diagnostic::error(span, m));
+        }
         let number = self.st.var_number(self.program, var).map_err(|m| Diagnostic::error(span, m))?;
+        if self.st.settings.dialect == Dialect::LinuxCnc {
+            return self.st.write_var(number, value).map_err(|m| Diagnostic::error(span, m));
+        }
         if number == 3000.0 {
             let text = &self.sources.get(span.file).text[span.start as usize..span.end as usize];
             let message =
@@ -345,6 +612,7 @@ impl<'a> Interp<'a> {
         let what = match block.statement {
             Statement::While { label, .. } => format!("the WHILE … DO{label} loop"),
             Statement::Do { label } => format!("the DO{label} loop"),
+            Statement::OWord(ref o) => format!("the {} {} loop", o.name, o.flow.keyword()),
             _ if self.last_back_jump.is_some() => "the backward GOTO here".to_string(),
             _ => "this program".to_string(),
         };
@@ -426,6 +694,7 @@ impl<'a> Interp<'a> {
             repeats_left: repeats - 1,
             call_span: span,
             args: None,
+            repeats: Vec::new(),
         });
         Ok(())
     }
@@ -451,6 +720,7 @@ impl<'a> Interp<'a> {
             repeats_left: call.repeats - 1,
             call_span: call.span,
             args: call.args,
+            repeats: Vec::new(),
         });
         Ok(())
     }
@@ -474,6 +744,9 @@ impl<'a> Interp<'a> {
         }
         if done.kind == FrameKind::ModalMacro {
             self.st.modal_depth -= 1;
+        }
+        if done.kind == FrameKind::OSub {
+            self.st.call_level -= 1;
         }
         if let Some(n) = target {
             let caller = self.frames.last().map_or(0, |f| f.unit);
@@ -530,16 +803,27 @@ impl State {
             &Expr::Number(v) => Value::Num(v),
             &Expr::Var(n) => {
                 let number = self.var_number(program, n)?;
-                self.read_var(number)?
+                let v = self.read_var(number)?;
+                if self.settings.dialect == Dialect::LinuxCnc {
+                    // A LinuxCNC parameter is never vacant: unset, it reads 0.
+                    Value::Num(v.num())
+                } else {
+                    v
+                }
             }
-            Expr::Named(name) => return Err(format!("LinuxCNC named parameters (#<{name}>) are not supported yet")),
+            Expr::Named(name) => Value::Num(self.read_named(name)?),
+            Expr::Exists(name) => Value::Num(if self.named_exists(name) { 1.0 } else { 0.0 }),
             &Expr::Neg(e) => match self.eval(program, e)? {
                 Value::Vacant => Value::Vacant,
                 Value::Num(v) => Value::Num(-v),
             },
             &Expr::Binary(op, a, b) => {
                 let (a, b) = (self.eval(program, a)?, self.eval(program, b)?);
-                value::binary(op, a, b)?
+                if self.settings.dialect == Dialect::LinuxCnc {
+                    value::binary_linuxcnc(op, a, b)?
+                } else {
+                    value::binary(op, a, b)?
+                }
             }
             &Expr::Call(func, a, b) => {
                 let a = self.eval(program, a)?;
@@ -547,7 +831,11 @@ impl State {
                     Some(b) => Some(self.eval(program, b)?),
                     None => None,
                 };
-                value::call(func, a, b)?
+                if self.settings.dialect == Dialect::LinuxCnc {
+                    value::call_linuxcnc(func, a, b)?
+                } else {
+                    value::call(func, a, b)?
+                }
             }
         })
     }
@@ -555,7 +843,7 @@ impl State {
     /// The variable number an `#…` expression names.
     pub(super) fn var_number(&mut self, program: &Program, id: ExprId) -> Result<f64, String> {
         if let Expr::Named(name) = &program.exprs[id as usize] {
-            return Err(format!("LinuxCNC named parameters (#<{name}>) are not supported yet"));
+            return Err(format!("#<{name}> names a parameter, not a number: write #<{name}>, not #[#<{name}>]"));
         }
         let v = self.eval(program, id)?.num();
         // Fanuc rounds a computed variable number to the nearest whole number.
@@ -566,11 +854,38 @@ impl State {
         self.level += 1;
         self.locals.truncate(self.level);
         self.locals.push(*args);
+        self.named.truncate(self.level);
+        self.named.push(HashMap::new());
     }
 
     fn leave_level(&mut self) {
         self.locals.truncate(self.level);
+        self.named.truncate(self.level);
         self.level -= 1;
+    }
+
+    /// A LinuxCNC `(debug,…)` or `(print,…)` line: each parameter as
+    /// rs274ngc prints it (six decimals), `######` for a named parameter
+    /// that is not set.
+    fn format_message(&mut self, program: &Program, items: &[PrintItem]) -> String {
+        let mut line = String::new();
+        for item in items {
+            match item {
+                PrintItem::Text(t) => line.push_str(t),
+                &PrintItem::Var { var, .. } => {
+                    let value = match &program.exprs[var as usize] {
+                        Expr::Named(name) => self.read_named(name).ok(),
+                        &Expr::Number(n) => self.read_var(n).ok().map(Value::num),
+                        _ => None,
+                    };
+                    match value {
+                        Some(v) => line.push_str(&format!("{v:.6}")),
+                        None => line.push_str("######"),
+                    }
+                }
+            }
+        }
+        line
     }
 
     fn format_print(&mut self, program: &Program, items: &[PrintItem]) -> Result<String, String> {

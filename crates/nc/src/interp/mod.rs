@@ -147,6 +147,14 @@ impl Default for Settings {
 pub trait Library {
     /// The file holding program `number`, if there is one.
     fn load(&mut self, number: u32) -> Option<SourceFile>;
+
+    /// The LinuxCNC subroutine file `<stem>.ngc`, if there is one: `o<name>
+    /// call` looks for `name.ngc` (the name in lower case), `o123 call` for
+    /// `123.ngc`, as LinuxCNC searches its SUBROUTINE_PATH. None by default.
+    fn load_ngc(&mut self, stem: &str) -> Option<SourceFile> {
+        let _ = stem;
+        None
+    }
 }
 
 /// A library with no programs.
@@ -280,6 +288,15 @@ struct State {
     /// Modal macro frames on the call stack (their blocks are not called).
     modal_depth: u32,
     locals: Vec<Locals>,
+    /// LinuxCNC named parameters `#<name>` of each call level (as `locals`).
+    named: Vec<HashMap<String, f64>>,
+    /// LinuxCNC global named parameters `#<_name>` set by the program.
+    globals: HashMap<String, f64>,
+    /// `#<_value>` and `#<_value_returned>`: what the last LinuxCNC
+    /// subroutine returned.
+    returned: Option<f64>,
+    /// LinuxCNC subroutine calls open (`#<_call_level>`).
+    call_level: u32,
     level: usize,
     /// Common variables #100–#999 (those the machine has).
     common: Box<[Value; 900]>,
@@ -352,6 +369,10 @@ impl State {
             modal_call: None,
             modal_depth: 0,
             locals: vec![[Value::Vacant; 33]],
+            named: vec![HashMap::new()],
+            globals: HashMap::new(),
+            returned: None,
+            call_level: 0,
             level: 0,
             common: Box::new([Value::Vacant; 900]),
             sparse: HashMap::new(),

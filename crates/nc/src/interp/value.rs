@@ -84,11 +84,65 @@ pub fn binary(op: BinOp, a: Value, b: Value) -> Result<Value, String> {
             }
             (p % q) as f64
         }
+        Pow => return pow(x, y),
         And => (whole(x, "AND")? & whole(y, "AND")?) as f64,
         Or => (whole(x, "OR")? | whole(y, "OR")?) as f64,
         Xor => (whole(x, "XOR")? ^ whole(y, "XOR")?) as f64,
     };
     finite(v, op.text())
+}
+
+/// Two values within this are equal for LinuxCNC's `EQ` and `NE`
+/// (rs274ngc's `TOLERANCE_EQUAL`: `1 EQ 1.00005` is true, `1 EQ 1.0002` false).
+pub const LINUXCNC_EQUAL: f64 = 0.0001;
+
+/// Applies a binary operator as LinuxCNC (rs274ngc) does: `AND OR XOR`
+/// are logical on reals (non-zero is true), `EQ NE` compare within
+/// [`LINUXCNC_EQUAL`], `MOD` is the real remainder made non-negative
+/// (`-7.5 MOD 2` is 0.5), `**` is a power. A LinuxCNC parameter is never
+/// vacant: it reads 0 where it was never set.
+pub fn binary_linuxcnc(op: BinOp, a: Value, b: Value) -> Result<Value, String> {
+    use BinOp::*;
+    let (x, y) = (a.num(), b.num());
+    match op {
+        And => Ok(from_bool(x != 0.0 && y != 0.0)),
+        Or => Ok(from_bool(x != 0.0 || y != 0.0)),
+        Xor => Ok(from_bool((x != 0.0) != (y != 0.0))),
+        Eq => Ok(from_bool((x - y).abs() < LINUXCNC_EQUAL)),
+        Ne => Ok(from_bool((x - y).abs() >= LINUXCNC_EQUAL)),
+        Mod => {
+            if y == 0.0 {
+                return Err("MOD by zero".into());
+            }
+            let r = x % y;
+            finite(if r < 0.0 { r + y.abs() } else { r }, "MOD")
+        }
+        _ => binary(op, Value::Num(x), Value::Num(y)),
+    }
+}
+
+/// `x ** y`.
+fn pow(x: f64, y: f64) -> Result<Value, String> {
+    if x < 0.0 && y.fract() != 0.0 {
+        return Err(format!("{x} ** {y}: a negative base needs a whole exponent"));
+    }
+    if x == 0.0 && y < 0.0 {
+        return Err(format!("0 ** {y}: division by zero"));
+    }
+    finite(x.powf(y), "**")
+}
+
+/// Applies a function as LinuxCNC does where it differs from Fanuc: `FIX`
+/// rounds down and `FUP` up (floor and ceiling, `FIX[-1.5]` is -2), and
+/// `ATAN[y]/[x]` gives -180° to 180°.
+pub fn call_linuxcnc(func: Func, a: Value, b: Option<Value>) -> Result<Value, String> {
+    let x = a.num();
+    match (func, b) {
+        (Func::Fix, _) => Ok(Value::Num(x.floor())),
+        (Func::Fup, _) => Ok(Value::Num(x.ceil())),
+        (Func::Atan, Some(b)) => finite(x.atan2(b.num()).to_degrees(), "ATAN"),
+        _ => call(func, Value::Num(x), b.map(|b| Value::Num(b.num()))),
+    }
 }
 
 fn finite(v: f64, what: &str) -> Result<Value, String> {
@@ -275,6 +329,28 @@ mod tests {
         assert_eq!(f(Func::Bin, 18.0), 12.0);
         assert_eq!(f(Func::Bcd, 9999.0), 39321.0);
         assert_eq!(f(Func::Bin, 39321.0), 9999.0);
+    }
+
+    #[test]
+    fn linuxcnc_operators_as_rs274_computes_them() {
+        // Each figure as rs274 (LinuxCNC 2.9) printed it with (debug,…).
+        let l = |op, a: f64, b: f64| binary_linuxcnc(op, Num(a), Num(b)).unwrap().num();
+        assert_eq!(l(BinOp::Mod, 7.5, 2.0), 1.5);
+        assert_eq!(l(BinOp::Mod, -7.5, 2.0), 0.5);
+        assert_eq!(l(BinOp::Eq, 1.0, 1.00005), 1.0);
+        assert_eq!(l(BinOp::Eq, 1.0, 1.0002), 0.0);
+        assert_eq!(l(BinOp::Ne, 1.0, 1.00005), 0.0);
+        assert_eq!(l(BinOp::And, 3.0, 0.5), 1.0);
+        assert_eq!(l(BinOp::Or, 0.0, 0.0), 0.0);
+        assert_eq!(l(BinOp::Xor, 1.0, 1.0), 0.0);
+        assert_eq!(l(BinOp::Pow, 2.0, 3.0), 8.0);
+        let c = |func, a: f64| call_linuxcnc(func, Num(a), None).unwrap().num();
+        assert_eq!(c(Func::Fix, -1.5), -2.0);
+        assert_eq!(c(Func::Fup, -1.5), -1.0);
+        assert_eq!(c(Func::Round, -1.5), -2.0);
+        assert_eq!(c(Func::Round, 2.5), 3.0);
+        assert_eq!(call_linuxcnc(Func::Atan, Num(-1.0), Some(Num(-1.0))).unwrap(), Num(-135.0));
+        assert!(binary_linuxcnc(BinOp::Mod, Num(1.0), Num(0.0)).is_err());
     }
 
     #[test]

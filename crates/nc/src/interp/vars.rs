@@ -178,6 +178,15 @@ impl State {
             return Err(format!("#{number} is not a variable number (use whole numbers from 0 to 99999999)"));
         }
         let n = number as u32;
+        if self.settings.dialect == crate::Dialect::LinuxCnc {
+            // LinuxCNC: #1–#30 are a subroutine's arguments, #31–#5000 plain
+            // global parameters (no Fanuc signals, offsets or alarms there).
+            match n {
+                1..=30 => return Ok(Slot::Local(n as usize - 1)),
+                31..=5000 => return Ok(Slot::Sparse(n)),
+                _ => {}
+            }
+        }
         let vars = &self.settings.macro_variables;
         Ok(match n {
             0 => Slot::Vacant,
@@ -223,6 +232,108 @@ impl State {
                 }
             },
             Slot::System(n) => self.write_system(n, value)?,
+        }
+        Ok(())
+    }
+
+    /// A LinuxCNC predefined named parameter (`_x`, `_metric`, …: the name
+    /// as parsed, lower case with its underscore), or `None` where `name`
+    /// is none. Read-only; lengths in the program's units.
+    pub(super) fn predefined(&self, name: &str) -> Option<f64> {
+        use super::modal::{Distance, FeedMode, Units};
+        let inch = self.modal.units == Units::Inch;
+        let length = |v: f64| if inch { v / 25.4 } else { v };
+        let bool = |b: bool| if b { 1.0 } else { 0.0 };
+        let position = |p: Axes, axis: &str| -> Option<f64> {
+            let a = p.to_array();
+            Some(match axis {
+                "x" => length(a[0]),
+                "y" => length(a[1]),
+                "z" => length(a[2]),
+                "a" => a[3],
+                "b" => a[4],
+                "c" => a[5],
+                "u" | "v" | "w" => 0.0,
+                _ => return None,
+            })
+        };
+        let group = |g: u32| self.modal.group_value(g).unwrap_or(0.0);
+        Some(match name {
+            "_line" => f64::from(self.at_line),
+            "_motion_mode" => 10.0 * self.modal.cycle.map_or(group(1), |c| f64::from(c.number())),
+            "_plane" => 10.0 * group(2),
+            "_ccomp" => 10.0 * group(7),
+            "_metric" => bool(!inch),
+            "_imperial" => bool(inch),
+            "_absolute" => bool(self.modal.distance == Distance::Absolute),
+            "_incremental" => bool(self.modal.distance == Distance::Incremental),
+            "_inverse_time" => bool(self.modal.feed_mode == FeedMode::InverseTime),
+            "_units_per_minute" => bool(self.modal.feed_mode == FeedMode::PerMinute),
+            "_units_per_rev" => bool(self.modal.feed_mode == FeedMode::PerRev),
+            "_coord_system" => match self.modal.work_offset {
+                k @ 0..=5 => 540.0 + 10.0 * k as f64,
+                _ => 0.0,
+            },
+            "_tool_offset" => bool(self.modal.length_comp.is_some()),
+            "_retract_r_plane" => bool(group(10) == 99.0),
+            "_retract_old_z" => bool(group(10) == 98.0),
+            "_spindle_on" => bool(self.spindle != kezuri_geom::Spindle::Off),
+            "_spindle_cw" => bool(self.spindle == kezuri_geom::Spindle::Cw),
+            "_mist" => bool(self.coolant.mist),
+            "_flood" => bool(self.coolant.flood),
+            "_feed" => self.feed_word,
+            "_rpm" => self.speed,
+            "_current_tool" => f64::from(self.tool),
+            "_selected_tool" => f64::from(self.pending_tool),
+            "_value" => self.returned.unwrap_or(0.0),
+            "_value_returned" => bool(self.returned.is_some()),
+            "_call_level" => f64::from(self.call_level),
+            _ => match name.strip_prefix("_abs_") {
+                Some(axis) => position(self.machine_position(), axis)?,
+                None => position(self.program_position(), name.strip_prefix('_')?)?,
+            },
+        })
+    }
+
+    /// Reads LinuxCNC named parameter `#<name>`.
+    pub(super) fn read_named(&mut self, name: &str) -> Result<f64, String> {
+        if self.settings.dialect != crate::Dialect::LinuxCnc {
+            return Err(format!(
+                "named parameters (#<{name}>) are LinuxCNC's: read the program in the LinuxCNC dialect"
+            ));
+        }
+        let found = match name.starts_with('_') {
+            true => self.predefined(name).or_else(|| self.globals.get(name).copied()),
+            false => self.named.get(self.level).and_then(|m| m.get(name)).copied(),
+        };
+        found.ok_or_else(|| format!("#<{name}> is read before it is set (EXISTS[#<{name}>] tells whether it is)"))
+    }
+
+    /// Whether LinuxCNC named parameter `#<name>` is set (`EXISTS`).
+    pub(super) fn named_exists(&mut self, name: &str) -> bool {
+        self.read_named(name).is_ok()
+    }
+
+    /// Sets LinuxCNC named parameter `#<name>`: local to the call level,
+    /// global where the name starts with `_`.
+    pub(super) fn write_named(&mut self, name: &str, value: Value) -> Result<(), String> {
+        if self.settings.dialect != crate::Dialect::LinuxCnc {
+            return Err(format!(
+                "named parameters (#<{name}>) are LinuxCNC's: read the program in the LinuxCNC dialect"
+            ));
+        }
+        if self.predefined(name).is_some() {
+            return Err(format!("#<{name}> is a predefined parameter: a program reads it and cannot set it"));
+        }
+        let v = value.num();
+        if name.starts_with('_') {
+            self.globals.insert(name.to_string(), v);
+        } else {
+            let level = self.level;
+            if self.named.len() <= level {
+                self.named.resize_with(level + 1, Default::default);
+            }
+            self.named[level].insert(name.to_string(), v);
         }
         Ok(())
     }

@@ -1,0 +1,414 @@
+//! LinuxCNC's program language (issue 18): O-word subroutines and control
+//! flow, named parameters, rs274ngc's expressions, and the bad input around
+//! them. Each expectation comes from LinuxCNC's manual (O Codes, Named
+//! Parameters, Expressions) and was confirmed by running the same program
+//! through `rs274 -g` (LinuxCNC 2.9's standalone interpreter) once; the
+//! figures are written here by hand, so these tests need no rs274.
+//! `rs274_agrees` runs rs274 again where it is installed.
+
+use std::collections::BTreeMap;
+
+use kezuri_nc::interp::{self, IntegerInput, Library, Outcome, Settings};
+use kezuri_nc::{parse_as, Diagnostic, Dialect, Program, SourceFile, Sources};
+
+/// Subroutine files by stem (`name` for `name.ngc`).
+#[derive(Default)]
+struct Files(BTreeMap<String, String>);
+
+impl Library for Files {
+    fn load(&mut self, _: u32) -> Option<SourceFile> {
+        None
+    }
+
+    fn load_ngc(&mut self, stem: &str) -> Option<SourceFile> {
+        self.0.get(stem).map(|text| SourceFile::new(format!("{stem}.ngc"), text.clone()))
+    }
+}
+
+fn settings() -> Settings {
+    Settings { dialect: Dialect::LinuxCnc, integer_input: IntegerInput::Units, ..Settings::default() }
+}
+
+struct Ran {
+    outcome: Outcome,
+    sources: Sources,
+    parse_errors: Vec<Diagnostic>,
+}
+
+impl Ran {
+    /// The first error, parse or run, rendered `t.ngc:line:col: error: …`.
+    fn error(&self) -> Option<String> {
+        let d = self.parse_errors.first().or_else(|| self.outcome.diagnostics.iter().find(|d| d.is_error()))?;
+        Some(d.render(&self.sources))
+    }
+
+    /// Move end points (x, y, z), mm.
+    fn ends(&self) -> Vec<[f64; 3]> {
+        self.outcome.toolpath.moves.iter().map(|m| [m.end.x, m.end.y, m.end.z]).collect()
+    }
+
+    fn ok(self) -> Ran {
+        if let Some(e) = self.error() {
+            panic!("unexpected error:\n{e}");
+        }
+        assert!(self.outcome.completed, "the run did not end");
+        self
+    }
+}
+
+fn run_with(text: &str, files: &[(&str, &str)], settings: &Settings) -> Ran {
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("t.ngc", text));
+    let mut program = Program::default();
+    let parse_errors: Vec<_> =
+        parse_as(&mut program, file, text, Dialect::LinuxCnc).into_iter().filter(Diagnostic::is_error).collect();
+    let mut library = Files(files.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect());
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut library, settings);
+    Ran { outcome, sources, parse_errors }
+}
+
+fn run(text: &str) -> Ran {
+    run_with(text, &[], &settings())
+}
+
+fn assert_ends(ran: &Ran, want: &[[f64; 3]]) {
+    let got = ran.ends();
+    assert_eq!(got.len(), want.len(), "moves: got {got:?}, want {want:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(g.iter().zip(w).all(|(a, b)| (a - b).abs() < 1e-9), "got {got:?}, want {want:?}");
+    }
+}
+
+/// The first error of `text`, which must be located at `line` of t.ngc.
+/// (A block that does not parse is an error and an empty block, as in
+/// the Fanuc dialect; an O-word that does not match stops the run too.)
+fn error_at(text: &str, line: u32) -> String {
+    let ran = run(text);
+    let e = ran.error().unwrap_or_else(|| panic!("no error for\n{text}"));
+    assert!(e.starts_with(&format!("t.ngc:{line}:")), "want line {line}:\n{e}");
+    e
+}
+
+const SUBS_AND_FLOW: &str = "F100
+o100 sub
+  G1 X#1 Y#2
+  #<loc>=#1
+  o100 return [#1*10]
+o100 endsub
+o<sq> sub
+  (debug, sq #1 #<_value> #<_value_returned>)
+  o<sq> return [#1*#1]
+  G1 Z99
+o<sq> endsub
+o100 call [3] [4]
+(debug, v=#<_value> r=#<_value_returned> ex=EXISTS[#<loc>] one=#1)
+o<sq> call [5]
+(debug, v=#<_value> r=#<_value_returned>)
+o<SQ> call
+(debug, v=#<_value> r=#<_value_returned>)
+o1 if [#<_value> GT 10]
+  G1 X1
+o1 elseif [#<_value> EQ 0]
+  G1 X2
+o1 else
+  G1 X3
+o1 endif
+#1=0
+o2 while [#1 LT 3]
+  #1=[#1+1]
+  o3 if [#1 EQ 2]
+    o2 continue
+  o3 endif
+  G1 Y#1
+o2 endwhile
+o4 do
+  #1=[#1-1]
+  G1 Z#1
+  o5 if [#1 LT 1]
+    o4 break
+  o5 endif
+o4 while [#1 GT -5]
+o6 repeat [2.6]
+  G1 X[#1+10]
+  #1=[#1+1]
+o6 endrepeat
+M2
+";
+
+#[test]
+fn subroutines_branches_and_loops_as_rs274_runs_them() {
+    let ran = run(SUBS_AND_FLOW).ok();
+    // rs274 -g: STRAIGHT_FEED end points.
+    assert_ends(
+        &ran,
+        &[
+            [3.0, 4.0, 0.0],
+            [2.0, 4.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [2.0, 3.0, 0.0],
+            [2.0, 3.0, 2.0],
+            [2.0, 3.0, 1.0],
+            [2.0, 3.0, 0.0],
+            [10.0, 3.0, 0.0],
+            [11.0, 3.0, 0.0],
+            [12.0, 3.0, 0.0],
+        ],
+    );
+    // rs274's MESSAGE(…) lines, but `EXISTS[…]`, which a debug comment
+    // does not evaluate (rs274 prints it with the parameter replaced).
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            " v=30.000000 r=1.000000 ex=EXISTS[######] one=0.000000",
+            " sq 5.000000 30.000000 1.000000",
+            " v=25.000000 r=1.000000",
+            " sq 0.000000 25.000000 1.000000",
+            " v=0.000000 r=1.000000",
+        ]
+    );
+}
+
+const RECURSION_AND_SCOPE: &str = "F100
+#<_gg>=1
+#<n>=0
+o<tri> sub
+  #<n>=[#1*10]
+  G1 X#1 Y#<n>
+  o<tri> if [#1 GT 1]
+    o<tri> call [#1-1]
+  o<tri> endif
+  #<_gg>=[#<_gg>+1]
+o<tri> endsub
+o<tri> call [3]
+(debug, n=#<n> gg=#<_gg> lvl=#<_call_level> v=#<_value_returned>)
+o10 while [#<n> LT 100]
+  o11 repeat [2]
+    #<n>=[#<n>+1]
+    o13 while [1]
+      o12 if [#<n> EQ 4]
+        o10 break
+      o12 endif
+      o13 break
+    o13 endwhile
+    G1 Z#<n>
+  o11 endrepeat
+o10 endwhile
+(print, after n=#<n>)
+G20
+G0 X1 Y2 Z0.5
+(debug, #<_x> #<_y> #<_z> #<_metric> #<_imperial> #<_motion_mode> #<_feed>)
+G21 G91
+(debug, #<_incremental> #<_absolute> #<_plane> #<_coord_system>)
+M2
+";
+
+#[test]
+fn recursion_locals_globals_and_predefined_parameters() {
+    let ran = run(RECURSION_AND_SCOPE).ok();
+    assert_ends(
+        &ran,
+        &[
+            [3.0, 30.0, 0.0],
+            [2.0, 20.0, 0.0],
+            [1.0, 10.0, 0.0],
+            [1.0, 10.0, 1.0],
+            [1.0, 10.0, 2.0],
+            [1.0, 10.0, 3.0],
+            [25.4, 50.8, 12.7],
+        ],
+    );
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            " n=0.000000 gg=4.000000 lvl=0.000000 v=0.000000",
+            " after n=4.000000",
+            " 1.000000 2.000000 0.500000 0.000000 1.000000 0.000000 100.000000",
+            " 1.000000 0.000000 170.000000 540.000000",
+        ]
+    );
+}
+
+const EXPRESSIONS: &str = "#1=2 #2=[#1+1]
+G1 X#2 F100
+#3=[7.5 MOD 2] #4=[-7.5 MOD 2] #5=FIX[-1.5] #6=FUP[-1.5] #7=ROUND[-1.5] #8=ROUND[2.5]
+(debug, a #3 b #4 c #5 d #6 e #7 f #8)
+#9=[1 EQ 1.00005] #10=[1 EQ 1.0002] #11=[1 NE 1.00005] #12=[2 ** 3 * 2] #13=[-2 ** 2]
+(debug, eq #9 #10 ne #11 pow #12 #13)
+#14=[ATAN[-1]/[-1]] #15=[3 AND 0.5] #16=[0 OR 0] #17=[1 XOR 1] #18=[1 + 2 AND 0] #19=[1 LT 2 AND 3 GT 4]
+(debug, atan #14 and #15 or #16 xor #17 prec #18 #19)
+#<foo>=3
+#<_g>=[#<foo>+1] #20=EXISTS[#<foo>] #21=EXISTS[#<bar>] #31=[2 + 3 ** 2 * 2 MOD 7] #5000=[#4999+1]
+(debug, g=#<_g> exists #20 #21 prec #31 #5000 #<_line> #<_motion_mode> #<_feed> un=#<bar>)
+G1 X[10 - 2 - 3] Y[12 / 2 / 3] Z[2 ** 3 ** 2]
+M2
+";
+
+#[test]
+fn expressions_as_rs274_computes_them() {
+    let ran = run(EXPRESSIONS).ok();
+    // `#1=2 #2=[#1+1]`: #1 is read (0) before it is set, so X1.
+    assert_ends(&ran, &[[1.0, 0.0, 0.0], [5.0, 2.0, 64.0]]);
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            " a 1.500000 b 0.500000 c -2.000000 d -1.000000 e -2.000000 f 3.000000",
+            " eq 1.000000 0.000000 ne 0.000000 pow 16.000000 4.000000",
+            " atan -135.000000 and 1.000000 or 0.000000 xor 0.000000 prec 0.000000 0.000000",
+            " g=4.000000 exists 1.000000 0.000000 prec 6.000000 1.000000 11.000000 10.000000 100.000000 un=######",
+        ]
+    );
+}
+
+#[test]
+fn subroutine_files_come_from_the_library() {
+    let libsub = "o<libsub> sub\nG1 X#1 F10\n#<_gl>=7\no<libsub> endsub [3]\nM2\n";
+    let numbered = "o123 sub\nG1 Y#2 F10\no123 endsub\nM2\n";
+    let main = "o<LibSub> call [4]\n(debug, #<_value> #<_gl>)\no123 call [1] [2]\nM2\n";
+    let ran = run_with(main, &[("libsub", libsub), ("123", numbered)], &settings()).ok();
+    assert_ends(&ran, &[[4.0, 0.0, 0.0], [4.0, 2.0, 0.0]]);
+    assert_eq!(ran.outcome.prints, [" 3.000000 7.000000"]);
+    // The call chain of an error inside a library subroutine names it.
+    let bad = "o<oops> sub\n#1=[1/0]\no<oops> endsub\n";
+    let ran = run_with("o<oops> call\nM2\n", &[("oops", bad)], &settings());
+    let d = ran.outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error");
+    assert!(d.message.contains("division by zero"), "{}", d.message);
+    assert_eq!(d.call_chain.len(), 1);
+    assert_eq!(d.call_chain[0].0, "subroutine o<oops>");
+}
+
+#[test]
+fn a_subroutine_defined_after_its_call_is_found() {
+    // rs274 searches the file on for it.
+    let ran = run("o<later> call\nM2\no<later> sub\nG1 X5 F1\no<later> endsub\n").ok();
+    assert_ends(&ran, &[[5.0, 0.0, 0.0]]);
+}
+
+#[test]
+fn nine_levels_of_calls_and_no_tenth() {
+    // rs274: "in later 1" … "in later 9", then "Too many subroutine levels".
+    let text = "o<later> sub\n(debug,in later #<_call_level>)\no<later> call\no<later> endsub\no<later> call\nM2\n";
+    let e = error_at(text, 3);
+    assert!(e.contains("nested deeper than 9"), "{e}");
+    let ran = run(text);
+    assert_eq!(ran.outcome.prints.len(), 9);
+    assert_eq!(ran.outcome.prints[8], "in later 9.000000");
+}
+
+#[test]
+fn bad_o_words_are_located_errors() {
+    // Each as rs274 refuses it (its words in the comment).
+    // "not in a subroutine definition"
+    assert!(error_at("G0 X1\no1 endsub\nM2\n", 2).contains("o1 endsub has no o1 sub before it"));
+    // "undefined O-word label"
+    assert!(error_at("o1 if [1]\no2 endif\nM2\n", 2).contains("o2 endif"));
+    assert!(error_at("G0 X1\no1 if [1]\nG0 X2\nM2\n", 2).contains("o1 if has no o1 endif"));
+    assert!(error_at("o1 while [1]\nG0 X2\nM2\n", 1).contains("o1 while has no o1 endwhile"));
+    assert!(error_at("o1 do\nG0 X2\no1 endwhile\nM2\n", 3).contains("o1 endwhile"));
+    assert!(error_at("o1 break\nM2\n", 1).contains("not inside a loop named o1"));
+    // "no matching while/do label … found 'repeat'"
+    assert!(error_at("o1 repeat [2]\no1 break\no1 endrepeat\nM2\n", 2).contains("not o1 repeat"));
+    assert!(error_at("o1 if [1]\no1 continue\no1 endif\nM2\n", 2).contains("not a loop"));
+    // "Nested subroutine definition"
+    assert!(error_at("o1 sub\no2 sub\no2 endsub\no1 endsub\nM2\n", 2).contains("top level"));
+    assert!(error_at("o1 if [1]\no1 else\no1 elseif [1]\no1 endif\nM2\n", 3).contains("after o1 else"));
+    assert!(error_at("o1 if [1]\no2 while [1]\no1 endif\no2 endwhile\nM2\n", 3).contains("must nest"));
+    assert!(error_at("o1 return\nM2\n", 1).contains("not inside o1 sub"));
+    assert!(error_at("o1 call [1\nM2\n", 1).contains("not closed"));
+    assert!(error_at("o1 frobnicate\nM2\n", 1).contains("expected sub, endsub"));
+    // "EOF in file … seeking o-word: o<missing>"
+    let e = error_at("G0 X1\no<missing> call\nM2\n", 2);
+    assert!(e.contains("o<missing> is not defined") && e.contains("missing.ngc"), "{e}");
+}
+
+#[test]
+fn bad_parameters_are_located_errors() {
+    // "Named parameter #<bar> not defined"
+    assert!(error_at("G0 X1\n#1=#<bar>\nM2\n", 2).contains("#<bar> is read before it is set"));
+    // "Cannot assign to read-only parameter #<_x>"
+    assert!(error_at("#<_x>=1\nM2\n", 1).contains("predefined"));
+    assert!(error_at("#<_a>=1\nM2\n", 1).contains("predefined"));
+    // A local named parameter is not seen in a subroutine: rs274 prints
+    // "in ######" for it.
+    let ran = run("#<a>=1\no1 sub\n(debug, in #<a>)\no1 endsub\no1 call\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, [" in ######"]);
+    assert!(error_at("#1=[1/0]\nM2\n", 1).contains("division by zero"));
+    assert!(error_at("#1=POW[2,3]\nM2\n", 1).contains("write a ** b"));
+    assert!(error_at("#1=EXISTS[#2]\nM2\n", 1).contains("EXISTS takes a named parameter"));
+}
+
+#[test]
+fn a_loop_without_end_stops_at_the_step_limit() {
+    let settings = Settings { step_limit: 10_000, ..settings() };
+    let ran = run_with("#1=0\no1 while [1]\n#1=[#1+1]\no1 endwhile\nM2\n", &[], &settings);
+    let e = ran.error().expect("a runaway error");
+    assert!(e.starts_with("t.ngc:2:") && e.contains("the o1 while loop does not seem to end"), "{e}");
+    let ran = run_with("o1 do\no1 while [1]\nM2\n", &[], &settings);
+    assert!(ran.error().unwrap().contains("the o1 do loop does not seem to end"));
+    let ran = run_with("o2 sub\no2 call\no2 endsub\no2 call\nM2\n", &[], &settings);
+    assert!(ran.error().unwrap().contains("nested deeper"));
+}
+
+#[test]
+fn linuxcnc_numbered_parameters_are_plain_globals() {
+    // rs274: #31…#5000 hold what they are given; #1000 (a Fanuc input
+    // signal) and #3000 (a Fanuc alarm) are plain parameters too; never
+    // set, a parameter reads 0.
+    let ran = run("#31=4 #5000=2 #4999=1\n(debug, #31 #5000 #3000 #1000)\n#1000=5\n(debug, #1000)\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, [" 4.000000 2.000000 0.000000 0.000000", " 5.000000"]);
+    // A word with a parameter never set is 0, not left out (Fanuc's vacant).
+    let ran = run("G1 X#7 Y1 F1\nM2\n").ok();
+    assert_ends(&ran, &[[0.0, 1.0, 0.0]]);
+}
+
+#[test]
+fn fanuc_reading_is_unchanged() {
+    // The same words in the Fanuc dialect: O-words and named parameters
+    // are not Fanuc's.
+    let mut sources = Sources::default();
+    let text = "o1 if [1]\nG0 X1\no1 endif\nM30\n";
+    let file = sources.add(SourceFile::new("t.nc", text));
+    let mut program = Program::default();
+    assert!(parse_as(&mut program, file, text, Dialect::Fanuc).is_empty());
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, &Settings::default());
+    assert!(outcome.diagnostics.iter().any(|d| d.message.contains("not supported yet")));
+}
+
+/// Runs each program above through rs274 where it is installed and checks
+/// that its motion end points are the ones written into the tests.
+#[test]
+fn rs274_agrees() {
+    let rs274 = std::path::Path::new("/usr/bin/rs274");
+    if !rs274.exists() {
+        eprintln!("rs274_agrees: skipped, /usr/bin/rs274 is not installed (Debian's linuxcnc-uspace has it)");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("kezuri-linuxcnc-flow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS].iter().enumerate() {
+        let path = dir.join(format!("p{i}.ngc"));
+        std::fs::write(&path, text).unwrap();
+        let out = std::process::Command::new(rs274).arg("-g").arg(&path).current_dir(&dir).output().unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let mut theirs = Vec::new();
+        let mut inch = false;
+        for line in stdout.lines() {
+            inch |= line.contains("USE_LENGTH_UNITS(CANON_UNITS_INCHES)");
+            if line.contains("USE_LENGTH_UNITS(CANON_UNITS_MM)") {
+                inch = false;
+            }
+            let Some(args) = line.split("STRAIGHT_FEED(").nth(1).or_else(|| line.split("STRAIGHT_TRAVERSE(").nth(1))
+            else {
+                continue;
+            };
+            let v: Vec<f64> = args.trim_end_matches(')').split(',').map(|s| s.trim().parse().unwrap()).collect();
+            let k = if inch { 25.4 } else { 1.0 };
+            theirs.push([v[0] * k, v[1] * k, v[2] * k]);
+        }
+        let ours = run(text).ok().ends();
+        assert_eq!(ours.len(), theirs.len(), "program {i}: ours {ours:?}\nrs274 {theirs:?}\n{stdout}");
+        for (a, b) in ours.iter().zip(&theirs) {
+            assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-3), "program {i}: {a:?} vs rs274 {b:?}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
