@@ -491,7 +491,14 @@ impl State {
         line: u32,
     ) -> Result<bool, Diagnostic> {
         let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
+        if w.polar() {
+            self.polar_rules(one_shot, w)?;
+        }
+        let lcnc = self.settings.dialect == crate::Dialect::LinuxCnc;
         match one_shot {
+            Some((GCode::Dwell, gspan)) if lcnc && !w.has(b'P') => {
+                return Err(Diagnostic::error(gspan, "G4 needs P, the dwell in seconds (LinuxCNC reads no X dwell)"));
+            }
             Some((GCode::Dwell, gspan)) => {
                 let seconds = match (w.get(b'P'), w.get(b'X')) {
                     // P is milliseconds on a Fanuc control, seconds on LinuxCNC and GRBL.
@@ -514,8 +521,11 @@ impl State {
                 // `G04 P.001 G00 X1. Y1.` (LinuxCNC programs write it): the
                 // dwell, then the block's motion. With X the dwell time,
                 // nothing moves.
+                // LinuxCNC dwells first in every block (its order of
+                // execution), then makes the block's motion in the motion
+                // mode in force: a canned cycle's holes too.
                 let motion_code = codes.iter().flatten().any(|(c, _)| matches!(c, GCode::Motion(_)));
-                if !(w.has(b'P') && motion_code && w.any_axis()) {
+                if !(w.has(b'P') && (motion_code || lcnc) && (w.any_axis() || (lcnc && w.has(b'R')))) {
                     return Ok(false);
                 }
             }
@@ -686,6 +696,38 @@ impl State {
             }
         }
         Ok(true)
+    }
+
+    /// LinuxCNC's rules for the polar words `@` and `^`: they name X and Y
+    /// (neither may be given with them) in the XY plane, on a motion or a
+    /// canned cycle's hole (with a dwell before it, but with no other
+    /// one-shot code: G53, G28, G92, G10 …).
+    fn polar_rules(&self, one_shot: Option<(GCode, Span)>, w: &Words) -> Result<(), Diagnostic> {
+        let at = if w.has(b'@') { w.span(b'@') } else { w.span(b'^') };
+        for letter in [b'X', b'Y'] {
+            if w.has(letter) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!("{} with a polar word (@ ^): give the point in X Y or in @ ^, not both", letter as char),
+                ));
+            }
+        }
+        match one_shot {
+            None | Some((GCode::Dwell, _)) => {}
+            Some((GCode::MachineCoords, gspan)) => {
+                return Err(Diagnostic::error(gspan, "G53 cannot take polar words (@ ^): give X Y"))
+            }
+            Some((_, gspan)) => {
+                return Err(Diagnostic::error(gspan, "polar words (@ ^) are for motion only: give this code its X Y"))
+            }
+        }
+        if self.modal.plane != kezuri_geom::Plane::Xy {
+            return Err(Diagnostic::error(at, "polar words (@ ^) need the XY plane (G17)"));
+        }
+        if self.modal.cycle.is_none() {
+            self.polar_from_origin(w, at)?;
+        }
+        Ok(())
     }
 
     fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {
