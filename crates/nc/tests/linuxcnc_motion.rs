@@ -220,3 +220,46 @@ fn g4_dwells_before_the_blocks_motion() {
         "t.ngc:1:5: error: G4 needs P, the dwell in seconds (LinuxCNC reads no X dwell)"
     );
 }
+
+// ---- G10 L1, L10, L11, L20 ----
+
+/// The length offset in force (mm) at the end of each move.
+fn lengths(t: &Toolpath) -> Vec<f64> {
+    let r = |v: f64| (v * 1e4).round() / 1e4;
+    t.moves.iter().map(|m| r(t.frames[m.frame as usize].length.map_or(0.0, |l| l.value))).collect()
+}
+
+#[test]
+fn g10_l10_and_l11_set_the_length_that_makes_z_read_the_value() {
+    // rs274 -t with tool 1 at 254 mm: at Z5 under G43, `G10 L10 P1 Z1.5`
+    // sets 257.5 (so that Z reads 1.5); the offset in force stays 254 until
+    // G43 reloads it. Under G92 Z0 from Z3 (shift 3), L10 Z1 sets 256.5; in
+    // G55 with the G92 shift, L11 Z2 ignores G92 and uses G59.3 (0): 257.5.
+    let mut s = settings();
+    s.tool_lengths.insert(1, 254.0);
+    let t = path_with(
+        "G21 T1 M6 G43\nG0 X0 Y0 Z5\nG10 L10 P1 Z1.5\nG0 Z4\nG43\nG0 Z3\nG92 Z0\nG10 L10 P1 Z1\nG43\nG0 Z0\n\
+         G55\nG10 L11 P1 Z2\nG43\nG0 Z1\nM2\n",
+        &s,
+    );
+    assert_eq!(lengths(&t), [254.0, 254.0, 257.5, 256.5, 257.5]);
+    // L1 sets the table as given, also only at the next G43.
+    let t = path_with("G21 T1 M6 G43\nG0 Z5\nG10 L1 P1 Z100 R3\nG0 Z4\nG43\nG0 Z3\nM2\n", &s);
+    assert_eq!(lengths(&t), [254.0, 254.0, 100.0]);
+}
+
+#[test]
+fn g10_tool_table_errors() {
+    // LinuxCNC: an error with cutter compensation on, or P0.
+    let mut s = settings();
+    s.tool_radii.insert(1, 3.0);
+    let (outcome, sources) = run_with("G21 T1 M6 G0 X0 Y0\nG41 G1 X10 F100\nG10 L10 P1 Z1\nM2\n", &s).unwrap();
+    let e = outcome.diagnostics.iter().find(|d| d.is_error()).unwrap();
+    assert_eq!(e.headline(&sources), "t.ngc:3:1: error: G10 L10 with cutter compensation on (G41/G42): give G40 first");
+    assert!(error("G21 G10 L11 P0 Z1\nM2\n").contains("G10 L11 needs the offset number P1 to P999"));
+    // kezuri keeps a length and a radius: an X offset is refused, located.
+    assert_eq!(
+        error("G21 G10 L1 P1 X2 Z1\nM2\n"),
+        "t.ngc:1:15: error: G10 L1 X: kezuri keeps a tool's length (Z) and radius (R) only"
+    );
+}

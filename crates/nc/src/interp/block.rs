@@ -288,7 +288,14 @@ impl State {
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::LengthComp(positive) => {
                 // LinuxCNC: G43 without H takes the tool in the spindle.
-                let default = if self.settings.coords.control == Control::LinuxCnc { self.tool } else { 0 };
+                // An M6 in the block comes first (LinuxCNC's order of execution).
+                let changed = w.m[..w.m_count].iter().any(|m| m.0 == 6);
+                let in_spindle = match w.get(b'T') {
+                    Some(t) if changed && t.fract() == 0.0 && (0.0..=99_999_999.0).contains(&t) => t as u32,
+                    _ if changed => self.pending_tool,
+                    _ => self.tool,
+                };
+                let default = if self.settings.coords.control == Control::LinuxCnc { in_spindle } else { 0 };
                 let h = w.get(b'H').map_or(Ok(default), |h| whole(h, w.span(b'H'), "H number"))?;
                 // H0 is no offset on every control: it always reads 0.
                 if h != 0 && self.tool_length(h).is_none() {
@@ -297,10 +304,20 @@ impl State {
                 }
                 self.last.h = f64::from(h);
                 self.modal.length_comp = Some((if positive { 1.0 } else { -1.0 }, h));
+                // LinuxCNC loads the table's length now: a later G10 L1/L10/L11
+                // changes it only at the next G43.
+                self.length_loaded = (self.settings.coords.control == Control::LinuxCnc).then(|| {
+                    if h == 0 {
+                        0.0
+                    } else {
+                        self.tool_length(h).unwrap_or(0.0)
+                    }
+                });
                 self.guessed = AxisSet(self.guessed.0 | 0b100);
             }
             GCode::LengthCompOff => {
                 self.modal.length_comp = None;
+                self.length_loaded = None;
                 self.guessed = AxisSet(self.guessed.0 | 0b100);
             }
             GCode::WorkOffset(i) => self.select_work_offset(i),
@@ -534,6 +551,7 @@ impl State {
                 if code == GCode::Home && control == Control::Haas {
                     // Haas: G28 cancels the tool length offset.
                     self.modal.length_comp = None;
+                    self.length_loaded = None;
                 }
                 let every_axis = match code {
                     GCode::Home => control != Control::Fanuc,
