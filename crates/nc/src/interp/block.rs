@@ -151,7 +151,13 @@ impl State {
             if let GCode::Smoothing(tenths) | GCode::PathMode(tenths) = code {
                 // How the control joins and smooths moves: the machine keeps it.
                 let words = w.as_written(b"PQREL");
-                let text = if words.is_empty() { g_name(tenths) } else { format!("{} {words}", g_name(tenths)) };
+                let mut text = if words.is_empty() { g_name(tenths) } else { format!("{} {words}", g_name(tenths)) };
+                if self.modal.path_tolerance.is_some() && code == GCode::PathMode(640) {
+                    // LinuxCNC's P and Q are lengths in the program's units:
+                    // the units go with them (the writer restores its own).
+                    let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
+                    text = format!("{units} {text}");
+                }
                 self.keep(text, 0, false, line);
             }
         }
@@ -338,7 +344,14 @@ impl State {
             }
             GCode::CycleOff => self.end_cycle(),
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
-            GCode::PathMode(g) => self.modal.path_mode = g,
+            GCode::PathMode(g) => {
+                self.modal.path_mode = g;
+                let lcnc = self.settings.coords.control == Control::LinuxCnc;
+                self.modal.path_tolerance = match w.get(b'P') {
+                    Some(p) if g == 640 && lcnc => Some((self.mm(p), w.get(b'Q').map(|q| self.mm(q)))),
+                    _ => None,
+                };
+            }
             GCode::CannedCycle(Cycle::FineBore) if self.settings.coords.control == Control::LinuxCnc => {
                 return Err(Diagnostic::error(gspan, "LinuxCNC's G76 is a lathe threading cycle: not supported"));
             }
