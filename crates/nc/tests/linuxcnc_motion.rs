@@ -263,3 +263,21 @@ fn g10_tool_table_errors() {
         "t.ngc:1:15: error: G10 L1 X: kezuri keeps a tool's length (Z) and radius (R) only"
     );
 }
+
+// ---- M98 / M99 ----
+
+#[test]
+fn m98_calls_an_o_numbered_subprogram_of_the_file_as_linuxcnc_2_9() {
+    // rs274 (2.9): `M98 P100 L2` runs O100 … M99 twice; nested calls
+    // return; P20100 is program O20100, once (no count in front of four
+    // digits, as on Fanuc).
+    let x = |t: &Toolpath| t.moves.iter().map(|m| (m.end.x, m.end.y)).collect::<Vec<_>>();
+    let t = path("G21\nG0 X0 Y0\nM98 P100 L2\nG0 X50\nM2\nO100\nG91 G0 X10\nG90\nM99\n");
+    assert_eq!(x(&t), [(0.0, 0.0), (10.0, 0.0), (20.0, 0.0), (50.0, 0.0)]);
+    let t = path("G21\nG0 X0 Y0\nM98 P20100\nG0 X50\nM2\nO20100\nG91 G0 X10\nG90\nM99\n");
+    assert_eq!(x(&t), [(0.0, 0.0), (10.0, 0.0), (50.0, 0.0)]);
+    let t = path("G21\nG0 X0 Y0\nM98 P100\nM2\nO100\nG91 G0 X10\nG90\nM98 P200\nM99\nO200\nG0 Y5\nM99\n");
+    assert_eq!(x(&t), [(0.0, 0.0), (10.0, 0.0), (10.0, 5.0)]);
+    // A program that is not there: located (rs274: "EOF … seeking o-word").
+    assert!(error("G21\nM98 P300\nM2\n").starts_with("t.ngc:2:1: error: program O0300 is not in the file"));
+}

@@ -266,8 +266,9 @@ impl State {
         let mut repeats = 1;
         match w.get(b'L') {
             Some(l) => repeats = whole(l, w.span(b'L'), "repeat count")?,
-            // M98 P50010: five times O0010 (count in front of four digits).
-            None if program > 9999 => {
+            // M98 P50010: five times O0010 (count in front of four digits);
+            // LinuxCNC 2.9 reads program O50010, once.
+            None if program > 9999 && self.settings.dialect != crate::Dialect::LinuxCnc => {
                 repeats = program / 10_000;
                 program %= 10_000;
             }
