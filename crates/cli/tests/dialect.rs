@@ -147,3 +147,29 @@ fn var_file_gives_the_starting_parameters() {
     let o = kezuri(&["run", &nc, "--var", &var, "--emit", "csv"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("--var is LinuxCNC's parameter file"));
 }
+
+#[test]
+fn linuxcnc_motion_words_in_written_programs() {
+    let dir = tempfile::tempdir().unwrap();
+    // G64 P Q stays in the written program, its lengths with the units they
+    // are in (rs274: SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0.05)).
+    let file = path(dir.path(), "blend.ngc");
+    std::fs::write(&file, "G21 G64 P0.05 Q0.01\nG1 X10 F100\nG61\nG1 X20\nG64\nG1 X30\nM2\n").unwrap();
+    let out = ok(&kezuri(&["run", &file, "--post", "linuxcnc"]));
+    assert!(out.contains("\nG21 G64 P0.05 Q0.01\nG1 X10. F100.\nG61\nX20.\nG64\nX30.\n"), "{out}");
+    let file = path(dir.path(), "inch.ngc");
+    std::fs::write(&file, "G20 G64 P0.002\nG1 X1 F10\nM2\n").unwrap();
+    let out = ok(&kezuri(&["run", &file, "--post", "linuxcnc"]));
+    assert!(out.contains("\nG20 G64 P0.002\nG21\nG1 X25.4 F254.\n"), "{out}");
+    // Polar words are written as the X Y they name; sim and CSV have the
+    // moves (rs274: STRAIGHT_FEED(0, 10) then (-10, 0)).
+    let file = path(dir.path(), "polar.ngc");
+    std::fs::write(&file, "G21 G1 F100 @10 ^90\nG91 ^90\nM2\n").unwrap();
+    let out = ok(&kezuri(&["run", &file, "--post", "linuxcnc"]));
+    assert!(out.contains("\nG1 X0. Y10. F100.\nX-10. Y0.\n"), "{out}");
+    let csv = ok(&kezuri(&["run", &file, "--emit", "csv"]));
+    let xy: Vec<String> =
+        csv.lines().skip(1).map(|l| l.split(',').skip(2).take(2).collect::<Vec<_>>().join(" ")).collect();
+    assert_eq!(xy.len(), 2, "{csv}");
+    assert!(xy[1].starts_with("-10 "), "{csv}");
+}

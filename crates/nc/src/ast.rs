@@ -221,7 +221,7 @@ pub enum WordValue {
 /// of the block the word belongs to.
 #[derive(Clone, Copy)]
 pub struct Word {
-    /// The address, an upper-case ASCII letter.
+    /// The address, an upper-case ASCII letter (or LinuxCNC's polar `@`, `^`).
     pub letter: u8,
     kind: WordKind,
     /// Length of the word's text in bytes (capped at `u16::MAX`).

@@ -885,7 +885,15 @@ impl LineParser<'_> {
             if c == b'(' {
                 return Err(self.error_here("comment is not closed before the end of the line"));
             }
-            if !c.is_ascii_alphabetic() {
+            let polar = matches!(c, b'@' | b'^');
+            if polar && self.dialect != Dialect::LinuxCnc {
+                let what = if c == b'@' { "radius" } else { "angle" };
+                return Err(self.error_here(format!(
+                    "'{}' (a polar {what}) is a LinuxCNC word: give --dialect linuxcnc to read it",
+                    c as char
+                )));
+            }
+            if !c.is_ascii_alphabetic() && !polar {
                 return Err(self.error_here(format!("expected an address letter, found '{}'", self.char_here())));
             }
             if c == b'O' {

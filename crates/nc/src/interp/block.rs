@@ -153,7 +153,13 @@ impl State {
             if let GCode::Smoothing(tenths) | GCode::PathMode(tenths) = code {
                 // How the control joins and smooths moves: the machine keeps it.
                 let words = w.as_written(b"PQREL");
-                let text = if words.is_empty() { g_name(tenths) } else { format!("{} {words}", g_name(tenths)) };
+                let mut text = if words.is_empty() { g_name(tenths) } else { format!("{} {words}", g_name(tenths)) };
+                if self.modal.path_tolerance.is_some() && code == GCode::PathMode(640) {
+                    // LinuxCNC's P and Q are lengths in the program's units:
+                    // the units go with them (the writer restores its own).
+                    let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
+                    text = format!("{units} {text}");
+                }
                 self.keep(text, 0, false, line);
             }
         }
@@ -262,8 +268,9 @@ impl State {
         let mut repeats = 1;
         match w.get(b'L') {
             Some(l) => repeats = whole(l, w.span(b'L'), "repeat count")?,
-            // M98 P50010: five times O0010 (count in front of four digits).
-            None if program > 9999 => {
+            // M98 P50010: five times O0010 (count in front of four digits);
+            // LinuxCNC 2.9 reads program O50010, once.
+            None if program > 9999 && self.settings.dialect != crate::Dialect::LinuxCnc => {
                 repeats = program / 10_000;
                 program %= 10_000;
             }
@@ -290,7 +297,14 @@ impl State {
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::LengthComp(positive) => {
                 // LinuxCNC: G43 without H takes the tool in the spindle.
-                let default = if self.settings.coords.control == Control::LinuxCnc { self.tool } else { 0 };
+                // An M6 in the block comes first (LinuxCNC's order of execution).
+                let changed = w.m[..w.m_count].iter().any(|m| m.0 == 6);
+                let in_spindle = match w.get(b'T') {
+                    Some(t) if changed && t.fract() == 0.0 && (0.0..=99_999_999.0).contains(&t) => t as u32,
+                    _ if changed => self.pending_tool,
+                    _ => self.tool,
+                };
+                let default = if self.settings.coords.control == Control::LinuxCnc { in_spindle } else { 0 };
                 let h = w.get(b'H').map_or(Ok(default), |h| whole(h, w.span(b'H'), "H number"))?;
                 // H0 is no offset on every control: it always reads 0.
                 if h != 0 && self.tool_length(h).is_none() {
@@ -299,10 +313,20 @@ impl State {
                 }
                 self.last.h = f64::from(h);
                 self.modal.length_comp = Some((if positive { 1.0 } else { -1.0 }, h));
+                // LinuxCNC loads the table's length now: a later G10 L1/L10/L11
+                // changes it only at the next G43.
+                self.length_loaded = (self.settings.coords.control == Control::LinuxCnc).then(|| {
+                    if h == 0 {
+                        0.0
+                    } else {
+                        self.tool_length(h).unwrap_or(0.0)
+                    }
+                });
                 self.guessed = AxisSet(self.guessed.0 | 0b100);
             }
             GCode::LengthCompOff => {
                 self.modal.length_comp = None;
+                self.length_loaded = None;
                 self.guessed = AxisSet(self.guessed.0 | 0b100);
             }
             GCode::WorkOffset(i) => self.select_work_offset(i),
@@ -323,7 +347,14 @@ impl State {
             }
             GCode::CycleOff => self.end_cycle(),
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
-            GCode::PathMode(g) => self.modal.path_mode = g,
+            GCode::PathMode(g) => {
+                self.modal.path_mode = g;
+                let lcnc = self.settings.coords.control == Control::LinuxCnc;
+                self.modal.path_tolerance = match w.get(b'P') {
+                    Some(p) if g == 640 && lcnc => Some((self.mm(p), w.get(b'Q').map(|q| self.mm(q)))),
+                    _ => None,
+                };
+            }
             GCode::CannedCycle(Cycle::FineBore) if self.settings.coords.control == Control::LinuxCnc => {
                 return Err(Diagnostic::error(gspan, "LinuxCNC's G76 is a lathe threading cycle: not supported"));
             }
@@ -493,7 +524,14 @@ impl State {
         line: u32,
     ) -> Result<bool, Diagnostic> {
         let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
+        if w.polar() {
+            self.polar_rules(one_shot, w)?;
+        }
+        let lcnc = self.settings.dialect == crate::Dialect::LinuxCnc;
         match one_shot {
+            Some((GCode::Dwell, gspan)) if lcnc && !w.has(b'P') => {
+                return Err(Diagnostic::error(gspan, "G4 needs P, the dwell in seconds (LinuxCNC reads no X dwell)"));
+            }
             Some((GCode::Dwell, gspan)) => {
                 let seconds = match (w.get(b'P'), w.get(b'X')) {
                     // P is milliseconds on a Fanuc control, seconds on LinuxCNC and GRBL.
@@ -516,8 +554,11 @@ impl State {
                 // `G04 P.001 G00 X1. Y1.` (LinuxCNC programs write it): the
                 // dwell, then the block's motion. With X the dwell time,
                 // nothing moves.
+                // LinuxCNC dwells first in every block (its order of
+                // execution), then makes the block's motion in the motion
+                // mode in force: a canned cycle's holes too.
                 let motion_code = codes.iter().flatten().any(|(c, _)| matches!(c, GCode::Motion(_)));
-                if !(w.has(b'P') && motion_code && w.any_axis()) {
+                if !(w.has(b'P') && (motion_code || lcnc) && (w.any_axis() || (lcnc && w.has(b'R')))) {
                     return Ok(false);
                 }
             }
@@ -526,6 +567,7 @@ impl State {
                 if code == GCode::Home && control == Control::Haas {
                     // Haas: G28 cancels the tool length offset.
                     self.modal.length_comp = None;
+                    self.length_loaded = None;
                 }
                 let every_axis = match code {
                     GCode::Home => control != Control::Fanuc,
@@ -688,6 +730,38 @@ impl State {
             }
         }
         Ok(true)
+    }
+
+    /// LinuxCNC's rules for the polar words `@` and `^`: they name X and Y
+    /// (neither may be given with them) in the XY plane, on a motion or a
+    /// canned cycle's hole (with a dwell before it, but with no other
+    /// one-shot code: G53, G28, G92, G10 …).
+    fn polar_rules(&self, one_shot: Option<(GCode, Span)>, w: &Words) -> Result<(), Diagnostic> {
+        let at = if w.has(b'@') { w.span(b'@') } else { w.span(b'^') };
+        for letter in [b'X', b'Y'] {
+            if w.has(letter) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!("{} with a polar word (@ ^): give the point in X Y or in @ ^, not both", letter as char),
+                ));
+            }
+        }
+        match one_shot {
+            None | Some((GCode::Dwell, _)) => {}
+            Some((GCode::MachineCoords, gspan)) => {
+                return Err(Diagnostic::error(gspan, "G53 cannot take polar words (@ ^): give X Y"))
+            }
+            Some((_, gspan)) => {
+                return Err(Diagnostic::error(gspan, "polar words (@ ^) are for motion only: give this code its X Y"))
+            }
+        }
+        if self.modal.plane != kezuri_geom::Plane::Xy {
+            return Err(Diagnostic::error(at, "polar words (@ ^) need the XY plane (G17)"));
+        }
+        if self.modal.cycle.is_none() {
+            self.polar_from_origin(w, at)?;
+        }
+        Ok(())
     }
 
     fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {

@@ -239,6 +239,43 @@ impl State {
         })
     }
 
+    /// LinuxCNC's polar words `@` (radius) and `^` (angle, degrees from +X,
+    /// counter-clockwise): the X Y they name, in program coordinates (mm).
+    /// Both are about the XY zero: under G90 the values themselves (a word
+    /// left out keeps the tool's radius or angle), under G91 added to the
+    /// tool's radius and angle. `None` where the block has neither.
+    fn polar_point(&self, w: &Words) -> Option<[f64; 2]> {
+        if !w.polar() {
+            return None;
+        }
+        let p0 = self.program_position().to_array();
+        let (r0, a0) = (p0[0].hypot(p0[1]), p0[1].atan2(p0[0]).to_degrees());
+        let incremental = self.modal.distance == Distance::Incremental;
+        let base = |v: f64| if incremental { v } else { 0.0 };
+        let r = w.get(b'@').map_or(r0, |v| base(r0) + self.mm(v));
+        let a = w.get(b'^').map_or(a0, |v| base(a0) + v);
+        let (s, c) = deg(a);
+        Some([r * c, r * s])
+    }
+
+    /// LinuxCNC's errors for polar words: an incremental polar move from
+    /// the XY zero (its angle is undefined there).
+    pub(super) fn polar_from_origin(&self, w: &Words, span: Span) -> Result<(), Diagnostic> {
+        if !w.polar() || self.modal.distance != Distance::Incremental {
+            return Ok(());
+        }
+        let p = self.program_position();
+        if p.x.hypot(p.y) < 1e-9 {
+            let at = if w.has(b'@') { w.span(b'@') } else { w.span(b'^') };
+            let at = if at == Span::default() { span } else { at };
+            return Err(Diagnostic::error(
+                at,
+                "an incremental (G91) polar move cannot start at the XY zero: its angle is undefined there (LinuxCNC stops too)",
+            ));
+        }
+        Ok(())
+    }
+
     /// The end point, in machine coordinates, that the axis words ask for;
     /// remembers the program point for [`State::settle_program`].
     pub(super) fn program_target(&mut self, w: &Words) -> Axes {
@@ -253,6 +290,9 @@ impl State {
                     let v = if i < 3 { self.mm(v) } else { v };
                     p[i] = if incremental { p[i] + v } else { v };
                 }
+            }
+            if let Some([x, y]) = self.polar_point(w) {
+                (p[0], p[1]) = (x, y);
             }
             self.coords.pending = None;
             return Axes::from_array(add(p, o));
@@ -270,6 +310,9 @@ impl State {
                 let v = if i < 3 { self.mm(v) } else { v };
                 p[i] = if incremental { p[i] + v } else { v };
             }
+        }
+        if let Some([x, y]) = self.polar_point(w) {
+            (p[0], p[1]) = (x, y);
         }
         if self.coords.polar {
             let (i, j) = (plane.0, plane.1);

@@ -153,7 +153,8 @@ impl State {
             let shift = [w.get(b'I').map_or(0.0, |v| self.mm(v)), w.get(b'J').map_or(0.0, |v| self.mm(v))];
             self.hole.shift = Some(shift);
         }
-        let drills = plane_letters.iter().chain(b"ABC").any(|&l| w.has(l)) || w.has(depth_letter) || w.has(b'R');
+        let drills =
+            plane_letters.iter().chain(b"ABC").any(|&l| w.has(l)) || w.polar() || w.has(depth_letter) || w.has(b'R');
         let repeats = match (w.get(b'K'), w.get(b'L')) {
             (Some(_), Some(_)) => {
                 return Err(Diagnostic::error(w.span(b'L'), "give the repeat count in K or in L, not both"))
@@ -222,6 +223,9 @@ impl State {
         let place = w.without(depth_letter);
         for _ in 0..repeats {
             let start = self.toolpath.moves.len();
+            // LinuxCNC's polar words under G91 turn or step out from where
+            // the last hole was: none from the XY zero.
+            self.polar_from_origin(&place, span)?;
             let mut hole = self.target(&place);
             // Each level as it was given: a level in G90, in G91 R from the
             // initial level and the bottom from R.

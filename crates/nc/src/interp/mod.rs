@@ -267,6 +267,10 @@ struct State {
     length_wear: BTreeMap<u32, f64>,
     /// Tool radius wear by D number (G10 L13, #12001…).
     radius_wear: BTreeMap<u32, f64>,
+    /// LinuxCNC: the length G43 loaded from the tool table (mm). A G10
+    /// L1/L10/L11 changes the table, not the offset in force, until the
+    /// next G43. `None` elsewhere: the register is read as it is now.
+    length_loaded: Option<f64>,
     model_reads: Vec<ModelRead>,
     /// System variables the program has written (no longer the model's).
     set_by_program: BTreeSet<u32>,
@@ -354,6 +358,7 @@ impl State {
             holes: 0,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
+            length_loaded: None,
             model_reads: Vec::new(),
             set_by_program: BTreeSet::new(),
             panel: BTreeMap::new(),
@@ -408,9 +413,15 @@ impl State {
     /// Length compensation applied to Z by G43/G44.
     fn length_offset(&self) -> f64 {
         match self.modal.length_comp {
-            Some((sign, h)) => sign * self.tool_length(h).unwrap_or(0.0),
+            Some((sign, h)) => sign * self.length_in_force(h),
             None => 0.0,
         }
+    }
+
+    /// The length of offset `h` as G43 applies it now: what it loaded
+    /// (LinuxCNC), else the register.
+    fn length_in_force(&self, h: u32) -> f64 {
+        self.length_loaded.or_else(|| self.tool_length(h)).unwrap_or(0.0)
     }
 
     /// Tool length offset H`h`: its geometry (the tool table) and wear
@@ -434,7 +445,7 @@ impl State {
             length: self.modal.length_comp.map(|(sign, register)| LengthOffset {
                 register,
                 negative: sign < 0.0,
-                value: self.tool_length(register).unwrap_or(0.0),
+                value: self.length_in_force(register),
             }),
         }
     }

@@ -364,6 +364,9 @@ pub struct Modal {
     pub modal_call: Option<ModalCallKind>,
     /// Group 15: G61 … G64, as the G number × 10.
     pub path_mode: u32,
+    /// LinuxCNC's G64 P (the blending tolerance) and Q (the naive CAM
+    /// tolerance), mm, while G64 with P is in force.
+    pub path_tolerance: Option<(f64, Option<f64>)>,
     /// Group 9: the canned cycle in force (`None`: G80).
     pub cycle: Option<Cycle>,
     /// Group 10: G98 or G99.
@@ -383,6 +386,7 @@ impl Default for Modal {
             work_offset: 0,
             modal_call: None,
             path_mode: 640,
+            path_tolerance: None,
             cycle: None,
             cycle_return: CycleReturn::Initial,
         }

@@ -67,10 +67,31 @@ impl State {
                 self.guessed = AxisSet::ALL;
                 Ok(())
             }
-            (Some(1), Some(t @ 1..=999)) if self.settings.coords.control == Control::LinuxCnc => {
-                // LinuxCNC's tool table: Z the length, R the radius.
+            (Some(l @ (1 | 10 | 11)), Some(t @ 1..=999)) if linuxcnc => {
+                // LinuxCNC's tool table: Z the length, R the radius. L1 sets
+                // them; L10 the length such that, G43 reloaded, the current
+                // Z (every offset in force) reads the value; L11 the same in
+                // G59.3 without G52/G92.
+                if self.comp_on() {
+                    return Err(Diagnostic::error(
+                        gspan,
+                        format!("G10 L{l} with cutter compensation on (G41/G42): give G40 first"),
+                    ));
+                }
+                if let Some(letter) = b"XYABCUVW".iter().copied().find(|&c| w.has(c)) {
+                    return Err(Diagnostic::error(
+                        w.span(letter),
+                        format!("G10 L{l} {}: kezuri keeps a tool's length (Z) and radius (R) only", letter as char),
+                    ));
+                }
                 if let Some(z) = w.get(b'Z') {
                     let z = self.mm(z);
+                    let gauge = self.machine_position().z;
+                    let z = match l {
+                        10 => gauge - self.frame_offset().z - z,
+                        11 => gauge - self.work_offsets[linuxcnc_system(9)].z - z,
+                        _ => z,
+                    };
                     self.settings.tool_lengths.insert(t, z);
                     self.length_wear.remove(&t);
                 }

