@@ -30,34 +30,18 @@ use std::os::unix::process::ExitStatusExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 /// Mill programs that disagree today, each with its cause. A file named here
 /// that agrees, or that is no longer a mill program, fails the test.
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
-    ("axis/images/axis.ngc", "named parameters #<depth> (line 8, 518 uses): ngc-flow"),
-    (
-        "sample-configs/sim/axis/rose_engine/rcone_demo.ngc",
-        "named parameters #<v> (line 2), o<rcone> call of rcone.ngc: ngc-flow",
-    ),
-    (
-        "sample-configs/sim/axis/vismach/puma/puma_cube.ngc",
-        "named parameters #<xmin> (line 28): ngc-flow; G10 L2: ngc-words",
-    ),
-    ("ncfiles/3D_Chips.ngc", "named parameters #<xscale> (line 8, 8933 uses): ngc-flow"),
-    ("ncfiles/daisy.ngc", "two assignments on one line #41=0 #42=0 (line 24), sub/call/if/else: ngc-flow; G93"),
-    ("ncfiles/flowsnake.ngc", "recursive o1000 sub/call/if (line 5), named parameters: ngc-flow"),
     (
         "ncfiles/gmoccapy_2_tools_with_cutter_radius_compensation.ngc",
         "G43 without H after T3 M6, then G0 X50 Y50 without Z (line 21): rs274's tip is the tool's length (7.62 mm) \
-         below the spindle at machine Z0, kezuri's at Z0; again after T1 M6 (line 61): ngc-words",
+         below the spindle at machine Z0, kezuri's at Z0; again after T1 M6 (line 61)",
     ),
-    ("ncfiles/hole-circle.ngc", "polar ^ (line 10) in a G81 cycle: ngc-words"),
-    ("ncfiles/mmount.ngc", "o100 sub/while/call (line 30): ngc-flow; G33.1 rigid tapping, G53, G55-G57: ngc-words"),
-    ("ncfiles/polar.ngc", "polar @ ^ (line 10), in G81 and G91: ngc-words"),
-    ("ncfiles/spiral.ngc", "polar @ ^ incremental (line 9): ngc-words; o repeat: ngc-flow"),
-    ("ncfiles/useful-subroutines.ngc", "o100 sub/while/call (line 14), G41 in a subroutine: ngc-flow"),
+    ("ncfiles/mmount.ngc", "G33.1 rigid tapping"),
+    ("ncfiles/useful-subroutines.ngc", "G41 in a subroutine"),
 ];
 
 /// The tool table both interpreters get: rs274 reads it in inches (its
@@ -269,13 +253,6 @@ fn rs274(file: &Path, dir: &Path, table: &Path, scratch: &Path) -> Canon {
 
 // ---------------------------------------------------------------- kezuri
 
-/// Whether this kezuri has `--dialect` (the ngc-words branch); without it
-/// `--no-decimal units` reads LinuxCNC's numbers.
-fn has_dialect() -> bool {
-    static HAS: OnceLock<bool> = OnceLock::new();
-    *HAS.get_or_init(|| common::ok(&common::kezuri(&["run", "--help"])).contains("--dialect"))
-}
-
 /// Reads kezuri's CSV (`line,kind,x,y,z,a,b,c,feed`).
 fn read_csv(text: &str) -> Vec<Motion> {
     text.lines()
@@ -302,12 +279,7 @@ fn kezuri_linuxcnc(file: &Path, dir: &Path, machine: &Path, scratch: &Path) -> R
     let csv = scratch.join("kezuri.csv");
     let _ = std::fs::remove_file(&csv);
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_kezuri"));
-    cmd.arg("run").arg(file);
-    if has_dialect() {
-        cmd.args(["--dialect", "linuxcnc"]);
-    } else {
-        cmd.args(["--no-decimal", "units"]);
-    }
+    cmd.arg("run").arg(file).args(["--dialect", "linuxcnc"]);
     cmd.arg("--lib").arg(dir).arg("--machine").arg(machine).args(["--emit", "csv", "-o"]).arg(&csv);
     kezuri_done(run_limited(cmd, dir, scratch, "kezuri"), &csv)
 }
@@ -720,9 +692,8 @@ fn linuxcnc_examples_agree_with_rs274() {
         println!("  {count:4}  {name}");
     }
     println!(
-        "{agree} of {mill} mill programs agree with rs274 ({expected_to_agree} expected to; {} expected failures); kezuri {}",
-        mill - expected_to_agree,
-        if has_dialect() { "--dialect linuxcnc" } else { "--no-decimal units (no --dialect yet)" }
+        "{agree} of {mill} mill programs agree with rs274 ({expected_to_agree} expected to; {} expected failures)",
+        mill - expected_to_agree
     );
     assert!(
         failures.is_empty(),
@@ -804,11 +775,6 @@ G0 Z20
 M2
 ";
 
-/// Why the O-word program cannot make the trip yet (`None` once it can):
-/// while set, the test fails if the trip succeeds, so that this is cleared.
-const OWORDS_TO_FANUC_EXPECTED_FAILURE: Option<&str> =
-    Some("kezuri does not read O-words (sub/call/while/if/repeat) nor named parameters: ngc-flow");
-
 /// The scratch folder, tool table (T1 1 in, T21 3 in long, read by rs274
 /// in inches) and the machine file importing it for kezuri.
 fn between_dialects_setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
@@ -847,9 +813,7 @@ fn fanuc_macro_programs_written_for_linuxcnc_move_the_same_in_rs274() {
         let name = program.file_name().unwrap().to_string_lossy().into_owned();
         let p = program.to_string_lossy();
         let m = machine.to_string_lossy();
-        let fanuc = if has_dialect() { vec!["--dialect", "fanuc"] } else { Vec::new() };
-        let mut args = vec![&*p, "--machine", &*m];
-        args.extend(&fanuc);
+        let args = vec![&*p, "--machine", &*m, "--dialect", "fanuc"];
         let ours = kezuri_csv(&args, d, &d.join(format!("{name}.csv"))).unwrap_or_else(|e| panic!("{name}: {e}"));
         let ngc = d.join(format!("{name}.ngc"));
         let mut write = vec!["run"];
@@ -888,12 +852,7 @@ fn linuxcnc_oword_program_written_for_fanuc_moves_as_rs274_does() {
     let trip = || -> Result<Vec<Motion>, String> {
         let fanuc = d.join("owords-fanuc.nc");
         let mut cmd = Command::new(env!("CARGO_BIN_EXE_kezuri"));
-        cmd.arg("run").arg(&original);
-        if has_dialect() {
-            cmd.args(["--dialect", "linuxcnc"]);
-        } else {
-            cmd.args(["--no-decimal", "units"]);
-        }
+        cmd.arg("run").arg(&original).args(["--dialect", "linuxcnc"]);
         cmd.arg("--machine").arg(&machine).args(["--emit", "fanuc", "-o"]).arg(&fanuc);
         let done = run_limited(cmd, d, d, "to-fanuc");
         if done.status != Some(0) {
@@ -901,23 +860,16 @@ fn linuxcnc_oword_program_written_for_fanuc_moves_as_rs274_does() {
             return Err(format!("kezuri run --emit fanuc: {said}"));
         }
         let (f, m) = (fanuc.to_string_lossy(), machine.to_string_lossy());
-        let mut args = vec![&*f, "--machine", &*m];
-        if has_dialect() {
-            args.extend(["--dialect", "fanuc"]);
-        }
+        let args = vec![&*f, "--machine", &*m, "--dialect", "fanuc"];
         let ours = kezuri_csv(&args, d, &d.join("owords-fanuc.csv"))?;
         match first_difference(&ours, &canon.motions) {
             Some(diff) => Err(format!("the Fanuc program moves otherwise than rs274:\n      {diff}")),
             None => Ok(ours),
         }
     };
-    match (trip(), OWORDS_TO_FANUC_EXPECTED_FAILURE) {
-        (Ok(ours), None) => println!("{} motions, as rs274's", ours.len()),
-        (Ok(_), Some(why)) => {
-            panic!("the O-word program now makes the trip: clear OWORDS_TO_FANUC_EXPECTED_FAILURE (\"{why}\")")
-        }
-        (Err(e), Some(why)) => println!("expected failure ({why}): {e}"),
-        (Err(e), None) => panic!("{e}"),
+    match trip() {
+        Ok(ours) => println!("{} motions, as rs274's", ours.len()),
+        Err(e) => panic!("{e}"),
     }
 }
 

@@ -212,7 +212,11 @@ fn linuxcnc_applies_the_length_offset_before_the_first_z_move() {
     std::fs::write(&table, "T1 P1 Z1.0 D0.24\nT2 P2 Z2.0 D0.12\nT5 P5 Z3.0 D0.16\n").unwrap();
     for (what, file) in made(dir.path(), "linuxcnc") {
         let canon = path(dir.path(), "canon.txt");
-        let o = Command::new("rs274").args(["-g", "-t", &table, &file, &canon]).output().unwrap();
+        // rs274 keeps its tool table in $HOME/.tool.mmap and empties it on
+        // every run: runs side by side (other tests, other users) need a
+        // home each.
+        let o =
+            Command::new("rs274").args(["-g", "-t", &table, &file, &canon]).env("HOME", dir.path()).output().unwrap();
         let out = std::fs::read_to_string(&canon).unwrap_or_default();
         assert!(out.contains("PROGRAM_END"), "{what}: rs274 stopped\n{}\n{out}", String::from_utf8_lossy(&o.stdout));
         let (mut selected, mut tool, mut offset, mut z, mut changes) = (0, 0, None::<f64>, None::<f64>, 0);

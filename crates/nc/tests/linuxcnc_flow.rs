@@ -387,7 +387,13 @@ fn rs274_agrees() {
     for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS].iter().enumerate() {
         let path = dir.join(format!("p{i}.ngc"));
         std::fs::write(&path, text).unwrap();
-        let out = std::process::Command::new(rs274).arg("-g").arg(&path).current_dir(&dir).output().unwrap();
+        let out = std::process::Command::new(rs274)
+            .arg("-g")
+            .arg(&path)
+            .current_dir(&dir)
+            .env("HOME", &dir)
+            .output()
+            .unwrap();
         let stdout = String::from_utf8_lossy(&out.stdout);
         let mut theirs = Vec::new();
         let mut inch = false;
