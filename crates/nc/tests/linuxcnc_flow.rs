@@ -418,3 +418,46 @@ fn rs274_agrees() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+const PREDEFINED: &str = "(debug,v #<_vmajor> #<_vminor> #<_task> #<_call_level> #<_remap_level>)
+(debug,o #<_feed_override> #<_speed_override> #<_adaptive_feed> #<_feed_hold>)
+(debug,m #<_selected_pocket> #<_ijk_absolute_mode> #<_lathe_diameter_mode> #<_lathe_radius_mode> #<_spindle_css_mode> #<_spindle_rpm_mode>)
+(debug,n #<_coolant_flood> #<_tool_change>)
+T0
+(debug,t0 #<_selected_pocket>)
+T3 G90.1
+(debug,t #<_selected_tool> #<_selected_pocket> #<_ijk_absolute_mode>)
+o1 sub
+(debug,s #<_call_level> #<_remap_level>)
+o1 endsub
+o1 call
+G91.1
+(debug,i #<_ijk_absolute_mode>)
+M2
+";
+
+#[test]
+fn predefined_parameters_read_as_rs274_reads_them() {
+    // rs274 -g, its MESSAGE lines. `_coolant_flood` and `_tool_change` are
+    // not LinuxCNC's (its coolant ones are `_flood` and `_mist`).
+    let ran = run(PREDEFINED).ok();
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            "v 2.900000 0.000000 0.000000 0.000000 0.000000",
+            "o 1.000000 1.000000 0.000000 1.000000",
+            "m -1.000000 0.000000 0.000000 1.000000 0.000000 1.000000",
+            "n ###### ######",
+            "t0 -1.000000",
+            "t 3.000000 3.000000 1.000000",
+            "s 1.000000 0.000000",
+            "i 0.000000",
+        ]
+    );
+    // "Cannot assign to read-only parameter #<_vmajor>"
+    assert!(error_at("#<_vmajor>=1\nM2\n", 1).contains("predefined"));
+    assert!(error_at("G0 X1\n#<_feed_override>=0.5\nM2\n", 2).contains("predefined"));
+    // Kezuri's machine works in mm (rs274 run alone reads -1 here).
+    let ran = run("(debug,#<_metric_machine> #<_current_pocket>)\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["1.000000 0.000000"]);
+}
