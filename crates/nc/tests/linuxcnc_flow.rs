@@ -384,7 +384,7 @@ fn rs274_agrees() {
     }
     let dir = std::env::temp_dir().join(format!("kezuri-linuxcnc-flow-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS].iter().enumerate() {
+    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS, MIXED_LINES].iter().enumerate() {
         let path = dir.join(format!("p{i}.ngc"));
         std::fs::write(&path, text).unwrap();
         let out = std::process::Command::new(rs274)
@@ -460,4 +460,104 @@ fn predefined_parameters_read_as_rs274_reads_them() {
     // Kezuri's machine works in mm (rs274 run alone reads -1 here).
     let ran = run("(debug,#<_metric_machine> #<_current_pocket>)\nM2\n").ok();
     assert_eq!(ran.outcome.prints, ["1.000000 0.000000"]);
+}
+
+const MIXED_LINES: &str = "F100
+#1=5 G1 X#1 Y[#1+1]
+(debug,after #1)
+G1 X#1 #1=7 Y#1 #2=#1
+(debug,now #1 #2)
+#3=2 (debug,same #3) G1 Z#3
+#<foo>=3 #<_g>=[#<foo>+1] G1 X#<foo>
+(debug,g #<_g> foo #<foo>)
+#<foo>=9 G1 Y#<foo> #<bar>=[#<foo>*2]
+(debug,foo #<foo> bar #<bar>)
+#4=1 #4=2
+(debug,last #4)
+G1 X1 (debug,a) (debug,b #1)
+G1 X2 (debug,c) (plain)
+G1 X3 ; (debug,semi)
+(msg, hello #1 there)
+(MSG,loud)
+G1 X4 (print,p) (msg,m)
+(logopen,run.log)
+(log,first #1 #<_x>)
+G1 X5 (log,second #2)
+(logclose)
+(log,nowhere)
+(logappend,run.log)
+(log,third)
+(LOGCLOSE)
+M2 (debug,end)
+";
+
+#[test]
+fn a_line_of_settings_words_and_comments_runs_as_rs274_runs_it() {
+    let ran = run(MIXED_LINES).ok();
+    // rs274 -g: the words read the parameters as they were before the line
+    // (X#1 is X0 on line 2, Y#1 Y5 on line 4 after #1=7 in it), a named
+    // parameter first set on the line reads 0 after its setting (X#<foo>
+    // on line 7), the debug comment runs after the settings.
+    assert_ends(
+        &ran,
+        &[
+            [0.0, 1.0, 0.0],
+            [5.0, 5.0, 0.0],
+            [5.0, 5.0, 0.0],
+            [0.0, 5.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [1.0, 3.0, 0.0],
+            [2.0, 3.0, 0.0],
+            [3.0, 3.0, 0.0],
+            [4.0, 3.0, 0.0],
+            [5.0, 3.0, 0.0],
+        ],
+    );
+    // Its MESSAGE lines: only a line's last comment counts, none after ';',
+    // msg as written.
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            "after 5.000000",
+            "now 7.000000 5.000000",
+            "same 2.000000",
+            "g 1.000000 foo 3.000000",
+            "foo 9.000000 bar 6.000000",
+            "last 2.000000",
+            "b 7.000000",
+            " hello #1 there",
+            "loud",
+            "m",
+            "end",
+        ]
+    );
+    // Its LOGOPEN, LOG, LOGCLOSE, LOGAPPEND calls; the line logged with no
+    // file open goes nowhere, with a warning.
+    assert_eq!(
+        ran.outcome.logs,
+        [
+            interp::LogFile {
+                name: "run.log".into(),
+                append: false,
+                lines: vec!["first 7.000000 4.000000".into(), "second 5.000000".into()],
+            },
+            interp::LogFile { name: "run.log".into(), append: true, lines: vec!["third".into()] },
+        ]
+    );
+    let warning = ran.outcome.diagnostics.iter().find(|d| d.message.contains("no log file open")).expect("a warning");
+    assert_eq!(warning.render(&ran.sources).split(':').nth(1), Some("23"));
+}
+
+#[test]
+fn a_named_parameter_set_on_its_line_reads_0_after_the_setting() {
+    // rs274: `#<b>=[#<b>+1]` sets #<b> to 1 where it was not set.
+    let ran = run("#<b>=[#<b>+1]\n#<c>=[#<b>+1] #<d>=#<c>\n(debug,#<b> #<c> #<d>)\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["1.000000 2.000000 0.000000"]);
+    // Read before its setting on the line: "Named parameter #<baz> not defined".
+    assert!(error_at("F1\nG1 X#<baz> #<baz>=2\nM2\n", 2).contains("#<baz> is read before it is set"));
+    // An O-word after a setting: "Bad character 'o' used".
+    assert!(error_at("o100 sub\no100 endsub\n#1=5 o100 call\nM2\n", 3).contains("Bad character 'o' used"));
+    // A setting's bad value is located on its line, words or not.
+    assert!(error_at("G0 X1\nG1 X2 #1=[1/0]\nM2\n", 2).contains("division by zero"));
+    assert!(error_at("G0 X1\nG1 X[1/0] #1=2\nM2\n", 2).contains("division by zero"));
 }
