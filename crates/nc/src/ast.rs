@@ -483,6 +483,9 @@ pub enum Flow {
     Call {
         /// The arguments, at most 30.
         args: Vec<ExprId>,
+        /// `o#1 call`, `o[#1+1] call`: the subroutine's number, computed
+        /// when the call is made (the O-word's name is then `o0`).
+        number: Option<ExprId>,
     },
     /// `if [cond]`.
     If {

@@ -319,12 +319,12 @@ fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u32) -> std:
     let is_else = matches!(flow, Flow::Else { .. });
     match &mut flow {
         Flow::Sub { .. } => {
-            if let Some(outer) = open.last() {
+            // rs274ngc defines a sub inside an if or a loop where the run
+            // reaches it, but never inside another sub.
+            if let Some(outer) = open.iter().find(|o| o.kind == OpenKind::Sub) {
                 return Err(format!(
-                    "{name} sub is inside {} {} (line {}): a subroutine is defined at the top level of a file",
-                    outer.name,
-                    outer.kind.opener(),
-                    outer.line
+                    "{name} sub is inside {} sub (line {}): a subroutine is not defined inside another",
+                    outer.name, outer.line
                 ));
             }
             push(open, OpenKind::Sub);
@@ -336,7 +336,7 @@ fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u32) -> std:
             }
         }
         Flow::Return { .. } => {
-            if !open.first().is_some_and(|s| s.kind == OpenKind::Sub && s.name == name) {
+            if !open.iter().any(|s| s.kind == OpenKind::Sub && s.name == name) {
                 return Err(format!("{name} return is not inside {name} sub … {name} endsub"));
             }
         }
@@ -663,6 +663,23 @@ impl LineParser<'_> {
                 }
                 OName::Named(name)
             }
+            Some(b'#' | b'[') => {
+                // rs274ngc computes the number: kezuri does so for a call,
+                // whose subroutine is found when it is made.
+                let number = self.operand()?;
+                self.skip_blanks();
+                if !self.eat_keyword("CALL") {
+                    return Err(Diagnostic::error(
+                        self.span(start),
+                        "kezuri reads a computed O-word number (o#1, o[…]) in a call only: write the number here",
+                    ));
+                }
+                self.skip_blanks();
+                return Ok(Statement::OWord(Box::new(OWord {
+                    name: OName::Number(0),
+                    flow: Flow::Call { args: self.call_args()?, number: Some(number) },
+                })));
+            }
             Some(b'0'..=b'9') => {
                 let digits = self.b[self.pos..self.end].iter().take_while(|c| c.is_ascii_digit()).count();
                 let text = std::str::from_utf8(&self.b[self.pos..self.pos + digits]).unwrap_or("");
@@ -689,19 +706,7 @@ impl LineParser<'_> {
             "SUB" => Flow::Sub { end: UNLINKED },
             "ENDSUB" => Flow::EndSub { value: self.optional_bracketed()? },
             "RETURN" => Flow::Return { value: self.optional_bracketed()? },
-            "CALL" => {
-                let mut args = Vec::new();
-                while self.peek() == Some(b'[') {
-                    if args.len() == MAX_OWORD_ARGS {
-                        return Err(
-                            self.error_here(format!("a call passes at most {MAX_OWORD_ARGS} arguments (#1–#30)"))
-                        );
-                    }
-                    args.push(self.bracketed()?);
-                    self.skip_blanks();
-                }
-                Flow::Call { args }
-            }
+            "CALL" => Flow::Call { args: self.call_args()?, number: None },
             "IF" => Flow::If { cond: self.condition(keyword)?, next: UNLINKED, end: UNLINKED },
             "ELSEIF" => Flow::ElseIf { cond: self.condition(keyword)?, start: UNLINKED, next: UNLINKED },
             "ELSE" => Flow::Else { start: UNLINKED },
@@ -715,6 +720,19 @@ impl LineParser<'_> {
             _ => Flow::Continue { start: UNLINKED },
         };
         Ok(Statement::OWord(Box::new(OWord { name, flow })))
+    }
+
+    /// A call's arguments `[a] [b] …`.
+    fn call_args(&mut self) -> Result<Vec<ExprId>> {
+        let mut args = Vec::new();
+        while self.peek() == Some(b'[') {
+            if args.len() == MAX_OWORD_ARGS {
+                return Err(self.error_here(format!("a call passes at most {MAX_OWORD_ARGS} arguments (#1–#30)")));
+            }
+            args.push(self.bracketed()?);
+            self.skip_blanks();
+        }
+        Ok(args)
     }
 
     /// The `[…]` an O-word needs after `keyword`.

@@ -309,7 +309,8 @@ fn bad_o_words_are_located_errors() {
     assert!(error_at("o1 repeat [2]\no1 break\no1 endrepeat\nM2\n", 2).contains("not o1 repeat"));
     assert!(error_at("o1 if [1]\no1 continue\no1 endif\nM2\n", 2).contains("not a loop"));
     // "Nested subroutine definition"
-    assert!(error_at("o1 sub\no2 sub\no2 endsub\no1 endsub\nM2\n", 2).contains("top level"));
+    assert!(error_at("o1 sub\no2 sub\no2 endsub\no1 endsub\nM2\n", 2).contains("not defined inside another"));
+    assert!(error_at("o1 sub\no3 if [1]\no2 sub\no2 endsub\no3 endif\no1 endsub\nM2\n", 3).contains("inside o1 sub"));
     assert!(error_at("o1 if [1]\no1 else\no1 elseif [1]\no1 endif\nM2\n", 3).contains("after o1 else"));
     assert!(error_at("o1 if [1]\no2 while [1]\no1 endif\no2 endwhile\nM2\n", 3).contains("must nest"));
     assert!(error_at("o1 return\nM2\n", 1).contains("not inside o1 sub"));
@@ -560,4 +561,72 @@ fn a_named_parameter_set_on_its_line_reads_0_after_the_setting() {
     // A setting's bad value is located on its line, words or not.
     assert!(error_at("G0 X1\nG1 X2 #1=[1/0]\nM2\n", 2).contains("division by zero"));
     assert!(error_at("G0 X1\nG1 X[1/0] #1=2\nM2\n", 2).contains("division by zero"));
+}
+
+#[test]
+fn computed_o_word_numbers_call_as_rs274_calls_them() {
+    // rs274: `o#1 call` and `o[#1+1] call` call o100 and o101; a number
+    // within 0.0001 of a whole one is that one.
+    let text = "o100 sub\n(debug,in 100 #1)\no100 endsub\no101 sub\n(debug,in 101 #1)\no101 endsub\n#1=100\n\
+                o#1 call [1]\no[#1+1] call [2]\no[100.00009] call [3]\nM2\n";
+    let ran = run(text).ok();
+    assert_eq!(ran.outcome.prints, ["in 100 1.000000", "in 101 2.000000", "in 100 3.000000"]);
+    // From the library, by the number's file.
+    let ran =
+        run_with("#2=123\no#2 call [0] [5]\nM2\n", &[("123", "o123 sub\nG1 Y#2 F10\no123 endsub\n")], &settings());
+    assert_ends(&ran.ok(), &[[0.0, 5.0, 0.0]]);
+    // "Non integer value for integer"
+    assert!(error_at("o100 sub\no100 endsub\nG0 X1\no[100.0001] call\nM2\n", 4).contains("whole number"));
+    // "EOF … seeking o-word: o<-5>"
+    assert!(error_at("#1=-5\no#1 call\nM2\n", 2).contains("no subroutine"));
+    // kezuri computes the number of a call only.
+    assert!(error_at("#1=2\no#1 if [1]\no2 endif\nM2\n", 2).contains("in a call only"));
+}
+
+#[test]
+fn a_label_opens_one_construct_in_a_subroutine() {
+    // rs274: "duplicate O-word label - already defined in line 1", in the
+    // main program as in a sub, for if and while alike; stopped where the
+    // second is reached, after what ran before it.
+    let ran = run("F1\no1 if [1]\nG1 X1\no1 endif\no1 while [0]\no1 endwhile\nM2\n");
+    assert_ends(&ran, &[[1.0, 0.0, 0.0]]);
+    let e = ran.error().expect("an error");
+    assert!(e.starts_with("t.ngc:5:") && e.contains("o1 while reuses the label of o1 if (line 2)"), "{e}");
+    let text = "o100 sub\no1 if [1]\no1 endif\no1 if [1]\no1 endif\no100 endsub\no100 call\nM2\n";
+    assert!(run(text).error().unwrap().starts_with("t.ngc:4:"));
+    // The same label in two subs and the main program, a sub's and an if's,
+    // and one not reached (the branch not taken) are no duplicates.
+    let text = "o100 sub\no1 if [1]\n(debug,x)\no1 endif\no100 endsub\no101 sub\no1 if [1]\n(debug,y)\no1 endif\n\
+                o101 endsub\no1 if [1]\n(debug,z)\no1 endif\no100 call\no101 call\no100 if [1]\no100 endif\n\
+                o2 if [0]\no3 if [1]\no3 endif\no2 else\no3 repeat [2]\no3 endrepeat\no2 endif\nM2\n";
+    assert_eq!(run(text).ok().outcome.prints, ["z", "x", "y"]);
+}
+
+#[test]
+fn subroutines_are_defined_where_the_run_reaches_them() {
+    // rs274: a sub inside an if that runs is defined; inside one that does
+    // not, not ("EOF … seeking o-word: o<100>").
+    let ran = run("o1 if [1]\no100 sub\n(debug,in)\no100 endsub\no1 endif\no100 call\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["in"]);
+    let e = error_at("o1 if [0]\no100 sub\n(debug,in)\no100 endsub\no1 endif\no100 call\nM2\n", 6);
+    assert!(e.contains("o100 is not defined"), "{e}");
+    // In a repeat run once, defined; in a loop that reaches it twice, or
+    // reached after a call found it further on: "found in illegal location".
+    let ran = run("o1 repeat [1]\no100 sub\n(debug,in)\no100 endsub\no1 endrepeat\no100 call\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["in"]);
+    let text = "#1=0\no1 while [#1 LT 2]\no100 sub\no100 endsub\n#1=[#1+1]\no1 endwhile\nM2\n";
+    assert!(run(text).error().unwrap().starts_with("t.ngc:3:"));
+    let ran = run("o100 call\no100 sub\n(debug,in)\no100 endsub\nM2\n");
+    assert_eq!(ran.outcome.prints, ["in"]);
+    assert!(ran.error().unwrap().contains("reached a second time"));
+    // Two definitions: "redefining sub: o|100| already defined".
+    let e = run("o100 sub\no100 endsub\no100 sub\no100 endsub\nM2\n").error().unwrap();
+    assert!(e.starts_with("t.ngc:3:") && e.contains("t.ngc line 1 defines it"), "{e}");
+    // A library file's sub calls a sub its file defines before it: rs274
+    // does not find it there ("EOF in file:foo.ngc seeking o-word").
+    let foo =
+        "o<helper> sub\n(debug,helper)\no<helper> endsub\no<foo> sub\n(debug,foo)\no<helper> call\no<foo> endsub\n";
+    let ran = run_with("o<foo> call\nM2\n", &[("foo", foo)], &settings());
+    assert_eq!(ran.outcome.prints, ["foo"]);
+    assert!(ran.error().unwrap().contains("no helper.ngc"));
 }
