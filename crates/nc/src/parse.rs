@@ -89,7 +89,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
                     .push(Diagnostic::warning(Span::new(file, p.pos, end), "text after the closing '%' is ignored"));
                 break;
             }
-        } else if let Some(header) = p.program_header(&mut diagnostics).filter(|_| dialect != Dialect::LinuxCnc) {
+        } else if let Some(header) = p.program_header(&mut diagnostics) {
             finish_unit(program, &mut unit);
             after_end = false;
             unit = ProgramUnit {
@@ -522,7 +522,7 @@ impl LineParser<'_> {
     /// `O1234 (TITLE)` or `:1234`: returns the number and title.
     fn program_header(&mut self, diagnostics: &mut Vec<Diagnostic>) -> Option<(u32, Option<String>)> {
         let start = self.pos;
-        if !matches!(self.peek(), Some(b'O' | b':')) || self.dialect == Dialect::LinuxCnc {
+        if !matches!(self.peek(), Some(b'O' | b':')) {
             return None;
         }
         self.pos += 1;
@@ -532,7 +532,10 @@ impl LineParser<'_> {
         }
         let after_number = self.pos;
         self.skip_blanks();
-        if after_number == digits_start || OWORD_KEYWORDS.iter().any(|k| self.at_keyword(k)) {
+        // In LinuxCNC an `O` line with anything after the number is an
+        // O-word; alone (LinuxCNC 2.9's M98 subprograms) a program number.
+        let linuxcnc_oword = self.dialect == Dialect::LinuxCnc && self.pos < self.end;
+        if after_number == digits_start || linuxcnc_oword || OWORD_KEYWORDS.iter().any(|k| self.at_keyword(k)) {
             self.pos = start;
             return None;
         }
