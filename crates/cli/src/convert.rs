@@ -305,6 +305,7 @@ fn run_gcode(a: &ConvertArgs, dialect: Dialect, sources: &mut Sources, id: u32) 
     for line in &outcome.prints {
         eprintln!("DPRNT: {line}");
     }
+    crate::program::report_logs(&outcome);
     let errors = print_diagnostics(sources, &outcome.diagnostics);
     if errors > 0 {
         bail!("{name}: {errors} error(s); nothing written");

@@ -254,7 +254,18 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
             None => outcome.prints.iter().for_each(|l| eprintln!("DPRNT: {l}")),
         }
     }
+    report_logs(&outcome);
     Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
+}
+
+/// Reports the lines a LinuxCNC program logs (`(log,…)`) on standard error,
+/// each with its file: kezuri writes no file a program names.
+pub fn report_logs(outcome: &Outcome) {
+    for log in &outcome.logs {
+        for line in &log.lines {
+            eprintln!("LOG {}: {line}", log.name);
+        }
+    }
 }
 
 /// The axes `path` moves that `machine` does not have, each with the first

@@ -364,14 +364,56 @@ pub enum Statement {
     Assigns(Vec<(ExprId, ExprId)>),
     /// A LinuxCNC O-word: subroutines and structured control flow.
     OWord(Box<OWord>),
-    /// A LinuxCNC `(debug,…)` or `(print,…)` comment: a line for the
-    /// report, with `#n` and `#<name>` replaced by their values.
-    Message(Vec<PrintItem>),
+    /// A LinuxCNC comment command alone on its line: `(debug,…)`,
+    /// `(msg,…)`, `(log,…)` ….
+    Comment(CommentCommand),
+    /// A LinuxCNC line of more than one kind of thing: parameter settings,
+    /// words and a comment command. rs274ngc reads every value of the line
+    /// first (the words' and the settings', left to right), then sets the
+    /// parameters, then runs the comment, then the words.
+    Line(Box<Line>),
     /// Something recognised but not executed yet (LinuxCNC O-words, GRBL `$`
     /// commands, `BPRNT`); the text says what.
     Unsupported(String),
     /// Nothing but comments, a sequence number or an empty line.
     Empty,
+}
+
+/// A LinuxCNC comment that does something: the last comment of a line is
+/// the one LinuxCNC reads.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CommentCommand {
+    /// `(debug,…)` or `(print,…)`: a line for the report, with `#n` and
+    /// `#<name>` replaced by their values.
+    Debug(Vec<PrintItem>),
+    /// `(msg,…)`: a line for the report, as written.
+    Msg(String),
+    /// `(logopen,FILE)` (`append` false) or `(logappend,FILE)`.
+    LogOpen {
+        /// The file name, as written.
+        file: String,
+        /// `logappend`: add to the file rather than start it afresh.
+        append: bool,
+    },
+    /// `(logclose)`.
+    LogClose,
+    /// `(log,…)`: a line for the open log file, parameters replaced as in
+    /// `debug`.
+    Log(Vec<PrintItem>),
+}
+
+/// A LinuxCNC line of settings, words and a comment command.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Line {
+    /// The parameter settings `#n=…`, `#<name>=…`, in order, each with
+    /// the number of the line's words written before it.
+    pub settings: Vec<(ExprId, ExprId, u32)>,
+    /// The first word in [`Program::words`].
+    pub start: u32,
+    /// Number of words.
+    pub len: u32,
+    /// The comment command, if the line's last comment is one.
+    pub comment: Option<CommentCommand>,
 }
 
 /// The name of a LinuxCNC O-word: `o100` or `o<name>`.
@@ -441,6 +483,9 @@ pub enum Flow {
     Call {
         /// The arguments, at most 30.
         args: Vec<ExprId>,
+        /// `o#1 call`, `o[#1+1] call`: the subroutine's number, computed
+        /// when the call is made (the O-word's name is then `o0`).
+        number: Option<ExprId>,
     },
     /// `if [cond]`.
     If {
@@ -584,6 +629,7 @@ impl Program {
     pub fn words(&self, block: &Block) -> &[Word] {
         match block.statement {
             Statement::Words { start, len } => &self.words[start as usize..(start + len) as usize],
+            Statement::Line(ref l) => &self.words[l.start as usize..(l.start + l.len) as usize],
             _ => &[],
         }
     }

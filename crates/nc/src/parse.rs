@@ -7,8 +7,8 @@
 //! empty block, and parsing goes on with the next line.
 
 use crate::ast::{
-    BinOp, Block, Expr, ExprId, Flow, Func, OName, OWord, PrintItem, Program, ProgramUnit, Statement, Word, WordValue,
-    UNLINKED,
+    BinOp, Block, CommentCommand, Expr, ExprId, Flow, Func, Line, OName, OWord, PrintItem, Program, ProgramUnit,
+    Statement, Word, WordValue, UNLINKED,
 };
 use crate::source::{Diagnostic, FileId, Span};
 use crate::Dialect;
@@ -103,9 +103,10 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
             let exprs_mark = p.program.exprs.len();
             let block = match p.block(line) {
                 Ok(mut block) => {
-                    if dialect == Dialect::LinuxCnc && block.statement == Statement::Empty {
-                        if let Some(message) = p.message(pos) {
-                            block.statement = message;
+                    if dialect == Dialect::LinuxCnc && !matches!(block.statement, Statement::OWord(_)) {
+                        if let Some(command) = p.comment_command(pos) {
+                            block.statement =
+                                with_comment(std::mem::replace(&mut block.statement, Statement::Empty), command);
                         }
                     }
                     after_end |= ends_program(program, &block);
@@ -169,6 +170,36 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
         diagnostics.push(Diagnostic::error(at_end, "the file holds no program: no blocks to run"));
     }
     diagnostics
+}
+
+/// `statement` with the comment command of its line: run after the line's
+/// settings and before its words, as LinuxCNC runs them.
+fn with_comment(statement: Statement, command: CommentCommand) -> Statement {
+    match statement {
+        Statement::Empty => Statement::Comment(command),
+        Statement::Words { start, len } => {
+            Statement::Line(Box::new(Line { settings: Vec::new(), start, len, comment: Some(command) }))
+        }
+        Statement::Assign { var, value } => Statement::Line(Box::new(Line {
+            settings: vec![(var, value, 0)],
+            start: 0,
+            len: 0,
+            comment: Some(command),
+        })),
+        Statement::Assigns(list) => Statement::Line(Box::new(Line {
+            settings: list.into_iter().map(|(var, value)| (var, value, 0)).collect(),
+            start: 0,
+            len: 0,
+            comment: Some(command),
+        })),
+        Statement::Line(mut line) => {
+            line.comment = Some(command);
+            Statement::Line(line)
+        }
+        // A Fanuc statement read in this dialect (IF, GOTO …): its comment
+        // is a comment.
+        other => other,
+    }
 }
 
 /// Whether `block` ends the program: an `M30` or `M02` word written as a
@@ -288,12 +319,12 @@ fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u32) -> std:
     let is_else = matches!(flow, Flow::Else { .. });
     match &mut flow {
         Flow::Sub { .. } => {
-            if let Some(outer) = open.last() {
+            // rs274ngc defines a sub inside an if or a loop where the run
+            // reaches it, but never inside another sub.
+            if let Some(outer) = open.iter().find(|o| o.kind == OpenKind::Sub) {
                 return Err(format!(
-                    "{name} sub is inside {} {} (line {}): a subroutine is defined at the top level of a file",
-                    outer.name,
-                    outer.kind.opener(),
-                    outer.line
+                    "{name} sub is inside {} sub (line {}): a subroutine is not defined inside another",
+                    outer.name, outer.line
                 ));
             }
             push(open, OpenKind::Sub);
@@ -305,7 +336,7 @@ fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u32) -> std:
             }
         }
         Flow::Return { .. } => {
-            if !open.first().is_some_and(|s| s.kind == OpenKind::Sub && s.name == name) {
+            if !open.iter().any(|s| s.kind == OpenKind::Sub && s.name == name) {
                 return Err(format!("{name} return is not inside {name} sub … {name} endsub"));
             }
         }
@@ -573,7 +604,7 @@ impl LineParser<'_> {
     fn statement(&mut self) -> Result<Statement> {
         let Some(c) = self.peek() else { return Ok(Statement::Empty) };
         match c {
-            b'#' if self.dialect == Dialect::LinuxCnc => self.settings(),
+            b'#' if self.dialect == Dialect::LinuxCnc => self.words(),
             b'O' if self.dialect == Dialect::LinuxCnc => self.oword(),
             b'#' => {
                 let var = self.variable_number()?;
@@ -620,27 +651,6 @@ impl LineParser<'_> {
         }
     }
 
-    /// LinuxCNC parameter settings: `#1=2 #<depth>=[#1*3] …`, every value
-    /// read before any is set.
-    fn settings(&mut self) -> Result<Statement> {
-        let mut list = Vec::new();
-        while self.peek() == Some(b'#') {
-            let var = self.variable_number()?;
-            self.expect(b'=', "'=' after the parameter of a setting")?;
-            list.push((var, self.expr(0)?));
-            self.skip_blanks();
-        }
-        if self.pos < self.end && self.b[self.pos] != b'(' {
-            return Err(self.error_here(
-                "kezuri reads LinuxCNC parameter settings on a line of their own: put the words on another line",
-            ));
-        }
-        Ok(match list[..] {
-            [(var, value)] => Statement::Assign { var, value },
-            _ => Statement::Assigns(list),
-        })
-    }
-
     /// A LinuxCNC O-word: `o100 sub`, `o<name> call [1] [2]`, `o1 if [#1 GT 0]` …
     fn oword(&mut self) -> Result<Statement> {
         let start = self.pos;
@@ -657,6 +667,23 @@ impl LineParser<'_> {
                     return Err(Diagnostic::error(self.span(start), "an O-word name o<…> is empty"));
                 }
                 OName::Named(name)
+            }
+            Some(b'#' | b'[') => {
+                // rs274ngc computes the number: kezuri does so for a call,
+                // whose subroutine is found when it is made.
+                let number = self.operand()?;
+                self.skip_blanks();
+                if !self.eat_keyword("CALL") {
+                    return Err(Diagnostic::error(
+                        self.span(start),
+                        "kezuri reads a computed O-word number (o#1, o[…]) in a call only: write the number here",
+                    ));
+                }
+                self.skip_blanks();
+                return Ok(Statement::OWord(Box::new(OWord {
+                    name: OName::Number(0),
+                    flow: Flow::Call { args: self.call_args()?, number: Some(number) },
+                })));
             }
             Some(b'0'..=b'9') => {
                 let digits = self.b[self.pos..self.end].iter().take_while(|c| c.is_ascii_digit()).count();
@@ -684,19 +711,7 @@ impl LineParser<'_> {
             "SUB" => Flow::Sub { end: UNLINKED },
             "ENDSUB" => Flow::EndSub { value: self.optional_bracketed()? },
             "RETURN" => Flow::Return { value: self.optional_bracketed()? },
-            "CALL" => {
-                let mut args = Vec::new();
-                while self.peek() == Some(b'[') {
-                    if args.len() == MAX_OWORD_ARGS {
-                        return Err(
-                            self.error_here(format!("a call passes at most {MAX_OWORD_ARGS} arguments (#1–#30)"))
-                        );
-                    }
-                    args.push(self.bracketed()?);
-                    self.skip_blanks();
-                }
-                Flow::Call { args }
-            }
+            "CALL" => Flow::Call { args: self.call_args()?, number: None },
             "IF" => Flow::If { cond: self.condition(keyword)?, next: UNLINKED, end: UNLINKED },
             "ELSEIF" => Flow::ElseIf { cond: self.condition(keyword)?, start: UNLINKED, next: UNLINKED },
             "ELSE" => Flow::Else { start: UNLINKED },
@@ -710,6 +725,19 @@ impl LineParser<'_> {
             _ => Flow::Continue { start: UNLINKED },
         };
         Ok(Statement::OWord(Box::new(OWord { name, flow })))
+    }
+
+    /// A call's arguments `[a] [b] …`.
+    fn call_args(&mut self) -> Result<Vec<ExprId>> {
+        let mut args = Vec::new();
+        while self.peek() == Some(b'[') {
+            if args.len() == MAX_OWORD_ARGS {
+                return Err(self.error_here(format!("a call passes at most {MAX_OWORD_ARGS} arguments (#1–#30)")));
+            }
+            args.push(self.bracketed()?);
+            self.skip_blanks();
+        }
+        Ok(args)
     }
 
     /// The `[…]` an O-word needs after `keyword`.
@@ -728,18 +756,51 @@ impl LineParser<'_> {
         }
     }
 
-    /// A LinuxCNC `(debug,…)` or `(print,…)` comment on this line: the
-    /// text after the comma, with each `#n` and `#<name>` an item.
-    fn message(&mut self, from: usize) -> Option<Statement> {
+    /// The LinuxCNC comment command of this line: its last comment (before
+    /// a `;`), where that is `(debug,…)`, `(print,…)`, `(msg,…)`,
+    /// `(logopen,…)`, `(logappend,…)`, `(logclose)` or `(log,…)` — rs274ngc
+    /// reads the last comment of a line only.
+    fn comment_command(&mut self, from: usize) -> Option<CommentCommand> {
         let line = &self.b[from..self.end];
-        let open = line.iter().position(|&c| c == b'(')?;
-        let close = open + line[open..].iter().position(|&c| c == b')')?;
-        let inner = &line[open + 1..close];
+        let mut last = None;
+        let mut i = 0;
+        while i < line.len() {
+            match line[i] {
+                b';' => break,
+                b'(' => {
+                    let close = i + line[i..].iter().position(|&c| c == b')')?;
+                    last = Some(&line[i + 1..close]);
+                    i = close + 1;
+                }
+                _ => i += 1,
+            }
+        }
+        let inner = last?;
         let skip = inner.iter().take_while(|c| matches!(c, b' ' | b'\t')).count();
         let inner = &inner[skip..];
         let lower = inner.to_ascii_lowercase();
-        let rest =
-            if lower.starts_with(b"debug,") || lower.starts_with(b"print,") { &inner[6..] } else { return None };
+        let after = |k: &[u8]| lower.starts_with(k).then(|| &inner[k.len()..]);
+        let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+        if let Some(rest) = after(b"debug,").or_else(|| after(b"print,")) {
+            return Some(CommentCommand::Debug(self.print_items(rest)));
+        }
+        if let Some(rest) = after(b"msg,") {
+            return Some(CommentCommand::Msg(text(rest)));
+        }
+        if let Some(rest) = after(b"logopen,") {
+            return Some(CommentCommand::LogOpen { file: text(rest).trim().to_string(), append: false });
+        }
+        if let Some(rest) = after(b"logappend,") {
+            return Some(CommentCommand::LogOpen { file: text(rest).trim().to_string(), append: true });
+        }
+        if lower.trim_ascii_end() == b"logclose" {
+            return Some(CommentCommand::LogClose);
+        }
+        after(b"log,").map(|rest| CommentCommand::Log(self.print_items(rest)))
+    }
+
+    /// The text of a debug or log comment, each `#n` and `#<name>` an item.
+    fn print_items(&mut self, rest: &[u8]) -> Vec<PrintItem> {
         let mut items = Vec::new();
         let mut text = Vec::new();
         let mut i = 0;
@@ -774,7 +835,7 @@ impl LineParser<'_> {
         if !text.is_empty() {
             items.push(PrintItem::Text(String::from_utf8_lossy(&text).into_owned()));
         }
-        Some(Statement::Message(items))
+        items
     }
 
     /// `WH[`: the short form of `WHILE` that Haas and Fanuc programs use.
@@ -885,10 +946,27 @@ impl LineParser<'_> {
         let start = self.program.words.len() as u32;
         self.pos = plain_words(&self.b[..self.end], self.pos, self.file, &mut self.program.words);
         self.skip_blanks();
+        // LinuxCNC parameter settings among the words, each with the number
+        // of words before it.
+        let mut settings = Vec::new();
         while let Some(c) = self.peek() {
             let word_start = self.pos;
             if c == b'(' {
                 return Err(self.error_here("comment is not closed before the end of the line"));
+            }
+            if c == b'#' && self.dialect == Dialect::LinuxCnc {
+                let var = self.variable_number()?;
+                self.expect(b'=', "'=' after the parameter of a setting")?;
+                let value = self.expr(0)?;
+                settings.push((var, value, self.program.words.len() as u32 - start));
+                self.skip_blanks();
+                continue;
+            }
+            if c == b'O' && self.dialect == Dialect::LinuxCnc {
+                return Err(self.error_here(
+                    "an O-word begins its line (LinuxCNC stops with \"Bad character 'o' used\"): put it on a line of \
+                     its own",
+                ));
             }
             let polar = matches!(c, b'@' | b'^');
             if polar && self.dialect != Dialect::LinuxCnc {
@@ -915,7 +993,13 @@ impl LineParser<'_> {
             self.program.words.push(Word::new(c, value, self.span(word_start)));
             self.skip_blanks();
         }
-        Ok(Statement::Words { start, len: self.program.words.len() as u32 - start })
+        let len = self.program.words.len() as u32 - start;
+        Ok(match settings[..] {
+            [] => Statement::Words { start, len },
+            [(var, value, _)] if len == 0 => Statement::Assign { var, value },
+            _ if len == 0 => Statement::Assigns(settings.into_iter().map(|(var, value, _)| (var, value)).collect()),
+            _ => Statement::Line(Box::new(Line { settings, start, len, comment: None })),
+        })
     }
 
     /// The character at the cursor, for a message: control characters

@@ -309,7 +309,8 @@ fn bad_o_words_are_located_errors() {
     assert!(error_at("o1 repeat [2]\no1 break\no1 endrepeat\nM2\n", 2).contains("not o1 repeat"));
     assert!(error_at("o1 if [1]\no1 continue\no1 endif\nM2\n", 2).contains("not a loop"));
     // "Nested subroutine definition"
-    assert!(error_at("o1 sub\no2 sub\no2 endsub\no1 endsub\nM2\n", 2).contains("top level"));
+    assert!(error_at("o1 sub\no2 sub\no2 endsub\no1 endsub\nM2\n", 2).contains("not defined inside another"));
+    assert!(error_at("o1 sub\no3 if [1]\no2 sub\no2 endsub\no3 endif\no1 endsub\nM2\n", 3).contains("inside o1 sub"));
     assert!(error_at("o1 if [1]\no1 else\no1 elseif [1]\no1 endif\nM2\n", 3).contains("after o1 else"));
     assert!(error_at("o1 if [1]\no2 while [1]\no1 endif\no2 endwhile\nM2\n", 3).contains("must nest"));
     assert!(error_at("o1 return\nM2\n", 1).contains("not inside o1 sub"));
@@ -384,7 +385,7 @@ fn rs274_agrees() {
     }
     let dir = std::env::temp_dir().join(format!("kezuri-linuxcnc-flow-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS].iter().enumerate() {
+    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS, MIXED_LINES].iter().enumerate() {
         let path = dir.join(format!("p{i}.ngc"));
         std::fs::write(&path, text).unwrap();
         let out = std::process::Command::new(rs274)
@@ -417,4 +418,215 @@ fn rs274_agrees() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+const PREDEFINED: &str = "(debug,v #<_vmajor> #<_vminor> #<_task> #<_call_level> #<_remap_level>)
+(debug,o #<_feed_override> #<_speed_override> #<_adaptive_feed> #<_feed_hold>)
+(debug,m #<_selected_pocket> #<_ijk_absolute_mode> #<_lathe_diameter_mode> #<_lathe_radius_mode> #<_spindle_css_mode> #<_spindle_rpm_mode>)
+(debug,n #<_coolant_flood> #<_tool_change>)
+T0
+(debug,t0 #<_selected_pocket>)
+T3 G90.1
+(debug,t #<_selected_tool> #<_selected_pocket> #<_ijk_absolute_mode>)
+o1 sub
+(debug,s #<_call_level> #<_remap_level>)
+o1 endsub
+o1 call
+G91.1
+(debug,i #<_ijk_absolute_mode>)
+M2
+";
+
+#[test]
+fn predefined_parameters_read_as_rs274_reads_them() {
+    // rs274 -g, its MESSAGE lines. `_coolant_flood` and `_tool_change` are
+    // not LinuxCNC's (its coolant ones are `_flood` and `_mist`).
+    let ran = run(PREDEFINED).ok();
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            "v 2.900000 0.000000 0.000000 0.000000 0.000000",
+            "o 1.000000 1.000000 0.000000 1.000000",
+            "m -1.000000 0.000000 0.000000 1.000000 0.000000 1.000000",
+            "n ###### ######",
+            "t0 -1.000000",
+            "t 3.000000 3.000000 1.000000",
+            "s 1.000000 0.000000",
+            "i 0.000000",
+        ]
+    );
+    // "Cannot assign to read-only parameter #<_vmajor>"
+    assert!(error_at("#<_vmajor>=1\nM2\n", 1).contains("predefined"));
+    assert!(error_at("G0 X1\n#<_feed_override>=0.5\nM2\n", 2).contains("predefined"));
+    // Kezuri's machine works in mm (rs274 run alone reads -1 here).
+    let ran = run("(debug,#<_metric_machine> #<_current_pocket>)\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["1.000000 0.000000"]);
+}
+
+const MIXED_LINES: &str = "F100
+#1=5 G1 X#1 Y[#1+1]
+(debug,after #1)
+G1 X#1 #1=7 Y#1 #2=#1
+(debug,now #1 #2)
+#3=2 (debug,same #3) G1 Z#3
+#<foo>=3 #<_g>=[#<foo>+1] G1 X#<foo>
+(debug,g #<_g> foo #<foo>)
+#<foo>=9 G1 Y#<foo> #<bar>=[#<foo>*2]
+(debug,foo #<foo> bar #<bar>)
+#4=1 #4=2
+(debug,last #4)
+G1 X1 (debug,a) (debug,b #1)
+G1 X2 (debug,c) (plain)
+G1 X3 ; (debug,semi)
+(msg, hello #1 there)
+(MSG,loud)
+G1 X4 (print,p) (msg,m)
+(logopen,run.log)
+(log,first #1 #<_x>)
+G1 X5 (log,second #2)
+(logclose)
+(log,nowhere)
+(logappend,run.log)
+(log,third)
+(LOGCLOSE)
+M2 (debug,end)
+";
+
+#[test]
+fn a_line_of_settings_words_and_comments_runs_as_rs274_runs_it() {
+    let ran = run(MIXED_LINES).ok();
+    // rs274 -g: the words read the parameters as they were before the line
+    // (X#1 is X0 on line 2, Y#1 Y5 on line 4 after #1=7 in it), a named
+    // parameter first set on the line reads 0 after its setting (X#<foo>
+    // on line 7), the debug comment runs after the settings.
+    assert_ends(
+        &ran,
+        &[
+            [0.0, 1.0, 0.0],
+            [5.0, 5.0, 0.0],
+            [5.0, 5.0, 0.0],
+            [0.0, 5.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [1.0, 3.0, 0.0],
+            [2.0, 3.0, 0.0],
+            [3.0, 3.0, 0.0],
+            [4.0, 3.0, 0.0],
+            [5.0, 3.0, 0.0],
+        ],
+    );
+    // Its MESSAGE lines: only a line's last comment counts, none after ';',
+    // msg as written.
+    assert_eq!(
+        ran.outcome.prints,
+        [
+            "after 5.000000",
+            "now 7.000000 5.000000",
+            "same 2.000000",
+            "g 1.000000 foo 3.000000",
+            "foo 9.000000 bar 6.000000",
+            "last 2.000000",
+            "b 7.000000",
+            " hello #1 there",
+            "loud",
+            "m",
+            "end",
+        ]
+    );
+    // Its LOGOPEN, LOG, LOGCLOSE, LOGAPPEND calls; the line logged with no
+    // file open goes nowhere, with a warning.
+    assert_eq!(
+        ran.outcome.logs,
+        [
+            interp::LogFile {
+                name: "run.log".into(),
+                append: false,
+                lines: vec!["first 7.000000 4.000000".into(), "second 5.000000".into()],
+            },
+            interp::LogFile { name: "run.log".into(), append: true, lines: vec!["third".into()] },
+        ]
+    );
+    let warning = ran.outcome.diagnostics.iter().find(|d| d.message.contains("no log file open")).expect("a warning");
+    assert_eq!(warning.render(&ran.sources).split(':').nth(1), Some("23"));
+}
+
+#[test]
+fn a_named_parameter_set_on_its_line_reads_0_after_the_setting() {
+    // rs274: `#<b>=[#<b>+1]` sets #<b> to 1 where it was not set.
+    let ran = run("#<b>=[#<b>+1]\n#<c>=[#<b>+1] #<d>=#<c>\n(debug,#<b> #<c> #<d>)\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["1.000000 2.000000 0.000000"]);
+    // Read before its setting on the line: "Named parameter #<baz> not defined".
+    assert!(error_at("F1\nG1 X#<baz> #<baz>=2\nM2\n", 2).contains("#<baz> is read before it is set"));
+    // An O-word after a setting: "Bad character 'o' used".
+    assert!(error_at("o100 sub\no100 endsub\n#1=5 o100 call\nM2\n", 3).contains("Bad character 'o' used"));
+    // A setting's bad value is located on its line, words or not.
+    assert!(error_at("G0 X1\nG1 X2 #1=[1/0]\nM2\n", 2).contains("division by zero"));
+    assert!(error_at("G0 X1\nG1 X[1/0] #1=2\nM2\n", 2).contains("division by zero"));
+}
+
+#[test]
+fn computed_o_word_numbers_call_as_rs274_calls_them() {
+    // rs274: `o#1 call` and `o[#1+1] call` call o100 and o101; a number
+    // within 0.0001 of a whole one is that one.
+    let text = "o100 sub\n(debug,in 100 #1)\no100 endsub\no101 sub\n(debug,in 101 #1)\no101 endsub\n#1=100\n\
+                o#1 call [1]\no[#1+1] call [2]\no[100.00009] call [3]\nM2\n";
+    let ran = run(text).ok();
+    assert_eq!(ran.outcome.prints, ["in 100 1.000000", "in 101 2.000000", "in 100 3.000000"]);
+    // From the library, by the number's file.
+    let ran =
+        run_with("#2=123\no#2 call [0] [5]\nM2\n", &[("123", "o123 sub\nG1 Y#2 F10\no123 endsub\n")], &settings());
+    assert_ends(&ran.ok(), &[[0.0, 5.0, 0.0]]);
+    // "Non integer value for integer"
+    assert!(error_at("o100 sub\no100 endsub\nG0 X1\no[100.0001] call\nM2\n", 4).contains("whole number"));
+    // "EOF … seeking o-word: o<-5>"
+    assert!(error_at("#1=-5\no#1 call\nM2\n", 2).contains("no subroutine"));
+    // kezuri computes the number of a call only.
+    assert!(error_at("#1=2\no#1 if [1]\no2 endif\nM2\n", 2).contains("in a call only"));
+}
+
+#[test]
+fn a_label_opens_one_construct_in_a_subroutine() {
+    // rs274: "duplicate O-word label - already defined in line 1", in the
+    // main program as in a sub, for if and while alike; stopped where the
+    // second is reached, after what ran before it.
+    let ran = run("F1\no1 if [1]\nG1 X1\no1 endif\no1 while [0]\no1 endwhile\nM2\n");
+    assert_ends(&ran, &[[1.0, 0.0, 0.0]]);
+    let e = ran.error().expect("an error");
+    assert!(e.starts_with("t.ngc:5:") && e.contains("o1 while reuses the label of o1 if (line 2)"), "{e}");
+    let text = "o100 sub\no1 if [1]\no1 endif\no1 if [1]\no1 endif\no100 endsub\no100 call\nM2\n";
+    assert!(run(text).error().unwrap().starts_with("t.ngc:4:"));
+    // The same label in two subs and the main program, a sub's and an if's,
+    // and one not reached (the branch not taken) are no duplicates.
+    let text = "o100 sub\no1 if [1]\n(debug,x)\no1 endif\no100 endsub\no101 sub\no1 if [1]\n(debug,y)\no1 endif\n\
+                o101 endsub\no1 if [1]\n(debug,z)\no1 endif\no100 call\no101 call\no100 if [1]\no100 endif\n\
+                o2 if [0]\no3 if [1]\no3 endif\no2 else\no3 repeat [2]\no3 endrepeat\no2 endif\nM2\n";
+    assert_eq!(run(text).ok().outcome.prints, ["z", "x", "y"]);
+}
+
+#[test]
+fn subroutines_are_defined_where_the_run_reaches_them() {
+    // rs274: a sub inside an if that runs is defined; inside one that does
+    // not, not ("EOF … seeking o-word: o<100>").
+    let ran = run("o1 if [1]\no100 sub\n(debug,in)\no100 endsub\no1 endif\no100 call\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["in"]);
+    let e = error_at("o1 if [0]\no100 sub\n(debug,in)\no100 endsub\no1 endif\no100 call\nM2\n", 6);
+    assert!(e.contains("o100 is not defined"), "{e}");
+    // In a repeat run once, defined; in a loop that reaches it twice, or
+    // reached after a call found it further on: "found in illegal location".
+    let ran = run("o1 repeat [1]\no100 sub\n(debug,in)\no100 endsub\no1 endrepeat\no100 call\nM2\n").ok();
+    assert_eq!(ran.outcome.prints, ["in"]);
+    let text = "#1=0\no1 while [#1 LT 2]\no100 sub\no100 endsub\n#1=[#1+1]\no1 endwhile\nM2\n";
+    assert!(run(text).error().unwrap().starts_with("t.ngc:3:"));
+    let ran = run("o100 call\no100 sub\n(debug,in)\no100 endsub\nM2\n");
+    assert_eq!(ran.outcome.prints, ["in"]);
+    assert!(ran.error().unwrap().contains("reached a second time"));
+    // Two definitions: "redefining sub: o|100| already defined".
+    let e = run("o100 sub\no100 endsub\no100 sub\no100 endsub\nM2\n").error().unwrap();
+    assert!(e.starts_with("t.ngc:3:") && e.contains("t.ngc line 1 defines it"), "{e}");
+    // A library file's sub calls a sub its file defines before it: rs274
+    // does not find it there ("EOF in file:foo.ngc seeking o-word").
+    let foo =
+        "o<helper> sub\n(debug,helper)\no<helper> endsub\no<foo> sub\n(debug,foo)\no<helper> call\no<foo> endsub\n";
+    let ran = run_with("o<foo> call\nM2\n", &[("foo", foo)], &settings());
+    assert_eq!(ran.outcome.prints, ["foo"]);
+    assert!(ran.error().unwrap().contains("no helper.ngc"));
 }

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use super::block::{Action, Call, FrameKind};
 use super::value::{self, Value};
 use super::{Library, Outcome, Settings, State};
-use crate::ast::{Expr, ExprId, Flow, OName, PrintItem, Program, Statement};
+use crate::ast::{CommentCommand, Expr, ExprId, Flow, OName, PrintItem, Program, Statement, WordValue};
 use crate::parse::{parse, parse_as};
 use crate::source::{Diagnostic, Sources, Span};
 use crate::Dialect;
@@ -34,6 +34,10 @@ struct Frame {
     /// LinuxCNC `repeat` loops running in this frame: the `repeat` block
     /// and the turns left after this one, innermost last.
     repeats: Vec<(u32, u64)>,
+    /// The LinuxCNC `if`, `while`, `do` and `repeat` blocks run in this
+    /// frame, by label: a label opens one construct in a subroutine (or
+    /// the main program).
+    labels: HashMap<OName, u32>,
 }
 
 /// Sequence numbers and loop pairs of one program unit.
@@ -55,10 +59,9 @@ pub(super) struct Interp<'a> {
     statements: u64,
     completed: bool,
     last_back_jump: Option<u32>,
-    /// LinuxCNC subroutines found so far: the block of each `sub`.
+    /// LinuxCNC subroutines defined so far (their `sub` reached, or found
+    /// by a call): the block of each `sub`.
     subs: HashMap<OName, u32>,
-    /// Blocks searched for `sub` definitions.
-    subs_scanned: usize,
 }
 
 impl<'a> Interp<'a> {
@@ -79,7 +82,6 @@ impl<'a> Interp<'a> {
             completed: false,
             last_back_jump: None,
             subs: HashMap::new(),
-            subs_scanned: 0,
         }
     }
 
@@ -104,6 +106,7 @@ impl<'a> Interp<'a> {
             call_span: unit.span,
             args: None,
             repeats: Vec::new(),
+            labels: HashMap::new(),
         });
         loop {
             match self.step() {
@@ -144,6 +147,7 @@ impl<'a> Interp<'a> {
             programmed,
             diagnostics: self.st.diagnostics,
             prints: self.st.prints,
+            logs: self.st.logs,
             blocks: self.st.blocks,
             statements: self.statements,
             completed: self.completed,
@@ -223,7 +227,7 @@ impl<'a> Interp<'a> {
                 return self.act(action, span);
             }
             &Statement::Assign { var, value } => {
-                let v = located(self.st.eval(self.program, value))?;
+                let v = self.setting_value(var, value, span)?;
                 self.assign(var, v, pc)?;
             }
             &Statement::Goto(target) => {
@@ -269,21 +273,109 @@ impl<'a> Interp<'a> {
                 // rs274ngc reads every value of the line before it sets any.
                 let list = list.clone();
                 let mut values = Vec::with_capacity(list.len());
-                for &(_, value) in &list {
-                    values.push(located(self.st.eval(self.program, value))?);
+                for &(var, value) in &list {
+                    values.push(self.setting_value(var, value, span)?);
                 }
                 for (&(var, _), v) in list.iter().zip(values) {
                     self.assign(var, v, pc)?;
                 }
             }
             Statement::OWord(_) => return self.oword(pc, span),
-            Statement::Message(items) => {
-                let line = self.st.format_message(self.program, items);
-                self.st.prints.push(line);
+            Statement::Comment(command) => {
+                let command = command.clone();
+                self.comment(&command, span);
             }
+            Statement::Line(_) => return self.line(pc, span),
             Statement::Unsupported(what) => return Err(Diagnostic::error(span, what.clone())),
         }
         Ok(true)
+    }
+
+    /// The value of the setting `#var=value` of a line, read with the
+    /// line's other values before any is set. A named parameter that is not
+    /// set is made (reading 0) where the line sets it, before its value is
+    /// read, as rs274ngc does: `#<a>=1 #<b>=[#<a>+1]` sets #<b> to 1 and
+    /// `#<c>=[#<c>+1]` #<c> to 1 where #<a> and #<c> were not set before.
+    fn setting_value(&mut self, var: ExprId, value: ExprId, span: Span) -> Result<Value, Diagnostic> {
+        if let Expr::Named(name) = &self.program.exprs[var as usize] {
+            if !self.st.named_exists(name) {
+                self.st.write_named(name, Value::Num(0.0)).map_err(|m| Diagnostic::error(span, m))?;
+            }
+        }
+        self.st.eval(self.program, value).map_err(|m| Diagnostic::error(span, m))
+    }
+
+    /// A LinuxCNC line of settings, words and a comment command, run as
+    /// rs274ngc runs it: every value of the line read left to right (the
+    /// words' with the parameters as they were before the line), then the
+    /// settings made, then the comment run, then the words.
+    fn line(&mut self, pc: u32, span: Span) -> Result<bool, Diagnostic> {
+        let Statement::Line(line) = &self.program.blocks[pc as usize].statement else { return Ok(true) };
+        let line = (**line).clone();
+        let mut values = Vec::with_capacity(line.settings.len());
+        let mut words = Vec::new();
+        let mut settings = line.settings.iter().peekable();
+        for k in 0..=line.len {
+            while let Some(&(var, value, _)) = settings.next_if(|s| s.2 <= k) {
+                values.push(self.setting_value(var, value, span)?);
+            }
+            let at = (line.start + k) as usize;
+            if k == line.len {
+                break;
+            }
+            let word = self.program.words[at];
+            if let WordValue::Expr(e) = word.value() {
+                let v = self.st.eval(self.program, e).map_err(|m| Diagnostic::error(word.span(span.file), m))?;
+                words.push((at, word, v.num()));
+            }
+        }
+        for (&(var, _, _), v) in line.settings.iter().zip(values) {
+            self.assign(var, v, pc)?;
+        }
+        if let Some(command) = &line.comment {
+            self.comment(command, span);
+        }
+        if line.len == 0 {
+            return Ok(true);
+        }
+        // The words run with the values read above: each expression stands
+        // in as its number while the block runs.
+        for &(at, word, v) in &words {
+            self.program.words[at] =
+                crate::ast::Word::new(word.letter, WordValue::Number { value: v, decimal: true }, word.span(span.file));
+        }
+        let action = self.st.exec_block(self.program, pc);
+        for &(at, word, _) in &words {
+            self.program.words[at] = word;
+        }
+        self.act(action?, span)
+    }
+
+    /// Runs a LinuxCNC comment command.
+    fn comment(&mut self, command: &CommentCommand, span: Span) {
+        match command {
+            CommentCommand::Debug(items) => {
+                let line = self.st.format_message(self.program, items);
+                self.st.prints.push(line);
+            }
+            CommentCommand::Msg(text) => self.st.prints.push(text.clone()),
+            CommentCommand::LogOpen { file, append } => {
+                self.st.logs.push(super::LogFile { name: file.clone(), append: *append, lines: Vec::new() });
+                self.st.log_open = true;
+            }
+            CommentCommand::LogClose => self.st.log_open = false,
+            CommentCommand::Log(items) => {
+                let line = self.st.format_message(self.program, items);
+                match self.st.logs.last_mut().filter(|_| self.st.log_open) {
+                    Some(log) => log.lines.push(line),
+                    None => self.st.warn(
+                        "log",
+                        span,
+                        "(log,…) with no log file open: LinuxCNC writes the line nowhere (open one with (logopen,FILE))",
+                    ),
+                }
+            }
+        }
     }
 
     /// Runs the LinuxCNC O-word of block `pc`.
@@ -292,7 +384,33 @@ impl<'a> Interp<'a> {
         let (name, flow) = (o.name.clone(), o.flow.clone());
         let located = |r: Result<Value, String>| r.map_err(|m| Diagnostic::error(span, m));
         match flow {
-            Flow::Sub { end } => self.frame().pc = self.target(end, span)? + 1,
+            Flow::Sub { end } => {
+                // rs274ngc defines the sub where the run reaches it.
+                match self.subs.get(&name) {
+                    Some(&at) if at == pc => {
+                        return Err(Diagnostic::error(
+                            span,
+                            format!(
+                                "{name} sub is reached a second time (inside a loop, or after a call that found it \
+                                 further on): LinuxCNC stops, \"found in illegal location\"; define it before the \
+                                 loop or the call"
+                            ),
+                        ))
+                    }
+                    Some(&at) => {
+                        let line = self.program.blocks[at as usize].line;
+                        let file = self.sources.get(self.program.blocks[at as usize].span.file).name.clone();
+                        return Err(Diagnostic::error(
+                            span,
+                            format!("{name} sub is defined a second time ({file} line {line} defines it)"),
+                        ));
+                    }
+                    None => {
+                        self.subs.insert(name.clone(), pc);
+                    }
+                }
+                self.frame().pc = self.target(end, span)? + 1;
+            }
             Flow::EndSub { value } | Flow::Return { value } => {
                 if self.frames.last().map(|f| f.kind) != Some(FrameKind::OSub) {
                     return Err(Diagnostic::error(
@@ -306,8 +424,35 @@ impl<'a> Interp<'a> {
                 };
                 return self.return_from(None, span);
             }
-            Flow::Call { args } => self.o_call(&name, &args, span)?,
+            Flow::Call { args, number } => {
+                let name = match number {
+                    Some(e) => computed_name(located(self.st.eval(self.program, e))?.num())
+                        .map_err(|m| Diagnostic::error(span, m))?,
+                    None => name,
+                };
+                self.o_call(&name, &args, pc, span)?;
+            }
+            Flow::If { .. } | Flow::While { .. } | Flow::Do { .. } | Flow::Repeat { .. }
+                if self.frame().labels.get(&name).is_some_and(|&at| at != pc) =>
+            {
+                let at = self.frame().labels[&name];
+                let block = &self.program.blocks[at as usize];
+                let what = match &block.statement {
+                    Statement::OWord(o) => o.flow.keyword(),
+                    _ => "construct",
+                };
+                return Err(Diagnostic::error(
+                    span,
+                    format!(
+                        "{name} {} reuses the label of {name} {what} (line {}) in the same subroutine or main program: \
+                         LinuxCNC stops, \"duplicate O-word label\"",
+                        flow.keyword(),
+                        block.line
+                    ),
+                ));
+            }
             Flow::If { cond, next, .. } => {
+                self.frame().labels.insert(name.clone(), pc);
                 if !located(self.st.eval(self.program, cond))?.truth() {
                     let to = self.branch(next, span)?;
                     self.frame().pc = to;
@@ -321,8 +466,12 @@ impl<'a> Interp<'a> {
                 self.frame().pc = self.end_of(start, span)? + 1;
             }
             Flow::Else { start } => self.frame().pc = self.end_of(start, span)? + 1,
-            Flow::EndIf | Flow::Do { .. } => {}
+            Flow::EndIf => {}
+            Flow::Do { .. } => {
+                self.frame().labels.insert(name.clone(), pc);
+            }
             Flow::While { cond, end } => {
+                self.frame().labels.insert(name.clone(), pc);
                 if !located(self.st.eval(self.program, cond))?.truth() {
                     self.frame().pc = self.target(end, span)? + 1;
                 }
@@ -338,6 +487,7 @@ impl<'a> Interp<'a> {
                 }
             }
             Flow::Repeat { count, end } => {
+                self.frame().labels.insert(name.clone(), pc);
                 let n = located(self.st.eval(self.program, count))?.num().round();
                 if n < 1.0 {
                     self.frame().pc = self.target(end, span)? + 1;
@@ -438,12 +588,12 @@ impl<'a> Interp<'a> {
 
     /// `o<name> call [a] [b] …`: finds the subroutine and runs it with the
     /// arguments in #1, #2, ….
-    fn o_call(&mut self, name: &OName, args: &[ExprId], span: Span) -> Result<(), Diagnostic> {
+    fn o_call(&mut self, name: &OName, args: &[ExprId], pc: u32, span: Span) -> Result<(), Diagnostic> {
         let mut locals = [Value::Vacant; 33];
         for (slot, &arg) in locals.iter_mut().zip(args) {
             *slot = Value::Num(self.st.eval(self.program, arg).map_err(|m| Diagnostic::error(span, m))?.num());
         }
-        let sub = self.find_sub(name, span)?;
+        let sub = self.find_sub(name, pc, span)?;
         let depth = self.frames.iter().filter(|f| f.kind == FrameKind::OSub).count();
         if depth >= MAX_OSUB_DEPTH {
             return Err(Diagnostic::error(
@@ -466,47 +616,57 @@ impl<'a> Interp<'a> {
             call_span: span,
             args: Some(Box::new(locals)),
             repeats: Vec::new(),
+            labels: HashMap::new(),
         });
         Ok(())
     }
 
-    /// The `sub` block of subroutine `name`: defined in a file read so far,
-    /// or in `<name>.ngc` of the library.
-    fn find_sub(&mut self, name: &OName, span: Span) -> Result<u32, Diagnostic> {
-        if let Some(sub) = self.scan_subs(name) {
+    /// The `sub` block of subroutine `name`, called from block `pc`, as
+    /// rs274ngc finds it: defined already (its `sub` reached), else further
+    /// on in the calling file, else in `<name>.ngc` of the library.
+    fn find_sub(&mut self, name: &OName, pc: u32, span: Span) -> Result<u32, Diagnostic> {
+        if let Some(&sub) = self.subs.get(name) {
+            return Ok(sub);
+        }
+        let file = self.program.blocks[pc as usize].span.file;
+        let first = pc as usize + 1;
+        if let Some(sub) = self.sub_in(name, first, |b| b.span.file == file) {
             return Ok(sub);
         }
         let stem = name.file_stem();
-        let Some(file) = self.library.load_ngc(&stem) else {
+        let Some(source) = self.library.load_ngc(&stem) else {
             return Err(Diagnostic::error(
                 span,
-                format!("{name} is not defined in the program, and the subroutine library has no {stem}.ngc"),
+                format!(
+                    "{name} is not defined before the call or after it in this file, and the subroutine library has \
+                     no {stem}.ngc"
+                ),
             ));
         };
-        let file_name = file.name.clone();
-        let id = self.sources.add(file);
+        let file_name = source.name.clone();
+        let id = self.sources.add(source);
         let text = self.sources.get(id).text.clone();
+        let first = self.program.blocks.len();
         let diagnostics = parse_as(self.program, id, &text, Dialect::LinuxCnc);
         let errors: Vec<_> = diagnostics.iter().filter(|d| d.is_error()).cloned().collect();
         self.st.diagnostics.extend(diagnostics.into_iter().filter(|d| !d.is_error()));
         if let Some(first) = errors.into_iter().next() {
             return Err(first);
         }
-        self.scan_subs(name).ok_or_else(|| Diagnostic::error(span, format!("{file_name} does not define {name} sub")))
+        self.sub_in(name, first, |_| true)
+            .ok_or_else(|| Diagnostic::error(span, format!("{file_name} does not define {name} sub")))
     }
 
-    /// Notes the `sub` definitions of blocks parsed since the last look
-    /// (the first definition of a name counts), and finds `name`'s.
-    fn scan_subs(&mut self, name: &OName) -> Option<u32> {
-        for (i, block) in self.program.blocks.iter().enumerate().skip(self.subs_scanned) {
-            if let Statement::OWord(o) = &block.statement {
-                if let Flow::Sub { .. } = o.flow {
-                    self.subs.entry(o.name.clone()).or_insert(i as u32);
-                }
-            }
-        }
-        self.subs_scanned = self.program.blocks.len();
-        self.subs.get(name).copied()
+    /// The first `sub` of `name` among the blocks from `first` on that
+    /// `within` keeps (it stops at the first it does not), noted as defined.
+    fn sub_in(&mut self, name: &OName, first: usize, within: impl Fn(&crate::ast::Block) -> bool) -> Option<u32> {
+        let found = self.program.blocks[first.min(self.program.blocks.len())..]
+            .iter()
+            .take_while(|b| within(b))
+            .position(|b| matches!(&b.statement, Statement::OWord(o) if o.name == *name && matches!(o.flow, Flow::Sub { .. })))
+            .map(|k| (first + k) as u32)?;
+        self.subs.insert(name.clone(), found);
+        Some(found)
     }
 
     fn assign(&mut self, var: ExprId, value: Value, pc: u32) -> Result<(), Diagnostic> {
@@ -695,6 +855,7 @@ impl<'a> Interp<'a> {
             call_span: span,
             args: None,
             repeats: Vec::new(),
+            labels: HashMap::new(),
         });
         Ok(())
     }
@@ -721,6 +882,7 @@ impl<'a> Interp<'a> {
             call_span: call.span,
             args: call.args,
             repeats: Vec::new(),
+            labels: HashMap::new(),
         });
         Ok(())
     }
@@ -754,6 +916,21 @@ impl<'a> Interp<'a> {
         }
         Ok(true)
     }
+}
+
+/// The subroutine a computed O-word number names: a whole number within
+/// 0.0001, as rs274ngc reads one ("Non integer value for integer").
+fn computed_name(v: f64) -> Result<OName, String> {
+    let n = v.round();
+    if (v - n).abs() >= 0.0001 {
+        return Err(format!(
+            "o[{v}]: an O-word number is a whole number (LinuxCNC: \"Non integer value for integer\")"
+        ));
+    }
+    if !(0.0..=f64::from(u32::MAX)).contains(&n) {
+        return Err(format!("o[{v}]: no subroutine has this number (LinuxCNC looks for o<{n}> and finds none)"));
+    }
+    Ok(OName::Number(n as u32))
 }
 
 fn build_index(program: &Program, unit: usize) -> UnitIndex {

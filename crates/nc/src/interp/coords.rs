@@ -87,7 +87,7 @@ pub(super) struct Transforms {
     scale: Option<Scale>,
     rotation: Option<Rotation>,
     /// G90.1: I J K are absolute positions.
-    arc_absolute: bool,
+    pub(super) arc_absolute: bool,
     /// Program position minus the tool's position mapped back.
     delta: [f64; 6],
     /// The program point of the move being made (set with its target).

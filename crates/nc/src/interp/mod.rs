@@ -181,8 +181,13 @@ pub struct Outcome {
     pub programmed: Option<Toolpath>,
     /// Warnings, and the error that stopped the run if it did not end.
     pub diagnostics: Vec<Diagnostic>,
-    /// Lines written by `DPRNT`.
+    /// Lines written by `DPRNT`, and by LinuxCNC's `(debug,…)`,
+    /// `(print,…)` and `(msg,…)` comments.
     pub prints: Vec<String>,
+    /// The log files a LinuxCNC program writes (`(logopen,…)`,
+    /// `(logappend,…)`, `(log,…)`), one entry for each opening, in order.
+    /// kezuri writes no file: the caller decides what to do with them.
+    pub logs: Vec<LogFile>,
     /// NC blocks executed (macro statements not counted).
     pub blocks: u64,
     /// Statements executed, macro statements included.
@@ -196,6 +201,18 @@ pub struct Outcome {
     /// signal, the clock): the first read of each kind. An expanded program
     /// holds the value the model gave, which another machine may not.
     pub model_reads: Vec<ModelRead>,
+}
+
+/// A log file a LinuxCNC program opened, with the lines it wrote to it.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LogFile {
+    /// The file name, as the program wrote it.
+    pub name: String,
+    /// Opened with `logappend` (add to the file) rather than `logopen`
+    /// (start it afresh).
+    pub append: bool,
+    /// The lines, parameters replaced.
+    pub lines: Vec<String>,
 }
 
 /// A system variable read whose value came from the machine model.
@@ -321,6 +338,9 @@ struct State {
     warned: HashMap<&'static str, u32>,
     prints: Vec<String>,
     print_open: bool,
+    /// LinuxCNC log files; the last is being written while `log_open`.
+    logs: Vec<LogFile>,
+    log_open: bool,
     blocks: u64,
 }
 
@@ -391,6 +411,8 @@ impl State {
             warned: HashMap::new(),
             prints: Vec::new(),
             print_open: false,
+            logs: Vec::new(),
+            log_open: false,
             blocks: 0,
         }
     }

@@ -288,6 +288,28 @@ impl State {
             "_value" => self.returned.unwrap_or(0.0),
             "_value_returned" => bool(self.returned.is_some()),
             "_call_level" => f64::from(self.call_level),
+            // What LinuxCNC 2.9's interpreter reports of itself and of the
+            // machine it runs on, as its standalone run (`rs274`) reads them:
+            // kezuri is that run, not the machine's task.
+            "_vmajor" => 2.9,
+            "_vminor" => 0.0,
+            "_task" => 0.0,
+            "_remap_level" => 0.0,
+            "_feed_override" | "_speed_override" | "_feed_hold" => 1.0,
+            "_adaptive_feed" => 0.0,
+            // kezuri has no tool changer: a tool's pocket is its number
+            // (-1: no tool selected).
+            "_selected_pocket" => match self.pending_tool {
+                0 => -1.0,
+                t => f64::from(t),
+            },
+            "_current_pocket" => f64::from(self.tool),
+            "_ijk_absolute_mode" => bool(self.coords.arc_absolute),
+            // A mill: radius mode (G8) and rpm (G97) always.
+            "_lathe_diameter_mode" | "_spindle_css_mode" => 0.0,
+            "_lathe_radius_mode" | "_spindle_rpm_mode" => 1.0,
+            // kezuri's machine works in mm.
+            "_metric_machine" => 1.0,
             _ => match name.strip_prefix("_abs_") {
                 Some(axis) => position(self.machine_position(), axis)?,
                 None => position(self.program_position(), name.strip_prefix('_')?)?,
