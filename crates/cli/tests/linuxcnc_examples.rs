@@ -35,13 +35,14 @@ use std::time::{Duration, Instant};
 /// Mill programs that disagree today, each with its cause. A file named here
 /// that agrees, or that is no longer a mill program, fails the test.
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
-    (
-        "ncfiles/gmoccapy_2_tools_with_cutter_radius_compensation.ngc",
-        "G43 without H after T3 M6, then G0 X50 Y50 without Z (line 21): rs274's tip is the tool's length (7.62 mm) \
-         below the spindle at machine Z0, kezuri's at Z0; again after T1 M6 (line 61)",
-    ),
     ("ncfiles/mmount.ngc", "G33.1 rigid tapping"),
-    ("ncfiles/useful-subroutines.ngc", "G41 in a subroutine"),
+    (
+        "ncfiles/skeleton.ngc",
+        "rs274's standalone canon, not LinuxCNC: `T1 M06 G43 H1` (line 10), then G0 X1 Y1 without Z: LinuxCNC \
+         reads the position back after M6 with the tool offset taken off (emccanon's GET_EXTERNAL_POSITION), \
+         so the tip's Z is the tool's length (2.54 mm) below where it was, as kezuri has it; rs274's canon \
+         gives back its last move's end point (Z0), offset or not",
+    ),
 ];
 
 /// The tool table both interpreters get: rs274 reads it in inches (its

@@ -200,6 +200,19 @@ impl State {
                 4 => self.spindle = Spindle::Ccw,
                 5 => self.spindle = Spindle::Off,
                 6 => {
+                    if self.settings.coords.control == Control::LinuxCnc {
+                        if self.comp_on() {
+                            return Err(Diagnostic::error(
+                                mspan,
+                                "Cannot change tools with cutter radius compensation on (LinuxCNC): give G40 first",
+                            ));
+                        }
+                        // LinuxCNC reads the position back after the change:
+                        // after G40 the tool centre, where compensation left it.
+                        if let Some(p) = self.comp_resting_point() {
+                            self.tip = p;
+                        }
+                    }
                     // The tool change macro may move any axis.
                     self.tool = self.pending_tool;
                     self.guessed = AxisSet::ALL;
@@ -295,7 +308,16 @@ impl State {
             GCode::Units(u) => self.modal.units = u,
             GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
+            GCode::LengthComp(_) | GCode::LengthCompOff
+                if self.settings.coords.control == Control::LinuxCnc && self.comp_on() =>
+            {
+                return Err(Diagnostic::error(
+                    gspan,
+                    "Cannot change tool offset with cutter radius compensation on (LinuxCNC): give G40 first",
+                ));
+            }
             GCode::LengthComp(positive) => {
+                let before = self.length_offset();
                 // LinuxCNC: G43 without H takes the tool in the spindle.
                 // An M6 in the block comes first (LinuxCNC's order of execution).
                 let changed = w.m[..w.m_count].iter().any(|m| m.0 == 6);
@@ -322,12 +344,13 @@ impl State {
                         self.tool_length(h).unwrap_or(0.0)
                     }
                 });
-                self.guessed = AxisSet(self.guessed.0 | 0b100);
+                self.length_changed(before);
             }
             GCode::LengthCompOff => {
+                let before = self.length_offset();
                 self.modal.length_comp = None;
                 self.length_loaded = None;
-                self.guessed = AxisSet(self.guessed.0 | 0b100);
+                self.length_changed(before);
             }
             GCode::WorkOffset(i) => self.select_work_offset(i),
             GCode::ExtraWorkOffset => {

@@ -418,6 +418,18 @@ impl State {
         }
     }
 
+    /// After the tool length offset changed from `before` (mm, as
+    /// [`State::length_offset`]): on a Fanuc control the next Z move keeps
+    /// the programmed Z (the spindle moves by the change); on LinuxCNC
+    /// applying or changing an offset moves nothing: the spindle stays, and
+    /// the tip's programmed position changes by the change of offset.
+    fn length_changed(&mut self, before: f64) {
+        if self.settings.coords.control == Control::LinuxCnc {
+            self.tip.z += before - self.length_offset();
+        }
+        self.guessed = AxisSet(self.guessed.0 | 0b100);
+    }
+
     /// The length of offset `h` as G43 applies it now: what it loaded
     /// (LinuxCNC), else the register.
     fn length_in_force(&self, h: u32) -> f64 {
