@@ -350,3 +350,50 @@ fn tool_changes_and_offsets_with_compensation_on_are_refused() {
         );
     }
 }
+
+// ---- G33.1 rigid tapping ----
+
+#[test]
+fn g33_1_taps_to_the_end_point_and_back_kept_as_its_block() {
+    // rs274: RIGID_TAP(1, 1, -10) from (1, 1, 5), the feed synchronised at
+    // K a turn, back to the start; `G91 G33.1 Z-4` from Z5 taps to Z1.
+    let t = path("G21 G90\nG0 X1 Y1 Z5\nS500 M3\nG33.1 Z-10 K1.5\nG0 X2\nG91 G33.1 Z-4 K1\nG90\nG0 Z7\nM2\n");
+    assert_eq!(
+        moves(&t),
+        [
+            ('r', 1.0, 1.0, 5.0),
+            ('f', 1.0, 1.0, -10.0),
+            ('f', 1.0, 1.0, 5.0),
+            ('r', 2.0, 1.0, 5.0),
+            ('f', 2.0, 1.0, 1.0),
+            ('f', 2.0, 1.0, 5.0),
+            ('r', 2.0, 1.0, 7.0),
+        ]
+    );
+    // The feed: 1.5 mm a turn at 500 rpm; the spindle reversed on the way out.
+    assert_eq!((t.moves[1].feed, t.moves[1].spindle), (750.0, kezuri_geom::Spindle::Cw));
+    assert_eq!((t.moves[2].feed, t.moves[2].spindle), (750.0, kezuri_geom::Spindle::Ccw));
+    assert_eq!(t.moves[3].spindle, kezuri_geom::Spindle::Cw);
+    // Kept for a written program, standing for its two moves.
+    let kept: Vec<_> = t.kept.iter().filter(|k| k.moves > 0).map(|k| (k.before, k.moves, k.text.as_str())).collect();
+    assert_eq!(kept, [(1, 2, "G21 G90 G33.1 Z-10. K1.5"), (4, 2, "G21 G90 G33.1 Z1. K1.")]);
+}
+
+#[test]
+fn g33_1_errors_are_rs274s() {
+    assert_eq!(
+        error("G21 S500 M3\nG33.1 Z-10\nM2\n"),
+        "t.ngc:2:1: error: K word missing with G33.1: give the pitch, the distance a turn"
+    );
+    assert!(error("G21\nG33.1 Z-10 K1\nM2\n").starts_with("t.ngc:2:1: error: Spindle not turning in G33.1"));
+    // K is not modal: each block gives it.
+    assert!(error("G21 S500 M3\nG33.1 Z-10 K1\nZ-3\nM2\n").starts_with("t.ngc:3:1: error: K word missing with G33.1"));
+}
+
+#[test]
+fn linuxcnc_starts_in_g99() {
+    // rs274 starts with the R plane as the return level: G81 from Z10
+    // with R2 returns to Z2.
+    let t = path("G21 G90\nG0 X0 Y0 Z10\nG81 R2 Z-1 X1 F100\nG80\nM2\n");
+    assert_eq!(moves(&t).last(), Some(&('r', 1.0, 0.0, 2.0)));
+}

@@ -300,6 +300,17 @@ impl State {
             GCode::Motion(m) => {
                 // A group 1 code ends a canned cycle.
                 self.modal.motion = m;
+                self.rigid_tap = false;
+                self.end_cycle();
+            }
+            GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
+                return Err(Diagnostic::error(
+                    gspan,
+                    "G33.1 (rigid tapping) is LinuxCNC's: not a code of this dialect",
+                ));
+            }
+            GCode::RigidTap => {
+                self.rigid_tap = true;
                 self.end_cycle();
             }
             GCode::Plane(p) => self.modal.plane = p,
@@ -368,7 +379,10 @@ impl State {
                 };
                 self.select_work_offset(EXTRA_OFFSETS + p - 1);
             }
-            GCode::CycleOff => self.end_cycle(),
+            GCode::CycleOff => {
+                self.rigid_tap = false;
+                self.end_cycle();
+            }
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
             GCode::PathMode(g) => {
                 self.modal.path_mode = g;
@@ -382,6 +396,7 @@ impl State {
                 return Err(Diagnostic::error(gspan, "LinuxCNC's G76 is a lathe threading cycle: not supported"));
             }
             GCode::CannedCycle(cycle) => {
+                self.rigid_tap = false;
                 if self.modal.cycle.is_none() {
                     self.begin_cycle();
                 }
@@ -722,6 +737,9 @@ impl State {
         }
         if let Some(cycle) = self.modal.cycle {
             return self.cycle_block(cycle, w, span, line);
+        }
+        if self.rigid_tap {
+            return self.rigid_tap_block(w, span, line);
         }
         let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
         if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
