@@ -110,9 +110,11 @@ fn linuxcnc_rules_where_they_differ_from_fanuc() {
     // gauge line there, the tip 100 below with H1).
     let t = path("G0 X10 Y20 Z30\nG43 H1\nG30\nM2\n", &lc);
     assert_eq!(end(&t), [0.0, 0.0, -100.0]);
-    // G43 without H takes the tool in the spindle: T1 M6 G43 is H1 (length 100).
-    let t = path("T1 M6\nG43\nG0 X#5023\nM2\n", &lc);
-    assert_eq!(end(&t)[0], 0.0 + 100.0);
+    // G43 without H takes the tool in the spindle: T1 M6 G43 is H1 (length
+    // 100). Applying it moves nothing: the spindle stays at Z0, the tip is
+    // 100 below, where a move without Z leaves it.
+    let t = path("T1 M6\nG43\nG0 X1\nM2\n", &lc);
+    assert_eq!(end(&t), [1.0, 0.0, -100.0]);
     // G10 L2 ignores G91 on LinuxCNC: G54's X is 5, not 5 + 5.
     let t = path("G10 L2 P1 X5\nG91 G10 L2 P1 X5\nG90 G0 X0\nM2\n", &lc);
     assert_eq!(end(&t)[0], 5.0);

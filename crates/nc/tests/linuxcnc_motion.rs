@@ -281,3 +281,119 @@ fn m98_calls_an_o_numbered_subprogram_of_the_file_as_linuxcnc_2_9() {
     // A program that is not there: located (rs274: "EOF … seeking o-word").
     assert!(error("G21\nM98 P300\nM2\n").starts_with("t.ngc:2:1: error: program O0300 is not in the file"));
 }
+
+// ---- tool length offset: the spindle stays ----
+
+/// The tool table of these tests as rs274 got it (`-t`, inches): tool n
+/// n·2.54 mm long, 1.27 + (n−1)·0.254 mm across.
+fn with_tools() -> Settings {
+    let mut s = Settings { comp_rules: interp::comp::Rules::LinuxCnc, ..settings() };
+    for n in 1..=5u32 {
+        s.tool_lengths.insert(n, 2.54 * f64::from(n));
+        s.tool_radii.insert(n, (1.27 + 0.254 * f64::from(n - 1)) / 2.0);
+    }
+    s
+}
+
+#[test]
+fn g43_and_g49_move_nothing_the_programmed_z_changes() {
+    // LinuxCNC: applying, changing or cancelling the length offset moves no
+    // axis; the tip's programmed Z changes by the change of offset, so a
+    // move without Z keeps the spindle where it was. rs274: Z -2.62 after
+    // G43 (tool 3, 7.62 mm) at Z5, 2.46 after G43 H1 (2.54), 5 after G49.
+    let text = "G21 G90\nG0 X1 Y1 Z5\nT3 M6\nG43\nG0 X50 Y50\nG43 H1\nG0 X10\nG49\nG0 X20\nM2\n";
+    let t = path_with(text, &with_tools());
+    assert_eq!(
+        moves(&t),
+        [('r', 1.0, 1.0, 5.0), ('r', 50.0, 50.0, -2.62), ('r', 10.0, 50.0, 2.46), ('r', 20.0, 50.0, 5.0)]
+    );
+    // Fanuc moves Z instead: the programmed Z holds.
+    let mut fanuc = with_tools();
+    fanuc.dialect = Dialect::Fanuc;
+    fanuc.coords.control = Control::Fanuc;
+    let t = path_with("G21 G90\nG0 X1. Y1. Z5.\nT3 M6\nG43 H3\nG0 X50. Y50.\nG49\nG0 X20.\nM2\n", &fanuc);
+    assert_eq!(moves(&t), [('r', 1.0, 1.0, 5.0), ('r', 50.0, 50.0, 5.0), ('r', 20.0, 50.0, 5.0)]);
+    // In the same block as M6 the new tool's length (M6 comes first).
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nT2 M6 G43\nG0 X2\nM2\n", &with_tools());
+    assert_eq!(moves(&t)[1], ('r', 2.0, 1.0, -0.08));
+}
+
+#[test]
+fn after_g40_a_tool_change_finds_the_tool_where_compensation_left_it() {
+    // LinuxCNC reads the position back after M6: after G40 without a move
+    // the tool centre, the radius off the programmed point. rs274: Y 0.635
+    // (tool 1's radius) for the moves after T2 M6; without a tool change
+    // the next move goes to the programmed point (Y10).
+    let text = "G21 G90\nT1 M6\nG0 X0 Y-10 Z5\nG41 G1 X0 Y0 F100\nG1 X20\nG40\nG4 P1\nT2 M6\nG0 Z10\nG0 X30\n\
+                G41 G1 Y10\nG1 X40\nG40\nG0 Z12\nM2\n";
+    let t = path_with(text, &with_tools());
+    let m = moves(&t);
+    let after: Vec<_> = m.iter().filter(|m| m.0 == 'r').skip(1).collect();
+    assert_eq!(after, [&('r', 20.0, 0.635, 10.0), &('r', 30.0, 0.635, 10.0), &('r', 40.0, 10.0, 12.0)]);
+}
+
+#[test]
+fn tool_changes_and_offsets_with_compensation_on_are_refused() {
+    // rs274's messages, located.
+    let mut s = with_tools();
+    s.radii_required = true;
+    for (text, at, message) in [
+        ("G21 T1 M6\nG0 X0 Y0 Z5\nG41 G1 X10 F100\nG43 H1\nM2\n", "t.ngc:4:1", "Cannot change tool offset"),
+        ("G21 T1 M6\nG0 X0 Y0 Z5\nG41 G1 X10 F100\nT2 M6\nM2\n", "t.ngc:4:4", "Cannot change tools"),
+    ] {
+        let (outcome, sources) = run_with(text, &s).unwrap();
+        let e = outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error");
+        let headline = e.headline(&sources);
+        assert!(
+            headline.starts_with(&format!("{at}: error: {message} with cutter radius compensation on")),
+            "{headline}"
+        );
+    }
+}
+
+// ---- G33.1 rigid tapping ----
+
+#[test]
+fn g33_1_taps_to_the_end_point_and_back_kept_as_its_block() {
+    // rs274: RIGID_TAP(1, 1, -10) from (1, 1, 5), the feed synchronised at
+    // K a turn, back to the start; `G91 G33.1 Z-4` from Z5 taps to Z1.
+    let t = path("G21 G90\nG0 X1 Y1 Z5\nS500 M3\nG33.1 Z-10 K1.5\nG0 X2\nG91 G33.1 Z-4 K1\nG90\nG0 Z7\nM2\n");
+    assert_eq!(
+        moves(&t),
+        [
+            ('r', 1.0, 1.0, 5.0),
+            ('f', 1.0, 1.0, -10.0),
+            ('f', 1.0, 1.0, 5.0),
+            ('r', 2.0, 1.0, 5.0),
+            ('f', 2.0, 1.0, 1.0),
+            ('f', 2.0, 1.0, 5.0),
+            ('r', 2.0, 1.0, 7.0),
+        ]
+    );
+    // The feed: 1.5 mm a turn at 500 rpm; the spindle reversed on the way out.
+    assert_eq!((t.moves[1].feed, t.moves[1].spindle), (750.0, kezuri_geom::Spindle::Cw));
+    assert_eq!((t.moves[2].feed, t.moves[2].spindle), (750.0, kezuri_geom::Spindle::Ccw));
+    assert_eq!(t.moves[3].spindle, kezuri_geom::Spindle::Cw);
+    // Kept for a written program, standing for its two moves.
+    let kept: Vec<_> = t.kept.iter().filter(|k| k.moves > 0).map(|k| (k.before, k.moves, k.text.as_str())).collect();
+    assert_eq!(kept, [(1, 2, "G21 G90 G33.1 Z-10. K1.5"), (4, 2, "G21 G90 G33.1 Z1. K1.")]);
+}
+
+#[test]
+fn g33_1_errors_are_rs274s() {
+    assert_eq!(
+        error("G21 S500 M3\nG33.1 Z-10\nM2\n"),
+        "t.ngc:2:1: error: K word missing with G33.1: give the pitch, the distance a turn"
+    );
+    assert!(error("G21\nG33.1 Z-10 K1\nM2\n").starts_with("t.ngc:2:1: error: Spindle not turning in G33.1"));
+    // K is not modal: each block gives it.
+    assert!(error("G21 S500 M3\nG33.1 Z-10 K1\nZ-3\nM2\n").starts_with("t.ngc:3:1: error: K word missing with G33.1"));
+}
+
+#[test]
+fn linuxcnc_starts_in_g99() {
+    // rs274 starts with the R plane as the return level: G81 from Z10
+    // with R2 returns to Z2.
+    let t = path("G21 G90\nG0 X0 Y0 Z10\nG81 R2 Z-1 X1 F100\nG80\nM2\n");
+    assert_eq!(moves(&t).last(), Some(&('r', 1.0, 0.0, 2.0)));
+}

@@ -200,6 +200,19 @@ impl State {
                 4 => self.spindle = Spindle::Ccw,
                 5 => self.spindle = Spindle::Off,
                 6 => {
+                    if self.settings.coords.control == Control::LinuxCnc {
+                        if self.comp_on() {
+                            return Err(Diagnostic::error(
+                                mspan,
+                                "Cannot change tools with cutter radius compensation on (LinuxCNC): give G40 first",
+                            ));
+                        }
+                        // LinuxCNC reads the position back after the change:
+                        // after G40 the tool centre, where compensation left it.
+                        if let Some(p) = self.comp_resting_point() {
+                            self.tip = p;
+                        }
+                    }
                     // The tool change macro may move any axis.
                     self.tool = self.pending_tool;
                     self.guessed = AxisSet::ALL;
@@ -287,6 +300,17 @@ impl State {
             GCode::Motion(m) => {
                 // A group 1 code ends a canned cycle.
                 self.modal.motion = m;
+                self.rigid_tap = false;
+                self.end_cycle();
+            }
+            GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
+                return Err(Diagnostic::error(
+                    gspan,
+                    "G33.1 (rigid tapping) is LinuxCNC's: not a code of this dialect",
+                ));
+            }
+            GCode::RigidTap => {
+                self.rigid_tap = true;
                 self.end_cycle();
             }
             GCode::Plane(p) => self.modal.plane = p,
@@ -295,7 +319,16 @@ impl State {
             GCode::Units(u) => self.modal.units = u,
             GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
+            GCode::LengthComp(_) | GCode::LengthCompOff
+                if self.settings.coords.control == Control::LinuxCnc && self.comp_on() =>
+            {
+                return Err(Diagnostic::error(
+                    gspan,
+                    "Cannot change tool offset with cutter radius compensation on (LinuxCNC): give G40 first",
+                ));
+            }
             GCode::LengthComp(positive) => {
+                let before = self.length_offset();
                 // LinuxCNC: G43 without H takes the tool in the spindle.
                 // An M6 in the block comes first (LinuxCNC's order of execution).
                 let changed = w.m[..w.m_count].iter().any(|m| m.0 == 6);
@@ -322,12 +355,13 @@ impl State {
                         self.tool_length(h).unwrap_or(0.0)
                     }
                 });
-                self.guessed = AxisSet(self.guessed.0 | 0b100);
+                self.length_changed(before);
             }
             GCode::LengthCompOff => {
+                let before = self.length_offset();
                 self.modal.length_comp = None;
                 self.length_loaded = None;
-                self.guessed = AxisSet(self.guessed.0 | 0b100);
+                self.length_changed(before);
             }
             GCode::WorkOffset(i) => self.select_work_offset(i),
             GCode::ExtraWorkOffset => {
@@ -345,7 +379,10 @@ impl State {
                 };
                 self.select_work_offset(EXTRA_OFFSETS + p - 1);
             }
-            GCode::CycleOff => self.end_cycle(),
+            GCode::CycleOff => {
+                self.rigid_tap = false;
+                self.end_cycle();
+            }
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
             GCode::PathMode(g) => {
                 self.modal.path_mode = g;
@@ -359,6 +396,7 @@ impl State {
                 return Err(Diagnostic::error(gspan, "LinuxCNC's G76 is a lathe threading cycle: not supported"));
             }
             GCode::CannedCycle(cycle) => {
+                self.rigid_tap = false;
                 if self.modal.cycle.is_none() {
                     self.begin_cycle();
                 }
@@ -699,6 +737,9 @@ impl State {
         }
         if let Some(cycle) = self.modal.cycle {
             return self.cycle_block(cycle, w, span, line);
+        }
+        if self.rigid_tap {
+            return self.rigid_tap_block(w, span, line);
         }
         let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
         if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {

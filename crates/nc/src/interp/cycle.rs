@@ -123,6 +123,53 @@ impl State {
         self.hole.run.clear();
     }
 
+    /// A block in LinuxCNC's G33.1 mode (rigid tapping): from where the
+    /// tool is, a feed to the end point synchronised with the spindle (K
+    /// the distance a turn), the spindle reversed, the same feed back to
+    /// the start, the spindle as it was. Kept as its G33.1 block for a
+    /// written program; its two moves are the simulation's. Returns whether
+    /// the tool moved.
+    pub(super) fn rigid_tap_block(&mut self, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        if !w.any_axis() {
+            return Ok(false);
+        }
+        // rs274's refusals (K is not modal: each block gives it).
+        let Some(k) = w.get(b'K') else {
+            return Err(Diagnostic::error(span, "K word missing with G33.1: give the pitch, the distance a turn"));
+        };
+        let reverse = match self.spindle {
+            Spindle::Cw => Spindle::Ccw,
+            Spindle::Ccw => Spindle::Cw,
+            Spindle::Off => return Err(Diagnostic::error(span, "Spindle not turning in G33.1: give M3 or M4 first")),
+        };
+        if self.comp_on() {
+            return Err(Diagnostic::error(span, "G33.1 with cutter compensation on (G41/G42): give G40 first"));
+        }
+        if self.speed <= 0.0 {
+            self.warn("no-speed", span, "G33.1 with spindle speed 0: the feed is 0");
+        }
+        let (start, first, spindle) = (self.tip, self.toolpath.moves.len(), self.spindle);
+        let end = self.target(w);
+        let feed = (self.mm(k) * self.speed).abs();
+        self.push_move(MoveKind::Feed, end, feed, w.axes(), line);
+        self.spindle = reverse;
+        self.push_move(MoveKind::Feed, start, feed, w.axes(), line);
+        self.spindle = spindle;
+        // The block in absolute program coordinates, its units with it.
+        let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
+        let (e, o) = (end.to_array(), self.frame_offset().to_array());
+        let mut text = String::from(if unit == 1.0 { "G21 G90 G33.1" } else { "G20 G90 G33.1" });
+        for (i, &letter) in b"XYZABC".iter().enumerate().filter(|&(i, _)| w.axes().contains(i)) {
+            let v = if i < 3 { (e[i] - o[i]) / unit } else { e[i] - o[i] };
+            text.push_str(&format!(" {}{}", letter as char, crate::write::number(v, 6)));
+        }
+        text.push_str(&format!(" K{}", crate::write::number(k, 6)));
+        let mut kept = self.kept(first, 2, text, false, line);
+        kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[first]);
+        self.toolpath.kept.push(kept);
+        Ok(true)
+    }
+
     /// A block in canned cycle mode: stores its hole data and drills the
     /// hole(s) it asks for: a block that names a position in the plane, the
     /// bottom or R drills. Returns whether the tool moved.

@@ -277,6 +277,8 @@ struct State {
     skip_position: Axes,
     /// The canned cycle's hole data.
     hole: cycle::HoleData,
+    /// LinuxCNC's G33.1 is the motion mode (group 1).
+    rigid_tap: bool,
     /// Holes drilled by canned cycles.
     holes: u64,
     /// Tool length wear by H number (G10 L11, #10001…), added to the
@@ -357,6 +359,11 @@ const WARNINGS_PER_KIND: u32 = 5;
 
 impl State {
     fn new(settings: Settings) -> State {
+        // LinuxCNC's interpreter starts in G99 (canned cycles return to R).
+        let modal = match settings.coords.control {
+            Control::LinuxCnc => Modal { cycle_return: CycleReturn::R, ..Modal::default() },
+            _ => Modal::default(),
+        };
         State {
             work_offsets: (0..EXTRA_OFFSETS + EXTRA_OFFSET_COUNT)
                 .map(|k| match k {
@@ -368,13 +375,14 @@ impl State {
                 .collect(),
             clock: Clock::new(settings.clock_seed),
             settings,
-            modal: Modal::default(),
+            modal,
             tip: Axes::ZERO,
             external_offset: Axes::ZERO,
             g92_shift: Axes::ZERO,
             coords: coords::Transforms::default(),
             skip_position: Axes::ZERO,
             hole: cycle::HoleData::default(),
+            rigid_tap: false,
             holes: 0,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
@@ -438,6 +446,18 @@ impl State {
             Some((sign, h)) => sign * self.length_in_force(h),
             None => 0.0,
         }
+    }
+
+    /// After the tool length offset changed from `before` (mm, as
+    /// [`State::length_offset`]): on a Fanuc control the next Z move keeps
+    /// the programmed Z (the spindle moves by the change); on LinuxCNC
+    /// applying or changing an offset moves nothing: the spindle stays, and
+    /// the tip's programmed position changes by the change of offset.
+    fn length_changed(&mut self, before: f64) {
+        if self.settings.coords.control == Control::LinuxCnc {
+            self.tip.z += before - self.length_offset();
+        }
+        self.guessed = AxisSet(self.guessed.0 | 0b100);
     }
 
     /// The length of offset `h` as G43 applies it now: what it loaded

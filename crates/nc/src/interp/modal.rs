@@ -162,6 +162,9 @@ pub enum GCode {
     Motion(Motion),
     /// G04
     Dwell,
+    /// G33.1 (LinuxCNC): rigid tapping to the end point and back, the
+    /// feed synchronised with the spindle (K, the pitch). Group 1.
+    RigidTap,
     /// G10 (offsets by program)
     SetOffsets,
     /// G17 G18 G19
@@ -250,6 +253,7 @@ impl GCode {
             20 => Motion(self::Motion::Cw),
             30 => Motion(self::Motion::Ccw),
             40 => Dwell,
+            331 => RigidTap,
             100 => SetOffsets,
             170 => Plane(kezuri_geom::Plane::Xy),
             180 => Plane(kezuri_geom::Plane::Zx),
@@ -312,7 +316,7 @@ impl GCode {
     pub fn group(self) -> u32 {
         use GCode::*;
         match self {
-            Motion(_) => 1,
+            Motion(_) | RigidTap => 1,
             Plane(_) => 2,
             Distance(_) => 3,
             FeedMode(_) => 5,

@@ -11,7 +11,7 @@
 //! G-code writer, so that the control applies its own D register (which
 //! holds the wear). `docs/cutter-compensation.md` has the rules.
 
-use kezuri_geom::{Kept, Toolpath};
+use kezuri_geom::{Axes, Kept, MoveKind, Toolpath};
 
 use super::comp::{compensate_traced, Comp, Rules, Side};
 use super::modal::{RadiusComp, Units};
@@ -246,6 +246,31 @@ impl State {
             format!("{what} has no radius in the tool table (machine file [tools] radii): compensation with radius 0, the programmed path"),
         );
         Ok(0.0)
+    }
+
+    /// Where the tool centre rests when compensation was turned off (G40)
+    /// and nothing has moved since: the end of the last compensated move,
+    /// off the programmed point by the radius. `None` where the tool is on
+    /// the programmed point (compensation on, never on, or a move since).
+    /// LinuxCNC re-reads the position after a tool change and finds the
+    /// tool there.
+    pub(super) fn comp_resting_point(&self) -> Option<Axes> {
+        if self.radius.on.is_some() {
+            return None;
+        }
+        let since = self.radius.since?;
+        let (moves, tags) = (&self.toolpath.moves[since..], &self.radius.tags);
+        // Dwells after G40 are made where the tool is.
+        let mut end = tags.len().min(moves.len());
+        while end > 0 && tags[end - 1].is_none() && matches!(moves[end - 1].kind, MoveKind::Dwell(_)) {
+            end -= 1;
+        }
+        if end == 0 || tags[end - 1].is_none() {
+            return None;
+        }
+        let start = tags[..end].iter().rposition(Option::is_none).map_or(0, |k| k + 1);
+        let (centre, _) = compensate_traced(&moves[start..end], &tags[start..end], self.settings.comp_rules).ok()?;
+        centre.last().map(|m| m.end)
     }
 
     /// Whether cutter compensation is on.

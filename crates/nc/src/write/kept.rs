@@ -15,7 +15,8 @@ impl Writer {
         let refused = match dialect {
             Dialect::Grbl => !grbl_has(&k.text),
             // Compensation by a diameter is LinuxCNC's alone.
-            Dialect::Fanuc => k.text.contains("G41.1") || k.text.contains("G42.1"),
+            // So are G33.1 rigid tapping and G43.1 dynamic tool length offsets.
+            Dialect::Fanuc => ["G41.1", "G42.1", "G33.1", "G43.1"].iter().any(|c| k.text.contains(c)),
             Dialect::LinuxCnc => false,
         };
         if refused {
