@@ -468,6 +468,13 @@ fn g43_1_and_g43_2_errors() {
     // without converting it (0.5 in + 2.54 mm = 3.04 mm): refused.
     assert!(error("G20 G90\nG43.1 Z0.5\nG21\nG43.2 H1\nM2\n")
         .starts_with("t.ngc:4:1: error: G43.2 after G21: LinuxCNC adds"));
+    // GRBL has G43.1 (kezuri's GRBL writer writes it), not G43.2.
+    let grbl = Settings { dialect: Dialect::Grbl, ..with_tools() };
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG0 X2\nM2\n", &grbl);
+    assert_eq!(moves(&t)[1], ('r', 2.0, 1.0, 3.0));
+    let (outcome, sources) = run_with("G21\nG43.2 H1\nM2\n", &grbl).unwrap();
+    let e = outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error").headline(&sources);
+    assert_eq!(e, "t.ngc:2:1: error: G43.2 is not supported");
     // Other dialects: not their codes.
     let mut fanuc = with_tools();
     fanuc.dialect = Dialect::Fanuc;
