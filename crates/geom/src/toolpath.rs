@@ -226,11 +226,27 @@ pub struct LengthOffset {
     pub register: u32,
     /// `true` for G44 (subtract), `false` for G43 (add).
     pub negative: bool,
-    /// The register's value in mm as the machine model has it.
+    /// The offset in force in mm as the machine model has it: the
+    /// register's value, or what LinuxCNC's G43.1 and G43.2 made it.
     pub value: f64,
+    /// LinuxCNC's G43.1 Z: the offset the program gave (mm) in place of a
+    /// register's (`register` is then 0); `None` for G43/G44 H.
+    pub given: Option<f64>,
+    /// LinuxCNC's G43.2 H: the registers whose lengths were added to it
+    /// since, in order; 0 ends the list.
+    pub added: [u32; LengthOffset::ADDED],
 }
 
 impl LengthOffset {
+    /// How many G43.2 additions an offset keeps.
+    pub const ADDED: usize = 4;
+
+    /// Whether LinuxCNC's G43.1 or G43.2 made it: only LinuxCNC (and,
+    /// by its value, GRBL) can apply it.
+    pub fn dynamic(&self) -> bool {
+        self.given.is_some() || self.added[0] != 0
+    }
+
     /// How far the gauge line is above the tool tip, in mm.
     pub fn signed(&self) -> f64 {
         if self.negative {

@@ -397,3 +397,118 @@ fn linuxcnc_starts_in_g99() {
     let t = path("G21 G90\nG0 X0 Y0 Z10\nG81 R2 Z-1 X1 F100\nG80\nM2\n");
     assert_eq!(moves(&t).last(), Some(&('r', 1.0, 0.0, 2.0)));
 }
+
+// ---- G43.1 and G43.2: dynamic tool length offsets ----
+
+#[test]
+fn g43_1_gives_the_offset_and_g43_2_adds_a_tools_length() {
+    // rs274 -t (tools 1–3 2.54, 5.08, 7.62 mm long): USE_TOOL_LENGTH_OFFSET
+    // Z 2, 3 (G91 does not make it an increment), 2.54 (G43 H1), 7.62
+    // (G43.2 H2 adds 5.08), 15.24 (G43.2 H3), 0 (G49); nothing moves, the
+    // tip's programmed Z changes by the change of offset.
+    let text = "G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG0 X2\nG91 G43.1 Z3\nG90 G0 X3\nG43 H1\nG0 X4\nG43.2 H2\nG0 X5\n\
+                G43.2 H3\nG0 X6\nG49\nG0 X7\nM2\n";
+    let t = path_with(text, &with_tools());
+    assert_eq!(
+        moves(&t),
+        [
+            ('r', 1.0, 1.0, 5.0),
+            ('r', 2.0, 1.0, 3.0),
+            ('r', 3.0, 1.0, 2.0),
+            ('r', 4.0, 1.0, 2.46),
+            ('r', 5.0, 1.0, -2.62),
+            ('r', 6.0, 1.0, -10.24),
+            ('r', 7.0, 1.0, 5.0),
+        ]
+    );
+    assert_eq!(lengths(&t), [0.0, 2.0, 3.0, 2.54, 7.62, 15.24, 0.0]);
+    // G43.2 adds to a G43.1 offset, and to none after G49: rs274 4.54, then
+    // 5.08 (tool 2 alone).
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG43.2 H1\nG0 X2\nG49\nG43.2 H2\nG0 X3\nM2\n", &with_tools());
+    assert_eq!(moves(&t)[1..], [('r', 2.0, 1.0, 0.46), ('r', 3.0, 1.0, -0.08)]);
+    // G43.1 without Z leaves the offset as it was (rs274: 2, then 2.54).
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG0 X4\nG43.1\nG0 X5\nG43 H1\nG43.1\nG0 X6\nM2\n", &with_tools());
+    assert_eq!(moves(&t)[1..], [('r', 4.0, 1.0, 3.0), ('r', 5.0, 1.0, 3.0), ('r', 6.0, 1.0, 2.46)]);
+    // Its Z word is the offset, not a move, whatever the motion mode; in
+    // inches under G20 (rs274: 0.5 in, the tip at 4.5 in).
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG1 X1 F100\nG43.1 Z2\nG0 X4\nM2\n", &with_tools());
+    assert_eq!(moves(&t)[2..], [('r', 4.0, 1.0, 3.0)]);
+    let t = path_with("G20 G90\nG0 X1 Y1 Z5\nG43.1 Z0.5\nG0 X2\nM2\n", &with_tools());
+    assert_eq!(moves(&t)[1], ('r', 50.8, 25.4, 114.3));
+}
+
+#[test]
+fn g43_1_and_g43_2_errors() {
+    // rs274: "Requested tool -1 not found" for G43.2 without H (2.9 reads
+    // no axis words with it), "G43.2: Can not have both H and axis words".
+    assert_eq!(
+        error("G21\nG43.2 Z1\nM2\n"),
+        "t.ngc:2:7: error: G43.2: Can not have both H and axis words (LinuxCNC 2.9 adds a tool's length, given by H)"
+    );
+    assert_eq!(error("G21\nG43.2\nM2\n"), "t.ngc:2:1: error: G43.2 needs H, the tool whose length it adds");
+    // G43.1 takes the block's axis words: rs274 makes them the offset and the
+    // move both (`G43.1 Z2 G0 X2`: an X offset of 2). Refused.
+    assert!(error("G21\nG43.1 Z2 G0 X2\nM2\n")
+        .starts_with("t.ngc:2:10: error: G43.1 with G0: give the motion in another block"));
+    // Offsets in X, Y, rotary axes: refused, located.
+    assert!(error("G21\nG43.1 X1 Z2\nM2\n")
+        .starts_with("t.ngc:2:7: error: G43.1 X: kezuri applies a tool length offset in Z only"));
+    // With cutter compensation on, as G43 (rs274's message).
+    let mut s = with_tools();
+    s.radii_required = true;
+    for text in [
+        "G21 T1 M6\nG0 X1 Y1 Z5\nG41 G1 X3 F100\nG43.1 Z2\nM2\n",
+        "G21 T1 M6\nG0 X1 Y1 Z5\nG41 G1 X3 F100\nG43.2 H1\nM2\n",
+    ] {
+        let (outcome, sources) = run_with(text, &s).unwrap();
+        let e = outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error").headline(&sources);
+        assert!(e.starts_with("t.ngc:4:1: error: Cannot change tool offset with cutter radius compensation on"), "{e}");
+    }
+    // rs274 adds G43.2's length to the number of an offset set under G20
+    // without converting it (0.5 in + 2.54 mm = 3.04 mm): refused.
+    assert!(error("G20 G90\nG43.1 Z0.5\nG21\nG43.2 H1\nM2\n")
+        .starts_with("t.ngc:4:1: error: G43.2 after G21: LinuxCNC adds"));
+    // GRBL has G43.1 (kezuri's GRBL writer writes it), not G43.2.
+    let grbl = Settings { dialect: Dialect::Grbl, ..with_tools() };
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG0 X2\nM2\n", &grbl);
+    assert_eq!(moves(&t)[1], ('r', 2.0, 1.0, 3.0));
+    let (outcome, sources) = run_with("G21\nG43.2 H1\nM2\n", &grbl).unwrap();
+    let e = outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error").headline(&sources);
+    assert_eq!(e, "t.ngc:2:1: error: G43.2 is not supported");
+    // Other dialects: not their codes.
+    let mut fanuc = with_tools();
+    fanuc.dialect = Dialect::Fanuc;
+    fanuc.coords.control = Control::Fanuc;
+    let (outcome, sources) = run_with("G21\nG43.1 Z2\nM2\n", &fanuc).unwrap();
+    let e = outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error").headline(&sources);
+    assert_eq!(e, "t.ngc:2:1: error: G43.1 is not supported");
+}
+
+#[test]
+fn g43_1_and_g43_2_are_written_back_for_linuxcnc_and_refused_by_fanuc() {
+    use kezuri_nc::write::{program, Dialect as Out, WriteOptions};
+    let text = "G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG0 X2\nG43 H1\nG43.2 H2\nG0 X3\nG43.2 H3\nG0 X4\nG49\nG0 X5\nM2\n";
+    let t = path_with(text, &with_tools());
+    let options = |dialect| WriteOptions { dialect, ..WriteOptions::default() };
+    let written = program(&t, &options(Out::LinuxCnc)).unwrap();
+    let lines: Vec<&str> = written.lines().collect();
+    // The offset as the program gave it, for the control to apply its own
+    // tool table; only the new addition where the rest is in force.
+    let at = |s: &str| lines.iter().position(|l| l.ends_with(s)).unwrap_or_else(|| panic!("no {s} in\n{written}"));
+    let (given, g43, add2, add3, g49) = (at("G43.1 Z2."), at("G43 H1"), at("G43.2 H2"), at("G43.2 H3"), at("G49"));
+    assert!(given < g43 && g43 + 1 == add2 && add2 < add3 && add3 < g49, "{written}");
+    assert_eq!(lines.iter().filter(|l| l.contains("G43 H1")).count(), 1, "{written}");
+    // Read back, the same motions.
+    let back = path_with(&written, &with_tools());
+    assert_eq!(moves(&back), moves(&t), "{written}");
+    // Fanuc (and Haas) have no such code: refused, not dropped (at the
+    // first move under it).
+    let e = program(&t, &options(Out::Fanuc)).unwrap_err().to_string();
+    assert!(e.starts_with("line 4: fanuc has no 'G43.1 Z2. (a dynamic tool length offset"), "{e}");
+    let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG43 H1\nG43.2 H2\nG0 X3\nM2\n", &with_tools());
+    let e = program(&t, &options(Out::Fanuc)).unwrap_err().to_string();
+    assert!(e.contains("fanuc has no 'G43.2 H2"), "{e}");
+    // GRBL gets the offset itself, as for G43 H.
+    let written = program(&t, &options(Out::Grbl)).unwrap();
+    assert!(written.contains("G43.1 Z7.62\n"), "{written}");
+}

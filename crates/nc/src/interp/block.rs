@@ -319,7 +319,7 @@ impl State {
             GCode::Units(u) => self.modal.units = u,
             GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), gspan)?,
             GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
-            GCode::LengthComp(_) | GCode::LengthCompOff
+            GCode::LengthComp(_) | GCode::LengthGiven | GCode::LengthAdded | GCode::LengthCompOff
                 if self.settings.coords.control == Control::LinuxCnc && self.comp_on() =>
             {
                 return Err(Diagnostic::error(
@@ -355,8 +355,13 @@ impl State {
                         self.tool_length(h).unwrap_or(0.0)
                     }
                 });
+                self.length_given = None;
+                self.length_added = [0; kezuri_geom::LengthOffset::ADDED];
+                self.length_units = self.modal.units;
                 self.length_changed(before);
             }
+            GCode::LengthGiven => self.length_given(w, gspan)?,
+            GCode::LengthAdded => self.length_added(w, gspan)?,
             GCode::LengthCompOff => {
                 let before = self.length_offset();
                 self.modal.length_comp = None;
@@ -561,6 +566,10 @@ impl State {
         span: Span,
         line: u32,
     ) -> Result<bool, Diagnostic> {
+        if codes.iter().flatten().any(|(c, _)| *c == GCode::LengthGiven) {
+            // G43.1's axis words are its offset: nothing moves.
+            return Ok(false);
+        }
         let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
         if w.polar() {
             self.polar_rules(one_shot, w)?;

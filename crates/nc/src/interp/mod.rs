@@ -15,6 +15,7 @@ pub mod comp;
 mod control;
 mod coords;
 mod cycle;
+mod length;
 mod modal;
 mod offsets;
 mod params;
@@ -290,6 +291,13 @@ struct State {
     /// L1/L10/L11 changes the table, not the offset in force, until the
     /// next G43. `None` elsewhere: the register is read as it is now.
     length_loaded: Option<f64>,
+    /// LinuxCNC's G43.1 Z (mm) where it set the offset in force, and the
+    /// G43.2 H registers added since ([`LengthOffset::added`]).
+    length_given: Option<f64>,
+    length_added: [u32; LengthOffset::ADDED],
+    /// The units in force when the length offset was last set: LinuxCNC's
+    /// G43.2 adds to its number unconverted.
+    length_units: Units,
     model_reads: Vec<ModelRead>,
     /// System variables the program has written (no longer the model's).
     set_by_program: BTreeSet<u32>,
@@ -387,6 +395,9 @@ impl State {
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
             length_loaded: None,
+            length_given: None,
+            length_added: [0; LengthOffset::ADDED],
+            length_units: Units::Mm,
             model_reads: Vec::new(),
             set_by_program: BTreeSet::new(),
             panel: BTreeMap::new(),
@@ -488,6 +499,8 @@ impl State {
                 register,
                 negative: sign < 0.0,
                 value: self.length_in_force(register),
+                given: self.length_given,
+                added: self.length_added,
             }),
         }
     }

@@ -196,6 +196,11 @@ pub enum GCode {
     RadiusCompDiameter(RadiusComp),
     /// G43 (`true`) G44 (`false`): tool length offset + or -.
     LengthComp(bool),
+    /// G43.1 (LinuxCNC, GRBL): the tool length offset given in the block's
+    /// Z, in place of a register's.
+    LengthGiven,
+    /// G43.2 (LinuxCNC): H's tool length added to the offset in force.
+    LengthAdded,
     /// G49
     LengthCompOff,
     /// G53
@@ -281,6 +286,8 @@ impl GCode {
             421 => RadiusCompDiameter(self::RadiusComp::Right),
             430 => LengthComp(true),
             440 => LengthComp(false),
+            431 => LengthGiven,
+            432 => LengthAdded,
             490 => LengthCompOff,
             530 => MachineCoords,
             540..=590 if tenths.is_multiple_of(10) => WorkOffset(((tenths - 540) / 10) as usize),
@@ -322,7 +329,7 @@ impl GCode {
             FeedMode(_) => 5,
             Units(_) => 6,
             RadiusComp(_) | RadiusCompDiameter(_) => 7,
-            LengthComp(_) | LengthCompOff => 8,
+            LengthComp(_) | LengthGiven | LengthAdded | LengthCompOff => 8,
             CycleOff | CannedCycle(_) => 9,
             CycleReturn(_) => 10,
             ModalCall(_) | ModalCallOff => 12,

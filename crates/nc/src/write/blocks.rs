@@ -501,6 +501,13 @@ impl Writer {
         push_fixed(&mut self.out, n, self.digits, point);
     }
 
+    /// The word `letter` `n` (units of the last digit) as text.
+    pub(super) fn word_text(&self, letter: char, n: i64, point: bool) -> String {
+        let mut out = letter.to_string();
+        push_fixed(&mut out, n, self.digits, point);
+        out
+    }
+
     /// One block holding only `code`.
     pub(super) fn line(&mut self, code: &str) {
         self.block();

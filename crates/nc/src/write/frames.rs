@@ -1,7 +1,7 @@
 //! The frame the control is in: the work offset (`G54`…, and `G10 L2`/`L20`
 //! where the program changed an origin) and the tool length offset.
 
-use kezuri_geom::{Axes, Frame};
+use kezuri_geom::{Axes, Frame, LengthOffset};
 
 use super::blocks::{push_uint, Writer, AXIS_LETTERS};
 use super::gcode::{Dialect, WriteError};
@@ -10,7 +10,7 @@ use crate::interp::EXTRA_OFFSETS;
 impl Writer {
     /// Brings the control to frame `f`: the work offset (`G54`…`G59`, and a
     /// `G10 L2` where the program changed an offset's origin) and the tool
-    /// length offset (`G43`/`G44 H`, `G43.1 Z` on GRBL, `G49`). `last` is the
+    /// length offset ([`Writer::length`]). `last` is the
     /// tool tip in machine coordinates, to carry the known position over to
     /// the new work offset.
     pub(super) fn frame(&mut self, f: Frame, last: Option<Axes>) -> Result<(), WriteError> {
@@ -50,31 +50,21 @@ impl Writer {
             self.origins[work] = Some(f.origin);
         }
         let new_work = old.map(|o| o.work) != Some(f.work);
-        let new_length = old.map(|o| o.length) != Some(f.length);
-        if new_work || new_length {
+        let old_length = old.map(|o| o.length);
+        let (first, more) = if old_length == Some(f.length) { (None, Vec::new()) } else { self.length(f, old_length)? };
+        if new_work || first.is_some() {
             self.block();
             self.distance(false);
             if new_work {
                 self.code(&code);
             }
-            if new_length {
-                match f.length {
-                    None => self.code(self.codes.length_cancel),
-                    Some(l) if self.dialect == Dialect::Grbl => {
-                        // GRBL has no offset table: the offset itself.
-                        let n = self.fixed(l.signed(), 'Z')?;
-                        self.code("G43.1");
-                        self.word('Z', n, false);
-                    }
-                    Some(l) => {
-                        self.code(if l.negative { self.codes.length[1] } else { self.codes.length[0] });
-                        self.space();
-                        self.out.push('H');
-                        push_uint(&mut self.out, u64::from(l.register));
-                    }
-                }
+            if let Some(words) = first {
+                self.code(&words);
             }
             self.out.push('\n');
+        }
+        for words in more {
+            self.line(&words);
         }
         if let (Some(o), Some(e)) = (old, last) {
             if o.zero() != f.zero() {
@@ -88,6 +78,51 @@ impl Writer {
         }
         self.frame = Some(f);
         Ok(())
+    }
+
+    /// The words that bring the tool length offset to `f`'s from `old`'s:
+    /// those of the first block (with the work offset), and whole blocks
+    /// after it (LinuxCNC's G43.2 additions, each in its own block: they
+    /// are one modal group). `G43`/`G44 H`, `G49`; GRBL's `G43.1 Z` with
+    /// the value; LinuxCNC's `G43.1 Z` and `G43.2 H` as the program gave
+    /// them, only the new additions where the rest is in force already.
+    /// Fanuc has no dynamic offset: refused.
+    fn length(&self, f: Frame, old: Option<Option<LengthOffset>>) -> Result<(Option<String>, Vec<String>), WriteError> {
+        let Some(l) = f.length else {
+            return Ok((Some(self.codes.length_cancel.to_string()), Vec::new()));
+        };
+        if self.dialect == Dialect::Grbl {
+            // GRBL has no offset table: the offset itself.
+            let z = self.word_text('Z', self.fixed(l.signed(), 'Z')?, false);
+            return Ok((Some(format!("G43.1 {z}")), Vec::new()));
+        }
+        let added: Vec<u32> = l.added.iter().copied().take_while(|&h| h != 0).collect();
+        let adds = |from: usize| added[from..].iter().map(|h| format!("G43.2 H{h}")).collect::<Vec<_>>();
+        if l.dynamic() && self.dialect == Dialect::Fanuc {
+            let text = match l.given {
+                Some(z) => {
+                    let z = self.word_text('Z', self.fixed(z, 'Z')?, self.point);
+                    format!("G43.1 {z} (a dynamic tool length offset, LinuxCNC's)")
+                }
+                None => format!("G43.2 H{} (a tool length added to the offset in force, LinuxCNC's)", added[0]),
+            };
+            return Err(WriteError::Kept { line: self.at.1, text, dialect: self.dialect });
+        }
+        // Only G43.2 additions since: the offset in force stays.
+        if let Some(Some(o)) = old {
+            let before = o.added.iter().take_while(|&&h| h != 0).count();
+            let same_base = (o.register, o.negative, o.given) == (l.register, l.negative, l.given);
+            if same_base && before < added.len() && o.added[..before] == l.added[..before] {
+                return Ok((None, adds(before)));
+            }
+        }
+        let first = match l.given {
+            Some(z) => {
+                format!("G43.1 {}", self.word_text('Z', self.fixed(z, 'Z')?, self.point))
+            }
+            None => format!("{} H{}", self.codes.length[usize::from(l.negative)], l.register),
+        };
+        Ok((Some(first), adds(0)))
     }
 
     /// The code that selects work offset `work`: G54 … G59, then G54.1 P

@@ -464,7 +464,7 @@ fn in_units(frame: Frame, unit: f64) -> Frame {
     Frame {
         origin: scaled(frame.origin, Axes::ZERO, unit),
         shift: scaled(frame.shift, Axes::ZERO, unit),
-        length: frame.length.map(|l| LengthOffset { value: l.value * unit, ..l }),
+        length: frame.length.map(|l| LengthOffset { value: l.value * unit, given: l.given.map(|g| g * unit), ..l }),
         ..frame
     }
 }
