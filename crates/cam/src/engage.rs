@@ -78,11 +78,12 @@ use quad::{integrate, Settings};
 /// above (M03).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Cut {
-    /// Down-cut (climb): the tooth moves with the feed where it meets the
-    /// chip, entering it at its thickest.
+    /// Down-cut (climb): where it meets the chip the tooth moves against
+    /// the tool's travel (with the work's motion relative to the tool),
+    /// entering the chip at its thickest.
     Down,
-    /// Up-cut (conventional): the tooth moves against the feed where it
-    /// meets the chip, entering it at zero thickness.
+    /// Up-cut (conventional): the tooth moves with the tool's travel where
+    /// it meets the chip, entering it at zero thickness.
     Up,
 }
 
@@ -199,6 +200,12 @@ struct Row {
     yb: f64,
 }
 
+/// The smallest feed per tooth, mm: the quadrature's tolerance scales with
+/// `S_z·R_d`, so its work grows without bound as `S_z` shrinks (1e-4 mm
+/// takes seconds, 1e-5 minutes), and no cutter cuts a chip thinner than a
+/// micrometre.
+pub const MIN_FEED_PER_TOOTH: f64 = 1e-3;
+
 /// Rows of the table of the cross-section over the chip's height.
 const ROWS: usize = 256;
 
@@ -241,7 +248,7 @@ impl Chip {
                 widest: crate::scallop::widest_pick_feed(&cutter, e.angle),
             });
         }
-        if !(e.feed_per_tooth.is_finite() && e.feed_per_tooth > 0.0) {
+        if !(e.feed_per_tooth.is_finite() && e.feed_per_tooth >= MIN_FEED_PER_TOOTH) {
             return Err(EngageError::FeedPerTooth(e.feed_per_tooth));
         }
         if e.feed_per_tooth >= 2.0 * radius {
@@ -311,9 +318,12 @@ impl Chip {
         chip.cross_section_y = m / a;
         // The chip's side of the axis and the turning sense give the feed.
         let chip_side = if chip.cross_section_y >= 0.0 { 1.0 } else { -1.0 };
+        // A tooth on the +Y side moves toward +X. Climbing, it meets the
+        // stock against the tool's travel (the chip thickest where it
+        // enters): the tool feeds toward −X for a chip on +Y.
         chip.feed = match e.cut {
-            Cut::Down => chip_side,
-            Cut::Up => -chip_side,
+            Cut::Down => -chip_side,
+            Cut::Up => chip_side,
         };
         chip.behind = -chip.feed * e.feed_per_tooth;
         Ok(chip)
@@ -530,9 +540,9 @@ impl Chip {
 
     /// The feed direction along X, +1 or −1: with the spindle clockwise
     /// seen from above a tooth at `+Y` moves toward `+X`, so a down-cut
-    /// feeds toward `+X` when the chip is on the `+Y` side of the axis
-    /// ([`Chip::chip_side`] ≥ 0) and an up-cut toward `−X`; the other way
-    /// round for a chip on the `−Y` side.
+    /// (climbing, against the tool's travel) feeds toward `−X` when the chip
+    /// is on the `+Y` side of the axis ([`Chip::chip_side`] ≥ 0) and an
+    /// up-cut toward `+X`; the other way round for a chip on the `−Y` side.
     pub fn feed_direction(&self) -> f64 {
         self.feed
     }

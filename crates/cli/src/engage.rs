@@ -254,8 +254,9 @@ pub fn run(args: &EngageArgs) -> Result<()> {
     out.commit()
 }
 
+/// Angles in degrees, rounded to 1e-9° (no `127.00000000000001`).
 fn degrees(v: &[f64]) -> Vec<f64> {
-    v.iter().map(|t| t.to_degrees()).collect()
+    v.iter().map(|t| (t.to_degrees() * 1e9).round() / 1e9).collect()
 }
 
 fn report(cutter: &Cutter, args: &EngageArgs, c: &Case) -> Value {
@@ -279,7 +280,7 @@ fn report(cutter: &Cutter, args: &EngageArgs, c: &Case) -> Value {
         "area_max_mm2": s.area_max,
         "ed_max_mm3": s.ed_max,
         "torque_max_n_mm": args.kc * s.ed_max,
-        "engaged_deg": s.engaged.map(|(a, b)| [a.to_degrees(), b.to_degrees()]),
+        "engaged_deg": s.engaged.map(|(a, b)| degrees(&[a, b])),
         "chip_volume_mm3": c.volume,
     })
 }
@@ -291,6 +292,7 @@ fn text(cutter: &Cutter, args: &EngageArgs, cases: &[Case]) -> String {
     );
     out += "angle  step  cut   pick feed  A max      E_d max    T max     engaged θ          chip volume\n";
     out += "deg               mm         mm²        mm³        N·mm      deg                mm³\n";
+    out += "                             (each figure for one tooth)\n";
     for c in cases {
         let engaged = match c.sweep.engaged {
             Some((a, b)) => format!("{:7.1} … {:6.1}", a.to_degrees(), b.to_degrees()),
@@ -345,7 +347,8 @@ fn window(cases: &[&Case]) -> (f64, f64, f64) {
         let p = peak(x).to_radians();
         (s + p.sin(), c + p.cos())
     });
-    let centre = sin.atan2(cos).to_degrees();
+    // In [0°, 360°), as the table and the JSON give the angles.
+    let centre = sin.atan2(cos).to_degrees().rem_euclid(360.0);
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
     for x in cases {
         for (t, v) in around_peak(x, centre) {

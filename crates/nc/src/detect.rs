@@ -8,8 +8,9 @@
 //!    and the others refuse or read differently (`o100 sub`, `#<name>`,
 //!    `G64 P` for LinuxCNC; an `O1234` program-number line, `G65`, `GOTO`,
 //!    `IF […]`, `WHILE […] DO1` for Fanuc; `G154`, `G187` for Haas; `$H`,
-//!    `$J=` for GRBL). Markers are looked for outside comments, except the
-//!    comment commands `(debug,` and `(print,`.
+//!    `$J=` for GRBL). Markers are looked for outside comments only: a
+//!    Fanuc program may well say `(PRINT, SETUP SHEET)`, and LinuxCNC's
+//!    comment commands (`(debug,` …) would turn it to whole millimetres.
 //! 2. Evidence for both families — Fanuc or Haas on one side, LinuxCNC or
 //!    GRBL (the extension included) on the other — is refused: the reader
 //!    must say `--dialect`.
@@ -155,24 +156,19 @@ pub fn markers(text: &str) -> Vec<Marker> {
     out
 }
 
-/// `raw` without its comments, upper case, blanks removed; and the
-/// comments' bodies (lower case).
-fn split_comments(raw: &str) -> (String, Vec<String>) {
+/// `raw` without its comments, upper case, blanks removed.
+fn without_comments(raw: &str) -> String {
     let mut code = String::new();
-    let mut comments = Vec::new();
     let mut chars = raw.chars();
     while let Some(c) = chars.next() {
         match c {
-            '(' => comments.push(chars.by_ref().take_while(|&c| c != ')').collect::<String>().to_lowercase()),
-            ';' => {
-                comments.push(chars.by_ref().collect::<String>().to_lowercase());
-                break;
-            }
+            '(' => chars.by_ref().take_while(|&c| c != ')').for_each(drop),
+            ';' => break,
             c if c.is_whitespace() => {}
             c => code.push(c.to_ascii_uppercase()),
         }
     }
-    (code, comments)
+    code
 }
 
 /// The G codes of a compacted, upper-case line: `G64`, `G43.1`.
@@ -202,7 +198,7 @@ fn is_g(g: &str, number: f64) -> bool {
 fn line_markers(raw: &str) -> Vec<(Dialect, String)> {
     let mut out = Vec::new();
     let trimmed = raw.trim();
-    let (code, comments) = split_comments(raw);
+    let code = without_comments(raw);
     // Block delete and a sequence number go before what matters.
     let body = code.trim_start_matches('/');
     let body = match body.strip_prefix('N') {
@@ -233,14 +229,6 @@ fn line_markers(raw: &str) -> Vec<(Dialect, String)> {
         out.push((Dialect::LinuxCnc, "EXISTS[…]".to_string()));
     } else if code.contains("**") {
         out.push((Dialect::LinuxCnc, "**".to_string()));
-    }
-    for c in &comments {
-        let c = c.trim_start();
-        for command in ["debug,", "print,", "logopen,", "logappend,", "probeopen"] {
-            if c.starts_with(command) {
-                out.push((Dialect::LinuxCnc, format!("({command}")));
-            }
-        }
     }
     let gs = g_codes(&code);
     if let Some(g) = gs.iter().find(|g| is_g(g, 64.0)) {

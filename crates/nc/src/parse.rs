@@ -353,7 +353,8 @@ impl LineParser<'_> {
             b'$' => Ok(self.unsupported("GRBL '$' system commands are not run by kezuri")),
             b'O' => {
                 let word = String::from_utf8_lossy(&self.b[self.pos..self.end]).trim().to_string();
-                Ok(self.unsupported(&format!("LinuxCNC O-word '{word}' is not supported yet")))
+                Ok(self
+                    .unsupported(&format!("'{word}' is a LinuxCNC O-word: read the program with --dialect linuxcnc")))
             }
             // Most blocks are plain words: skip the keyword tests below when
             // the first letter starts none of them (keep this list in step).

@@ -17,7 +17,9 @@ const FANUC_WHILE: &str = "#1=0\nWHILE [#1 LT 3] DO1\n#1=#1+1\nEND1\nM30\n";
 const HAAS: &str = "G21\nG154 P5\nG1 X50. F300.\nM30\n";
 const GRBL: &str = "$H\nG21\nG1 X50 F300\n";
 const MIXED: &str = "O1234\nG21\no100 sub\no100 endsub\nM30\n";
-/// Markers in comments do not count; `(debug,` is a command, not a comment.
+/// An old Fanuc program's comment that looks like a LinuxCNC command.
+const FANUC_PRINT: &str = "G0 X50000 Y12500\n(PRINT, SETUP SHEET REV 2)\nG1 Z-1000 F100\nM30\n";
+/// Markers in comments do not count.
 const COMMENTED: &str = "(O1234 was the old number; o100 sub, G65)\n; #<x>\nG1 X1. F1.\nM30\n";
 
 #[test]
@@ -37,7 +39,11 @@ fn extensions_by_contents() {
         ("a.ngc", LINUXCNC_SUB, Some(LinuxCnc), "o100 sub on line 2"),
         ("a.gcode", LINUXCNC_SUB, Some(LinuxCnc), "o100 sub on line 2"),
         ("a.nc", LINUXCNC_NAMED, Some(LinuxCnc), "#<…> on line 1"),
-        ("a.nc", LINUXCNC_DEBUG, Some(LinuxCnc), "(debug, on line 2"),
+        // A comment decides nothing, LinuxCNC's comment commands included:
+        // a Fanuc program may say (PRINT, …), and X50 would become 50 mm.
+        ("a.nc", LINUXCNC_DEBUG, Some(Fanuc), "the default (no extension or marker of another dialect)"),
+        ("a.nc", FANUC_PRINT, Some(Fanuc), "the default (no extension or marker of another dialect)"),
+        ("a.ngc", LINUXCNC_DEBUG, Some(LinuxCnc), "the extension .ngc"),
         ("a.nc", LINUXCNC_G64, Some(LinuxCnc), "G64 P on line 2"),
         ("a.nc", LINUXCNC_POLAR, Some(LinuxCnc), "@ on line 2"),
         ("a.nc", FANUC_O, Some(Fanuc), "O1234 (PART) on line 2"),

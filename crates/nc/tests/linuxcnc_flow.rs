@@ -313,7 +313,7 @@ fn bad_o_words_are_located_errors() {
     assert!(error_at("o1 sub\no3 if [1]\no2 sub\no2 endsub\no3 endif\no1 endsub\nM2\n", 3).contains("inside o1 sub"));
     assert!(error_at("o1 if [1]\no1 else\no1 elseif [1]\no1 endif\nM2\n", 3).contains("after o1 else"));
     assert!(error_at("o1 if [1]\no2 while [1]\no1 endif\no2 endwhile\nM2\n", 3).contains("must nest"));
-    assert!(error_at("o1 return\nM2\n", 1).contains("not inside o1 sub"));
+    assert!(error_at("o1 return\nM2\n", 1).contains("not inside a subroutine"));
     assert!(error_at("o1 call [1\nM2\n", 1).contains("not closed"));
     assert!(error_at("o1 frobnicate\nM2\n", 1).contains("expected sub, endsub"));
     // "EOF in file … seeking o-word: o<missing>"
@@ -371,7 +371,7 @@ fn fanuc_reading_is_unchanged() {
     let mut program = Program::default();
     assert!(parse_as(&mut program, file, text, Dialect::Fanuc).is_empty());
     let outcome = interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, &Settings::default());
-    assert!(outcome.diagnostics.iter().any(|d| d.message.contains("not supported yet")));
+    assert!(outcome.diagnostics.iter().any(|d| d.message.contains("--dialect linuxcnc")));
 }
 
 /// Runs each program above through rs274 where it is installed and checks
@@ -629,4 +629,18 @@ fn subroutines_are_defined_where_the_run_reaches_them() {
     let ran = run_with("o<foo> call\nM2\n", &[("foo", foo)], &settings());
     assert_eq!(ran.outcome.prints, ["foo"]);
     assert!(ran.error().unwrap().contains("no helper.ngc"));
+}
+
+#[test]
+fn return_leaves_the_subroutine_whatever_its_label() {
+    // rs274 (LinuxCNC's retval.ngc): `o1010 return` inside `o1010 if`
+    // returns from o1000 with its value; `o9999 return [5]` from o100;
+    // a return inside a loop leaves the loop and the subroutine.
+    let text = "o1000 sub\no1010 if [#1 GT 0]\no1010 return [123*[#1]]\no1010 endif\no1000 endsub [4712]\n\
+                o1000 call [0]\n(debug,#<_value>)\no1000 call [2]\n(debug,#<_value>)\n\
+                o100 sub\no9999 return [5]\no100 endsub\no100 call\n(debug,#<_value>)\n\
+                o200 sub\n#1=0\no201 while [1]\n#1=[#1+1]\no202 if [#1 EQ 3]\no202 return [#1]\no202 endif\n\
+                o201 endwhile\no200 endsub\no200 call\n(debug,#<_value>)\nM2\n";
+    let ran = run(text).ok();
+    assert_eq!(ran.outcome.prints, ["4712.000000", "246.000000", "5.000000", "3.000000"]);
 }

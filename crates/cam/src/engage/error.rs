@@ -23,7 +23,8 @@ pub enum EngageError {
         /// The widest that overlaps, `2R / cos α`, mm.
         widest: f64,
     },
-    /// The feed per tooth `S_z` is not a positive number.
+    /// The feed per tooth `S_z` is not a number of at least
+    /// [`MIN_FEED_PER_TOOTH`](super::MIN_FEED_PER_TOOTH).
     FeedPerTooth(f64),
     /// The feed per tooth is at least the diameter: the teeth's cuts do not
     /// overlap and there is no chip of the kind modelled.
@@ -63,7 +64,9 @@ impl fmt::Display for EngageError {
                 "a pick feed of {pick_feed} mm is wider than the cutter: the passes would leave an uncut strip; \
                  the widest that overlaps at this angle is {widest:.6} mm (the diameter / cos angle)"
             ),
-            EngageError::FeedPerTooth(s) => write!(f, "the feed per tooth must be a number > 0 mm, got {s}"),
+            EngageError::FeedPerTooth(s) => {
+                write!(f, "the feed per tooth must be a number of at least {} mm, got {s}", super::MIN_FEED_PER_TOOTH)
+            }
             EngageError::FeedPerToothTooWide { feed_per_tooth, diameter } => write!(
                 f,
                 "a feed per tooth of {feed_per_tooth} mm is not less than the cutter's diameter {diameter} mm: \

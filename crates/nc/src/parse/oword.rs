@@ -145,9 +145,11 @@ pub(super) fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u
                 *end = at;
             }
         }
+        // rs274 returns from the subroutine it is in, whatever the label
+        // (LinuxCNC's retval.ngc returns with its if's label).
         Flow::Return { .. } => {
-            if !open.iter().any(|s| s.kind == OpenKind::Sub && s.name == name) {
-                return Err(format!("{name} return is not inside {name} sub … {name} endsub"));
+            if !open.iter().any(|s| s.kind == OpenKind::Sub) {
+                return Err(format!("{name} return is not inside a subroutine (sub … endsub)"));
             }
         }
         Flow::Call { .. } => {}
