@@ -506,7 +506,7 @@ impl Class {
             | Class::Remap(r)
             | Class::Rs274Error(r) => r.clone(),
             Class::Library => "only sub/endsub".into(),
-            Class::NoMotion => "rs274 makes no motion".into(),
+            Class::NoMotion => "rs274 makes no motion; kezuri runs it".into(),
             Class::Mill => String::new(),
         }
     }
@@ -603,7 +603,10 @@ fn examine(file: &Path, table: &Path, machine: &Path, scratch: &Path) -> Row {
         return class_row(Class::Rs274Error(e));
     }
     if canon.motions.is_empty() {
-        return class_row(Class::NoMotion);
+        // rs274 runs it without moving (parameters, messages, subroutine
+        // returns): kezuri must run it too.
+        let difference = kezuri_linuxcnc(file, dir, machine, scratch).err().map(|e| format!("kezuri error: {e}"));
+        return Row { file: short(&name), class: Class::NoMotion, difference };
     }
     let difference = match kezuri_linuxcnc(file, dir, machine, scratch) {
         Err(e) => Some(format!("kezuri error: {e}")),
@@ -679,6 +682,11 @@ fn linuxcnc_examples_agree_with_rs274() {
             (Class::Mill, Some(d), None) => {
                 failures.push(format!("{}: {d}", r.file));
                 format!("DIFFERS\n      {d}")
+            }
+            (Class::NoMotion, Some(d), Some(cause)) => format!("kezuri stops (expected: {cause})\n      {d}"),
+            (Class::NoMotion, Some(d), None) => {
+                failures.push(format!("{}: rs274 runs it, {d}", r.file));
+                format!("KEZURI STOPS\n      {d}")
             }
             (c, _, Some(_)) => {
                 failures.push(format!("{}: listed in EXPECTED_FAILURES but classed {}", r.file, c.name()));
