@@ -197,6 +197,18 @@ pub fn run(args: &EngageArgs) -> Result<()> {
     }
     let angles = angles(&args.angle)?;
     let feeds = pick_feeds(args, &cutter, &angles)?;
+    for (&angle_deg, &pick_feed) in angles.iter().zip(&feeds) {
+        // A cusp as tall as the stock: the passes leave a strip of it uncut.
+        if let Ok(s) = scallop::cusp(&cutter, angle_deg.to_radians(), pick_feed) {
+            if s.cusp >= args.depth {
+                eprintln!(
+                    "warning: at {angle_deg}° a pick feed of {pick_feed:.4} mm leaves a cusp of {:.4} mm, not less \
+                     than the depth of {} mm: the passes leave stock between them uncut",
+                    s.cusp, args.depth
+                );
+            }
+        }
+    }
     let steps: &[Step] = match args.step {
         StepChoice::Down => &[Step::Down],
         StepChoice::Up => &[Step::Up],

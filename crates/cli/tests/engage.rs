@@ -161,3 +161,16 @@ fn bad_input_is_a_clear_error() {
     assert!(with("--feed-per-tooth", "-1").contains("--feed-per-tooth"));
     assert!(with("--tool", "oval:16").contains("oval"));
 }
+
+#[test]
+fn a_cusp_as_tall_as_the_stock_is_warned_of() {
+    let mut args = PAPER.to_vec();
+    args[6] = "auto";
+    args.extend(["--cusp", "100"]);
+    let o = kezuri(&args);
+    assert!(o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("leave stock between them uncut"), "{e}");
+    let o = kezuri(&PAPER);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"), "a 0.8 mm pick feed at 45° cuts it all");
+}
