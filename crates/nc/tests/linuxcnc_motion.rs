@@ -484,6 +484,9 @@ fn g76_end_point_increments_and_inches_as_rs274() {
     let t = path("G20 G90\nG0 X1 Z0.5\nS500 M3\nG76 P0.1 Z-1 I-0.1 J0.05 K0.1\nM2\n");
     assert_eq!(passes(&t, 1, 2), [(26.67, 12.7, 21.59, -25.4), (25.4, 12.7, 20.32, -25.4)]);
     assert_eq!(t.moves[3].feed, 1270.0);
+    // Z at the start: rs274 shifts as toward -Z (Q30: tan 30° × 0.5).
+    let t = path("G21 G90\nG0 X10 Z5\nS500 M3\nG76 P1 Z5 I-1 J0.5 K1 Q30\nM2\n");
+    assert_eq!(passes(&t, 1, 1), [(10.5, 4.7113, 8.5, 5.2887)]);
 }
 
 #[test]

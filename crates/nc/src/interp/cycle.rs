@@ -257,7 +257,8 @@ impl State {
         let (x0, z0) = (start.x, start.z);
         let (i_mm, k_mm) = (self.mm(i), self.mm(k));
         let d = i.signum();
-        let s = if end.z - z0 < 0.0 { -1.0 } else { 1.0 };
+        // rs274: toward -Z unless Z is above the start (Z at the start too).
+        let s = if end.z > z0 { 1.0 } else { -1.0 };
         let tan = q.to_radians().tan();
         let feed = (self.mm(pitch) * self.speed).abs();
         let xz = AxisSet::NONE.with(0).with(2);
