@@ -129,8 +129,8 @@ fn linuxcnc_rules_where_they_differ_from_fanuc() {
     // G98 from an initial level below R returns to R on LinuxCNC.
     let t = path("G0 X0 Y0 Z1\nG98 G81 X1 Y1 Z-2 R3 F100\nG80\nM2\n", &lc);
     assert_eq!(t.moves.last().unwrap().end.z, 3.0);
-    // G76 is LinuxCNC's lathe threading cycle.
-    assert!(error("G76 X1 Z-2 R1 Q1 F1\nM2\n", &lc).contains("threading"));
+    // G76 is LinuxCNC's lathe threading cycle: P is its pitch.
+    assert!(error("G76 X1 Z-2 R1 Q1 F1\nM2\n", &lc).contains("P word missing with G76"));
 }
 
 #[test]

@@ -301,6 +301,7 @@ impl State {
                 // A group 1 code ends a canned cycle.
                 self.modal.motion = m;
                 self.rigid_tap = false;
+                self.threading = false;
                 self.end_cycle();
             }
             GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
@@ -311,6 +312,7 @@ impl State {
             }
             GCode::RigidTap => {
                 self.rigid_tap = true;
+                self.threading = false;
                 self.end_cycle();
             }
             GCode::Plane(p) => self.modal.plane = p,
@@ -386,6 +388,7 @@ impl State {
             }
             GCode::CycleOff => {
                 self.rigid_tap = false;
+                self.threading = false;
                 self.end_cycle();
             }
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
@@ -397,11 +400,15 @@ impl State {
                     _ => None,
                 };
             }
+            // LinuxCNC's G76 is a lathe threading cycle, its own motion mode.
             GCode::CannedCycle(Cycle::FineBore) if self.settings.coords.control == Control::LinuxCnc => {
-                return Err(Diagnostic::error(gspan, "LinuxCNC's G76 is a lathe threading cycle: not supported"));
+                self.threading = true;
+                self.rigid_tap = false;
+                self.end_cycle();
             }
             GCode::CannedCycle(cycle) => {
                 self.rigid_tap = false;
+                self.threading = false;
                 if self.modal.cycle.is_none() {
                     self.begin_cycle();
                 }
@@ -749,6 +756,9 @@ impl State {
         }
         if self.rigid_tap {
             return self.rigid_tap_block(w, span, line);
+        }
+        if self.threading {
+            return self.thread_block(w, span, line);
         }
         let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
         if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {

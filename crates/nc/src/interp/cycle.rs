@@ -170,6 +170,135 @@ impl State {
         Ok(true)
     }
 
+    /// A block in LinuxCNC's G76 mode (lathe threading, in XZ whatever the
+    /// plane): from where the tool is (x₀, z₀), with d the sign of I and s
+    /// that of the travel in Z, passes at the depths δₙ = J·n^(1/R) while
+    /// under K, one at K, then H spring passes at K. Each pass: a rapid to
+    /// (x₀ − d(K−δ), z₀ + s·δ·tan Q), a rapid to x₀ + I + d·δ, a feed
+    /// synchronised with the spindle (P the distance a turn) to
+    /// Z − s(K−δ)·tan Q, a rapid back to x₀ − d(K−δ); then a rapid to the
+    /// block's end point. rs274's `G76`, motion for motion. Kept as its
+    /// block for a written program. Returns whether the tool moved.
+    pub(super) fn thread_block(&mut self, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        let given_here = w.g[..w.g_count].iter().any(|g| g.0 == 760);
+        if !w.any_axis() {
+            if given_here {
+                return Err(Diagnostic::error(span, "All axes missing with G76: give Z, the end of the thread"));
+            }
+            return Ok(false);
+        }
+        // The taper words: not done.
+        for letter in [b'E', b'L'] {
+            if w.has(letter) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!("G76 {} (the taper at the ends of the thread) is not supported", letter as char),
+                ));
+            }
+        }
+        // rs274's refusals. P, I, J, K are not modal: each block gives them.
+        let pitch = match w.get(b'P') {
+            Some(p) if p > 0.0 => p,
+            _ => return Err(Diagnostic::error(span, "P word missing with G76: give the pitch, the distance a turn")),
+        };
+        let (Some(i), Some(j), Some(k)) = (w.get(b'I'), w.get(b'J'), w.get(b'K')) else {
+            return Err(Diagnostic::error(span, "I J or K words missing with G76"));
+        };
+        if i == 0.0 {
+            return Err(Diagnostic::error(w.span(b'I'), "In G76, I must not be 0"));
+        }
+        if j <= 0.0 {
+            return Err(Diagnostic::error(w.span(b'J'), "In G76, J must be greater than 0"));
+        }
+        if k <= j {
+            return Err(Diagnostic::error(w.span(b'K'), "In G76, K must be greater than J"));
+        }
+        if let Some(l) = b"ABC".iter().find(|&&l| w.has(l)) {
+            return Err(Diagnostic::error(w.span(*l), "Cannot move rotary axes with G76"));
+        }
+        if self.spindle == Spindle::Off {
+            return Err(Diagnostic::error(span, "Spindle not turning in G76: give M3 or M4 first"));
+        }
+        if self.comp_on() {
+            return Err(Diagnostic::error(span, "G76 with cutter compensation on (G41/G42): give G40 first"));
+        }
+        // rs274 also takes R ≤ 0 and H < 0; refused here rather than guessed.
+        let r = w.get(b'R').unwrap_or(1.0);
+        if r <= 0.0 {
+            return Err(Diagnostic::error(w.span(b'R'), "G76 needs a depth degression R greater than 0"));
+        }
+        let h = w.get(b'H').unwrap_or(0.0);
+        if h < 0.0 || h.fract() != 0.0 {
+            return Err(Diagnostic::error(w.span(b'H'), "G76 needs a whole number of spring passes H, 0 or more"));
+        }
+        let q = w.get(b'Q').unwrap_or(0.0);
+        // The passes, bounded.
+        const MOST_PASSES: usize = 10_000;
+        let mut depths = Vec::new();
+        for n in 1.. {
+            let depth = j * f64::from(n).powf(1.0 / r);
+            if depth >= k {
+                break;
+            }
+            if depths.len() >= MOST_PASSES {
+                return Err(Diagnostic::error(span, format!("G76 would make more than {MOST_PASSES} passes")));
+            }
+            depths.push(self.mm(depth));
+        }
+        if depths.len() as f64 + h >= MOST_PASSES as f64 {
+            return Err(Diagnostic::error(span, format!("G76 would make more than {MOST_PASSES} passes")));
+        }
+        depths.extend(std::iter::repeat_n(self.mm(k), 1 + h as usize));
+        if self.speed <= 0.0 {
+            self.warn("no-speed", span, "G76 with spindle speed 0: the feed is 0");
+        }
+        let (start, first) = (self.tip, self.toolpath.moves.len());
+        let end = self.target(w);
+        let (x0, z0) = (start.x, start.z);
+        let (i_mm, k_mm) = (self.mm(i), self.mm(k));
+        let d = i.signum();
+        // rs274: toward -Z unless Z is above the start (Z at the start too).
+        let s = if end.z > z0 { 1.0 } else { -1.0 };
+        let tan = q.to_radians().tan();
+        let feed = (self.mm(pitch) * self.speed).abs();
+        let xz = AxisSet::NONE.with(0).with(2);
+        let at = |x: f64, z: f64| Axes { x, z, ..start };
+        for depth in depths {
+            let out = x0 - d * (k_mm - depth);
+            self.push_move(MoveKind::Rapid, at(out, z0 + s * depth * tan), 0.0, xz, line);
+            let cut = x0 + i_mm + d * depth;
+            self.push_move(MoveKind::Rapid, at(cut, self.tip.z), 0.0, xz, line);
+            self.push_move(MoveKind::Feed, at(cut, end.z - s * (k_mm - depth) * tan), feed, xz, line);
+            self.push_move(MoveKind::Rapid, at(out, self.tip.z), 0.0, xz, line);
+        }
+        self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line);
+        // The block in absolute program coordinates, its units with it (Q
+        // always: LinuxCNC versions differ in its default).
+        let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
+        let (e, o) = (end.to_array(), self.frame_offset().to_array());
+        let mut text = String::from(if unit == 1.0 { "G21 G90 G76" } else { "G20 G90 G76" });
+        // Z always (the end of the thread), X and Y as given.
+        for (n, &letter) in b"XYZ".iter().enumerate() {
+            if w.has(letter) || letter == b'Z' {
+                text.push_str(&format!(" {}{}", letter as char, crate::write::number((e[n] - o[n]) / unit, 6)));
+            }
+        }
+        for (letter, v) in [(b'P', Some(pitch)), (b'I', Some(i)), (b'J', Some(j)), (b'K', Some(k))].into_iter().chain([
+            (b'R', w.get(b'R')),
+            (b'Q', Some(q)),
+            (b'H', w.get(b'H')),
+        ]) {
+            if let Some(v) = v {
+                text.push_str(&format!(" {}{}", letter as char, crate::write::number(v, 6)));
+            }
+        }
+        let moves = self.toolpath.moves.len() - first;
+        let mut kept = self.kept(first, moves, text, false, line);
+        kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[first]);
+        self.toolpath.kept.push(kept);
+        Ok(true)
+    }
+
     /// A block in canned cycle mode: stores its hole data and drills the
     /// hole(s) it asks for: a block that names a position in the plane, the
     /// bottom or R drills. Returns whether the tool moved.

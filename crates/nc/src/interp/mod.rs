@@ -280,6 +280,8 @@ struct State {
     hole: cycle::HoleData,
     /// LinuxCNC's G33.1 is the motion mode (group 1).
     rigid_tap: bool,
+    /// LinuxCNC's G76 threading cycle is the motion mode (group 1).
+    threading: bool,
     /// Holes drilled by canned cycles.
     holes: u64,
     /// Tool length wear by H number (G10 L11, #10001…), added to the
@@ -391,6 +393,7 @@ impl State {
             skip_position: Axes::ZERO,
             hole: cycle::HoleData::default(),
             rigid_tap: false,
+            threading: false,
             holes: 0,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),

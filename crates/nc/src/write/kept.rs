@@ -15,8 +15,13 @@ impl Writer {
         let refused = match dialect {
             Dialect::Grbl => !grbl_has(&k.text),
             // Compensation by a diameter is LinuxCNC's alone.
-            // So are G33.1 rigid tapping and G43.1 dynamic tool length offsets.
-            Dialect::Fanuc => ["G41.1", "G42.1", "G33.1", "G43.1"].iter().any(|c| k.text.contains(c)),
+            // So are G33.1 rigid tapping, G43.1 dynamic tool length offsets
+            // and G76 threading (a kept G76 outside a canned cycle's holes:
+            // Fanuc's G76 is fine boring).
+            Dialect::Fanuc => {
+                ["G41.1", "G42.1", "G33.1", "G43.1"].iter().any(|c| k.text.contains(c))
+                    || (k.cycle.is_none() && k.text.lines().any(|line| has(line, 'G', 76.0)))
+            }
             Dialect::LinuxCnc => false,
         };
         if refused {
