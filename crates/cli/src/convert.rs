@@ -303,7 +303,7 @@ fn run_gcode(a: &ConvertArgs, dialect: Dialect, sources: &mut Sources, id: u32) 
     });
     let outcome = interp::run(&mut program, sources, 0, &mut Folder::new(dir), &settings);
     for line in &outcome.prints {
-        eprintln!("DPRNT: {line}");
+        eprintln!("{}: {line}", crate::program::print_label(settings.dialect));
     }
     crate::program::report_logs(&outcome);
     let errors = print_diagnostics(sources, &outcome.diagnostics);

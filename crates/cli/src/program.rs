@@ -146,6 +146,16 @@ pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_program(o, read_text(&o.file)?, true)
 }
 
+/// How a program's printed lines are shown on standard error: Fanuc's
+/// `DPRNT`, LinuxCNC's `(debug,…)`, `(print,…)` and `(msg,…)` messages.
+pub fn print_label(dialect: kezuri_nc::Dialect) -> &'static str {
+    if dialect.is_fanuc() {
+        "DPRNT"
+    } else {
+        "MESSAGE"
+    }
+}
+
 /// [`read_and_run`] on the program's text, read already.
 pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
     run_program(o, text, false)
@@ -251,7 +261,7 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
     if !outcome.prints.is_empty() {
         match &o.dprnt {
             Some(p) => outputs.add(Some(p), (outcome.prints.join("\n") + "\n").as_bytes())?,
-            None => outcome.prints.iter().for_each(|l| eprintln!("DPRNT: {l}")),
+            None => outcome.prints.iter().for_each(|l| eprintln!("{}: {l}", print_label(settings.dialect))),
         }
     }
     report_logs(&outcome);
