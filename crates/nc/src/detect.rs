@@ -205,7 +205,9 @@ fn line_markers(raw: &str) -> Vec<(Dialect, String)> {
         Some(rest) => rest.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
         None => body,
     };
-    let shown = |s: &str| s.chars().take(24).collect::<String>();
+    // The line as written, without its comment (which may not close
+    // within the quote), at most 24 characters.
+    let shown = |s: &str| s.split(['(', ';']).next().unwrap_or("").trim_end().chars().take(24).collect::<String>();
 
     // LinuxCNC.
     if let Some(rest) = body.strip_prefix('O') {
