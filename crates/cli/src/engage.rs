@@ -89,8 +89,8 @@ pub struct EngageArgs {
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
     /// Print JSON: one case as an object (angles_deg, area_mm2, lg_mm, ed_mm3, torque_n_mm,
-    /// area_max_mm2, ed_max_mm3, torque_max_n_mm, engaged_deg, chip_volume_mm3, pick_feed_mm, …),
-    /// several as {"cases": [...]}.
+    /// area_max_mm2, ed_max_mm3, torque_max_n_mm, engaged_deg, chip_volume_mm3, pick_feed_mm, and
+    /// tool_torque_n_mm, tool_torque_max_n_mm: every flute together), several as {"cases": [...]}.
     #[arg(long)]
     pub json: bool,
 }
@@ -125,6 +125,26 @@ struct Case {
     cut: Cut,
     sweep: Sweep,
     volume: f64,
+    /// E_d of all the flutes together at each angle of the sweep, mm³:
+    /// every tooth cuts the same chip, `2π/flutes` behind the one before.
+    tool_ed: Vec<f64>,
+}
+
+impl Case {
+    fn tool_ed_max(&self) -> f64 {
+        self.tool_ed.iter().copied().fold(0.0, f64::max)
+    }
+}
+
+/// E_d of all `flutes` teeth at each angle of `sweep`.
+fn tool_ed(chip: &Chip, sweep: &Sweep, flutes: u32) -> Vec<f64> {
+    let pitch = std::f64::consts::TAU / f64::from(flutes);
+    sweep
+        .theta
+        .iter()
+        .zip(&sweep.sections)
+        .map(|(&t, first)| first.ed + (1..flutes).map(|k| chip.section(t - pitch * f64::from(k)).ed).sum::<f64>())
+        .collect()
 }
 
 fn step_name(s: Step) -> &'static str {
@@ -238,7 +258,8 @@ pub fn run(args: &EngageArgs) -> Result<()> {
                     format!("at {angle_deg}° with a pick feed of {pick_feed} mm, step {}", step_name(step))
                 })?;
                 let sweep = engage::sweep(&chip, args.steps as usize);
-                cases.push(Case { angle_deg, pick_feed, step, cut, volume: chip.volume(), sweep });
+                let tool_ed = tool_ed(&chip, &sweep, args.flutes);
+                cases.push(Case { angle_deg, pick_feed, step, cut, volume: chip.volume(), sweep, tool_ed });
             }
         }
     }
@@ -292,6 +313,8 @@ fn report(cutter: &Cutter, args: &EngageArgs, c: &Case) -> Value {
         "area_max_mm2": s.area_max,
         "ed_max_mm3": s.ed_max,
         "torque_max_n_mm": args.kc * s.ed_max,
+        "tool_torque_n_mm": c.tool_ed.iter().map(|e| args.kc * e).collect::<Vec<_>>(),
+        "tool_torque_max_n_mm": args.kc * c.tool_ed_max(),
         "engaged_deg": s.engaged.map(|(a, b)| degrees(&[a, b])),
         "chip_volume_mm3": c.volume,
     })
@@ -302,9 +325,9 @@ fn text(cutter: &Cutter, args: &EngageArgs, cases: &[Case]) -> String {
         "tool {cutter}, {} flutes, helix {}°; depth {} mm, feed per tooth {} mm; torque T = {} N/mm² × E_d\n",
         args.flutes, args.helix, args.depth, args.feed_per_tooth, args.kc
     );
-    out += "angle  step  cut   pick feed  A max      E_d max    T max     engaged θ          chip volume\n";
-    out += "deg               mm         mm²        mm³        N·mm      deg                mm³\n";
-    out += "                             (each figure for one tooth)\n";
+    out += "angle  step  cut   pick feed  A max      E_d max    T max     engaged θ          chip volume  T tool max\n";
+    out += "deg               mm         mm²        mm³        N·mm      deg                mm³          N·mm\n";
+    out += "                             (one tooth's, but the last: every flute together)\n";
     for c in cases {
         let engaged = match c.sweep.engaged {
             Some((a, b)) => format!("{:7.1} … {:6.1}", a.to_degrees(), b.to_degrees()),
@@ -312,7 +335,7 @@ fn text(cutter: &Cutter, args: &EngageArgs, cases: &[Case]) -> String {
         };
         let _ = writeln!(
             out,
-            "{:5.1}  {:<4}  {:<4}  {:9.4}  {:9.6}  {:9.5}  {:8.2}  {engaged:<17}  {:.6}",
+            "{:5.1}  {:<4}  {:<4}  {:9.4}  {:9.6}  {:9.5}  {:8.2}  {engaged:<17}  {:<11.6}  {:8.2}",
             c.angle_deg,
             step_name(c.step),
             cut_name(c.cut),
@@ -320,7 +343,8 @@ fn text(cutter: &Cutter, args: &EngageArgs, cases: &[Case]) -> String {
             c.sweep.area_max,
             c.sweep.ed_max,
             args.kc * c.sweep.ed_max,
-            c.volume
+            c.volume,
+            args.kc * c.tool_ed_max()
         );
     }
     out

@@ -174,3 +174,37 @@ fn a_cusp_as_tall_as_the_stock_is_warned_of() {
     let o = kezuri(&PAPER);
     assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"), "a 0.8 mm pick feed at 45° cuts it all");
 }
+
+#[test]
+fn the_tools_torque_is_every_flutes_together() {
+    // Side milling 8 mm of a 10 mm flat end mill: a tooth cuts over 147°,
+    // so with four flutes (90° apart) two cut at once.
+    let base = [
+        "engage",
+        "--tool",
+        "flat:10",
+        "--angle",
+        "0",
+        "--pick-feed",
+        "8",
+        "--depth",
+        "3",
+        "--feed-per-tooth",
+        "0.1",
+        "--json",
+    ];
+    let with = |flutes: &str| {
+        let mut args = base.to_vec();
+        args.extend(["--flutes", flutes]);
+        json(&args)
+    };
+    let one = with("1");
+    assert_eq!(numbers(&one, "tool_torque_n_mm"), numbers(&one, "torque_n_mm"));
+    let four = with("4");
+    let (tooth, tool) = (numbers(&four, "torque_n_mm"), numbers(&four, "tool_torque_n_mm"));
+    for k in 0..360 {
+        let sum: f64 = (0..4).map(|j| tooth[(k + 360 - 90 * j) % 360]).sum();
+        assert!((tool[k] - sum).abs() <= 1e-9 * (1.0 + sum), "θ {k}°: {} vs {sum}", tool[k]);
+    }
+    assert!(f(&four, "tool_torque_max_n_mm") > 1.2 * f(&four, "torque_max_n_mm"));
+}
