@@ -328,8 +328,16 @@ fn text(cutter: &Cutter, args: &EngageArgs, cases: &[Case]) -> String {
     out += "angle  step  cut   pick feed  A max      E_d max    T max     engaged θ          chip volume  T tool max\n";
     out += "deg               mm         mm²        mm³        N·mm      deg                mm³          N·mm\n";
     out += "                             (one tooth's, but the last: every flute together)\n";
+    let mut sliver = false;
     for c in cases {
+        let step = 360.0 / c.sweep.theta.len() as f64;
         let engaged = match c.sweep.engaged {
+            // Every angle: the tip's sliver, narrower than the feed per
+            // tooth, is cut all round (docs/engage.md).
+            Some((a, b)) if (b - a).to_degrees() >= 360.0 - 1.5 * step => {
+                sliver = true;
+                "whole turn *".to_string()
+            }
             Some((a, b)) => format!("{:7.1} … {:6.1}", a.to_degrees(), b.to_degrees()),
             None => "no chip".to_string(),
         };
@@ -346,6 +354,10 @@ fn text(cutter: &Cutter, args: &EngageArgs, cases: &[Case]) -> String {
             c.volume,
             args.kc * c.tool_ed_max()
         );
+    }
+    if sliver {
+        out += "* the lowest part of the tip, narrower than the feed per tooth, is never covered by the\n  \
+                tooth before: a sliver of it is cut at every angle (the charts show the real chip)\n";
     }
     out
 }
