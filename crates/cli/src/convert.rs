@@ -1,5 +1,5 @@
 //! `kezuri convert`: G-code dialects and Roland RML-1 into each other,
-//! scaled and shortened (seed 002's converter, with units).
+//! scaled and shortened (with real units).
 
 use std::path::{Path, PathBuf};
 

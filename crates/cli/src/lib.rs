@@ -115,7 +115,7 @@ position it never named (after G28, G53, a tool change) stays an increment."
     /// Random "hand-carved" texture on the cutting moves of a program: baked in, or as a Fanuc
     /// macro that draws each depth from the control's clock.
     Texture(Box<texture::TextureArgs>),
-    /// Thermal drift from on-machine measurements (seed 003): the measuring program, the
+    /// Thermal drift from on-machine measurements: the measuring program, the
     /// tool's edge in the sensors' profiles, the error model, the corrected program.
     #[command(
         subcommand,
@@ -126,7 +126,7 @@ position it never named (after G28, G53, a tool change) stays an increment."
     /// tables read from LinuxCNC, FreeCAD and Fusion 360 files.
     #[command(subcommand)]
     Tool(tool::ToolCommand),
-    /// The program corrected for the measured tool's wear and runout (seed 003).
+    /// The program corrected for the measured tool's wear and runout.
     #[command(
         subcommand,
         after_help = "The pipeline:\n  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 -o t12.csv\n  kezuri wear apply part.nc --profile t12.csv --nominal ball:1 --surface part.stl -o part-t12.nc"

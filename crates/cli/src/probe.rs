@@ -1,4 +1,4 @@
-//! `kezuri probe`: digitize a model on a grid and copy-mill it (seed 000):
+//! `kezuri probe`: digitize a model on a grid and copy-mill it:
 //! the measuring program, the capture, levelling, export and the milling
 //! program.
 
@@ -26,7 +26,7 @@ pub enum ProbeCommand {
     Plan(Box<plan::PlanArgs>),
     /// Read the indicator over a serial port, one reading per plunge, into a data file.
     Capture(Box<capture::CaptureArgs>),
-    /// Reference-plane correction (least-squares plane or the paper's lines), with the
+    /// Reference-plane correction (least-squares plane or reference lines), with the
     /// paper's table of count, max, min, mean and standard deviation.
     Level(Box<level::LevelArgs>),
     /// DXF cross sections, STL surface, shaded PNG or x,y,z CSV of the data; --mirror

@@ -1,4 +1,4 @@
-//! `kezuri relief`: a grayscale sketch carved as a relief (seed 002).
+//! `kezuri relief`: a grayscale sketch carved as a relief.
 
 use std::path::{Path, PathBuf};
 

@@ -1,5 +1,5 @@
-//! `kezuri texture`: seed 004's random "hand-carved" texture on the cutting
-//! moves of a program, baked in or as the paper's Fanuc macro.
+//! `kezuri texture`: a random "hand-carved" texture on the cutting
+//! moves of a program, baked in or as a Fanuc Custom Macro B program.
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
@@ -57,7 +57,7 @@ pub struct TextureArgs {
     /// XY travel per stroke, mm: each ends at a new random depth.
     #[arg(long, value_name = "MM", default_value_t = 20.0, value_parser = crate::numbers::length)]
     pub segment: f64,
-    /// A fixed depth the offsets are added to (the paper: -2.0) [default: the
+    /// A fixed depth the offsets are added to (for example -2.0) [default: the
     /// program's own Z on each move].
     #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub base: Option<f64>,

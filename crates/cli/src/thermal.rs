@@ -1,4 +1,4 @@
-//! `kezuri thermal …`: seed 003's thermal-drift measurements.
+//! `kezuri thermal …`: thermal-drift measurements.
 
 use std::path::PathBuf;
 
@@ -33,7 +33,7 @@ pub enum ThermalCommand {
     /// polynomials, degree by leave-one-out unless given; the model as JSON.
     Fit(FitArgs),
     /// The program corrected: every end point commanded where the warm machine puts the
-    /// tool on the CAM target (Newton to 1 nm, or the paper's grid search).
+    /// tool on the CAM target (Newton to 1 nm, or a grid search).
     Apply(Box<ApplyArgs>),
 }
 

@@ -42,7 +42,7 @@ pub struct ProfileArgs {
     /// The pictures.
     #[arg(required = true, value_name = "IMAGE")]
     pub images: Vec<PathBuf>,
-    /// Side of a pixel on the tool, micrometres (0.71 in the paper).
+    /// Side of a pixel on the tool, micrometres (for example 0.71).
     #[arg(long, value_name = "UM", value_parser = crate::numbers::length)]
     pub pixel_um: f64,
     /// The row of the first picture where a new tool's tip sits (the tool-length reference);

@@ -1,5 +1,5 @@
 //! `kezuri tool db`: a database of each tool's measured profiles as it
-//! wears (seed 003): `add` stores a profile CSV with the time it was
+//! wears: `add` stores a profile CSV with the time it was
 //! measured, `list` names the tools, `show` tabulates (and charts) one
 //! tool's wear against its first profile. [`latest_profile`] gives
 //! `wear apply --tool-id` the newest profile. The file is SQLite

@@ -1,5 +1,5 @@
 //! `kezuri wear apply`: the program moved so the measured (worn, eccentric)
-//! tool cuts what the new tool would have (seed 003).
+//! tool cuts what the new tool would have.
 
 use std::path::PathBuf;
 

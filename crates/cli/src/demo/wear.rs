@@ -1,4 +1,4 @@
-//! The demo's tool-wear pipeline (seed 003): pictures of a turning 0.5 mm
+//! The demo's tool-wear pipeline: pictures of a turning 0.5 mm
 //! ball end mill, new and worn, drawn from a known shape; their profiles
 //! measured and kept in the tool database; a groove finished with the worn
 //! tool, as programmed and corrected, simulated against its target.
@@ -20,7 +20,7 @@ use crate::program::read_and_run;
 
 /// The ball's radius, mm.
 const R: f64 = 0.25;
-/// Pixel side, mm (the paper's 0.71 µm).
+/// Pixel side, mm (0.71 µm).
 const PIXEL: f64 = 0.00071;
 /// The groove: a trough of this radius along Y, its bottom at z 0.
 const TROUGH: f64 = 0.8;

@@ -1,4 +1,4 @@
-//! `kezuri probe level`: reference-plane correction with the paper's table.
+//! `kezuri probe level`: reference-plane correction, with a before-and-after table of the readings.
 
 use std::path::{Path, PathBuf};
 

@@ -57,7 +57,7 @@ Examples:
 pub struct MillArgs {
     #[command(flatten)]
     pub data: DataArgs,
-    /// The stylus that took the readings (ball:10 for the paper's 10 mm bead).
+    /// The stylus that took the readings (ball:10 for a 10 mm bead).
     #[arg(long, value_name = "SPEC")]
     pub stylus: String,
     /// The cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.

@@ -1,5 +1,5 @@
 //! `kezuri probe plan`: the measuring program for digitizing a model on a
-//! grid (seed 000's O1011/O1012/O1013), as repeated subprograms, every point
+//! grid (O1011/O1012/O1013 in samples/), as repeated subprograms, every point
 //! written out, or G31 skip-signal probing.
 
 use std::path::PathBuf;

@@ -44,7 +44,7 @@ pub struct SimulateArgs {
     /// Capture order.
     #[arg(long, value_name = "zigzag|oneway", default_value = "zigzag")]
     pub pattern: String,
-    /// The stylus (ball:10 for the paper's 10 mm bead).
+    /// The stylus (ball:10 for a 10 mm bead).
     #[arg(long, value_name = "SPEC")]
     pub stylus: String,
     /// Slope of the model's base along X and Y, mm per mm.
