@@ -297,10 +297,7 @@ fn run_gcode(a: &ConvertArgs, dialect: Dialect, sources: &mut Sources, id: u32) 
     if program.units.is_empty() {
         return Ok(Toolpath::default());
     }
-    let dir = a.lib.clone().unwrap_or_else(|| match a.input.parent() {
-        Some(p) if !p.as_os_str().is_empty() && a.input != Path::new("-") => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    });
+    let dir = crate::program::library_dir(a.lib.as_deref(), &a.input);
     let outcome = interp::run(&mut program, sources, 0, &mut Folder::new(dir), &settings);
     for line in &outcome.prints {
         eprintln!("{}: {line}", crate::program::print_label(settings.dialect));

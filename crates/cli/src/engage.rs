@@ -136,8 +136,16 @@ impl Case {
     }
 }
 
-/// E_d of all `flutes` teeth at each angle of `sweep`.
+/// E_d of all `flutes` teeth at each angle of `sweep` (one revolution in
+/// equal steps): where the flutes' pitch is a whole number of steps the
+/// other teeth's sections are the sweep's own, else they are computed.
 fn tool_ed(chip: &Chip, sweep: &Sweep, flutes: u32) -> Vec<f64> {
+    let n = sweep.sections.len();
+    let f = flutes as usize;
+    if n.is_multiple_of(f) {
+        let shift = n / f;
+        return (0..n).map(|j| (0..f).map(|k| sweep.sections[(j + n - k * shift) % n].ed).sum()).collect();
+    }
     let pitch = std::f64::consts::TAU / f64::from(flutes);
     sweep
         .theta

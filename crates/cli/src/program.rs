@@ -146,6 +146,15 @@ pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_program(o, read_text(&o.file)?, true)
 }
 
+/// The folder subprograms and subroutine files come from: `--lib`, else
+/// the program's own folder (the working folder for standard input).
+pub fn library_dir(lib: Option<&Path>, file: &Path) -> PathBuf {
+    lib.map(Path::to_path_buf).unwrap_or_else(|| match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() && file != Path::new("-") => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    })
+}
+
 /// How a program's printed lines are shown on standard error: Fanuc's
 /// `DPRNT`, LinuxCNC's `(debug,…)`, `(print,…)` and `(msg,…)` messages.
 pub fn print_label(dialect: kezuri_nc::Dialect) -> &'static str {
@@ -248,10 +257,7 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
     let text = sources.get(id).text.clone();
     let parse_diagnostics = parse_as(&mut program, id, &text, detected.dialect);
     let parse_errors = parse_diagnostics.iter().filter(|d| d.is_error()).count();
-    let dir = o.lib.clone().unwrap_or_else(|| match o.file.parent() {
-        Some(p) if !p.as_os_str().is_empty() && o.file != Path::new("-") => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    });
+    let dir = library_dir(o.lib.as_deref(), &o.file);
     let outcome = if parse_errors > 0 || program.units.is_empty() {
         Outcome::default()
     } else {
