@@ -112,3 +112,13 @@ fn fanuc_keeps_its_system_variables() {
         .path();
     assert_eq!(t.moves.last().unwrap().end.x, 0.0);
 }
+
+#[test]
+fn a_starting_value_no_parameter_can_hold_is_an_error() {
+    // #31 is storage; #99999 is past LinuxCNC's parameters: refused, not
+    // dropped without a word.
+    let t = common::run("t.ngc", "G1 X#31 F100\nM2\n", &linuxcnc(&[(31, 2.0)])).path();
+    assert_eq!(t.moves[0].end.x, 2.0);
+    let m = common::run("t.ngc", "G1 X#31 F100\nM2\n", &linuxcnc(&[(31, 2.0), (99999, 1.0)])).message();
+    assert!(m.contains("starting parameters") && m.contains("#99999"), "{m}");
+}

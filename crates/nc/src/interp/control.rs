@@ -91,7 +91,10 @@ impl<'a> Interp<'a> {
             return;
         }
         self.st.load_kept_values();
-        self.st.load_parameters();
+        if let Err(m) = self.st.load_parameters() {
+            self.st.diagnostics.push(Diagnostic::error(unit.span, format!("starting parameters (--var): {m}")));
+            return;
+        }
         self.st.last.o = unit.number.unwrap_or(0) as f64;
         // Room for about a move per block up front: growing a large toolpath
         // step by step copies it. Untouched capacity costs no memory.

@@ -170,24 +170,29 @@ impl State {
     /// `Settings::parameters`), as rs274 does at start-up: the offsets, the
     /// G28/G30 positions, the coordinate system #5220, the G92 offset where
     /// #5210 is 1; every other number as plain storage.
-    pub(super) fn load_parameters(&mut self) {
+    pub(super) fn load_parameters(&mut self) -> Result<(), String> {
         if !linuxcnc_numbering(self.settings.dialect) {
-            return;
+            return Ok(());
         }
         let values = std::mem::take(&mut self.settings.parameters);
         let g92_applied = values.get(&5210).is_some_and(|&v| v == 1.0);
+        let mut result = Ok(());
         for (&n, &v) in &values {
             match n {
                 5211..=5219 if !g92_applied => {}
                 5001..=5999 => self.set_linuxcnc(n, v),
+                // #31–#5000 and the rest: what the program reads, as it
+                // reads any variable; one it cannot hold is an error.
                 _ => {
-                    // #31–#5000 and the rest: what the program reads, as it
-                    // reads any variable.
-                    let _ = self.write_var(f64::from(n), Value::Num(v));
+                    if let Err(m) = self.write_var(f64::from(n), Value::Num(v)) {
+                        result = Err(format!("parameter #{n}: {m}"));
+                        break;
+                    }
                 }
             }
         }
         self.settings.parameters = values;
+        result
     }
 }
 
