@@ -490,6 +490,81 @@ fn g76_end_point_increments_and_inches_as_rs274() {
 }
 
 #[test]
+fn g76_tapered_ends_as_rs274() {
+    // rs274 2.9's output for `G21 G90 G18 / G0 X10 Z5 / S500 M3 / G76 P1.5
+    // Z-20 I-1 J0.4 K1 Q0 E2 L… / G0 X20 / M2`: passes at 0.4, 0.8, K.
+    // L1: the rapid in becomes a feed in by I to K shallower than the pass
+    // and a feed along the taper, 2 along Z, down to the pass (both at the
+    // pitch 1.5·√(2² + 1²)/2 = 1.677051 a turn), then the feed at 1.5.
+    let program =
+        |l: u8| format!("G21 G90 G18\nG0 X10 Z5\nS500 M3\nG76 P1.5 Z-20 I-1 J0.4 K1 Q0 E2 L{l}\nG0 X20\nM2\n");
+    let t = path(&program(1));
+    #[rustfmt::skip]
+    assert_eq!(moves(&t), [
+        ('r', 10.0, 0.0, 5.0),
+        ('r', 10.6, 0.0, 5.0), ('f', 9.6, 0.0, 5.0), ('f', 8.6, 0.0, 3.0), ('f', 8.6, 0.0, -20.0), ('r', 10.6, 0.0, -20.0),
+        ('r', 10.2, 0.0, 5.0), ('f', 9.2, 0.0, 5.0), ('f', 8.2, 0.0, 3.0), ('f', 8.2, 0.0, -20.0), ('r', 10.2, 0.0, -20.0),
+        ('r', 10.0, 0.0, 5.0), ('f', 9.0, 0.0, 5.0), ('f', 8.0, 0.0, 3.0), ('f', 8.0, 0.0, -20.0), ('r', 10.0, 0.0, -20.0),
+        ('r', 10.0, 0.0, -20.0), ('r', 20.0, 0.0, -20.0),
+    ]);
+    let feeds: Vec<f64> = t.moves[2..5].iter().map(|m| (m.feed * 1e4).round() / 1e4).collect();
+    assert_eq!(feeds, [838.5255, 838.5255, 750.0]);
+    // L2: the feed stops 2 short and rises back out by K along the taper.
+    let t = path(&program(2));
+    #[rustfmt::skip]
+    assert_eq!(moves(&t), [
+        ('r', 10.0, 0.0, 5.0),
+        ('r', 10.6, 0.0, 5.0), ('r', 8.6, 0.0, 5.0), ('f', 8.6, 0.0, -18.0), ('f', 9.6, 0.0, -20.0), ('r', 10.6, 0.0, -20.0),
+        ('r', 10.2, 0.0, 5.0), ('r', 8.2, 0.0, 5.0), ('f', 8.2, 0.0, -18.0), ('f', 9.2, 0.0, -20.0), ('r', 10.2, 0.0, -20.0),
+        ('r', 10.0, 0.0, 5.0), ('r', 8.0, 0.0, 5.0), ('f', 8.0, 0.0, -18.0), ('f', 9.0, 0.0, -20.0), ('r', 10.0, 0.0, -20.0),
+        ('r', 10.0, 0.0, -20.0), ('r', 20.0, 0.0, -20.0),
+    ]);
+    let feeds: Vec<f64> = t.moves[3..5].iter().map(|m| (m.feed * 1e4).round() / 1e4).collect();
+    assert_eq!(feeds, [750.0, 838.5255]);
+    // L3: both.
+    let t = path(&program(3));
+    #[rustfmt::skip]
+    assert_eq!(moves(&t), [
+        ('r', 10.0, 0.0, 5.0),
+        ('r', 10.6, 0.0, 5.0), ('f', 9.6, 0.0, 5.0), ('f', 8.6, 0.0, 3.0), ('f', 8.6, 0.0, -18.0), ('f', 9.6, 0.0, -20.0),
+        ('r', 10.6, 0.0, -20.0),
+        ('r', 10.2, 0.0, 5.0), ('f', 9.2, 0.0, 5.0), ('f', 8.2, 0.0, 3.0), ('f', 8.2, 0.0, -18.0), ('f', 9.2, 0.0, -20.0),
+        ('r', 10.2, 0.0, -20.0),
+        ('r', 10.0, 0.0, 5.0), ('f', 9.0, 0.0, 5.0), ('f', 8.0, 0.0, 3.0), ('f', 8.0, 0.0, -18.0), ('f', 9.0, 0.0, -20.0),
+        ('r', 10.0, 0.0, -20.0),
+        ('r', 10.0, 0.0, -20.0), ('r', 20.0, 0.0, -20.0),
+    ]);
+    // L0, E without L, E0: no taper, the passes of a plain G76.
+    let plain = moves(&path(&program(0)));
+    for block in ["E2", "E0 L3"] {
+        let text = format!("G21 G90 G18\nG0 X10 Z5\nS500 M3\nG76 P1.5 Z-20 I-1 J0.4 K1 Q0 {block}\nG0 X20\nM2\n");
+        assert_eq!(moves(&path(&text)), plain, "{block}");
+    }
+    assert_eq!(plain.len(), 1 + 3 * 4 + 2);
+
+    // rs274 2.9's output for `G21 G90 G18 / G0 X-10 Z2 / S500 M3 / G76 P2
+    // Z10 I2 J0.4 K1.3 R2 Q29.5 H1 E1.5 L3`: I2 cuts toward +X and Z runs
+    // toward +Z, so the tapers do too; Q shifts each pass's ends, not the
+    // tapers' length. The first pass and the last (a spring pass), pitch
+    // 2·√(1.5² + 1.3²)/1.5 = 2.646591 on the tapers.
+    let t = path("G21 G90 G18\nG0 X-10 Z2\nS500 M3\nG76 P2 Z10 I2 J0.4 K1.3 R2 Q29.5 H1 E1.5 L3\nM2\n");
+    let m = moves(&t);
+    assert_eq!(m.len(), 1 + 12 * 6 + 1);
+    #[rustfmt::skip]
+    assert_eq!(m[1..7], [
+        ('r', -10.9, 0.0, 2.2263), ('f', -8.9, 0.0, 2.2263), ('f', -7.6, 0.0, 3.7263), ('f', -7.6, 0.0, 7.9908),
+        ('f', -8.9, 0.0, 9.4908), ('r', -10.9, 0.0, 9.4908),
+    ]);
+    #[rustfmt::skip]
+    assert_eq!(m[67..], [
+        ('r', -10.0, 0.0, 2.7355), ('f', -8.0, 0.0, 2.7355), ('f', -6.7, 0.0, 4.2355), ('f', -6.7, 0.0, 8.5),
+        ('f', -8.0, 0.0, 10.0), ('r', -10.0, 0.0, 10.0), ('r', -10.0, 0.0, 10.0),
+    ]);
+    assert_eq!((t.moves[2].feed * 1e4).round() / 1e4, 1323.2955);
+    assert_eq!(t.moves[4].feed, 1000.0);
+}
+
+#[test]
 fn g76_errors_are_rs274s() {
     for (block, expected) in [
         ("G76 P1 Z-2 I0 J0.5 K1", "t.ngc:4:12: error: In G76, I must not be 0"),
@@ -502,9 +577,21 @@ fn g76_errors_are_rs274s() {
         ("G76 P1 Z-2 I-1 J0.5 K1 A3", "t.ngc:4:24: error: Cannot move rotary axes with G76"),
         // The mode stays; P I J K do not.
         ("G76 P1 Z-2 I-1 J0.5 K1\nZ-10", "t.ngc:5:1: error: P word missing with G76"),
-        // Not done: the tapers (E, L), which rs274 runs.
-        ("G76 P1 Z-2 I-1 J0.5 K1 E1 L2", "t.ngc:4:24: error: G76 E (the taper"),
-        ("G76 P1 Z-2 I-1 J0.5 K1 L2", "t.ngc:4:24: error: G76 L (the taper"),
+        // L as rs274 reads it: "Negative l word used", "Non integer value
+        // for integer" (L1.00001 is L1).
+        ("G76 P1 Z-2 I-1 J0.5 K1 E1 L-1", "t.ngc:4:27: error: Negative L word used: G76 L is the tapered ends"),
+        ("G76 P1 Z-2 I-1 J0.5 K1 E1 L1.5", "t.ngc:4:27: error: Non integer value for integer: G76 L is"),
+        // Refused where rs274 runs it: L over 3 (rs274 reads its bits, L5
+        // as L1), E < 0 (rs274: no taper), tapers longer than the thread
+        // (rs274 feeds back along Z under synchronisation).
+        (
+            "G76 P1 Z-2 I-1 J0.5 K1 E1 L5",
+            "t.ngc:4:27: error: G76 L is the tapered ends: 0 none, 1 entry, 2 exit, 3 both, not 5",
+        ),
+        ("G76 P1 Z-2 I-1 J0.5 K1 E-1 L1", "t.ngc:4:24: error: G76 needs a taper length E of 0 or more"),
+        ("G76 P1 Z-2 I-1 J0.5 K1 E3.6 L3", "t.ngc:4:24: error: G76's tapers (E at each tapered end) are longer"),
+        ("G76 P1 Z-2 I-1 J0.5 K1 E7.5 L2", "t.ngc:4:24: error: G76's tapers (E at each tapered end) are longer"),
+        ("G76 P1 Z-2 I-1 J0.5 K1 Q30 E6.6 L1", "t.ngc:4:28: error: G76's tapers (E at each tapered end) are longer"),
     ] {
         let e = error(&format!("G21 G90\nG0 X10 Z5\nS500 M3\n{block}\nM2\n"));
         assert!(e.starts_with(expected), "{block}: {e}");
@@ -525,6 +612,11 @@ fn g76_is_written_back_for_linuxcnc_and_refused_by_fanuc_and_grbl() {
     let options = |dialect| WriteOptions { dialect, ..WriteOptions::default() };
     let written = program(&t, &options(Out::LinuxCnc)).unwrap();
     assert!(written.contains("G76 Z-20. P1.5 I-1. J0.3 K1. Q0. H2.\n"), "{written}");
+    assert_eq!(moves(&path(&written)), moves(&t), "{written}");
+    // The tapers with it.
+    let t = path("G21 G90\nG0 X10 Z5\nS500 M3\nG76 P1.5 Z-20 I-1 J0.3 K1 E2 L3\nM2\n");
+    let written = program(&t, &options(Out::LinuxCnc)).unwrap();
+    assert!(written.contains("G76 Z-20. P1.5 I-1. J0.3 K1. Q0. E2. L3\n"), "{written}");
     assert_eq!(moves(&path(&written)), moves(&t), "{written}");
     for out in [Out::Fanuc, Out::Grbl] {
         let e = program(&t, &options(out)).unwrap_err().to_string();

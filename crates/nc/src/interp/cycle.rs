@@ -177,7 +177,12 @@ impl State {
     /// (x₀ − d(K−δ), z₀ + s·δ·tan Q), a rapid to x₀ + I + d·δ, a feed
     /// synchronised with the spindle (P the distance a turn) to
     /// Z − s(K−δ)·tan Q, a rapid back to x₀ − d(K−δ); then a rapid to the
-    /// block's end point. rs274's `G76`, motion for motion. Kept as its
+    /// block's end point. A tapered end (L1 the entry, L2 the exit, L3
+    /// both) cuts E along Z from K shallower than the pass to its depth:
+    /// at the entry the rapid in becomes a feed in to that shallower x and
+    /// a feed along the taper, at the exit the last E of the feed rises
+    /// back to it; both at the pitch P·√(E² + K²)/E, so that Z still
+    /// advances P a turn. rs274's `G76`, motion for motion. Kept as its
     /// block for a written program. Returns whether the tool moved.
     pub(super) fn thread_block(&mut self, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
         let given_here = w.g[..w.g_count].iter().any(|g| g.0 == 760);
@@ -186,15 +191,6 @@ impl State {
                 return Err(Diagnostic::error(span, "All axes missing with G76: give Z, the end of the thread"));
             }
             return Ok(false);
-        }
-        // The taper words: not done.
-        for letter in [b'E', b'L'] {
-            if w.has(letter) {
-                return Err(Diagnostic::error(
-                    w.span(letter),
-                    format!("G76 {} (the taper at the ends of the thread) is not supported", letter as char),
-                ));
-            }
         }
         // rs274's refusals. P, I, J, K are not modal: each block gives them.
         let pitch = match w.get(b'P') {
@@ -232,6 +228,26 @@ impl State {
             return Err(Diagnostic::error(w.span(b'H'), "G76 needs a whole number of spring passes H, 0 or more"));
         }
         let q = w.get(b'Q').unwrap_or(0.0);
+        // The tapered ends: L an integer as rs274 reads one (within
+        // 0.0001); rs274 takes L over 3 bit by bit and E < 0 as no taper,
+        // both refused here.
+        const ENDS: &str = "G76 L is the tapered ends: 0 none, 1 entry, 2 exit, 3 both";
+        let ends = match w.get(b'L') {
+            None => 0,
+            Some(l) if (l - l.round()).abs() > 0.0001 => {
+                return Err(Diagnostic::error(w.span(b'L'), format!("Non integer value for integer: {ENDS}")))
+            }
+            Some(l) if l.round() < 0.0 => {
+                return Err(Diagnostic::error(w.span(b'L'), format!("Negative L word used: {ENDS}")))
+            }
+            Some(l) if l.round() > 3.0 => return Err(Diagnostic::error(w.span(b'L'), format!("{ENDS}, not {l}"))),
+            Some(l) => l.round() as u8,
+        };
+        let taper = w.get(b'E').unwrap_or(0.0);
+        if taper < 0.0 {
+            return Err(Diagnostic::error(w.span(b'E'), "G76 needs a taper length E of 0 or more"));
+        }
+        let (entry, exit) = if taper > 0.0 { (ends & 1 != 0, ends & 2 != 0) } else { (false, false) };
         // The passes, bounded.
         const MOST_PASSES: usize = 10_000;
         let mut depths = Vec::new();
@@ -261,15 +277,38 @@ impl State {
         let s = if end.z > z0 { 1.0 } else { -1.0 };
         let tan = q.to_radians().tan();
         let feed = (self.mm(pitch) * self.speed).abs();
+        // Along Z each pass runs s(Z − z₀) − K·tan Q; the tapers fit in it.
+        let e_mm = self.mm(taper);
+        let tapers = f64::from(u8::from(entry) + u8::from(exit)) * e_mm;
+        if tapers > 0.0 && tapers > s * (end.z - z0) - k_mm * tan {
+            return Err(Diagnostic::error(
+                w.span(b'E'),
+                "G76's tapers (E at each tapered end) are longer than the thread",
+            ));
+        }
+        let taper_feed = if taper > 0.0 { feed * e_mm.hypot(k_mm) / e_mm } else { feed };
         let xz = AxisSet::NONE.with(0).with(2);
         let at = |x: f64, z: f64| Axes { x, z, ..start };
         for depth in depths {
             let out = x0 - d * (k_mm - depth);
-            self.push_move(MoveKind::Rapid, at(out, z0 + s * depth * tan), 0.0, xz, line);
+            let (z_in, z_end) = (z0 + s * depth * tan, end.z - s * (k_mm - depth) * tan);
             let cut = x0 + i_mm + d * depth;
-            self.push_move(MoveKind::Rapid, at(cut, self.tip.z), 0.0, xz, line);
-            self.push_move(MoveKind::Feed, at(cut, end.z - s * (k_mm - depth) * tan), feed, xz, line);
-            self.push_move(MoveKind::Rapid, at(out, self.tip.z), 0.0, xz, line);
+            // Where a taper starts or ends: K shallower than the pass.
+            let shallow = cut - d * k_mm;
+            self.push_move(MoveKind::Rapid, at(out, z_in), 0.0, xz, line);
+            if entry {
+                self.push_move(MoveKind::Feed, at(shallow, z_in), taper_feed, xz, line);
+                self.push_move(MoveKind::Feed, at(cut, z_in + s * e_mm), taper_feed, xz, line);
+            } else {
+                self.push_move(MoveKind::Rapid, at(cut, z_in), 0.0, xz, line);
+            }
+            if exit {
+                self.push_move(MoveKind::Feed, at(cut, z_end - s * e_mm), feed, xz, line);
+                self.push_move(MoveKind::Feed, at(shallow, z_end), taper_feed, xz, line);
+            } else {
+                self.push_move(MoveKind::Feed, at(cut, z_end), feed, xz, line);
+            }
+            self.push_move(MoveKind::Rapid, at(out, z_end), 0.0, xz, line);
         }
         self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line);
         // The block in absolute program coordinates, its units with it (Q
@@ -287,10 +326,14 @@ impl State {
             (b'R', w.get(b'R')),
             (b'Q', Some(q)),
             (b'H', w.get(b'H')),
+            (b'E', w.get(b'E')),
         ]) {
             if let Some(v) = v {
                 text.push_str(&format!(" {}{}", letter as char, crate::write::number(v, 6)));
             }
+        }
+        if w.has(b'L') {
+            text.push_str(&format!(" L{ends}"));
         }
         let moves = self.toolpath.moves.len() - first;
         let mut kept = self.kept(first, moves, text, false, line);
