@@ -30,6 +30,7 @@ mod thermal;
 mod tool;
 mod tool_db;
 mod tool_table;
+mod view;
 mod wear;
 
 use std::path::PathBuf;
@@ -105,6 +106,9 @@ position it never named (after G28, G53, a tool change) stays an increment."
     /// Material-removal simulation (Z-map) of a program: picture, STL, rapids into the stock,
     /// comparison with the intended surface.
     Sim(Box<sim::SimArgs>),
+    /// See the job in 3D: one offline HTML page with the toolpath, the tool, the program text
+    /// and a playback slider; with --sim the simulated part, with --compare its deviation.
+    View(Box<view::ViewArgs>),
     /// Digitize a model on a grid and copy-mill it: plan, capture, level, export, mill.
     #[command(subcommand)]
     Probe(probe::ProbeCommand),
@@ -145,6 +149,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Dropcut(args) => dropcut::run(args),
         Command::Mill(args) => mill::run(args),
         Command::Sim(args) => sim::run(args),
+        Command::View(args) => view::run(args),
         Command::Probe(command) => probe::run(command),
         Command::Relief(args) => relief::run(args),
         Command::Convert(args) => convert::run(args),

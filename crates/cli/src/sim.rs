@@ -12,10 +12,13 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use clap::{ArgGroup, Args};
+use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::compare::{compare, gouges_by_tool, target_heights};
-use kezuri_cam::sim::{simulate_tools, SimOptions, Stock, Tooling};
+use kezuri_cam::sim::{simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
+use kezuri_geom::Toolpath;
 
 use crate::files::write_output;
+use crate::machine::Machine;
 use crate::program::{read_and_run_centre, RunOptions};
 use crate::progress::LateBar;
 use report::Done;
@@ -23,7 +26,6 @@ use stock::StockSpec;
 
 /// Options of `kezuri sim`.
 #[derive(Args, Debug)]
-#[command(group(ArgGroup::new("cutter").args(["tool", "tool_profile"])))]
 #[command(after_help = "\
 Every move lowers each cell of the stock grid to the lower envelope of the cutter swept along
 it: straight moves exactly (at the cell centres), arcs as chords within --chord-tol. Rapids
@@ -80,27 +82,11 @@ also for a rapid into the stock.")]
 pub struct SimArgs {
     #[command(flatten)]
     pub run: RunOptions,
-    /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
-    /// degrees) [default: the machine file's tool table].
-    #[arg(long, value_name = "SPEC")]
-    pub tool: Option<String>,
-    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool`).
-    #[arg(long, value_name = "PROFILE.csv")]
-    pub tool_profile: Option<PathBuf>,
-    /// Cut every move with --tool (or --tool-profile), whatever tools the program changes to.
-    #[arg(long)]
-    pub same_tool_for_all: bool,
+    #[command(flatten)]
+    pub setup: SimSetup,
     /// Cell size of the simulation grid, mm.
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub res: f64,
-    /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm
-    /// [default: the cutting moves' XY box grown by the widest cutter's radius, top at their
-    /// highest Z].
-    #[arg(long, value_name = "X0,Y0,X1,Y1,ZTOP|cyl:D,H|FILE.stl", allow_hyphen_values = true)]
-    pub stock: Option<String>,
-    /// Intended surface: an STL, or a height grid of `x y z` lines.
-    #[arg(long, value_name = "TARGET")]
-    pub compare: Option<PathBuf>,
     /// Shaded picture of the simulated surface (PNG; `-` for stdout).
     #[arg(short, long, value_name = "HEIGHT.png")]
     pub output: Option<PathBuf>,
@@ -111,15 +97,14 @@ pub struct SimArgs {
     /// beside -o].
     #[arg(long, value_name = "DEV.png")]
     pub deviation_png: Option<PathBuf>,
-    /// Deviation shown in full colour, mm [default: the largest deviation].
+    /// Deviation shown in full colour, mm [default: the largest deviation; on the --view page the
+    /// 99th percentile].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub deviation_scale: Option<f64>,
-    /// Largest sagitta of the chords arcs are cut as, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
-    pub chord_tol: f64,
-    /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
-    #[arg(long, value_name = "N", default_value_t = 250_000_000)]
-    pub max_cells: usize,
+    /// The job in 3D as one offline HTML page: the toolpath and the simulated part (coloured by
+    /// deviation with --compare), as `kezuri view --sim` writes it.
+    #[arg(long, value_name = "PAGE.html")]
+    pub view: Option<PathBuf>,
     /// Bins of the deviation histogram (1 to 10000).
     #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u16).range(1..=10_000))]
     pub bins: u16,
@@ -133,30 +118,71 @@ pub struct SimArgs {
     pub json: bool,
 }
 
-/// Runs `kezuri sim`.
-pub fn run(args: &SimArgs) -> Result<()> {
-    if args.json && args.output.as_deref() == Some(Path::new("-")) {
-        bail!("--json and -o - both want standard output");
-    }
-    let mut options = SimOptions::new(args.res);
-    options.chord_tolerance = args.chord_tol;
-    options.max_cells = args.max_cells;
-    let stock = args.stock.as_deref().map(stock::parse).transpose()?;
+/// What a simulation is cut with and compared to: the options `sim` and
+/// `view --sim` share.
+#[derive(Args, Debug, Default)]
+#[command(group(ArgGroup::new("cutter").args(["tool", "tool_profile"])))]
+pub struct SimSetup {
+    /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
+    /// degrees) [default: the machine file's tool table].
+    #[arg(long, value_name = "SPEC")]
+    pub tool: Option<String>,
+    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool`).
+    #[arg(long, value_name = "PROFILE.csv")]
+    pub tool_profile: Option<PathBuf>,
+    /// Cut every move with --tool (or --tool-profile), whatever tools the program changes to.
+    #[arg(long)]
+    pub same_tool_for_all: bool,
+    /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm
+    /// [default: the cutting moves' XY box grown by the widest cutter's radius, top at their
+    /// highest Z].
+    #[arg(long, value_name = "X0,Y0,X1,Y1,ZTOP|cyl:D,H|FILE.stl", allow_hyphen_values = true)]
+    pub stock: Option<String>,
+    /// Intended surface: an STL, or a height grid of `x y z` lines.
+    #[arg(long, value_name = "TARGET")]
+    pub compare: Option<PathBuf>,
+    /// Largest sagitta of the chords arcs are cut as, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
+    pub chord_tol: f64,
+    /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
+    #[arg(long, value_name = "N", default_value_t = 250_000_000)]
+    pub max_cells: usize,
+}
 
-    let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
-    ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{}: {}", args.run.file.display(), ran.dialect);
-    // Every output file (the DPRNT file too) is written together, or none.
-    let mut out = std::mem::take(&mut ran.outputs);
-    let file = args.run.file.display().to_string();
-    if ran.errors() > 0 {
-        bail!("{file}: {} error(s); nothing simulated", ran.errors());
-    }
-    let path = &ran.outcome.toolpath;
-    let tools = tools::tool_set(args, &ran.machine.tools, path).with_context(|| file.clone())?;
+/// A simulation done: the cutters, the stock, the cut grid, the report and
+/// the comparison with the target.
+pub struct Simulated {
+    pub tools: tools::ToolSet,
+    pub stock: StockSpec,
+    /// The stock's highest point before cutting.
+    pub top: f64,
+    pub zmap: ZMap,
+    pub report: SimReport,
+    /// With --compare: the comparison and the target's height over each cell.
+    pub comparison: Option<(Comparison, Vec<f64>)>,
+    /// Seconds the cutting took.
+    pub seconds: f64,
+}
+
+/// Cuts `path` (of `file`, run on `machine`) out of the stock at `res` mm
+/// cells, with a progress bar on a terminal, and compares it with the
+/// target (a histogram of `bins` bins).
+pub fn simulate(
+    path: &Toolpath,
+    machine: &Machine,
+    setup: &SimSetup,
+    res: f64,
+    bins: usize,
+    file: &str,
+) -> Result<Simulated> {
+    let mut options = SimOptions::new(res);
+    options.chord_tolerance = setup.chord_tol;
+    options.max_cells = setup.max_cells;
+    let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
+    let tools = tools::tool_set(setup, &machine.tools, path).with_context(|| file.to_string())?;
     let stock = match stock {
         Some(s) => s,
-        None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.clone())?),
+        None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.to_string())?),
     };
     let mut zmap = stock.grid(&options)?;
     let top = zmap.range().1;
@@ -171,14 +197,13 @@ pub fn run(args: &SimArgs) -> Result<()> {
     if let Some(bar) = &bar {
         bar.finish();
     }
-    let report = report.with_context(|| file.clone())?;
+    let report = report.with_context(|| file.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
-
-    let comparison = match &args.compare {
+    let comparison = match &setup.compare {
         Some(target) => {
             let triangles = crate::surface::read_surface(target)?.triangles();
             let heights = target_heights(&zmap, triangles);
-            let c = compare(&zmap, &heights, args.bins.into());
+            let c = compare(&zmap, &heights, bins);
             if c.compared == 0 {
                 bail!("{}: the target covers none of the {} cells", target.display(), zmap.cells());
             }
@@ -186,12 +211,32 @@ pub fn run(args: &SimArgs) -> Result<()> {
         }
         None => None,
     };
+    Ok(Simulated { tools, stock, top, zmap, report, comparison, seconds })
+}
+
+/// Runs `kezuri sim`.
+pub fn run(args: &SimArgs) -> Result<()> {
+    if args.json && args.output.as_deref() == Some(Path::new("-")) {
+        bail!("--json and -o - both want standard output");
+    }
+    let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
+    ran.print_diagnostics(&parse_diagnostics);
+    eprintln!("{}: {}", args.run.file.display(), ran.dialect);
+    // Every output file (the DPRNT file too) is written together, or none.
+    let mut out = std::mem::take(&mut ran.outputs);
+    let file = args.run.file.display().to_string();
+    if ran.errors() > 0 {
+        bail!("{file}: {} error(s); nothing simulated", ran.errors());
+    }
+    let path = &ran.outcome.toolpath;
+    let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), &file)?;
+    let Simulated { tools, stock, top, zmap, report, comparison, seconds } = &sim;
 
     if let Some(png) = &args.output {
-        out.add(Some(png), &picture::height_png(&zmap)?)?;
+        out.add(Some(png), &picture::height_png(zmap)?)?;
     }
     if let Some(stl) = &args.stl {
-        picture::stage_surface_stl(&mut out, stl, &zmap)?;
+        picture::stage_surface_stl(&mut out, stl, zmap)?;
     }
     let mut deviation_note = None;
     if let Some((c, heights)) = &comparison {
@@ -206,13 +251,17 @@ pub fn run(args: &SimArgs) -> Result<()> {
                 Some(s) => s,
                 None => c.max_gouge.max(c.max_left).max(1e-9),
             };
-            out.add(Some(&png), &picture::deviation_png(&zmap, heights, scale)?)?;
+            out.add(Some(&png), &picture::deviation_png(zmap, heights, scale)?)?;
             deviation_note = Some(format!(
                 "{}: red = below the target (gouge), blue = above (material left), white = on it; \
                  full colour at ±{scale:.4} mm; grey = no target",
                 png.display()
             ));
         }
+    }
+    if let Some(page) = &args.view {
+        let options = crate::view::PageOptions::default();
+        out.add(Some(page), &crate::view::page(&ran, &file, Some((&sim, args.deviation_scale)), &options)?)?;
     }
     out.commit()?;
 
@@ -229,18 +278,18 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let done = Done {
         args,
         file: &file,
-        tools: &tools,
-        stock: &stock,
-        top,
-        zmap: &zmap,
-        report: &report,
+        tools,
+        stock,
+        top: *top,
+        zmap,
+        report,
         times: tools::times(path, &tools.table, &ran.machine.dynamics),
         gouges: comparison
             .as_ref()
-            .map(|(_, heights)| gouges_by_tool(&zmap, heights, &report.cut_by, report.tools.len()))
+            .map(|(_, heights)| gouges_by_tool(zmap, heights, &report.cut_by, report.tools.len()))
             .unwrap_or_default(),
         comparison: comparison.as_ref().map(|c| &c.0),
-        seconds,
+        seconds: *seconds,
     };
     if args.json {
         write_output(None, (done.json().to_string() + "\n").as_bytes())?;

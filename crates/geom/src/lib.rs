@@ -48,7 +48,7 @@ pub use index::XyIndex;
 pub use mesh::{Mesh, Triangle, Vec3};
 pub use random::SplitMix64;
 pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlError};
-pub use time::{cycle_time, Dynamics};
+pub use time::{cycle_time, move_times, Dynamics};
 pub use tool_profile::{ProfileError, Support, ToolProfile};
 pub use toolpath::{
     Arc, Axes, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, ToolState,

@@ -77,6 +77,13 @@ fn trapezoid(length: f64, v0: f64, v1: f64, vmax: f64, a: f64) -> f64 {
 /// Estimated seconds to run the toolpath. Moves without a feed (feed 0)
 /// take no time and are counted in the second value.
 pub fn cycle_time(path: &Toolpath, machine: &Dynamics) -> (f64, usize) {
+    let (times, unknown) = move_times(path, machine);
+    (times.iter().sum(), unknown)
+}
+
+/// Estimated seconds of each move of the toolpath, in order; moves without
+/// a feed (feed 0) take none and are counted in the second value.
+pub fn move_times(path: &Toolpath, machine: &Dynamics) -> (Vec<f64>, usize) {
     let a = machine.acceleration_mm_s2.max(1e-9);
     let moves = &path.moves;
     let n = moves.len();
@@ -105,10 +112,10 @@ pub fn cycle_time(path: &Toolpath, machine: &Dynamics) -> (f64, usize) {
     for i in 0..n {
         entry[i + 1] = entry[i + 1].min((entry[i] * entry[i] + 2.0 * a * lengths[i]).sqrt());
     }
-    let mut seconds = 0.0;
     let mut unknown = 0;
+    let mut seconds = Vec::with_capacity(n);
     for (i, m) in moves.iter().enumerate() {
-        seconds += match m.kind {
+        seconds.push(match m.kind {
             MoveKind::Dwell(s) => s,
             MoveKind::Rapid | MoveKind::Home | MoveKind::Machine => {
                 let (s, e) = (m.start.to_array(), m.end.to_array());
@@ -124,7 +131,7 @@ pub fn cycle_time(path: &Toolpath, machine: &Dynamics) -> (f64, usize) {
                 0.0
             }
             _ => trapezoid(lengths[i], entry[i], entry[i + 1], cruise[i], a),
-        };
+        });
     }
     (seconds, unknown)
 }

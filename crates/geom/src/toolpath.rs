@@ -117,6 +117,18 @@ impl Arc {
         planar.hypot(rise)
     }
 
+    /// How many equal chords follow the arc within `tol` (the largest
+    /// sagitta, mm): at least 1, at most 10⁷; an arc no wider than `tol`
+    /// gets one chord per half turn.
+    pub fn chords(&self, start: Axes, end: Axes, tol: f64) -> usize {
+        let (radius, sweep) = (self.radius(start), self.sweep(start, end));
+        if radius <= tol {
+            return ((sweep / std::f64::consts::PI).ceil() as usize).max(1);
+        }
+        let step = 2.0 * (1.0 - tol / radius).acos();
+        ((sweep / step).ceil().max(1.0) as usize).min(10_000_000)
+    }
+
     /// The point at parameter `t` in [0, 1] along the arc (rotary axes and the
     /// helical axis vary linearly).
     pub fn point_at(&self, start: Axes, end: Axes, t: f64) -> Axes {

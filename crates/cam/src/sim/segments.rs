@@ -79,15 +79,6 @@ fn continuations(segs: &mut [Segment], shapes: &[Shape<'_>]) {
 /// Most straight segments a simulation holds (some 200 bytes each).
 pub(super) const MAX_SEGMENTS: usize = 10_000_000;
 
-/// The chords of an arc: `n` with sagitta ≤ `tol` (at least 1, at most 10⁷).
-fn chords(radius: f64, sweep: f64, tol: f64) -> usize {
-    if radius <= tol {
-        return ((sweep / std::f64::consts::PI).ceil() as usize).max(1);
-    }
-    let step = 2.0 * (1.0 - tol / radius).acos();
-    ((sweep / step).ceil().max(1.0) as usize).min(10_000_000)
-}
-
 /// The straight segments to simulate (program order), the report so far
 /// (with [`SimReport::tools`] but no volumes yet), the tools' shapes by
 /// slot, and the rapids whose start is not known but whose end Z is (see
@@ -103,7 +94,7 @@ pub(super) fn segments<'a>(
         .moves
         .iter()
         .map(|m| match m.kind {
-            MoveKind::Arc(arc) => chords(arc.radius(m.start), arc.sweep(m.start, m.end), tol),
+            MoveKind::Arc(arc) => arc.chords(m.start, m.end, tol),
             _ => 1,
         })
         .fold(0usize, usize::saturating_add);
@@ -160,7 +151,7 @@ pub(super) fn segments<'a>(
         };
         match m.kind {
             MoveKind::Arc(arc) => {
-                let n = chords(arc.radius(m.start), arc.sweep(m.start, m.end), tol);
+                let n = arc.chords(m.start, m.end, tol);
                 let mut a = m.start.xyz();
                 for k in 1..=n {
                     let b = if k == n { m.end.xyz() } else { arc.point_at(m.start, m.end, k as f64 / n as f64).xyz() };

@@ -88,7 +88,7 @@ impl Done<'_> {
             "segments": report.segments,
             "rotary_moves": report.rotary_moves,
             "unplaced_moves": report.unplaced_moves,
-            "chord_tol_mm": self.args.chord_tol,
+            "chord_tol_mm": self.args.setup.chord_tol,
             "min_z_mm": lo,
             "max_z_mm": hi,
             "rapids_into_stock": report.rapid_hits.len(),
@@ -187,7 +187,7 @@ impl Done<'_> {
             }
         }
         if let Some(c) = self.comparison {
-            let target = self.args.compare.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
+            let target = self.args.setup.compare.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
             let _ = writeln!(t, "compare with {target}: {} cells ({} outside the target)", c.compared, c.missing);
             let at = |p: Option<[f64; 2]>| p.map(|[x, y]| format!(" at ({x:.3}, {y:.3})")).unwrap_or_default();
             let by = self.gouge_tool().filter(|&n| n != 0).map(|n| format!(", cut last by T{n}")).unwrap_or_default();

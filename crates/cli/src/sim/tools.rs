@@ -9,7 +9,7 @@ use kezuri_cam::sim::{cutting_tools, MeasuredTool, Tool};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Dynamics, Toolpath};
 
-use super::SimArgs;
+use super::SimSetup;
 use crate::machine::ToolEntry;
 
 /// The cutter of each tool number the program cuts with, in the order they
@@ -76,7 +76,7 @@ fn listed(numbers: &[u32]) -> String {
 /// the machine file's tool table, and `--tool` alone is refused for it
 /// (unless `--same-tool-for-all`); `--tool` for a tool the table gives
 /// another shape is refused too.
-pub fn tool_set(args: &SimArgs, table: &BTreeMap<u32, ToolEntry>, path: &Toolpath) -> Result<ToolSet> {
+pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpath) -> Result<ToolSet> {
     let given = match (&args.tool, &args.tool_profile) {
         (Some(spec), None) => {
             let c: Cutter = spec.parse()?;

@@ -154,6 +154,7 @@ impl<'a> Interp<'a> {
             statements: self.statements,
             completed: self.completed,
             holes: self.st.holes,
+            inch: self.st.modal.units == super::modal::Units::Inch,
             model_reads: self.st.model_reads,
         }
     }

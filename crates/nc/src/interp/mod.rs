@@ -197,6 +197,9 @@ pub struct Outcome {
     pub completed: bool,
     /// Holes drilled by canned cycles.
     pub holes: u64,
+    /// `true` when the program ended in inches (G20): the units a person
+    /// reading its positions thinks in. Positions are mm all the same.
+    pub inch: bool,
     /// Values the program read from the machine model rather than from
     /// itself (a work offset, a tool offset, the machine position, an input
     /// signal, the clock): the first read of each kind. An expanded program
