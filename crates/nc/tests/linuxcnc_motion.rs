@@ -746,3 +746,17 @@ fn g43_1_and_g43_2_are_written_back_for_linuxcnc_and_refused_by_fanuc() {
     let written = program(&t, &options(Out::Grbl)).unwrap();
     assert!(written.contains("G43.1 Z7.62\n"), "{written}");
 }
+
+#[test]
+fn g76_degression_below_1_is_1() {
+    // rs274 2.9: J0.1 K1 makes 10 feeds to the thread's end with R0.8 as
+    // with R1 (32 with R1.5).
+    let feeds = |r: &str| {
+        let t = path(&format!("G18 G21\nM3 S100\nG0 X10 Z5\nG76 P1.5 Z-20 I-1 J0.1 K1 R{r}\nM2\n"));
+        moves(&t).iter().filter(|m| m.0 != 'r').count()
+    };
+    assert_eq!(feeds("1"), 10);
+    assert_eq!(feeds("0.8"), 10);
+    assert_eq!(feeds("0.5"), 10);
+    assert_eq!(feeds("1.5"), 32);
+}

@@ -223,6 +223,8 @@ impl State {
         if r <= 0.0 {
             return Err(Diagnostic::error(w.span(b'R'), "G76 needs a depth degression R greater than 0"));
         }
+        // rs274 cuts an R below 1 as R1 (R0.5 and R0.8 make R1's passes).
+        let r = r.max(1.0);
         let h = w.get(b'H').unwrap_or(0.0);
         if h < 0.0 || h.fract() != 0.0 {
             return Err(Diagnostic::error(w.span(b'H'), "G76 needs a whole number of spring passes H, 0 or more"));
