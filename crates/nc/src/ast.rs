@@ -416,13 +416,20 @@ pub struct Line {
     pub comment: Option<CommentCommand>,
 }
 
-/// The name of a LinuxCNC O-word: `o100` or `o<name>`.
+/// The name of a LinuxCNC O-word: `o100`, `o<name>`, or `o#1`, `o[#2+1]`
+/// computed when the block runs.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum OName {
-    /// `o100`.
-    Number(u32),
+    /// `o100`; a computed label may read a negative number (rs274ngc's
+    /// labels are C `int`s).
+    Number(i64),
     /// `o<name>`, in lower case without blanks (as rs274ngc reads it).
     Named(String),
+    /// `o#1`, `o[#2+1]`: the expression (in [`OWord::label`]) as written,
+    /// in lower case without blanks, for messages and for telling whether
+    /// a `while` closes a `do` (their labels written the same). Never a
+    /// key of the interpreter's tables: it reads the number first.
+    Computed(String),
 }
 
 impl OName {
@@ -431,8 +438,19 @@ impl OName {
     pub fn file_stem(&self) -> String {
         match self {
             OName::Number(n) => n.to_string(),
-            OName::Named(s) => s.clone(),
+            OName::Named(s) | OName::Computed(s) => s.clone(),
         }
+    }
+
+    /// Whether the label is computed when its block runs (`o#1`, `o[…]`).
+    pub fn is_computed(&self) -> bool {
+        matches!(self, OName::Computed(_))
+    }
+
+    /// Whether two labels may name the same construct once the run reads
+    /// them: equal, or one of them computed.
+    pub fn may_match(&self, other: &OName) -> bool {
+        self == other || self.is_computed() || other.is_computed()
     }
 }
 
@@ -441,6 +459,7 @@ impl std::fmt::Display for OName {
         match self {
             OName::Number(n) => write!(f, "o{n}"),
             OName::Named(s) => write!(f, "o<{s}>"),
+            OName::Computed(s) => write!(f, "o{s}"),
         }
     }
 }
@@ -451,11 +470,17 @@ pub const UNLINKED: u32 = u32::MAX;
 /// A LinuxCNC O-word statement. The block indices of its partners (the
 /// `endsub` of a `sub`, the `endif` of an `if`, …) are found by the parser
 /// within the file, so a program whose O-words do not match is refused
-/// before it runs.
+/// before it runs. A computed label (`o#1 if`) is paired by nesting and
+/// checked against its partner's when the run reads it (`parse::oword`
+/// tells how).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OWord {
-    /// `o100` or `o<name>`.
+    /// `o100`, `o<name>`, or `o#1` computed.
     pub name: OName,
+    /// The expression of a computed label (`o#1 call`, `o[#2+1] if`), read
+    /// when the block runs, as rs274ngc reads it; `name` is then
+    /// [`OName::Computed`].
+    pub label: Option<ExprId>,
     /// What it does.
     pub flow: Flow,
 }
@@ -483,9 +508,6 @@ pub enum Flow {
     Call {
         /// The arguments, at most 30.
         args: Vec<ExprId>,
-        /// `o#1 call`, `o[#1+1] call`: the subroutine's number, computed
-        /// when the call is made (the O-word's name is then `o0`).
-        number: Option<ExprId>,
     },
     /// `if [cond]`.
     If {
@@ -511,7 +533,10 @@ pub enum Flow {
         start: u32,
     },
     /// `endif`.
-    EndIf,
+    EndIf {
+        /// The `if` it ends.
+        start: u32,
+    },
     /// `while [cond]` that opens a loop.
     While {
         /// The condition.
@@ -550,12 +575,15 @@ pub enum Flow {
     },
     /// `break`: leaves the loop of the same name.
     Break {
-        /// The loop's first block (`while`, `do` or `repeat`).
+        /// The loop's first block (`while`, `do` or `repeat`), or
+        /// [`UNLINKED`] where the run finds it by the label it reads: a
+        /// computed label, or a written one that names no loop written
+        /// around it while a loop of a computed label is.
         start: u32,
     },
     /// `continue`: the next turn of the loop of the same name.
     Continue {
-        /// The loop's first block.
+        /// The loop's first block, or [`UNLINKED`] as for `break`.
         start: u32,
     },
 }
@@ -571,7 +599,7 @@ impl Flow {
             Flow::If { .. } => "if",
             Flow::ElseIf { .. } => "elseif",
             Flow::Else { .. } => "else",
-            Flow::EndIf => "endif",
+            Flow::EndIf { .. } => "endif",
             Flow::While { .. } | Flow::DoWhile { .. } => "while",
             Flow::EndWhile { .. } => "endwhile",
             Flow::Do { .. } => "do",

@@ -385,7 +385,8 @@ fn rs274_agrees() {
     }
     let dir = std::env::temp_dir().join(format!("kezuri-linuxcnc-flow-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS, MIXED_LINES].iter().enumerate() {
+    for (i, text) in [SUBS_AND_FLOW, RECURSION_AND_SCOPE, EXPRESSIONS, MIXED_LINES, COMPUTED_LABELS].iter().enumerate()
+    {
         let path = dir.join(format!("p{i}.ngc"));
         std::fs::write(&path, text).unwrap();
         let out = std::process::Command::new(rs274)
@@ -579,8 +580,230 @@ fn computed_o_word_numbers_call_as_rs274_calls_them() {
     assert!(error_at("o100 sub\no100 endsub\nG0 X1\no[100.0001] call\nM2\n", 4).contains("whole number"));
     // "EOF … seeking o-word: o<-5>"
     assert!(error_at("#1=-5\no#1 call\nM2\n", 2).contains("no subroutine"));
-    // kezuri computes the number of a call only.
-    assert!(error_at("#1=2\no#1 if [1]\no2 endif\nM2\n", 2).contains("in a call only"));
+}
+
+/// Computed labels on every construct (the figures below are rs274 2.9's,
+/// `rs274 -g`). Each section's labels differ from the others': a label
+/// opens one construct in the main program.
+const COMPUTED_LABELS: &str = "F100
+#1=100
+(if: computed at both ends, or at one)
+o#1 if [#1 GT 0]
+  G1 X1
+o#1 endif
+o[#1+1] if [1]
+  G1 X2
+o101 endif
+(a branch not taken: its setting does not run, so the endif reads 102)
+o[#1+2] if [0]
+  G1 X99
+  #1=7
+o102 endif
+(elseif and else, a named parameter)
+#<lbl>=3
+#2=0
+o30 repeat [4]
+  #2=[#2+1]
+  o#<lbl> if [#2 EQ 1]
+    G1 Y1
+  o[#<lbl>] elseif [#2 EQ 2]
+    G1 Y2
+  o3 elseif [#2 EQ 3]
+    G1 Y3
+  o#<lbl> else
+    G1 Y4
+  o#<lbl> endif
+o30 endrepeat
+(do and while, continue)
+#2=0
+#5=50
+o#5 do
+  #2=[#2+1]
+  o21 if [#2 EQ 2]
+    o#5 continue
+  o21 endif
+  G1 X[#2+10]
+o#5 while [#2 LT 4]
+(while and endwhile, continue and break)
+#2=0
+o[#1/10] while [#2 LT 5]
+  #2=[#2+1]
+  o20 if [#2 EQ 2]
+    o[#1/10] continue
+  o20 endif
+  o[#1/10+1] if [#2 EQ 4]
+    o[#1/10] break
+  o11 endif
+  G1 Z#2
+o10 endwhile
+(repeat and endrepeat, and a repeat of none)
+#3=7
+#2=0
+o#3 repeat [3]
+  #2=[#2+1]
+  G1 Y[#2+10]
+o#3 endrepeat
+o[#3+1] repeat [0]
+  G1 Z99
+o8 endrepeat
+(a break written plainly in a loop of a computed label)
+#6=9
+#2=0
+o#6 while [1]
+  #2=[#2+1]
+  G1 Z[#2+10]
+  o40 if [#2 GE 2]
+    o[9] break
+  o40 endif
+o#6 endwhile
+(a negative label, and labels within 0.0001 of a whole number)
+#4=-5
+o#4 if [1]
+  G1 X-5
+o#4 endif
+o[199.99995] if [1]
+  G1 X20
+o[200.00001] endif
+(sub and endsub: the name read where the definition is, 1000)
+(in the sub the labels read its argument, one label for each call)
+o[#1*10] sub
+  o#1 if [#1 GT 0]
+    G1 X#1 Y0 Z0
+  o#1 endif
+o[#1*10] endsub
+o1000 call [3]
+o1000 call [4]
+o[#1*10] call [5]
+M2
+";
+
+#[test]
+fn computed_labels_on_every_construct_as_rs274_reads_them() {
+    let ran = run(COMPUTED_LABELS).ok();
+    // rs274 2.9 -g: STRAIGHT_FEED end points.
+    assert_ends(
+        &ran,
+        &[
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [2.0, 2.0, 0.0],
+            [2.0, 3.0, 0.0],
+            [2.0, 4.0, 0.0],
+            [11.0, 4.0, 0.0],
+            [13.0, 4.0, 0.0],
+            [14.0, 4.0, 0.0],
+            [14.0, 4.0, 1.0],
+            [14.0, 4.0, 3.0],
+            [14.0, 11.0, 3.0],
+            [14.0, 12.0, 3.0],
+            [14.0, 13.0, 3.0],
+            [14.0, 13.0, 11.0],
+            [14.0, 13.0, 12.0],
+            [-5.0, 13.0, 12.0],
+            [20.0, 13.0, 12.0],
+            [3.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [5.0, 0.0, 0.0],
+        ],
+    );
+}
+
+#[test]
+fn a_computed_label_pairs_with_any_label_that_reads_the_same() {
+    // rs274 2.9: `o#1 if` … `o100 endif` with #1 100 pairs, the if taken
+    // or not, and so does `o100 if` … `o#1 endif`.
+    for (text, want) in [
+        ("#1=100\no#1 if [1]\nG0 X1\no100 endif\nG0 X2\nM2\n", &[[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]][..]),
+        ("#1=100\no#1 if [0]\nG0 X1\no100 endif\nG0 X2\nM2\n", &[[2.0, 0.0, 0.0]][..]),
+        ("#1=100\no100 if [0]\nG0 X1\no#1 endif\nG0 X2\nM2\n", &[[2.0, 0.0, 0.0]][..]),
+        // A branch not taken: #1=101 does not run, the endif reads 100.
+        ("#1=100\no#1 if [0]\nG0 X1\n#1=101\no#1 endif\nG0 X2\nM2\n", &[[2.0, 0.0, 0.0]][..]),
+    ] {
+        assert_ends(&run(text).ok(), want);
+    }
+    // Nested, the labels read apart.
+    let ran = run("#1=1\n#2=2\no#1 if [1]\no#2 if [0]\nG0 X1\no#2 else\nG0 X2\no#2 endif\no#1 endif\nM2\n").ok();
+    assert_ends(&ran, &[[2.0, 0.0, 0.0]]);
+}
+
+#[test]
+fn computed_labels_on_subroutines_as_rs274_reads_them() {
+    // rs274 2.9: `o#1 sub` with #1 100 defines o100; its endsub may be
+    // written either way; an endsub or return that the call reaches
+    // returns whatever its label reads (here #1 is the argument, 5).
+    for text in [
+        "#1=100\no#1 sub\nG0 X#1\no#1 endsub\no100 call [5]\nG0 X2\nM2\n",
+        "#1=100\no#1 sub\nG0 X#1\no100 endsub\no100 call [5]\nG0 X2\nM2\n",
+        "#1=100\no100 sub\nG0 X#1\no#1 endsub\no100 call [5]\nG0 X2\nM2\n",
+        "#1=100\no100 sub\nG0 X#1\no#1 return\no100 endsub\no100 call [5]\nG0 X2\nM2\n",
+    ] {
+        assert_ends(&run(text).ok(), &[[5.0, 0.0, 0.0], [2.0, 0.0, 0.0]]);
+    }
+    // A call before a computed definition: rs274 reads the label as it
+    // searches, with the call's arguments in #1… ("EOF in file … seeking
+    // o-word: o<100>" here, #1 being 5); kezuri's search passes it by.
+    let e = error_at("#1=100\no100 call [5]\nG0 X2\no#1 sub\nG0 X#1\no#1 endsub\nM2\n", 2);
+    assert!(e.contains("o100 is not defined"), "{e}");
+    // Its name in the call chain is the one it read.
+    let ran = run("#1=100\no#1 sub\nG0 X[1/0]\no#1 endsub\no100 call [5]\nM2\n");
+    let d = ran.outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error");
+    assert!(d.render(&ran.sources).contains("subroutine o100"), "{}", d.render(&ran.sources));
+}
+
+#[test]
+fn computed_labels_that_do_not_agree_are_located_errors() {
+    // Each as rs274 2.9 refuses it (its words in the comment), unless
+    // said otherwise.
+    // "5: undefined O-word label: 'o#1 endif'", after the move before it.
+    let ran = run("#1=100\no#1 if [1]\nG0 X1\n#1=101\no#1 endif\nG0 X2\nM2\n");
+    assert_ends(&ran, &[[1.0, 0.0, 0.0]]);
+    let e = ran.error().unwrap();
+    assert!(e.starts_with("t.ngc:5:") && e.contains("o#1 endif reads o101, where o#1 if (line 2) read o100"), "{e}");
+    assert!(e.contains("undefined O-word label"), "{e}");
+    assert!(error_at("#1=100\n#2=200\no#1 if [1]\no#2 endif\nM2\n", 4).contains("undefined O-word label"));
+    // A branch not taken whose endif reads otherwise: rs274 skips on to
+    // the end of the file ("File ended with no percent sign or program
+    // end"); kezuri stops at that endif.
+    let e = error_at("#1=100\n#2=200\no#1 if [0]\nG0 X1\no#2 endif\nG0 X2\nM2\n", 5);
+    assert!(e.contains("skips on past it"), "{e}");
+    // "Non integer value for integer", read even where the run skips.
+    assert!(error_at("#1=100.5\no#1 if [1]\nG0 X1\no100 endif\nM2\n", 2).contains("Non integer value"));
+    assert!(error_at("#1=1\no#1 if [0]\no[#1+0.5] if [1]\no[1.5] endif\no#1 endif\nM2\n", 3).contains("whole number"));
+    assert!(error_at("#1=0.5\no100 sub\no#1 if [1]\no#1 endif\no100 endsub\nM2\n", 3).contains("whole number"));
+    assert!(error_at("#1=0.5\no10 while [0]\no#1 if [1]\no#1 endif\no10 endwhile\nM2\n", 3).contains("whole number"));
+    // "7: undefined O-word label: 'o#1 endwhile'"
+    let text = "#1=7\n#2=0\no#1 while [#2 LT 3]\n#2=[#2+1]\nG0 X#2\n#1=8\no#1 endwhile\nG0 Y1\nM2\n";
+    assert!(error_at(text, 7).contains("o#1 endwhile reads o8, where o#1 while (line 3) read o7"));
+    // rs274 reads `o#1 while` reading 8 as a new while loop (G0 X1, then
+    // G0 Y1); kezuri stops.
+    let text = "#1=7\n#2=0\no#1 do\n#2=[#2+1]\nG0 X#2\n#1=8\no#1 while [#2 LT 3]\nG0 Y1\nM2\n";
+    assert!(error_at(text, 7).contains("o#1 while reads o8, where o#1 do (line 3) read o7"));
+    // "7: undefined O-word label: 'o#1 break'"
+    let text = "#1=7\n#2=0\no#1 while [#2 LT 3]\n#2=[#2+1]\nG0 X#2\n#1=8\no#1 break\no7 endwhile\nM2\n";
+    assert!(error_at(text, 7).contains("not inside a loop named o8"));
+    // "no matching while/do label: 'o#1 break' (found 'repeat' in line 2)"
+    assert!(error_at("#1=10\no#1 repeat [2]\no#1 break\no#1 endrepeat\nM2\n", 3).contains("not o10 repeat"));
+    // "… (found 'if' in line 2)"
+    assert!(error_at("#1=10\no10 if [1]\no20 while [1]\no#1 break\no20 endwhile\no10 endif\nM2\n", 4)
+        .contains("names o10 if (line 2), which is not a loop"));
+    // rs274: "File ended with no percent sign or program end" (it skips
+    // on looking for o10).
+    let text = "#1=10\no10 while [0]\no10 endwhile\no20 while [1]\nG0 X1\no#1 break\no20 endwhile\nM2\n";
+    assert!(error_at(text, 6).contains("not inside o10 while (line 2)"));
+    // "2: undefined O-word label: 'o#1 break'": no loop at all.
+    assert!(error_at("#1=10\no#1 break\nM2\n", 2).contains("not inside a loop"));
+    // "5: undefined O-word label: 'o#1 elseif [1]'"
+    let text = "#1=10\no#1 if [1]\nG0 X1\n#1=11\no#1 elseif [1]\nG0 X2\no10 endif\nM2\n";
+    assert!(error_at(text, 5).contains("o#1 elseif reads o11"));
+    // "5: duplicate O-word label - already defined in line 2: 'o1 if [1]'"
+    let e = error_at("#1=1\no#1 if [1]\nG0 X1\no#1 endif\no1 if [1]\nG0 X2\no1 endif\nM2\n", 5);
+    assert!(e.contains("reuses the label of o#1 if (read as o1) (line 2)"), "{e}");
+    // A `do` and its `while` written otherwise: rs274 pairs them where
+    // they read the same (G0 X1, then G0 Y1); kezuri reads the while as a
+    // loop of its own and refuses the file, saying how to write it.
+    let e = error_at("#1=10\no#1 do\nG0 X1\no10 while [0]\nG0 Y1\nM2\n", 2);
+    assert!(e.contains("written alike: o#1 do … o#1 while"), "{e}");
 }
 
 #[test]

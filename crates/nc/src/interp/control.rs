@@ -37,6 +37,9 @@ struct Frame {
     /// frame, by label: a label opens one construct in a subroutine (or
     /// the main program).
     labels: HashMap<OName, u32>,
+    /// The number each LinuxCNC opener of a computed label (`o#1 if`) read
+    /// when it last ran here, by block: its closing word must read the same.
+    read_labels: HashMap<u32, OName>,
 }
 
 /// Sequence numbers and loop pairs of one program unit.
@@ -61,6 +64,9 @@ pub(super) struct Interp<'a> {
     /// LinuxCNC subroutines defined so far (their `sub` reached, or found
     /// by a call): the block of each `sub`.
     subs: HashMap<OName, u32>,
+    /// Whether a LinuxCNC O-word of the program has a computed label
+    /// (`o#1 if`): the run then reads the labels of the blocks it skips.
+    computed_labels: bool,
 }
 
 impl<'a> Interp<'a> {
@@ -70,6 +76,7 @@ impl<'a> Interp<'a> {
         library: &'a mut dyn Library,
         settings: Settings,
     ) -> Self {
+        let computed_labels = oword::computed_labels(&program.blocks);
         Interp {
             program,
             sources,
@@ -81,6 +88,7 @@ impl<'a> Interp<'a> {
             completed: false,
             last_back_jump: None,
             subs: HashMap::new(),
+            computed_labels,
         }
     }
 
@@ -109,6 +117,7 @@ impl<'a> Interp<'a> {
             args: None,
             repeats: Vec::new(),
             labels: HashMap::new(),
+            read_labels: HashMap::new(),
         });
         loop {
             match self.step() {
@@ -175,7 +184,14 @@ impl<'a> Interp<'a> {
                     FrameKind::ModalMacro => "modal macro",
                     FrameKind::Main => "program",
                     FrameKind::OSub => {
-                        let name = match &self.program.blocks[f.start as usize - 1].statement {
+                        let sub = f.start - 1;
+                        let name = match &self.program.blocks[sub as usize].statement {
+                            // `o[#1*10] sub`: the name it read.
+                            Statement::OWord(o) if o.name.is_computed() => self
+                                .subs
+                                .iter()
+                                .find(|&(_, &at)| at == sub)
+                                .map_or_else(|| o.name.to_string(), |(name, _)| name.to_string()),
                             Statement::OWord(o) => o.name.to_string(),
                             _ => String::from("o?"),
                         };
@@ -481,6 +497,7 @@ impl<'a> Interp<'a> {
             args: None,
             repeats: Vec::new(),
             labels: HashMap::new(),
+            read_labels: HashMap::new(),
         });
         Ok(())
     }
@@ -508,6 +525,7 @@ impl<'a> Interp<'a> {
             args: call.args,
             repeats: Vec::new(),
             labels: HashMap::new(),
+            read_labels: HashMap::new(),
         });
         Ok(())
     }

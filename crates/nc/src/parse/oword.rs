@@ -1,6 +1,29 @@
 //! LinuxCNC O-words: the statement parser (`o100 sub`, `o<name> call …`)
 //! and the matching of each O-word with its partners, stored as block
 //! indices.
+//!
+//! Computed labels (`o#1 if [c]` … `o#1 endif`, `o[#2+1] while`): rs274ngc
+//! reads a label when it reads the line, and matches by that name at run
+//! time: a construct whose condition fails skips the lines after it up to
+//! the next O-word whose label reads the same, whatever is written
+//! (`o#1 if` … `o100 endif` pairs where #1 is 100), and a closing word
+//! whose label names no open construct stops it ("undefined O-word
+//! label"). kezuri keeps pairing at parse time: a computed label pairs by
+//! nesting alone — a closing word closes the innermost open construct
+//! where either label is computed, as equal written labels do — and the
+//! interpreter checks, when it reaches the closing word or skips to it,
+//! that both labels read the same number, stopping with a located error
+//! where they do not (rs274's message in it). For every program rs274
+//! runs whose constructs nest this is rs274's pairing; where a label
+//! changes between its opener and its closer (`#1` set in the body),
+//! rs274 stops too (`endif`, `endwhile`, `endrepeat`, `break`) or quietly
+//! reads another structure (a `do`'s `while` opens a new loop), which
+//! kezuri refuses. Two cases cannot wait for the run and are decided
+//! here: a `while` closes the innermost open `do` where both labels are
+//! written alike (`o#1 do` … `o#1 while`, or the same number), else it
+//! opens a loop; a `break` or `continue` of a computed label, or of a
+//! written one that names no loop around it where a loop of a computed
+//! label is, finds its loop at run time by the label it reads.
 
 use super::{named, refuse_block, LineParser, Result};
 use crate::ast::{ExprId, Flow, OName, OWord, Program, Statement, UNLINKED};
@@ -31,9 +54,35 @@ pub(crate) const MAX_OWORD_ARGS: usize = 30;
 
 /// Refuses each O-word construct still open at the end of the file.
 pub(super) fn refuse_unclosed(program: &mut Program, open_owords: Vec<OpenOWord>, diagnostics: &mut Vec<Diagnostic>) {
-    for o in open_owords {
+    // A while that was to close a do, one of their labels computed and
+    // written otherwise (`o#1 do` … `o10 while`), opened a loop: both are
+    // left open. The last do before such a while is the one it was for.
+    let unclosed_do = |w: &OpenOWord| {
+        open_owords
+            .iter()
+            .rev()
+            .find(|d| d.kind == OpenKind::Do && d.at < w.at)
+            .filter(|d| w.kind == OpenKind::While && (d.name.is_computed() || w.name.is_computed()))
+    };
+    let mut hints = std::collections::HashMap::new();
+    for w in &open_owords {
+        if let Some(d) = unclosed_do(w) {
+            hints.insert(
+                d.at,
+                format!(" (a while closes a do whose label is written alike: {0} do … {0} while)", d.name),
+            );
+            hints.insert(
+                w.at,
+                format!(" (to close {0} do (line {1}), write its label alike: {0} while)", d.name, d.line),
+            );
+        }
+    }
+    for o in &open_owords {
         let (name, closer) = (&o.name, o.kind.closer());
-        let message = format!("{name} {} has no {name} {closer} after it in this file", o.kind.opener());
+        let mut message = format!("{name} {} has no {name} {closer} after it in this file", o.kind.opener());
+        if let Some(hint) = hints.get(&o.at) {
+            message += hint;
+        }
         refuse_block(program, o.at, message, diagnostics);
     }
 }
@@ -96,7 +145,8 @@ fn oword_mut(program: &mut Program, at: u32) -> Option<&mut OWord> {
 }
 
 /// Pops the construct that the closing O-word `closer` of `name` ends,
-/// which must be the innermost one open and of the kind `wanted` tells.
+/// which must be the innermost one open and of the kind `wanted` tells,
+/// its label the same or one of the two computed.
 fn close_oword(
     open: &mut Vec<OpenOWord>,
     name: &OName,
@@ -105,8 +155,8 @@ fn close_oword(
     wanted: fn(OpenKind) -> bool,
 ) -> std::result::Result<OpenOWord, String> {
     match open.last() {
-        Some(o) if o.name == *name && wanted(o.kind) => Ok(open.pop().expect("an open O-word")),
-        Some(o) if open.iter().any(|x| x.name == *name && wanted(x.kind)) => Err(format!(
+        Some(o) if o.name.may_match(name) && wanted(o.kind) => Ok(open.pop().expect("an open O-word")),
+        Some(o) if open.iter().any(|x| x.name.may_match(name) && wanted(x.kind)) => Err(format!(
             "{name} {closer} comes before the {} that ends {} {} (line {}): O-word constructs must nest",
             o.kind.closer(),
             o.name,
@@ -156,7 +206,7 @@ pub(super) fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u
         Flow::If { .. } => push(open, OpenKind::If { last: at, has_else: false }),
         Flow::ElseIf { start, .. } | Flow::Else { start } => {
             let top = match open.last_mut() {
-                Some(top) if top.name == name && matches!(top.kind, OpenKind::If { .. }) => top,
+                Some(top) if top.name.may_match(&name) && matches!(top.kind, OpenKind::If { .. }) => top,
                 _ => {
                     close_oword(open, &name, keyword, "if", |k| matches!(k, OpenKind::If { .. }))?;
                     unreachable!("close_oword fails where the innermost construct is not this if")
@@ -170,15 +220,18 @@ pub(super) fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u
             top.kind = OpenKind::If { last: at, has_else: is_else };
             set_next(program, last, at);
         }
-        Flow::EndIf => {
+        Flow::EndIf { start } => {
             let o = close_oword(open, &name, "endif", "if", |k| matches!(k, OpenKind::If { .. }))?;
             let OpenKind::If { last, .. } = o.kind else { unreachable!("an if") };
+            *start = o.at;
             set_next(program, last, at);
             if let Some(OWord { flow: Flow::If { end, .. }, .. }) = oword_mut(program, o.at) {
                 *end = at;
             }
         }
         Flow::While { cond, .. } => {
+            // Labels written alike: both the same number or name, or both
+            // the same expression (`o#1 do` … `o#1 while`).
             if open.last().is_some_and(|d| d.name == name && d.kind == OpenKind::Do) {
                 let d = open.pop().expect("the do");
                 flow = Flow::DoWhile { cond: *cond, start: d.at };
@@ -206,8 +259,12 @@ pub(super) fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u
             }
         }
         Flow::Break { start } | Flow::Continue { start } => {
-            let found = open.iter().rev().take_while(|x| x.kind != OpenKind::Sub).find(|x| x.name == name);
+            let around = || open.iter().rev().take_while(|x| x.kind != OpenKind::Sub);
+            let found = around().find(|x| x.name == name && !name.is_computed());
+            let computed = |x: &&OpenOWord| x.kind.is_loop() && (name.is_computed() || x.name.is_computed());
             match found {
+                // The run finds the loop by the label it reads.
+                None if around().any(|x| computed(&x)) => {}
                 Some(l) if l.kind == OpenKind::Repeat => {
                     // rs274ngc (LinuxCNC 2.9) refuses these too: "no matching while/do label".
                     return Err(format!(
@@ -223,6 +280,9 @@ pub(super) fn link_oword(program: &mut Program, open: &mut Vec<OpenOWord>, at: u
                         l.kind.opener(),
                         l.line
                     ))
+                }
+                None if name.is_computed() => {
+                    return Err(format!("{name} {keyword} is not inside a loop (while, do or repeat)"))
                 }
                 None => {
                     return Err(format!("{name} {keyword} is not inside a loop named {name} (while, do or repeat)"))
@@ -250,6 +310,7 @@ impl LineParser<'_> {
         let start = self.pos;
         self.pos += 1;
         self.skip_blanks();
+        let mut label = None;
         let name = match self.peek() {
             Some(b'<') => {
                 let Some(close) = self.b[self.pos..self.end].iter().position(|&c| c == b'>') else {
@@ -263,29 +324,25 @@ impl LineParser<'_> {
                 OName::Named(name)
             }
             Some(b'#' | b'[') => {
-                // rs274ngc computes the number: kezuri does so for a call,
-                // whose subroutine is found when it is made.
-                let number = self.operand()?;
-                self.skip_blanks();
-                if !self.eat_keyword("CALL") {
-                    return Err(Diagnostic::error(
-                        self.span(start),
-                        "kezuri reads a computed O-word number (o#1, o[…]) in a call only: write the number here",
-                    ));
-                }
-                self.skip_blanks();
-                return Ok(Statement::OWord(Box::new(OWord {
-                    name: OName::Number(0),
-                    flow: Flow::Call { args: self.call_args()?, number: Some(number) },
-                })));
+                // rs274ngc computes the label when it reads the line: so does
+                // the interpreter, with this expression.
+                let from = self.pos;
+                label = Some(self.operand()?);
+                let text: String = String::from_utf8_lossy(&self.b[from..self.pos])
+                    .chars()
+                    .filter(|c| !c.is_whitespace())
+                    .flat_map(char::to_lowercase)
+                    .collect();
+                OName::Computed(text)
             }
             Some(b'0'..=b'9') => {
                 let digits = self.b[self.pos..self.end].iter().take_while(|c| c.is_ascii_digit()).count();
                 let text = std::str::from_utf8(&self.b[self.pos..self.pos + digits]).unwrap_or("");
                 self.pos += digits;
-                OName::Number(
-                    text.parse().map_err(|_| Diagnostic::error(self.span(start), "O-word number is too large"))?,
-                )
+                OName::Number(i64::from(
+                    text.parse::<u32>()
+                        .map_err(|_| Diagnostic::error(self.span(start), "O-word number is too large"))?,
+                ))
             }
             _ => return Err(self.error_here("an O-word is o<name> or o and a number, then sub, call, if, while …")),
         };
@@ -305,11 +362,11 @@ impl LineParser<'_> {
             "SUB" => Flow::Sub { end: UNLINKED },
             "ENDSUB" => Flow::EndSub { value: self.optional_bracketed()? },
             "RETURN" => Flow::Return { value: self.optional_bracketed()? },
-            "CALL" => Flow::Call { args: self.call_args()?, number: None },
+            "CALL" => Flow::Call { args: self.call_args()? },
             "IF" => Flow::If { cond: self.condition(keyword)?, next: UNLINKED, end: UNLINKED },
             "ELSEIF" => Flow::ElseIf { cond: self.condition(keyword)?, start: UNLINKED, next: UNLINKED },
             "ELSE" => Flow::Else { start: UNLINKED },
-            "ENDIF" => Flow::EndIf,
+            "ENDIF" => Flow::EndIf { start: UNLINKED },
             "WHILE" => Flow::While { cond: self.condition(keyword)?, end: UNLINKED },
             "ENDWHILE" => Flow::EndWhile { start: UNLINKED },
             "DO" => Flow::Do { end: UNLINKED },
@@ -318,7 +375,7 @@ impl LineParser<'_> {
             "BREAK" => Flow::Break { start: UNLINKED },
             _ => Flow::Continue { start: UNLINKED },
         };
-        Ok(Statement::OWord(Box::new(OWord { name, flow })))
+        Ok(Statement::OWord(Box::new(OWord { name, label, flow })))
     }
 
     /// A call's arguments `[a] [b] …`.

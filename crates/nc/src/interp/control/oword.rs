@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use super::{Frame, Interp};
-use crate::ast::{ExprId, Flow, OName, Statement};
+use crate::ast::{ExprId, Flow, OName, Statement, UNLINKED};
 use crate::interp::block::FrameKind;
 use crate::interp::value::Value;
 use crate::parse::parse_as;
@@ -18,9 +18,24 @@ const MAX_OSUB_DEPTH: usize = 9;
 
 impl Interp<'_> {
     /// Runs the LinuxCNC O-word of block `pc`.
+    ///
+    /// A computed label (`o#1 if`) is read here, as rs274ngc reads it when
+    /// it reads the line; the parser paired it by nesting, and each
+    /// closing word reached or skipped to is checked against its opener
+    /// (`check_partner`), the labels of skipped blocks read on the way
+    /// (`read_skipped`): see `parse::oword`.
     pub(super) fn oword(&mut self, pc: u32, span: Span) -> Result<bool, Diagnostic> {
         let Statement::OWord(o) = &self.program.blocks[pc as usize].statement else { return Ok(true) };
-        let (name, flow) = (o.name.clone(), o.flow.clone());
+        let (written, flow) = (o.name.clone(), o.flow.clone());
+        let name = self.label_of(pc)?;
+        if written.is_computed()
+            && matches!(
+                flow,
+                Flow::Sub { .. } | Flow::If { .. } | Flow::While { .. } | Flow::Do { .. } | Flow::Repeat { .. }
+            )
+        {
+            self.frame().read_labels.insert(pc, name.clone());
+        }
         let located = |r: Result<Value, String>| r.map_err(|m| Diagnostic::error(span, m));
         match flow {
             Flow::Sub { end } => {
@@ -48,13 +63,17 @@ impl Interp<'_> {
                         self.subs.insert(name.clone(), pc);
                     }
                 }
-                self.frame().pc = self.target(end, span)? + 1;
+                let end = self.target(end, span)?;
+                self.skip_to_end(pc, pc, end)?;
+                self.frame().pc = end + 1;
             }
+            // rs274ngc reads the label of an endsub or return and returns
+            // whatever it reads (as whatever is written).
             Flow::EndSub { value } | Flow::Return { value } => {
                 if self.frames.last().map(|f| f.kind) != Some(FrameKind::OSub) {
                     return Err(Diagnostic::error(
                         span,
-                        format!("{name} {} is reached without a call", flow.keyword()),
+                        format!("{written} {} is reached without a call", flow.keyword()),
                     ));
                 }
                 self.st.returned = match value {
@@ -63,12 +82,15 @@ impl Interp<'_> {
                 };
                 return self.return_from(None, span);
             }
-            Flow::Call { args, number } => {
-                let name = match number {
-                    Some(e) => computed_name(located(self.st.eval(self.program, e))?.num())
-                        .map_err(|m| Diagnostic::error(span, m))?,
-                    None => name,
-                };
+            Flow::Call { args } => {
+                if let OName::Number(n) = name {
+                    if u32::try_from(n).is_err() {
+                        return Err(Diagnostic::error(
+                            span,
+                            format!("{written} reads {name}: no subroutine has this number (LinuxCNC looks for o<{n}> and finds none)"),
+                        ));
+                    }
+                }
                 self.o_call(&name, &args, pc, span)?;
             }
             Flow::If { .. } | Flow::While { .. } | Flow::Do { .. } | Flow::Repeat { .. }
@@ -77,15 +99,22 @@ impl Interp<'_> {
                 let at = self.frame().labels[&name];
                 let block = &self.program.blocks[at as usize];
                 let what = match &block.statement {
-                    Statement::OWord(o) => o.flow.keyword(),
-                    _ => "construct",
+                    Statement::OWord(o) if o.name != name => {
+                        format!("{} {} (read as {name})", o.name, o.flow.keyword())
+                    }
+                    Statement::OWord(o) => format!("{name} {}", o.flow.keyword()),
+                    _ => "construct".to_string(),
+                };
+                let this = if written.is_computed() {
+                    format!("{written} {} (read as {name})", flow.keyword())
+                } else {
+                    format!("{name} {}", flow.keyword())
                 };
                 return Err(Diagnostic::error(
                     span,
                     format!(
-                        "{name} {} reuses the label of {name} {what} (line {}) in the same subroutine or main program: \
+                        "{this} reuses the label of {what} (line {}) in the same subroutine or main program: \
                          LinuxCNC stops, \"duplicate O-word label\"",
-                        flow.keyword(),
                         block.line
                     ),
                 ));
@@ -93,7 +122,8 @@ impl Interp<'_> {
             Flow::If { cond, next, .. } => {
                 self.frame().labels.insert(name.clone(), pc);
                 if !located(self.st.eval(self.program, cond))?.truth() {
-                    let to = self.branch(next, span)?;
+                    let to = self.branch(pc, next, span)?;
+                    self.read_skipped(pc + 1, to)?;
                     self.frame().pc = to;
                 }
             }
@@ -102,24 +132,36 @@ impl Interp<'_> {
                 // reads the condition all the same (a division by zero
                 // there stops it).
                 located(self.st.eval(self.program, cond))?;
-                self.frame().pc = self.end_of(start, span)? + 1;
+                self.check_partner(start, pc, false)?;
+                let end = self.end_of(start, span)?;
+                self.skip_to_end(pc, start, end)?;
+                self.frame().pc = end + 1;
             }
-            Flow::Else { start } => self.frame().pc = self.end_of(start, span)? + 1,
-            Flow::EndIf => {}
+            Flow::Else { start } => {
+                self.check_partner(start, pc, false)?;
+                let end = self.end_of(start, span)?;
+                self.skip_to_end(pc, start, end)?;
+                self.frame().pc = end + 1;
+            }
+            Flow::EndIf { start } => self.check_partner(start, pc, false)?,
             Flow::Do { .. } => {
                 self.frame().labels.insert(name.clone(), pc);
             }
             Flow::While { cond, end } => {
                 self.frame().labels.insert(name.clone(), pc);
                 if !located(self.st.eval(self.program, cond))?.truth() {
-                    self.frame().pc = self.target(end, span)? + 1;
+                    let end = self.target(end, span)?;
+                    self.skip_to_end(pc, pc, end)?;
+                    self.frame().pc = end + 1;
                 }
             }
             Flow::EndWhile { start } => {
+                self.check_partner(start, pc, false)?;
                 self.last_back_jump = Some(start);
                 self.frame().pc = self.target(start, span)?;
             }
             Flow::DoWhile { cond, start } => {
+                self.check_partner(start, pc, false)?;
                 if located(self.st.eval(self.program, cond))?.truth() {
                     self.last_back_jump = Some(start);
                     self.frame().pc = self.target(start, span)? + 1;
@@ -129,12 +171,15 @@ impl Interp<'_> {
                 self.frame().labels.insert(name.clone(), pc);
                 let n = located(self.st.eval(self.program, count))?.num().round();
                 if n < 1.0 {
-                    self.frame().pc = self.target(end, span)? + 1;
+                    let end = self.target(end, span)?;
+                    self.skip_to_end(pc, pc, end)?;
+                    self.frame().pc = end + 1;
                 } else {
                     self.frame().repeats.push((pc, n as u64 - 1));
                 }
             }
             Flow::EndRepeat { start } => {
+                self.check_partner(start, pc, false)?;
                 let start = self.target(start, span)?;
                 let f = self.frame();
                 match f.repeats.last_mut() {
@@ -147,29 +192,182 @@ impl Interp<'_> {
                         f.repeats.pop();
                     }
                     _ => {
-                        return Err(Diagnostic::error(span, format!("{name} endrepeat is reached without its repeat")))
+                        return Err(Diagnostic::error(
+                            span,
+                            format!("{written} endrepeat is reached without its repeat"),
+                        ))
                     }
                 }
             }
             Flow::Break { start } => {
+                let start = if start == UNLINKED { self.find_loop(pc, &name, span)? } else { start };
                 let end = self.end_of(start, span)?;
+                self.skip_to_end(pc, start, end)?;
                 self.frame().repeats.retain(|&(s, _)| s < start);
                 self.frame().pc = end + 1;
             }
             Flow::Continue { start } => {
+                let start = if start == UNLINKED { self.find_loop(pc, &name, span)? } else { start };
                 let end = self.end_of(start, span)?;
                 self.frame().repeats.retain(|&(s, _)| s <= start);
                 let to = match self.program.blocks[start as usize].statement {
-                    // A while loop tests its condition again; do and repeat
-                    // go to their closing block, which tests or counts.
-                    Statement::OWord(ref o) if matches!(o.flow, Flow::While { .. }) => start,
-                    _ => end,
+                    // A while loop tests its condition again, once rs274
+                    // has skipped to its endwhile; do and repeat go to
+                    // their closing block, which tests or counts.
+                    Statement::OWord(ref o) if matches!(o.flow, Flow::While { .. }) => {
+                        self.skip_to_end(pc, start, end)?;
+                        start
+                    }
+                    _ => {
+                        self.read_skipped(pc + 1, end)?;
+                        end
+                    }
                 };
                 self.last_back_jump = Some(start);
                 self.frame().pc = to;
             }
         }
         Ok(true)
+    }
+
+    /// The label of the O-word of block `at` as the run reads it: the one
+    /// written, or the number a computed one reads now (a whole number
+    /// within 0.0001, as rs274ngc reads one: "Non integer value for
+    /// integer").
+    fn label_of(&mut self, at: u32) -> Result<OName, Diagnostic> {
+        let block = &self.program.blocks[at as usize];
+        let Statement::OWord(o) = &block.statement else { return Ok(OName::Number(0)) };
+        let Some(e) = o.label else { return Ok(o.name.clone()) };
+        let (written, span, line) = (o.name.clone(), block.span, block.line);
+        let was = (self.st.at, self.st.at_line);
+        (self.st.at, self.st.at_line) = (span, line);
+        let v = self.st.eval(self.program, e).map_err(|m| Diagnostic::error(span, m));
+        (self.st.at, self.st.at_line) = was;
+        let v = v?.num();
+        let n = v.round();
+        if !v.is_finite() || (v - n).abs() >= 0.0001 {
+            return Err(Diagnostic::error(
+                span,
+                format!("{written} reads {v}: an O-word label is a whole number (LinuxCNC: \"Non integer value for integer\")"),
+            ));
+        }
+        if n.abs() > f64::from(i32::MAX) {
+            return Err(Diagnostic::error(
+                span,
+                format!("{written} reads {v}: LinuxCNC's labels are whole numbers up to {}", i32::MAX),
+            ));
+        }
+        Ok(OName::Number(n as i64))
+    }
+
+    /// Skips from block `from` past the closing block `end` of the
+    /// construct that block `start` opens, as rs274ngc skips: it reads the
+    /// labels on the way and stops at `end` only where `end`'s label reads
+    /// what `start`'s read.
+    fn skip_to_end(&mut self, from: u32, start: u32, end: u32) -> Result<(), Diagnostic> {
+        self.read_skipped(from + 1, end)?;
+        self.check_partner(start, end, true)
+    }
+
+    /// Reads the computed labels of the blocks from `from` to before `to`,
+    /// which the run skips: rs274ngc reads the label of each line it passes
+    /// over (not its other expressions), and stops at one it cannot read.
+    fn read_skipped(&mut self, from: u32, to: u32) -> Result<(), Diagnostic> {
+        if !self.computed_labels {
+            return Ok(());
+        }
+        for at in from..to.min(self.program.blocks.len() as u32) {
+            if matches!(&self.program.blocks[at as usize].statement, Statement::OWord(o) if o.label.is_some()) {
+                self.label_of(at)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that the closing word of block `at` reads the label its
+    /// opener, block `start`, read, where either is computed (`reached`
+    /// false: the run skips to it).
+    fn check_partner(&mut self, start: u32, at: u32, skipped: bool) -> Result<(), Diagnostic> {
+        let computed = |b: u32| matches!(self.program.blocks.get(b as usize).map(|b| &b.statement), Some(Statement::OWord(o)) if o.label.is_some());
+        if !computed(start) && !computed(at) {
+            return Ok(());
+        }
+        let read = self.frames.last().and_then(|f| f.read_labels.get(&start)).cloned();
+        let opened = match read {
+            Some(name) => name,
+            None => self.label_of(start)?,
+        };
+        let closing = self.label_of(at)?;
+        if opened == closing {
+            return Ok(());
+        }
+        let describe = |b: &crate::ast::Block| match &b.statement {
+            Statement::OWord(o) => format!("{} {}", o.name, o.flow.keyword()),
+            _ => String::from("this block"),
+        };
+        let (opener, line) = (describe(&self.program.blocks[start as usize]), self.program.blocks[start as usize].line);
+        let block = &self.program.blocks[at as usize];
+        let (closer, span) = (describe(block), block.span);
+        let why = if skipped {
+            format!(
+                "LinuxCNC skips on past it, to the next O-word that reads {opened}; kezuri pairs constructs by \
+                 nesting and stops here"
+            )
+        } else {
+            "LinuxCNC stops, \"undefined O-word label\"".to_string()
+        };
+        Err(Diagnostic::error(
+            span,
+            format!("{closer} reads {closing}, where {opener} (line {line}) read {opened}: {why}"),
+        ))
+    }
+
+    /// The loop that the `break` or `continue` of block `pc`, its label
+    /// read as `name`, leaves or turns, where the parser could not tell
+    /// (a computed label): the loop of that label run in this subroutine
+    /// or main program, around the block — rs274ngc looks the label up
+    /// among those it has read.
+    fn find_loop(&mut self, pc: u32, name: &OName, span: Span) -> Result<u32, Diagnostic> {
+        let this = match &self.program.blocks[pc as usize].statement {
+            Statement::OWord(o) if o.name.is_computed() => format!("{} {} (read as {name})", o.name, o.flow.keyword()),
+            Statement::OWord(o) => format!("{} {}", o.name, o.flow.keyword()),
+            _ => String::from("this block"),
+        };
+        let Some(at) = self.frames.last().and_then(|f| f.labels.get(name)).copied() else {
+            return Err(Diagnostic::error(
+                span,
+                format!("{this} is not inside a loop named {name}: LinuxCNC stops, \"undefined O-word label\""),
+            ));
+        };
+        let block = &self.program.blocks[at as usize];
+        let line = block.line;
+        let (kind, is_loop) = match &block.statement {
+            Statement::OWord(o) => (o.flow.keyword(), matches!(o.flow, Flow::While { .. } | Flow::Do { .. })),
+            _ => ("construct", false),
+        };
+        if kind == "repeat" {
+            // As the parser refuses a written one.
+            return Err(Diagnostic::error(
+                span,
+                format!(
+                    "{this}: LinuxCNC leaves or continues while and do loops only, not {name} repeat (line {line})"
+                ),
+            ));
+        }
+        if !is_loop {
+            return Err(Diagnostic::error(
+                span,
+                format!("{this} names {name} {kind} (line {line}), which is not a loop"),
+            ));
+        }
+        let end = self.end_of(at, span)?;
+        if !(at < pc && pc < end) {
+            return Err(Diagnostic::error(
+                span,
+                format!("{this} is not inside {name} {kind} (line {line}), the loop of that label"),
+            ));
+        }
+        Ok(at)
     }
 
     /// Checks a block index the parser linked.
@@ -201,9 +399,10 @@ impl Interp<'_> {
     /// Where an `if` whose condition is false goes on: the first branch
     /// from `next` on (an `elseif` whose condition holds, the `else`) or
     /// after the `endif`.
-    fn branch(&mut self, mut next: u32, span: Span) -> Result<u32, Diagnostic> {
+    fn branch(&mut self, start: u32, mut next: u32, span: Span) -> Result<u32, Diagnostic> {
         loop {
             next = self.target(next, span)?;
+            self.check_partner(start, next, true)?;
             let block = &self.program.blocks[next as usize];
             let (at, line) = (block.span, block.line);
             match &block.statement {
@@ -256,6 +455,7 @@ impl Interp<'_> {
             args: Some(Box::new(locals)),
             repeats: Vec::new(),
             labels: HashMap::new(),
+            read_labels: HashMap::new(),
         });
         Ok(())
     }
@@ -292,6 +492,7 @@ impl Interp<'_> {
         if let Some(first) = errors.into_iter().next() {
             return Err(first);
         }
+        self.computed_labels |= computed_labels(&self.program.blocks[first..]);
         self.sub_in(name, first, |_| true)
             .ok_or_else(|| Diagnostic::error(span, format!("{file_name} does not define {name} sub")))
     }
@@ -309,17 +510,7 @@ impl Interp<'_> {
     }
 }
 
-/// The subroutine a computed O-word number names: a whole number within
-/// 0.0001, as rs274ngc reads one ("Non integer value for integer").
-fn computed_name(v: f64) -> Result<OName, String> {
-    let n = v.round();
-    if (v - n).abs() >= 0.0001 {
-        return Err(format!(
-            "o[{v}]: an O-word number is a whole number (LinuxCNC: \"Non integer value for integer\")"
-        ));
-    }
-    if !(0.0..=f64::from(u32::MAX)).contains(&n) {
-        return Err(format!("o[{v}]: no subroutine has this number (LinuxCNC looks for o<{n}> and finds none)"));
-    }
-    Ok(OName::Number(n as u32))
+/// Whether a LinuxCNC O-word among `blocks` has a computed label.
+pub(super) fn computed_labels(blocks: &[crate::ast::Block]) -> bool {
+    blocks.iter().any(|b| matches!(&b.statement, Statement::OWord(o) if o.label.is_some()))
 }
