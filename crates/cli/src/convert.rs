@@ -13,7 +13,7 @@ use kezuri_nc::rml::{self, RmlOptions};
 use kezuri_nc::write::{program, WriteOptions};
 use kezuri_nc::{parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
-use crate::files::{read_text, write_output, Folder};
+use crate::files::{read_text, Folder, Outputs};
 use crate::machine::MachineArg;
 use crate::program::{choose_dialect, dialect_settings, post_options};
 
@@ -129,6 +129,10 @@ pub struct ConvertArgs {
     pub post: Option<String>,
     #[command(flatten)]
     pub machine: MachineArg,
+    /// Also show the converted program in 3D: one offline HTML page, as `kezuri view` makes of
+    /// it (an RML-1 output as its moves, without the text).
+    #[arg(long, value_name = "PAGE.html")]
+    pub view: Option<PathBuf>,
 }
 
 fn cutter(s: &str) -> Result<Cutter, String> {
@@ -236,6 +240,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
         path = shorten(&path, &ShortenOptions { tolerance, arcs: a.arcs });
         eprintln!("shortened within {tolerance} mm: {before} moves -> {}", path.moves.len());
     }
+    let machine = a.machine.load()?;
     let out = match to {
         Format::Rml => {
             let options = RmlOptions { unit: a.rml_unit, safe_z: a.safe_z, feed: a.feed, tolerance: a.rml_unit / 2.0 };
@@ -251,14 +256,31 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
             };
             // --to, or without --post the format the output's name says.
             let named = a.to.or(a.post.is_none().then_some(to)).map(name);
-            let post = post_options(a.post.as_deref(), named, &a.machine.load()?)?;
+            let post = post_options(a.post.as_deref(), named, &machine)?;
             let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
             // A converted program keeps its own start, tool changes and end.
             let options = WriteOptions { digits: a.digits, title: Some(title), setup: None, ..post };
             program(&path, &options)?
         }
     };
-    write_output(a.output.as_deref(), out.as_bytes())
+    let mut outputs = Outputs::new();
+    if let Some(page) = &a.view {
+        let options = crate::view::PageOptions::default();
+        // Every tool the program loads drawn as --tool.
+        let tools: std::collections::BTreeSet<u32> = path.moves.iter().map(|m| m.tool).collect();
+        let cutters: Vec<(u32, Cutter)> = a.tool.map(|c| tools.iter().map(|&n| (n, c)).collect()).unwrap_or_default();
+        let html = match to {
+            Format::Rml => crate::view::path_page(&path, &name, &machine, &cutters, &options)?,
+            _ => {
+                let written = a.output.clone().unwrap_or_else(|| PathBuf::from("program.nc"));
+                let ran = crate::program::run_written(&machine, &written, out.clone())?;
+                crate::view::page(&ran, &written.display().to_string(), None, &cutters, &options)?
+            }
+        };
+        outputs.add(Some(page), &html)?;
+    }
+    outputs.add(a.output.as_deref(), out.as_bytes())?;
+    outputs.commit()
 }
 
 fn print_diagnostics<'a>(sources: &Sources, diagnostics: impl IntoIterator<Item = &'a Diagnostic>) -> usize {

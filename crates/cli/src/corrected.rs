@@ -104,7 +104,7 @@ pub fn write_corrected(
         let mut write = write.clone();
         let title = run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
         write.digits = Some(write_digits(&write));
-        stage_toolpath(&mut out, path, &format!("{title} {what}"), &write, &ran.machine, Origin::Transformed)?;
+        stage_toolpath(&mut out, path, &format!("{title} {what}"), &write, &ran.machine, Origin::Transformed, &[])?;
     }
     out.commit()
 }

@@ -138,6 +138,8 @@ fn geometry(out: &Path) -> Result<()> {
             &stl,
             "-o",
             &at("dome-ball.png"),
+            "--view",
+            &at("dome-ball.html"),
         ]),
         words(&["dropcut", &stl, "--tool", "oval:16,24", "--grid", "0,0,60,60,2", "-o", &at("dome-oval.cl")]),
     ];
@@ -145,7 +147,7 @@ fn geometry(out: &Path) -> Result<()> {
     println!("\nwrote oval-engage.png and .csv (the chip of one tooth per rotation angle, step-up and");
     println!("step-down, pick feeds for a 10 µm cusp), dome-ball.nc (ball:6, pick-feed control),");
     println!("dome-ball.svg, dome-ball.png and dome-ball-deviation.png (simulated cut against the");
-    println!("surface), dome-oval.cl (CL points)");
+    println!("surface), dome-ball.html (the job in 3D: open it in a browser), dome-oval.cl (CL points)");
     Ok(())
 }
 
@@ -236,12 +238,14 @@ fn copy_milling(out: &Path) -> Result<()> {
             &model,
             "-o",
             &at("plum-copy.png"),
+            "--view",
+            &at("plum-copy.html"),
         ]),
     ];
     run_shown(out, &commands)?;
     println!("\nwrote plum.txt (the capture), plum-level.txt (levelled), plum.dxf (a polyline per row),");
     println!("plum.stl, plum.png, plum-copy.nc (the copy), plum-copy.svg, plum-copy.png and");
-    println!("plum-copy-deviation.png (the simulated copy against the model)");
+    println!("plum-copy-deviation.png (the simulated copy against the model), plum-copy.html (in 3D)");
     Ok(())
 }
 
@@ -296,12 +300,14 @@ fn relief_carving(out: &Path) -> Result<()> {
             &at("plum-relief.stl"),
             "-o",
             &at("plum-relief.png"),
+            "--view",
+            &at("plum-relief.html"),
         ]),
     ];
     run_shown(out, &commands)?;
     println!("\nwrote plum-relief.nc (roughing T1, finishing T2), plum-tools.toml (their cutters, simulated each");
     println!("with its own), plum-relief.stl (the relief surface), plum-relief.png (the simulated carving)");
-    println!("and plum-relief-deviation.png");
+    println!("plum-relief-deviation.png and plum-relief.html (in 3D)");
     Ok(())
 }
 
@@ -332,11 +338,14 @@ fn textured_nameplate(out: &Path) -> Result<()> {
             "-110,-62,110,1,0",
             "-o",
             &at("nameplate-textured.png"),
+            "--view",
+            &at("nameplate-textured.html"),
         ]),
     ];
     run_shown(out, &commands)?;
     println!("\nwrote nameplate-textured.nc (every stroke written out), nameplate-macro.nc (G66.1 P7023 and");
-    println!("the macro: each part different on the control) and nameplate-textured.png (the simulated plate)");
+    println!("the macro: each part different on the control), nameplate-textured.png (the simulated plate)");
+    println!("and nameplate-textured.html (in 3D)");
     Ok(())
 }
 
@@ -419,6 +428,8 @@ fn thermal_drift(out: &Path) -> Result<()> {
             &m,
             "-o",
             &at("o2007-corrected.nc"),
+            "--view",
+            &at("o2007-corrected.html"),
         ]),
     ];
     run_shown(out, &commands)?;
@@ -461,7 +472,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     write_atomic(&out.join("thermal-before-after.svg"), chart.as_bytes())?;
     let largest = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
     println!(
-        "\nwrote O2007-plan.nc, thermal-meas.csv, thermal-model.json, o2007-corrected.nc and\n\
+        "\nwrote O2007-plan.nc, thermal-meas.csv, thermal-model.json, o2007-corrected.nc (and .html, in 3D) and\n\
          thermal-before-after.svg: {} stops, up to {:.1} µm off as programmed, {:.3} µm corrected",
         was.len(),
         largest(&was),

@@ -369,6 +369,7 @@ fn comp_rules(c: &CompFile) -> Result<Rules> {
 }
 
 /// A machine: its dynamics, what it tells the interpreter, its axes.
+#[derive(Clone)]
 pub struct Machine {
     /// For the cycle time.
     pub dynamics: Dynamics,

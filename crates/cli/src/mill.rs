@@ -199,7 +199,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
     let mut out = Outputs::new();
-    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made)?;
+    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made, &[(args.tool_number, cutter)])?;
     out.commit()
 }
 

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
+use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, LengthOffset, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
@@ -229,6 +230,27 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
     };
+    run_on(machine, o, text, radii_required)
+}
+
+/// A program kezuri wrote (`text`, to be saved as `name`) run on `machine`
+/// as `kezuri view` would run the file: for the page of a writer's `--view`.
+pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
+    #[derive(clap::Parser)]
+    struct Defaults {
+        #[command(flatten)]
+        run: RunOptions,
+    }
+    let o = <Defaults as clap::Parser>::try_parse_from([Path::new("kezuri"), Path::new("--"), name])?.run;
+    let (ran, _) = run_on(machine.clone(), &o, text, false)?;
+    if ran.errors() > 0 {
+        bail!("{}: the written program does not run back ({} errors): no page", name.display(), ran.errors());
+    }
+    Ok(ran)
+}
+
+/// [`run_program`] on a machine loaded already.
+fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
     let detected = choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?;
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
     let parameters = match &o.var {
@@ -570,6 +592,10 @@ pub struct WriteArgs {
     /// Also draw the toolpath (top and front view) to this SVG file.
     #[arg(long, value_name = "FILE.svg")]
     svg: Option<PathBuf>,
+    /// Also show the written program in 3D: one offline HTML page, as `kezuri view` makes
+    /// of it (the tool, the program text, a playback slider).
+    #[arg(long, value_name = "PAGE.html")]
+    view: Option<PathBuf>,
     /// Write the tool-centre path of cutter radius compensation (G41/G42)
     /// with the compensation off (G40), the radii from the machine file's
     /// [tools] radii, for controls and simulators without compensation
@@ -671,7 +697,7 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
         eprintln!("warning: {}: {note}", o.file.display());
     }
     let mut out = std::mem::take(&mut ran.outputs);
-    write_program(&mut out, written, centre, &title, &notes, w, &ran.machine, Origin::Transformed)?;
+    write_program(&mut out, written, centre, &title, &notes, w, &ran.machine, Origin::Transformed, &[])?;
     out.commit()
 }
 
@@ -719,7 +745,7 @@ pub fn post_options(post: Option<&str>, emit: Option<&str>, machine: &Machine) -
 }
 
 /// Adds to `out` what `w` asks for `path`: a program by the post, CSV or
-/// RML-1, and the SVG.
+/// RML-1, the SVG and the `--view` page (its tools drawn with `cutters`).
 pub fn stage_toolpath(
     out: &mut Outputs,
     path: &Toolpath,
@@ -727,11 +753,13 @@ pub fn stage_toolpath(
     w: &WriteArgs,
     machine: &Machine,
     origin: Origin,
+    cutters: &[(u32, Cutter)],
 ) -> Result<()> {
-    write_program(out, path, path, title, &[], w, machine, origin)
+    write_program(out, path, path, title, &[], w, machine, origin, cutters)
 }
 
-/// [`stage_toolpath`] with the SVG drawing `drawn`.
+/// [`stage_toolpath`] with the SVG drawing `drawn`; `cutters` are the
+/// shapes of the tools (by number) the `--view` page draws.
 #[allow(clippy::too_many_arguments)]
 fn write_program(
     out: &mut Outputs,
@@ -742,6 +770,7 @@ fn write_program(
     w: &WriteArgs,
     machine: &Machine,
     origin: Origin,
+    cutters: &[(u32, Cutter)],
 ) -> Result<()> {
     let text = match w.emit {
         Some(Emit::Csv) => kezuri_nc::write::csv(path),
@@ -755,6 +784,17 @@ fn write_program(
             kezuri_nc::write::program(path, &options)?
         }
     };
+    if let Some(page) = &w.view {
+        let options = crate::view::PageOptions::default();
+        let html = if w.is_gcode() {
+            let name = w.output.clone().unwrap_or_else(|| PathBuf::from("program.nc"));
+            let ran = run_written(machine, &name, text.clone())?;
+            crate::view::page(&ran, &name.display().to_string(), None, cutters, &options)?
+        } else {
+            crate::view::path_page(path, title, machine, cutters, &options)?
+        };
+        out.add(Some(page), &html)?;
+    }
     out.add(w.output.as_deref(), text.as_bytes())?;
     if let Some(svg) = &w.svg {
         out.add(Some(svg), crate::plot::svg(drawn, title).as_bytes())?;

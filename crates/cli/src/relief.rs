@@ -318,7 +318,11 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     );
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
     let mut out = Outputs::new();
-    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made)?;
+    let cutters: Vec<(u32, Cutter)> = match rough {
+        Some(r) => vec![(1, r), (2, cutter)],
+        None => vec![(1, cutter)],
+    };
+    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made, &cutters)?;
     if let Some(stl) = &args.surface_stl {
         stage_surface_stl(&mut out, stl, &field)?;
     }

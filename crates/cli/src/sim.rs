@@ -261,7 +261,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     if let Some(page) = &args.view {
         let options = crate::view::PageOptions::default();
-        out.add(Some(page), &crate::view::page(&ran, &file, Some((&sim, args.deviation_scale)), &options)?)?;
+        out.add(Some(page), &crate::view::page(&ran, &file, Some((&sim, args.deviation_scale)), &[], &options)?)?;
     }
     out.commit()?;
 

@@ -138,6 +138,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
                 &a.write,
                 &ran.machine,
                 Origin::Transformed,
+                &[],
             )?;
             eprintln!("{name}: {} cutting moves textured, {} strokes of {} mm", t.moves, t.knots, a.segment);
         }

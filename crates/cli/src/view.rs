@@ -45,6 +45,7 @@ use kezuri_geom::{move_times, Toolpath};
 use serde_json::{json, Value};
 use sha2::Digest as _;
 
+use crate::machine::Machine;
 use crate::program::{read_and_run_centre, Ran, RunOptions};
 use crate::sim::{SimSetup, Simulated};
 use blob::Blob;
@@ -148,7 +149,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         Some(res) => Some(crate::sim::simulate(&ran.outcome.toolpath, &ran.machine, &args.setup, res, 10, &file)?),
         None => None,
     };
-    let page = page_with(&ran, &file, sim.as_ref().map(|s| (s, args.deviation_scale)), &args.setup, &args.page)?;
+    let any: Option<Cutter> = args.setup.tool.as_deref().map(str::parse).transpose()?;
+    let sim_and_scale = sim.as_ref().map(|s| (s, args.deviation_scale));
+    let page = page_with(&Job::of(&ran, &file), sim_and_scale, &[], any, &args.page)?;
     out.add(args.output.as_deref(), &page)?;
     out.commit()?;
     let moves = ran.outcome.toolpath.moves.len();
@@ -161,23 +164,64 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     Ok(())
 }
 
-/// The page of a run (and of its simulation with the deviation scale),
-/// the tools' shapes from the simulation or the machine file.
-pub fn page(ran: &Ran, file: &str, sim: Option<(&Simulated, Option<f64>)>, options: &PageOptions) -> Result<Vec<u8>> {
-    page_with(ran, file, sim, &SimSetup::default(), options)
+/// What a page shows: a program's moves, its text, its units and the
+/// machine it runs on (for the cycle time and the tool table).
+struct Job<'a> {
+    title: &'a str,
+    path: &'a Toolpath,
+    text: Option<&'a str>,
+    inch: bool,
+    machine: &'a Machine,
 }
 
-/// [`page`], where `--tool` (in `setup`) may name the shape of the tools the
-/// machine file does not.
-fn page_with(
+impl<'a> Job<'a> {
+    fn of(ran: &'a Ran, title: &'a str) -> Job<'a> {
+        Job {
+            title,
+            path: &ran.outcome.toolpath,
+            text: Some(ran.sources.get(0).text.as_str()),
+            inch: ran.outcome.inch,
+            machine: &ran.machine,
+        }
+    }
+}
+
+/// The page of a run (and of its simulation with the deviation scale):
+/// the tools' shapes from the simulation, the machine file or `cutters`
+/// (tool number and shape, as the command that made the program knows
+/// them).
+pub fn page(
     ran: &Ran,
     file: &str,
     sim: Option<(&Simulated, Option<f64>)>,
-    setup: &SimSetup,
+    cutters: &[(u32, Cutter)],
     options: &PageOptions,
 ) -> Result<Vec<u8>> {
+    page_with(&Job::of(ran, file), sim, cutters, None, options)
+}
+
+/// The page of a toolpath with no program text (a CSV or RML-1 output).
+pub fn path_page(
+    path: &Toolpath,
+    title: &str,
+    machine: &Machine,
+    cutters: &[(u32, Cutter)],
+    options: &PageOptions,
+) -> Result<Vec<u8>> {
+    page_with(&Job { title, path, text: None, inch: false, machine }, None, cutters, None, options)
+}
+
+/// [`page`], where `any` is the shape of every tool nothing else names.
+fn page_with(
+    job: &Job,
+    sim: Option<(&Simulated, Option<f64>)>,
+    cutters: &[(u32, Cutter)],
+    any: Option<Cutter>,
+    options: &PageOptions,
+) -> Result<Vec<u8>> {
+    let file = job.title;
     let mut notes = Vec::new();
-    let original = &ran.outcome.toolpath;
+    let original = job.path;
     let shortened;
     let path = match options.shorten {
         Some(tolerance) => {
@@ -191,8 +235,8 @@ fn page_with(
         }
         None => original,
     };
-    let (seconds, _) = move_times(path, &ran.machine.dynamics);
-    let looks = tool_looks(ran, path, sim.map(|s| s.0), setup)?;
+    let (seconds, _) = move_times(path, &job.machine.dynamics);
+    let looks = tool_looks(job.machine, path, sim.map(|s| s.0), cutters, any);
     let mut blob = Blob::default();
     let packed = pack::pack(path, &seconds, looks, options.arc_tol, &mut blob)?;
     let mut bounds = packed.bounds;
@@ -222,13 +266,13 @@ fn page_with(
         }
         None => Value::Null,
     };
-    let text = (!options.no_text).then(|| ran.sources.get(0).text.as_str());
+    let text = job.text.filter(|_| !options.no_text);
     let mut meta = packed.meta();
     let extra = json!({
         "version": 1,
         "title": file,
-        "units": if ran.outcome.inch { "inch" } else { "mm" },
-        "unit_mm": if ran.outcome.inch { 25.4 } else { 1.0 },
+        "units": if job.inch { "inch" } else { "mm" },
+        "unit_mm": if job.inch { 25.4 } else { 1.0 },
         "bbox_mm": bounds.map(|(a, b)| [a, b]),
         "arc_tolerance_mm": options.arc_tol,
         "cycle_time_s": seconds.iter().sum::<f64>(),
@@ -255,22 +299,28 @@ fn page_with(
 }
 
 /// How each tool the program loads looks: the simulation's cutters, else
-/// the machine file's shapes (or `--tool` for the tools it has none of).
-fn tool_looks(ran: &Ran, path: &Toolpath, sim: Option<&Simulated>, setup: &SimSetup) -> Result<Vec<ToolLook>> {
-    let given: Option<Cutter> = setup.tool.as_deref().map(str::parse).transpose()?;
+/// `cutters`, the machine file's shapes, or `any`.
+fn tool_looks(
+    machine: &Machine,
+    path: &Toolpath,
+    sim: Option<&Simulated>,
+    cutters: &[(u32, Cutter)],
+    any: Option<Cutter>,
+) -> Vec<ToolLook> {
     let mut numbers: Vec<u32> = path.moves.iter().map(|m| m.tool).collect();
     numbers.sort_unstable();
     numbers.dedup();
-    Ok(numbers
+    numbers
         .into_iter()
         .map(|number| {
             let simulated = sim.and_then(|s| {
                 let k = s.tools.table.iter().position(|(n, _)| *n == number)?;
                 Some((s.tools.names[k].clone(), profile(&s.tools.table[k].1)))
             });
+            let named = || cutters.iter().find(|(n, _)| *n == number).map(|(_, c)| *c);
             let (shape, outline) = match simulated {
                 Some((name, outline)) => (Some(name), Some(outline)),
-                None => match ran.machine.tools.get(&number).and_then(|e| e.shape).or(given) {
+                None => match named().or_else(|| machine.tools.get(&number).and_then(|e| e.shape)).or(any) {
                     Some(c) => (Some(c.to_string()), Some(profile(&Tool::Cutter(c)))),
                     None => (None, None),
                 },
@@ -282,7 +332,7 @@ fn tool_looks(ran: &Ran, path: &Toolpath, sim: Option<&Simulated>, setup: &SimSe
             };
             ToolLook { number, label, shape, profile: outline }
         })
-        .collect())
+        .collect()
 }
 
 /// The outline of a tool from its tip up, `(z, r)`: the cutting end

@@ -51,6 +51,7 @@ const BASES: &[(&str, &str)] = &[
     ("dropcut", "{in}/part.stl --tool ball:2 --grid 0,0,10,10,1 -o out.cl"),
     ("mill", "{in}/part.stl --tool ball:2 --stepover 1 -o out.nc"),
     ("sim", "{in}/part.nc --tool ball:2 --res 0.5 --compare {in}/part.stl --deviation-png dev.png"),
+    ("view", "{in}/part.nc --sim --tool ball:2 --res 0.5 --compare {in}/part.stl -o page.html"),
     ("probe plan", "--origin 0,0 --count 3,3 --pitch 1 --z-safe 10 --plunge 5 -o out.nc"),
     ("probe capture", "--port {port} --count 2,2 -o out.csv"),
     ("probe level", "{in}/data.txt -o out.txt"),

@@ -135,6 +135,10 @@ pub struct MillArgs {
     /// Also draw the toolpath to this SVG file.
     #[arg(long, value_name = "FILE.svg")]
     pub svg: Option<PathBuf>,
+    /// Also show the copy program in 3D: one offline HTML page, as `kezuri view` makes of it
+    /// (with --split-bytes, of the whole path without the program text).
+    #[arg(long, value_name = "PAGE.html")]
+    pub view: Option<PathBuf>,
 }
 
 /// `--between`.
@@ -323,6 +327,17 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     if let Some(svg) = &args.svg {
         out.add(Some(svg), crate::plot::svg(&path, &title).as_bytes())?;
+    }
+    if let Some(page) = &args.view {
+        let (options, cutters) = (crate::view::PageOptions::default(), [(args.tool_number, cutter)]);
+        let html = match parts.as_slice() {
+            [one] => {
+                let ran = crate::program::run_written(&machine, &args.output, one.clone())?;
+                crate::view::page(&ran, &args.output.display().to_string(), None, &cutters, &options)?
+            }
+            _ => crate::view::path_page(&path, &title, &machine, &cutters, &options)?,
+        };
+        out.add(Some(page), &html)?;
     }
     out.commit()?;
     remove_left_over(&left_over)?;
