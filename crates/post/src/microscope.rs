@@ -170,6 +170,15 @@ pub fn measure(fields: &[Field], options: &Options) -> Result<Measured, Microsco
         return fail("the tool's edges are not inside the picture at its tip: widen the field of view".into());
     }
     let zero_row = match options.tip_row {
+        // Rows of the first picture that the pictures together cover.
+        Some(row) if !(0.0..=picture.height as f64).contains(&(row + placement.at[0][1] - origin[1])) => {
+            let first = origin[1] - placement.at[0][1];
+            return fail(format!(
+                "the tip row {row} is outside the pictures (rows {first:.0} to {:.0} of the first one): the \
+                 tool-length reference must be a row they show",
+                first + picture.height as f64
+            ));
+        }
         Some(row) => row + placement.at[0][1] - origin[1],
         None => tip as f64,
     };

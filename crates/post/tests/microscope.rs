@@ -112,3 +112,17 @@ fn pictures_without_a_tool_and_tiles_apart_are_refused() {
     let e = measure_frames(&[a, b], &options).unwrap_err().0;
     assert!(e.contains("field 2 does not overlap"), "{e}");
 }
+
+#[test]
+fn a_tip_row_outside_the_pictures_is_refused() {
+    let v = view(280.0, 380.0);
+    let mut rng = SplitMix64::new(5);
+    let field = (v.frames(3, 560, 420, [0.0, 0.0], &mut rng), [0.0, 0.0]);
+    for row in [-1.0, 421.0, 880.0] {
+        let options = Options { pixel_mm: PIXEL, threshold: None, search: 5, tip_row: Some(row) };
+        let e = measure_frames(std::slice::from_ref(&field), &options).unwrap_err().0;
+        assert!(e.contains(&format!("the tip row {row} is outside the pictures (rows 0 to 420")), "{e}");
+    }
+    let options = Options { pixel_mm: PIXEL, threshold: None, search: 5, tip_row: Some(400.0) };
+    assert!(measure_frames(&[field], &options).is_ok());
+}
