@@ -145,6 +145,20 @@ fn check_tool_id(id: &str) -> Result<()> {
     Ok(())
 }
 
+/// What is wrong when a tool whose largest radius was `before` measures
+/// `now`: wear only takes material away, and not a tenth of the radius.
+/// Larger by more than 0.01 mm or smaller by more than 10 %: another
+/// nominal size.
+fn size_change(before: f64, now: f64) -> Option<&'static str> {
+    if now > before + 0.01 {
+        Some("larger than")
+    } else if now < 0.9 * before {
+        Some("a tenth or more smaller than")
+    } else {
+        None
+    }
+}
+
 fn add(args: &AddArgs) -> Result<()> {
     check_tool_id(&args.tool_id)?;
     let measured = match &args.at {
@@ -156,6 +170,18 @@ fn add(args: &AddArgs) -> Result<()> {
     let source = if args.profile == Path::new("-") { "(stdin)".into() } else { args.profile.display().to_string() };
     let (measured_at, added_at) = (time::format_utc(measured), time::format_utc(time::now()));
     let mut db = Db::open(&args.file.db, true)?;
+    let history =
+        if db.entries(Some(&args.tool_id))?.is_empty() { Vec::new() } else { db.profiles(&args.tool_id, false)? };
+    if let Some((entry, widest)) = history.iter().max_by(|a, b| a.1.max_radius().total_cmp(&b.1.max_radius())) {
+        let (before, now) = (widest.max_radius(), profile.max_radius());
+        if let Some(how) = size_change(before, now) {
+            eprintln!(
+                "warning: tool {}: this profile's largest radius is {now:.4} mm, {how} the {before:.4} mm of its \
+                 profile of {}: another tool's? Its wear (`tool db show`) is measured against its first profile",
+                args.tool_id, entry.measured_at
+            );
+        }
+    }
     let id = db.add(&args.tool_id, &profile, &measured_at, &added_at, &source, args.note.as_deref())?;
     let count = db.entries(Some(&args.tool_id))?.len();
     if args.json {

@@ -297,3 +297,41 @@ fn errors_say_what_is_wrong() {
     // A usage error is exit code 2.
     assert_eq!(kezuri(&["tool", "db", "show"]).status.code(), Some(2));
 }
+
+/// A profile of another size than the tool's history (a 3 mm ball's
+/// profiles, then one of a 1.5 mm ball, or one larger than the new tool)
+/// is stored with a warning: wear only takes material away.
+#[test]
+fn a_profile_of_another_size_is_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = path(dir.path(), "tools.sqlite");
+    let half: String = profile_csv(600, 0.01, 0, 0.0)
+        .lines()
+        .enumerate()
+        .map(|(k, l)| {
+            if k == 0 {
+                l.to_string()
+            } else {
+                l.split_once(',').map(|(z, r)| format!("{z},{}", r.parse::<f64>().unwrap() / 2.0)).unwrap()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(dir.path().join("new.csv"), profile_csv(600, 0.01, 0, 0.0)).unwrap();
+    std::fs::write(dir.path().join("worn.csv"), profile_csv(600, 0.01, 3, 0.004)).unwrap();
+    std::fs::write(dir.path().join("half.csv"), half + "\n").unwrap();
+    let add = |file: &str| {
+        let o = kezuri(&["tool", "db", "add", "T7", &path(dir.path(), file), "--db", &db]);
+        ok(&o);
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    assert_eq!(add("new.csv"), "");
+    assert_eq!(add("worn.csv"), "");
+    let warned = add("half.csv");
+    assert!(
+        warned.contains(
+            "tool T7: this profile's largest radius is 1.5000 mm, a tenth or more smaller than the 3.0000 mm"
+        ),
+        "{warned}"
+    );
+}
