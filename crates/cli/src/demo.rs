@@ -426,6 +426,9 @@ fn thermal_drift(out: &Path) -> Result<()> {
             &at("thermal-model.json"),
             "--machine",
             &m,
+            // O2007's approach and retract at Z0 lie above the measured
+            // range: their correction is extrapolated, and said.
+            "--allow-extrapolation",
             "-o",
             &at("o2007-corrected.nc"),
             "--view",

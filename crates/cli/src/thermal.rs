@@ -76,7 +76,15 @@ pub struct ApplyArgs {
     /// words a corrected block needs; for G90 programs without calls or offsets.
     #[arg(long)]
     pub keep_text: bool,
+    /// Correct the program even where more than a tenth of its points lie beyond the measured
+    /// range of their axis (their correction is then extrapolated from the fitted curve).
+    #[arg(long)]
+    pub allow_extrapolation: bool,
 }
+
+/// The share of a program's points beyond the measured range above which
+/// `thermal apply` refuses without --allow-extrapolation.
+const MOST_EXTRAPOLATED: f64 = 0.1;
 
 /// `kezuri thermal measure INDEX.csv -o MEAS.csv`.
 #[derive(Args, Debug)]
@@ -537,7 +545,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     let (mut largest, mut worst, mut arc_change) = (0.0f64, 0.0f64, 0.0f64);
     let mut corrected: Vec<Axes> = Vec::with_capacity(path.moves.len());
     let mut last_shift = [0.0; 3];
-    let (mut extrapolated, mut outside_points): (Option<u32>, usize) = (None, 0);
+    let (mut extrapolated, mut outside_points, mut checked): (Option<u32>, usize, usize) = (None, 0, 0);
     for m in &path.moves {
         // A return to the reference point goes where the control knows; a
         // dwell stays: neither is a commanded position.
@@ -545,6 +553,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             corrected.push(m.end);
             continue;
         }
+        checked += 1;
         let c = m.end.to_array();
         let target = k.forward(&c);
         let (x, residual) = match a.solver {
@@ -563,10 +572,11 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         }
         .with_context(|| format!("{name}: line {}", m.line))?;
         // A command beyond the measured range of its axis's function is
-        // extrapolated: said, not hidden.
+        // extrapolated: said, not hidden. A corrected stop at the range's
+        // edge lands a correction beyond it; a twentieth of the range (a
+        // tenth of the half-span) is not counted.
         let outside = model.functions.iter().any(|f| {
-            (f.b_deg - c[4]).abs() < 1e-6
-                && (x[f.axis] - f.polynomial.center).abs() > f.polynomial.scale * (1.0 + 1e-9) + 1e-9
+            (f.b_deg - c[4]).abs() < 1e-6 && (x[f.axis] - f.polynomial.center).abs() > f.polynomial.scale * 1.1 + 1e-9
         });
         if outside {
             extrapolated.get_or_insert(m.line);
@@ -583,6 +593,22 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         corrected.push(Axes::from_array(x));
     }
     let seconds = t0.elapsed().as_secs_f64();
+    let share = outside_points as f64 / checked.max(1) as f64;
+    if let Some(line) = extrapolated {
+        let said = format!(
+            "{outside_points} of {checked} points ({:.1} %) lie beyond the measured range of their axis's error \
+             function (the first at line {line})",
+            share * 100.0
+        );
+        if share > MOST_EXTRAPOLATED && !a.allow_extrapolation {
+            bail!(
+                "{name}: {said}: more than {:.0} % of the program would be corrected by extrapolating the fitted \
+                 curves. Measure over the program's travel (thermal plan), or give --allow-extrapolation",
+                MOST_EXTRAPOLATED * 100.0
+            );
+        }
+        eprintln!("warning: {name}: {said}: their correction is extrapolated");
+    }
     set_ends(&mut path, &corrected, ArcCentre::FollowsEnd);
     write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &mut ran)?;
     let v = json!({
@@ -594,12 +620,6 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         "solver": format!("{:?}", a.solver).to_lowercase(),
         "extrapolated_points": outside_points,
     });
-    if let Some(line) = extrapolated {
-        eprintln!(
-            "warning: {name}: {outside_points} point(s) beyond the measured range of their axis's error function (first at \
-             line {line}): their correction is extrapolated"
-        );
-    }
     if a.json {
         println!("{v}");
     } else {

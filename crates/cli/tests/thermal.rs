@@ -300,7 +300,22 @@ fn o2007_corrected_from_its_own_measurements() {
     let (_, model, turn) = model_from_profiles(dir.path(), &table);
     let o2007 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/o2007-thermal.nc");
     let corrected = path(dir.path(), "o2007-warm.nc");
-    ok(&kezuri(&["thermal", "apply", o2007, "--model", &model, "--machine", &turn, "-o", &corrected]));
+    // Its approach and retract at Z0 (5 of its 28 points) lie 74 mm above
+    // the measured range: corrected only when allowed, and said.
+    let o = kezuri(&["thermal", "apply", o2007, "--model", &model, "--machine", &turn, "-o", &corrected]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("5 of 28 points (17.9 %)"));
+    ok(&kezuri(&[
+        "thermal",
+        "apply",
+        o2007,
+        "--model",
+        &model,
+        "--machine",
+        &turn,
+        "-o",
+        &corrected,
+        "--allow-extrapolation",
+    ]));
     let truth = truth_model_of(&table);
     // The measuring stops, in order, before and after (the corrected ones
     // are within 0.1 mm of the planned; G28 and G92 are written anew, so
@@ -500,4 +515,27 @@ fn assert_lands(truth: &kezuri_post::thermal::ErrorModel, plain: &[[f64; 6]], wa
         uncorrected = uncorrected.max(distance(truth.deformed(&k, p).unwrap(), target));
     }
     uncorrected
+}
+
+/// A program mostly beyond the measured ranges is refused: its correction
+/// would be the fitted curves extrapolated. --allow-extrapolation corrects
+/// it and says how much.
+#[test]
+fn a_program_mostly_beyond_the_measurements_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (model, turn) = fitted(dir.path());
+    let program = path(dir.path(), "far.nc");
+    std::fs::write(&program, "G90 G17 G21\nG00 X-20. Y-5. Z-80. B0.\nG01 X-60. F300\nX-70.\nX-80.\nM30\n").unwrap();
+    let out = path(dir.path(), "far-warm.nc");
+    let args = ["thermal", "apply", &program, "--model", &model, "--machine", &turn, "-o", &out];
+    let o = kezuri(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && !std::path::Path::new(&out).exists());
+    assert!(
+        err.contains("3 of 4 points (75.0 %) lie beyond the measured range") && err.contains("--allow-extrapolation"),
+        "{err}"
+    );
+    let o = kezuri(&[&args[..], &["--allow-extrapolation"]].concat());
+    ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("warning: "), "{}", String::from_utf8_lossy(&o.stderr));
 }
