@@ -18,6 +18,8 @@
 //! picture seen from above, its top row at the largest Y, and `[x0,
 //! x0 + w·p] × [y0, y0 + h·p]` the carving's extent.
 
+pub mod reach;
+
 use kezuri_geom::Heightfield;
 
 /// A grayscale picture: `width × height` values in `[0, 1]` (0 black),

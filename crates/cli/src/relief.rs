@@ -6,6 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::{raster_with, ClRowsFn, RasterOptions, Region};
+use kezuri_cam::relief::reach::unreached;
 use kezuri_cam::relief::{check_smoothing, inside, parse_levels, surface, Gray, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
@@ -18,6 +19,11 @@ use crate::program::{stage_toolpath, Origin, WriteArgs};
 
 /// Most pixels of a picture (8 bytes of height each, and the picture).
 pub const MAX_PIXELS: u64 = 64_000_000;
+
+/// Material the finishing cutter may leave where it cannot reach (normal
+/// to the relief, mm) before `relief` warns: five times --tolerance, and
+/// not less than this.
+const REACH_LEFT: f64 = 0.05;
 
 /// How far the finishing path may dip below the exact cutter locations,
 /// mm: the chord between samples is refined until it stays this close.
@@ -307,6 +313,19 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         raster_with(&cl_of(cutter), rows_at, region, &finish, None, on_row)
     })?;
     path.moves.extend(finishing.moves);
+    // What the finishing cutter cannot reach, at any stepover.
+    let threshold = (5.0 * args.tolerance).max(REACH_LEFT);
+    let step = pixel.max(cutter.radius() / 10.0);
+    if let Some(u) = unreached(&field, &cutter, step, threshold, cl_of(cutter)) {
+        eprintln!(
+            "warning: {name}: {cutter} cannot reach all of the relief: up to {:.3} mm is left on it at X{:.3} Y{:.3} \
+             ({:.1} % of its area more than {threshold} mm): valleys narrower than the cutter; a smaller one reaches them",
+            u.left,
+            u.at[0],
+            u.at[1],
+            u.share * 100.0
+        );
+    }
     eprintln!(
         "{name}: {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm; {} moves in {:.2} s",
         picture.width,

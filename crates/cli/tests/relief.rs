@@ -408,3 +408,24 @@ fn bad_pictures_are_clear_errors_and_nothing_is_written() {
         assert!(!Path::new(&out).exists());
     }
 }
+
+/// A dark line 0.4 mm wide and 1 mm deep in a white picture: a 3 mm ball
+/// cannot reach its bottom and says where; a 0.2 mm flat end mill can, and
+/// says nothing.
+#[test]
+fn a_cutter_too_big_for_the_detail_is_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = path(dir.path(), "line.png");
+    GrayImage::from_fn(100, 40, |c, _| Luma([if (48..52).contains(&c) { 0 } else { 255 }])).save(&png).unwrap();
+    let carve = |tool: &str| {
+        let o = kezuri(&["relief", &png, "--pixel", "0.1", "--depth", "1", "--tool", tool, "--stepover", "0.5"]);
+        ok(&o);
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let warned = carve("ball:3");
+    assert!(warned.contains("ball:3 cannot reach all of the relief: up to"), "{warned}");
+    // The line's middle is X5.0 (pixels 48 to 51 of 0.1 mm, centres 4.85 … 5.15).
+    let at: f64 = warned.split(" at X").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!((at - 5.0).abs() <= 0.2, "{warned}");
+    assert!(!carve("flat:0.2").contains("cannot reach"));
+}
