@@ -51,8 +51,8 @@
   const NO_TOOL = [0.55, 0.55, 0.55];
   const BG = hex('#1f2226');
   const toolColour = (t) => (t === 0xffff ? NO_TOOL : TOOL_COLOURS[t % TOOL_COLOURS.length]);
-  // diverging map for the deviation, -1 … +1 (the same stops as the shader's)
-  const CMAP = ['#2166ac', '#67a9cf', '#ececec', '#ef8a62', '#b2182b'].map(hex);
+  // diverging map for the deviation, −1 … +1: below the target red (as sim's picture), above blue
+  const CMAP = ['#b2182b', '#ef8a62', '#ececec', '#67a9cf', '#2166ac'].map(hex);
   const GOUGE = hex('#ff3fd8');
   const NOT_COMPARED = [0.45, 0.45, 0.47];
 
@@ -505,8 +505,10 @@ void main() { o = vec4(vCol, 1.0); }`;
     const c = [(box[0][0] + box[1][0]) / 2, (box[0][1] + box[1][1]) / 2, (box[0][2] + box[1][2]) / 2];
     const dr = (r0 + r1) / 2 - dot(c, r), du = (u0 + u1) / 2 - dot(c, u);
     cam.tgt = [c[0] + r[0] * dr + u[0] * du, c[1] + r[1] * dr + u[1] * du, c[2] + r[2] * dr + u[2] * du];
-    const span = Math.max((r1 - r0) / Math.max(cssW - 60, 40), (u1 - u0) / Math.max(cssH - 90, 40));
-    cam.scale = Math.max(span, 1e-4);
+    // at least 1 mm across; a path that does not move: room for the tool
+    const diag = Math.hypot(box[1][0] - box[0][0], box[1][1] - box[0][1], box[1][2] - box[0][2]);
+    const least = diag > 1e-3 ? 1 : Math.max(20, 2.5 * toolLen);
+    cam.scale = Math.max(Math.max(r1 - r0, least) / Math.max(cssW - 60, 40), Math.max(u1 - u0, least) / Math.max(cssH - 90, 40));
   }
   function setView(name) {
     if (VIEWS[name]) [cam.yaw, cam.pitch] = VIEWS[name];
@@ -1102,6 +1104,9 @@ void main() { o = vec4(vCol, 1.0); }`;
     };
     api.palette = { kind: KIND_COLOURS.map((c) => c.map((v) => Math.round(v * 255))), tool: TOOL_COLOURS.map((c) => c.map((v) => Math.round(v * 255))), background: BG.map((v) => Math.round(v * 255)) };
     api.colourBy = () => (colourBy ? 'tool' : 'kind');
+    api.pick = (x, y) => pick(x, y);
+    api.vertices = V;
+    api.vertex = (k) => (k >= 0 && k < V ? vertexMm(k) : null);
     api.vertexOfMove = (m) => (m >= 0 && m < N && vstart[m + 1] > 0 ? vertexMm(vstart[m + 1] - 1) : null);
 
     renderAndWait();
