@@ -216,7 +216,7 @@
   let gl, progPath, progMesh, progLine, vaoPath, vaoPart, vaoLine, lineBuf;
   const toolMeshes = new Map();      // tool index → {vao, count} (null: marker)
   let W = 0, H = 0, cssW = 1, cssH = 1, dpr = 1;
-  let fbStatic = null;
+  let fbStatic = null, fbResolve = null, samples = 0;
 
   const PATH_VS = `#version 300 es
 layout(location=0) in vec3 aPos;
@@ -349,6 +349,11 @@ void main() { o = vec4(vCol, 1.0); }`;
     gl = canvas.getContext('webgl2', { antialias: false, alpha: false, depth: true, stencil: false, preserveDrawingBuffer: false, powerPreference: 'high-performance' });
     if (!gl) throw new Error('WebGL2 is not available in this browser: the 3D view needs it.');
     canvas.addEventListener('webglcontextlost', (e) => { e.preventDefault(); fail('The graphics context was lost (WebGL): reload the page.'); });
+    // multisampling where the GL is a GPU; software GL (SwiftShader, llvmpipe) pays for it in full
+    const info = gl.getExtension('WEBGL_debug_renderer_info');
+    const renderer = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+    samples = /swiftshader|llvmpipe|softpipe|software|basic render/i.test(renderer) ? 0 : Math.min(4, gl.getParameter(gl.MAX_SAMPLES) | 0);
+    api.renderer = renderer;
     progPath = program(PATH_VS, PATH_FS);
     progMesh = program(MESH_VS, MESH_FS);
     progLine = program(LINE_VS, LINE_FS);
@@ -363,7 +368,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     gl.enableVertexAttribArray(2);
     gl.vertexAttribPointer(2, 3, gl.FLOAT, false, 24, 12);
     gl.bindVertexArray(null);
-    const t = target(4, 4);
+    const t = target(4, 4, 0, true);
     gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
     if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) throw new Error('WebGL: an offscreen target is incomplete');
     gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
@@ -425,26 +430,31 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (!toolMeshes.has(t)) {
       const tl = meta.tools[t];
       const tri = tl && Array.isArray(tl.profile) ? revolve(tl.profile) : null;
-      toolMeshes.set(t, tri ? meshVao(tri) : null);
+      toolMeshes.set(t, tri && tri.length ? meshVao(tri) : null);
     }
     return toolMeshes.get(t);
   }
   let markerMesh = null;
   // colour and depth targets, one for the static layer (part + path so far), one for the frame
-  function target(w, h) {
-    const fb = gl.createFramebuffer(), c = gl.createRenderbuffer(), d = gl.createRenderbuffer();
+  // samples > 0: multisampled (smooth lines), resolved through a plain colour target
+  function target(w, h, samples, depth) {
+    const fb = gl.createFramebuffer(), c = gl.createRenderbuffer(), d = depth ? gl.createRenderbuffer() : null;
+    const store = (fmt) => (samples ? gl.renderbufferStorageMultisample(gl.RENDERBUFFER, samples, fmt, w, h) : gl.renderbufferStorage(gl.RENDERBUFFER, fmt, w, h));
     gl.bindRenderbuffer(gl.RENDERBUFFER, c);
-    gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA8, w, h);
-    gl.bindRenderbuffer(gl.RENDERBUFFER, d);
-    gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT24, w, h);
+    store(gl.RGBA8);
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, c);
-    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, d);
+    if (d) {
+      gl.bindRenderbuffer(gl.RENDERBUFFER, d);
+      store(gl.DEPTH_COMPONENT24);
+      gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, d);
+    }
     return { fb, c, d };
   }
   function dropTarget(t) {
     if (!t) return;
-    gl.deleteFramebuffer(t.fb); gl.deleteRenderbuffer(t.c); gl.deleteRenderbuffer(t.d);
+    gl.deleteFramebuffer(t.fb); gl.deleteRenderbuffer(t.c);
+    if (t.d) gl.deleteRenderbuffer(t.d);
   }
   function resize() {
     const r = view.getBoundingClientRect();
@@ -457,7 +467,9 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (canvas.height !== H) canvas.height = H;
     if (!gl) return true;
     dropTarget(fbStatic);
-    fbStatic = target(W, H);
+    dropTarget(fbResolve);
+    fbStatic = target(W, H, samples, true);
+    fbResolve = samples ? target(W, H, 0, false) : null;
     cameraChanged();
     return true;
   }
@@ -661,9 +673,12 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (!gl || gl.isContextLost()) return;
     drawStatic();
     // the frame: the static layer, then the tool (over it, with a depth buffer of its own) and the axes
-    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, fbStatic.fb);
-    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, null);
-    gl.blitFramebuffer(0, 0, W, H, 0, 0, W, H, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+    const blit = (from, to) => {
+      gl.bindFramebuffer(gl.READ_FRAMEBUFFER, from);
+      gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, to);
+      gl.blitFramebuffer(0, 0, W, H, 0, 0, W, H, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+    };
+    if (fbResolve) { blit(fbStatic.fb, fbResolve.fb); blit(fbResolve.fb, null); } else blit(fbStatic.fb, null);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.clear(gl.DEPTH_BUFFER_BIT);
     if (showPath) drawTool();
@@ -698,7 +713,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     ['x', 'y', 'z'].forEach((a, i) => txt('kz-r-' + a, fmtNum(p[i], digits) + ' ' + unitName));
     const kind = m >= 0 ? D.kind[m] : -1;
     const feed = m >= 0 ? D.feed[m] / unitMm : NaN;
-    txt('kz-r-feed', kind === 0 ? 'rapid' : Number.isFinite(feed) && m >= 0 ? fmtNum(feed, unitMm > 1 ? 2 : 0) + ' ' + unitName + '/min' : '—');
+    txt('kz-r-feed', kind === 0 ? 'rapid' : kind === 5 ? 'dwell' : Number.isFinite(feed) && m >= 0 ? fmtNum(feed, unitMm > 1 ? 2 : 0) + ' ' + unitName + '/min' : '—');
     txt('kz-r-kind', KINDS[kind] || '—');
     const t = m >= 0 ? D.tool[m] : 0xffff;
     txt('kz-r-tool', t === 0xffff ? (m >= 0 ? 'none' : '—') : (meta.tools[t] && meta.tools[t].label) || 'T?');
@@ -900,6 +915,7 @@ void main() { o = vec4(vCol, 1.0); }`;
   }
   function setMove(n) {
     const t0 = performance.now();
+    pause();
     setCur(n);
     renderAndWait();
     return performance.now() - t0;
