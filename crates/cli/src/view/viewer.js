@@ -67,7 +67,11 @@
   }
   async function gunzip(bytes) {
     const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
-    return new Response(stream).arrayBuffer();
+    try {
+      return await new Response(stream).arrayBuffer();
+    } catch (e) {
+      throw new Error('the packed data could not be unpacked (a damaged or cut-off file?)');
+    }
   }
   function parseBlob(buf, meta) {
     const N = meta.moves, V = meta.vertices;
@@ -681,7 +685,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (fbResolve) { blit(fbStatic.fb, fbResolve.fb); blit(fbResolve.fb, null); } else blit(fbStatic.fb, null);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.clear(gl.DEPTH_BUFFER_BIT);
-    if (showPath) drawTool();
+    drawTool();
     drawTriads();
     if (overlaysDirty) { overlaysDirty = false; placePins(); scaleBar(); }
   }
@@ -1053,6 +1057,10 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (!metaEl) throw new Error('this page has no data (kz-meta is missing)');
     meta = JSON.parse(metaEl.textContent);
     if (meta.version !== 1) throw new Error('this page\'s data is format version ' + meta.version + '; this viewer reads version 1');
+    const finite = (a, n) => Array.isArray(a) && a.length === n && a.every(Number.isFinite);
+    if (!(meta.quantum_mm > 0) || !finite(meta.origin_mm, 3) || !(meta.moves >= 0) || !(meta.vertices >= 0)) {
+      throw new Error('this page\'s data is incomplete (moves, vertices, quantum_mm, origin_mm)');
+    }
     N = Math.max(0, meta.moves | 0);
     V = Math.max(0, meta.vertices | 0);
     meta.tools = Array.isArray(meta.tools) ? meta.tools : [];
@@ -1072,6 +1080,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (!dataEl) throw new Error('this page has no data (kz-data is missing)');
     const T = (api.timings = { start: performance.now() });
     const unpacked = gunzip(base64Bytes(dataEl));
+    unpacked.catch(() => {});        // awaited below; not unhandled if WebGL fails first
     T.base64 = performance.now();
     startGl();
     T.startGl = performance.now();
