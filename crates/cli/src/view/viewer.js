@@ -629,7 +629,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     const p = [pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]];
     const t = m >= 0 ? D.tool[m] : 0xffff;
     const mesh = t < meta.tools.length ? toolMesh(t) : null;
-    const tint = toolColour(t).map((v) => 0.55 + 0.35 * v);
+    const tint = toolColour(t).map((v) => 0.62 + 0.22 * v);
     if (mesh) drawMesh(mesh.vao, mesh.count, false, p, 1, tint, 0);
     else {
       if (!markerMesh) markerMesh = meshVao(MARKER);
@@ -874,6 +874,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (lines.length > 1 && lines[lines.length - 1] === '') lines.pop();
     $('kz-program-spacer').style.height = Math.min(lines.length * LH, MAXPX) + 'px';
     txt('kz-program-head', 'Program · ' + fmtInt(lines.length) + ' lines');
+    tvRows.style.setProperty('--ln', String(lines.length).length + 1.5 + 'ch');
     let maxLine = 0;
     for (let i = 0; i < N; i++) if (lineOf[i] > maxLine) maxLine = lineOf[i];
     firstMoveOfLine = new Int32Array(Math.max(maxLine, lines.length) + 2).fill(-1);
