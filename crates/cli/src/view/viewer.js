@@ -874,7 +874,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     if (lines.length > 1 && lines[lines.length - 1] === '') lines.pop();
     $('kz-program-spacer').style.height = Math.min(lines.length * LH, MAXPX) + 'px';
     txt('kz-program-head', 'Program · ' + fmtInt(lines.length) + ' lines');
-    tvRows.style.setProperty('--ln', String(lines.length).length + 1.5 + 'ch');
+    tvRows.style.setProperty('--ln', Math.max(4.5, String(lines.length).length + 2) + 'ch');
     let maxLine = 0;
     for (let i = 0; i < N; i++) if (lineOf[i] > maxLine) maxLine = lineOf[i];
     firstMoveOfLine = new Int32Array(Math.max(maxLine, lines.length) + 2).fill(-1);
