@@ -173,6 +173,36 @@ async function checkPage(file, label, hostile) {
         if (clear) empty = [x, y];
       }
       if (empty) ok('background picks nothing', (await page.evaluate(([x, y]) => window.kezuriView.pick(x, y), empty)) === -1, empty);
+      // the camera: the wheel zooms about the cursor, a right drag pans by the drag, a left drag orbits
+      if (target) {
+        const r = await page.evaluate(() => { const b = window.kezuriView.canvas.getBoundingClientRect(); return [b.left, b.top]; });
+        const p = await page.evaluate((k) => window.kezuriView.vertex(k), target[0]);
+        const proj = () => page.evaluate((q) => window.kezuriView.project(q), p);
+        const p0 = await proj();
+        await page.mouse.move(r[0] + p0[0], r[1] + p0[1]);
+        await page.mouse.wheel(0, -300);
+        const scale0 = await page.evaluate(() => document.getElementById('kz-scale-label').textContent);
+        const p1 = await proj();
+        ok('wheel zooms about the cursor', Math.hypot(p1[0] - p0[0], p1[1] - p0[1]) < 1.5, { before: p0, after: p1 });
+        await page.mouse.down({ button: 'right' });
+        await page.mouse.move(r[0] + p0[0] + 40, r[1] + p0[1] + 25, { steps: 4 });
+        await page.mouse.up({ button: 'right' });
+        const p2 = await proj();
+        ok('right drag pans', Math.hypot(p2[0] - p1[0] - 40, p2[1] - p1[1] - 25) < 1.5, { before: p1, after: p2 });
+        const before = await canvasShot('pan');
+        const moveBefore = await page.evaluate(() => window.kezuriView.state().move);
+        await page.mouse.move(r[0] + 100, r[1] + 100);
+        await page.mouse.down();
+        await page.mouse.move(r[0] + 160, r[1] + 120, { steps: 4 });
+        await page.mouse.up();
+        const after = await canvasShot('orbit');
+        const d = differing(before, after);
+        const moveAfter = await page.evaluate(() => window.kezuriView.state().move);
+        ok('left drag orbits (and picks nothing)', d > 100 && moveAfter === moveBefore, d + ' pixels differ');
+        await page.click('button[data-view="fit"]');
+        const scale1 = await page.evaluate(() => document.getElementById('kz-scale-label').textContent);
+        ok('scale bar', /^[125]0*(\.0*)? (mm|in)$|^0\.0*[125] (mm|in)$/.test(scale0) && /(mm|in)$/.test(scale1), [scale0, scale1]);
+      }
       if (hasPart) await page.click('#kz-show-part');
       // the slider (as a user moves it) changes the picture and the readout
       const half = Math.floor(info.moves / 2);
