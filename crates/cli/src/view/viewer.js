@@ -811,6 +811,14 @@ void main() { o = vec4(vCol, 1.0); }`;
     });
   }
   function goToMark(mk) {
+    if (Array.isArray(mk.at_mm) && mk.at_mm.every(Number.isFinite)) {   // off the screen: centre it
+      const p = mk.at_mm.map((v, a) => v - C[a]), [x, y] = toScreen(p[0], p[1], p[2]);
+      if (!(x > 0 && y > 0 && x < cssW && y < cssH)) {
+        const [r, u] = basis(), dx = x - cssW / 2, dy = y - cssH / 2;
+        cam.tgt = cam.tgt.map((v, a) => v + (r[a] * dx - u[a] * dy) * cam.scale);
+        cameraChanged();
+      }
+    }
     if (Number.isInteger(mk.move) && mk.move >= 0 && mk.move < N) setMove(mk.move + 1);
     else if (Number.isInteger(mk.line) && mk.line > 0) { curLine = mk.line; showLine(mk.line, true); }
   }
@@ -880,6 +888,7 @@ void main() { o = vec4(vCol, 1.0); }`;
     firstMoveOfLine = new Int32Array(Math.max(maxLine, lines.length) + 2).fill(-1);
     for (let i = N - 1; i >= 0; i--) if (lineOf[i] > 0) firstMoveOfLine[lineOf[i]] = i;
     tv.addEventListener('scroll', renderText, { passive: true });
+    new ResizeObserver(() => renderText()).observe(tv);
     tvRows.addEventListener('click', (e) => {
       const r = rowPool.find((x) => x.row.contains(e.target));
       if (r && r.idx >= 0) jumpToLine(r.idx + 1);
