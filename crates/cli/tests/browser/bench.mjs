@@ -1,6 +1,10 @@
 // Timings of kezuri view pages in headless Chromium (SwiftShader):
 //   node bench.mjs PAGE.html… [--width 1280 --height 800] [--steps 20 --step 1000 --redraws 5]
-// Prints JSON: per page its size, load to first frame, median slider step, median full redraw.
+// Prints JSON: per page its size, load to first frame (readyMs: in a fresh browser, whose GPU
+// process starts cold; warmReadyMs: loaded again in the running browser; both from navigation
+// start, as the page's performance.now()), the median of the slider steps of --step moves
+// forward (stepMedianMs, each until the GPU is done), the median full redraw (redrawMedianMs),
+// and the page's own breakdown of its first frame (timings).
 import fs from 'node:fs';
 import { open, load } from './chromium.mjs';
 
@@ -17,8 +21,14 @@ let failed = false;
 for (const file of files) {
   const b = await open({ width, height });
   try {
+    // first in a fresh browser (its GPU process starts cold), then again in the running browser
     const l = await load(b.page, file);
     const r = { page: file, bytes: fs.statSync(file).size, viewport: [width, height], ...l };
+    if (l.ready) {
+      const w = await load(b.page, file);
+      r.warmReadyMs = w.readyMs == null ? null : +w.readyMs.toFixed(1);
+      r.warmWallMs = w.wallMs;
+    }
     if (l.ready) {
       Object.assign(r, await b.page.evaluate(async ({ nSteps, stepSize, nRedraws }) => {
         const v = window.kezuriView;
