@@ -371,7 +371,9 @@ fn sim_marks(s: &Simulated, run: &Toolpath, drawn: &Toolpath) -> Vec<Value> {
         if let (Some(cell), true) = (c.gouge_cell, c.max_gouge > part::GOUGE_MM) {
             let [x, y] = s.zmap.centre(cell % s.zmap.nx, cell / s.zmap.nx);
             let by = s.report.cut_by.get(cell).copied().filter(|&b| b != kezuri_cam::sim::UNCUT);
-            let tool = by.map(|b| format!(", cut last by T{}", s.report.tools[b as usize].number)).unwrap_or_default();
+            // Tool 0 is the one tool of a program that changes none.
+            let number = by.map(|b| s.report.tools[b as usize].number).filter(|&n| n != 0);
+            let tool = number.map(|n| format!(", cut last by T{n}")).unwrap_or_default();
             marks.push(json!({
                 "kind": "gouge",
                 "label": format!("worst gouge {:.1} µm below the target at X{x:.3} Y{y:.3}{tool}", c.max_gouge * 1000.0),
