@@ -91,14 +91,14 @@ highlighted in the program text beside the view, the position in the program's u
 and the elapsed cycle time (on the machine file's rapids, feeds and acceleration). Click a
 segment to jump to its line; click a line to jump to its first move.
 
-Colours: rapids red, feeds green, arcs blue, plunges orange, probing magenta; or each tool its
+Colours: rapids red, feeds blue, arcs green, plunges yellow, probing violet; or each tool its
 own colour (the legend switches). Arcs are drawn as chords within --arc-tol. Moves of rotary
 axes are drawn by their X Y Z only, which the page says.
 
 With --sim the program is cut out of the stock as `kezuri sim` cuts it (the same --tool,
 --machine, --stock and --res) and the part is drawn; with --compare the part is coloured by its
 deviation from the target on a fixed scale (--deviation-scale, else the 99th percentile of
-|deviation|), gouges deeper than 1 µm in magenta, the worst gouge and the first rapid into the
+|deviation|): red below the target, blue above, gouges deeper than 1 µm in magenta, the worst gouge and the first rapid into the
 stock marked and listed.
 
 A program of a million moves makes a page of some 10 to 20 MB; above --max-page-mb the page is
