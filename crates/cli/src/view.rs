@@ -310,6 +310,7 @@ fn tool_looks(
     let mut numbers: Vec<u32> = path.moves.iter().map(|m| m.tool).collect();
     numbers.sort_unstable();
     numbers.dedup();
+    let changes = numbers.iter().any(|&n| n != 0);
     numbers
         .into_iter()
         .map(|number| {
@@ -325,10 +326,12 @@ fn tool_looks(
                     None => (None, None),
                 },
             };
-            let name = if number == 0 { "no tool change".to_string() } else { format!("T{number}") };
-            let label = match &shape {
-                Some(s) => format!("{name} {s}"),
-                None => format!("{name} (shape not given)"),
+            let label = match (number, &shape) {
+                (0, _) if changes => "before the first tool change".to_string(),
+                (0, Some(s)) => format!("the tool, {s} (no tool change)"),
+                (0, None) => "the tool (no tool change; shape not given)".to_string(),
+                (n, Some(s)) => format!("T{n} {s}"),
+                (n, None) => format!("T{n} (shape not given)"),
             };
             ToolLook { number, label, shape, profile: outline }
         })
