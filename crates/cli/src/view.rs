@@ -66,7 +66,7 @@ pub struct PageOptions {
     #[arg(long)]
     pub no_text: bool,
     /// Largest page to write, MB: a bigger one is refused, naming --shorten and --no-text.
-    #[arg(long, value_name = "MB", default_value_t = 64.0)]
+    #[arg(long, value_name = "MB", default_value_t = 32.0)]
     pub max_page_mb: f64,
     /// Most vertices of the simulated part's mesh (a finer grid is shown coarser, each vertex the
     /// lowest cell under it).
@@ -76,7 +76,7 @@ pub struct PageOptions {
 
 impl Default for PageOptions {
     fn default() -> PageOptions {
-        PageOptions { arc_tol: 0.01, shorten: None, no_text: false, max_page_mb: 64.0, mesh_vertices: 1_000_000 }
+        PageOptions { arc_tol: 0.01, shorten: None, no_text: false, max_page_mb: 32.0, mesh_vertices: 1_000_000 }
     }
 }
 
@@ -98,10 +98,10 @@ axes are drawn by their X Y Z only, which the page says.
 With --sim the program is cut out of the stock as `kezuri sim` cuts it (the same --tool,
 --machine, --stock and --res) and the part is drawn; with --compare the part is coloured by its
 deviation from the target on a fixed scale (--deviation-scale, else the 99th percentile of
-|deviation|): red below the target, blue above, gouges deeper than 1 µm in magenta, the worst gouge and the first rapid into the
-stock marked and listed.
+|deviation|): red below the target, blue above, gouges deeper than 1 µm in magenta; the worst
+gouge and the first rapid into the stock are marked and listed.
 
-A program of a million moves makes a page of some 10 to 20 MB; above --max-page-mb the page is
+A program of a million moves makes a page of some 8 MB; above --max-page-mb (32) the page is
 refused: --shorten TOL merges moves first and says so on the page, --no-text leaves the program
 text out.
 
