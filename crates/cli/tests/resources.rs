@@ -278,8 +278,9 @@ fn verdict(words: &[String], dir: &Path) -> Result<(i32, String), String> {
 }
 
 /// The first NaN or infinity in the standard output or a text file a run
-/// left in `dir` (its stderr aside): a word `nan`, `inf` or `infinity` in
-/// any case, alone or after one address letter (`XNaN`, `Z-inf`).
+/// left in `dir` (its stderr aside; of an HTML page, its data): a word
+/// `nan`, `inf` or `infinity` in any case, alone or after one address
+/// letter (`XNaN`, `Z-inf`).
 fn not_a_number(dir: &Path) -> Option<String> {
     let entries = std::fs::read_dir(dir).ok()?;
     for entry in entries.flatten() {
@@ -287,7 +288,13 @@ fn not_a_number(dir: &Path) -> Option<String> {
         if path.file_name().is_some_and(|n| n == "stderr.txt") {
             continue;
         }
-        let Ok(text) = std::fs::read_to_string(&path) else { continue };
+        let Ok(mut text) = std::fs::read_to_string(&path) else { continue };
+        // A `view` page: its numbers are in the meta JSON (the viewer's
+        // code names NaN and Infinity; the rest is base64).
+        if path.extension().is_some_and(|e| e == "html") {
+            let meta = text.split("id=\"kz-meta\">").nth(1).and_then(|t| t.split("</script>").next());
+            text = meta.unwrap_or_default().to_string();
+        }
         for (n, line) in text.lines().enumerate() {
             let bad = line.split(|c: char| !c.is_ascii_alphanumeric()).any(|word| {
                 let word = word.to_ascii_lowercase();
