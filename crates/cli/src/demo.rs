@@ -464,7 +464,8 @@ fn thermal_drift(out: &Path) -> Result<()> {
         now.push(miss(fixed, target)?);
     }
     let chart = plot::log_chart(
-        "O2007's stops on the warm machine: tool tip from target",
+        "o2007-thermal.nc and o2007-corrected.nc: O2007's stops on the warm machine, tool tip from target",
+        "stop of O2007, in program order",
         "µm",
         1e-3,
         &[("as programmed", "#c0392b", was.clone()), ("corrected (4 decimals)", "#2471a3", now.clone())],
