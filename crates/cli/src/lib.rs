@@ -11,6 +11,7 @@ mod corrected;
 mod demo;
 mod dropcut;
 mod engage;
+mod figure;
 mod files;
 mod machine;
 mod mill;

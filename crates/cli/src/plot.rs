@@ -522,7 +522,7 @@ pub fn log_chart(title: &str, x_label: &str, unit: &str, floor: f64, series: &[(
 static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const FONT_FAMILY: &str = "DejaVu Sans";
 /// The largest side of a PNG picture, in pixels.
-const MAX_SIDE: u32 = 16_384;
+pub(crate) const MAX_SIDE: u32 = 16_384;
 
 /// The font database of PNG charts: the bundled font alone, the family of
 /// every generic name (`sans-serif`, `serif`, `monospace`, …).
@@ -540,6 +540,15 @@ fn fonts() -> Arc<usvg::fontdb::Database> {
             Arc::new(db)
         })
         .clone()
+}
+
+/// Draws the SVG picture `svg` onto `pixmap` (one pixel per SVG user unit,
+/// from its top-left corner), text in the bundled DejaVu Sans.
+pub(crate) fn render_onto(svg: &str, pixmap: &mut tiny_skia::Pixmap) -> anyhow::Result<()> {
+    let options = usvg::Options { font_family: FONT_FAMILY.into(), fontdb: fonts(), ..usvg::Options::default() };
+    let tree = usvg::Tree::from_str(svg, &options).context("cannot read the SVG picture")?;
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    Ok(())
 }
 
 /// The SVG picture `svg` (the charts and toolpath pictures of this module)

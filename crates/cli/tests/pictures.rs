@@ -1,6 +1,7 @@
 //! The pictures kezuri writes explain themselves: a title naming the file
-//! and tool, axes in mm, a legend, the views in which a toolpath shows —
-//! and the same bytes on every run (no dates).
+//! and tool, axes in mm, a colour bar or legend where colour means
+//! something, the views in which a toolpath shows — and the same bytes on
+//! every run (no dates).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -75,4 +76,85 @@ fn a_raster_is_seen_across_its_passes_and_dense_paths_are_thin() {
         .filter_map(|l| l.split("stroke-width=\"").nth(1)?.split('"').next()?.parse().ok())
         .collect();
     assert!(!widths.is_empty() && widths.iter().all(|&w| w < 0.5), "{widths:?}");
+}
+
+/// Level raster rows along X at Y = 0, 1, …, 6 and Z −1.
+fn raster() -> String {
+    let mut s = String::from("G90 G21 G17\nG00 Z5.\nG00 X0. Y0.\nG01 Z-1. F600\n");
+    for k in 0..7 {
+        writeln!(s, "G01 X{}.", if k % 2 == 0 { 10 } else { 0 }).unwrap();
+        if k < 6 {
+            writeln!(s, "G01 Y{}.", k + 1).unwrap();
+        }
+    }
+    s + "G00 Z5.\nM30\n"
+}
+
+/// `x y z` lines of the plane z = −1.01 (a target 10 µm under the cut's
+/// bottom) over 0…10 × 0…6.
+fn plane() -> String {
+    let mut s = String::new();
+    for j in 0..=12 {
+        for i in 0..=20 {
+            writeln!(s, "{} {} -1.01", f64::from(i) * 0.5, f64::from(j) * 0.5).unwrap();
+        }
+    }
+    s
+}
+
+#[test]
+fn sim_pictures_are_framed_and_the_same_each_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "raster.nc", &raster());
+    let target = write(dir.path(), "plane.xyz", &plane());
+    let run = |name: &str| {
+        let png = path(dir.path(), name);
+        let o = kezuri(&[
+            "sim",
+            &nc,
+            "--tool",
+            "ball:3",
+            "--res",
+            "0.05",
+            "--stock",
+            "0,0,10,6,0",
+            "--compare",
+            &target,
+            "-o",
+            &png,
+        ]);
+        let text = ok(&o);
+        let dev = png.replace(".png", "-deviation.png");
+        (std::fs::read(&png).unwrap(), std::fs::read(&dev).unwrap(), text)
+    };
+    let (height, deviation, text) = run("a.png");
+    let (height2, deviation2, _) = run("b.png");
+    assert_eq!(height, height2, "the height picture, byte for byte");
+    assert_eq!(deviation, deviation2, "the deviation picture, byte for byte");
+    assert!(text.contains("99th percentile of |deviation|") && text.contains("magenta"), "{text}");
+    // The grid is 200 × 120 cells; the picture holds it, drawn larger,
+    // with a title, axes and a colour bar around it.
+    let img = image::load_from_memory(&deviation).unwrap().to_rgb8();
+    assert!(img.width() > 500 && img.height() > 300, "{:?}", img.dimensions());
+    let dark = img.pixels().filter(|p| p.0.iter().all(|&c| c < 60)).count();
+    assert!(dark > 500, "text drawn: {dark} dark pixels");
+    let magenta = img.pixels().filter(|p| p.0[0] > 150 && p.0[1] < 100 && p.0[2] > 150).count();
+    assert!(magenta > 0, "the gouge swatch");
+}
+
+#[test]
+fn probe_export_png_is_framed() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut csv = String::new();
+    for j in 0..8 {
+        for i in 0..10 {
+            writeln!(csv, "{},{},{}", i, j, 0.1 * f64::from(i * j)).unwrap();
+        }
+    }
+    let data = write(dir.path(), "grid.csv", &csv);
+    let png = path(dir.path(), "g.png");
+    ok(&kezuri(&["probe", "export", &data, "--png", &png]));
+    let img = image::open(&png).unwrap();
+    // 37 × 29 pixels of surface at 4 per pitch, drawn larger, framed.
+    assert!(img.width() > 400 && img.height() > 300, "{} x {}", img.width(), img.height());
 }
