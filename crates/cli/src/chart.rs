@@ -17,7 +17,7 @@ pub struct Line {
 
 /// Tick positions over `lo..=hi`: steps of 1, 2 or 5 × 10ⁿ, about `n` of
 /// them, and the decimals that print them.
-fn ticks(lo: f64, hi: f64, n: f64) -> (Vec<f64>, usize) {
+pub(crate) fn ticks(lo: f64, hi: f64, n: f64) -> (Vec<f64>, usize) {
     let raw = ((hi - lo) / n).max(1e-12);
     let mag = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 5.0, 10.0].into_iter().map(|k| k * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag);
@@ -60,7 +60,7 @@ fn thin(points: &[(f64, f64)], bins: usize) -> Vec<(f64, f64)> {
     out
 }
 
-fn escape(text: &str) -> String {
+pub(crate) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 

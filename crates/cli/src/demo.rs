@@ -32,7 +32,9 @@ const SAMPLES: [(&str, &str, &str); 3] = [
     ),
 ];
 
-pub fn run(out: &Path) -> Result<()> {
+/// Runs the demo into `out`; `frames`: keep every microscope picture of the
+/// tool-wear demo.
+pub fn run(out: &Path, frames: bool) -> Result<()> {
     let samples = out.join("samples");
     std::fs::create_dir_all(&samples).with_context(|| format!("cannot create {}", samples.display()))?;
     println!("kezuri demo -> {}", out.display());
@@ -66,7 +68,56 @@ pub fn run(out: &Path) -> Result<()> {
     relief_carving(out)?;
     textured_nameplate(out)?;
     thermal_drift(out)?;
-    wear::tool_wear(out)
+    wear::tool_wear(out, frames)?;
+    index(out)
+}
+
+/// What to open first: the 3D pages, then the pictures, each with a line
+/// on what it shows; and what the folder holds.
+fn index(out: &Path) -> Result<()> {
+    const FIRST: [(&str, &str); 2] = [
+        ("dome-ball.html", "the dome's finishing job in 3D, coloured by its deviation (open in a browser)"),
+        ("plum-relief.html", "the relief carving: roughing T1 and finishing T2, and its deviation"),
+    ];
+    const PICTURES: [(&str, &str); 12] = [
+        ("dome-ball-deviation.png", "the dome as cut against the surface, ±10 µm, gouges magenta"),
+        ("plum-relief-deviation.png", "the relief as cut against its surface, ±10 µm"),
+        ("groove-deviation.png", "the worn tool's groove, as programmed and corrected, one scale"),
+        ("groove-before-after.png", "the same across the groove, as a chart"),
+        ("plum-copy-deviation.png", "the copy of the plum mould against the model"),
+        ("dome-ball.png", "simulated surfaces (also plum-relief.png, plum-copy.png, nameplate-textured.png)"),
+        ("plum.png", "the probed mould, levelled"),
+        ("tool-T7-worn.png", "the worn tool's silhouette against the nominal ball:0.5"),
+        ("tool-T7-wear.png", "its radius loss along the tool"),
+        ("oval-engage.png", "the oval end mill's chip per rotation angle and inclination"),
+        ("dome-ball.svg", "toolpaths (also plum-copy.svg, o1011-digitize.svg, o7023-texture.svg, o2007-thermal.svg)"),
+        ("thermal-before-after.svg", "O2007's stops on the warm machine, as programmed and corrected"),
+    ];
+    println!("\nOpen first:");
+    for (file, what) in FIRST {
+        println!("  {file:<26} {what}");
+    }
+    println!("then the pictures:");
+    for (file, what) in PICTURES {
+        println!("  {file:<26} {what}");
+    }
+    println!("and the other 3D pages: plum-copy.html, nameplate-textured.html, o2007-corrected.html");
+    let (mut files, mut bytes) = (0u64, 0u64);
+    let mut folders = vec![out.to_path_buf()];
+    while let Some(dir) = folders.pop() {
+        for entry in std::fs::read_dir(&dir).with_context(|| format!("cannot read {}", dir.display()))? {
+            let entry = entry?;
+            let meta = entry.metadata()?;
+            if meta.is_dir() {
+                folders.push(entry.path());
+            } else {
+                files += 1;
+                bytes += meta.len();
+            }
+        }
+    }
+    println!("\n{files} files, {:.1} MB in {}", bytes as f64 / 1e6, out.display());
+    Ok(())
 }
 
 /// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
@@ -136,6 +187,8 @@ fn geometry(out: &Path) -> Result<()> {
             "0.1",
             "--compare",
             &stl,
+            "--deviation-scale",
+            "0.01",
             "-o",
             &at("dome-ball.png"),
             "--view",
@@ -147,7 +200,8 @@ fn geometry(out: &Path) -> Result<()> {
     println!("\nwrote oval-engage.png and .csv (the chip of one tooth per rotation angle, step-up and");
     println!("step-down, pick feeds for a 10 µm cusp), dome-ball.nc (ball:6, pick-feed control),");
     println!("dome-ball.svg, dome-ball.png and dome-ball-deviation.png (simulated cut against the");
-    println!("surface), dome-ball.html (the job in 3D: open it in a browser), dome-oval.cl (CL points)");
+    println!("surface, ±10 µm: the tolerance), dome-ball.html (the job in 3D: open it in a browser),");
+    println!("dome-oval.cl (CL points)");
     Ok(())
 }
 
@@ -298,6 +352,8 @@ fn relief_carving(out: &Path) -> Result<()> {
             "0,0,64,48,0",
             "--compare",
             &at("plum-relief.stl"),
+            "--deviation-scale",
+            "0.01",
             "-o",
             &at("plum-relief.png"),
             "--view",
@@ -307,7 +363,7 @@ fn relief_carving(out: &Path) -> Result<()> {
     run_shown(out, &commands)?;
     println!("\nwrote plum-relief.nc (roughing T1, finishing T2), plum-tools.toml (their cutters, simulated each");
     println!("with its own), plum-relief.stl (the relief surface), plum-relief.png (the simulated carving)");
-    println!("plum-relief-deviation.png and plum-relief.html (in 3D)");
+    println!("plum-relief-deviation.png (±10 µm: the tolerance) and plum-relief.html (in 3D)");
     Ok(())
 }
 
@@ -467,7 +523,8 @@ fn thermal_drift(out: &Path) -> Result<()> {
         now.push(miss(fixed, target)?);
     }
     let chart = plot::log_chart(
-        "O2007's stops on the warm machine: tool tip from target",
+        "o2007-thermal.nc and o2007-corrected.nc: O2007's stops on the warm machine, tool tip from target",
+        "stop of O2007, in program order",
         "µm",
         1e-3,
         &[("as programmed", "#c0392b", was.clone()), ("corrected (4 decimals)", "#2471a3", now.clone())],

@@ -277,7 +277,7 @@ pub fn run(args: &EngageArgs) -> Result<()> {
         out.add(Some(path), csv(&cases, args.kc).as_bytes())?;
     }
     if args.svg.is_some() || args.png.is_some() {
-        let svg = charts(&cases, args.kc);
+        let svg = charts(&cases, args.kc, &args.tool);
         if let Some(path) = &args.svg {
             out.add(Some(path), svg.as_bytes())?;
         }
@@ -444,7 +444,7 @@ fn csv(cases: &[Case], kc: f64) -> String {
 /// The charts: the area per rotation angle of each step and cut (a line
 /// per inclination), E_d per rotation angle where there is one inclination,
 /// and the largest area and E_d per inclination where there are several.
-fn charts(cases: &[Case], kc: f64) -> String {
+fn charts(cases: &[Case], kc: f64, tool: &str) -> String {
     let mut combos: Vec<(Step, Cut)> = Vec::new();
     for c in cases {
         if !combos.contains(&(c.step, c.cut)) {
@@ -452,7 +452,7 @@ fn charts(cases: &[Case], kc: f64) -> String {
         }
     }
     let several = cases.iter().any(|c| c.angle_deg != cases[0].angle_deg);
-    let combo_name = |s: Step, c: Cut| format!("step-{}, {}-cut", step_name(s), cut_name(c));
+    let combo_name = |s: Step, c: Cut| format!("{tool}, step-{}, {}-cut", step_name(s), cut_name(c));
     let per_theta = |s: Step, c: Cut, value: &dyn Fn(&engage::Section) -> f64| -> Vec<Line> {
         let these: Vec<&Case> = cases.iter().filter(|x| x.step == s && x.cut == c).collect();
         let (centre, lo, hi) = window(&these);
@@ -500,13 +500,13 @@ fn charts(cases: &[Case], kc: f64) -> String {
                 .collect()
         };
         svgs.push(line_chart(
-            "Largest chip area per inclination",
+            &format!("Largest chip area per inclination, {tool}"),
             "inclination α, deg",
             "A max, mm²",
             &per_angle(&|x| x.sweep.area_max),
         ));
         svgs.push(line_chart(
-            &format!("Largest E_d per inclination; torque ≈ {kc} N/mm² × E_d"),
+            &format!("Largest E_d per inclination, {tool}; torque ≈ {kc} N/mm² × E_d"),
             "inclination α, deg",
             "E_d max, mm³",
             &per_angle(&|x| x.sweep.ed_max),

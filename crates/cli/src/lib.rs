@@ -11,6 +11,7 @@ mod corrected;
 mod demo;
 mod dropcut;
 mod engage;
+mod figure;
 mod files;
 mod machine;
 mod mill;
@@ -59,6 +60,10 @@ enum Command {
         /// Folder for the outputs.
         #[arg(long, default_value = "kezuri-demo")]
         out: PathBuf,
+        /// Keep all 36 microscope pictures of each tool the tool-wear demo measures (67 MB; by
+        /// default two of each are kept).
+        #[arg(long)]
+        frames: bool,
     },
     /// Parse and run a program (macros and subprograms too) and report blocks,
     /// motions, lengths, cycle time, bounds, canned-cycle holes and warnings.
@@ -141,7 +146,7 @@ position it never named (after G28, G53, a tool change) stays an increment."
 /// Runs one command.
 fn dispatch(command: &Command) -> anyhow::Result<()> {
     match command {
-        Command::Demo { out } => demo::run(out),
+        Command::Demo { out, frames } => demo::run(out, *frames),
         Command::Check { run, json } => program::check(run, *json),
         Command::Run { run, write } => program::run(run, write),
         Command::Scallop(args) => scallop::run(args),

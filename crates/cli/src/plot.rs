@@ -1,6 +1,9 @@
-//! A picture of a toolpath: SVG, top view (XY) beside a front view (XZ).
-//! Cutting moves are solid and shaded by depth, rapids dashed red. Charts
-//! are SVG text too; [`png_from_svg`] makes any of them a PNG picture.
+//! A picture of a toolpath: SVG, the views in which the path shows (the top
+//! view and the front or side view, whichever is wider; an isometric view
+//! where one of them would be a line), with axes in mm and a legend. Feed
+//! moves are solid and shaded by depth (a colour bar of Z), rapids dashed
+//! red, dense paths drawn thin. Charts are SVG text too; [`png_from_svg`]
+//! makes any of them a PNG picture.
 
 use std::collections::{BTreeMap, HashSet};
 use std::fmt::Write;
@@ -10,8 +13,14 @@ use anyhow::{anyhow, bail, Context};
 use kezuri_geom::{Axes, MoveKind, Toolpath};
 use resvg::{tiny_skia, usvg};
 
+use crate::chart::{escape, ticks};
+
+/// The longest side of a view, pixels.
 const PANEL: f64 = 480.0;
-const MARGIN: f64 = 30.0;
+/// Left of the first view (its tick labels and axis name).
+const LEFT: f64 = 70.0;
+/// Between two views.
+const GAP: f64 = 80.0;
 
 /// Points along a move, arcs flattened to 2° steps.
 fn points(m: &kezuri_geom::Move) -> Vec<Axes> {
@@ -34,13 +43,112 @@ fn straight_on(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> bool {
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 enum Stroke {
     Rapid,
-    /// Red and green of the blue shade: 180 at the top, 0 at the bottom.
+    /// Red and green of the blue shade: 150 at the top, 0 at the bottom.
     Cut(u8),
 }
 
+/// A view of the path: its caption, the names of its axes and how a point
+/// is projected onto it (right, up).
+#[derive(Clone, Copy)]
+struct View {
+    caption: &'static str,
+    axes: [&'static str; 2],
+    /// Whether its axes are true lengths (not the isometric view).
+    true_length: bool,
+    project: fn([f64; 3]) -> (f64, f64),
+}
+
+const TOP: View =
+    View { caption: "top (X right, Y up)", axes: ["X, mm", "Y, mm"], true_length: true, project: |p| (p[0], p[1]) };
+const FRONT: View =
+    View { caption: "front (X right, Z up)", axes: ["X, mm", "Z, mm"], true_length: true, project: |p| (p[0], p[2]) };
+const SIDE: View =
+    View { caption: "side (Y right, Z up)", axes: ["Y, mm", "Z, mm"], true_length: true, project: |p| (p[1], p[2]) };
+/// Seen from the front right, above: X and Y 30° below the horizontal.
+const ISO: View = View {
+    caption: "isometric (from front right, above)",
+    axes: ["", ""],
+    true_length: false,
+    project: |p| {
+        let (c, s) = (30f64.to_radians().cos(), 0.5);
+        (c * (p[0] + p[1]), p[2] + s * (p[1] - p[0]))
+    },
+};
+
+/// The projected box of `pts` in `view`: `[u0, u1, v0, v1]`.
+fn extent(view: &View, pts: &[[f64; 3]]) -> [f64; 4] {
+    pts.iter().fold([f64::MAX, f64::MIN, f64::MAX, f64::MIN], |b, &p| {
+        let (u, v) = (view.project)(p);
+        [b[0].min(u), b[1].max(u), b[2].min(v), b[3].max(v)]
+    })
+}
+
+/// Whether the path is (nearly) a line in a view of box `e`: one side under
+/// 2 % of the other, or under a micrometre.
+fn flat(e: &[f64; 4]) -> bool {
+    let (a, b) = (e[1] - e[0], e[3] - e[2]);
+    a.min(b) <= (0.02 * a.max(b)).max(1e-3)
+}
+
+/// A view as drawn: the box it shows (mm), its vertical axis drawn
+/// `stretch` times its horizontal.
+struct Shown {
+    view: View,
+    e: [f64; 4],
+    stretch: f64,
+}
+
+/// The smallest of 1, 2, 5 × 10ⁿ at least `x` (at most 1000).
+fn round_up(x: f64) -> f64 {
+    let mag = 10f64.powf(x.max(1.0).log10().floor());
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|k| k * mag).find(|s| *s >= x).unwrap_or(10.0 * mag).min(1000.0)
+}
+
+/// The views in which the path `pts` shows: the top view and the front or
+/// side view, the one in which the `feeds` are longer (else the wider), less those in which it is a line (Z drawn
+/// larger in a front or side view under an eighth as tall as wide); the
+/// isometric view when neither shows it.
+fn views(pts: &[[f64; 3]], feeds: &[Vec<[f64; 3]>]) -> (Vec<Shown>, Vec<&'static str>) {
+    let e = |v: View| Shown { view: v, e: extent(&v, pts), stretch: 1.0 };
+    let (top, front, side) = (e(TOP), e(FRONT), e(SIDE));
+    // The view in which the feed moves are longer (a raster along X seen
+    // from the front, not end-on), else the wider.
+    let length = |v: &View| -> f64 {
+        feeds
+            .iter()
+            .flat_map(|m| m.windows(2))
+            .map(|p| {
+                let (a, b) = ((v.project)(p[0]), (v.project)(p[1]));
+                (b.0 - a.0).hypot(b.1 - a.1)
+            })
+            .sum()
+    };
+    let (lf, ls) = (length(&FRONT), length(&SIDE));
+    let front_wins =
+        if (lf - ls).abs() > 0.1 * lf.max(ls) { lf > ls } else { front.e[1] - front.e[0] >= side.e[1] - side.e[0] };
+    let mut wide = if front_wins { front } else { side };
+    let (su, sv) = (wide.e[1] - wide.e[0], wide.e[3] - wide.e[2]);
+    if sv >= 1e-3 && sv < su / 8.0 {
+        wide.stretch = round_up(su / 8.0 / sv);
+    }
+    let stretched = Shown { e: [wide.e[0], wide.e[1], 0.0, sv * wide.stretch], ..wide };
+    let (mut out, mut left_out) = (Vec::new(), Vec::new());
+    for (shown, box_) in [(top, None), (wide, Some(stretched.e))] {
+        if flat(&box_.unwrap_or(shown.e)) {
+            left_out.push(shown.view.caption.split(' ').next().unwrap_or(""));
+        } else {
+            out.push(shown);
+        }
+    }
+    if out.is_empty() {
+        out.push(e(ISO));
+    }
+    (out, left_out)
+}
+
 /// Writes `lines` (points in hundredths of a pixel) as one path drawn in
-/// `style`.
-fn draw(out: &mut String, style: Stroke, lines: Vec<Vec<(i64, i64)>>) {
+/// `style`, `width` pixels wide.
+fn draw(out: &mut String, style: Stroke, lines: Vec<Vec<(i64, i64)>>, width: f64) {
     let mut d = String::new();
     for line in lines {
         for (i, (x, y)) in line.into_iter().enumerate() {
@@ -49,49 +157,105 @@ fn draw(out: &mut String, style: Stroke, lines: Vec<Vec<(i64, i64)>>) {
         }
     }
     let _ = match style {
-        Stroke::Cut(s) => {
-            writeln!(out, r#"<path d="{}" fill="none" stroke="rgb({s},{s},255)" stroke-width="0.8"/>"#, d.trim_end())
-        }
+        Stroke::Cut(s) => writeln!(
+            out,
+            r#"<path d="{}" fill="none" stroke="rgb({s},{s},255)" stroke-width="{width:.2}"/>"#,
+            d.trim_end()
+        ),
         Stroke::Rapid => writeln!(
             out,
-            r##"<path d="{}" fill="none" stroke="#d33" stroke-dasharray="4 3" stroke-width="0.6"/>"##,
-            d.trim_end()
+            r##"<path d="{}" fill="none" stroke="#d33" stroke-dasharray="{:.1} {:.1}" stroke-width="{width:.2}"/>"##,
+            d.trim_end(),
+            (6.0 * width).max(2.0),
+            (4.0 * width).max(1.5)
         ),
     };
 }
 
-/// The SVG text for `path`, titled `title`.
+/// Width of a line of `length` pixels in all over `area` square pixels: a
+/// pixel where the path is sparse, thinner as it covers more.
+fn width_for(length: f64, area: f64, widest: f64) -> f64 {
+    (0.3 * area / length.max(1.0)).clamp(0.25, widest)
+}
+
+/// The SVG text for `path`, titled `title` (the file and the tool).
 pub fn svg(path: &Toolpath, title: &str) -> String {
-    let (lo, hi) = path.bounds().unwrap_or(([0.0; 3], [1.0; 3]));
-    let span = |k: usize| (hi[k] - lo[k]).max(1e-6);
-    let scale = PANEL / span(0).max(span(1)).max(span(2));
-    let width = 3.0 * MARGIN + scale * span(0) * 2.0;
-    let height = 2.0 * MARGIN + 20.0 + scale * span(1).max(span(2));
+    let drawn_moves = || path.moves.iter().filter(|m| !matches!(m.kind, MoveKind::Dwell(_)));
+    let xyz = |m: &kezuri_geom::Move| points(m).into_iter().map(|p| p.xyz()).collect::<Vec<_>>();
+    // The views frame the feed moves (rapids up to a clearance height are
+    // cut off at their edge), or the rapids where there are none.
+    let feeds: Vec<Vec<[f64; 3]>> = drawn_moves().filter(|m| !m.is_rapid()).map(xyz).collect();
+    let mut framed: Vec<[f64; 3]> = feeds.concat();
+    if framed.is_empty() {
+        framed = drawn_moves().flat_map(xyz).collect();
+    }
+    if framed.is_empty() {
+        framed = vec![[0.0; 3], [1.0; 3]];
+    }
+    let (zlo, zhi) = framed.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[2]), b.max(p[2])));
+    let depth = (zhi - zlo).max(1e-9);
+    let (shown, left_out) = views(&framed, &feeds);
+    let span = |s: &Shown| ((s.e[1] - s.e[0]).max(1e-6), ((s.e[3] - s.e[2]) * s.stretch).max(1e-6));
+    let largest = shown.iter().map(|s| span(s).0.max(span(s).1)).fold(0.0, f64::max);
+    let scale = PANEL / largest;
+    let top = 70.0;
+    let mut left = LEFT;
+    let mut placed = Vec::new();
+    for s in &shown {
+        let (su, sv) = span(s);
+        placed.push((s, left, (scale * su).max(1.0), (scale * sv).max(1.0)));
+        left += scale * su + GAP;
+    }
+    let tallest = placed.iter().map(|p| p.3).fold(0.0, f64::max);
+    let legend_y = top + tallest + 56.0;
+    let width = (left - GAP + 20.0).max(LEFT + 560.0).max(30.0 + 7.2 * title.chars().count() as f64);
+    let height = legend_y + 50.0;
     let mut out = String::new();
     let _ = writeln!(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.1} {height:.1}" font-family="sans-serif" font-size="12">"#
     );
     let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let esc: String = title.chars().filter(|c| !matches!(c, '<' | '>' | '&' | '"')).collect();
-    let _ = writeln!(out, r#"<text x="{MARGIN}" y="16">{esc} — top (X right, Y up) and front (X right, Z up)</text>"#);
-    let top = MARGIN + 20.0;
-    let panels: [(usize, usize, f64); 2] = [(0, 1, MARGIN), (0, 2, 2.0 * MARGIN + scale * span(0))];
-    for (u, v, left) in panels {
-        let base = top + scale * span(v);
+    let _ = writeln!(out, r#"<text x="20" y="20" font-size="14">{}</text>"#, escape(title));
+    let views_text: Vec<&str> = placed.iter().map(|p| p.0.view.caption).collect();
+    let _ = writeln!(
+        out,
+        r##"<text x="20" y="38" fill="#444">{} {}, {} moves{}</text>"##,
+        escape(&views_text.join(" and ")),
+        if placed.len() > 1 { "views" } else { "view" },
+        path.moves.len(),
+        if left_out.is_empty() {
+            String::new()
+        } else {
+            format!("; no {} view: the path is a line in it", left_out.join(" or "))
+        }
+    );
+    let mut rapids = false;
+    for (k, (shown, left, pw, ph)) in placed.into_iter().enumerate() {
+        let Shown { view, e, stretch } = *shown;
+        let base = top + ph;
+        let caption =
+            if stretch > 1.0 { format!("{}, Z drawn ×{stretch}", view.caption) } else { view.caption.to_string() };
+        let _ = writeln!(out, r#"<text x="{left:.1}" y="{:.1}">{caption}</text>"#, top - 8.0);
         let _ = writeln!(
             out,
-            r##"<rect x="{:.1}" y="{top:.1}" width="{:.1}" height="{:.1}" fill="none" stroke="#ccc"/>"##,
-            left,
-            scale * span(u),
-            scale * span(v)
+            r##"<rect x="{left:.1}" y="{top:.1}" width="{pw:.1}" height="{ph:.1}" fill="none" stroke="#ccc"/>"##
         );
-        let depth = span(2);
+        let _ = writeln!(
+            out,
+            r#"<clipPath id="view{k}"><rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}"/></clipPath>"#,
+            left - 4.0,
+            top - 4.0,
+            pw + 8.0,
+            ph + 8.0
+        );
         // One path per style, cuts first and rapids over them; a segment
         // already drawn in that style (a repeated plunge seen from the front)
         // is drawn once, and steps on along a line lengthen it.
         let mut drawn = HashSet::new();
         let mut styles: BTreeMap<Stroke, Vec<Vec<(i64, i64)>>> = BTreeMap::new();
+        let mut dots: BTreeMap<Stroke, Vec<(i64, i64)>> = BTreeMap::new();
+        let (mut cut_length, mut rapid_length) = (0.0, 0.0);
         for m in &path.moves {
             if matches!(m.kind, MoveKind::Dwell(_)) {
                 continue;
@@ -100,23 +264,36 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
             let next = if m.is_rapid() {
                 Stroke::Rapid
             } else {
-                Stroke::Cut((180.0 * (1.0 - ((hi[2] - m.end.z) / depth).clamp(0.0, 1.0))) as u8)
+                Stroke::Cut((150.0 * (1.0 - ((zhi - m.end.z) / depth).clamp(0.0, 1.0))) as u8)
             };
             let lines = styles.entry(next).or_default();
             // Points in hundredths of a pixel.
             let pts: Vec<(i64, i64)> = points(m)
                 .iter()
                 .map(|p| {
-                    let p = p.xyz();
-                    let x = left + scale * (p[u] - lo[u]);
-                    let y = base - scale * (p[v] - lo[v]);
+                    let (u, v) = (view.project)(p.xyz());
+                    let x = left + scale * (u - e[0]);
+                    let y = base - scale * stretch * (v - e[2]);
                     ((x * 100.0).round() as i64, (y * 100.0).round() as i64)
                 })
                 .collect();
+            // A feed move seen end-on (a plunge from above) is a dot.
+            if next != Stroke::Rapid && pts.iter().all(|p| *p == pts[0]) {
+                if drawn.insert((next, pts[0], pts[0])) {
+                    dots.entry(next).or_default().push(pts[0]);
+                }
+                continue;
+            }
             for pair in pts.windows(2) {
                 let (a, b) = (pair[0], pair[1]);
                 if a == b || !drawn.insert((next, a.min(b), a.max(b))) {
                     continue;
+                }
+                let length = (((b.0 - a.0) as f64).hypot((b.1 - a.1) as f64)) / 100.0;
+                if next == Stroke::Rapid {
+                    rapid_length += length;
+                } else {
+                    cut_length += length;
                 }
                 match lines.last_mut() {
                     Some(line) if line.last() == Some(&a) => {
@@ -132,50 +309,191 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
                 }
             }
         }
+        let area = pw.max(20.0) * ph.max(20.0);
+        let (cut_width, rapid_width) = (width_for(cut_length, area, 1.2), width_for(rapid_length, area, 0.8));
+        let _ = writeln!(out, r#"<g clip-path="url(#view{k})">"#);
         for (style, lines) in styles.into_iter().rev() {
-            draw(&mut out, style, lines);
+            if !lines.is_empty() {
+                rapids |= style == Stroke::Rapid;
+                draw(&mut out, style, lines, if style == Stroke::Rapid { rapid_width } else { cut_width });
+            }
         }
-        let _ = writeln!(
-            out,
-            r#"<text x="{left:.1}" y="{:.1}">{} {:.3} … {:.3}, {} {:.3} … {:.3} mm</text>"#,
-            base + 16.0,
-            ["X", "Y", "Z"][u],
-            lo[u],
-            hi[u],
-            ["X", "Y", "Z"][v],
-            lo[v],
-            hi[v]
-        );
+        for (style, at) in dots.into_iter().rev() {
+            if let Stroke::Cut(s) = style {
+                let d: Vec<String> =
+                    at.iter().map(|&(x, y)| format!("M{:.2} {:.2}h0.01", x as f64 / 100.0, y as f64 / 100.0)).collect();
+                let _ = writeln!(
+                    out,
+                    r#"<path d="{}" fill="none" stroke="rgb({s},{s},255)" stroke-width="{:.2}" stroke-linecap="round"/>"#,
+                    d.join(""),
+                    (2.0 * cut_width).clamp(1.5, 2.5)
+                );
+            }
+        }
+        out.push_str("</g>\n");
+        if view.true_length {
+            axes(&mut out, &view, &e, (left, top, pw, ph));
+        } else {
+            triad(&mut out, &view, left - 20.0, base);
+        }
     }
+    legend(&mut out, legend_y, zlo, zhi, rapids);
     out.push_str("</svg>\n");
     out
 }
 
+/// Ticks in mm along the bottom and left of a view at `(left, top)`,
+/// `pw` × `ph` pixels, over the box `e`, and the axes' names.
+fn axes(out: &mut String, view: &View, e: &[f64; 4], (left, top, pw, ph): (f64, f64, f64, f64)) {
+    let base = top + ph;
+    let (tu, du) = ticks(e[0], e[1], (pw / 80.0).max(3.0));
+    for u in tu {
+        let x = left + pw * (u - e[0]) / (e[1] - e[0]).max(1e-6);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{x:.1}" x2="{x:.1}" y1="{base:.1}" y2="{:.1}" stroke="#444"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{u:.du$}</text>"##,
+            base + 5.0,
+            base + 18.0
+        );
+    }
+    let (tv, dv) = ticks(e[2], e[3], (ph / 60.0).max(3.0));
+    for v in tv {
+        let y = base - ph * (v - e[2]) / (e[3] - e[2]).max(1e-6);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{:.1}" x2="{left:.1}" y1="{y:.1}" y2="{y:.1}" stroke="#444"/><text x="{:.1}" y="{:.1}" text-anchor="end">{v:.dv$}</text>"##,
+            left - 5.0,
+            left - 7.0,
+            y + 4.0
+        );
+    }
+    let _ = writeln!(
+        out,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+        left + pw / 2.0,
+        base + 34.0,
+        view.axes[0]
+    );
+    let _ = writeln!(
+        out,
+        r#"<text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        left - 48.0,
+        top + ph / 2.0,
+        view.axes[1]
+    );
+}
+
+/// The directions of X, Y and Z in a view without true lengths, 30 pixels
+/// long from `(x, y)`.
+fn triad(out: &mut String, view: &View, x: f64, y: f64) {
+    let o = (view.project)([0.0; 3]);
+    for (k, name) in ["X", "Y", "Z"].iter().enumerate() {
+        let mut p = [0.0; 3];
+        p[k] = 1.0;
+        let (u, v) = (view.project)(p);
+        let (du, dv) = (u - o.0, v - o.1);
+        let n = du.hypot(dv).max(1e-9);
+        let (ex, ey) = (x - 30.0 + 24.0 * du / n, y - 24.0 - 24.0 * dv / n);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{:.1}" y1="{:.1}" x2="{ex:.1}" y2="{ey:.1}" stroke="#444"/><text x="{:.1}" y="{:.1}" font-size="10">{name}</text>"##,
+            x - 30.0,
+            y - 24.0,
+            ex + 4.0 * du / n - 3.0,
+            ey - 4.0 * dv / n + 4.0
+        );
+    }
+}
+
+/// `v` mm to 3 decimals, never "-0.000".
+fn mm(v: f64) -> String {
+    let t = format!("{v:.3}");
+    if t == "-0.000" {
+        "0.000".into()
+    } else {
+        t
+    }
+}
+
+/// What the strokes mean: feed moves by depth (a bar of Z), rapids.
+fn legend(out: &mut String, y: f64, zlo: f64, zhi: f64, rapids: bool) {
+    let _ = writeln!(
+        out,
+        r#"<linearGradient id="depth" x1="0" x2="1"><stop offset="0" stop-color="rgb(150,150,255)"/><stop offset="1" stop-color="rgb(0,0,255)"/></linearGradient>"#
+    );
+    let _ = writeln!(
+        out,
+        r##"<text x="{LEFT}" y="{y:.1}">feed (G1, G2, G3): solid, by Z</text><text x="{:.1}" y="{y:.1}" text-anchor="end">Z {}</text><rect class="legend-depth" x="{:.1}" y="{:.1}" width="120" height="10" fill="url(#depth)" stroke="#444"/><text x="{:.1}" y="{y:.1}">Z {} mm</text>"##,
+        LEFT + 260.0,
+        mm(zhi),
+        LEFT + 266.0,
+        y - 9.0,
+        LEFT + 392.0,
+        mm(zlo)
+    );
+    if rapids {
+        let _ = writeln!(
+            out,
+            r##"<text x="{LEFT}" y="{:.1}">rapid (G0): dashed</text><line x1="{:.1}" x2="{:.1}" y1="{:.1}" y2="{:.1}" stroke="#d33" stroke-dasharray="6 4" stroke-width="1.5"/>"##,
+            y + 20.0,
+            LEFT + 266.0,
+            LEFT + 386.0,
+            y + 16.0,
+            y + 16.0
+        );
+    }
+}
+
 /// A chart of one or more series over the same points (`y` in the unit
 /// named), each `(name, colour, values)`, on a logarithmic axis from
-/// `floor` up: the before/after errors of a correction.
-pub fn log_chart(title: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec<f64>)]) -> String {
-    let (w, h, left, bottom) = (720.0, 360.0, 70.0, 40.0);
+/// `floor` up, the points numbered from 1 along `x_label`: the
+/// before/after errors of a correction.
+pub fn log_chart(title: &str, x_label: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec<f64>)]) -> String {
+    let (h, left, top, bottom) = (380.0, 80.0, 36.0, 50.0);
+    let w = (left + 7.6 * title.chars().count() as f64 + 20.0).max(720.0).ceil();
+    let right = w - 20.0;
     let n = series.iter().map(|s| s.2.len()).max().unwrap_or(0).max(2);
-    let top = series.iter().flat_map(|s| s.2.iter().copied()).fold(floor * 10.0, f64::max);
-    let (lo, hi) = (floor.log10().floor(), top.log10().ceil());
-    let x = |k: usize| left + (w - left - 20.0) * k as f64 / (n - 1) as f64;
-    let y = |v: f64| 20.0 + (h - bottom - 20.0) * (hi - v.max(floor).log10()) / (hi - lo);
+    let highest = series.iter().flat_map(|s| s.2.iter().copied()).fold(floor * 10.0, f64::max);
+    let (lo, hi) = (floor.log10().floor(), highest.log10().ceil());
+    let x = |k: usize| left + (right - left) * k as f64 / (n - 1) as f64;
+    let y = |v: f64| top + (h - bottom - top) * (hi - v.max(floor).log10()) / (hi - lo);
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
-         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{left}\" y=\"14\">{title}</text>\n"
+         <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{left}\" y=\"20\" font-size=\"14\">{}</text>\n",
+        escape(title)
     );
     for e in (lo as i32)..=(hi as i32) {
         let v = 10f64.powi(e);
+        let label = if e >= 0 { format!("{v:.0}") } else { format!("{v:.*}", (-e) as usize) };
         let _ = writeln!(
             s,
-            "<line x1=\"{left}\" x2=\"{}\" y1=\"{y0:.1}\" y2=\"{y0:.1}\" stroke=\"#ddd\"/><text x=\"4\" y=\"{:.1}\">{v:e} {unit}</text>",
-            w - 20.0,
+            "<line x1=\"{left}\" x2=\"{right}\" y1=\"{y0:.1}\" y2=\"{y0:.1}\" stroke=\"#ddd\"/><text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{label} {unit}</text>",
+            left - 6.0,
             y(v) + 4.0,
             y0 = y(v),
         );
     }
-    let _ = writeln!(s, "<text x=\"{left}\" y=\"{}\">point of the program (in order)</text>", h - 8.0);
+    let every = n.div_ceil(12).max(1);
+    for k in (0..n).filter(|k| k % every == 0 || *k == n - 1) {
+        let _ = writeln!(
+            s,
+            "<line x1=\"{0:.1}\" x2=\"{0:.1}\" y1=\"{1:.1}\" y2=\"{2:.1}\" stroke=\"#444\"/><text x=\"{0:.1}\" y=\"{3:.1}\" text-anchor=\"middle\">{4}</text>",
+            x(k),
+            h - bottom,
+            h - bottom + 5.0,
+            h - bottom + 18.0,
+            k + 1
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<rect x=\"{left}\" y=\"{top}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"#888\"/>\n<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>",
+        right - left,
+        h - bottom - top,
+        0.5 * (left + right),
+        h - 12.0,
+        escape(x_label)
+    );
     for (k, (name, colour, values)) in series.iter().enumerate() {
         let points: Vec<String> = values.iter().enumerate().map(|(i, &v)| format!("{:.1},{:.1}", x(i), y(v))).collect();
         let _ = writeln!(
@@ -183,11 +501,16 @@ pub fn log_chart(title: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec
             "<polyline fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\" points=\"{}\"/>",
             points.join(" ")
         );
+        let ly = 0.5 * h + 18.0 * k as f64;
         let _ = writeln!(
             s,
-            "<text x=\"{}\" y=\"{}\" fill=\"{colour}\">{name}</text>",
-            w - 220.0,
-            0.5 * h + 16.0 * k as f64
+            "<line x1=\"{:.1}\" x2=\"{:.1}\" y1=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"3\"/><text x=\"{:.1}\" y=\"{ly:.1}\">{}</text>",
+            right - 230.0,
+            right - 206.0,
+            ly - 4.0,
+            ly - 4.0,
+            right - 200.0,
+            escape(name)
         );
     }
     s + "</svg>\n"
@@ -199,7 +522,7 @@ pub fn log_chart(title: &str, unit: &str, floor: f64, series: &[(&str, &str, Vec
 static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const FONT_FAMILY: &str = "DejaVu Sans";
 /// The largest side of a PNG picture, in pixels.
-const MAX_SIDE: u32 = 16_384;
+pub(crate) const MAX_SIDE: u32 = 16_384;
 
 /// The font database of PNG charts: the bundled font alone, the family of
 /// every generic name (`sans-serif`, `serif`, `monospace`, …).
@@ -217,6 +540,15 @@ fn fonts() -> Arc<usvg::fontdb::Database> {
             Arc::new(db)
         })
         .clone()
+}
+
+/// Draws the SVG picture `svg` onto `pixmap` (one pixel per SVG user unit,
+/// from its top-left corner), text in the bundled DejaVu Sans.
+pub(crate) fn render_onto(svg: &str, pixmap: &mut tiny_skia::Pixmap) -> anyhow::Result<()> {
+    let options = usvg::Options { font_family: FONT_FAMILY.into(), fontdb: fonts(), ..usvg::Options::default() };
+    let tree = usvg::Tree::from_str(svg, &options).context("cannot read the SVG picture")?;
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    Ok(())
 }
 
 /// The SVG picture `svg` (the charts and toolpath pictures of this module)
@@ -249,17 +581,17 @@ mod tests {
 
     #[test]
     fn a_chart_becomes_a_png_of_its_size_with_its_text_and_lines_drawn() {
-        let svg = log_chart("wear", "mm", 1e-4, &[("before", "black", vec![0.1, 0.01, 0.001])]);
+        let svg = log_chart("wear", "point", "mm", 1e-4, &[("before", "black", vec![0.1, 0.01, 0.001])]);
         let png = png_from_svg(&svg).unwrap();
         let img = image::load_from_memory_with_format(&png, image::ImageFormat::Png).unwrap().to_rgba8();
-        assert_eq!(img.dimensions(), (720, 360));
+        assert_eq!(img.dimensions(), (720, 380));
         // The left 60 pixels hold only the axis labels (text): drawn in the
         // bundled font, whatever this machine has installed.
         assert!(dark(&img, 0, 60) > 200, "{} dark pixels of text", dark(&img, 0, 60));
         // The series' line and its name.
         assert!(dark(&img, 70, 720) > 500, "{}", dark(&img, 70, 720));
         // The white background is painted.
-        assert_eq!(img.get_pixel(715, 355).0, [255, 255, 255, 255]);
+        assert_eq!(img.get_pixel(715, 375).0, [255, 255, 255, 255]);
     }
 
     #[test]

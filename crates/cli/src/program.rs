@@ -797,9 +797,24 @@ fn write_program(
     }
     out.add(w.output.as_deref(), text.as_bytes())?;
     if let Some(svg) = &w.svg {
-        out.add(Some(svg), crate::plot::svg(drawn, title).as_bytes())?;
+        out.add(Some(svg), crate::plot::svg(drawn, &svg_title(w.output.as_deref(), title, cutters)).as_bytes())?;
     }
     Ok(())
+}
+
+/// The title of a toolpath's drawing: the program written (`output`), its
+/// `title` and the tools not named in it.
+pub fn svg_title(output: Option<&Path>, title: &str, cutters: &[(u32, Cutter)]) -> String {
+    let mut text = match output.and_then(Path::file_name) {
+        Some(name) if name != "-" => format!("{}: {title}", name.to_string_lossy()),
+        _ => title.to_string(),
+    };
+    let unnamed: Vec<String> =
+        cutters.iter().filter(|(_, c)| !title.contains(&c.to_string())).map(|(n, c)| format!("T{n} {c}")).collect();
+    if !unnamed.is_empty() {
+        text += &format!(" ({})", unnamed.join(", "));
+    }
+    text
 }
 
 impl WriteArgs {

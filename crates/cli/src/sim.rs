@@ -2,7 +2,7 @@
 //! tool each move is made by, its pictures and STL, rapids into the stock,
 //! what each tool removed, and the comparison with the intended surface.
 
-mod picture;
+pub(crate) mod picture;
 mod report;
 mod stock;
 mod tools;
@@ -21,6 +21,7 @@ use crate::files::write_output;
 use crate::machine::Machine;
 use crate::program::{read_and_run_centre, RunOptions};
 use crate::progress::LateBar;
+use crate::view::part::GOUGE_MM;
 use report::Done;
 use stock::StockSpec;
 
@@ -97,8 +98,7 @@ pub struct SimArgs {
     /// beside -o].
     #[arg(long, value_name = "DEV.png")]
     pub deviation_png: Option<PathBuf>,
-    /// Deviation shown in full colour, mm [default: the largest deviation; on the --view page the
-    /// 99th percentile].
+    /// Deviation shown in full colour, mm [default: the 99th percentile of |deviation|].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub deviation_scale: Option<f64>,
     /// The job in 3D as one offline HTML page: the toolpath and the simulated part (coloured by
@@ -214,6 +214,22 @@ pub fn simulate(
     Ok(Simulated { tools, stock, top, zmap, report, comparison, seconds })
 }
 
+/// The name of the file at `path`, without its folder.
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// The title of `sim`'s pictures: the program's name and the tools (a
+/// measured tool by its file's name).
+fn picture_title(file: &Path, tools: &tools::ToolSet) -> String {
+    let summary = tools.summary();
+    let summary = match summary.strip_prefix("profile:") {
+        Some(p) => format!("measured tool {}", file_name(Path::new(p))),
+        None => summary,
+    };
+    format!("{}: {summary}", file_name(file))
+}
+
 /// Runs `kezuri sim`.
 pub fn run(args: &SimArgs) -> Result<()> {
     if args.json && args.output.as_deref() == Some(Path::new("-")) {
@@ -232,14 +248,15 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), &file)?;
     let Simulated { tools, stock, top, zmap, report, comparison, seconds } = &sim;
 
+    let title = picture_title(&args.run.file, tools);
     if let Some(png) = &args.output {
-        out.add(Some(png), &picture::height_png(zmap)?)?;
+        out.add(Some(png), &picture::height_png(zmap, &title)?)?;
     }
     if let Some(stl) = &args.stl {
         picture::stage_surface_stl(&mut out, stl, zmap)?;
     }
     let mut deviation_note = None;
-    if let Some((c, heights)) = &comparison {
+    if let Some((_, heights)) = &comparison {
         let deviation = args.deviation_png.clone().or_else(|| {
             args.output.as_ref().filter(|o| o.as_path() != Path::new("-")).map(|o| {
                 let stem = o.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
@@ -247,15 +264,17 @@ pub fn run(args: &SimArgs) -> Result<()> {
             })
         });
         if let Some(png) = deviation {
-            let scale = match args.deviation_scale {
-                Some(s) => s,
-                None => c.max_gouge.max(c.max_left).max(1e-9),
-            };
-            out.add(Some(&png), &picture::deviation_png(zmap, heights, scale)?)?;
+            let scale = picture::DeviationScale::new(zmap, heights, args.deviation_scale);
+            let target = args.setup.compare.as_deref().map(file_name).unwrap_or_default();
+            let subtitle = format!("deviation from {target} (simulated − target), {:.3} mm cells, +Y up", zmap.res);
+            out.add(Some(&png), &picture::deviation_png(zmap, heights, &scale, &title, &subtitle)?)?;
             deviation_note = Some(format!(
-                "{}: red = below the target (gouge), blue = above (material left), white = on it; \
-                 full colour at ±{scale:.4} mm; grey = no target",
-                png.display()
+                "{}: red = below the target, blue = above (material left), white = on it; \
+                 full colour at ±{:.4} mm ({}); magenta = a gouge over {} µm deep; grey = no target",
+                png.display(),
+                scale.mm,
+                scale.basis,
+                GOUGE_MM * 1000.0
             ));
         }
     }

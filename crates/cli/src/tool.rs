@@ -14,6 +14,7 @@ use kezuri_post::microscope::{frame_centre, measure, runout_mm, Envelope, Measur
 use kezuri_post::tool_image::GrayImage;
 use serde_json::json;
 
+use crate::figure::{Figure, Overlay, Panel, Raster};
 use crate::files::{read_text, Outputs};
 use crate::table::Table;
 use crate::{tool_db, tool_table};
@@ -191,7 +192,17 @@ fn profile(a: &ProfileArgs) -> Result<()> {
         m.profile.z().iter().zip(m.profile.radius()).map(|(&z, &r)| c.radius_at(z) + e - r).collect()
     });
     // Everything made before anything is written.
-    let picture = a.png.as_ref().map(|_| overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)).transpose()?;
+    let title = format!(
+        "{}: the profile of {total} picture{}",
+        a.output.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().into_owned()),
+        if total == 1 { "" } else { "s" }
+    );
+    let spec = a.nominal.as_deref().unwrap_or_default();
+    let picture = a
+        .png
+        .as_ref()
+        .map(|_| overlay_png(&m, nominal.as_ref().map(|c| (spec, c)), runout.unwrap_or(0.0), px, &title))
+        .transpose()?;
     let mut out = Outputs::new();
     out.add(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
     if let (Some(png), Some(picture)) = (&a.png, picture) {
@@ -233,10 +244,11 @@ fn profile(a: &ProfileArgs) -> Result<()> {
 }
 
 /// The joined envelope in gray, the edges found in red, the nominal tool
-/// with the runout in green (about the middle of the edges at the top).
-fn overlay_png(m: &Measured, nominal: Option<&Cutter>, runout: f64, px: f64) -> Result<Vec<u8>> {
+/// with the runout in green (about the middle of the edges at the top),
+/// framed: titled `title`, axes in mm from the axis and the tip, a legend.
+fn overlay_png(m: &Measured, nominal: Option<(&str, &Cutter)>, runout: f64, px: f64, title: &str) -> Result<Vec<u8>> {
     let (w, h) = (m.picture.width, m.picture.height);
-    let mut rgb: Vec<u8> = m
+    let rgb: Vec<u8> = m
         .picture
         .pixels
         .iter()
@@ -245,37 +257,48 @@ fn overlay_png(m: &Measured, nominal: Option<&Cutter>, runout: f64, px: f64) -> 
             [g, g, g]
         })
         .collect();
-    let mut dot = |x: f64, r: usize, colour: [u8; 3]| {
-        if x.is_finite() && x >= 0.0 && (x as usize) < w && r < h {
-            let i = 3 * (r * w + x as usize);
-            rgb[i..i + 3].copy_from_slice(&colour);
-        }
-    };
-    if let Some(c) = nominal {
-        let mut mids: Vec<f64> = m.edges.iter().map(|&(_, l, r)| 0.5 * (l + r)).collect();
-        let axis = kezuri_post::tool_image::median(&mut mids).unwrap_or(0.0);
+    let mut mids: Vec<f64> = m.edges.iter().map(|&(_, l, r)| 0.5 * (l + r)).collect();
+    let axis = kezuri_post::tool_image::median(&mut mids).unwrap_or(w as f64 / 2.0);
+    let (red, green) = ("rgb(230,0,0)", "rgb(0,170,0)");
+    let mut overlays = Vec::new();
+    let mut legend = vec![("rgb(70,70,70)".to_string(), "the tool: the envelope of the pictures (dark)".to_string())];
+    if let Some((spec, c)) = nominal {
+        let (mut left, mut right) = (Vec::new(), Vec::new());
         for &(r, ..) in &m.edges {
             let z = (m.zero_row - r as f64) * px;
             if z >= 0.0 {
                 let half = (c.radius_at(z) + runout) / px;
-                dot(axis - half, r, [0, 200, 0]);
-                dot(axis + half, r, [0, 200, 0]);
+                left.push((axis - half + 0.5, r as f64 + 0.5));
+                right.push((axis + half + 0.5, r as f64 + 0.5));
             }
         }
+        for points in [left, right] {
+            overlays.push(Overlay { points, colour: green.into(), width: 4.0 });
+        }
+        legend.push((green.into(), format!("nominal {spec}, widened by the runout {:.4} mm", runout)));
     }
-    for &(r, l, rr) in &m.edges {
-        dot(l.round(), r, [230, 0, 0]);
-        dot(rr.round(), r, [230, 0, 0]);
+    let found = |side: fn(&(usize, f64, f64)) -> f64| -> Vec<(f64, f64)> {
+        m.edges.iter().filter(|e| side(e).is_finite()).map(|e| (side(e) + 0.5, e.0 as f64 + 0.5)).collect()
+    };
+    overlays.push(Overlay { points: found(|e| e.1), colour: red.into(), width: 1.5 });
+    overlays.push(Overlay { points: found(|e| e.2), colour: red.into(), width: 1.5 });
+    legend.push((red.into(), "edges found: the profile written".into()));
+    let top = m.zero_row * px;
+    Figure {
+        title: title.into(),
+        subtitle: format!("{w} × {h} pixels of {:.2} µm; z up from the nominal tip", px * 1000.0),
+        panels: vec![Panel {
+            raster: Raster { width: w, height: h, rgb },
+            extent: [-axis * px, (w as f64 - axis) * px, top - h as f64 * px, top],
+            axes: ["from the axis, mm".into(), "z, mm".into()],
+            caption: String::new(),
+            overlays,
+        }],
+        stacked: false,
+        bar: None,
+        legend,
     }
-    let mut out = Vec::new();
-    image::ImageEncoder::write_image(
-        image::codecs::png::PngEncoder::new(&mut out),
-        &rgb,
-        w as u32,
-        h as u32,
-        image::ExtendedColorType::Rgb8,
-    )?;
-    Ok(out)
+    .png()
 }
 
 /// The profile CSV in `text` (`file` names it in errors): columns

@@ -306,7 +306,12 @@ fn show(args: &ShowArgs) -> Result<()> {
             .enumerate()
             .map(|(k, r)| Line { label: format!("{} {}", k + 1, r.entry.measured_at), points: r.curve.clone() })
             .collect();
-        let title = format!("tool {}: radius loss against its first profile", args.tool_id);
+        let db = args
+            .file
+            .db
+            .file_name()
+            .map_or_else(|| args.file.db.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let title = format!("tool {} in {db}: radius loss against its first profile", args.tool_id);
         write_atomic(
             png,
             &png_from_svg(&line_chart(

@@ -30,7 +30,7 @@
 
 mod blob;
 mod pack;
-mod part;
+pub(crate) mod part;
 
 use std::io::Write as _;
 use std::path::PathBuf;

@@ -174,7 +174,7 @@ fn demo_makes_its_files() {
         "tools.sqlite",
         "tool-T7-wear.png",
         "groove-T7.nc",
-        "groove-T7-deviation.png",
+        "groove-deviation.png",
         "groove-before-after.png",
     ] {
         assert!(out.join(f).exists(), "{f}");
@@ -214,6 +214,17 @@ fn demo_makes_its_files() {
         .collect();
     let (before, after) = (gouges[3].max(left[3]), gouges[4].max(left[4]));
     assert!(after <= 0.5 * before && after <= 0.002, "{before} then {after}");
+    // Two of each tool's 36 microscope pictures are kept (all with
+    // --frames), and the folder stays small.
+    assert!(out.join("tool-T7-worn/f18.png").exists() && !out.join("tool-T7-worn/f01.png").exists());
+    // It ends with what to open: a 3D page first, then the pictures, and
+    // what the folder holds.
+    let index = report.split("\nOpen first:\n").nth(1).expect(&report);
+    let (page, picture) = (index.find("dome-ball.html").unwrap(), index.find("dome-ball-deviation.png").unwrap());
+    assert!(page < picture, "{index}");
+    let megabytes: f64 =
+        index.lines().last().unwrap().split(" files, ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(megabytes < 30.0, "{megabytes} MB");
 }
 
 #[test]

@@ -126,9 +126,12 @@ fn a_sweep_gives_a_case_per_inclination_step_and_cut_and_the_pictures() {
     let picture = image::open(&png).expect("a PNG").to_rgba8();
     assert!(picture.width() > 600 && picture.height() > 4 * 400, "{:?}", picture.dimensions());
     let svg = std::fs::read_to_string(&svg).unwrap();
-    for title in
-        ["Chip area per rotation angle (step-up, down-cut)", "Largest chip area per inclination", "Largest E_d"]
-    {
+    // Each chart's title names the tool.
+    for title in [
+        "Chip area per rotation angle (oval:16,24, step-up, down-cut)",
+        "Largest chip area per inclination, oval:16,24",
+        "Largest E_d per inclination, oval:16,24",
+    ] {
         assert!(svg.contains(title), "{title}");
     }
     let csv = std::fs::read_to_string(&csv).unwrap();

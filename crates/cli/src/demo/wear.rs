@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use kezuri_cam::sim::{simulate_tool, MeasuredTool, SimOptions, Stock, Tool, ZMap};
 use kezuri_geom::{write_binary_stl, SplitMix64, ToolProfile, Triangle, Vec3};
 use kezuri_post::synthetic::View;
@@ -14,9 +14,12 @@ use kezuri_post::tool_image::GrayImage;
 
 use super::{run_options, run_shown, words};
 use crate::chart::{line_chart, Line};
+use crate::figure::Figure;
 use crate::files::write_atomic;
 use crate::plot::png_from_svg;
 use crate::program::read_and_run;
+use crate::sim::picture::{deviation_panel, DeviationScale};
+use crate::sim::{simulate, SimSetup};
 
 /// The ball's radius, mm.
 const R: f64 = 0.25;
@@ -24,6 +27,14 @@ const R: f64 = 0.25;
 const PIXEL: f64 = 0.00071;
 /// The groove: a trough of this radius along Y, its bottom at z 0.
 const TROUGH: f64 = 0.8;
+/// The stock the groove is simulated in.
+const STOCK: &str = "-0.64,0.1,0.64,0.4,0.5";
+/// Pictures of the tool turning.
+const FRAMES: usize = 36;
+/// The pictures kept without `--frames`: half a turn apart.
+const KEPT: [usize; 2] = [0, 18];
+/// The groove's deviation pictures show ±this, mm.
+const GROOVE_SCALE: f64 = 0.004;
 
 /// The cutting edges of the tool after `worn` of its life (0 new, 1 the
 /// worn tool): the tip worn back 3 µm and a band at 45° 10 µm deep.
@@ -41,7 +52,8 @@ fn edges(worn: f64) -> ToolProfile {
     ToolProfile::new(z, r).expect("a profile")
 }
 
-/// Writes 36 frames of the tool turning (8 µm runout) as 16-bit PNGs.
+/// Writes [`FRAMES`] frames of the tool turning (8 µm runout) as 16-bit
+/// PNGs.
 fn pictures(dir: &Path, worn: f64, seed: u64) -> Result<Vec<String>> {
     let view = View {
         edges: edges(worn),
@@ -55,7 +67,7 @@ fn pictures(dir: &Path, worn: f64, seed: u64) -> Result<Vec<String>> {
     };
     let mut rng = SplitMix64::new(seed);
     let mut files = Vec::new();
-    for (k, frame) in view.frames(36, 840, 580, [0.0, 0.0], &mut rng).iter().enumerate() {
+    for (k, frame) in view.frames(FRAMES, 840, 580, [0.0, 0.0], &mut rng).iter().enumerate() {
         let file = dir.join(format!("f{k:02}.png"));
         write_atomic(&file, &png16(frame)?)?;
         files.push(file.to_string_lossy().into_owned());
@@ -113,8 +125,9 @@ fn groove() -> String {
     s + "G0 Z2.\nM30\n%\n"
 }
 
-/// The tool-wear demo into `out`.
-pub fn tool_wear(out: &Path) -> Result<()> {
+/// The tool-wear demo into `out`, keeping every picture of the tool with
+/// `all_frames` (else [`KEPT`]).
+pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
     println!("\ntool wear: a 0.5 mm ball end mill imaged turning (36 frames, 0.71 µm pixels), new and worn");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let mut commands = Vec::new();
@@ -150,8 +163,7 @@ pub fn tool_wear(out: &Path) -> Result<()> {
         "-o",
         &at("groove-T7.nc"),
     ]));
-    let stock = "-0.64,0.1,0.64,0.4,0.5";
-    for (program, picture) in [("groove.nc", "groove-worn.png"), ("groove-T7.nc", "groove-T7.png")] {
+    for program in ["groove.nc", "groove-T7.nc"] {
         commands.push(words(&[
             "sim",
             &at(program),
@@ -160,16 +172,22 @@ pub fn tool_wear(out: &Path) -> Result<()> {
             "--res",
             "0.002",
             "--stock",
-            stock,
+            STOCK,
             "--compare",
             &at("groove-target.stl"),
-            "-o",
-            &at(picture),
         ]));
     }
     // A fresh database each run.
     let _ = std::fs::remove_file(out.join("tools.sqlite"));
     run_shown(out, &commands)?;
+    if !all_frames {
+        for name in ["new", "worn"] {
+            for k in (0..FRAMES).filter(|k| !KEPT.contains(k)) {
+                std::fs::remove_file(out.join(format!("tool-T7-{name}/f{k:02}.png")))?;
+            }
+        }
+    }
+    write_atomic(&out.join("groove-deviation.png"), &groove_deviation(out)?)?;
     let worn = crate::tool::read_profile(&out.join("tool-T7-worn.csv"))?;
     let before = section(&out.join("groove.nc"), &worn)?;
     let after = section(&out.join("groove-T7.nc"), &worn)?;
@@ -184,15 +202,56 @@ pub fn tool_wear(out: &Path) -> Result<()> {
         ],
     );
     write_atomic(&out.join("groove-before-after.png"), &png_from_svg(&chart)?)?;
+    let kept = if all_frames {
+        format!("all {FRAMES} pictures")
+    } else {
+        let names: Vec<String> = KEPT.iter().map(|k| format!("f{k:02}")).collect();
+        format!("pictures {} of {FRAMES}; all with --frames", names.join(" and "))
+    };
     println!(
-        "\nwrote tool-T7-new/, tool-T7-worn/ (the pictures), tool-T7-*.csv and .png (profiles), tools.sqlite,\n\
-         tool-T7-wear.png, groove.nc, groove-target.stl, groove-T7.nc (corrected), groove-worn.png,\n\
-         groove-T7.png and groove-before-after.png: across the groove up to {:.2} µm off as programmed,\n\
-         {:.2} µm corrected",
+        "\nwrote tool-T7-new/, tool-T7-worn/ (the tool's {kept}), tool-T7-*.csv and .png (profiles),\n\
+         tools.sqlite, tool-T7-wear.png, groove.nc, groove-target.stl, groove-T7.nc (corrected),\n\
+         groove-deviation.png (both grooves on one scale) and groove-before-after.png: across the groove\n\
+         up to {:.2} µm off as programmed, {:.2} µm corrected",
         largest(&before),
         largest(&after)
     );
     Ok(())
+}
+
+/// The grooves as programmed and corrected, cut by the worn tool, their
+/// deviation from the target one above the other on one scale.
+fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
+    let scale = DeviationScale { mm: GROOVE_SCALE, basis: "one scale for both".into() };
+    let mut panels = Vec::new();
+    for (program, what) in [("groove.nc", "as programmed"), ("groove-T7.nc", "corrected for the wear")] {
+        let (ran, _) = read_and_run(&run_options(out.join(program), None))?;
+        let setup = SimSetup {
+            tool_profile: Some(out.join("tool-T7-worn.csv")),
+            stock: Some(STOCK.into()),
+            compare: Some(out.join("groove-target.stl")),
+            chord_tol: 0.001,
+            max_cells: 250_000_000,
+            ..SimSetup::default()
+        };
+        let sim = simulate(&ran.outcome.toolpath, &ran.machine, &setup, 0.002, 10, program)?;
+        let Some((c, heights)) = &sim.comparison else { bail!("{program}: no comparison") };
+        let caption = format!(
+            "{program}, {what}: deepest gouge {:.2} µm, most left {:.2} µm",
+            c.max_gouge * 1000.0,
+            c.max_left * 1000.0
+        );
+        panels.push(deviation_panel(&sim.zmap, heights, &scale, &caption));
+    }
+    Figure {
+        title: "groove.nc and groove-T7.nc: measured tool tool-T7-worn.csv".into(),
+        subtitle: "deviation from groove-target.stl (simulated − target), 0.002 mm cells, +Y up".into(),
+        panels,
+        stacked: true,
+        bar: Some(scale.bar()),
+        legend: vec![],
+    }
+    .png()
 }
 
 /// The cut of `program` by the measured tool across the groove at y 0.25:

@@ -326,7 +326,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         }
     }
     if let Some(svg) = &args.svg {
-        out.add(Some(svg), crate::plot::svg(&path, &title).as_bytes())?;
+        let name = crate::program::svg_title(Some(&args.output), &title, &[]);
+        out.add(Some(svg), crate::plot::svg(&path, &name).as_bytes())?;
     }
     if let Some(page) = &args.view {
         let (options, cutters) = (crate::view::PageOptions::default(), [(args.tool_number, cutter)]);

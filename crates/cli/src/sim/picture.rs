@@ -1,17 +1,31 @@
-//! `sim`'s pictures (shaded heights, deviation) and its surface as STL.
+//! `sim`'s pictures (shaded heights, deviation), framed with their title,
+//! axes in mm and colour bar, and its surface as STL.
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use image::codecs::png::PngEncoder;
-use image::{ExtendedColorType, ImageEncoder};
+use anyhow::Result;
 use kezuri_cam::sim::ZMap;
 use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
 
+use crate::figure::{colour_at, ColourBar, Figure, Panel, Raster};
 use crate::files::Outputs;
+use crate::view::part::{percentile_99, GOUGE_MM};
 
 /// Largest picture side; bigger grids are sampled every k-th cell.
 const MAX_SIDE: usize = 4096;
+
+/// The colour of no target.
+const NO_TARGET: [u8; 3] = [128, 128, 128];
+/// The colour of a gouge (deeper than [`GOUGE_MM`] below the target,
+/// whatever the scale, as on the `--view` page) at the full scale; lighter
+/// from the limit down to it.
+pub const GOUGE: [u8; 3] = [200, 0, 200];
+/// A gouge just over the limit: the gouge colour, light.
+const GOUGE_LIGHT: [u8; 3] = [240, 160, 240];
+/// Below the target within the gouge limit, at the limit.
+const BELOW: [u8; 3] = [250, 215, 215];
+const ON: [u8; 3] = [255, 255, 255];
+const ABOVE: [u8; 3] = [30, 70, 210];
 
 /// The cells a picture shows: every `k`-th along both axes.
 fn picture_grid(zmap: &ZMap) -> (usize, usize, usize) {
@@ -19,17 +33,21 @@ fn picture_grid(zmap: &ZMap) -> (usize, usize, usize) {
     (k, zmap.nx.div_ceil(k), zmap.ny.div_ceil(k))
 }
 
-fn png(rgb: &[u8], w: usize, h: usize) -> Result<Vec<u8>> {
-    let mut out = Vec::new();
-    PngEncoder::new(&mut out)
-        .write_image(rgb, w as u32, h as u32, ExtendedColorType::Rgb8)
-        .context("cannot encode the PNG")?;
-    Ok(out)
+/// What a picture of the grid covers, mm: left, right, bottom, top.
+fn extent(zmap: &ZMap) -> [f64; 4] {
+    let (k, w, h) = picture_grid(zmap);
+    let cell = k as f64 * zmap.res;
+    [zmap.x0, zmap.x0 + w as f64 * cell, zmap.y0, zmap.y0 + h as f64 * cell]
+}
+
+/// The tint of height `t` (0 lowest, 1 highest), fully lit.
+fn tint(t: f64) -> [f64; 3] {
+    [0.45 + 0.55 * t, 0.42 + 0.5 * t, 0.38 + 0.4 * t]
 }
 
 /// The simulated surface, hill-shaded (light from the north-west, 45° up)
 /// and tinted by height; +Y up.
-pub fn height_png(zmap: &ZMap) -> Result<Vec<u8>> {
+fn height_raster(zmap: &ZMap) -> Raster {
     let (k, w, h) = picture_grid(zmap);
     let (lo, hi) = zmap.range();
     let span = (hi - lo).max(1e-12);
@@ -50,37 +68,173 @@ pub fn height_png(zmap: &ZMap) -> Result<Vec<u8>> {
             let (gx, gy) = (2.0 * gx, 2.0 * gy);
             let n = (1.0 + gx * gx + gy * gy).sqrt();
             let shade = ((-gx * light[0] - gy * light[1] + light[2]) / n).clamp(0.0, 1.0);
-            let t = (z(i, j) - lo) / span;
-            let base = [0.45 + 0.55 * t, 0.42 + 0.5 * t, 0.38 + 0.4 * t];
-            for c in base {
+            for c in tint((z(i, j) - lo) / span) {
                 rgb.push((255.0 * c * (0.15 + 0.85 * shade)).round().clamp(0.0, 255.0) as u8);
             }
         }
     }
-    png(&rgb, w, h)
+    Raster { width: w, height: h, rgb }
 }
 
-/// The deviation simulated − target: red below, blue above, white on it,
-/// full colour at ±`scale`; grey where there is no target.
-pub fn deviation_png(zmap: &ZMap, target: &[f64], scale: f64) -> Result<Vec<u8>> {
+/// The axes of a picture of the grid.
+fn xy() -> [String; 2] {
+    ["X, mm".into(), "Y, mm".into()]
+}
+
+/// The simulated surface as a framed PNG titled `title`: hill-shaded and
+/// tinted by height, with a colour bar of Z.
+pub fn height_png(zmap: &ZMap, title: &str) -> Result<Vec<u8>> {
+    let (lo, hi) = zmap.range();
+    let colour = |t: f64| tint(t).map(|c| (255.0 * c).round() as u8);
+    Figure {
+        title: title.into(),
+        subtitle: format!("simulated surface, {:.3} mm cells, +Y up", zmap.res),
+        panels: vec![Panel {
+            raster: height_raster(zmap),
+            extent: extent(zmap),
+            axes: xy(),
+            caption: String::new(),
+            overlays: vec![],
+        }],
+        stacked: false,
+        bar: Some(ColourBar {
+            stops: vec![(lo, colour(0.0)), (hi.max(lo + 1e-9), colour(1.0))],
+            label: "Z, mm".into(),
+            notes: vec!["shaded as lit from the upper left".into(), "(slopes drawn twice as steep)".into()],
+            swatches: vec![],
+        }),
+        legend: vec![],
+    }
+    .png()
+}
+
+/// How a deviation picture is coloured: full colour at ±`mm`, said as
+/// `basis`.
+pub struct DeviationScale {
+    pub mm: f64,
+    pub basis: String,
+}
+
+impl DeviationScale {
+    /// `given` (`--deviation-scale`), else the 99th percentile of
+    /// |deviation| over the compared cells (at least the gouge limit).
+    pub fn new(zmap: &ZMap, target: &[f64], given: Option<f64>) -> DeviationScale {
+        match given {
+            Some(mm) => DeviationScale { mm, basis: "--deviation-scale".into() },
+            None => DeviationScale {
+                mm: percentile_99(zmap, target).max(GOUGE_MM),
+                basis: "the 99th percentile of |deviation|".into(),
+            },
+        }
+    }
+
+    /// Micrometres for a scale under 0.1 mm, else mm: the factor from mm
+    /// and the unit's name.
+    fn unit(&self) -> (f64, &'static str) {
+        if self.mm < 0.1 {
+            (1000.0, "µm")
+        } else {
+            (1.0, "mm")
+        }
+    }
+
+    /// The bar's colours, in the unit of [`Self::unit`]: below the target
+    /// white to pink down to the gouge limit, then the gouge colour from
+    /// light to full; above it white to blue.
+    fn stops(&self) -> Vec<(f64, [u8; 3])> {
+        let f = self.unit().0;
+        let (s, g) = (self.mm * f, GOUGE_MM * f);
+        if s > g {
+            vec![(-s, GOUGE), (-g, GOUGE_LIGHT), (-g, BELOW), (0.0, ON), (s, ABOVE)]
+        } else {
+            vec![(-s, BELOW), (0.0, ON), (s, ABOVE)]
+        }
+    }
+
+    /// The colour bar of pictures on this scale.
+    pub fn bar(&self) -> ColourBar {
+        let (factor, unit) = self.unit();
+        let s = self.mm * factor;
+        let notes = vec![format!("full colour at ±{}", short(s, unit)), format!("({})", self.basis)];
+        let gouge = format!("gouge: over {} below the target", short(GOUGE_MM * 1000.0, "µm"));
+        // Where the bar holds the gouges they deepen in colour as they do.
+        let swatches = vec![(GOUGE, gouge), (NO_TARGET, "no target".to_string())];
+        ColourBar { stops: self.stops(), label: format!("simulated − target, {unit}"), notes, swatches }
+    }
+
+    /// The colour of deviation `d` mm: a gouge's below the gouge limit
+    /// however large the scale.
+    fn colour(&self, d: f64) -> [u8; 3] {
+        let f = self.unit().0;
+        let (v, s, g) = (d * f, self.mm * f, GOUGE_MM * f);
+        if d < -GOUGE_MM {
+            if s > g {
+                colour_at(&[(-s, GOUGE), (-g, GOUGE_LIGHT)], v)
+            } else {
+                GOUGE
+            }
+        } else {
+            colour_at(&[(-s.min(g), BELOW), (0.0, ON), (s, ABOVE)], v)
+        }
+    }
+}
+
+/// `v` with few digits and its unit: `3.2 µm`, `0.154 mm`.
+fn short(v: f64, unit: &str) -> String {
+    let digits = if v >= 10.0 {
+        0
+    } else if v >= 1.0 {
+        1
+    } else {
+        3
+    };
+    format!("{v:.digits$} {unit}")
+}
+
+/// The deviation simulated − `target` on `scale`: red below, white on it,
+/// blue above, a gouge in its own colour; grey where there is no target.
+fn deviation_raster(zmap: &ZMap, target: &[f64], scale: &DeviationScale) -> Raster {
     let (k, w, h) = picture_grid(zmap);
     let mut rgb = Vec::with_capacity(w * h * 3);
     for row in 0..h {
         let j = (h - 1 - row) * k;
         for col in 0..w {
             let c = j * zmap.nx + col * k;
-            let px = if target[c] == f64::NEG_INFINITY {
-                [128.0, 128.0, 128.0]
-            } else {
-                let t = ((zmap.z[c] - target[c]) / scale).clamp(-1.0, 1.0);
-                let end = if t < 0.0 { [200.0, 20.0, 30.0] } else { [30.0, 70.0, 210.0] };
-                let a = t.abs();
-                [255.0 + (end[0] - 255.0) * a, 255.0 + (end[1] - 255.0) * a, 255.0 + (end[2] - 255.0) * a]
-            };
-            rgb.extend(px.map(|v: f64| v.round() as u8));
+            rgb.extend(if target[c] == f64::NEG_INFINITY { NO_TARGET } else { scale.colour(zmap.z[c] - target[c]) });
         }
     }
-    png(&rgb, w, h)
+    Raster { width: w, height: h, rgb }
+}
+
+/// The deviation as a panel of a figure, captioned `caption`.
+pub fn deviation_panel(zmap: &ZMap, target: &[f64], scale: &DeviationScale, caption: &str) -> Panel {
+    Panel {
+        raster: deviation_raster(zmap, target, scale),
+        extent: extent(zmap),
+        axes: xy(),
+        caption: caption.into(),
+        overlays: vec![],
+    }
+}
+
+/// The deviation picture, framed: titled `title`, `subtitle` under it, a
+/// colour bar of the scale.
+pub fn deviation_png(
+    zmap: &ZMap,
+    target: &[f64],
+    scale: &DeviationScale,
+    title: &str,
+    subtitle: &str,
+) -> Result<Vec<u8>> {
+    Figure {
+        title: title.into(),
+        subtitle: subtitle.into(),
+        panels: vec![deviation_panel(zmap, target, scale, "")],
+        stacked: false,
+        bar: Some(scale.bar()),
+        legend: vec![],
+    }
+    .png()
 }
 
 /// Adds the simulated surface to `out` as a binary STL, a triangle at a
@@ -102,4 +256,78 @@ pub fn stage_surface_stl(out: &mut Outputs, path: &Path, zmap: &ZMap) -> Result<
         }
     });
     out.add_with(Some(path), |w| write_binary_stl_to(w, triangles))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kezuri_cam::sim::{SimOptions, Stock};
+
+    /// A 10 × 10 grid of 1 mm cells on a flat target at 0, cut to `dev`.
+    fn grid(dev: impl Fn(usize) -> f64) -> (ZMap, Vec<f64>) {
+        let stock = Stock { x0: 0.0, y0: 0.0, x1: 10.0, y1: 10.0, top: 1.0 };
+        let mut z = ZMap::new(&stock, &SimOptions::new(1.0)).unwrap();
+        for (k, h) in z.z.iter_mut().enumerate() {
+            *h = dev(k);
+        }
+        let target = vec![0.0; z.z.len()];
+        (z, target)
+    }
+
+    #[test]
+    fn the_deviation_scale_is_the_99th_percentile_and_gouges_have_their_colour() {
+        // 98 cells 2 µm above, one 4 µm above, one 0.5 mm above (an edge
+        // left uncut): full colour at the 99th percentile, 4 µm, not 0.5 mm.
+        let (z, target) = grid(|k| match k {
+            0 => 0.5,
+            1 => 0.004,
+            _ => 0.002,
+        });
+        let scale = DeviationScale::new(&z, &target, None);
+        assert!((scale.mm - 0.004).abs() < 1e-12, "{}", scale.mm);
+        let r = deviation_raster(&z, &target, &scale);
+        // Row 0 of the picture is the grid's top row (+Y up): cell k is at
+        // column k % 10, row 9 - k / 10.
+        let pixel = |k: usize| {
+            let i = 3 * ((9 - k / 10) * 10 + k % 10);
+            [r.rgb[i], r.rgb[i + 1], r.rgb[i + 2]]
+        };
+        assert_eq!(pixel(1), ABOVE, "the 99th percentile in full colour");
+        assert_eq!(pixel(0), ABOVE, "beyond it too");
+        assert_eq!(pixel(5), [143, 163, 233], "half the scale, half way to blue");
+        // A gouge deeper than 1 µm in its own colour; 0.5 µm below is red-ish.
+        let (z, target) = grid(|k| match k {
+            3 => -0.0015,
+            4 => -0.0005,
+            _ => 0.002,
+        });
+        let scale = DeviationScale::new(&z, &target, Some(0.001));
+        let r = deviation_raster(&z, &target, &scale);
+        let i = 3 * (9 * 10 + 3);
+        assert_eq!(r.rgb[i..i + 3], GOUGE);
+        let i = 3 * (9 * 10 + 4);
+        assert_eq!(r.rgb[i..i + 3], [253, 235, 235]);
+        // On a larger scale a gouge's colour deepens with it: 2.5 µm below
+        // on ±4 µm is half way from the limit's light magenta to full.
+        let scale = DeviationScale::new(&z, &target, Some(0.004));
+        assert_eq!(scale.colour(-0.0025), [220, 80, 220]);
+        assert_eq!(scale.colour(-0.001), BELOW);
+        assert_eq!(scale.colour(-0.0010001), GOUGE_LIGHT);
+        assert_eq!(scale.colour(-0.01), GOUGE);
+        // The bar says the scale and its basis, in µm.
+        let bar = DeviationScale::new(&z, &target, None).bar();
+        assert_eq!(bar.label, "simulated − target, µm");
+        assert!(bar.notes[1].contains("99th percentile"), "{:?}", bar.notes);
+    }
+
+    #[test]
+    fn pictures_are_the_same_bytes_each_time() {
+        let (z, target) = grid(|k| 0.001 * (k % 7) as f64 - 0.002);
+        let scale = DeviationScale::new(&z, &target, None);
+        let a = deviation_png(&z, &target, &scale, "t.nc: ball:6", "against t.stl").unwrap();
+        assert_eq!(a, deviation_png(&z, &target, &scale, "t.nc: ball:6", "against t.stl").unwrap());
+        assert_eq!(height_png(&z, "t.nc").unwrap(), height_png(&z, "t.nc").unwrap());
+        let img = image::load_from_memory(&a).unwrap();
+        assert!(img.width() > 400 && img.height() > 300, "{} x {}", img.width(), img.height());
+    }
 }

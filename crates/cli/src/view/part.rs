@@ -98,7 +98,10 @@ impl Part<'_> {
             blob.i32s(devs.iter().copied());
             let (scale, basis) = match self.scale {
                 Some(s) => (s, format!("±{s} mm as given")),
-                None => (self.percentile_99().max(GOUGE_MM), "99th percentile of |deviation|".to_string()),
+                None => (
+                    percentile_99(z, self.target.unwrap_or(&[])).max(GOUGE_MM),
+                    "99th percentile of |deviation|".to_string(),
+                ),
             };
             json!({
                 "scale_um": scale * 1000.0,
@@ -116,16 +119,18 @@ impl Part<'_> {
         let far = [x0 + cell * (s.nx - 1) as f64, y0 + cell * (s.ny - 1) as f64, hi];
         (meta, ([x0, y0, lo], far))
     }
+}
 
-    /// The 99th percentile of |deviation| over the compared cells, mm.
-    fn percentile_99(&self) -> f64 {
-        let mut all: Vec<f64> = (0..self.zmap.z.len()).filter_map(|k| self.deviation(k)).map(f64::abs).collect();
-        if all.is_empty() {
-            return 0.0;
-        }
-        let k = ((all.len() - 1) as f64 * 0.99).round() as usize;
-        *all.select_nth_unstable_by(k, f64::total_cmp).1
+/// The 99th percentile of |deviation| over the cells of `zmap` that
+/// `target` covers (`-inf` where it does not), mm.
+pub fn percentile_99(zmap: &ZMap, target: &[f64]) -> f64 {
+    let mut all: Vec<f64> =
+        zmap.z.iter().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY).map(|(z, t)| (z - t).abs()).collect();
+    if all.is_empty() {
+        return 0.0;
     }
+    let k = ((all.len() - 1) as f64 * 0.99).round() as usize;
+    *all.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// The largest squares of quads (power-of-two sides, at least 2) whose
