@@ -87,7 +87,7 @@ pub struct ConvertArgs {
     #[arg(long, alias = "from", value_enum, value_name = "DIALECT")]
     pub dialect: Option<Format>,
     /// Format of the output [default: from its extension, else fanuc].
-    #[arg(long, value_enum, value_name = "FORMAT")]
+    #[arg(long, alias = "emit", value_enum, value_name = "FORMAT")]
     pub to: Option<Format>,
     /// Millimetres per RML-1 step.
     #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]

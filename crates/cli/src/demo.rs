@@ -92,8 +92,8 @@ fn geometry(out: &Path) -> Result<()> {
     let stl = stl.to_string_lossy().into_owned();
     println!("\nsamples/dome.stl  (a 60 x 60 mm rippled dome, 28,800 triangles)");
     let commands: [Vec<String>; 6] = [
-        words(&["scallop", "--tool", "oval:16,24", "--angle", "15", "--target", "0.010"]),
-        words(&["scallop", "--tool", "oval:16,24", "--angle", "60", "--target", "0.010"]),
+        words(&["scallop", "--tool", "oval:16,24", "--angle", "15", "--cusp", "0.010"]),
+        words(&["scallop", "--tool", "oval:16,24", "--angle", "60", "--cusp", "0.010"]),
         words(&[
             "engage",
             "--tool",

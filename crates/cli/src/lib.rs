@@ -44,7 +44,7 @@ use program::{RunOptions, WriteArgs};
 #[derive(Parser, Debug)]
 #[command(name = "kezuri", version, about, long_about = None)]
 #[command(
-    after_help = "Examples:\n  kezuri demo\n  kezuri check part.nc\n  kezuri run texture.nc --clock-seed 7 --emit fanuc -o expanded.nc"
+    after_help = "Examples:\n  kezuri demo\n  kezuri check part.nc\n  kezuri run texture.nc --clock-seed 7 --to fanuc -o expanded.nc"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -80,10 +80,10 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
     },
     /// Execute macros and subprograms and write the expanded motion program.
     #[command(
-        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --emit csv -o moves.csv\n  \
-kezuri run part.nc --emit linuxcnc --svg part.svg -o part.ngc\n  \
+        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --to csv -o moves.csv\n  \
+kezuri run part.nc --to linuxcnc --svg part.svg -o part.ngc\n  \
 kezuri run drill.nc --keep-cycles -o drill-cycles.nc   # G81/G83 stay cycle blocks\n  \
-kezuri run contour.nc --machine mill.toml --apply-comp --emit grbl -o c.gcode  # tool centre\n\n\
+kezuri run contour.nc --machine mill.toml --apply-comp --to grbl -o c.gcode  # tool centre\n\n\
 What the machine must do itself is written where the program had it: M codes kezuri does not \
 follow (M00, M19, clamps), G10, G92, G52, smoothing codes (G05.1, G187), output signals, taps \
 (G84/G74, always as cycles), G41/G42 D. A move the program made as an increment from a \

@@ -14,9 +14,9 @@ use crate::surface::read_surface;
 #[derive(Args, Debug)]
 #[command(after_help = "\
 The cutter is placed on the surface with drop-cutter (exact contact for every shape), so the
-program never cuts into the surface by more than --tolerance: rows are sampled every --step,
-halved where the path bends more than --tolerance/2, and merged where it is straight within
---tolerance/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
+program never cuts into the surface by more than --gouge-tol: rows are sampled every --step,
+halved where the path bends more than --gouge-tol/2, and merged where it is straight within
+--gouge-tol/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
 it, so nothing outside the surface is cut; within a radius of the edges the cutter cannot
 reach down everywhere, and material is left there. Where no part of the surface is under
 the cutter the row is cut in pieces, with a retract between.
@@ -60,9 +60,10 @@ pub struct MillArgs {
     /// Sampling step along a row, mm [default: a quarter of the cutter radius].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
-    pub tolerance: f64,
+    /// How far the path may stray from the exact cutter locations, mm: a gouge into the surface
+    /// of up to this much is allowed.
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    pub gouge_tol: f64,
     /// Area the cutter's centre covers in plan [default: the surface's XY box;
     /// a larger one finishes the edges, with the cutter resting on the
     /// surface's edge beyond them, lower than the surface].
@@ -142,8 +143,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         pattern: args.pattern.into(),
         stepover: args.stepover,
         step: args.step.unwrap_or(cutter.radius() / 4.0),
-        tolerance: args.tolerance,
-        gouge: args.tolerance,
+        tolerance: args.gouge_tol,
+        gouge: args.gouge_tol,
         quantum: args.write.quantum(&machine)?,
         safe_z: args.safe_z.unwrap_or(surface.top() + 5.0),
         feed: args.feed,
@@ -160,10 +161,10 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     let digits = args.write.digits.unwrap_or(if args.write.inch { 4 } else { 3 });
     let rounding = 0.5 * 10f64.powi(-i32::from(digits)) * if args.write.inch { 25.4 } else { 1.0 };
-    if rounding > args.tolerance {
+    if rounding > args.gouge_tol {
         eprintln!(
-            "warning: {digits} decimals round positions by up to {rounding} mm, more than --tolerance {} mm",
-            args.tolerance
+            "warning: {digits} decimals round positions by up to {rounding} mm, more than --gouge-tol {} mm",
+            args.gouge_tol
         );
     }
     let pick_feeds = args.cusp.map(|h| pick_feed_table(&cutter, h));

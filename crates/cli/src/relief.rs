@@ -37,7 +37,7 @@ puts a corner (corner or lower-left, lower-right, upper-left, upper-right) or th
 
 The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
 relief: rows are sampled every --step and refined until the path stays within 0.001 mm below
-and --tolerance above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
+and --leave-tol above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
 --to rml, hold it to about 0.003 mm). --rough SPEC first
 clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
 --surface-stl writes the relief surface for `kezuri sim --compare`. With --rough the roughing
@@ -118,9 +118,10 @@ pub struct ReliefArgs {
     /// program's increment where the pixel is finer].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How much material the path may leave above the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
-    pub tolerance: f64,
+    /// How much material the path may leave above the exact cutter locations, mm (it never
+    /// cuts more than 0.001 mm below them).
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    pub leave_tol: f64,
     /// Roughing cutter: clear the stock in levels first.
     #[arg(long, value_name = "SPEC")]
     pub rough: Option<String>,
@@ -264,8 +265,8 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         stepover: args.stepover,
         // Sampling finer than the program's increment writes nothing finer.
         step: args.step.unwrap_or(pixel.max(quantum)),
-        tolerance: args.tolerance,
-        gouge: GOUGE.min(args.tolerance),
+        tolerance: args.leave_tol,
+        gouge: GOUGE.min(args.leave_tol),
         quantum,
         safe_z: args.safe_z,
         feed: args.feed,

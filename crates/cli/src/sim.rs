@@ -51,7 +51,7 @@ reach the cells start at its bottom. Without --stock the stock is the XY box of 
 moves grown by the widest cutter's radius, its top at their highest point; give --stock for a
 real check of the rapids.
 
---tool-profile PROFILE.csv cuts with a measured tool instead of --tool SPEC: the CSV of
+--profile PROFILE.csv cuts with a measured tool instead of --tool SPEC: the CSV of
 `kezuri tool` (`z_mm,radius_mm`: z up from the nominal tip, the radius of the swept envelope,
 straight between samples). The tool is what a Z-map sees of it from below: at each radius the
 lowest height it reaches there, so a worn tip cuts less deep and a worn waist leaves a ridge.
@@ -121,16 +121,17 @@ pub struct SimArgs {
 /// What a simulation is cut with and compared to: the options `sim` and
 /// `view --sim` share.
 #[derive(Args, Debug, Default)]
-#[command(group(ArgGroup::new("cutter").args(["tool", "tool_profile"])))]
+#[command(group(ArgGroup::new("cutter").args(["tool", "profile"])))]
 pub struct SimSetup {
     /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
     /// degrees) [default: the machine file's tool table].
     #[arg(long, value_name = "SPEC")]
     pub tool: Option<String>,
-    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool`).
-    #[arg(long, value_name = "PROFILE.csv")]
-    pub tool_profile: Option<PathBuf>,
-    /// Cut every move with --tool (or --tool-profile), whatever tools the program changes to.
+    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool
+    /// profile`).
+    #[arg(long, alias = "tool-profile", value_name = "PROFILE.csv")]
+    pub profile: Option<PathBuf>,
+    /// Cut every move with --tool (or --profile), whatever tools the program changes to.
     #[arg(long)]
     pub same_tool_for_all: bool,
     /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm

@@ -17,7 +17,7 @@ pub enum Mode {
     /// The paper's way: a Fanuc macro called by G66.1 on every cutting block
     /// draws each depth from the control's clock, so every part differs. The
     /// program is written as it was, with the calls and the macro added
-    /// (--emit, --digits, --line-numbers and --svg do not apply).
+    /// (--to, --digits, --line-numbers and --svg do not apply).
     Macro,
 }
 
@@ -144,7 +144,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         }
         Mode::Macro => {
             if !a.write.is_fanuc(&ran.machine) {
-                bail!("--mode macro writes a Fanuc Custom Macro B program: leave --emit at fanuc");
+                bail!("--mode macro writes a Fanuc Custom Macro B program: leave --to at fanuc");
             }
             let uniform = match a.dist {
                 DistArg::Digits => false,

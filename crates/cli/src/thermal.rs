@@ -202,8 +202,8 @@ pub struct PlanArgs {
     #[arg(long, value_name = "Z", default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: f64,
     /// Program number [default: the machine file's [post] program_number, else 2007].
-    #[arg(long, value_name = "N")]
-    pub number: Option<u32>,
+    #[arg(long, alias = "number", value_name = "N")]
+    pub program_number: Option<u32>,
     /// Machine file (TOML): the program may use only axes it has [default: a 3-axis mill];
     /// its [post] (how the program is written for the control) and tool table (the H register
     /// of G43 H).
@@ -255,7 +255,7 @@ fn plan(a: &PlanArgs) -> Result<()> {
         bail!("--at {}: the machine has no B axis to index (give --machine with one)", s.b_deg);
     }
     let p = ThermalPlan {
-        number: a.number.or(machine.post.program_number).unwrap_or(2007),
+        number: a.program_number.or(machine.post.program_number).unwrap_or(2007),
         stations,
         axes,
         steps: a.steps,

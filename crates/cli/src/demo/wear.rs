@@ -155,7 +155,7 @@ pub fn tool_wear(out: &Path) -> Result<()> {
         commands.push(words(&[
             "sim",
             &at(program),
-            "--tool-profile",
+            "--profile",
             &at("tool-T7-worn.csv"),
             "--res",
             "0.002",

@@ -34,8 +34,8 @@ follows the higher of that surface and the straight line from reading to reading
 of the pitch; with --step the pitch it goes straight from reading to reading, as the original
 copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ (25 µm at
 1 mm round a sharp edge). Where the readings bend down so sharply that the copy may cut more
-than --tolerance below the model between them, the report warns. Any other cutter is placed on
-the model, sampled every --resolution, with drop-cutter. Where the surface through the readings
+than --gouge-tol below the model between them, the report warns. Any other cutter is placed on
+the model, sampled every --res, with drop-cutter. Where the surface through the readings
 bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) the report warns: no ball
 rolling on a model gives such readings.
 
@@ -70,16 +70,17 @@ pub struct MillArgs {
     /// ball, else the pitch].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
-    pub tolerance: f64,
+    /// How far the path may stray from the exact cutter locations, mm: a gouge into the model
+    /// of up to this much is allowed.
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    pub gouge_tol: f64,
     /// Between the readings: smooth (a surface through them) or bound (the highest
     /// surface they allow, the former default).
     #[arg(long, value_enum, default_value = "smooth")]
     pub between: Between,
     /// Node spacing of the reconstructed surface, mm [default: pitch / 8].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
-    pub resolution: Option<f64>,
+    #[arg(long, alias = "resolution", value_name = "MM", value_parser = crate::numbers::length)]
+    pub res: Option<f64>,
     /// Height for rapids [default: 5 mm above the highest cut].
     #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: Option<f64>,
@@ -109,7 +110,7 @@ pub struct MillArgs {
     #[arg(long, value_name = "NAME")]
     pub post: Option<String>,
     /// The older name of --post fanuc, linuxcnc or grbl.
-    #[arg(long, value_enum, hide = true)]
+    #[arg(long, alias = "to", value_enum, hide = true)]
     pub emit: Option<Emit>,
     /// The program (`-` for stdout).
     #[arg(short, long, value_name = "OUT")]
@@ -150,7 +151,7 @@ pub enum Between {
     Bound,
 }
 
-/// `--emit`, the older name of `--post` for three of the posts.
+/// `--emit` (or `--to`), the older name of `--post` for three of the posts.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Emit {
     /// Fanuc (`%` framing, `O` number).
@@ -182,7 +183,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     // the pitch) cut p²/(8ρ) into a ridge of radius ρ (docs/probe-copy.md).
     let follows = args.between == Between::Smooth && cutter == stylus;
     let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
-    let resolution = positive("--resolution", args.resolution.unwrap_or(pitch / 8.0))?;
+    let resolution = positive("--res", args.res.unwrap_or(pitch / 8.0))?;
     let machine = match &args.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
@@ -218,14 +219,14 @@ pub fn run(args: &MillArgs) -> Result<()> {
         (Some(s), Cutter::Ball(_)) => s.tighter_than(stylus.radius()),
         _ => None,
     };
-    let bend = smooth.as_ref().and_then(|_| sharpest_bend(grid, args.tolerance));
+    let bend = smooth.as_ref().and_then(|_| sharpest_bend(grid, args.gouge_tol));
     let options = RasterOptions {
         direction: Direction::X,
         pattern: Pattern::ZigZag,
         stepover,
         step,
-        tolerance: args.tolerance,
-        gouge: args.tolerance,
+        tolerance: args.gouge_tol,
+        gouge: args.gouge_tol,
         // Bound: positions on the output grid and heights rounded up to it
         // (never below the bound); smooth: exact positions, the writer
         // rounds to the nearest.
@@ -283,7 +284,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let path = raster_with(&cl, rows_at, region, &options, None, &|_, _| {})?;
     let (path, margins) = match flat {
         Some(z) => {
-            rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
+            rapid_margins(&path, z, args.gouge_tol.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
         }
         None => (path, Default::default()),
     };
@@ -382,14 +383,14 @@ pub fn run(args: &MillArgs) -> Result<()> {
         let _ = writeln!(
             report,
             "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
-             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --tolerance {}; a finer \
+             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {}; a finer \
              pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm between readings \
              on a flat)",
             b.points,
             b.depth,
             b.at[0],
             b.at[1],
-            args.tolerance,
+            args.gouge_tol,
             stylus.height(0.5 * pitch)
         );
     }
