@@ -194,7 +194,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     let name = if a.input == Path::new("-") { "<stdin>".to_string() } else { a.input.display().to_string() };
     let (from, detected) = input_format(a.dialect, &a.input, &text)?;
     if let Some(d) = &detected {
-        eprintln!("{name}: {d}");
+        crate::say::note!("{name}: {d}");
     }
     let to = a.to.unwrap_or_else(|| guess_to(a.output.as_deref()));
     if a.post.is_some() && to == Format::Rml {
@@ -238,7 +238,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     if let Some(tolerance) = a.shorten {
         let before = path.moves.len();
         path = shorten(&path, &ShortenOptions { tolerance, arcs: a.arcs });
-        eprintln!("shortened within {tolerance} mm: {before} moves -> {}", path.moves.len());
+        crate::say::note!("shortened within {tolerance} mm: {before} moves -> {}", path.moves.len());
     }
     let machine = a.machine.load()?;
     let out = match to {
@@ -280,7 +280,16 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
         outputs.add(Some(page), &html)?;
     }
     outputs.add(a.output.as_deref(), out.as_bytes())?;
-    outputs.commit()
+    outputs.commit()?;
+    let format = match to {
+        Format::Rml => "RML-1",
+        Format::Fanuc => "Fanuc G-code",
+        Format::Haas => "Haas G-code",
+        Format::Linuxcnc => "LinuxCNC G-code",
+        Format::Grbl => "GRBL G-code",
+    };
+    crate::say::wrote_program(a.output.as_deref(), &format!("{format}; "), &path, &machine);
+    Ok(())
 }
 
 fn print_diagnostics<'a>(sources: &Sources, diagnostics: impl IntoIterator<Item = &'a Diagnostic>) -> usize {

@@ -21,6 +21,7 @@ mod probe;
 mod program;
 mod progress;
 mod relief;
+mod say;
 mod scallop;
 mod sim;
 mod surface;
@@ -47,6 +48,10 @@ use program::{RunOptions, WriteArgs};
     after_help = "Examples:\n  kezuri demo\n  kezuri check part.nc\n  kezuri run texture.nc --clock-seed 7 --to fanuc -o expanded.nc"
 )]
 pub struct Cli {
+    /// Say nothing on standard error but errors and warnings: no summaries
+    /// of what was written, no progress bars.
+    #[arg(long, short, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -163,6 +168,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
 impl Cli {
     /// Runs the command given.
     pub fn run(&self) -> anyhow::Result<()> {
+        say::set_quiet(self.quiet);
         dispatch(&self.command)
     }
 }

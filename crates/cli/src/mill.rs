@@ -201,7 +201,9 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
     let mut out = Outputs::new();
     stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made, &[(args.tool_number, cutter)])?;
-    out.commit()
+    out.commit()?;
+    crate::say::wrote_program(args.write.output(), "", &path, &machine);
+    Ok(())
 }
 
 /// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of

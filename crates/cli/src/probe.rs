@@ -43,7 +43,7 @@ pub enum ProbeCommand {
 pub fn run(command: &ProbeCommand) -> Result<()> {
     match command {
         ProbeCommand::Plan(args) => plan::run(args),
-        ProbeCommand::Capture(args) => capture::run(args),
+        ProbeCommand::Capture(args) => capture::run(args, crate::say::quiet()),
         ProbeCommand::Level(args) => level::run(args),
         ProbeCommand::Export(args) => export::run(args),
         ProbeCommand::Mill(args) => mill::run(args),

@@ -672,7 +672,7 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
     }
-    eprintln!("{}: {}", o.file.display(), ran.dialect);
+    crate::say::note!("{}: {}", o.file.display(), ran.dialect);
     let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
     let centre = &ran.outcome.toolpath;
     // Which of the programmed contour and the tool-centre path is written.
@@ -698,7 +698,9 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     }
     let mut out = std::mem::take(&mut ran.outputs);
     write_program(&mut out, written, centre, &title, &notes, w, &ran.machine, Origin::Transformed, &[])?;
-    out.commit()
+    out.commit()?;
+    crate::say::wrote_program(w.output(), "", written, &ran.machine);
+    Ok(())
 }
 
 /// One line per kind of value the run took from the machine file rather

@@ -308,13 +308,12 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         raster_with(&cl_of(cutter), rows_at, region, &finish, None, on_row)
     })?;
     path.moves.extend(finishing.moves);
-    eprintln!(
-        "{name}: {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm; {} moves in {:.2} s",
+    let what = format!(
+        "{name}, {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm, computed in {:.2} s; ",
         picture.width,
         picture.height,
         size[0],
         size[1],
-        path.moves.len(),
         t0.elapsed().as_secs_f64()
     );
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
@@ -327,7 +326,9 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     if let Some(stl) = &args.surface_stl {
         stage_surface_stl(&mut out, stl, &field)?;
     }
-    out.commit()
+    out.commit()?;
+    crate::say::wrote_program(args.write.output(), &what, &path, &machine);
+    Ok(())
 }
 
 /// The picture's lower-left corner for `--origin`: the named corner (or

@@ -222,7 +222,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
     ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{}: {}", args.run.file.display(), ran.dialect);
+    crate::say::note!("{}: {}", args.run.file.display(), ran.dialect);
     // Every output file (the DPRNT file too) is written together, or none.
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();

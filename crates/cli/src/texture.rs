@@ -113,7 +113,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
     }
     let (mut ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{name}: {}", ran.dialect);
+    crate::say::note!("{name}: {}", ran.dialect);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }
@@ -127,7 +127,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         out.add(a.write.output(), text.as_bytes())?;
         return out.commit();
     }
-    match a.mode {
+    let summary = match a.mode {
         Mode::Bake => {
             let t = bake(path, &options).with_context(|| name.clone())?;
             let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
@@ -140,7 +140,8 @@ pub fn run(a: &TextureArgs) -> Result<()> {
                 Origin::Transformed,
                 &[],
             )?;
-            eprintln!("{name}: {} cutting moves textured, {} strokes of {} mm", t.moves, t.knots, a.segment);
+            let what = format!("{} cutting moves textured, {} strokes of {} mm; ", t.moves, t.knots, a.segment);
+            what + &crate::say::program_summary(&t.toolpath, &ran.machine)
         }
         Mode::Macro => {
             if !a.write.is_fanuc(&ran.machine) {
@@ -196,14 +197,15 @@ pub fn run(a: &TextureArgs) -> Result<()> {
                 vars: a.macro_vars,
             };
             out.add(a.write.output(), m.wrap(&text, first, last).as_bytes())?;
-            eprintln!(
-                "{name}: G66.1 P{:04} before line {first}, G67 after line {last}; the macro draws each depth \
-                 from #3001 (--seed is not used)",
+            format!(
+                "G66.1 P{:04} before line {first}, G67 after line {last}; the macro draws each depth from #3001",
                 a.macro_number
-            );
+            )
         }
-    }
-    out.commit()
+    };
+    out.commit()?;
+    crate::say::note!("wrote {}: {summary}", crate::say::shown(a.write.output()));
+    Ok(())
 }
 
 /// `MIN,MAX`.

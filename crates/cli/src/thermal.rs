@@ -155,10 +155,11 @@ pub struct FitArgs {
     /// Polynomial degree [default: the one with the least leave-one-out error, up to 5].
     #[arg(long, value_name = "N")]
     pub degree: Option<usize>,
-    /// The model file (JSON).
+    /// The model file (JSON) [default: standard output; the table of the fit then goes to
+    /// standard error].
     #[arg(short, long, value_name = "MODEL.json")]
-    pub output: PathBuf,
-    /// Also print the fit as one JSON object.
+    pub output: Option<PathBuf>,
+    /// Also print the fit as one JSON object (with -o FILE).
     #[arg(long)]
     pub json: bool,
 }
@@ -268,9 +269,13 @@ fn plan(a: &PlanArgs) -> Result<()> {
     };
     let text = p.program()?;
     write_output(a.output.as_deref(), text.as_bytes())?;
-    if a.output.is_some() {
-        eprintln!("{} stops at {} B angle(s)", p.stops().len(), p.stations.len());
-    }
+    crate::say::note!(
+        "wrote {}: {}{} stops at {} B angle(s)",
+        crate::say::shown(a.output.as_deref()),
+        if p.post.dialect == kezuri_nc::write::Dialect::Fanuc { format!("O{:04}, ", p.number) } else { String::new() },
+        p.stops().len(),
+        p.stations.len()
+    );
     Ok(())
 }
 
@@ -403,6 +408,11 @@ fn measurements(t: &Table) -> Result<Vec<Measurement>> {
 
 fn fit_model(a: &FitArgs) -> Result<()> {
     let name = a.measurements.display().to_string();
+    // The table of the fit goes to standard output unless the model went there.
+    let model_to_stdout = a.output.as_deref().is_none_or(|o| o == std::path::Path::new("-"));
+    if a.json && model_to_stdout {
+        bail!("--json prints to standard output: give the model a file with -o");
+    }
     let machine = match &a.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
@@ -433,29 +443,33 @@ fn fit_model(a: &FitArgs) -> Result<()> {
         "machine": {"tool": chain_letters(k)[0], "work": chain_letters(k)[1], "tip": k.tip},
         "functions": functions,
     });
-    write_output(Some(&a.output), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
+    write_output(a.output.as_deref(), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
     if a.json {
         println!("{v}");
-    } else {
-        println!(
-            "{name}: {} measurements, {} error functions -> {}",
-            ms.len(),
-            model.functions.len(),
-            a.output.display()
+        return Ok(());
+    }
+    let mut table = format!(
+        "{name}: {} measurements, {} error functions -> {}\n  axis  B deg  degree  points  rms X / Y / Z µm\n",
+        ms.len(),
+        model.functions.len(),
+        crate::say::shown(a.output.as_deref())
+    );
+    for f in &model.functions {
+        table += &format!(
+            "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}\n",
+            AXES[f.axis],
+            f.b_deg,
+            f.degree,
+            f.points,
+            f.rms_mm[0] * 1e3,
+            f.rms_mm[1] * 1e3,
+            f.rms_mm[2] * 1e3
         );
-        println!("  axis  B deg  degree  points  rms X / Y / Z µm");
-        for f in &model.functions {
-            println!(
-                "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}",
-                AXES[f.axis],
-                f.b_deg,
-                f.degree,
-                f.points,
-                f.rms_mm[0] * 1e3,
-                f.rms_mm[1] * 1e3,
-                f.rms_mm[2] * 1e3
-            );
-        }
+    }
+    if !model_to_stdout {
+        write_output(None, table.as_bytes())?;
+    } else if !crate::say::quiet() {
+        eprint!("{table}");
     }
     Ok(())
 }
@@ -514,6 +528,9 @@ fn load_model(path: &std::path::Path) -> Result<(ErrorModel, [Vec<String>; 2])> 
 
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
+    if a.json && a.write.output().is_none_or(|o| o == std::path::Path::new("-")) {
+        bail!("--json prints to standard output: give the program a file with -o");
+    }
     let (model, chains) = load_model(&a.model)?;
     // The model's machine is checked before the program's axes against it.
     let (text, mut ran) = run_to_correct(&a.run, |ran| {
@@ -603,8 +620,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     if a.json {
         println!("{v}");
     } else {
-        eprintln!(
-            "{name}: {} points corrected in {:.3} ms; largest correction {:.4} mm, largest residual {:.2e} mm",
+        crate::say::note!(
+            "wrote {}: {name}, {} points corrected in {:.3} ms; largest correction {:.4} mm, largest residual \
+             {:.2e} mm",
+            crate::say::shown(a.write.output()),
             corrected.len(),
             seconds * 1e3,
             largest,

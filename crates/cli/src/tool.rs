@@ -62,9 +62,9 @@ pub struct ProfileArgs {
     /// The new tool (ball:D, bull:D,R, …): adds the wear along the profile.
     #[arg(long, value_name = "SPEC")]
     pub nominal: Option<String>,
-    /// The profile CSV.
+    /// The profile CSV [default: standard output].
     #[arg(short, long, value_name = "PROFILE.csv")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
     /// A picture of the joined envelope with the edges found (red) and the nominal tool
     /// (green, with the runout).
     #[arg(long, value_name = "FILE.png")]
@@ -135,7 +135,7 @@ fn fields(a: &ProfileArgs) -> Result<Vec<(Vec<&PathBuf>, [f64; 2])>> {
 
 /// Runs `kezuri tool profile`.
 fn profile(a: &ProfileArgs) -> Result<()> {
-    if a.json && a.output == Path::new("-") {
+    if a.json && a.output.as_deref().is_none_or(|o| o == Path::new("-")) {
         bail!("--json prints to standard output: give the profile a file with -o");
     }
     if let Some(t) = a.threshold.filter(|t| !(0.0..=1.0).contains(t)) {
@@ -193,7 +193,7 @@ fn profile(a: &ProfileArgs) -> Result<()> {
     // Everything made before anything is written.
     let picture = a.png.as_ref().map(|_| overlay_png(&m, nominal.as_ref(), runout.unwrap_or(0.0), px)).transpose()?;
     let mut out = Outputs::new();
-    out.add(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
+    out.add(a.output.as_deref(), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
     if let (Some(png), Some(picture)) = (&a.png, picture) {
         out.add(Some(png), &picture)?;
     }
@@ -218,9 +218,9 @@ fn profile(a: &ProfileArgs) -> Result<()> {
         });
         println!("{v}");
     } else {
-        eprintln!(
-            "{}: {} samples from z {:.4} to {:.4} mm, largest radius {:.4} mm, runout {}{}",
-            a.output.display(),
+        crate::say::note!(
+            "wrote {}: {} samples from z {:.4} to {:.4} mm, largest radius {:.4} mm, runout {}{}",
+            crate::say::shown(a.output.as_deref()),
             m.profile.z().len(),
             m.profile.tip(),
             m.profile.top(),

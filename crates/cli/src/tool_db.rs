@@ -309,7 +309,7 @@ fn show(args: &ShowArgs) -> Result<()> {
     }
     print!("{}", table(&args.tool_id, &heights, &rows));
     if let Some(png) = &args.png {
-        eprintln!("wrote {}", png.display());
+        crate::say::note!("wrote {}", png.display());
     }
     Ok(())
 }

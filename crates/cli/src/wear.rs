@@ -250,9 +250,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         });
         println!("{v}");
     } else {
-        eprintln!(
-            "{name}: {corrected} points corrected in {:.3} ms ({:.2} µs each); largest correction {:.4} mm, error \
-             before up to {:.4} mm, residual {:.1e} mm",
+        crate::say::note!(
+            "wrote {}: {name}, {corrected} points corrected in {:.3} ms ({:.2} µs each); largest correction {:.4} \
+             mm, error before up to {:.4} mm, residual {:.1e} mm",
+            crate::say::shown(a.write.output()),
             seconds * 1e3,
             seconds * 1e6 / corrected as f64,
             largest,

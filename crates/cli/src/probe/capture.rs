@@ -110,7 +110,8 @@ pub struct CaptureArgs {
     /// Grid points along X (per row) and along Y (rows); the capture stops after NX·NY points.
     #[arg(long, value_name = "NX,NY", value_parser = parse_count)]
     pub count: (usize, usize),
-    /// Data file to write (or, with --resume, to continue).
+    /// Data file to write (or, with --resume, to continue). A file, not standard output: every
+    /// point is on disk before the next is taken, and --resume continues the file.
     #[arg(short = 'o', long = "output", value_name = "DATA")]
     pub output: PathBuf,
     /// Continue an interrupted capture: check that DATA's header matches these options and
@@ -364,9 +365,10 @@ impl Out<'_> {
     }
 }
 
-/// Runs `kezuri probe capture`, messages on stderr.
-pub fn run(args: &CaptureArgs) -> Result<()> {
-    let bar = std::io::stderr().is_terminal();
+/// Runs `kezuri probe capture`, messages on stderr, a progress bar on a
+/// terminal unless `quiet`.
+pub fn run(args: &CaptureArgs, quiet: bool) -> Result<()> {
+    let bar = std::io::stderr().is_terminal() && !quiet;
     run_with(args, bar, &mut |m| eprintln!("{m}"))
 }
 

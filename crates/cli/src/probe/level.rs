@@ -39,9 +39,9 @@ pub struct LevelArgs {
     /// The correction to keep.
     #[arg(long, value_enum, default_value = "auto")]
     pub method: LevelMethod,
-    /// The levelled data (`-` for stdout).
+    /// The levelled data [default: standard output; the table then goes to standard error].
     #[arg(short, long, value_name = "OUT")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
     /// Print one JSON object (method, reference_points, std_before_mm, std_after_mm, the
     /// table) instead of the table.
     #[arg(long)]
@@ -122,8 +122,9 @@ pub fn run(args: &LevelArgs) -> Result<()> {
         f => f.clone(),
     };
     let out = ProbeGrid { grid: g, z: kept.z.clone() };
-    write_output(Some(&args.output), data::write(&out, &format).as_bytes())?;
-    let to_stdout = args.output != Path::new("-");
+    write_output(args.output.as_deref(), data::write(&out, &format).as_bytes())?;
+    // The table goes to standard output unless the data went there.
+    let to_stdout = args.output.as_deref().is_some_and(|o| o != Path::new("-"));
     if args.json {
         let rows: Vec<_> = std::iter::once(("raw".to_string(), levelled.raw))
             .chain(levelled.candidates.iter().map(|c| (c.name.clone(), c.stats)))
@@ -147,7 +148,7 @@ pub fn run(args: &LevelArgs) -> Result<()> {
         }
     } else if to_stdout {
         write_output(None, levelled.table().as_bytes())?;
-    } else {
+    } else if !crate::say::quiet() {
         eprint!("{}", levelled.table());
     }
     Ok(())

@@ -2,7 +2,6 @@
 
 mod parts;
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -34,9 +33,9 @@ follows the higher of that surface and the straight line from reading to reading
 of the pitch; with --step the pitch it goes straight from reading to reading, as the original
 copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ (25 µm at
 1 mm round a sharp edge). Where the readings bend down so sharply that the copy may cut more
-than --gouge-tol below the model between them, the report warns. Any other cutter is placed on
+than --gouge-tol below the model between them, a warning says so. Any other cutter is placed on
 the model, sampled every --res, with drop-cutter. Where the surface through the readings
-bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) the report warns: no ball
+bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) a warning says: no ball
 rolling on a model gives such readings.
 
 --between bound keeps the former behaviour: the highest surface the readings allow (the lowest
@@ -48,8 +47,8 @@ Rows run along X in zig-zag, over the data's XY box. Cuts that run along the fla
 data (--floor-z: auto finds a flat margin at the top, held by 5% of the points or more) are
 crossed at rapid --clearance above it. --incremental writes the moves after the first
 positioning in G91; --split-bytes N writes parts OUT-1, OUT-2, … of at most N bytes each, each
-a whole program that starts from the safe height. The report (stderr) gives the program size,
-moves and cycle time.
+a whole program that starts from the safe height. A summary on standard error gives the program's
+size, moves and cycle time.
 
 Examples:
   kezuri probe mill ume-2.txt --count 85,105 --pitch 1 --stylus ball:10 --tool ball:10 -o ume.nc
@@ -112,9 +111,9 @@ pub struct MillArgs {
     /// The older name of --post fanuc, linuxcnc or grbl.
     #[arg(long, alias = "to", value_enum, hide = true)]
     pub emit: Option<Emit>,
-    /// The program (`-` for stdout).
+    /// The program [default: standard output; --split-bytes needs a file].
     #[arg(short, long, value_name = "OUT")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
     /// Decimals written [default: the post's, 3].
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
     pub digits: Option<u8>,
@@ -310,21 +309,20 @@ pub fn run(args: &MillArgs) -> Result<()> {
     };
     let (time, _) = cycle_time(&path, &machine.dynamics);
     // Everything is made before anything is written, and written together.
-    let to_file = args.output != Path::new("-");
-    if parts.len() > 1 && !to_file {
-        bail!("--split-bytes writes files: give -o FILE");
-    }
-    let left_over = match args.split_bytes {
-        Some(_) if to_file => check_left_over(&args.output, parts.len(), args.overwrite_parts)?,
+    let file = args.output.as_deref().filter(|o| *o != Path::new("-"));
+    let left_over = match (args.split_bytes, file) {
+        (Some(_), Some(file)) => check_left_over(file, parts.len(), args.overwrite_parts)?,
         _ => Vec::new(),
     };
     let mut out = Outputs::new();
-    if parts.len() == 1 {
-        out.add(Some(&args.output), parts[0].as_bytes())?;
-    } else {
-        for (k, text) in parts.iter().enumerate() {
-            out.add(Some(&part_name(&args.output, k + 1)), text.as_bytes())?;
+    match (parts.as_slice(), file) {
+        ([one], _) => out.add(file, one.as_bytes())?,
+        (_, Some(file)) => {
+            for (k, text) in parts.iter().enumerate() {
+                out.add(Some(&part_name(file, k + 1)), text.as_bytes())?;
+            }
         }
+        (_, None) => bail!("--split-bytes writes files: give -o FILE"),
     }
     if let Some(svg) = &args.svg {
         out.add(Some(svg), crate::plot::svg(&path, &title).as_bytes())?;
@@ -333,8 +331,9 @@ pub fn run(args: &MillArgs) -> Result<()> {
         let (options, cutters) = (crate::view::PageOptions::default(), [(args.tool_number, cutter)]);
         let html = match parts.as_slice() {
             [one] => {
-                let ran = crate::program::run_written(&machine, &args.output, one.clone())?;
-                crate::view::page(&ran, &args.output.display().to_string(), None, &cutters, &options)?
+                let name = file.unwrap_or(Path::new("copy.nc"));
+                let ran = crate::program::run_written(&machine, name, one.clone())?;
+                crate::view::page(&ran, &name.display().to_string(), None, &cutters, &options)?
             }
             _ => crate::view::path_page(&path, &title, &machine, &cutters, &options)?,
         };
@@ -353,22 +352,27 @@ pub fn run(args: &MillArgs) -> Result<()> {
         }
         (None, _) => "smooth through the readings, followed by the stylus's own shape".to_string(),
     };
-    let mut report = format!(
-        "{}: {} × {} points, pitch {pitch} mm; surface {surface}\n\
-         program: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm\n\
-         cycle time {} ({time:.1} s); computed in {seconds_cam:.2} s\n",
-        args.data.data.display(),
-        g.nx,
-        g.ny,
+    crate::say::note!(
+        "wrote {}: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {} \
+         ({time:.1} s)",
+        crate::say::shown(file),
         parts.len(),
         path.moves.len(),
         path.feed_length(),
         path.rapid_length(),
-        hms(time),
+        crate::say::hms(time),
+    );
+    let flat_top = flat.map_or_else(String::new, |z| {
+        format!("; flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid", margins.runs, margins.length)
+    });
+    crate::say::note!(
+        "{}: {} × {} points, pitch {pitch} mm; surface {surface}; computed in {seconds_cam:.2} s{flat_top}",
+        args.data.data.display(),
+        g.nx,
+        g.ny,
     );
     if let Some(t) = tight {
-        let _ = writeln!(
-            report,
+        eprintln!(
             "warning: the surface through the readings bends tighter than the stylus (radius {} mm) in {} cell(s), \
              tightest radius {:.3} mm at X{:.3} Y{:.3}: no ball rolling on a model reads like that (a sharp edge, \
              noise or a pitch too coarse); the model there is what the stylus could reach",
@@ -380,12 +384,11 @@ pub fn run(args: &MillArgs) -> Result<()> {
         );
     }
     if let Some(b) = bend {
-        let _ = writeln!(
-            report,
+        eprintln!(
             "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
-             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {}; a finer \
-             pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm between readings \
-             on a flat)",
+             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {}; a \
+             finer pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm \
+             between readings on a flat)",
             b.points,
             b.depth,
             b.at[0],
@@ -394,20 +397,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
             stylus.height(0.5 * pitch)
         );
     }
-    if let Some(z) = flat {
-        let _ = writeln!(
-            report,
-            "flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid",
-            margins.runs, margins.length
-        );
-    }
-    eprint!("{report}");
     Ok(())
-}
-
-fn hms(s: f64) -> String {
-    let t = s.round() as u64;
-    format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
 }
 
 /// The toolpath in parts whose programs are at most `limit` bytes: each

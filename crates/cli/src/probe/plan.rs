@@ -117,9 +117,9 @@ pub struct PlanArgs {
     /// The stylus's tool number: T<n> M06, and G43 H<its H register> on the first Z move.
     #[arg(long, value_name = "T", default_value_t = probe_plan::DEFAULT_TOOL)]
     pub tool_number: u32,
-    /// The program file to write (`-`: standard output).
+    /// The program file to write [default: standard output].
     #[arg(short, long, value_name = "FILE")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
 }
 
 /// Program styles on the command line.
@@ -193,13 +193,12 @@ pub fn plan(args: &PlanArgs) -> Result<Plan> {
 pub fn run(args: &PlanArgs) -> Result<()> {
     let plan = plan(args)?;
     let text = plan.program().context("cannot write the measuring program")?;
-    write_output(Some(&args.output), text.as_bytes())?;
+    write_output(args.output.as_deref(), text.as_bytes())?;
     let [nx, ny] = plan.count;
-    let name =
-        if args.output.as_os_str() == "-" { "standard output".into() } else { args.output.display().to_string() };
+    let name = crate::say::shown(args.output.as_deref());
     let number = if plan.post.dialect == Dialect::Fanuc { format!("O{:04}, ", plan.program) } else { String::new() };
-    eprintln!(
-        "{name}: {number}{nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
+    crate::say::note!(
+        "wrote {name}: {number}{nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
         u64::from(nx) * u64::from(ny),
         plan.pitch,
         plan.style.name(),

@@ -56,9 +56,9 @@ pub struct SimulateArgs {
     /// Seed of the noise.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
-    /// The capture file (`-` for stdout).
+    /// The capture file [default: standard output].
     #[arg(short, long, value_name = "DATA")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
 }
 
 /// Runs `kezuri probe simulate`.
@@ -108,10 +108,10 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         let z = z + tilt[0] * (x - centre[0]) + tilt[1] * (y - centre[1]) + args.noise * noise.next();
         let _ = writeln!(text, "{},{}", k + 1, num(z, 4));
     }
-    write_output(Some(&args.output), text.as_bytes())?;
-    eprintln!(
-        "{}: {nx} × {ny} readings of {stylus} at pitch {} mm from ({}, {})",
-        args.output.display(),
+    write_output(args.output.as_deref(), text.as_bytes())?;
+    crate::say::note!(
+        "wrote {}: {nx} × {ny} readings of {stylus} at pitch {} mm from ({}, {})",
+        crate::say::shown(args.output.as_deref()),
         num(args.pitch, 6),
         num(origin[0], 4),
         num(origin[1], 4)
