@@ -321,11 +321,13 @@ fn textured_nameplate(out: &Path) -> Result<()> {
     println!("\nsamples/nameplate-cam.nc  (a nameplate's zig-zag area clearing at CAM Z 0)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let cam = cam.to_string_lossy().into_owned();
-    let paper = ["--seed", "7", "--base", "-2", "--step-range", "0.2,1.6", "--max-depth", "-2.8"];
+    let design = ["--base", "-2", "--step-range", "0.2,1.6", "--max-depth", "-2.8"];
     let commands: [Vec<String>; 3] = [
-        words(&[&["texture", cam.as_str()][..], &paper, &["-o", &at("nameplate-textured.nc")]].concat()),
         words(
-            &[&["texture", cam.as_str()][..], &paper, &["--mode", "macro", "-o", &at("nameplate-macro.nc")]].concat(),
+            &[&["texture", cam.as_str(), "--seed", "7"][..], &design, &["-o", &at("nameplate-textured.nc")]].concat(),
+        ),
+        words(
+            &[&["texture", cam.as_str()][..], &design, &["--mode", "macro", "-o", &at("nameplate-macro.nc")]].concat(),
         ),
         words(&[
             "sim",

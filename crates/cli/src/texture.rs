@@ -34,7 +34,7 @@ pub enum DistArg {
     Smooth,
 }
 
-/// `kezuri texture IN -o OUT --seed N`.
+/// `kezuri texture IN --seed N -o OUT`.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   kezuri texture plate.nc --seed 7 -o plate-textured.nc
@@ -47,10 +47,10 @@ pub struct TextureArgs {
     pub run: RunOptions,
     #[command(flatten)]
     pub write: WriteArgs,
-    /// Seed of the depths: the same seed gives the same program (bake; the
-    /// macro draws from the control's clock).
-    #[arg(long)]
-    pub seed: u64,
+    /// Seed of the depths: the same seed gives the same program. Needed to
+    /// bake; not with --mode macro, which draws from the control's clock.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
     /// Bake the texture into the program, or emit the macro.
     #[arg(long, value_enum, default_value = "bake")]
     pub mode: Mode,
@@ -87,6 +87,16 @@ pub struct TextureArgs {
 
 /// Runs `kezuri texture`.
 pub fn run(a: &TextureArgs) -> Result<()> {
+    let seed = match (a.mode, a.seed) {
+        (Mode::Bake, None) => {
+            bail!("--seed N is needed to bake: the same seed gives the same texture (--mode macro needs none)")
+        }
+        (Mode::Macro, Some(_)) => {
+            eprintln!("warning: --seed is not used: the macro draws each depth from the control's clock (#3001)");
+            0
+        }
+        (_, seed) => seed.unwrap_or(0),
+    };
     let options = TextureOptions {
         segment: a.segment,
         base: a.base,
@@ -100,7 +110,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         },
         step_range: a.step_range.as_deref().map(step_range).transpose()?,
         max_depth: a.max_depth,
-        seed: a.seed,
+        seed,
     };
     check(&options)?;
     let name = a.run.file.display().to_string();
@@ -134,7 +144,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
             stage_toolpath(
                 &mut out,
                 &t.toolpath,
-                &format!("{title} TEXTURED, SEED {}", a.seed),
+                &format!("{title} TEXTURED, SEED {seed}"),
                 &a.write,
                 &ran.machine,
                 Origin::Transformed,
