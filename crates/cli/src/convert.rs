@@ -114,7 +114,12 @@ pub struct ConvertArgs {
     #[arg(long, value_name = "RPM", value_parser = crate::numbers::positive)]
     pub speed: Option<f64>,
     /// The cutter the program was made for (flat:D, ball:D, bull:D,R, oval:D,RL, v:D,ANGLE).
-    #[arg(long, value_name = "SPEC", value_parser = cutter)]
+    #[arg(
+        long,
+        value_name = "SPEC",
+        value_parser = cutter,
+        long_help = tool_help!("The cutter the program was made for (checked when scaled).")
+    )]
     pub tool: Option<Cutter>,
     /// Decimals written in a G-code program.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
@@ -522,7 +527,7 @@ fn mm(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// Seed 002's warning: what cutter the scaled program needs.
+/// The warning of what cutter the scaled program needs.
 pub fn cutter_warnings(tool: Option<Cutter>, comments: &[NamedCutter], k: f64, s: f64) -> Vec<String> {
     let mut named: Vec<NamedCutter> = Vec::new();
     if let Some(c) = tool {

@@ -36,7 +36,7 @@ pub struct DropcutArgs {
     #[arg(value_name = "MESH")]
     pub mesh: PathBuf,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// The grid of cutter positions: X0,Y0,X1,Y1,STEP (mm).
     #[arg(long, value_name = "X0,Y0,X1,Y1,STEP", allow_hyphen_values = true)]

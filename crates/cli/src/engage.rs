@@ -40,7 +40,7 @@ Exit code 1 for a bad tool, an angle outside [0, 90), a pick feed wider than the
 the cutter cannot reach, a helix outside [0, 90) or a file that cannot be written.")]
 pub struct EngageArgs {
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// Inclination of the plane in degrees, [0, 90): one angle, a list
     /// (15,30,45) or a range FIRST:LAST:STEP (0:75:15).

@@ -4,6 +4,19 @@
 //! The commands are this library so that the fuzz targets (`fuzz/`) and the
 //! tests can reach them: `src/main.rs` is only the process around [`Cli`].
 
+/// A tool option's help: `$lead`, then what each tool spec means (the
+/// help of every command that takes one says it where it first names one).
+macro_rules! tool_help {
+    ($lead:literal) => {
+        concat!(
+            $lead,
+            "\nTools: flat:D (flat end mill, diameter D), ball:D (ball end mill), bull:D,R (bull-nose, \
+             corner radius R), oval:D,RL (oval end mill: a half-ellipsoid tip RL long), v:D,ANGLE (V-bit, \
+             included angle); mm and degrees."
+        )
+    };
+}
+
 mod budget;
 mod chart;
 mod convert;
@@ -50,7 +63,7 @@ use program::{RunOptions, WriteArgs};
 pub struct Cli {
     /// Say nothing on standard error but errors and warnings: no summaries
     /// of what was written, no progress bars.
-    #[arg(long, short, global = true)]
+    #[arg(long, short, global = true, display_order = 1000)]
     quiet: bool,
     #[command(subcommand)]
     command: Command,

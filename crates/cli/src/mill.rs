@@ -42,7 +42,7 @@ pub struct MillArgs {
     #[arg(value_name = "SURFACE")]
     pub surface: std::path::PathBuf,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// Distance between rows in plan, mm (the widest, with --cusp).
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]

@@ -103,7 +103,7 @@ pub struct ReliefArgs {
     #[arg(long, value_name = "CORNER|centre|X,Y", default_value = "corner", allow_hyphen_values = true)]
     pub origin: String,
     /// Finishing cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The finishing cutter."))]
     pub tool: String,
     /// Distance between finishing rows, mm.
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
@@ -122,7 +122,7 @@ pub struct ReliefArgs {
     /// cuts more than 0.001 mm below them).
     #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub leave_tol: f64,
-    /// Roughing cutter: clear the stock in levels first.
+    /// Roughing cutter (a tool as --tool): clear the stock in levels first.
     #[arg(long, value_name = "SPEC")]
     pub rough: Option<String>,
     /// Depth of each roughing level, mm.

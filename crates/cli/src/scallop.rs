@@ -27,7 +27,7 @@ Exit code 1 for a bad tool, an angle outside [0, 90), a negative pick feed or cu
 feed that leaves an uncut strip, or a cusp no pick feed can keep to.")]
 pub struct ScallopArgs {
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// Inclination of the plane in degrees, from 0 (level) up to 90 (not included).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]

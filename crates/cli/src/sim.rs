@@ -125,7 +125,11 @@ pub struct SimArgs {
 pub struct SimSetup {
     /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
     /// degrees) [default: the machine file's tool table].
-    #[arg(long, value_name = "SPEC")]
+    #[arg(
+        long,
+        value_name = "SPEC",
+        long_help = tool_help!("Cutter of a program with one tool [default: the machine file's tool table].")
+    )]
     pub tool: Option<String>,
     /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool
     /// profile`).

@@ -14,7 +14,7 @@ use crate::program::{run_text, stage_toolpath, Origin, RunOptions, WriteArgs};
 pub enum Mode {
     /// Baked into the program: every stroke written out (any dialect).
     Bake,
-    /// The paper's way: a Fanuc macro called by G66.1 on every cutting block
+    /// A Fanuc macro called by G66.1 on every cutting block
     /// draws each depth from the control's clock, so every part differs. The
     /// program is written as it was, with the calls and the macro added
     /// (--to, --digits, --line-numbers and --svg do not apply).
@@ -24,7 +24,8 @@ pub enum Mode {
 /// The depth distribution.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum DistArg {
-    /// The paper's: a digit 0–9 onto nine depths, the middle twice as likely.
+    /// A digit 0–9 onto nine depths, the middle twice as likely (as the original carving
+    /// macro drew them).
     Digits,
     /// Every multiple of the quantum within the spread equally likely.
     Uniform,
@@ -70,8 +71,8 @@ pub struct TextureArgs {
     /// How the offsets are drawn.
     #[arg(long, value_enum, default_value = "digits")]
     pub dist: DistArg,
-    /// Successive depths differ by at least MIN and at most MAX mm (the
-    /// paper's design rule: 0.2,1.6).
+    /// Successive depths differ by at least MIN and at most MAX mm (for example
+    /// 0.2,1.6).
     #[arg(long, value_name = "MIN,MAX")]
     pub step_range: Option<String>,
     /// No textured point goes below this Z (a safety clamp).

@@ -42,7 +42,7 @@ pub enum ThermalCommand {
 pub enum Solver {
     /// Newton's method to 1 nm.
     Newton,
-    /// The paper's search: ±50 candidates per axis 1 µm apart about the first-order estimate.
+    /// A grid search: ±50 candidates per axis 1 µm apart about the first-order estimate.
     Grid,
 }
 

@@ -1,7 +1,7 @@
 //! `kezuri tool`: a tool's measured cutting profile from backlit images
 //! (`tool profile`), the database of each tool's profiles as it wears
 //! (`tool db`) and the tool tables of other programs' files (`tool table`,
-//! in tool_table.rs). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
+//! in tool_table.rs). The profile CSV is `z_mm,radius_mm` (and `wear_mm`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -59,7 +59,8 @@ pub struct ProfileArgs {
     /// pictures if not given).
     #[arg(long, value_name = "LEVEL")]
     pub threshold: Option<f32>,
-    /// The new tool (ball:D, bull:D,R, …): adds the wear along the profile.
+    /// The new tool, ball:D (ball end mill of diameter D) or bull:D,R (bull-nose, corner radius
+    /// R), mm: adds the wear along the profile.
     #[arg(long, value_name = "SPEC")]
     pub nominal: Option<String>,
     /// The profile CSV [default: standard output].

@@ -91,7 +91,8 @@ Examples:
 pub struct ListArgs {
     #[command(flatten)]
     pub file: DbFile,
-    /// Print `{\"tools\": [...]}` as one JSON object.
+    /// Print one JSON object: {"tools": [...]}, each with id, profiles, first, latest,
+    /// max_radius_mm and tip_z_mm.
     #[arg(long)]
     pub json: bool,
 }

@@ -53,7 +53,8 @@ pub struct ApplyArgs {
     /// The tool database (with --tool-id).
     #[arg(long, value_name = "FILE", default_value = "kezuri-tools.sqlite")]
     pub db: PathBuf,
-    /// The new tool the program was made for: ball:D or bull:D,R.
+    /// The new tool the program was made for: ball:D (ball end mill of diameter D) or bull:D,R
+    /// (bull-nose, corner radius R), mm.
     #[arg(long, value_name = "SPEC")]
     pub nominal: String,
     /// The finished part (STL, program coordinates).

@@ -53,7 +53,7 @@ pub struct LevelArgs {
 pub enum LevelMethod {
     /// Least-squares plane.
     Plane,
-    /// The paper's least-squares lines.
+    /// Least-squares lines along two reference rows or columns.
     Lines,
     /// The smallest standard deviation.
     Auto,

@@ -56,8 +56,12 @@ Examples:
 pub struct MillArgs {
     #[command(flatten)]
     pub data: DataArgs,
-    /// The stylus that took the readings (ball:10 for a 10 mm bead).
-    #[arg(long, value_name = "SPEC")]
+    /// The stylus that took the readings, as a tool (ball:10 for a 10 mm bead).
+    #[arg(
+        long,
+        value_name = "SPEC",
+        long_help = tool_help!("The stylus that took the readings, as a tool (ball:10 for a 10 mm bead).")
+    )]
     pub stylus: String,
     /// The cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
     #[arg(long, value_name = "SPEC")]

@@ -44,8 +44,12 @@ pub struct SimulateArgs {
     /// Capture order.
     #[arg(long, value_name = "zigzag|oneway", default_value = "zigzag")]
     pub pattern: String,
-    /// The stylus (ball:10 for a 10 mm bead).
-    #[arg(long, value_name = "SPEC")]
+    /// The stylus, as a tool (ball:10 for a 10 mm bead).
+    #[arg(
+        long,
+        value_name = "SPEC",
+        long_help = tool_help!("The stylus, as a tool (ball:10 for a 10 mm bead).")
+    )]
     pub stylus: String,
     /// Slope of the model's base along X and Y, mm per mm.
     #[arg(long, value_name = "AX,AY", allow_hyphen_values = true, default_value = "0,0")]
