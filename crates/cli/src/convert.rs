@@ -69,10 +69,14 @@ original, both ways; --arcs also fits G02/G03 arcs in the XY plane at constant Z
 Nothing is written when the input has an error.
 
 Examples:
-  kezuri convert camm3.rml --safe-z 5 --feed 600 -o relief.nc
-  kezuri convert relief.rml --scale-xy 2 --scale-z 1.5 --tool ball:7 --shorten 0.005 -o big.nc
-  kezuri convert part.nc --safe-z 3 -o part.rml
-  kezuri convert part.ngc --to fanuc --shorten 0.002 --arcs -o part.nc
+  kezuri run samples/nameplate-cam.nc --to rml -o plate.rml
+  kezuri convert plate.rml --safe-z 5 --feed 600 -o plate.nc
+  kezuri convert plate.rml --scale-xy 2 --scale-z 1.5 --tool ball:7 \\
+      --shorten 0.005 -o big.nc
+  kezuri convert samples/nameplate-cam.nc --safe-z 3 -o plate-3.rml
+  kezuri convert samples/nameplate-cam.nc -o plate.ngc
+  kezuri convert plate.ngc --to fanuc --shorten 0.002 --arcs -o plate-arcs.nc
+  kezuri convert samples/nameplate-cam.nc --rml-unit 0.025 -o mdx20.prn
   kezuri convert mdx20.prn --rml-unit 0.025 --to grbl -o mdx20.gcode")]
 pub struct ConvertArgs {
     /// The program to convert (`-` for standard input).

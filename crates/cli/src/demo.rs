@@ -32,10 +32,54 @@ const SAMPLES: [(&str, &str, &str); 3] = [
     ),
 ];
 
-pub fn run(out: &Path) -> Result<()> {
+/// The demo's pipelines (`--only`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Pipeline {
+    /// The bundled programs run, expanded and drawn.
+    Programs,
+    /// Pick feeds, a chip, a finishing program and its simulation on a dome.
+    Geometry,
+    /// Digitizing a model and copy-milling it.
+    Copy,
+    /// A sketch carved as a relief.
+    Relief,
+    /// A carved texture on a nameplate.
+    Texture,
+    /// Thermal drift measured (simulated sensor profiles in thermal/) and corrected.
+    Thermal,
+    /// A tool imaged new and worn (pictures in tool-T7-new/, tool-T7-worn/) and a groove corrected.
+    Wear,
+}
+
+/// One pipeline of the demo, into the output folder.
+type Step = fn(&Path) -> Result<()>;
+
+pub fn run(out: &Path, only: &[Pipeline]) -> Result<()> {
     let samples = out.join("samples");
     std::fs::create_dir_all(&samples).with_context(|| format!("cannot create {}", samples.display()))?;
     println!("kezuri demo -> {}", out.display());
+    let wanted = |p: Pipeline| only.is_empty() || only.contains(&p);
+    if wanted(Pipeline::Programs) {
+        programs(out, &samples)?;
+    }
+    let steps: [(Pipeline, Step); 6] = [
+        (Pipeline::Geometry, geometry),
+        (Pipeline::Copy, copy_milling),
+        (Pipeline::Relief, relief_carving),
+        (Pipeline::Texture, textured_nameplate),
+        (Pipeline::Thermal, thermal_drift),
+        (Pipeline::Wear, wear::tool_wear),
+    ];
+    for (pipeline, step) in steps {
+        if wanted(pipeline) {
+            step(out)?;
+        }
+    }
+    Ok(())
+}
+
+/// The bundled programs, each run, expanded, tabulated and drawn.
+fn programs(out: &Path, samples: &Path) -> Result<()> {
     for (name, what, text) in SAMPLES {
         let file = samples.join(name);
         write_atomic(&file, text.as_bytes())?;
@@ -61,12 +105,7 @@ pub fn run(out: &Path) -> Result<()> {
         );
         println!("  wrote {stem}-expanded.nc (Fanuc, macros expanded), {stem}.csv (motions), {stem}.svg (picture)");
     }
-    geometry(out)?;
-    copy_milling(out)?;
-    relief_carving(out)?;
-    textured_nameplate(out)?;
-    thermal_drift(out)?;
-    wear::tool_wear(out)
+    Ok(())
 }
 
 /// The dome of the geometry demo: a 60 × 60 mm boss, a spherical cap of
@@ -372,11 +411,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     let dir = out.join("thermal");
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let machine = out.join("samples").join("mill-turn.toml");
-    write_atomic(
-        &machine,
-        b"# A Swiss-type mill-turn: the milling spindle carries X, Z and the B tilt,\n\
-          # the turning side Y and C.\n[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n",
-    )?;
+    write_atomic(&machine, include_bytes!("../../../samples/mill-turn.toml"))?;
     println!("\nsamples/mill-turn.toml  (a mill-turn: tool side X Z B, work side Y C)");
     // The stops of O2007, each axis's travel at each B angle, and Y about zero.
     let stations: [(f64, [(f64, f64); 3]); 2] = [
@@ -415,7 +450,9 @@ fn thermal_drift(out: &Path) -> Result<()> {
     write_atomic(&dir.join("index.csv"), index.as_bytes())?;
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let m = machine.to_string_lossy().into_owned();
-    let o2007 = out.join("samples").join("o2007-thermal.nc").to_string_lossy().into_owned();
+    let o2007 = out.join("samples").join("o2007-thermal.nc");
+    write_atomic(&o2007, include_bytes!("../../../samples/o2007-thermal.nc"))?;
+    let o2007 = o2007.to_string_lossy().into_owned();
     let commands: [Vec<String>; 4] = [
         words(&["thermal", "plan", "--machine", &m, "-o", &at("O2007-plan.nc")]),
         words(&["thermal", "measure", &at("thermal/index.csv"), "-o", &at("thermal-meas.csv")]),

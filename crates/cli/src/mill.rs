@@ -31,11 +31,16 @@ machine file's [post] changes any part, its tool table gives the tool's H regist
 start, the tool change with its retract and G43 H on the first Z move, spindle, coolant, end.
 
 Examples:
-  kezuri mill part.stl --tool ball:6 --stepover 0.5 -o part.nc
-  kezuri mill part.stl --tool oval:16,24 --stepover 1.5 --cusp 0.01 --direction both -o egg.nc
-  kezuri mill relief.xyz --tool ball:3 --stepover 0.3 --pattern oneway --post grbl -o relief.gcode
-  kezuri mill part.stl --tool ball:6 --stepover 0.5 --tool-number 5 --post haas \\
-      --machine vf2.toml -o part.nc")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri mill plum.stl --tool ball:6 --stepover 1 -o plum-ball.nc
+  kezuri dropcut plum.stl --tool ball:0.5 --grid 0,0,40,30,0.25 -o plum.xyz
+  kezuri mill plum.xyz --tool oval:16,24 --stepover 1.5 --cusp 0.01 \\
+      --direction both -o plum-oval.nc
+  kezuri mill plum.xyz --tool ball:3 --stepover 0.3 --pattern oneway \\
+      --post grbl -o plum.gcode
+  kezuri mill plum.xyz --tool ball:6 --stepover 0.5 --tool-number 2 \\
+      --post haas --machine samples/tools/mill.toml -o plum-haas.nc")]
 pub struct MillArgs {
     /// The surface: an STL (binary or ASCII), or a height grid of `x y z`
     /// lines; `-` reads stdin.

@@ -50,13 +50,17 @@ T M06 and the tool length offset (G43 H, the tool table's h, on the first Z move
 coolant, and its end.
 
 Examples:
-  kezuri relief sketch.png --width 120 --depth 5 --tool ball:3 --stepover 0.3 -o sketch.nc
-  kezuri relief logo.png --pixel 0.1 --levels 0-63:0,64-191:2.5,192-255:5 --tool ball:6 \\
-      --stepover 0.4 --rough flat:6 --step-down 2 --allowance 0.3 --surface-stl logo.stl -o logo.nc
-  kezuri relief face.jpg --width 80 --depth 8 --invert --gamma 0.8 --smooth 1.5 \\
-      --mask face-mask.png --tool ball:2 --stepover 0.2 --direction both --post linuxcnc -o face.ngc
-  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 --rough flat:6 \\
-      --stepover 1 --post haas --machine shop.toml -o plum.nc")]
+  kezuri relief samples/plum-sketch.png --width 120 --depth 5 --tool ball:3 \\
+      --stepover 0.3 -o plum.nc
+  kezuri relief samples/plum-sketch.png --pixel 0.1 --tool ball:6 \\
+      --levels 0-63:0,64-191:2.5,192-255:5 --stepover 0.4 --rough flat:6 \\
+      --step-down 2 --allowance 0.3 --surface-stl levels.stl -o levels.nc
+  kezuri relief samples/plum-sketch.png --width 80 --depth 8 --invert \\
+      --gamma 0.8 --smooth 1.5 --tool ball:2 --stepover 0.4 --direction both \\
+      --post linuxcnc -o plum.ngc
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --rough flat:6 --stepover 1 --post haas \\
+      --machine samples/tools/mill.toml -o plum-haas.nc")]
 pub struct ReliefArgs {
     /// The sketch: PNG, JPEG, BMP, TIFF or PGM.
     #[arg(value_name = "IMAGE")]

@@ -67,14 +67,18 @@ A progress bar shows on a terminal when the cutting runs over a second.
 
 Examples (on the bundled samples):
   kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 -o plate.png
-  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 --stock -110,-60,110,5,0.5 --json
-  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 --stock cyl:230,10,0,-30,0.5
-  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 --rough flat:6 \\
-      --stepover 1 --surface-stl plum.stl -o plum.nc
-  printf '[tools.T1]\\nshape = \"flat:6\"\\n[tools.T2]\\nshape = \"ball:3\"\\n' > tools.toml
-  kezuri sim plum.nc --machine tools.toml --res 0.1 --stock 0,0,40,30,0 --compare plum.stl \\
-      -o plum.png
-  kezuri sim plum.nc --tool ball:3 --same-tool-for-all --res 0.1 --compare plum.stl --json
+  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 \\
+      --stock -110,-60,110,5,0.5 --json
+  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 \\
+      --stock cyl:230,10,0,-30,0.5
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --rough flat:6 --stepover 1 --surface-stl plum.stl -o plum.nc
+  printf '[tools.T1]\\nshape = \"flat:6\"\\n' > tools.toml
+  printf '[tools.T2]\\nshape = \"ball:3\"\\n' >> tools.toml
+  kezuri sim plum.nc --machine tools.toml --res 0.1 --stock 0,0,40,30,0 \\
+      --compare plum.stl -o plum.png
+  kezuri sim plum.nc --tool ball:3 --same-tool-for-all --res 0.1 \\
+      --compare plum.stl --json
 
 Exit code 1 for a program with errors, a bad tool, resolution or stock, a tool without a
 shape, a grid too large (the cell count is given), an unreadable target; with --fail-on-rapid

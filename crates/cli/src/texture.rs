@@ -38,10 +38,13 @@ pub enum DistArg {
 /// `kezuri texture IN --seed N -o OUT`.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
-  kezuri texture plate.nc --seed 7 -o plate-textured.nc
-  kezuri texture plate.nc --seed 7 --base -2 --step-range 0.2,1.6 -o plate-paper.nc
-  kezuri texture dome.nc --seed 3 --dist smooth --spread 0.3 --quantum 0.05 --max-depth -12 -o dome-textured.nc
-  kezuri texture plate.nc --seed 7 --mode macro -o plate-macro.nc
+  kezuri texture samples/nameplate-cam.nc --seed 7 -o plate-textured.nc
+  kezuri texture samples/nameplate-cam.nc --seed 7 --base -2 \\
+      --step-range 0.2,1.6 --max-depth -2.8 -o plate-carved.nc
+  kezuri texture samples/nameplate-cam.nc --seed 3 --dist smooth --spread 0.3 \\
+      --quantum 0.05 -o plate-smooth.nc
+  kezuri texture samples/nameplate-cam.nc --base -2 --mode macro \\
+      -o plate-macro.nc
   kezuri run plate-macro.nc --clock-seed 11 -o one-part.nc")]
 pub struct TextureArgs {
     #[command(flatten)]

@@ -55,8 +55,13 @@ correction changes by well under a micrometre over an arc); the largest such cha
 reported as arc_correction_change_mm.
 
 Examples:
-  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc
-  kezuri thermal apply O2007.nc --model model.json --machine mill-turn.toml --solver grid -o check.nc --json")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal apply samples/o2007-thermal.nc \\
+      --model demo/thermal-model.json --machine samples/mill-turn.toml \\
+      -o o2007-warm.nc
+  kezuri thermal apply samples/o2007-thermal.nc \\
+      --model demo/thermal-model.json --machine samples/mill-turn.toml \\
+      --to linuxcnc -o o2007-warm.ngc --json")]
 pub struct ApplyArgs {
     #[command(flatten)]
     pub run: RunOptions,
@@ -88,8 +93,9 @@ that edge less the command along its axis; the sensors' own places cancel in war
 give both states.
 
 Examples:
-  kezuri thermal measure index.csv -o meas.csv
-  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal measure demo/thermal/index.csv -o meas.csv
+  kezuri thermal fit meas.csv --machine samples/mill-turn.toml -o model.json")]
 pub struct MeasureArgs {
     /// The index of profiles.
     pub index: PathBuf,
@@ -144,8 +150,10 @@ tool was less where it was commanded. With a state column (cold/warm) the error 
 at the same axis, angle and command.
 
 Examples:
-  kezuri thermal fit meas.csv -o model.json
-  kezuri thermal fit meas.csv --machine mill-turn.toml --degree 2 -o model.json --json")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal fit demo/thermal-meas.csv -o model.json
+  kezuri thermal fit demo/thermal-meas.csv --machine samples/mill-turn.toml \\
+      --degree 2 -o model.json --json")]
 pub struct FitArgs {
     /// The measurements CSV (`-` for standard input).
     pub measurements: PathBuf,
@@ -176,10 +184,13 @@ M30 or M2). The dwell is G04 X<s> on fanuc and haas, G4 P<s> on linuxcnc and mac
 the machine file's [post] dwell_unit is ms). GRBL has no B axis to index: --post grbl is refused.
 
 Examples:
-  kezuri thermal plan -o O2007.nc
-  kezuri thermal plan --machine mill-turn.toml --at 0:-2,0,-74 --at -90:-145,0,-135 -o O2007.nc
-  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 --dwell 2 -o drift.nc
-  kezuri thermal plan --machine mill-turn.toml --post linuxcnc --tool-number 20 -o O2007.ngc")]
+  kezuri thermal plan --machine samples/mill-turn.toml -o O2007.nc
+  kezuri thermal plan --machine samples/mill-turn.toml --at 0:-2,0,-74 \\
+      --at -90:-145,0,-135 -o O2007.nc
+  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 \\
+      --dwell 2 -o drift.nc
+  kezuri thermal plan --machine samples/mill-turn.toml --post linuxcnc \\
+      --tool-number 20 -o O2007.ngc")]
 pub struct PlanArgs {
     /// A station: B angle and the first stop, `B:X,Y,Z` (repeat for each angle).
     #[arg(long = "at", value_name = "B:X,Y,Z", allow_hyphen_values = true)]
@@ -253,6 +264,13 @@ fn plan(a: &PlanArgs) -> Result<()> {
         None => Machine::default(),
     };
     if let Some(s) = stations.iter().find(|s| s.b_deg != 0.0 && !machine.kinematics.has(4)) {
+        if a.stations.is_empty() {
+            bail!(
+                "the standard stations index B to {}°, and the machine has no B axis: give --machine with one \
+                 (a [kinematics] with B, as samples/mill-turn.toml), or stations at B 0 with --at 0:X,Y,Z",
+                s.b_deg
+            );
+        }
         bail!("--at {}: the machine has no B axis to index (give --machine with one)", s.b_deg);
     }
     let p = ThermalPlan {
@@ -286,9 +304,10 @@ corner of the square reference tool. Points more than three robust
 standard deviations off their side's line are left out.
 
 Examples:
-  kezuri thermal edge sensor1-cold.csv
-  kezuri thermal edge sensor1-warm.csv --json
-  kezuri thermal edge odd.csv --split 0.25     # the second side starts at x = 0.25 mm")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal edge demo/thermal/x0-b0-cold-1.csv
+  kezuri thermal edge demo/thermal/x0-b0-warm-1.csv --json
+  kezuri thermal edge demo/thermal/x0-b0-cold-1.csv --split -21.7")]
 pub struct EdgeArgs {
     /// The profile CSV (`x_mm,z_mm`; `-` for standard input).
     pub profile: PathBuf,

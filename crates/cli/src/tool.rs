@@ -36,8 +36,10 @@ pixel row from the lowest point of the tool up; z from --tip-row, the row of the
 where a new tool's tip sits, so a worn tip starts above 0.
 
 Examples:
-  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 --nominal ball:1 -o t12.csv --png t12.png
-  kezuri tool profile tiles/*.png --pixel-um 0.71 --offsets tiles.csv -o t12.csv --json")]
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      --nominal ball:0.5 -o t7-new.csv --png t7-new.png
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      --nominal ball:0.5 -o t7-worn.csv --json")]
 pub struct ProfileArgs {
     /// The pictures.
     #[arg(required = true, value_name = "IMAGE")]

@@ -107,7 +107,8 @@ text out.
 
 Examples (on the bundled samples):
   kezuri view samples/nameplate-cam.nc -o plate-path.html
-  kezuri view samples/nameplate-cam.nc --sim --tool ball:6 --res 0.2 -o plate.html
+  kezuri view samples/nameplate-cam.nc --sim --tool ball:6 --res 0.2 \\
+      -o plate.html
   kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 --view plate.html
 
 Exit code 1 for a program with errors or a page over --max-page-mb.")]

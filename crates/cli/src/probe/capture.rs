@@ -95,11 +95,12 @@ restart the measuring program at: the last stored point, measured again and comp
 stored Z (--recheck-tol) before new points are taken; on a mismatch nothing new is stored.
 A last record cut off by a power loss is dropped and taken again.
 
-Examples:
+Examples (the indicator on a serial port; not run without one):
   kezuri probe capture --port /dev/ttyUSB0 --count 85,105 -o ume.csv
-  kezuri probe capture --port /dev/ttyUSB0 --baud 9600 --count 85,105 --pitch 1 \\
-      --bottom -70 --sign 1 --zero 0 --range 0,50 -o ume.csv
-  kezuri probe capture --port /dev/ttyUSB0 --count 85,105 --bottom -70 -o ume.csv --resume")]
+  kezuri probe capture --port /dev/ttyUSB0 --baud 9600 --count 85,105 \\
+      --pitch 1 --bottom -70 --sign 1 --zero 0 --range 0,50 -o ume.csv
+  kezuri probe capture --port /dev/ttyUSB0 --count 85,105 --bottom -70 \\
+      -o ume.csv --resume")]
 pub struct CaptureArgs {
     /// Serial port of the indicator interface (e.g. /dev/ttyUSB0, COM3).
     #[arg(long, value_name = "DEV")]

@@ -28,8 +28,15 @@ standard deviation.
 The levelled data are written in the format read (a capture file gains a `# levelled` line).
 
 Examples:
-  kezuri probe level ume.txt --count 85,105 --pitch 1 --reference cols:1,85 -o ume-2.txt
-  kezuri probe level capture.txt --reference border --method auto -o level.txt --json")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      --tilt 0.002,-0.001 --noise 0.002 -o plum.txt
+  kezuri probe level plum.txt --reference border -o plum-level.txt
+  kezuri probe level plum.txt --reference cols:1,41 --method auto --json \\
+      -o plum-cols.txt
+  grep -v '#' plum.txt > bare.txt   # a bare No,Z file: give its grid
+  kezuri probe level bare.txt --count 41,31 --pitch 1 --reference corners")]
 pub struct LevelArgs {
     #[command(flatten)]
     pub data: DataArgs,

@@ -51,8 +51,13 @@ a whole program that starts from the safe height. A summary on standard error gi
 size, moves and cycle time.
 
 Examples:
-  kezuri probe mill ume-2.txt --count 85,105 --pitch 1 --stylus ball:10 --tool ball:10 -o ume.nc
-  kezuri probe mill capture.txt --stylus ball:10 --tool ball:6 --stepover 0.5 --split-bytes 250000 -o part.nc")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      --tilt 0.002,-0.001 --noise 0.002 -o plum.txt
+  kezuri probe mill plum.txt --stylus ball:10 --tool ball:10 -o plum-copy.nc
+  kezuri probe mill plum.txt --stylus ball:10 --tool ball:6 --stepover 0.5 \\
+      --split-bytes 20000 -o plum-part.nc")]
 pub struct MillArgs {
     #[command(flatten)]
     pub data: DataArgs,

@@ -47,15 +47,17 @@ motion and no G code but G04. Lengths must be whole numbers of 10^-digits mm, so
 point is written exactly and the incremental steps add up to it.
 
 Examples:
-  kezuri probe plan --origin 0,0 --count 85,105 --pitch 1 --safe-z 30 --plunge 50 -o O1011.nc
-  kezuri probe plan --origin 10,20 --count 40,30 --pitch 0.5 --safe-z -80 --plunge 25 \\
-      --style expanded --pattern oneway --feed 3000 -o grid.nc
-  kezuri probe plan --origin 0,0 --count 60,40 --pitch 1 --safe-z 5 --plunge 30 --style g31 \\
-      --plunge-feed 150 -o probe.nc
+  kezuri probe plan --origin 0,0 --count 85,105 --pitch 1 --safe-z 30 \\
+      --plunge 50 -o O1011.nc
+  kezuri probe plan --origin 10,20 --count 40,30 --pitch 0.5 --safe-z -80 \\
+      --plunge 25 --style expanded --pattern oneway --feed 3000 -o grid.nc
+  kezuri probe plan --origin 0,0 --count 60,40 --pitch 1 --safe-z 5 \\
+      --plunge 30 --style g31 --plunge-feed 150 -o probe.nc
   kezuri probe plan --origin 0,0 --count 4,3 --pitch 1 --safe-z 30 --plunge 50 \\
-      --trigger \"M08,G04 X1.,M09\" --program-number 2000 -o -
-  kezuri probe plan --origin 0,0 --count 40,30 --pitch 1 --safe-z 5 --plunge 20 --style expanded \\
-      --post linuxcnc --machine mill.toml --tool-number 9 -o grid.ngc
+      --trigger \"M08,G04 X1.,M09\" --program-number 2000
+  kezuri probe plan --origin 0,0 --count 40,30 --pitch 1 --safe-z 5 \\
+      --plunge 20 --style expanded --post linuxcnc \\
+      --machine samples/tools/mill.toml --tool-number 3 -o grid.ngc
 
 Exit code 1 for a count below 1, a pitch or plunge that is not positive, a length with more
 decimals than --digits, a trigger block that moves or changes modes, a program number or

@@ -25,9 +25,12 @@ level); --noise adds uniform noise of ± that many mm, repeatable with --seed. T
 file (header with the grid, then No,Z in capture order) that every other probe command reads.
 
 Examples:
-  kezuri probe simulate mould.stl --count 85,105 --pitch 1 --stylus ball:10 -o mould.txt
-  kezuri probe simulate part.xyz --count 41,41 --pitch 0.5 --origin 10,10 --stylus ball:6 \\
-      --tilt 0.002,-0.001 --noise 0.003 --seed 7 -o part-readings.txt")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      -o plum.txt
+  kezuri probe simulate plum.stl --count 41,31 --pitch 0.5 --origin 10,7.5 \\
+      --stylus ball:6 --tilt 0.002,-0.001 --noise 0.003 --seed 7 -o part.txt")]
 pub struct SimulateArgs {
     /// The model: STL (binary or ASCII) or an `x y z` height grid.
     #[arg(value_name = "MODEL")]
