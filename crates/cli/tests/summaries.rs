@@ -136,3 +136,51 @@ fn ok_and(o: std::process::Output) -> std::process::Output {
     assert!(o.status.success(), "{}", stderr(&o));
     o
 }
+
+#[test]
+fn every_program_writer_says_one_line_of_what_it_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let samples = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples");
+    let plate = format!("{samples}/nameplate-cam.nc");
+    let sketch = format!("{samples}/plum-sketch.png");
+    let turn = format!("{samples}/mill-turn.toml");
+    let dome = dome(dir.path());
+    let capture = path(dir.path(), "capture.txt");
+    ok(&kezuri(&["probe", "simulate", &dome, "--count", "9,9", "--pitch", "2", "--stylus", "ball:2", "-o", &capture]));
+    let out = |name: &str| path(dir.path(), name);
+    let writers: Vec<Vec<String>> = [
+        vec!["run", &plate, "-o", &out("run.nc")],
+        vec!["texture", &plate, "--seed", "1", "-o", &out("texture.nc")],
+        vec!["texture", &plate, "--mode", "macro", "-o", &out("macro.nc")],
+        vec!["convert", &plate, "-o", &out("plate.rml")],
+        vec![
+            "relief",
+            &sketch,
+            "--width",
+            "20",
+            "--depth",
+            "1",
+            "--tool",
+            "ball:2",
+            "--stepover",
+            "2",
+            "-o",
+            &out("r.nc"),
+        ],
+        vec!["mill", &dome, "--tool", "ball:4", "--stepover", "2", "-o", &out("mill.nc")],
+        vec!["probe", "mill", &capture, "--stylus", "ball:2", "--tool", "ball:2", "-o", &out("copy.nc")],
+        vec!["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1", "--safe-z", "5", "--plunge", "9"],
+        vec!["thermal", "plan", "--machine", &turn, "-o", &out("o2007.nc")],
+    ]
+    .into_iter()
+    .map(|w| w.into_iter().map(String::from).collect())
+    .collect();
+    for words in writers {
+        let args: Vec<&str> = words.iter().map(String::as_str).collect();
+        let said = stderr(&ok_and(kezuri(&args)));
+        let wrote: Vec<&str> = said.lines().filter(|l| l.starts_with("wrote ")).collect();
+        assert_eq!(wrote.len(), 1, "{}: {said}", words.join(" "));
+        let quiet = stderr(&ok_and(kezuri(&[&args[..], &["--quiet"]].concat())));
+        assert!(!quiet.contains("wrote ") && !quiet.contains("dialect "), "{}: {quiet}", words.join(" "));
+    }
+}

@@ -361,21 +361,18 @@ pub fn run(args: &MillArgs) -> Result<()> {
         }
         (None, _) => "smooth through the readings, followed by the stylus's own shape".to_string(),
     };
+    let flat_top = flat.map_or_else(String::new, |z| {
+        format!("; flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid", margins.runs, margins.length)
+    });
     crate::say::note!(
-        "wrote {}: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {} \
-         ({time:.1} s)",
+        "wrote {}: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {}; \
+         from {}, {} × {} points at pitch {pitch} mm, surface {surface}{flat_top}; computed in {seconds_cam:.2} s",
         crate::say::shown(file),
         parts.len(),
         path.moves.len(),
         path.feed_length(),
         path.rapid_length(),
         crate::say::hms(time),
-    );
-    let flat_top = flat.map_or_else(String::new, |z| {
-        format!("; flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid", margins.runs, margins.length)
-    });
-    crate::say::note!(
-        "{}: {} × {} points, pitch {pitch} mm; surface {surface}; computed in {seconds_cam:.2} s{flat_top}",
         args.data.data.display(),
         g.nx,
         g.ny,
