@@ -38,8 +38,8 @@ timed "probe export --dxf --stl --png --csv" \
     "$K" probe export plum-level.txt --dxf p.dxf --stl p.stl --png p.png --csv p.csv
 timed "probe mill --tool ball:10 (resolution pitch/8)" \
     "$K" probe mill plum-level.txt --stylus ball:10 --tool ball:10 -o p.nc
-timed "probe mill --tool ball:10 --resolution 0.25" \
-    "$K" probe mill plum-level.txt --stylus ball:10 --tool ball:10 --resolution 0.25 -o p.nc
+timed "probe mill --tool ball:10 --res 0.25" \
+    "$K" probe mill plum-level.txt --stylus ball:10 --tool ball:10 --res 0.25 -o p.nc
 timed "probe mill --tool ball:6 (resolution pitch/8)" \
     "$K" probe mill plum-level.txt --stylus ball:10 --tool ball:6 -o p.nc
 timed "probe mill --tool flat:6 (resolution pitch/8)" \

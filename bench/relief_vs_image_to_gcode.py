@@ -76,7 +76,7 @@ def image_to_gcode(png, out):
 
 def kezuri_relief(png, out, stl, origin):
     args = [KEZURI, "relief", png, "--pixel", str(PIXEL), "--depth", str(DEPTH), "--tool", f"ball:{TOOL_D:g}",
-            "--stepover", str(STEPOVER), "--tolerance", str(TOL), "--origin", origin, "--emit", "linuxcnc",
+            "--stepover", str(STEPOVER), "--leave-tol", str(TOL), "--origin", origin, "--to", "linuxcnc",
             "-o", out]
     # The relief surface for the comparison, once and untimed (writing a 2-million-triangle
     # STL is not part of the conversion).

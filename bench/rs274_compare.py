@@ -3,7 +3,7 @@
 
 For every corpus program (and LinuxCNC's installed examples, read in place):
   rs274 -t TOOLTABLE -g FILE            (run from the program's folder)
-  kezuri run FILE --emit csv --machine M.toml [--no-decimal units]
+  kezuri run FILE --to csv --machine M.toml [--no-decimal units]
 rs274's canonical calls (STRAIGHT_TRAVERSE / STRAIGHT_FEED / STRAIGHT_PROBE / ARC_FEED,
 with USE_LENGTH_UNITS and SELECT_PLANE tracked) become a list of end points in mm, moved
 from rs274's program frame into kezuri's (SET_XY_ROTATION, then SET_G5X_OFFSET +
@@ -18,7 +18,7 @@ same kind (rapid / feed / cw / ccw / probe), and every end point within
 1e-3 mm + half of rs274's printed step (4 decimals in program units: 0.00005 mm in mm
 programs, 0.00127 mm in inch programs). Arc centres: rs274 prints them; kezuri's CSV
 has no centre column, so for arcs the centre kezuri used is read from its
-`--emit linuxcnc --apply-comp` output (I/J/K; arcs matched in order, when both have as many arcs) and
+`--to linuxcnc --apply-comp` output (I/J/K; arcs matched in order, when both have as many arcs) and
 compared too.
 
 Usage: python3 bench/rs274_compare.py [--json] [--no-linuxcnc] [--timeout S] [--only SUBSTR]
@@ -158,7 +158,7 @@ def run_rs274(program, tbl, timeout):
 # ---------------------------------------------------------------- kezuri side
 
 def run_kezuri(program, binary, machine, timeout, emit="csv"):
-    cmd = [binary, "run", os.path.basename(program.path), "--emit", emit, "--machine", machine]
+    cmd = [binary, "run", os.path.basename(program.path), "--to", emit, "--machine", machine]
     cmd += program.kezuri_flags()
     if emit == "linuxcnc":
         # The tool centre, as rs274 prints it (G41/G42 applied, G40).
@@ -191,7 +191,7 @@ WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 
 
 def linuxcnc_centres(text):
-    """Arc centres (mm) of kezuri's --emit linuxcnc output, one entry per move (None for lines)."""
+    """Arc centres (mm) of kezuri's --to linuxcnc output, one entry per move (None for lines)."""
     pos = [0.0, 0.0, 0.0]
     inch = False
     absolute = True

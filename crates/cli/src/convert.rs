@@ -69,10 +69,14 @@ original, both ways; --arcs also fits G02/G03 arcs in the XY plane at constant Z
 Nothing is written when the input has an error.
 
 Examples:
-  kezuri convert camm3.rml --safe-z 5 --feed 600 -o relief.nc
-  kezuri convert relief.rml --scale-xy 2 --scale-z 1.5 --tool ball:7 --shorten 0.005 -o big.nc
-  kezuri convert part.nc --safe-z 3 -o part.rml
-  kezuri convert part.ngc --to fanuc --shorten 0.002 --arcs -o part.nc
+  kezuri run samples/nameplate-cam.nc --to rml -o plate.rml
+  kezuri convert plate.rml --safe-z 5 --feed 600 -o plate.nc
+  kezuri convert plate.rml --scale-xy 2 --scale-z 1.5 --tool ball:7 \\
+      --shorten 0.005 -o big.nc
+  kezuri convert samples/nameplate-cam.nc --safe-z 3 -o plate-3.rml
+  kezuri convert samples/nameplate-cam.nc -o plate.ngc
+  kezuri convert plate.ngc --to fanuc --shorten 0.002 --arcs -o plate-arcs.nc
+  kezuri convert samples/nameplate-cam.nc --rml-unit 0.025 -o mdx20.prn
   kezuri convert mdx20.prn --rml-unit 0.025 --to grbl -o mdx20.gcode")]
 pub struct ConvertArgs {
     /// The program to convert (`-` for standard input).
@@ -87,7 +91,7 @@ pub struct ConvertArgs {
     #[arg(long, alias = "from", value_enum, value_name = "DIALECT")]
     pub dialect: Option<Format>,
     /// Format of the output [default: from its extension, else fanuc].
-    #[arg(long, value_enum, value_name = "FORMAT")]
+    #[arg(long, alias = "emit", value_enum, value_name = "FORMAT")]
     pub to: Option<Format>,
     /// Millimetres per RML-1 step.
     #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
@@ -114,7 +118,12 @@ pub struct ConvertArgs {
     #[arg(long, value_name = "RPM", value_parser = crate::numbers::positive)]
     pub speed: Option<f64>,
     /// The cutter the program was made for (flat:D, ball:D, bull:D,R, oval:D,RL, v:D,ANGLE).
-    #[arg(long, value_name = "SPEC", value_parser = cutter)]
+    #[arg(
+        long,
+        value_name = "SPEC",
+        value_parser = cutter,
+        long_help = tool_help!("The cutter the program was made for (checked when scaled).")
+    )]
     pub tool: Option<Cutter>,
     /// Decimals written in a G-code program.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
@@ -194,7 +203,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     let name = if a.input == Path::new("-") { "<stdin>".to_string() } else { a.input.display().to_string() };
     let (from, detected) = input_format(a.dialect, &a.input, &text)?;
     if let Some(d) = &detected {
-        eprintln!("{name}: {d}");
+        crate::say::note!("{name}: {d}");
     }
     let to = a.to.unwrap_or_else(|| guess_to(a.output.as_deref()));
     if a.post.is_some() && to == Format::Rml {
@@ -238,7 +247,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     if let Some(tolerance) = a.shorten {
         let before = path.moves.len();
         path = shorten(&path, &ShortenOptions { tolerance, arcs: a.arcs });
-        eprintln!("shortened within {tolerance} mm: {before} moves -> {}", path.moves.len());
+        crate::say::note!("shortened within {tolerance} mm: {before} moves -> {}", path.moves.len());
     }
     let machine = a.machine.load()?;
     let out = match to {
@@ -280,7 +289,16 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
         outputs.add(Some(page), &html)?;
     }
     outputs.add(a.output.as_deref(), out.as_bytes())?;
-    outputs.commit()
+    outputs.commit()?;
+    let format = match to {
+        Format::Rml => "RML-1",
+        Format::Fanuc => "Fanuc G-code",
+        Format::Haas => "Haas G-code",
+        Format::Linuxcnc => "LinuxCNC G-code",
+        Format::Grbl => "GRBL G-code",
+    };
+    crate::say::wrote_program(a.output.as_deref(), &format!("{format}; "), &path, &machine);
+    Ok(())
 }
 
 fn print_diagnostics<'a>(sources: &Sources, diagnostics: impl IntoIterator<Item = &'a Diagnostic>) -> usize {
@@ -513,7 +531,7 @@ fn mm(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// Seed 002's warning: what cutter the scaled program needs.
+/// The warning of what cutter the scaled program needs.
 pub fn cutter_warnings(tool: Option<Cutter>, comments: &[NamedCutter], k: f64, s: f64) -> Vec<String> {
     let mut named: Vec<NamedCutter> = Vec::new();
     if let Some(c) = tool {

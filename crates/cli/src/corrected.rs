@@ -16,7 +16,7 @@ pub fn run_to_correct(run: &RunOptions, check: impl FnOnce(&Ran) -> Result<()>) 
     let text = read_text(&run.file)?;
     let (ran, parse_diagnostics) = run_text(run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{name}: {}", ran.dialect);
+    crate::say::note!("{name}: {}", ran.dialect);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }

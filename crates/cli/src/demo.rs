@@ -32,12 +32,61 @@ const SAMPLES: [(&str, &str, &str); 3] = [
     ),
 ];
 
-/// Runs the demo into `out`; `frames`: keep every microscope picture of the
-/// tool-wear demo.
-pub fn run(out: &Path, frames: bool) -> Result<()> {
+/// The demo's pipelines (`--only`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Pipeline {
+    /// The bundled programs run, expanded and drawn.
+    Programs,
+    /// Pick feeds, a chip, a finishing program and its simulation on a dome.
+    Geometry,
+    /// Digitizing a model and copy-milling it.
+    Copy,
+    /// A sketch carved as a relief.
+    Relief,
+    /// A carved texture on a nameplate.
+    Texture,
+    /// Thermal drift measured (simulated sensor profiles in thermal/) and corrected.
+    Thermal,
+    /// A tool imaged new and worn (pictures in tool-T7-new/, tool-T7-worn/) and a groove corrected.
+    Wear,
+}
+
+/// One pipeline of the demo, into the output folder.
+type Step = fn(&Path) -> Result<()>;
+
+/// Runs the demo's pipelines (`only`, or all) into `out`; `frames`: keep
+/// every microscope picture of the tool-wear demo.
+pub fn run(out: &Path, only: &[Pipeline], frames: bool) -> Result<()> {
     let samples = out.join("samples");
     std::fs::create_dir_all(&samples).with_context(|| format!("cannot create {}", samples.display()))?;
     println!("kezuri demo -> {}", out.display());
+    let wanted = |p: Pipeline| only.is_empty() || only.contains(&p);
+    if wanted(Pipeline::Programs) {
+        programs(out, &samples)?;
+    }
+    let steps: [(Pipeline, Step); 5] = [
+        (Pipeline::Geometry, geometry),
+        (Pipeline::Copy, copy_milling),
+        (Pipeline::Relief, relief_carving),
+        (Pipeline::Texture, textured_nameplate),
+        (Pipeline::Thermal, thermal_drift),
+    ];
+    for (pipeline, step) in steps {
+        if wanted(pipeline) {
+            step(out)?;
+        }
+    }
+    if wanted(Pipeline::Wear) {
+        wear::tool_wear(out, frames)?;
+    }
+    if only.is_empty() {
+        index(out)?;
+    }
+    Ok(())
+}
+
+/// The bundled programs, each run, expanded, tabulated and drawn.
+fn programs(out: &Path, samples: &Path) -> Result<()> {
     for (name, what, text) in SAMPLES {
         let file = samples.join(name);
         write_atomic(&file, text.as_bytes())?;
@@ -63,13 +112,7 @@ pub fn run(out: &Path, frames: bool) -> Result<()> {
         );
         println!("  wrote {stem}-expanded.nc (Fanuc, macros expanded), {stem}.csv (motions), {stem}.svg (picture)");
     }
-    geometry(out)?;
-    copy_milling(out)?;
-    relief_carving(out)?;
-    textured_nameplate(out)?;
-    thermal_drift(out)?;
-    wear::tool_wear(out, frames)?;
-    index(out)
+    Ok(())
 }
 
 /// What to open first: the 3D pages, then the pictures, each with a line
@@ -143,8 +186,8 @@ fn geometry(out: &Path) -> Result<()> {
     let stl = stl.to_string_lossy().into_owned();
     println!("\nsamples/dome.stl  (a 60 x 60 mm rippled dome, 28,800 triangles)");
     let commands: [Vec<String>; 6] = [
-        words(&["scallop", "--tool", "oval:16,24", "--angle", "15", "--target", "0.010"]),
-        words(&["scallop", "--tool", "oval:16,24", "--angle", "60", "--target", "0.010"]),
+        words(&["scallop", "--tool", "oval:16,24", "--angle", "15", "--cusp", "0.010"]),
+        words(&["scallop", "--tool", "oval:16,24", "--angle", "60", "--cusp", "0.010"]),
         words(&[
             "engage",
             "--tool",
@@ -377,11 +420,13 @@ fn textured_nameplate(out: &Path) -> Result<()> {
     println!("\nsamples/nameplate-cam.nc  (a nameplate's zig-zag area clearing at CAM Z 0)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let cam = cam.to_string_lossy().into_owned();
-    let paper = ["--seed", "7", "--base", "-2", "--step-range", "0.2,1.6", "--max-depth", "-2.8"];
+    let design = ["--base", "-2", "--step-range", "0.2,1.6", "--max-depth", "-2.8"];
     let commands: [Vec<String>; 3] = [
-        words(&[&["texture", cam.as_str()][..], &paper, &["-o", &at("nameplate-textured.nc")]].concat()),
         words(
-            &[&["texture", cam.as_str()][..], &paper, &["--mode", "macro", "-o", &at("nameplate-macro.nc")]].concat(),
+            &[&["texture", cam.as_str(), "--seed", "7"][..], &design, &["-o", &at("nameplate-textured.nc")]].concat(),
+        ),
+        words(
+            &[&["texture", cam.as_str()][..], &design, &["--mode", "macro", "-o", &at("nameplate-macro.nc")]].concat(),
         ),
         words(&[
             "sim",
@@ -426,11 +471,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     let dir = out.join("thermal");
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let machine = out.join("samples").join("mill-turn.toml");
-    write_atomic(
-        &machine,
-        b"# A Swiss-type mill-turn: the milling spindle carries X, Z and the B tilt,\n\
-          # the turning side Y and C.\n[kinematics]\ntool = [\"X\", \"Z\", \"B\"]\nwork = [\"Y\", \"C\"]\n",
-    )?;
+    write_atomic(&machine, include_bytes!("../../../samples/mill-turn.toml"))?;
     println!("\nsamples/mill-turn.toml  (a mill-turn: tool side X Z B, work side Y C)");
     // The stops of O2007, each axis's travel at each B angle, and Y about zero.
     let stations: [(f64, [(f64, f64); 3]); 2] = [
@@ -469,7 +510,9 @@ fn thermal_drift(out: &Path) -> Result<()> {
     write_atomic(&dir.join("index.csv"), index.as_bytes())?;
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let m = machine.to_string_lossy().into_owned();
-    let o2007 = out.join("samples").join("o2007-thermal.nc").to_string_lossy().into_owned();
+    let o2007 = out.join("samples").join("o2007-thermal.nc");
+    write_atomic(&o2007, include_bytes!("../../../samples/o2007-thermal.nc"))?;
+    let o2007 = o2007.to_string_lossy().into_owned();
     let commands: [Vec<String>; 4] = [
         words(&["thermal", "plan", "--machine", &m, "-o", &at("O2007-plan.nc")]),
         words(&["thermal", "measure", &at("thermal/index.csv"), "-o", &at("thermal-meas.csv")]),

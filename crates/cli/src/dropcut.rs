@@ -26,9 +26,12 @@ on stderr says how many; --fill Z writes Z for them instead. A grid entirely off
 an error.
 
 Examples:
-  kezuri dropcut part.stl --tool ball:6 --grid 0,0,100,100,2 -o part.cl
-  kezuri dropcut part.stl --tool bull:10,1 --grid -5,-5,105,105,0.5 --fill 20 > part.cl
-  cat part.stl | kezuri dropcut - --tool oval:16,24 --grid 0,0,50,50,1
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri dropcut plum.stl --tool ball:6 --grid 0,0,40,30,2 -o plum.cl
+  kezuri dropcut plum.stl --tool bull:10,1 --grid -5,-5,45,35,1 --fill 5 \\
+      > plum-bull.cl
+  cat plum.stl | kezuri dropcut - --tool oval:16,24 --grid 0,0,40,30,1
 
 Exit code 1 for an unreadable or empty STL, a NaN coordinate, a bad tool or grid.")]
 pub struct DropcutArgs {
@@ -36,7 +39,7 @@ pub struct DropcutArgs {
     #[arg(value_name = "MESH")]
     pub mesh: PathBuf,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// The grid of cutter positions: X0,Y0,X1,Y1,STEP (mm).
     #[arg(long, value_name = "X0,Y0,X1,Y1,STEP", allow_hyphen_values = true)]

@@ -31,16 +31,18 @@ edge at the top of the cutter's tip points to +Y, increasing as the spindle turn
 See docs/engage.md for the model and its checks.
 
 Examples:
-  kezuri engage --tool oval:16,24 --angle 45 --pick-feed 0.8 --depth 0.8 --feed-per-tooth 0.16
-  kezuri engage --tool oval:16,24 --angle 0:75:15 --pick-feed auto --cusp 0.01 --depth 0.8 \\
-      --feed-per-tooth 0.16 --step both --cut both --png engage.png
-  kezuri engage --tool ball:10 --angle 30 --pick-feed 0.5 --depth 0.5 --feed-per-tooth 0.1 --json
+  kezuri engage --tool oval:16,24 --angle 45 --pick-feed 0.8 --depth 0.8 \\
+      --feed-per-tooth 0.16
+  kezuri engage --tool oval:16,24 --angle 0:75:15 --pick-feed auto --cusp 0.01 \\
+      --depth 0.8 --feed-per-tooth 0.16 --step both --cut both --png engage.png
+  kezuri engage --tool ball:10 --angle 30 --pick-feed 0.5 --depth 0.5 \\
+      --feed-per-tooth 0.1 --json
 
 Exit code 1 for a bad tool, an angle outside [0, 90), a pick feed wider than the cutter, a depth
 the cutter cannot reach, a helix outside [0, 90) or a file that cannot be written.")]
 pub struct EngageArgs {
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// Inclination of the plane in degrees, [0, 90): one angle, a list
     /// (15,30,45) or a range FIRST:LAST:STEP (0:75:15).

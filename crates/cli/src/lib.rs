@@ -4,6 +4,19 @@
 //! The commands are this library so that the fuzz targets (`fuzz/`) and the
 //! tests can reach them: `src/main.rs` is only the process around [`Cli`].
 
+/// A tool option's help: `$lead`, then what each tool spec means (the
+/// help of every command that takes one says it where it first names one).
+macro_rules! tool_help {
+    ($lead:literal) => {
+        concat!(
+            $lead,
+            "\nTools: flat:D (flat end mill, diameter D), ball:D (ball end mill), bull:D,R (bull-nose, \
+             corner radius R), oval:D,RL (oval end mill: a half-ellipsoid tip RL long), v:D,ANGLE (V-bit, \
+             included angle); mm and degrees."
+        )
+    };
+}
+
 mod budget;
 mod chart;
 mod convert;
@@ -22,6 +35,7 @@ mod probe;
 mod program;
 mod progress;
 mod relief;
+mod say;
 mod scallop;
 mod sim;
 mod surface;
@@ -44,10 +58,15 @@ use program::{RunOptions, WriteArgs};
 /// LinuxCNC and GRBL — for NC routers and machining centres.
 #[derive(Parser, Debug)]
 #[command(name = "kezuri", version, about, long_about = None)]
-#[command(
-    after_help = "Examples:\n  kezuri demo\n  kezuri check part.nc\n  kezuri run texture.nc --clock-seed 7 --emit fanuc -o expanded.nc"
-)]
+#[command(after_help = "Examples:
+  kezuri demo
+  kezuri check samples/o1011-digitize.nc
+  kezuri run samples/o7023-texture.nc --clock-seed 7 --to fanuc -o expanded.nc")]
 pub struct Cli {
+    /// Say nothing on standard error but errors and warnings: no summaries
+    /// of what was written, no progress bars.
+    #[arg(long, short, global = true, display_order = 1000)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -55,11 +74,16 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Run every pipeline on the bundled samples and show what it made.
-    #[command(after_help = "Example:\n  kezuri demo --out kezuri-demo")]
+    #[command(
+        after_help = "Examples:\n  kezuri demo --only thermal,copy --out demo\n  kezuri demo --only relief --quiet"
+    )]
     Demo {
         /// Folder for the outputs.
         #[arg(long, default_value = "kezuri-demo")]
         out: PathBuf,
+        /// Only these pipelines (comma-separated) [default: all].
+        #[arg(long, value_enum, value_delimiter = ',', value_name = "PIPELINE")]
+        only: Vec<demo::Pipeline>,
         /// Keep all 36 microscope pictures of each tool the tool-wear demo measures (67 MB; by
         /// default two of each are kept).
         #[arg(long)]
@@ -67,14 +91,14 @@ enum Command {
     },
     /// Parse and run a program (macros and subprograms too) and report blocks,
     /// motions, lengths, cycle time, bounds, canned-cycle holes and warnings.
-    #[command(
-        after_help = "Examples:\n  kezuri check O1011.nc\n  kezuri check part.nc --json --machine mill.toml\n  \
-kezuri check haas-job.nc --machine haas.toml   # G154 P1, G41 D1, G83, G84: radii and offsets from the file\n\n\
+    #[command(after_help = "Examples:
+  kezuri check samples/o1011-digitize.nc
+  kezuri check samples/nameplate-cam.nc --json --machine samples/tools/mill.toml
+  kezuri check samples/o2007-thermal.nc --machine samples/mill-turn.toml\n\n\
 Values the program read from the machine file rather than set itself (a work offset #5221, a tool \
 offset #2001, the machine position #5021, an input #1000, the clock #3001) are listed as notes: a \
 program expanded from them holds this machine's values.\n\n\
-Exit code 1 when the program has errors (each shown with file:line:column)."
-    )]
+Exit code 1 when the program has errors (each shown with file:line:column).")]
     Check {
         #[command(flatten)]
         run: RunOptions,
@@ -84,16 +108,21 @@ Exit code 1 when the program has errors (each shown with file:line:column)."
         json: bool,
     },
     /// Execute macros and subprograms and write the expanded motion program.
-    #[command(
-        after_help = "Examples:\n  kezuri run texture.nc --clock-seed 7 -o expanded.nc\n  kezuri run part.nc --emit csv -o moves.csv\n  \
-kezuri run part.nc --emit linuxcnc --svg part.svg -o part.ngc\n  \
-kezuri run drill.nc --keep-cycles -o drill-cycles.nc   # G81/G83 stay cycle blocks\n  \
-kezuri run contour.nc --machine mill.toml --apply-comp --emit grbl -o c.gcode  # tool centre\n\n\
+    #[command(after_help = "Examples:
+  kezuri run samples/o7023-texture.nc --clock-seed 7 -o expanded.nc
+  kezuri run samples/nameplate-cam.nc --to csv -o moves.csv
+  kezuri run samples/nameplate-cam.nc --to linuxcnc --svg plate.svg -o plate.ngc
+  printf 'G0 X0 Y0 Z5.\\nG83 X10. Y10. Z-12. R2. Q3. F200\\n' > drill.nc
+  printf 'X20.\\nG80\\nM30\\n' >> drill.nc
+  kezuri run drill.nc --keep-cycles -o drill-cycles.nc   # G83 stays a cycle
+  printf 'G0 X-10. Y-10. Z5.\\nG1 Z-1. F300\\nG41 D1 X0 Y0\\n' > contour.nc
+  printf 'X40.\\nY30.\\nX0\\nY0\\nG40 X-10. Y-10.\\nG0 Z5.\\nM30\\n' >> contour.nc
+  kezuri run contour.nc --machine samples/tools/mill.toml --apply-comp \\
+      --to grbl -o contour.gcode   # the tool centre, for GRBL\n\n\
 What the machine must do itself is written where the program had it: M codes kezuri does not \
 follow (M00, M19, clamps), G10, G92, G52, smoothing codes (G05.1, G187), output signals, taps \
 (G84/G74, always as cycles), G41/G42 D. A move the program made as an increment from a \
-position it never named (after G28, G53, a tool change) stays an increment."
-    )]
+position it never named (after G28, G53, a tool change) stays an increment.")]
     Run {
         #[command(flatten)]
         run: RunOptions,
@@ -128,7 +157,13 @@ position it never named (after G28, G53, a tool change) stays an increment."
     /// tool's edge in the sensors' profiles, the error model, the corrected program.
     #[command(
         subcommand,
-        after_help = "The pipeline:\n  kezuri thermal plan --machine mill-turn.toml -o O2007.nc\n  kezuri thermal measure index.csv -o meas.csv\n  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json\n  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc"
+        after_help = "The pipeline, on the demo's simulated sensor profiles (in demo/thermal/):
+  kezuri demo --only thermal --out demo
+  kezuri thermal plan --machine samples/mill-turn.toml -o O2007.nc
+  kezuri thermal measure demo/thermal/index.csv -o meas.csv
+  kezuri thermal fit meas.csv --machine samples/mill-turn.toml -o model.json
+  kezuri thermal apply samples/o2007-thermal.nc --model model.json \\
+      --machine samples/mill-turn.toml -o o2007-warm.nc"
     )]
     Thermal(thermal::ThermalCommand),
     /// A tool's measured cutting profile from backlit images, the database of its wear, and tool
@@ -138,7 +173,14 @@ position it never named (after G28, G53, a tool change) stays an increment."
     /// The program corrected for the measured tool's wear and runout.
     #[command(
         subcommand,
-        after_help = "The pipeline:\n  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 -o t12.csv\n  kezuri wear apply part.nc --profile t12.csv --nominal ball:1 --surface part.stl -o part-t12.nc"
+        after_help = "The pipeline, on pictures of a worn 0.5 mm ball end mill:
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7.csv
+  kezuri relief samples/plum-sketch.png --width 20 --depth 1 --smooth 2 \\
+      --tool ball:0.5 --stepover 0.5 --post grbl --surface-stl plum.stl \\
+      -o plum.gcode
+  kezuri wear apply plum.gcode --profile t7.csv --nominal ball:0.5 \\
+      --surface plum.stl -o plum-t7.gcode"
     )]
     Wear(wear::WearCommand),
 }
@@ -146,7 +188,7 @@ position it never named (after G28, G53, a tool change) stays an increment."
 /// Runs one command.
 fn dispatch(command: &Command) -> anyhow::Result<()> {
     match command {
-        Command::Demo { out, frames } => demo::run(out, *frames),
+        Command::Demo { out, only, frames } => demo::run(out, only, *frames),
         Command::Check { run, json } => program::check(run, *json),
         Command::Run { run, write } => program::run(run, write),
         Command::Scallop(args) => scallop::run(args),
@@ -168,6 +210,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
 impl Cli {
     /// Runs the command given.
     pub fn run(&self) -> anyhow::Result<()> {
+        say::set_quiet(self.quiet);
         dispatch(&self.command)
     }
 }

@@ -14,9 +14,9 @@ use crate::surface::read_surface;
 #[derive(Args, Debug)]
 #[command(after_help = "\
 The cutter is placed on the surface with drop-cutter (exact contact for every shape), so the
-program never cuts into the surface by more than --tolerance: rows are sampled every --step,
-halved where the path bends more than --tolerance/2, and merged where it is straight within
---tolerance/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
+program never cuts into the surface by more than --gouge-tol: rows are sampled every --step,
+halved where the path bends more than --gouge-tol/2, and merged where it is straight within
+--gouge-tol/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
 it, so nothing outside the surface is cut; within a radius of the edges the cutter cannot
 reach down everywhere, and material is left there. Where no part of the surface is under
 the cutter the row is cut in pieces, with a retract between.
@@ -31,18 +31,23 @@ machine file's [post] changes any part, its tool table gives the tool's H regist
 start, the tool change with its retract and G43 H on the first Z move, spindle, coolant, end.
 
 Examples:
-  kezuri mill part.stl --tool ball:6 --stepover 0.5 -o part.nc
-  kezuri mill part.stl --tool oval:16,24 --stepover 1.5 --cusp 0.01 --direction both -o egg.nc
-  kezuri mill relief.xyz --tool ball:3 --stepover 0.3 --pattern oneway --post grbl -o relief.gcode
-  kezuri mill part.stl --tool ball:6 --stepover 0.5 --tool-number 5 --post haas \\
-      --machine vf2.toml -o part.nc")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri mill plum.stl --tool ball:6 --stepover 1 -o plum-ball.nc
+  kezuri dropcut plum.stl --tool ball:0.5 --grid 0,0,40,30,0.25 -o plum.xyz
+  kezuri mill plum.xyz --tool oval:16,24 --stepover 1.5 --cusp 0.01 \\
+      --direction both -o plum-oval.nc
+  kezuri mill plum.xyz --tool ball:3 --stepover 0.3 --pattern oneway \\
+      --post grbl -o plum.gcode
+  kezuri mill plum.xyz --tool ball:6 --stepover 0.5 --tool-number 2 \\
+      --post haas --machine samples/tools/mill.toml -o plum-haas.nc")]
 pub struct MillArgs {
     /// The surface: an STL (binary or ASCII), or a height grid of `x y z`
     /// lines; `-` reads stdin.
     #[arg(value_name = "SURFACE")]
     pub surface: std::path::PathBuf,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// Distance between rows in plan, mm (the widest, with --cusp).
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
@@ -60,9 +65,10 @@ pub struct MillArgs {
     /// Sampling step along a row, mm [default: a quarter of the cutter radius].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
-    pub tolerance: f64,
+    /// How far the path may stray from the exact cutter locations, mm: a gouge into the surface
+    /// of up to this much is allowed.
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    pub gouge_tol: f64,
     /// Area the cutter's centre covers in plan [default: the surface's XY box;
     /// a larger one finishes the edges, with the cutter resting on the
     /// surface's edge beyond them, lower than the surface].
@@ -142,8 +148,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         pattern: args.pattern.into(),
         stepover: args.stepover,
         step: args.step.unwrap_or(cutter.radius() / 4.0),
-        tolerance: args.tolerance,
-        gouge: args.tolerance,
+        tolerance: args.gouge_tol,
+        gouge: args.gouge_tol,
         quantum: args.write.quantum(&machine)?,
         safe_z: args.safe_z.unwrap_or(surface.top() + 5.0),
         feed: args.feed,
@@ -160,10 +166,10 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     let digits = args.write.digits.unwrap_or(if args.write.inch { 4 } else { 3 });
     let rounding = 0.5 * 10f64.powi(-i32::from(digits)) * if args.write.inch { 25.4 } else { 1.0 };
-    if rounding > args.tolerance {
+    if rounding > args.gouge_tol {
         eprintln!(
-            "warning: {digits} decimals round positions by up to {rounding} mm, more than --tolerance {} mm",
-            args.tolerance
+            "warning: {digits} decimals round positions by up to {rounding} mm, more than --gouge-tol {} mm",
+            args.gouge_tol
         );
     }
     let pick_feeds = args.cusp.map(|h| pick_feed_table(&cutter, h));
@@ -200,7 +206,9 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
     let mut out = Outputs::new();
     stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made, &[(args.tool_number, cutter)])?;
-    out.commit()
+    out.commit()?;
+    crate::say::wrote_program(args.write.output(), "", &path, &machine);
+    Ok(())
 }
 
 /// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of

@@ -26,8 +26,8 @@ pub enum ProbeCommand {
     Plan(Box<plan::PlanArgs>),
     /// Read the indicator over a serial port, one reading per plunge, into a data file.
     Capture(Box<capture::CaptureArgs>),
-    /// Reference-plane correction (least-squares plane or reference lines), with the
-    /// paper's table of count, max, min, mean and standard deviation.
+    /// Reference-plane correction (least-squares plane or reference lines), with a table
+    /// of count, max, min, mean and standard deviation.
     Level(Box<level::LevelArgs>),
     /// DXF cross sections, STL surface, shaded PNG or x,y,z CSV of the data; --mirror
     /// completes a half-measured model.
@@ -43,7 +43,7 @@ pub enum ProbeCommand {
 pub fn run(command: &ProbeCommand) -> Result<()> {
     match command {
         ProbeCommand::Plan(args) => plan::run(args),
-        ProbeCommand::Capture(args) => capture::run(args),
+        ProbeCommand::Capture(args) => capture::run(args, crate::say::quiet()),
         ProbeCommand::Level(args) => level::run(args),
         ProbeCommand::Export(args) => export::run(args),
         ProbeCommand::Mill(args) => mill::run(args),

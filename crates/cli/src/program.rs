@@ -569,9 +569,9 @@ pub struct WriteArgs {
     /// what it names.
     #[arg(long, value_name = "NAME")]
     post: Option<String>,
-    /// Output format: csv or rml (--to is the same); fanuc, linuxcnc and grbl are
-    /// the posts of those names.
-    #[arg(long, alias = "to", value_enum)]
+    /// Output format: G-code by a post (fanuc, linuxcnc and grbl are the posts of those
+    /// names), csv or rml [default: G-code by --post].
+    #[arg(long = "to", alias = "emit", value_enum, value_name = "FORMAT")]
     emit: Option<Emit>,
     /// Output file (default: standard output).
     #[arg(short, long, value_name = "OUT")]
@@ -630,7 +630,7 @@ impl WriteArgs {
         self.output.as_deref()
     }
 
-    /// How G-code is written: the post (`--post`, `--emit fanuc|linuxcnc|grbl`,
+    /// How G-code is written: the post (`--post`, `--to fanuc|linuxcnc|grbl`,
     /// the machine file's `[post]`), then `--digits`, `--inch`,
     /// `--line-numbers` and `--incremental`. A transformed program keeps its
     /// own start, tool changes and end (no [`Setup`](kezuri_nc::write::Setup)).
@@ -640,7 +640,7 @@ impl WriteArgs {
             Some(Emit::Linuxcnc) => Some("linuxcnc"),
             Some(Emit::Grbl) => Some("grbl"),
             Some(Emit::Csv | Emit::Rml) if self.post.is_some() => {
-                bail!("--post writes G-code: it cannot go with --emit csv or rml")
+                bail!("--post writes G-code: it cannot go with --to csv or rml")
             }
             _ => None,
         };
@@ -672,7 +672,7 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     if ran.errors() > 0 {
         bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
     }
-    eprintln!("{}: {}", o.file.display(), ran.dialect);
+    crate::say::note!("{}: {}", o.file.display(), ran.dialect);
     let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
     let centre = &ran.outcome.toolpath;
     // Which of the programmed contour and the tool-centre path is written.
@@ -698,7 +698,9 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     }
     let mut out = std::mem::take(&mut ran.outputs);
     write_program(&mut out, written, centre, &title, &notes, w, &ran.machine, Origin::Transformed, &[])?;
-    out.commit()
+    out.commit()?;
+    crate::say::wrote_program(w.output(), "", written, &ran.machine);
+    Ok(())
 }
 
 /// One line per kind of value the run took from the machine file rather
@@ -731,13 +733,13 @@ pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
     Ok(())
 }
 
-/// The write options of `--post NAME` or `--emit DIALECT` (the older name of
+/// The write options of `--post NAME` or `--to DIALECT` (another name of
 /// the fanuc, linuxcnc and grbl posts), else the machine file's `[post]
 /// preset`, else fanuc; with the machine file's `[post]` on top.
 pub fn post_options(post: Option<&str>, emit: Option<&str>, machine: &Machine) -> Result<WriteOptions> {
     let name = match (post, emit) {
         (Some(p), Some(e)) if !p.trim().eq_ignore_ascii_case(e) => {
-            bail!("--post {p} and --emit {e} ask for two different controls: give one")
+            bail!("--post {p} and --to {e} ask for two different controls: give one")
         }
         (p, e) => p.or(e),
     };

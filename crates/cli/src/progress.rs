@@ -1,4 +1,5 @@
-//! Progress bars on stderr for long work, only when stderr is a terminal.
+//! Progress bars on stderr for long work, only when stderr is a terminal
+//! (and not with `--quiet`).
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,7 +15,7 @@ fn style(label: &str, what: &str) -> ProgressStyle {
 /// A bar counting `len` steps of `what` (e.g. "rows"), labelled `label`;
 /// `None` when stderr is not a terminal or the work is short (`len < min`).
 pub fn bar(label: &str, what: &str, len: u64, min: u64) -> Option<ProgressBar> {
-    if len < min || !std::io::stderr().is_terminal() {
+    if len < min || crate::say::quiet() || !std::io::stderr().is_terminal() {
         return None;
     }
     let bar = ProgressBar::new(len);
@@ -33,7 +34,7 @@ pub struct LateBar {
 
 impl LateBar {
     pub fn new(label: &str, what: &str, after: Duration) -> Option<LateBar> {
-        if !std::io::stderr().is_terminal() {
+        if crate::say::quiet() || !std::io::stderr().is_terminal() {
             return None;
         }
         let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());

@@ -21,7 +21,7 @@ use crate::program::{stage_toolpath, Origin, WriteArgs};
 pub const MAX_PIXELS: u64 = 64_000_000;
 
 /// Material the finishing cutter may leave where it cannot reach (normal
-/// to the relief, mm) before `relief` warns: five times --tolerance, and
+/// to the relief, mm) before `relief` warns: five times --leave-tol, and
 /// not less than this.
 const REACH_LEFT: f64 = 0.05;
 
@@ -43,7 +43,7 @@ puts a corner (corner or lower-left, lower-right, upper-left, upper-right) or th
 
 The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
 relief: rows are sampled every --step and refined until the path stays within 0.001 mm below
-and --tolerance above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
+and --leave-tol above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
 --to rml, hold it to about 0.003 mm). --rough SPEC first
 clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
 --surface-stl writes the relief surface for `kezuri sim --compare`. With --rough the roughing
@@ -56,13 +56,17 @@ T M06 and the tool length offset (G43 H, the tool table's h, on the first Z move
 coolant, and its end.
 
 Examples:
-  kezuri relief sketch.png --width 120 --depth 5 --tool ball:3 --stepover 0.3 -o sketch.nc
-  kezuri relief logo.png --pixel 0.1 --levels 0-63:0,64-191:2.5,192-255:5 --tool ball:6 \\
-      --stepover 0.4 --rough flat:6 --step-down 2 --allowance 0.3 --surface-stl logo.stl -o logo.nc
-  kezuri relief face.jpg --width 80 --depth 8 --invert --gamma 0.8 --smooth 1.5 \\
-      --mask face-mask.png --tool ball:2 --stepover 0.2 --direction both --post linuxcnc -o face.ngc
-  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 --rough flat:6 \\
-      --stepover 1 --post haas --machine shop.toml -o plum.nc")]
+  kezuri relief samples/plum-sketch.png --width 120 --depth 5 --tool ball:3 \\
+      --stepover 0.3 -o plum.nc
+  kezuri relief samples/plum-sketch.png --pixel 0.1 --tool ball:6 \\
+      --levels 0-63:0,64-191:2.5,192-255:5 --stepover 0.4 --rough flat:6 \\
+      --step-down 2 --allowance 0.3 --surface-stl levels.stl -o levels.nc
+  kezuri relief samples/plum-sketch.png --width 80 --depth 8 --invert \\
+      --gamma 0.8 --smooth 1.5 --tool ball:2 --stepover 0.4 --direction both \\
+      --post linuxcnc -o plum.ngc
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --rough flat:6 --stepover 1 --post haas \\
+      --machine samples/tools/mill.toml -o plum-haas.nc")]
 pub struct ReliefArgs {
     /// The sketch: PNG, JPEG, BMP, TIFF or PGM.
     #[arg(value_name = "IMAGE")]
@@ -109,7 +113,7 @@ pub struct ReliefArgs {
     #[arg(long, value_name = "CORNER|centre|X,Y", default_value = "corner", allow_hyphen_values = true)]
     pub origin: String,
     /// Finishing cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The finishing cutter."))]
     pub tool: String,
     /// Distance between finishing rows, mm.
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
@@ -124,10 +128,11 @@ pub struct ReliefArgs {
     /// program's increment where the pixel is finer].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How much material the path may leave above the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
-    pub tolerance: f64,
-    /// Roughing cutter: clear the stock in levels first.
+    /// How much material the path may leave above the exact cutter locations, mm (it never
+    /// cuts more than 0.001 mm below them).
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    pub leave_tol: f64,
+    /// Roughing cutter (a tool as --tool): clear the stock in levels first.
     #[arg(long, value_name = "SPEC")]
     pub rough: Option<String>,
     /// Depth of each roughing level, mm.
@@ -270,8 +275,8 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         stepover: args.stepover,
         // Sampling finer than the program's increment writes nothing finer.
         step: args.step.unwrap_or(pixel.max(quantum)),
-        tolerance: args.tolerance,
-        gouge: GOUGE.min(args.tolerance),
+        tolerance: args.leave_tol,
+        gouge: GOUGE.min(args.leave_tol),
         quantum,
         safe_z: args.safe_z,
         feed: args.feed,
@@ -314,7 +319,7 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     })?;
     path.moves.extend(finishing.moves);
     // What the finishing cutter cannot reach, at any stepover.
-    let threshold = (5.0 * args.tolerance).max(REACH_LEFT);
+    let threshold = (5.0 * args.leave_tol).max(REACH_LEFT);
     let step = pixel.max(cutter.radius() / 10.0);
     if let Some(u) = unreached(&field, &cutter, step, threshold, cl_of(cutter)) {
         eprintln!(
@@ -326,13 +331,12 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
             u.share * 100.0
         );
     }
-    eprintln!(
-        "{name}: {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm; {} moves in {:.2} s",
+    let what = format!(
+        "{name}, {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm, computed in {:.2} s; ",
         picture.width,
         picture.height,
         size[0],
         size[1],
-        path.moves.len(),
         t0.elapsed().as_secs_f64()
     );
     let title = format!("RELIEF {} {cutter} STEPOVER {}", args.image.display(), args.stepover);
@@ -345,7 +349,9 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     if let Some(stl) = &args.surface_stl {
         stage_surface_stl(&mut out, stl, &field)?;
     }
-    out.commit()
+    out.commit()?;
+    crate::say::wrote_program(args.write.output(), &what, &path, &machine);
+    Ok(())
 }
 
 /// The picture's lower-left corner for `--origin`: the named corner (or

@@ -9,7 +9,7 @@ use serde_json::json;
 
 /// Options of `kezuri scallop`.
 #[derive(Args, Debug)]
-#[command(group(ArgGroup::new("given").required(true).args(["pick_feed", "target"])))]
+#[command(group(ArgGroup::new("given").required(true).args(["pick_feed", "cusp"])))]
 #[command(after_help = "\
 The passes run along the contour (Z-level) of a plane inclined at --angle; the pick feed is
 measured in the inclined plane (Pf): Pf·cos(angle) across in plan, Pf·sin(angle)
@@ -18,16 +18,16 @@ the plane. Step-up (next pass higher) and step-down (next pass lower) leave the 
 both are reported. See docs/scallop.md.
 
 Examples:
-  kezuri scallop --tool oval:16,24 --angle 60 --target 0.010
+  kezuri scallop --tool oval:16,24 --angle 60 --cusp 0.010
   kezuri scallop --tool oval:16,24 --angle 15 --pick-feed 0.8
   kezuri scallop --tool ball:6 --angle 30 --pick-feed 0.5 --json
-  kezuri scallop --tool bull:10,1 --angle 45 --target 0.005
+  kezuri scallop --tool bull:10,1 --angle 45 --cusp 0.005
 
-Exit code 1 for a bad tool, an angle outside [0, 90), a negative pick feed or target, a pick
-feed that leaves an uncut strip, or a target no pick feed can meet.")]
+Exit code 1 for a bad tool, an angle outside [0, 90), a negative pick feed or cusp, a pick
+feed that leaves an uncut strip, or a cusp no pick feed can keep to.")]
 pub struct ScallopArgs {
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
     /// Inclination of the plane in degrees, from 0 (level) up to 90 (not included).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
@@ -35,9 +35,9 @@ pub struct ScallopArgs {
     /// Pick feed in the inclined plane, mm: report the cusp it leaves.
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub pick_feed: Option<f64>,
-    /// Target cusp height, mm: report the largest pick feed that meets it.
-    #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
-    pub target: Option<f64>,
+    /// The cusp height to keep to, mm: report the largest pick feed that leaves no more.
+    #[arg(long, alias = "target", value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
+    pub cusp: Option<f64>,
     /// Print one JSON object: tool, angle_deg, pick_feed_mm, cusp_mm,
     /// step_up_cusp_mm, step_down_cusp_mm, plan_stepover_mm, z_step_mm, …
     #[arg(long)]
@@ -52,15 +52,15 @@ pub fn run(args: &ScallopArgs) -> Result<()> {
         bail!("--angle must be from 0 up to (not including) 90 degrees, got {deg}");
     }
     let angle = deg.to_radians();
-    let s = match (args.pick_feed, args.target) {
+    let s = match (args.pick_feed, args.cusp) {
         (Some(pf), _) => scallop::cusp(&cutter, angle, pf)?,
         (None, Some(t)) => scallop::pick_feed(&cutter, angle, t)?,
-        (None, None) => bail!("give --pick-feed or --target"),
+        (None, None) => bail!("give --pick-feed or --cusp"),
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report(&cutter, deg, args.target, &s))?);
+        println!("{}", serde_json::to_string_pretty(&report(&cutter, deg, args.cusp, &s))?);
     } else {
-        print!("{}", text(&cutter, deg, args.target, &s));
+        print!("{}", text(&cutter, deg, args.cusp, &s));
     }
     if s.width_limited {
         eprintln!(

@@ -52,7 +52,7 @@ reach the cells start at its bottom. Without --stock the stock is the XY box of 
 moves grown by the widest cutter's radius, its top at their highest point; give --stock for a
 real check of the rapids.
 
---tool-profile PROFILE.csv cuts with a measured tool instead of --tool SPEC: the CSV of
+--profile PROFILE.csv cuts with a measured tool instead of --tool SPEC: the CSV of
 `kezuri tool` (`z_mm,radius_mm`: z up from the nominal tip, the radius of the swept envelope,
 straight between samples). The tool is what a Z-map sees of it from below: at each radius the
 lowest height it reaches there, so a worn tip cuts less deep and a worn waist leaves a ridge.
@@ -68,14 +68,18 @@ A progress bar shows on a terminal when the cutting runs over a second.
 
 Examples (on the bundled samples):
   kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 -o plate.png
-  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 --stock -110,-60,110,5,0.5 --json
-  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 --stock cyl:230,10,0,-30,0.5
-  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 --rough flat:6 \\
-      --stepover 1 --surface-stl plum.stl -o plum.nc
-  printf '[tools.T1]\\nshape = \"flat:6\"\\n[tools.T2]\\nshape = \"ball:3\"\\n' > tools.toml
-  kezuri sim plum.nc --machine tools.toml --res 0.1 --stock 0,0,40,30,0 --compare plum.stl \\
-      -o plum.png
-  kezuri sim plum.nc --tool ball:3 --same-tool-for-all --res 0.1 --compare plum.stl --json
+  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 \\
+      --stock -110,-60,110,5,0.5 --json
+  kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 \\
+      --stock cyl:230,10,0,-30,0.5
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --rough flat:6 --stepover 1 --surface-stl plum.stl -o plum.nc
+  printf '[tools.T1]\\nshape = \"flat:6\"\\n' > tools.toml
+  printf '[tools.T2]\\nshape = \"ball:3\"\\n' >> tools.toml
+  kezuri sim plum.nc --machine tools.toml --res 0.1 --stock 0,0,40,30,0 \\
+      --compare plum.stl -o plum.png
+  kezuri sim plum.nc --tool ball:3 --same-tool-for-all --res 0.1 \\
+      --compare plum.stl --json
 
 Exit code 1 for a program with errors, a bad tool, resolution or stock, a tool without a
 shape, a grid too large (the cell count is given), an unreadable target; with --fail-on-rapid
@@ -121,16 +125,21 @@ pub struct SimArgs {
 /// What a simulation is cut with and compared to: the options `sim` and
 /// `view --sim` share.
 #[derive(Args, Debug, Default)]
-#[command(group(ArgGroup::new("cutter").args(["tool", "tool_profile"])))]
+#[command(group(ArgGroup::new("cutter").args(["tool", "profile"])))]
 pub struct SimSetup {
     /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
     /// degrees) [default: the machine file's tool table].
-    #[arg(long, value_name = "SPEC")]
+    #[arg(
+        long,
+        value_name = "SPEC",
+        long_help = tool_help!("Cutter of a program with one tool [default: the machine file's tool table].")
+    )]
     pub tool: Option<String>,
-    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool`).
-    #[arg(long, value_name = "PROFILE.csv")]
-    pub tool_profile: Option<PathBuf>,
-    /// Cut every move with --tool (or --tool-profile), whatever tools the program changes to.
+    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool
+    /// profile`).
+    #[arg(long, alias = "tool-profile", value_name = "PROFILE.csv")]
+    pub profile: Option<PathBuf>,
+    /// Cut every move with --tool (or --profile), whatever tools the program changes to.
     #[arg(long)]
     pub same_tool_for_all: bool,
     /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm
@@ -237,7 +246,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
     ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{}: {}", args.run.file.display(), ran.dialect);
+    crate::say::note!("{}: {}", args.run.file.display(), ran.dialect);
     // Every output file (the DPRNT file too) is written together, or none.
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();

@@ -14,17 +14,18 @@ use crate::program::{run_text, stage_toolpath, Origin, RunOptions, WriteArgs};
 pub enum Mode {
     /// Baked into the program: every stroke written out (any dialect).
     Bake,
-    /// The paper's way: a Fanuc macro called by G66.1 on every cutting block
+    /// A Fanuc macro called by G66.1 on every cutting block
     /// draws each depth from the control's clock, so every part differs. The
     /// program is written as it was, with the calls and the macro added
-    /// (--emit, --digits, --line-numbers and --svg do not apply).
+    /// (--to, --digits, --line-numbers and --svg do not apply).
     Macro,
 }
 
 /// The depth distribution.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum DistArg {
-    /// The paper's: a digit 0–9 onto nine depths, the middle twice as likely.
+    /// A digit 0–9 onto nine depths, the middle twice as likely (as the original carving
+    /// macro drew them).
     Digits,
     /// Every multiple of the quantum within the spread equally likely.
     Uniform,
@@ -34,23 +35,26 @@ pub enum DistArg {
     Smooth,
 }
 
-/// `kezuri texture IN -o OUT --seed N`.
+/// `kezuri texture IN --seed N -o OUT`.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
-  kezuri texture plate.nc --seed 7 -o plate-textured.nc
-  kezuri texture plate.nc --seed 7 --base -2 --step-range 0.2,1.6 -o plate-paper.nc
-  kezuri texture dome.nc --seed 3 --dist smooth --spread 0.3 --quantum 0.05 --max-depth -12 -o dome-textured.nc
-  kezuri texture plate.nc --seed 7 --mode macro -o plate-macro.nc
+  kezuri texture samples/nameplate-cam.nc --seed 7 -o plate-textured.nc
+  kezuri texture samples/nameplate-cam.nc --seed 7 --base -2 \\
+      --step-range 0.2,1.6 --max-depth -2.8 -o plate-carved.nc
+  kezuri texture samples/nameplate-cam.nc --seed 3 --dist smooth --spread 0.3 \\
+      --quantum 0.05 -o plate-smooth.nc
+  kezuri texture samples/nameplate-cam.nc --base -2 --mode macro \\
+      -o plate-macro.nc
   kezuri run plate-macro.nc --clock-seed 11 -o one-part.nc")]
 pub struct TextureArgs {
     #[command(flatten)]
     pub run: RunOptions,
     #[command(flatten)]
     pub write: WriteArgs,
-    /// Seed of the depths: the same seed gives the same program (bake; the
-    /// macro draws from the control's clock).
-    #[arg(long)]
-    pub seed: u64,
+    /// Seed of the depths: the same seed gives the same program. Needed to
+    /// bake; not with --mode macro, which draws from the control's clock.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
     /// Bake the texture into the program, or emit the macro.
     #[arg(long, value_enum, default_value = "bake")]
     pub mode: Mode,
@@ -70,8 +74,8 @@ pub struct TextureArgs {
     /// How the offsets are drawn.
     #[arg(long, value_enum, default_value = "digits")]
     pub dist: DistArg,
-    /// Successive depths differ by at least MIN and at most MAX mm (the
-    /// paper's design rule: 0.2,1.6).
+    /// Successive depths differ by at least MIN and at most MAX mm (for example
+    /// 0.2,1.6).
     #[arg(long, value_name = "MIN,MAX")]
     pub step_range: Option<String>,
     /// No textured point goes below this Z (a safety clamp).
@@ -87,6 +91,16 @@ pub struct TextureArgs {
 
 /// Runs `kezuri texture`.
 pub fn run(a: &TextureArgs) -> Result<()> {
+    let seed = match (a.mode, a.seed) {
+        (Mode::Bake, None) => {
+            bail!("--seed N is needed to bake: the same seed gives the same texture (--mode macro needs none)")
+        }
+        (Mode::Macro, Some(_)) => {
+            eprintln!("warning: --seed is not used: the macro draws each depth from the control's clock (#3001)");
+            0
+        }
+        (_, seed) => seed.unwrap_or(0),
+    };
     let options = TextureOptions {
         segment: a.segment,
         base: a.base,
@@ -100,7 +114,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         },
         step_range: a.step_range.as_deref().map(step_range).transpose()?,
         max_depth: a.max_depth,
-        seed: a.seed,
+        seed,
     };
     check(&options)?;
     let name = a.run.file.display().to_string();
@@ -113,7 +127,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
     }
     let (mut ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
     ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{name}: {}", ran.dialect);
+    crate::say::note!("{name}: {}", ran.dialect);
     if ran.errors() > 0 {
         bail!("{name}: {} error(s); nothing written", ran.errors());
     }
@@ -127,24 +141,25 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         out.add(a.write.output(), text.as_bytes())?;
         return out.commit();
     }
-    match a.mode {
+    let summary = match a.mode {
         Mode::Bake => {
             let t = bake(path, &options).with_context(|| name.clone())?;
             let title = a.run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
             stage_toolpath(
                 &mut out,
                 &t.toolpath,
-                &format!("{title} TEXTURED, SEED {}", a.seed),
+                &format!("{title} TEXTURED, SEED {seed}"),
                 &a.write,
                 &ran.machine,
                 Origin::Transformed,
                 &[],
             )?;
-            eprintln!("{name}: {} cutting moves textured, {} strokes of {} mm", t.moves, t.knots, a.segment);
+            let what = format!("{} cutting moves textured, {} strokes of {} mm; ", t.moves, t.knots, a.segment);
+            what + &crate::say::program_summary(&t.toolpath, &ran.machine)
         }
         Mode::Macro => {
             if !a.write.is_fanuc(&ran.machine) {
-                bail!("--mode macro writes a Fanuc Custom Macro B program: leave --emit at fanuc");
+                bail!("--mode macro writes a Fanuc Custom Macro B program: leave --to at fanuc");
             }
             let uniform = match a.dist {
                 DistArg::Digits => false,
@@ -196,14 +211,15 @@ pub fn run(a: &TextureArgs) -> Result<()> {
                 vars: a.macro_vars,
             };
             out.add(a.write.output(), m.wrap(&text, first, last).as_bytes())?;
-            eprintln!(
-                "{name}: G66.1 P{:04} before line {first}, G67 after line {last}; the macro draws each depth \
-                 from #3001 (--seed is not used)",
+            format!(
+                "G66.1 P{:04} before line {first}, G67 after line {last}; the macro draws each depth from #3001",
                 a.macro_number
-            );
+            )
         }
-    }
-    out.commit()
+    };
+    out.commit()?;
+    crate::say::note!("wrote {}: {summary}", crate::say::shown(a.write.output()));
+    Ok(())
 }
 
 /// `MIN,MAX`.

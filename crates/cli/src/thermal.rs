@@ -42,7 +42,7 @@ pub enum ThermalCommand {
 pub enum Solver {
     /// Newton's method to 1 nm.
     Newton,
-    /// The paper's search: ±50 candidates per axis 1 µm apart about the first-order estimate.
+    /// A grid search: ±50 candidates per axis 1 µm apart about the first-order estimate.
     Grid,
 }
 
@@ -55,8 +55,13 @@ correction changes by well under a micrometre over an arc); the largest such cha
 reported as arc_correction_change_mm.
 
 Examples:
-  kezuri thermal apply part.nc --model model.json --machine mill-turn.toml -o part-warm.nc
-  kezuri thermal apply O2007.nc --model model.json --machine mill-turn.toml --solver grid -o check.nc --json")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal apply samples/o2007-thermal.nc \\
+      --model demo/thermal-model.json --machine samples/mill-turn.toml \\
+      -o o2007-warm.nc
+  kezuri thermal apply samples/o2007-thermal.nc \\
+      --model demo/thermal-model.json --machine samples/mill-turn.toml \\
+      --to linuxcnc -o o2007-warm.ngc --json")]
 pub struct ApplyArgs {
     #[command(flatten)]
     pub run: RunOptions,
@@ -96,8 +101,9 @@ that edge less the command along its axis; the sensors' own places cancel in war
 give both states.
 
 Examples:
-  kezuri thermal measure index.csv -o meas.csv
-  kezuri thermal fit meas.csv --machine mill-turn.toml -o model.json")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal measure demo/thermal/index.csv -o meas.csv
+  kezuri thermal fit meas.csv --machine samples/mill-turn.toml -o model.json")]
 pub struct MeasureArgs {
     /// The index of profiles.
     pub index: PathBuf,
@@ -152,8 +158,10 @@ tool was less where it was commanded. With a state column (cold/warm) the error 
 at the same axis, angle and command.
 
 Examples:
-  kezuri thermal fit meas.csv -o model.json
-  kezuri thermal fit meas.csv --machine mill-turn.toml --degree 2 -o model.json --json")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal fit demo/thermal-meas.csv -o model.json
+  kezuri thermal fit demo/thermal-meas.csv --machine samples/mill-turn.toml \\
+      --degree 2 -o model.json --json")]
 pub struct FitArgs {
     /// The measurements CSV (`-` for standard input).
     pub measurements: PathBuf,
@@ -163,10 +171,11 @@ pub struct FitArgs {
     /// Polynomial degree [default: the one with the least leave-one-out error, up to 5].
     #[arg(long, value_name = "N")]
     pub degree: Option<usize>,
-    /// The model file (JSON).
+    /// The model file (JSON) [default: standard output; the table of the fit then goes to
+    /// standard error].
     #[arg(short, long, value_name = "MODEL.json")]
-    pub output: PathBuf,
-    /// Also print the fit as one JSON object.
+    pub output: Option<PathBuf>,
+    /// Also print the fit as one JSON object (with -o FILE).
     #[arg(long)]
     pub json: bool,
 }
@@ -183,10 +192,13 @@ M30 or M2). The dwell is G04 X<s> on fanuc and haas, G4 P<s> on linuxcnc and mac
 the machine file's [post] dwell_unit is ms). GRBL has no B axis to index: --post grbl is refused.
 
 Examples:
-  kezuri thermal plan -o O2007.nc
-  kezuri thermal plan --machine mill-turn.toml --at 0:-2,0,-74 --at -90:-145,0,-135 -o O2007.nc
-  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 --dwell 2 -o drift.nc
-  kezuri thermal plan --machine mill-turn.toml --post linuxcnc --tool-number 20 -o O2007.ngc")]
+  kezuri thermal plan --machine samples/mill-turn.toml -o O2007.nc
+  kezuri thermal plan --machine samples/mill-turn.toml --at 0:-2,0,-74 \\
+      --at -90:-145,0,-135 -o O2007.nc
+  kezuri thermal plan --at 0:10,20,-50 --axes x,y,z --steps 11 --pitch 2 \\
+      --dwell 2 -o drift.nc
+  kezuri thermal plan --machine samples/mill-turn.toml --post linuxcnc \\
+      --tool-number 20 -o O2007.ngc")]
 pub struct PlanArgs {
     /// A station: B angle and the first stop, `B:X,Y,Z` (repeat for each angle).
     #[arg(long = "at", value_name = "B:X,Y,Z", allow_hyphen_values = true)]
@@ -210,8 +222,8 @@ pub struct PlanArgs {
     #[arg(long, value_name = "Z", default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: f64,
     /// Program number [default: the machine file's [post] program_number, else 2007].
-    #[arg(long, value_name = "N")]
-    pub number: Option<u32>,
+    #[arg(long, alias = "number", value_name = "N")]
+    pub program_number: Option<u32>,
     /// Machine file (TOML): the program may use only axes it has [default: a 3-axis mill];
     /// its [post] (how the program is written for the control) and tool table (the H register
     /// of G43 H).
@@ -260,10 +272,17 @@ fn plan(a: &PlanArgs) -> Result<()> {
         None => Machine::default(),
     };
     if let Some(s) = stations.iter().find(|s| s.b_deg != 0.0 && !machine.kinematics.has(4)) {
+        if a.stations.is_empty() {
+            bail!(
+                "the standard stations index B to {}°, and the machine has no B axis: give --machine with one \
+                 (a [kinematics] with B, as samples/mill-turn.toml), or stations at B 0 with --at 0:X,Y,Z",
+                s.b_deg
+            );
+        }
         bail!("--at {}: the machine has no B axis to index (give --machine with one)", s.b_deg);
     }
     let p = ThermalPlan {
-        number: a.number.or(machine.post.program_number).unwrap_or(2007),
+        number: a.program_number.or(machine.post.program_number).unwrap_or(2007),
         stations,
         axes,
         steps: a.steps,
@@ -276,9 +295,13 @@ fn plan(a: &PlanArgs) -> Result<()> {
     };
     let text = p.program()?;
     write_output(a.output.as_deref(), text.as_bytes())?;
-    if a.output.is_some() {
-        eprintln!("{} stops at {} B angle(s)", p.stops().len(), p.stations.len());
-    }
+    crate::say::note!(
+        "wrote {}: {}{} stops at {} B angle(s)",
+        crate::say::shown(a.output.as_deref()),
+        if p.post.dialect == kezuri_nc::write::Dialect::Fanuc { format!("O{:04}, ", p.number) } else { String::new() },
+        p.stops().len(),
+        p.stations.len()
+    );
     Ok(())
 }
 
@@ -289,9 +312,10 @@ corner of the square reference tool. Points more than three robust
 standard deviations off their side's line are left out.
 
 Examples:
-  kezuri thermal edge sensor1-cold.csv
-  kezuri thermal edge sensor1-warm.csv --json
-  kezuri thermal edge odd.csv --split 0.25     # the second side starts at x = 0.25 mm")]
+  kezuri demo --only thermal --out demo
+  kezuri thermal edge demo/thermal/x0-b0-cold-1.csv
+  kezuri thermal edge demo/thermal/x0-b0-warm-1.csv --json
+  kezuri thermal edge demo/thermal/x0-b0-cold-1.csv --split -21.7")]
 pub struct EdgeArgs {
     /// The profile CSV (`x_mm,z_mm`; `-` for standard input).
     pub profile: PathBuf,
@@ -411,6 +435,11 @@ fn measurements(t: &Table) -> Result<Vec<Measurement>> {
 
 fn fit_model(a: &FitArgs) -> Result<()> {
     let name = a.measurements.display().to_string();
+    // The table of the fit goes to standard output unless the model went there.
+    let model_to_stdout = a.output.as_deref().is_none_or(|o| o == std::path::Path::new("-"));
+    if a.json && model_to_stdout {
+        bail!("--json prints to standard output: give the model a file with -o");
+    }
     let machine = match &a.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
@@ -441,29 +470,33 @@ fn fit_model(a: &FitArgs) -> Result<()> {
         "machine": {"tool": chain_letters(k)[0], "work": chain_letters(k)[1], "tip": k.tip},
         "functions": functions,
     });
-    write_output(Some(&a.output), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
+    write_output(a.output.as_deref(), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
     if a.json {
         println!("{v}");
-    } else {
-        println!(
-            "{name}: {} measurements, {} error functions -> {}",
-            ms.len(),
-            model.functions.len(),
-            a.output.display()
+        return Ok(());
+    }
+    let mut table = format!(
+        "{name}: {} measurements, {} error functions -> {}\n  axis  B deg  degree  points  rms X / Y / Z µm\n",
+        ms.len(),
+        model.functions.len(),
+        crate::say::shown(a.output.as_deref())
+    );
+    for f in &model.functions {
+        table += &format!(
+            "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}\n",
+            AXES[f.axis],
+            f.b_deg,
+            f.degree,
+            f.points,
+            f.rms_mm[0] * 1e3,
+            f.rms_mm[1] * 1e3,
+            f.rms_mm[2] * 1e3
         );
-        println!("  axis  B deg  degree  points  rms X / Y / Z µm");
-        for f in &model.functions {
-            println!(
-                "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}",
-                AXES[f.axis],
-                f.b_deg,
-                f.degree,
-                f.points,
-                f.rms_mm[0] * 1e3,
-                f.rms_mm[1] * 1e3,
-                f.rms_mm[2] * 1e3
-            );
-        }
+    }
+    if !model_to_stdout {
+        write_output(None, table.as_bytes())?;
+    } else if !crate::say::quiet() {
+        eprint!("{table}");
     }
     Ok(())
 }
@@ -522,6 +555,9 @@ fn load_model(path: &std::path::Path) -> Result<(ErrorModel, [Vec<String>; 2])> 
 
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
+    if a.json && a.write.output().is_none_or(|o| o == std::path::Path::new("-")) {
+        bail!("--json prints to standard output: give the program a file with -o");
+    }
     let (model, chains) = load_model(&a.model)?;
     // The model's machine is checked before the program's axes against it.
     let (text, mut ran) = run_to_correct(&a.run, |ran| {
@@ -623,8 +659,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     if a.json {
         println!("{v}");
     } else {
-        eprintln!(
-            "{name}: {} points corrected in {:.3} ms; largest correction {:.4} mm, largest residual {:.2e} mm",
+        crate::say::note!(
+            "wrote {}: {name}, {} points corrected in {:.3} ms; largest correction {:.4} mm, largest residual \
+             {:.2e} mm",
+            crate::say::shown(a.write.output()),
             corrected.len(),
             seconds * 1e3,
             largest,

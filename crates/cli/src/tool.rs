@@ -1,7 +1,7 @@
 //! `kezuri tool`: a tool's measured cutting profile from backlit images
 //! (`tool profile`), the database of each tool's profiles as it wears
 //! (`tool db`) and the tool tables of other programs' files (`tool table`,
-//! in tool_table.rs). The profile CSV is ../shared/CLI.md's `z_mm,radius_mm`.
+//! in tool_table.rs). The profile CSV is `z_mm,radius_mm` (and `wear_mm`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -37,8 +37,10 @@ pixel row from the lowest point of the tool up; z from --tip-row, the row of the
 where a new tool's tip sits, so a worn tip starts above 0.
 
 Examples:
-  kezuri tool profile frames/*.png --pixel-um 0.71 --tip-row 880 --nominal ball:1 -o t12.csv --png t12.png
-  kezuri tool profile tiles/*.png --pixel-um 0.71 --offsets tiles.csv -o t12.csv --json")]
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      --nominal ball:0.5 -o t7-new.csv --png t7-new.png
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      --nominal ball:0.5 -o t7-worn.csv --json")]
 pub struct ProfileArgs {
     /// The pictures.
     #[arg(required = true, value_name = "IMAGE")]
@@ -60,12 +62,13 @@ pub struct ProfileArgs {
     /// pictures if not given).
     #[arg(long, value_name = "LEVEL")]
     pub threshold: Option<f32>,
-    /// The new tool (ball:D, bull:D,R, …): adds the wear along the profile.
+    /// The new tool, ball:D (ball end mill of diameter D) or bull:D,R (bull-nose, corner radius
+    /// R), mm: adds the wear along the profile.
     #[arg(long, value_name = "SPEC")]
     pub nominal: Option<String>,
-    /// The profile CSV.
+    /// The profile CSV [default: standard output].
     #[arg(short, long, value_name = "PROFILE.csv")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
     /// A picture of the joined envelope with the edges found (red) and the nominal tool
     /// (green, with the runout).
     #[arg(long, value_name = "FILE.png")]
@@ -136,7 +139,7 @@ fn fields(a: &ProfileArgs) -> Result<Vec<(Vec<&PathBuf>, [f64; 2])>> {
 
 /// Runs `kezuri tool profile`.
 fn profile(a: &ProfileArgs) -> Result<()> {
-    if a.json && a.output == Path::new("-") {
+    if a.json && a.output.as_deref().is_none_or(|o| o == Path::new("-")) {
         bail!("--json prints to standard output: give the profile a file with -o");
     }
     if let Some(t) = a.threshold.filter(|t| !(0.0..=1.0).contains(t)) {
@@ -194,7 +197,7 @@ fn profile(a: &ProfileArgs) -> Result<()> {
     // Everything made before anything is written.
     let title = format!(
         "{}: the profile of {total} picture{}",
-        a.output.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().into_owned()),
+        a.output.as_deref().and_then(Path::file_name).map_or_else(|| "-".into(), |n| n.to_string_lossy().into_owned()),
         if total == 1 { "" } else { "s" }
     );
     let spec = a.nominal.as_deref().unwrap_or_default();
@@ -204,7 +207,7 @@ fn profile(a: &ProfileArgs) -> Result<()> {
         .map(|_| overlay_png(&m, nominal.as_ref().map(|c| (spec, c)), runout.unwrap_or(0.0), px, &title))
         .transpose()?;
     let mut out = Outputs::new();
-    out.add(Some(&a.output), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
+    out.add(a.output.as_deref(), profile_csv(&m.profile, wear.as_deref()).as_bytes())?;
     if let (Some(png), Some(picture)) = (&a.png, picture) {
         out.add(Some(png), &picture)?;
     }
@@ -229,9 +232,9 @@ fn profile(a: &ProfileArgs) -> Result<()> {
         });
         println!("{v}");
     } else {
-        eprintln!(
-            "{}: {} samples from z {:.4} to {:.4} mm, largest radius {:.4} mm, runout {}{}",
-            a.output.display(),
+        crate::say::note!(
+            "wrote {}: {} samples from z {:.4} to {:.4} mm, largest radius {:.4} mm, runout {}{}",
+            crate::say::shown(a.output.as_deref()),
             m.profile.z().len(),
             m.profile.tip(),
             m.profile.top(),

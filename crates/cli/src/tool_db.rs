@@ -30,10 +30,15 @@ commands running at once on this computer may share; keep it on a local disk (SQ
 mode does not work over a network file system).
 
 Examples:
-  kezuri tool db add T12 t12-new.csv --at 2026-05-01T08:00:00Z --note \"new, 6 mm ball\"
-  kezuri tool db add T12 t12-after-part-7.csv
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-new.csv
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-worn.csv
+  kezuri tool db add T7 t7-new.csv --at 2026-05-01T08:00:00Z \\
+      --note \"new, 0.5 mm ball\"
+  kezuri tool db add T7 t7-worn.csv
   kezuri tool db list
-  kezuri tool db show T12 --png t12-wear.png")]
+  kezuri tool db show T7 --png t7-wear.png")]
 pub enum DbCommand {
     /// Store a measured profile of a tool, with the time it was measured.
     Add(AddArgs),
@@ -58,9 +63,15 @@ from the nominal tip. Each add is one transaction: concurrent adds wait
 for each other (up to 10 s) and an add that is interrupted stores nothing.
 
 Examples:
-  kezuri tool db add T12 t12-new.csv --at 2026-05-01T08:00:00Z --note \"new, 6 mm ball\"
-  kezuri tool db add T12 t12-after-part-7.csv
-  kezuri tool db add T12 t12.csv --db ~/tools.sqlite --at 2026-05-03T17:30:00+09:00")]
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-new.csv
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-worn.csv
+  kezuri tool db add T7 t7-new.csv --at 2026-05-01T08:00:00Z \\
+      --note \"new, 0.5 mm ball\"
+  kezuri tool db add T7 t7-worn.csv
+  kezuri tool db add T7 t7-worn.csv --db shop-tools.sqlite \\
+      --at 2026-05-03T17:30:00+09:00")]
 pub struct AddArgs {
     /// The tool's name (as on its holder: T12, ball6-a, …).
     pub tool_id: String,
@@ -86,12 +97,20 @@ pub struct AddArgs {
 (UTC), and the latest's largest radius and tip z (mm up from the nominal tip).
 
 Examples:
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-new.csv
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-worn.csv
+  kezuri tool db add T7 t7-new.csv --at 2026-05-01T08:00:00Z \\
+      --note \"new, 0.5 mm ball\"
+  kezuri tool db add T7 t7-worn.csv
   kezuri tool db list
-  kezuri tool db list --db ~/tools.sqlite --json")]
+  kezuri tool db list --db kezuri-tools.sqlite --json")]
 pub struct ListArgs {
     #[command(flatten)]
     pub file: DbFile,
-    /// Print `{\"tools\": [...]}` as one JSON object.
+    /// Print one JSON object: {"tools": [...]}, each with id, profiles, first, latest,
+    /// max_radius_mm and tip_z_mm.
     #[arg(long)]
     pub json: bool,
 }
@@ -105,9 +124,16 @@ cover, with where (the first is the reference: '-'). Tip wear shows as the tip z
 --png draws each profile's radius loss along z.
 
 Examples:
-  kezuri tool db show T12
-  kezuri tool db show T12 --png t12-wear.png
-  kezuri tool db show T12 --db ~/tools.sqlite --json")]
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-new.csv
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-worn.csv
+  kezuri tool db add T7 t7-new.csv --at 2026-05-01T08:00:00Z \\
+      --note \"new, 0.5 mm ball\"
+  kezuri tool db add T7 t7-worn.csv
+  kezuri tool db show T7
+  kezuri tool db show T7 --png t7-wear.png
+  kezuri tool db show T7 --db kezuri-tools.sqlite --json")]
 pub struct ShowArgs {
     /// The tool.
     pub tool_id: String,
@@ -340,7 +366,7 @@ fn show(args: &ShowArgs) -> Result<()> {
     }
     print!("{}", table(&args.tool_id, &heights, &rows));
     if let Some(png) = &args.png {
-        eprintln!("wrote {}", png.display());
+        crate::say::note!("wrote {}", png.display());
     }
     Ok(())
 }

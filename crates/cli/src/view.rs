@@ -107,7 +107,8 @@ text out.
 
 Examples (on the bundled samples):
   kezuri view samples/nameplate-cam.nc -o plate-path.html
-  kezuri view samples/nameplate-cam.nc --sim --tool ball:6 --res 0.2 -o plate.html
+  kezuri view samples/nameplate-cam.nc --sim --tool ball:6 --res 0.2 \\
+      -o plate.html
   kezuri sim samples/nameplate-cam.nc --tool ball:6 --res 0.2 --view plate.html
 
 Exit code 1 for a program with errors or a page over --max-page-mb.")]
@@ -136,7 +137,7 @@ pub struct ViewArgs {
 pub fn run(args: &ViewArgs) -> Result<()> {
     let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
     ran.print_diagnostics(&parse_diagnostics);
-    eprintln!("{}: {}", args.run.file.display(), ran.dialect);
+    crate::say::note!("{}: {}", args.run.file.display(), ran.dialect);
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
     if ran.errors() > 0 {
@@ -155,7 +156,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     out.add(args.output.as_deref(), &page)?;
     out.commit()?;
     let moves = ran.outcome.toolpath.moves.len();
-    eprintln!(
+    crate::say::note!(
         "{file}: {moves} moves{}; page {:.1} MB{}",
         if sim.is_some() { " and the simulated part" } else { "" },
         page.len() as f64 / 1e6,

@@ -36,9 +36,20 @@ its turn: its centre moves the least that puts it halfway between the corrected 
 defaults to 4.
 
 Examples:
-  kezuri wear apply groove.nc --profile t12.csv --nominal ball:1 --surface part.stl -o groove-worn.nc
-  kezuri wear apply part.nc --tool-id T12 --nominal ball:1 --surface part.stl --machine mill-turn.toml \\
-      -o part-T12.nc --json")]
+  kezuri relief samples/plum-sketch.png --width 20 --depth 1 --smooth 2 \\
+      --tool ball:0.5 --stepover 0.5 --post grbl --surface-stl plum.stl \\
+      -o plum.gcode
+  kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-new.csv
+  kezuri tool profile samples/tool-T7/worn/*.png --pixel-um 2 --tip-row 260 \\
+      -o t7-worn.csv
+  kezuri tool db add T7 t7-new.csv --at 2026-05-01T08:00:00Z \\
+      --note \"new, 0.5 mm ball\"
+  kezuri tool db add T7 t7-worn.csv
+  kezuri wear apply plum.gcode --profile t7-worn.csv --nominal ball:0.5 \\
+      --surface plum.stl -o plum-worn.gcode
+  kezuri wear apply plum.gcode --tool-id T7 --nominal ball:0.5 \\
+      --surface plum.stl -o plum-T7.gcode --json")]
 pub struct ApplyArgs {
     #[command(flatten)]
     pub run: RunOptions,
@@ -53,7 +64,8 @@ pub struct ApplyArgs {
     /// The tool database (with --tool-id).
     #[arg(long, value_name = "FILE", default_value = "kezuri-tools.sqlite")]
     pub db: PathBuf,
-    /// The new tool the program was made for: ball:D or bull:D,R.
+    /// The new tool the program was made for: ball:D (ball end mill of diameter D) or bull:D,R
+    /// (bull-nose, corner radius R), mm.
     #[arg(long, value_name = "SPEC")]
     pub nominal: String,
     /// The finished part (STL, program coordinates).
@@ -250,9 +262,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         });
         println!("{v}");
     } else {
-        eprintln!(
-            "{name}: {corrected} points corrected in {:.3} ms ({:.2} µs each); largest correction {:.4} mm, error \
-             before up to {:.4} mm, residual {:.1e} mm",
+        crate::say::note!(
+            "wrote {}: {name}, {corrected} points corrected in {:.3} ms ({:.2} µs each); largest correction {:.4} \
+             mm, error before up to {:.4} mm, residual {:.1e} mm",
+            crate::say::shown(a.write.output()),
             seconds * 1e3,
             seconds * 1e6 / corrected as f64,
             largest,

@@ -266,7 +266,7 @@ fn shorten_merges_within_the_tolerance_and_fits_arcs() {
 fn help_explains_with_examples() {
     let help = ok(&kezuri(&["convert", "--help"]));
     for want in
-        ["Examples:", "kezuri convert camm3.rml --safe-z 5 --feed 600 -o relief.nc", "--rml-unit", "--shorten", "φ14"]
+        ["Examples:", "kezuri convert plate.rml --safe-z 5 --feed 600 -o plate.nc", "--rml-unit", "--shorten", "φ14"]
     {
         assert!(help.contains(want), "{want}");
     }

@@ -126,5 +126,5 @@ fn bad_input_is_exit_code_1_with_a_reason() {
     let o = kezuri(&["dropcut", good, "--tool", "oval:16,4", "--grid", "5,5,5,5,1"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let help = kezuri(&["dropcut", "--help"]);
-    assert!(String::from_utf8_lossy(&help.stdout).contains("kezuri dropcut part.stl --tool ball:6"));
+    assert!(String::from_utf8_lossy(&help.stdout).contains("kezuri dropcut plum.stl --tool ball:6"));
 }

@@ -117,7 +117,7 @@ fn a_sweep_gives_a_case_per_inclination_step_and_cut_and_the_pictures() {
     ]);
     let cases = v["cases"].as_array().expect("cases");
     assert_eq!(cases.len(), 6 * 4);
-    // The pick feeds for a 10 µm cusp: as `kezuri scallop --target 0.01` finds them.
+    // The pick feeds for a 10 µm cusp: as `kezuri scallop --cusp 0.01` finds them.
     let at_75 = cases.iter().find(|c| c["inclination_deg"] == 75.0).unwrap();
     assert!((f(at_75, "pick_feed_mm") - 1.739).abs() < 0.001, "{}", at_75["pick_feed_mm"]);
     for c in cases {

@@ -58,17 +58,17 @@ fn lengths_from_a_nanometre_to_a_kilometre() {
     for (args, words) in [
         (
             &[
-                "probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1e-300", "--z-safe", "5", "--plunge",
+                "probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1e-300", "--safe-z", "5", "--plunge",
                 "1",
             ][..],
             "'--pitch <MM>': it must be a length from 0.000001 to 1000000 mm, got 1e-300",
         ),
         (
-            &["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "NaN", "--z-safe", "5", "--plunge", "1"],
+            &["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "NaN", "--safe-z", "5", "--plunge", "1"],
             "'NaN' for '--pitch <MM>'",
         ),
         (
-            &["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1", "--z-safe", "inf", "--plunge", "1"],
+            &["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1", "--safe-z", "inf", "--plunge", "1"],
             "coordinate from -1000000 to 1000000 mm, got inf",
         ),
         (

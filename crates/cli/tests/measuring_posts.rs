@@ -13,7 +13,7 @@ use std::process::Command;
 
 use common::{kezuri, ok, path};
 
-const PROBE: [&str; 10] = ["probe", "plan", "--origin", "10,20", "--count", "4,3", "--pitch", "1", "--z-safe", "-60"];
+const PROBE: [&str; 10] = ["probe", "plan", "--origin", "10,20", "--count", "4,3", "--pitch", "1", "--safe-z", "-60"];
 
 /// A machine with a B axis whose T3 has its length in register H13.
 fn machine(dir: &Path) -> String {

@@ -39,7 +39,7 @@ fn a_dome_is_milled_within_the_tolerance() {
     let dome = grid(dir.path(), "dome.xyz", 20.0, 0.5, |x, y| ((625.0 - x * x - y * y).max(0.0)).sqrt() - 15.0);
     let nc = dir.path().join("dome.nc").to_string_lossy().into_owned();
     for tool in ["ball:6", "bull:6,1", "flat:4", "oval:6,5"] {
-        let o = kezuri(&["mill", &dome, "--tool", tool, "--stepover", "0.8", "--tolerance", "0.01", "-o", &nc]);
+        let o = kezuri(&["mill", &dome, "--tool", tool, "--stepover", "0.8", "--gouge-tol", "0.01", "-o", &nc]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let v = sim(&nc, tool, &dome, "0.1");
         let gouge = v["max_gouge_mm"].as_f64().unwrap();

@@ -49,7 +49,7 @@ fn copy(dir: &Path, data: &str, f: fn(f64, f64) -> f64, between: &str) -> (f64, 
     #[rustfmt::skip]
     let args = [
         "probe", "mill", data, "--stylus", "ball:10", "--tool", "ball:10", "--stepover", "0.25",
-        "--step", "0.25", "--tolerance", "0.0005", "--digits", "4", "--floor-z", "off",
+        "--step", "0.25", "--gouge-tol", "0.0005", "--digits", "4", "--floor-z", "off",
         "--between", between, "-o", &nc,
     ];
     ok(&kezuri(&args));

@@ -183,7 +183,7 @@ fn steep_steps_cut_both_ways_stay_within_the_cusp_of_what_the_ball_reaches() {
         &[
             &["relief", png.as_str()][..],
             &common,
-            &["--stepover", "0.1", "--tolerance", "0.002", "--digits", "4", "-o", &fine],
+            &["--stepover", "0.1", "--leave-tol", "0.002", "--digits", "4", "-o", &fine],
         ]
         .concat(),
     ));

@@ -16,7 +16,7 @@ fn f(v: &serde_json::Value, key: &str) -> f64 {
 #[test]
 fn seed_001_pick_feed_control_through_the_command_line() {
     for (angle, paper) in [("0", 0.462), ("15", 0.484), ("60", 1.052)] {
-        let v = json(&["scallop", "--tool", "oval:16,24", "--angle", angle, "--target", "0.010", "--json"]);
+        let v = json(&["scallop", "--tool", "oval:16,24", "--angle", angle, "--cusp", "0.010", "--json"]);
         assert!((f(&v, "pick_feed_mm") - paper).abs() <= 0.002, "{angle}°: {v}");
         assert!((f(&v, "cusp_mm") - 0.010).abs() < 1e-9, "{v}");
         assert_eq!(v["tool"], "oval:16,24");
@@ -50,7 +50,7 @@ fn plain_text_names_the_pick_feed_the_cusp_and_both_steps() {
     }
     let help = kezuri(&["scallop", "--help"]);
     let help = String::from_utf8_lossy(&help.stdout);
-    assert!(help.contains("Examples:") && help.contains("--target 0.010"), "{help}");
+    assert!(help.contains("Examples:") && help.contains("--cusp 0.010"), "{help}");
 }
 
 #[test]
@@ -62,10 +62,10 @@ fn bad_input_exits_1_with_a_reason() {
         (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "-1"], "--pick-feed"),
         (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "NaN"], "--pick-feed"),
         (&["--tool", "oval:16,24", "--angle", "30", "--pick-feed", "40"], "uncut strip"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--target", "-0.01"], "--target"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--target", "NaN"], "target"),
-        (&["--tool", "oval:16,24", "--angle", "30", "--target", "0"], "--target"),
-        (&["--tool", "ball:-3", "--angle", "30", "--target", "0.01"], "the diameter must be a length"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--cusp", "-0.01"], "--cusp"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--cusp", "NaN"], "cusp"),
+        (&["--tool", "oval:16,24", "--angle", "30", "--cusp", "0"], "--cusp"),
+        (&["--tool", "ball:-3", "--angle", "30", "--cusp", "0.01"], "the diameter must be a length"),
     ] {
         let mut all = vec!["scallop"];
         all.extend_from_slice(args);
@@ -75,15 +75,15 @@ fn bad_input_exits_1_with_a_reason() {
         assert!(err.contains(why), "{args:?}: {err}");
         assert!(o.stdout.is_empty() && !err.contains("panicked"), "{args:?}");
     }
-    // Neither --pick-feed nor --target, or both: a usage error.
+    // Neither --pick-feed nor --cusp, or both: a usage error.
     assert_eq!(kezuri(&["scallop", "--tool", "ball:6", "--angle", "30"]).status.code(), Some(2));
-    let both = ["scallop", "--tool", "ball:6", "--angle", "30", "--pick-feed", "1", "--target", "0.01"];
+    let both = ["scallop", "--tool", "ball:6", "--angle", "30", "--pick-feed", "1", "--cusp", "0.01"];
     assert_eq!(kezuri(&both).status.code(), Some(2));
 }
 
 #[test]
 fn a_loose_target_gives_the_widest_overlapping_pick_feed_with_a_note() {
-    let o = kezuri(&["scallop", "--tool", "flat:6", "--angle", "0", "--target", "0.01", "--json"]);
+    let o = kezuri(&["scallop", "--tool", "flat:6", "--angle", "0", "--cusp", "0.01", "--json"]);
     assert!(o.status.success());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(f(&v, "pick_feed_mm"), 6.0);

@@ -85,8 +85,14 @@ fn baked_and_macro_textures_cut_the_same_kind_of_strokes() {
     let plain = path(dir.path(), "plate.nc");
     std::fs::write(&plain, nameplate()).unwrap();
     let (baked, made) = (path(dir.path(), "baked.nc"), path(dir.path(), "macro.nc"));
+    // The macro draws from the control's clock: no --seed, and one given is said to be unused.
+    ok(&kezuri(&["texture", &plain, "--base", "-2", "--mode", "macro", "-o", &made]));
+    let seeded = kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "--mode", "macro", "-o", &made]);
+    ok(&seeded);
+    assert!(String::from_utf8_lossy(&seeded.stderr).contains("warning: --seed is not used"));
+    let unseeded = kezuri(&["texture", &plain, "--base", "-2", "-o", &baked]);
+    assert!(String::from_utf8_lossy(&unseeded.stderr).contains("--seed N is needed to bake"));
     ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "-o", &baked]));
-    ok(&kezuri(&["texture", &plain, "--seed", "7", "--base", "-2", "--mode", "macro", "-o", &made]));
     let text = std::fs::read_to_string(&made).unwrap();
     assert!(text.contains("G66.1P7023") && text.contains("G67\n") && text.contains("O7023"), "{text}");
     let plain_moves = moves(&plain, None);

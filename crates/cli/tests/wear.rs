@@ -77,7 +77,7 @@ fn sim_error(dir: &Path, program: &str) -> f64 {
     let v = json(&[
         "sim",
         program,
-        "--tool-profile",
+        "--profile",
         &path(dir, "worn.csv"),
         "--res",
         "0.002",

@@ -83,7 +83,7 @@ impl TextureMacro {
         };
         let mut t = String::new();
         let w = &mut t;
-        let _ = writeln!(w, "O{:04} (KEZURI TEXTURE, SEED 004: A STROKE EVERY {l} MM OF XY TRAVEL)", self.number);
+        let _ = writeln!(w, "O{:04} (KEZURI TEXTURE: A STROKE EVERY {l} MM OF XY TRAVEL)", self.number);
         let _ = writeln!(w, "(CALLED BY G66.1 ON EVERY BLOCK; STATE IN {zp}-{entry})");
         let _ = writeln!(w, "#27=#4001");
         let _ = writeln!(w, "IF[[#24EQ#0]AND[#25EQ#0]]GOTO80 (NO XY: AS WRITTEN)");

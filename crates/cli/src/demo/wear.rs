@@ -167,7 +167,7 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
         commands.push(words(&[
             "sim",
             &at(program),
-            "--tool-profile",
+            "--profile",
             &at("tool-T7-worn.csv"),
             "--res",
             "0.002",
@@ -227,7 +227,7 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
     for (program, what) in [("groove.nc", "as programmed"), ("groove-T7.nc", "corrected for the wear")] {
         let (ran, _) = read_and_run(&run_options(out.join(program), None))?;
         let setup = SimSetup {
-            tool_profile: Some(out.join("tool-T7-worn.csv")),
+            profile: Some(out.join("tool-T7-worn.csv")),
             stock: Some(STOCK.into()),
             compare: Some(out.join("groove-target.stl")),
             chord_tol: 0.001,

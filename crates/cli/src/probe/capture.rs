@@ -95,11 +95,12 @@ restart the measuring program at: the last stored point, measured again and comp
 stored Z (--recheck-tol) before new points are taken; on a mismatch nothing new is stored.
 A last record cut off by a power loss is dropped and taken again.
 
-Examples:
+Examples (the indicator on a serial port; not run without one):
   kezuri probe capture --port /dev/ttyUSB0 --count 85,105 -o ume.csv
-  kezuri probe capture --port /dev/ttyUSB0 --baud 9600 --count 85,105 --pitch 1 \\
-      --bottom -70 --sign 1 --zero 0 --range 0,50 -o ume.csv
-  kezuri probe capture --port /dev/ttyUSB0 --count 85,105 --bottom -70 -o ume.csv --resume")]
+  kezuri probe capture --port /dev/ttyUSB0 --baud 9600 --count 85,105 \\
+      --pitch 1 --bottom -70 --sign 1 --zero 0 --range 0,50 -o ume.csv
+  kezuri probe capture --port /dev/ttyUSB0 --count 85,105 --bottom -70 \\
+      -o ume.csv --resume")]
 pub struct CaptureArgs {
     /// Serial port of the indicator interface (e.g. /dev/ttyUSB0, COM3).
     #[arg(long, value_name = "DEV")]
@@ -110,7 +111,8 @@ pub struct CaptureArgs {
     /// Grid points along X (per row) and along Y (rows); the capture stops after NX·NY points.
     #[arg(long, value_name = "NX,NY", value_parser = parse_count)]
     pub count: (usize, usize),
-    /// Data file to write (or, with --resume, to continue).
+    /// Data file to write (or, with --resume, to continue). A file, not standard output: every
+    /// point is on disk before the next is taken, and --resume continues the file.
     #[arg(short = 'o', long = "output", value_name = "DATA")]
     pub output: PathBuf,
     /// Continue an interrupted capture: check that DATA's header matches these options and
@@ -364,9 +366,10 @@ impl Out<'_> {
     }
 }
 
-/// Runs `kezuri probe capture`, messages on stderr.
-pub fn run(args: &CaptureArgs) -> Result<()> {
-    let bar = std::io::stderr().is_terminal();
+/// Runs `kezuri probe capture`, messages on stderr, a progress bar on a
+/// terminal unless `quiet`.
+pub fn run(args: &CaptureArgs, quiet: bool) -> Result<()> {
+    let bar = std::io::stderr().is_terminal() && !quiet;
     run_with(args, bar, &mut |m| eprintln!("{m}"))
 }
 

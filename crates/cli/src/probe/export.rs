@@ -23,8 +23,12 @@ column (the largest X, the symmetry line, kept once), --mirror y in the last row
 measured on one half is completed before anything is written.
 
 Examples:
-  kezuri probe export ume-2.txt --count 85,105 --pitch 1 --dxf ume.dxf --png ume.png
-  kezuri probe export half.txt --mirror x --stl whole.stl --csv whole.csv")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      --tilt 0.002,-0.001 --noise 0.002 -o plum.txt
+  kezuri probe export plum.txt --dxf plum.dxf --columns --png plum.png
+  kezuri probe export plum.txt --mirror x --stl whole.stl --csv whole.csv")]
 pub struct ExportArgs {
     #[command(flatten)]
     pub data: DataArgs,

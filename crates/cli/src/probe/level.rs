@@ -28,8 +28,15 @@ standard deviation.
 The levelled data are written in the format read (a capture file gains a `# levelled` line).
 
 Examples:
-  kezuri probe level ume.txt --count 85,105 --pitch 1 --reference cols:1,85 -o ume-2.txt
-  kezuri probe level capture.txt --reference border --method auto -o level.txt --json")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      --tilt 0.002,-0.001 --noise 0.002 -o plum.txt
+  kezuri probe level plum.txt --reference border -o plum-level.txt
+  kezuri probe level plum.txt --reference cols:1,41 --method auto --json \\
+      -o plum-cols.txt
+  grep -v '#' plum.txt > bare.txt   # a bare No,Z file: give its grid
+  kezuri probe level bare.txt --count 41,31 --pitch 1 --reference corners")]
 pub struct LevelArgs {
     #[command(flatten)]
     pub data: DataArgs,
@@ -39,9 +46,9 @@ pub struct LevelArgs {
     /// The correction to keep.
     #[arg(long, value_enum, default_value = "auto")]
     pub method: LevelMethod,
-    /// The levelled data (`-` for stdout).
+    /// The levelled data [default: standard output; the table then goes to standard error].
     #[arg(short, long, value_name = "OUT")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
     /// Print one JSON object (method, reference_points, std_before_mm, std_after_mm, the
     /// table) instead of the table.
     #[arg(long)]
@@ -53,7 +60,7 @@ pub struct LevelArgs {
 pub enum LevelMethod {
     /// Least-squares plane.
     Plane,
-    /// The paper's least-squares lines.
+    /// Least-squares lines along two reference rows or columns.
     Lines,
     /// The smallest standard deviation.
     Auto,
@@ -122,8 +129,9 @@ pub fn run(args: &LevelArgs) -> Result<()> {
         f => f.clone(),
     };
     let out = ProbeGrid { grid: g, z: kept.z.clone() };
-    write_output(Some(&args.output), data::write(&out, &format).as_bytes())?;
-    let to_stdout = args.output != Path::new("-");
+    write_output(args.output.as_deref(), data::write(&out, &format).as_bytes())?;
+    // The table goes to standard output unless the data went there.
+    let to_stdout = args.output.as_deref().is_some_and(|o| o != Path::new("-"));
     if args.json {
         let rows: Vec<_> = std::iter::once(("raw".to_string(), levelled.raw))
             .chain(levelled.candidates.iter().map(|c| (c.name.clone(), c.stats)))
@@ -147,7 +155,7 @@ pub fn run(args: &LevelArgs) -> Result<()> {
         }
     } else if to_stdout {
         write_output(None, levelled.table().as_bytes())?;
-    } else {
+    } else if !crate::say::quiet() {
         eprint!("{}", levelled.table());
     }
     Ok(())

@@ -2,7 +2,6 @@
 
 mod parts;
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -34,9 +33,9 @@ follows the higher of that surface and the straight line from reading to reading
 of the pitch; with --step the pitch it goes straight from reading to reading, as the original
 copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ (25 µm at
 1 mm round a sharp edge). Where the readings bend down so sharply that the copy may cut more
-than --tolerance below the model between them, the report warns. Any other cutter is placed on
-the model, sampled every --resolution, with drop-cutter. Where the surface through the readings
-bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) the report warns: no ball
+than --gouge-tol below the model between them, a warning says so. Any other cutter is placed on
+the model, sampled every --res, with drop-cutter. Where the surface through the readings
+bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) a warning says: no ball
 rolling on a model gives such readings.
 
 --between bound keeps the former behaviour: the highest surface the readings allow (the lowest
@@ -48,17 +47,26 @@ Rows run along X in zig-zag, over the data's XY box. Cuts that run along the fla
 data (--floor-z: auto finds a flat margin at the top, held by 5% of the points or more) are
 crossed at rapid --clearance above it. --incremental writes the moves after the first
 positioning in G91; --split-bytes N writes parts OUT-1, OUT-2, … of at most N bytes each, each
-a whole program that starts from the safe height. The report (stderr) gives the program size,
-moves and cycle time.
+a whole program that starts from the safe height. A summary on standard error gives the program's
+size, moves and cycle time.
 
 Examples:
-  kezuri probe mill ume-2.txt --count 85,105 --pitch 1 --stylus ball:10 --tool ball:10 -o ume.nc
-  kezuri probe mill capture.txt --stylus ball:10 --tool ball:6 --stepover 0.5 --split-bytes 250000 -o part.nc")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      --tilt 0.002,-0.001 --noise 0.002 -o plum.txt
+  kezuri probe mill plum.txt --stylus ball:10 --tool ball:10 -o plum-copy.nc
+  kezuri probe mill plum.txt --stylus ball:10 --tool ball:6 --stepover 0.5 \\
+      --split-bytes 20000 -o plum-part.nc")]
 pub struct MillArgs {
     #[command(flatten)]
     pub data: DataArgs,
-    /// The stylus that took the readings (ball:10 for a 10 mm bead).
-    #[arg(long, value_name = "SPEC")]
+    /// The stylus that took the readings, as a tool (ball:10 for a 10 mm bead).
+    #[arg(
+        long,
+        value_name = "SPEC",
+        long_help = tool_help!("The stylus that took the readings, as a tool (ball:10 for a 10 mm bead).")
+    )]
     pub stylus: String,
     /// The cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE.
     #[arg(long, value_name = "SPEC")]
@@ -70,16 +78,17 @@ pub struct MillArgs {
     /// ball, else the pitch].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How far the path may stray from the exact cutter locations, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
-    pub tolerance: f64,
+    /// How far the path may stray from the exact cutter locations, mm: a gouge into the model
+    /// of up to this much is allowed.
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    pub gouge_tol: f64,
     /// Between the readings: smooth (a surface through them) or bound (the highest
     /// surface they allow, the former default).
     #[arg(long, value_enum, default_value = "smooth")]
     pub between: Between,
     /// Node spacing of the reconstructed surface, mm [default: pitch / 8].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
-    pub resolution: Option<f64>,
+    #[arg(long, alias = "resolution", value_name = "MM", value_parser = crate::numbers::length)]
+    pub res: Option<f64>,
     /// Height for rapids [default: 5 mm above the highest cut].
     #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub safe_z: Option<f64>,
@@ -109,11 +118,11 @@ pub struct MillArgs {
     #[arg(long, value_name = "NAME")]
     pub post: Option<String>,
     /// The older name of --post fanuc, linuxcnc or grbl.
-    #[arg(long, value_enum, hide = true)]
+    #[arg(long, alias = "to", value_enum, hide = true)]
     pub emit: Option<Emit>,
-    /// The program (`-` for stdout).
+    /// The program [default: standard output; --split-bytes needs a file].
     #[arg(short, long, value_name = "OUT")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
     /// Decimals written [default: the post's, 3].
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
     pub digits: Option<u8>,
@@ -150,7 +159,7 @@ pub enum Between {
     Bound,
 }
 
-/// `--emit`, the older name of `--post` for three of the posts.
+/// `--emit` (or `--to`), the older name of `--post` for three of the posts.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Emit {
     /// Fanuc (`%` framing, `O` number).
@@ -182,7 +191,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     // the pitch) cut p²/(8ρ) into a ridge of radius ρ (docs/probe-copy.md).
     let follows = args.between == Between::Smooth && cutter == stylus;
     let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
-    let resolution = positive("--resolution", args.resolution.unwrap_or(pitch / 8.0))?;
+    let resolution = positive("--res", args.res.unwrap_or(pitch / 8.0))?;
     let machine = match &args.machine {
         Some(p) => Machine::load(p)?,
         None => Machine::default(),
@@ -218,14 +227,14 @@ pub fn run(args: &MillArgs) -> Result<()> {
         (Some(s), Cutter::Ball(_)) => s.tighter_than(stylus.radius()),
         _ => None,
     };
-    let bend = smooth.as_ref().and_then(|_| sharpest_bend(grid, args.tolerance));
+    let bend = smooth.as_ref().and_then(|_| sharpest_bend(grid, args.gouge_tol));
     let options = RasterOptions {
         direction: Direction::X,
         pattern: Pattern::ZigZag,
         stepover,
         step,
-        tolerance: args.tolerance,
-        gouge: args.tolerance,
+        tolerance: args.gouge_tol,
+        gouge: args.gouge_tol,
         // Bound: positions on the output grid and heights rounded up to it
         // (never below the bound); smooth: exact positions, the writer
         // rounds to the nearest.
@@ -283,7 +292,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let path = raster_with(&cl, rows_at, region, &options, None, &|_, _| {})?;
     let (path, margins) = match flat {
         Some(z) => {
-            rapid_margins(&path, z, args.tolerance.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
+            rapid_margins(&path, z, args.gouge_tol.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
         }
         None => (path, Default::default()),
     };
@@ -309,32 +318,32 @@ pub fn run(args: &MillArgs) -> Result<()> {
     };
     let (time, _) = cycle_time(&path, &machine.dynamics);
     // Everything is made before anything is written, and written together.
-    let to_file = args.output != Path::new("-");
-    if parts.len() > 1 && !to_file {
-        bail!("--split-bytes writes files: give -o FILE");
-    }
-    let left_over = match args.split_bytes {
-        Some(_) if to_file => check_left_over(&args.output, parts.len(), args.overwrite_parts)?,
+    let file = args.output.as_deref().filter(|o| *o != Path::new("-"));
+    let left_over = match (args.split_bytes, file) {
+        (Some(_), Some(file)) => check_left_over(file, parts.len(), args.overwrite_parts)?,
         _ => Vec::new(),
     };
     let mut out = Outputs::new();
-    if parts.len() == 1 {
-        out.add(Some(&args.output), parts[0].as_bytes())?;
-    } else {
-        for (k, text) in parts.iter().enumerate() {
-            out.add(Some(&part_name(&args.output, k + 1)), text.as_bytes())?;
+    match (parts.as_slice(), file) {
+        ([one], _) => out.add(file, one.as_bytes())?,
+        (_, Some(file)) => {
+            for (k, text) in parts.iter().enumerate() {
+                out.add(Some(&part_name(file, k + 1)), text.as_bytes())?;
+            }
         }
+        (_, None) => bail!("--split-bytes writes files: give -o FILE"),
     }
     if let Some(svg) = &args.svg {
-        let name = crate::program::svg_title(Some(&args.output), &title, &[]);
+        let name = crate::program::svg_title(args.output.as_deref(), &title, &[]);
         out.add(Some(svg), crate::plot::svg(&path, &name).as_bytes())?;
     }
     if let Some(page) = &args.view {
         let (options, cutters) = (crate::view::PageOptions::default(), [(args.tool_number, cutter)]);
         let html = match parts.as_slice() {
             [one] => {
-                let ran = crate::program::run_written(&machine, &args.output, one.clone())?;
-                crate::view::page(&ran, &args.output.display().to_string(), None, &cutters, &options)?
+                let name = file.unwrap_or(Path::new("copy.nc"));
+                let ran = crate::program::run_written(&machine, name, one.clone())?;
+                crate::view::page(&ran, &name.display().to_string(), None, &cutters, &options)?
             }
             _ => crate::view::path_page(&path, &title, &machine, &cutters, &options)?,
         };
@@ -353,22 +362,24 @@ pub fn run(args: &MillArgs) -> Result<()> {
         }
         (None, _) => "smooth through the readings, followed by the stylus's own shape".to_string(),
     };
-    let mut report = format!(
-        "{}: {} × {} points, pitch {pitch} mm; surface {surface}\n\
-         program: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm\n\
-         cycle time {} ({time:.1} s); computed in {seconds_cam:.2} s\n",
-        args.data.data.display(),
-        g.nx,
-        g.ny,
+    let flat_top = flat.map_or_else(String::new, |z| {
+        format!("; flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid", margins.runs, margins.length)
+    });
+    crate::say::note!(
+        "wrote {}: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {}; \
+         from {}, {} × {} points at pitch {pitch} mm, surface {surface}{flat_top}; computed in {seconds_cam:.2} s",
+        crate::say::shown(file),
         parts.len(),
         path.moves.len(),
         path.feed_length(),
         path.rapid_length(),
-        hms(time),
+        crate::say::hms(time),
+        args.data.data.display(),
+        g.nx,
+        g.ny,
     );
     if let Some(t) = tight {
-        let _ = writeln!(
-            report,
+        eprintln!(
             "warning: the surface through the readings bends tighter than the stylus (radius {} mm) in {} cell(s), \
              tightest radius {:.3} mm at X{:.3} Y{:.3}: no ball rolling on a model reads like that (a sharp edge, \
              noise or a pitch too coarse); the model there is what the stylus could reach",
@@ -380,34 +391,20 @@ pub fn run(args: &MillArgs) -> Result<()> {
         );
     }
     if let Some(b) = bend {
-        let _ = writeln!(
-            report,
+        eprintln!(
             "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
-             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --tolerance {}; a finer \
-             pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm between readings \
-             on a flat)",
+             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {}; a \
+             finer pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm \
+             between readings on a flat)",
             b.points,
             b.depth,
             b.at[0],
             b.at[1],
-            args.tolerance,
+            args.gouge_tol,
             stylus.height(0.5 * pitch)
         );
     }
-    if let Some(z) = flat {
-        let _ = writeln!(
-            report,
-            "flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid",
-            margins.runs, margins.length
-        );
-    }
-    eprint!("{report}");
     Ok(())
-}
-
-fn hms(s: f64) -> String {
-    let t = s.round() as u64;
-    format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
 }
 
 /// The toolpath in parts whose programs are at most `limit` bytes: each

@@ -15,9 +15,9 @@ use crate::machine::MachineArg;
 /// Options of `kezuri probe plan`.
 #[derive(Args, Debug)]
 #[command(after_help = "\
-The stylus travels at --z-safe and plunges by --plunge at each point (a G01 Z-50.
-stroke, say): the bottom is z-safe - plunge. Rows run along X stepping +Y, the first row toward +X;
-zigzag (default) runs every other row back toward -X, oneway returns at z-safe. Points are
+The stylus travels at --safe-z and plunges by --plunge at each point (a G01 Z-50.
+stroke, say): the bottom is safe-z - plunge. Rows run along X stepping +Y, the first row toward +X;
+zigzag (default) runs every other row back toward -X, oneway returns at safe-z. Points are
 numbered 1, 2, ... in that order, the order `probe capture` stores them in.
 
 The program begins as --post begins a program it makes (safe start, retract, T<n> M06 for the
@@ -26,7 +26,7 @@ from the machine file's tool table, else H<n>; none on grbl), and ends as the po
 (retract, home, M30 or M2).
 
 Styles:
-  subprogram  (fanuc, haas) the classic shape: the main program positions in G90 at the origin and z-safe,
+  subprogram  (fanuc, haas) the classic shape: the main program positions in G90 at the origin and safe-z,
               then G91 and M98 P<row> L<rows>; the row subprogram measures its first point and
               repeats the point subprogram (a pitch in X, plunge, trigger, retract) nx-1 times.
               Zigzag repeats a pair of rows (+X, then -X); an odd last row is in the main
@@ -47,15 +47,17 @@ motion and no G code but G04. Lengths must be whole numbers of 10^-digits mm, so
 point is written exactly and the incremental steps add up to it.
 
 Examples:
-  kezuri probe plan --origin 0,0 --count 85,105 --pitch 1 --z-safe 30 --plunge 50 -o O1011.nc
-  kezuri probe plan --origin 10,20 --count 40,30 --pitch 0.5 --z-safe -80 --plunge 25 \\
-      --style expanded --pattern oneway --feed 3000 -o grid.nc
-  kezuri probe plan --origin 0,0 --count 60,40 --pitch 1 --z-safe 5 --plunge 30 --style g31 \\
-      --plunge-feed 150 -o probe.nc
-  kezuri probe plan --origin 0,0 --count 4,3 --pitch 1 --z-safe 30 --plunge 50 \\
-      --trigger \"M08,G04 X1.,M09\" --program 2000 -o -
-  kezuri probe plan --origin 0,0 --count 40,30 --pitch 1 --z-safe 5 --plunge 20 --style expanded \\
-      --post linuxcnc --machine mill.toml --tool-number 9 -o grid.ngc
+  kezuri probe plan --origin 0,0 --count 85,105 --pitch 1 --safe-z 30 \\
+      --plunge 50 -o O1011.nc
+  kezuri probe plan --origin 10,20 --count 40,30 --pitch 0.5 --safe-z -80 \\
+      --plunge 25 --style expanded --pattern oneway --feed 3000 -o grid.nc
+  kezuri probe plan --origin 0,0 --count 60,40 --pitch 1 --safe-z 5 \\
+      --plunge 30 --style g31 --plunge-feed 150 -o probe.nc
+  kezuri probe plan --origin 0,0 --count 4,3 --pitch 1 --safe-z 30 --plunge 50 \\
+      --trigger \"M08,G04 X1.,M09\" --program-number 2000
+  kezuri probe plan --origin 0,0 --count 40,30 --pitch 1 --safe-z 5 \\
+      --plunge 20 --style expanded --post linuxcnc \\
+      --machine samples/tools/mill.toml --tool-number 3 -o grid.ngc
 
 Exit code 1 for a count below 1, a pitch or plunge that is not positive, a length with more
 decimals than --digits, a trigger block that moves or changes modes, a program number or
@@ -72,9 +74,15 @@ pub struct PlanArgs {
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub pitch: f64,
     /// Height the stylus travels at, mm (work coordinates).
-    #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
-    pub z_safe: f64,
-    /// Depth of each plunge below --z-safe, mm.
+    #[arg(
+        long,
+        alias = "z-safe",
+        value_name = "Z",
+        allow_negative_numbers = true,
+        value_parser = crate::numbers::coordinate
+    )]
+    pub safe_z: f64,
+    /// Depth of each plunge below --safe-z, mm.
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub plunge: f64,
     /// How the program is written.
@@ -93,8 +101,8 @@ pub struct PlanArgs {
     pub feed: Option<f64>,
     /// Number of the main program (subprograms take the next three) [default: the
     /// machine file's [post] program_number, else 1011].
-    #[arg(long, value_name = "N")]
-    pub program: Option<u32>,
+    #[arg(long, alias = "program", value_name = "N")]
+    pub program_number: Option<u32>,
     /// Blocks given at each plunge bottom, separated by commas [default:
     /// "M07,G04 X0.5,M09"]; not for --style g31.
     #[arg(long, value_name = "BLOCKS")]
@@ -111,9 +119,9 @@ pub struct PlanArgs {
     /// The stylus's tool number: T<n> M06, and G43 H<its H register> on the first Z move.
     #[arg(long, value_name = "T", default_value_t = probe_plan::DEFAULT_TOOL)]
     pub tool_number: u32,
-    /// The program file to write (`-`: standard output).
+    /// The program file to write [default: standard output].
     #[arg(short, long, value_name = "FILE")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
 }
 
 /// Program styles on the command line.
@@ -156,7 +164,7 @@ pub fn plan(args: &PlanArgs) -> Result<Plan> {
         PlanStyle::Expanded => Style::Expanded,
         PlanStyle::G31 => Style::G31,
     };
-    let mut plan = Plan::new(origin, count, args.pitch, args.z_safe, args.plunge);
+    let mut plan = Plan::new(origin, count, args.pitch, args.safe_z, args.plunge);
     plan.style = style;
     plan.pattern = match args.pattern {
         PlanPattern::Zigzag => Pattern::Zigzag,
@@ -171,7 +179,7 @@ pub fn plan(args: &PlanArgs) -> Result<Plan> {
     plan.digits = args.digits;
     let machine = args.machine.load()?;
     plan.post = crate::post::for_machine(&machine, args.post.as_deref())?;
-    plan.program = args.program.or(machine.post.program_number).unwrap_or(probe_plan::DEFAULT_PROGRAM);
+    plan.program = args.program_number.or(machine.post.program_number).unwrap_or(probe_plan::DEFAULT_PROGRAM);
     plan.tool = args.tool_number;
     plan.trigger = match &args.trigger {
         Some(_) if style == Style::G31 => {
@@ -187,13 +195,12 @@ pub fn plan(args: &PlanArgs) -> Result<Plan> {
 pub fn run(args: &PlanArgs) -> Result<()> {
     let plan = plan(args)?;
     let text = plan.program().context("cannot write the measuring program")?;
-    write_output(Some(&args.output), text.as_bytes())?;
+    write_output(args.output.as_deref(), text.as_bytes())?;
     let [nx, ny] = plan.count;
-    let name =
-        if args.output.as_os_str() == "-" { "standard output".into() } else { args.output.display().to_string() };
+    let name = crate::say::shown(args.output.as_deref());
     let number = if plan.post.dialect == Dialect::Fanuc { format!("O{:04}, ", plan.program) } else { String::new() };
-    eprintln!(
-        "{name}: {number}{nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
+    crate::say::note!(
+        "wrote {name}: {number}{nx} x {ny} = {} points at pitch {} mm, {} style, {} rows, bottom Z{}",
         u64::from(nx) * u64::from(ny),
         plan.pitch,
         plan.style.name(),
@@ -224,7 +231,7 @@ mod tests {
         let out = dir.path().join("O1011.nc");
         let o = out.to_str().unwrap();
         let line =
-            ["--origin", "0,0", "--count", "85,105", "--pitch", "1", "--z-safe", "30", "--plunge", "50", "-o", o];
+            ["--origin", "0,0", "--count", "85,105", "--pitch", "1", "--safe-z", "30", "--plunge", "50", "-o", o];
         run(&args(&line)).unwrap();
         let text = std::fs::read_to_string(&out).unwrap();
         assert!(text.starts_with("%\nO1011 ") && text.ends_with("%\n"), "{text}");
@@ -239,7 +246,7 @@ mod tests {
             "4, 3",
             "--pitch",
             "0.5",
-            "--z-safe",
+            "--safe-z",
             "-80",
             "--plunge",
             "20",
@@ -264,7 +271,7 @@ mod tests {
         );
         assert_eq!(p.trigger, ["M08", "G04 X1.", "M09"]);
         let g = args(
-            &["--origin", "0,0", "--count", "2,2", "--pitch", "1", "--z-safe", "5", "--plunge", "30"]
+            &["--origin", "0,0", "--count", "2,2", "--pitch", "1", "--safe-z", "5", "--plunge", "30"]
                 .into_iter()
                 .chain(["--style", "g31", "-o", "-"])
                 .collect::<Vec<_>>(),
@@ -277,7 +284,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("bad.nc");
         let o = out.to_str().unwrap();
-        let base = ["--pitch", "1", "--z-safe", "30", "--plunge", "50", "-o", o];
+        let base = ["--pitch", "1", "--safe-z", "30", "--plunge", "50", "-o", o];
         for (extra, want) in [
             (["--origin", "0", "--count", "4,3"], "--origin takes two numbers"),
             (["--origin", "0,0", "--count", "4,x"], "--count takes two whole numbers"),

@@ -25,9 +25,12 @@ level); --noise adds uniform noise of ± that many mm, repeatable with --seed. T
 file (header with the grid, then No,Z in capture order) that every other probe command reads.
 
 Examples:
-  kezuri probe simulate mould.stl --count 85,105 --pitch 1 --stylus ball:10 -o mould.txt
-  kezuri probe simulate part.xyz --count 41,41 --pitch 0.5 --origin 10,10 --stylus ball:6 \\
-      --tilt 0.002,-0.001 --noise 0.003 --seed 7 -o part-readings.txt")]
+  kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
+      --stepover 1 --surface-stl plum.stl -o plum.nc
+  kezuri probe simulate plum.stl --count 41,31 --pitch 1 --stylus ball:10 \\
+      -o plum.txt
+  kezuri probe simulate plum.stl --count 41,31 --pitch 0.5 --origin 10,7.5 \\
+      --stylus ball:6 --tilt 0.002,-0.001 --noise 0.003 --seed 7 -o part.txt")]
 pub struct SimulateArgs {
     /// The model: STL (binary or ASCII) or an `x y z` height grid.
     #[arg(value_name = "MODEL")]
@@ -44,8 +47,12 @@ pub struct SimulateArgs {
     /// Capture order.
     #[arg(long, value_name = "zigzag|oneway", default_value = "zigzag")]
     pub pattern: String,
-    /// The stylus (ball:10 for a 10 mm bead).
-    #[arg(long, value_name = "SPEC")]
+    /// The stylus, as a tool (ball:10 for a 10 mm bead).
+    #[arg(
+        long,
+        value_name = "SPEC",
+        long_help = tool_help!("The stylus, as a tool (ball:10 for a 10 mm bead).")
+    )]
     pub stylus: String,
     /// Slope of the model's base along X and Y, mm per mm.
     #[arg(long, value_name = "AX,AY", allow_hyphen_values = true, default_value = "0,0")]
@@ -56,9 +63,9 @@ pub struct SimulateArgs {
     /// Seed of the noise.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
-    /// The capture file (`-` for stdout).
+    /// The capture file [default: standard output].
     #[arg(short, long, value_name = "DATA")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
 }
 
 /// Runs `kezuri probe simulate`.
@@ -108,10 +115,10 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         let z = z + tilt[0] * (x - centre[0]) + tilt[1] * (y - centre[1]) + args.noise * noise.next();
         let _ = writeln!(text, "{},{}", k + 1, num(z, 4));
     }
-    write_output(Some(&args.output), text.as_bytes())?;
-    eprintln!(
-        "{}: {nx} × {ny} readings of {stylus} at pitch {} mm from ({}, {})",
-        args.output.display(),
+    write_output(args.output.as_deref(), text.as_bytes())?;
+    crate::say::note!(
+        "wrote {}: {nx} × {ny} readings of {stylus} at pitch {} mm from ({}, {})",
+        crate::say::shown(args.output.as_deref()),
         num(args.pitch, 6),
         num(origin[0], 4),
         num(origin[1], 4)

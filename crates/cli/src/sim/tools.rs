@@ -1,5 +1,5 @@
 //! Which cutter `sim` cuts each tool's moves with: the machine file's
-//! tool table, `--tool`/`--tool-profile`, or one tool for all; and each
+//! tool table, `--tool`/`--profile`, or one tool for all; and each
 //! tool's cycle time.
 
 use std::collections::BTreeMap;
@@ -29,7 +29,7 @@ impl ToolSet {
         self.table.iter().map(|(_, t)| t.radius()).fold(0.0, f64::max)
     }
 
-    /// The one measured tool, when `--tool-profile` gave it.
+    /// The one measured tool, when `--profile` gave it.
     pub fn measured(&self) -> Option<&MeasuredTool> {
         match &self.table.first()?.1 {
             Tool::Measured(m) => Some(m),
@@ -77,7 +77,7 @@ fn listed(numbers: &[u32]) -> String {
 /// (unless `--same-tool-for-all`); `--tool` for a tool the table gives
 /// another shape is refused too.
 pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpath) -> Result<ToolSet> {
-    let given = match (&args.tool, &args.tool_profile) {
+    let given = match (&args.tool, &args.profile) {
         (Some(spec), None) => {
             let c: Cutter = spec.parse()?;
             Some((Tool::Cutter(c), c.to_string()))
@@ -87,7 +87,7 @@ pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpa
             format!("profile:{}", file.display()),
         )),
         (None, None) => None,
-        _ => bail!("give one of --tool SPEC and --tool-profile PROFILE.csv, not both"),
+        _ => bail!("give one of --tool SPEC and --profile PROFILE.csv, not both"),
     };
     let numbers = numbers(path);
     let loaded: Vec<u32> = numbers.iter().copied().filter(|&n| n != 0).collect();
@@ -120,10 +120,10 @@ pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpa
                     );
                 }
             }
-            Ok(every(tool, name, if args.tool.is_some() { "--tool" } else { "--tool-profile" }))
+            Ok(every(tool, name, if args.tool.is_some() { "--tool" } else { "--profile" }))
         }
         Some(_) => {
-            let option = if args.tool.is_some() { "--tool" } else { "--tool-profile" };
+            let option = if args.tool.is_some() { "--tool" } else { "--profile" };
             if loaded.iter().all(|&n| shape(n).is_some()) {
                 bail!(
                     "{option} is the cutter of a program with one tool; this one uses {} and the machine file \
@@ -134,10 +134,10 @@ pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpa
             bail!("{}", needs(&format!(", or --same-tool-for-all to cut every move with {option}")));
         }
         None if args.same_tool_for_all => {
-            bail!("--same-tool-for-all needs the one tool: --tool SPEC or --tool-profile")
+            bail!("--same-tool-for-all needs the one tool: --tool SPEC or --profile PROFILE.csv")
         }
         None if loaded.is_empty() => {
-            bail!("the program loads no tool (no T… M06): give its cutter with --tool SPEC or --tool-profile")
+            bail!("the program loads no tool (no T… M06): give its cutter with --tool SPEC or --profile PROFILE.csv")
         }
         None => {
             let mut table_out = Vec::with_capacity(loaded.len());

@@ -72,7 +72,7 @@ pub fn remove_left_over(old: &[PathBuf]) -> Result<()> {
     for p in old {
         std::fs::remove_file(p)
             .with_context(|| format!("the new parts are written, but cannot remove {}", p.display()))?;
-        eprintln!("removed {}, a part of an earlier job", p.display());
+        crate::say::note!("removed {}, a part of an earlier job", p.display());
     }
     Ok(())
 }
