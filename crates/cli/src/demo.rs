@@ -232,6 +232,9 @@ fn geometry(out: &Path) -> Result<()> {
             &stl,
             "--deviation-scale",
             "0.01",
+            // The mill's own allowance (its --gouge-tol, 0.01 mm).
+            "--gouge-tol",
+            "0.01",
             "-o",
             &at("dome-ball.png"),
             "--view",

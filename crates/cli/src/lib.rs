@@ -163,7 +163,7 @@ position it never named (after G28, G53, a tool change) stays an increment.")]
   kezuri thermal measure demo/thermal/index.csv -o meas.csv
   kezuri thermal fit meas.csv --machine samples/mill-turn.toml -o model.json
   kezuri thermal apply samples/o2007-thermal.nc --model model.json \\
-      --machine samples/mill-turn.toml -o o2007-warm.nc"
+      --machine samples/mill-turn.toml --allow-extrapolation -o o2007-warm.nc"
     )]
     Thermal(thermal::ThermalCommand),
     /// A tool's measured cutting profile from backlit images, the database of its wear, and tool

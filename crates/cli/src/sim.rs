@@ -21,7 +21,6 @@ use crate::files::write_output;
 use crate::machine::Machine;
 use crate::program::{read_and_run_centre, RunOptions};
 use crate::progress::LateBar;
-use crate::view::part::GOUGE_MM;
 use report::Done;
 use stock::StockSpec;
 
@@ -102,9 +101,8 @@ pub struct SimArgs {
     /// beside -o].
     #[arg(long, value_name = "DEV.png")]
     pub deviation_png: Option<PathBuf>,
-    /// Deviation shown in full colour, mm [default: the 99th percentile of |deviation|].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
-    pub deviation_scale: Option<f64>,
+    #[command(flatten)]
+    pub deviation: DeviationArgs,
     /// The job in 3D as one offline HTML page: the toolpath and the simulated part (coloured by
     /// deviation with --compare), as `kezuri view --sim` writes it.
     #[arg(long, value_name = "PAGE.html")]
@@ -120,6 +118,27 @@ pub struct SimArgs {
     /// max_gouge_tool, each tool's max_gouge_mm), max_left_mm, mean_abs_dev_mm and the histogram.
     #[arg(long)]
     pub json: bool,
+}
+
+/// How the deviation from the target is coloured: the options `sim` and
+/// `view` share.
+#[derive(Args, Debug)]
+pub struct DeviationArgs {
+    /// Deviation shown in full colour, mm [default: the 99th percentile of |deviation|].
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
+    pub deviation_scale: Option<f64>,
+    /// Deeper than this below the target is a gouge (magenta), mm: give the program's own
+    /// allowance, as mill's --gouge-tol.
+    #[arg(long, value_name = "MM", default_value_t = picture::GOUGE_MM, value_parser = crate::numbers::length)]
+    pub gouge_tol: f64,
+}
+
+impl DeviationArgs {
+    /// The scale of `sim`'s deviation, where it has a target.
+    pub fn scale(&self, sim: &Simulated) -> Option<picture::DeviationScale> {
+        let (_, heights) = sim.comparison.as_ref()?;
+        Some(picture::DeviationScale::new(&sim.zmap, heights, self.deviation_scale, self.gouge_tol))
+    }
 }
 
 /// What a simulation is cut with and compared to: the options `sim` and
@@ -265,7 +284,8 @@ pub fn run(args: &SimArgs) -> Result<()> {
         picture::stage_surface_stl(&mut out, stl, zmap)?;
     }
     let mut deviation_note = None;
-    if let Some((_, heights)) = &comparison {
+    let scale = args.deviation.scale(&sim);
+    if let (Some((_, heights)), Some(scale)) = (&comparison, &scale) {
         let deviation = args.deviation_png.clone().or_else(|| {
             args.output.as_ref().filter(|o| o.as_path() != Path::new("-")).map(|o| {
                 let stem = o.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
@@ -273,23 +293,22 @@ pub fn run(args: &SimArgs) -> Result<()> {
             })
         });
         if let Some(png) = deviation {
-            let scale = picture::DeviationScale::new(zmap, heights, args.deviation_scale);
             let target = args.setup.compare.as_deref().map(file_name).unwrap_or_default();
             let subtitle = format!("deviation from {target} (simulated − target), {:.3} mm cells, +Y up", zmap.res);
-            out.add(Some(&png), &picture::deviation_png(zmap, heights, &scale, &title, &subtitle)?)?;
+            out.add(Some(&png), &picture::deviation_png(zmap, heights, scale, &title, &subtitle)?)?;
             deviation_note = Some(format!(
                 "{}: red = below the target, blue = above (material left), white = on it; \
                  full colour at ±{:.4} mm ({}); magenta = a gouge over {} µm deep; grey = no target",
                 png.display(),
                 scale.mm,
                 scale.basis,
-                GOUGE_MM * 1000.0
+                scale.gouge * 1000.0
             ));
         }
     }
     if let Some(page) = &args.view {
         let options = crate::view::PageOptions::default();
-        out.add(Some(page), &crate::view::page(&ran, &file, Some((&sim, args.deviation_scale)), &[], &options)?)?;
+        out.add(Some(page), &crate::view::page(&ran, &file, Some((&sim, scale.as_ref())), &[], &options)?)?;
     }
     out.commit()?;
 

@@ -54,14 +54,18 @@ corrected, in the dialect asked (--digits defaults to 4 here: three decimals can
 correction changes by well under a micrometre over an arc); the largest such change is
 reported as arc_correction_change_mm.
 
+A point beyond the measured range of its axis is corrected by extrapolating the fitted
+curve: the count is printed, and a program with more than a tenth of its points there is
+refused unless --allow-extrapolation (O2007's approach and retract at Z0 are: 5 of 28).
+
 Examples:
   kezuri demo --only thermal --out demo
   kezuri thermal apply samples/o2007-thermal.nc \\
       --model demo/thermal-model.json --machine samples/mill-turn.toml \\
-      -o o2007-warm.nc
+      --allow-extrapolation -o o2007-warm.nc
   kezuri thermal apply samples/o2007-thermal.nc \\
       --model demo/thermal-model.json --machine samples/mill-turn.toml \\
-      --to linuxcnc -o o2007-warm.ngc --json")]
+      --allow-extrapolation --to linuxcnc -o o2007-warm.ngc --json")]
 pub struct ApplyArgs {
     #[command(flatten)]
     pub run: RunOptions,

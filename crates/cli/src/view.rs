@@ -47,7 +47,8 @@ use sha2::Digest as _;
 
 use crate::machine::Machine;
 use crate::program::{read_and_run_centre, Ran, RunOptions};
-use crate::sim::{SimSetup, Simulated};
+use crate::sim::picture::{DeviationScale, GOUGE_MM};
+use crate::sim::{DeviationArgs, SimSetup, Simulated};
 use blob::Blob;
 use pack::ToolLook;
 use part::Part;
@@ -123,9 +124,8 @@ pub struct ViewArgs {
     pub res: Option<f64>,
     #[command(flatten)]
     pub setup: SimSetup,
-    /// Deviation shown in full colour, mm [default: the 99th percentile of |deviation|].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
-    pub deviation_scale: Option<f64>,
+    #[command(flatten)]
+    pub deviation: DeviationArgs,
     #[command(flatten)]
     pub page: PageOptions,
     /// The page [default: standard output].
@@ -151,7 +151,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         None => None,
     };
     let any: Option<Cutter> = args.setup.tool.as_deref().map(str::parse).transpose()?;
-    let sim_and_scale = sim.as_ref().map(|s| (s, args.deviation_scale));
+    let scale = sim.as_ref().and_then(|s| args.deviation.scale(s));
+    let sim_and_scale = sim.as_ref().map(|s| (s, scale.as_ref()));
     let page = page_with(&Job::of(&ran, &file), sim_and_scale, &[], any, &args.page)?;
     out.add(args.output.as_deref(), &page)?;
     out.commit()?;
@@ -194,7 +195,7 @@ impl<'a> Job<'a> {
 pub fn page(
     ran: &Ran,
     file: &str,
-    sim: Option<(&Simulated, Option<f64>)>,
+    sim: Option<(&Simulated, Option<&DeviationScale>)>,
     cutters: &[(u32, Cutter)],
     options: &PageOptions,
 ) -> Result<Vec<u8>> {
@@ -215,7 +216,7 @@ pub fn path_page(
 /// [`page`], where `any` is the shape of every tool nothing else names.
 fn page_with(
     job: &Job,
-    sim: Option<(&Simulated, Option<f64>)>,
+    sim: Option<(&Simulated, Option<&DeviationScale>)>,
     cutters: &[(u32, Cutter)],
     any: Option<Cutter>,
     options: &PageOptions,
@@ -262,7 +263,7 @@ fn page_with(
                 Some((a, b)) => (std::array::from_fn(|k| a[k].min(lo[k])), std::array::from_fn(|k| b[k].max(hi[k]))),
                 None => (lo, hi),
             });
-            marks.extend(sim_marks(s, original, path));
+            marks.extend(sim_marks(s, original, path, scale.map_or(GOUGE_MM, |d| d.gouge)));
             meta
         }
         None => Value::Null,
@@ -356,9 +357,9 @@ fn profile(tool: &Tool) -> Vec<[f64; 2]> {
 }
 
 /// The marks of a simulation: the first rapid into the stock and the
-/// worst gouge. Move numbers are of `drawn` (the moves of `run`, or fewer
+/// worst gouge, if deeper than `gouge`. Move numbers are of `drawn` (the moves of `run`, or fewer
 /// where shortened: then the rapid is marked without one).
-fn sim_marks(s: &Simulated, run: &Toolpath, drawn: &Toolpath) -> Vec<Value> {
+fn sim_marks(s: &Simulated, run: &Toolpath, drawn: &Toolpath, gouge: f64) -> Vec<Value> {
     let mut marks = Vec::new();
     if let Some(hit) = s.report.rapid_hits.first() {
         let m = &run.moves[hit.index];
@@ -372,7 +373,7 @@ fn sim_marks(s: &Simulated, run: &Toolpath, drawn: &Toolpath) -> Vec<Value> {
         }));
     }
     if let Some((c, _)) = &s.comparison {
-        if let (Some(cell), true) = (c.gouge_cell, c.max_gouge > part::GOUGE_MM) {
+        if let (Some(cell), true) = (c.gouge_cell, c.max_gouge > gouge) {
             let [x, y] = s.zmap.centre(cell % s.zmap.nx, cell / s.zmap.nx);
             let by = s.report.cut_by.get(cell).copied().filter(|&b| b != kezuri_cam::sim::UNCUT);
             // Tool 0 is the one tool of a program that changes none.

@@ -312,7 +312,7 @@ fn the_simulated_part_and_its_deviation() {
     let sim = &page.meta["sim"];
     assert_eq!((sim["nx"].as_u64(), sim["ny"].as_u64()), (Some(80), Some(40)));
     let dev = &sim["deviation"];
-    assert_eq!(dev["scale_basis"], "99th percentile of |deviation|");
+    assert_eq!(dev["scale_basis"], "the 99th percentile of |deviation|");
     assert!((dev["scale_um"].as_f64().unwrap() - 500.0).abs() < 1.0, "{dev}");
     let kinds: Vec<&str> = page.meta["marks"].as_array().unwrap().iter().map(|m| m["kind"].as_str().unwrap()).collect();
     assert_eq!(kinds, ["rapid", "gouge"]);
@@ -335,6 +335,29 @@ fn the_simulated_part_and_its_deviation() {
     let (lo, hi) = heights.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &z| (a.min(z), b.max(z)));
     // The groove bottom between two rows of centres: 3 − √(9 − 0.125²) above Z−1.
     assert!((lo + 1.0 - (3.0 - (9.0f64 - 0.015625).sqrt())).abs() < 2e-4 && hi.abs() < 1e-4, "{lo} {hi}");
+
+    // The program's own allowance: a 0.5 mm dip within --gouge-tol 0.6 is
+    // no gouge, and no worst gouge is marked.
+    ok(&kezuri(&[
+        "view",
+        &nc,
+        "--sim",
+        "--tool",
+        "ball:6",
+        "--res",
+        "0.25",
+        "--stock",
+        "0,0,20,10,0",
+        "--compare",
+        &target,
+        "--gouge-tol",
+        "0.6",
+        "-o",
+        &html,
+    ]));
+    let page = read_page(&html);
+    assert_eq!(page.meta["sim"]["deviation"]["gouge_um"], 600.0);
+    assert_eq!(page.meta["marks"].as_array().unwrap().len(), 1);
 
     let o = kezuri(&["view", &nc, "--compare", &target, "-o", &html]);
     assert!(!o.status.success());

@@ -18,7 +18,7 @@ use crate::figure::Figure;
 use crate::files::write_atomic;
 use crate::plot::png_from_svg;
 use crate::program::read_and_run;
-use crate::sim::picture::{deviation_panel, DeviationScale};
+use crate::sim::picture::{deviation_panel, DeviationScale, GOUGE_MM};
 use crate::sim::{simulate, SimSetup};
 
 /// The ball's radius, mm.
@@ -222,7 +222,7 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
 /// The grooves as programmed and corrected, cut by the worn tool, their
 /// deviation from the target one above the other on one scale.
 fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
-    let scale = DeviationScale { mm: GROOVE_SCALE, basis: "one scale for both".into() };
+    let scale = DeviationScale { mm: GROOVE_SCALE, basis: "one scale for both".into(), gouge: GOUGE_MM };
     let mut panels = Vec::new();
     for (program, what) in [("groove.nc", "as programmed"), ("groove-T7.nc", "corrected for the wear")] {
         let (ran, _) = read_and_run(&run_options(out.join(program), None))?;

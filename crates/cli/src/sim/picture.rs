@@ -9,14 +9,19 @@ use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
 
 use crate::figure::{colour_at, ColourBar, Figure, Panel, Raster};
 use crate::files::Outputs;
-use crate::view::part::{percentile_99, GOUGE_MM};
+use crate::view::part::percentile_99;
 
 /// Largest picture side; bigger grids are sampled every k-th cell.
 const MAX_SIDE: usize = 4096;
 
 /// The colour of no target.
 const NO_TARGET: [u8; 3] = [128, 128, 128];
-/// The colour of a gouge (deeper than [`GOUGE_MM`] below the target,
+/// How deep below the target a cell is a gouge unless `--gouge-tol` says
+/// otherwise, mm: the simulation is exact at the cell centres, so only
+/// rounding is forgiven.
+pub const GOUGE_MM: f64 = 0.001;
+
+/// The colour of a gouge (deeper than the gouge limit below the target,
 /// whatever the scale, as on the `--view` page) at the full scale; lighter
 /// from the limit down to it.
 pub const GOUGE: [u8; 3] = [200, 0, 200];
@@ -108,22 +113,26 @@ pub fn height_png(zmap: &ZMap, title: &str) -> Result<Vec<u8>> {
     .png()
 }
 
-/// How a deviation picture is coloured: full colour at ±`mm`, said as
-/// `basis`.
+/// How a deviation is coloured, in a picture and on the `--view` page:
+/// full colour at ±`mm`, said as `basis`; deeper than `gouge` below the
+/// target a gouge.
 pub struct DeviationScale {
     pub mm: f64,
     pub basis: String,
+    pub gouge: f64,
 }
 
 impl DeviationScale {
     /// `given` (`--deviation-scale`), else the 99th percentile of
-    /// |deviation| over the compared cells (at least the gouge limit).
-    pub fn new(zmap: &ZMap, target: &[f64], given: Option<f64>) -> DeviationScale {
+    /// |deviation| over the compared cells (at least the gouge limit
+    /// `gouge`, `--gouge-tol`).
+    pub fn new(zmap: &ZMap, target: &[f64], given: Option<f64>, gouge: f64) -> DeviationScale {
         match given {
-            Some(mm) => DeviationScale { mm, basis: "--deviation-scale".into() },
+            Some(mm) => DeviationScale { mm, basis: "--deviation-scale".into(), gouge },
             None => DeviationScale {
-                mm: percentile_99(zmap, target).max(GOUGE_MM),
+                mm: percentile_99(zmap, target).max(gouge),
                 basis: "the 99th percentile of |deviation|".into(),
+                gouge,
             },
         }
     }
@@ -143,7 +152,7 @@ impl DeviationScale {
     /// light to full; above it white to blue.
     fn stops(&self) -> Vec<(f64, [u8; 3])> {
         let f = self.unit().0;
-        let (s, g) = (self.mm * f, GOUGE_MM * f);
+        let (s, g) = (self.mm * f, self.gouge * f);
         if s > g {
             vec![(-s, GOUGE), (-g, GOUGE_LIGHT), (-g, BELOW), (0.0, ON), (s, ABOVE)]
         } else {
@@ -156,7 +165,7 @@ impl DeviationScale {
         let (factor, unit) = self.unit();
         let s = self.mm * factor;
         let notes = vec![format!("full colour at ±{}", short(s, unit)), format!("({})", self.basis)];
-        let gouge = format!("gouge: over {} below the target", short(GOUGE_MM * 1000.0, "µm"));
+        let gouge = format!("gouge: over {} below the target", short(self.gouge * 1000.0, "µm"));
         // Where the bar holds the gouges they deepen in colour as they do.
         let swatches = vec![(GOUGE, gouge), (NO_TARGET, "no target".to_string())];
         ColourBar { stops: self.stops(), label: format!("simulated − target, {unit}"), notes, swatches }
@@ -166,8 +175,8 @@ impl DeviationScale {
     /// however large the scale.
     fn colour(&self, d: f64) -> [u8; 3] {
         let f = self.unit().0;
-        let (v, s, g) = (d * f, self.mm * f, GOUGE_MM * f);
-        if d < -GOUGE_MM {
+        let (v, s, g) = (d * f, self.mm * f, self.gouge * f);
+        if d < -self.gouge {
             if s > g {
                 colour_at(&[(-s, GOUGE), (-g, GOUGE_LIGHT)], v)
             } else {
@@ -283,7 +292,7 @@ mod tests {
             1 => 0.004,
             _ => 0.002,
         });
-        let scale = DeviationScale::new(&z, &target, None);
+        let scale = DeviationScale::new(&z, &target, None, GOUGE_MM);
         assert!((scale.mm - 0.004).abs() < 1e-12, "{}", scale.mm);
         let r = deviation_raster(&z, &target, &scale);
         // Row 0 of the picture is the grid's top row (+Y up): cell k is at
@@ -301,7 +310,7 @@ mod tests {
             4 => -0.0005,
             _ => 0.002,
         });
-        let scale = DeviationScale::new(&z, &target, Some(0.001));
+        let scale = DeviationScale::new(&z, &target, Some(0.001), GOUGE_MM);
         let r = deviation_raster(&z, &target, &scale);
         let i = 3 * (9 * 10 + 3);
         assert_eq!(r.rgb[i..i + 3], GOUGE);
@@ -309,13 +318,13 @@ mod tests {
         assert_eq!(r.rgb[i..i + 3], [253, 235, 235]);
         // On a larger scale a gouge's colour deepens with it: 2.5 µm below
         // on ±4 µm is half way from the limit's light magenta to full.
-        let scale = DeviationScale::new(&z, &target, Some(0.004));
+        let scale = DeviationScale::new(&z, &target, Some(0.004), GOUGE_MM);
         assert_eq!(scale.colour(-0.0025), [220, 80, 220]);
         assert_eq!(scale.colour(-0.001), BELOW);
         assert_eq!(scale.colour(-0.0010001), GOUGE_LIGHT);
         assert_eq!(scale.colour(-0.01), GOUGE);
         // The bar says the scale and its basis, in µm.
-        let bar = DeviationScale::new(&z, &target, None).bar();
+        let bar = DeviationScale::new(&z, &target, None, GOUGE_MM).bar();
         assert_eq!(bar.label, "simulated − target, µm");
         assert!(bar.notes[1].contains("99th percentile"), "{:?}", bar.notes);
     }
@@ -323,7 +332,7 @@ mod tests {
     #[test]
     fn pictures_are_the_same_bytes_each_time() {
         let (z, target) = grid(|k| 0.001 * (k % 7) as f64 - 0.002);
-        let scale = DeviationScale::new(&z, &target, None);
+        let scale = DeviationScale::new(&z, &target, None, GOUGE_MM);
         let a = deviation_png(&z, &target, &scale, "t.nc: ball:6", "against t.stl").unwrap();
         assert_eq!(a, deviation_png(&z, &target, &scale, "t.nc: ball:6", "against t.stl").unwrap());
         assert_eq!(height_png(&z, "t.nc").unwrap(), height_png(&z, "t.nc").unwrap());

@@ -8,11 +8,7 @@ use serde_json::{json, Value};
 
 use super::blob::Blob;
 use super::pack::QUANTUM_MM;
-
-/// Deviation below the target by more than this is a gouge (its own
-/// colour), mm: the simulation is exact at the cell centres, so only
-/// rounding is forgiven.
-pub const GOUGE_MM: f64 = 0.001;
+use crate::sim::picture::DeviationScale;
 
 /// Deviation step of the packed values, µm.
 const DEVIATION_QUANTUM_UM: f64 = 0.1;
@@ -26,8 +22,8 @@ pub struct Part<'a> {
     pub zmap: &'a ZMap,
     /// The target's height over each cell (`-inf` where it has none).
     pub target: Option<&'a [f64]>,
-    /// The deviation at full colour, mm; `None`: the 99th percentile.
-    pub scale: Option<f64>,
+    /// How the deviation is coloured (with a target).
+    pub scale: Option<&'a DeviationScale>,
     /// Most vertices the page's mesh may have.
     pub max_vertices: usize,
 }
@@ -94,19 +90,12 @@ impl Part<'_> {
             d
         }));
         blob.u32s(blocks.iter().flat_map(|b| b.iter().map(|&v| v as u32)));
-        let deviation = self.target.map(|_| {
+        let deviation = self.target.zip(self.scale).map(|(_, scale)| {
             blob.i32s(devs.iter().copied());
-            let (scale, basis) = match self.scale {
-                Some(s) => (s, format!("±{s} mm as given")),
-                None => (
-                    percentile_99(z, self.target.unwrap_or(&[])).max(GOUGE_MM),
-                    "99th percentile of |deviation|".to_string(),
-                ),
-            };
             json!({
-                "scale_um": scale * 1000.0,
-                "scale_basis": basis,
-                "gouge_um": GOUGE_MM * 1000.0,
+                "scale_um": scale.mm * 1000.0,
+                "scale_basis": scale.basis,
+                "gouge_um": scale.gouge * 1000.0,
                 "quantum_um": DEVIATION_QUANTUM_UM,
             })
         });
