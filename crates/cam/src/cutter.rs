@@ -195,7 +195,7 @@ pub enum Cutter {
     Ball(Ball),
     /// `bull:D,R`: bull-nose (torus) end mill with corner radius `R`.
     Bull(Bull),
-    /// `oval:D,RL`: the egg-type oval end mill of seed 001, a half-ellipsoid
+    /// `oval:D,RL`: the egg-type oval end mill of the oval end mill paper, a half-ellipsoid
     /// tip with radial semi-axis `D/2` and axial semi-axis `RL`.
     Oval(Oval),
     /// `v:D,ANGLE`: V-bit (cone) with the included angle in degrees.

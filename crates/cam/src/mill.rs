@@ -32,7 +32,7 @@
 //! on whole rows far faster than point by point).
 //!
 //! # Pick-feed control (`cusp`)
-//! Seed 001's pick-feed control, generalised: with a target cusp height,
+//! The oval end mill paper's pick-feed control, generalised: with a target cusp height,
 //! each next row goes as far as the cusp between the two rows stays within
 //! it. The slope across the rows is measured on the CL surface at every
 //! sample of the row; the caller's `pick_feed(angle)` gives the largest pick

@@ -1,6 +1,6 @@
-//! Digitizing a model on an NC machine and copy-milling it (seed 000): grid
-//! data, levelling, export geometry and the surfaces a ball stylus's
-//! readings imply.
+//! Digitizing a model on an NC machine and copy-milling it (the copy-milling
+//! paper): grid data, levelling, export geometry and the surfaces a ball
+//! stylus's readings imply.
 //!
 //! # The grid and capture order
 //! A probed model is `nx × ny` points at `pitch` mm from `origin`. The

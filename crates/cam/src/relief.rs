@@ -1,4 +1,4 @@
-//! A grayscale sketch as a relief surface (seed 002): gray values become
+//! A grayscale sketch as a relief surface (the relief paper): gray values become
 //! heights, the picture gets a size in millimetres, and the result is a
 //! [`Heightfield`] that drop-cutter places any cutter on.
 //!
@@ -58,7 +58,7 @@ pub enum Mapping {
         /// Exponent on the gray value (1: linear).
         gamma: f64,
     },
-    /// The paper's per-region heights.
+    /// The relief paper's per-region heights.
     Levels(Vec<Level>),
 }
 

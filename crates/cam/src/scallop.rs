@@ -1,6 +1,6 @@
 //! Scallop theory: the cusp two neighbouring passes leave on an inclined
-//! plane, and the pick feed that keeps it within a target (seed 001's
-//! pick-feed control).
+//! plane, and the pick feed that keeps it within a target (the oval end
+//! mill paper's pick-feed control).
 //!
 //! # The geometry
 //! Contour (Z-level) passes run along X on a plane that rises in Y at
@@ -40,7 +40,7 @@
 //!
 //! # Closed forms
 //! Where one exists, [`closed_form_cusp`] gives the cusp directly: the
-//! ball's classic `R − √(R² − Pf²/4)` (the same at every angle), seed 001's
+//! ball's classic `R − √(R² − Pf²/4)` (the same at every angle), the paper's
 //! equations (1)–(6) for the oval (with the sign of (6) corrected, see
 //! [`iwabe`]), a flat end mill's staircase `Pf·sin α·cos α`, a bull-nose
 //! corner or flat, a V-bit. Each holds on a stated domain; outside it
@@ -50,7 +50,7 @@
 //! ```
 //! use kezuri_cam::{scallop, Cutter};
 //! let egg: Cutter = "oval:16,24".parse().unwrap();
-//! // Seed 001: a 10 µm cusp at 60° allows a 1.052 mm pick feed.
+//! // The oval end mill paper: a 10 µm cusp at 60° allows a 1.052 mm pick feed.
 //! let s = scallop::pick_feed(&egg, 60f64.to_radians(), 0.010).unwrap();
 //! assert!((s.pick_feed - 1.052).abs() < 0.002);
 //! // And at 0.8 mm the cusp is about 6 µm.
@@ -102,7 +102,7 @@ impl fmt::Display for Method {
 pub struct Scallop {
     /// Inclination of the plane, radians in `[0, π/2)`.
     pub angle: f64,
-    /// Pick feed in the inclined plane (the paper's `Pf`).
+    /// Pick feed in the inclined plane (the oval end mill paper's `Pf`).
     pub pick_feed: f64,
     /// Cusp height square to the plane (closed form where one holds).
     pub cusp: f64,

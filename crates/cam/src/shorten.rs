@@ -1,6 +1,6 @@
 //! Shortening a toolpath: fewer, longer moves within a tolerance.
 //!
-//! Seed 002's `auto_g2.exe` and `shorter.exe` merged consecutive moves at
+//! The relief paper's `auto_g2.exe` and `shorter.exe` merged consecutive moves at
 //! equal Z to shrink a 1.7 MB program. [`shorten`] does that for any shape:
 //! a run of consecutive moves of the same kind and state is replaced by the
 //! fewest of its own points that keep the path within
@@ -77,7 +77,7 @@ pub const MAX_ARC_POINTS: usize = 2000;
 /// use kezuri_cam::shorten::{shorten, ShortenOptions};
 /// use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
 /// let at = |x: f64, z: f64| Axes { x, z, ..Axes::ZERO };
-/// // Seed 002's rows: one move per pixel, most at the same Z.
+/// // The relief paper's rows: one move per pixel, most at the same Z.
 /// let zs = [-2.4, -2.4, -2.4, -1.8, -1.8, -2.4];
 /// let mut path = Toolpath::default();
 /// for (k, z) in zs.iter().enumerate() {

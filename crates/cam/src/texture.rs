@@ -1,4 +1,4 @@
-//! Seed 004's random "hand-carved" texture, baked into a toolpath.
+//! The texture paper's random "hand-carved" texture, baked into a toolpath.
 //!
 //! Along the cutting path, every `segment` mm of XY travel ends at a
 //! *knot* with a random depth offset; between knots the offset runs
@@ -36,7 +36,7 @@ use kezuri_geom::{Axes, Move, MoveKind, Plane, SplitMix64, Toolpath};
 /// How the knots' offsets are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dist {
-    /// The paper's: a digit 0–9 onto nine depths, the middle twice as likely.
+    /// The texture paper's: a digit 0–9 onto nine depths, the middle twice as likely.
     Digits,
     /// Every multiple of `quantum` within the spread equally likely.
     Uniform,
@@ -49,14 +49,14 @@ pub enum Dist {
 /// What [`bake`] does. Lengths in mm.
 #[derive(Clone, Copy, Debug)]
 pub struct TextureOptions {
-    /// XY travel per knot (the paper: 20).
+    /// XY travel per knot (the texture paper: 20).
     pub segment: f64,
-    /// A fixed depth the offsets are added to (the paper: −2.0); `None`:
+    /// A fixed depth the offsets are added to (the texture paper: −2.0); `None`:
     /// the program's own Z on the move.
     pub base: Option<f64>,
-    /// Largest offset either way (the paper: 0.8).
+    /// Largest offset either way (the texture paper: 0.8).
     pub spread: f64,
-    /// Offsets are multiples of this (the paper: 0.2); 0: not rounded.
+    /// Offsets are multiples of this (the texture paper: 0.2); 0: not rounded.
     pub quantum: f64,
     /// How offsets are drawn.
     pub dist: Dist,
@@ -69,7 +69,7 @@ pub struct TextureOptions {
 }
 
 impl Default for TextureOptions {
-    /// The paper's numbers, relative to the program's Z.
+    /// The texture paper's numbers, relative to the program's Z.
     fn default() -> TextureOptions {
         TextureOptions {
             segment: 20.0,
@@ -168,7 +168,7 @@ pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
 /// Most knots a baked texture may have (a move each, some 200 bytes).
 pub const MAX_KNOTS: f64 = 10e6;
 
-/// The texture of seed 004 on `path` (see the module docs).
+/// The texture paper's random texture on `path` (see the module docs).
 pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureError> {
     check(o)?;
     // Weighed before the work: one move a knot.

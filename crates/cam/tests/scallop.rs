@@ -1,4 +1,4 @@
-//! Scallop theory: seed 001's figures, the closed forms against the
+//! Scallop theory: the oval end mill paper's figures, the closed forms against the
 //! envelope, the envelope against a brute-force sampling, the inverse, and
 //! bad input.
 
@@ -16,7 +16,7 @@ fn rad(deg: f64) -> f64 {
 
 const EGG: &str = "oval:16,24";
 
-/// Seed 001 (Iwabe, Kumaki, Hori), Table 1 and §5.2: the pick feed that
+/// The oval end mill paper (Iwabe, Kumaki, Hori), Table 1 and §5.2: the pick feed that
 /// keeps the theoretical roughness at 10 µm.
 #[test]
 fn seed_001_pick_feed_control() {

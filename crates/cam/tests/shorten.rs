@@ -116,7 +116,7 @@ enum Piece {
     Circle(f64, f64, f64, Vec<[f64; 2]>, u32),
     /// A rapid.
     Rapid([f64; 3]),
-    /// Feeds at one Z along X, as seed 002's rows.
+    /// Feeds at one Z along X, as the relief paper's rows.
     Row(Vec<i8>, u32),
 }
 

@@ -1,4 +1,4 @@
-//! Seed 004's texture baked into toolpaths: segments, depths, what passes
+//! The texture paper's random texture baked into toolpaths: segments, depths, what passes
 //! unchanged, the distributions.
 
 use kezuri_cam::texture::{bake, Dist, TextureError, TextureOptions};

@@ -1,4 +1,4 @@
-//! `kezuri scallop` as a user runs it: seed 001's figures, JSON keys, exit codes.
+//! `kezuri scallop` as a user runs it: the oval end mill paper's figures, JSON keys, exit codes.
 
 mod common;
 use common::kezuri;

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use common::{kezuri, ok, path};
 
-/// A nameplate's area clearing as seed 004's CAM wrote it: CAM Z 0, zig-zag
+/// A nameplate's area clearing as the texture paper's CAM wrote it: CAM Z 0, zig-zag
 /// rows of 212 mm with 3 mm steps, an arc, a retract, a Z-only plunge.
 fn nameplate() -> String {
     let mut t = String::from(
@@ -160,7 +160,7 @@ fn digits_fall_on_nine_depths_in_both_modes() {
 
 #[test]
 fn the_papers_o7023_runs_as_printed() {
-    // Seed 004's own macro on its CAM blocks (samples/o7023-texture.nc),
+    // The texture paper's own macro on its CAM blocks (samples/o7023-texture.nc),
     // with the clock set so that the first digit read is 5: the printed
     // `#28 GT 5` sends it to the shallow side, Z -2 + 5·0.2 = -1.0, a tenth
     // depth; and `G01 Z0.` inside the G66.1 section is dropped (its test

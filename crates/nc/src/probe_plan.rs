@@ -1,5 +1,5 @@
-//! Measuring programs for digitizing a model on a grid (seed 000,
-//! `kezuri probe plan`).
+//! Measuring programs for digitizing a model on a grid (the copy-milling
+//! paper, `kezuri probe plan`).
 //!
 //! A [`Plan`] is a grid of `nx × ny` points at one pitch from an origin, a
 //! travel height (`z_safe`) and a plunge depth: the stylus travels at
@@ -54,9 +54,9 @@ use crate::{interp, parse, Program, SourceFile, Sources};
 pub const TRIGGER_DWELL: f64 = 0.5;
 /// The default stylus (tool) number.
 pub const DEFAULT_TOOL: u32 = 1;
-/// The paper's main program number.
+/// The copy-milling paper's main program number.
 pub const DEFAULT_PROGRAM: u32 = 1011;
-/// The paper's plunge feed (mm/min), for an indicator stylus.
+/// The copy-milling paper's plunge feed (mm/min), for an indicator stylus.
 pub const DEFAULT_PLUNGE_FEED: f64 = 6000.0;
 /// The default probing feed (mm/min) of [`Style::G31`], for a touch probe.
 pub const DEFAULT_PROBE_FEED: f64 = 200.0;
@@ -70,7 +70,7 @@ pub const MAX_DIGITS: u32 = 4;
 /// How the program is written.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Style {
-    /// The paper's main program and repeated subprograms, incremental moves.
+    /// The copy-milling paper's main program and repeated subprograms, incremental moves.
     #[default]
     Subprogram,
     /// Every point written out, absolute.
@@ -154,7 +154,7 @@ pub struct Plan {
     /// Feed of the plunge (`G01` or `G31`), mm/min.
     pub plunge_feed: f64,
     /// Feed of the retract and of the moves between points, mm/min; `None`:
-    /// rapid (`G00`), as the paper's `G00 X1.`.
+    /// rapid (`G00`), as the copy-milling paper's `G00 X1.`.
     pub feed: Option<f64>,
     /// Number of the main program; subprograms take the next numbers.
     pub program: u32,
@@ -190,7 +190,7 @@ fn err<T>(message: impl Into<String>) -> Result<T, PlanError> {
 const MAX_UNITS: i64 = 99_999_999;
 
 impl Plan {
-    /// A plan with the defaults: subprogram style, zig-zag, the paper's feed
+    /// A plan with the defaults: subprogram style, zig-zag, the copy-milling paper's feed
     /// and program number, the fanuc post and its trigger, 3 decimals, T1.
     pub fn new(origin: [f64; 2], count: [u32; 2], pitch: f64, z_safe: f64, plunge: f64) -> Plan {
         let post = WriteOptions::preset("fanuc").unwrap_or_default();

@@ -2,7 +2,7 @@
 //! mills, read into a [`Toolpath`](kezuri_geom::Toolpath) and written from
 //! one.
 //!
-//! Seed 002's CAM wrote RML-1 (`camm.3.dat`) and converted it to G-code:
+//! The relief paper's CAM wrote RML-1 (`camm.3.dat`) and converted it to G-code:
 //! `Z x,y,z` → `G01 X Y Z`, `^PU x,y` → `G00 X Y` at a preset safe Z. This
 //! module does that conversion both ways, with units: coordinates in RML-1
 //! are whole *steps* of the machine's resolution ([`RmlOptions::unit`],

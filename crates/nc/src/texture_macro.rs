@@ -1,4 +1,4 @@
-//! Seed 004's texture as the paper made it: a Fanuc Custom Macro B program
+//! The random texture as the texture paper made it: a Fanuc Custom Macro B program
 //! that the control calls on every block of the cutting section (`G66.1`)
 //! and that draws each stroke's depth from the `#3001` clock, so every part
 //! comes out different (`kezuri texture --mode macro`).
@@ -41,7 +41,7 @@ use crate::write::number;
 /// The numbers of a texture macro. Lengths in mm.
 #[derive(Clone, Copy, Debug)]
 pub struct TextureMacro {
-    /// The macro's program number (the paper's 7023).
+    /// The macro's program number (the texture paper's 7023).
     pub number: u32,
     /// XY travel per knot.
     pub segment: f64,
@@ -51,8 +51,8 @@ pub struct TextureMacro {
     pub spread: f64,
     /// Offsets are multiples of this (> 0).
     pub quantum: f64,
-    /// Every multiple of the quantum equally likely, instead of the paper's
-    /// digits.
+    /// Every multiple of the quantum equally likely, instead of the texture
+    /// paper's digits.
     pub uniform: bool,
     /// Successive knots differ by at least and at most these.
     pub step_range: Option<[f64; 2]>,

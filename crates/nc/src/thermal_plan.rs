@@ -33,7 +33,7 @@ pub struct Station {
 /// The measuring program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ThermalPlan {
-    /// Program number (the paper's 2007).
+    /// Program number (the thermal and wear report's 2007).
     pub number: u32,
     /// The angles and their starts.
     pub stations: Vec<Station>,
@@ -41,7 +41,7 @@ pub struct ThermalPlan {
     pub axes: Vec<usize>,
     /// Stops per axis (the first included).
     pub steps: usize,
-    /// Step, mm (signed; the paper: −4).
+    /// Step, mm (signed; the thermal and wear report: −4).
     pub pitch: f64,
     /// Dwell at each stop, s.
     pub dwell: f64,

@@ -1,4 +1,4 @@
-//! RML-1: seed 002's listing read with units, every command, located
+//! RML-1: the relief paper's listing read with units, every command, located
 //! errors, the writer's rules, and round trips RML → G-code → RML.
 
 use std::f64::consts::PI;

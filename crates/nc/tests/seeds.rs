@@ -1,6 +1,7 @@
-//! The seed programs themselves, run: O1011/O1012/O1013 (seed 000, digitizing),
-//! O7023 around its CAM blocks (seed 004, random texture) and O2007 (seed 003,
-//! thermal test). The programs are in `testdata/seeds/`.
+//! The documents' own programs, run: O1011/O1012/O1013 (the copy-milling
+//! paper, digitizing), O7023 around its CAM blocks (the texture paper,
+//! random texture) and O2007 (the thermal and wear report, thermal test).
+//! The programs are in `testdata/seeds/`.
 
 use std::collections::BTreeSet;
 
@@ -45,7 +46,7 @@ fn close(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-9
 }
 
-// ---------------------------------------------------------------- seed 000
+// ---------------------------------------------------------------- the copy-milling paper
 
 #[test]
 fn o1011_measures_every_grid_point_once() {
@@ -93,7 +94,7 @@ fn o1011_measures_every_grid_point_once() {
     assert_ne!(before.start, before.end, "incremental G28 Z0: the intermediate point is where the tool is, no move");
 }
 
-// ---------------------------------------------------------------- seed 004
+// ---------------------------------------------------------------- the texture paper
 
 const TEXTURE: &str = "o7023_texture.nc";
 
@@ -269,7 +270,7 @@ fn o7023_same_seed_same_toolpath() {
     assert_eq!(depths, BTreeSet::from([-26, -22, -20, -16, -12]));
 }
 
-// ---------------------------------------------------------------- seed 003
+// ---------------------------------------------------------------- the thermal and wear report
 
 #[test]
 fn o2007_measures_at_the_programmed_positions() {

@@ -1,4 +1,5 @@
-//! The edge of the reference tool in a line-sensor profile (seed 003).
+//! The edge of the reference tool in a line-sensor profile (the thermal and
+//! wear report).
 //!
 //! A 2D laser line sensor sees the corner of a square reference tool as a
 //! profile of points `(x, z)` across it. The profile is split into its two

@@ -132,7 +132,7 @@ impl Kinematics {
         Kinematics { tool: vec![linear(0), linear(1), linear(2)], work: Vec::new(), tip: [0.0; 3] }
     }
 
-    /// Seed 003's Swiss-type mill-turn: the milling spindle carries X, Z
+    /// The thermal and wear report's Swiss-type mill-turn: the milling spindle carries X, Z
     /// and a B tilt about Y through `b_pivot`; the turning side carries Y
     /// and C (about Z through the origin); `tip` is the tool tip with every
     /// axis at zero.

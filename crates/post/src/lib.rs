@@ -1,4 +1,4 @@
-//! Seed 003's intelligent post-processor: from measurements taken on the
+//! The thermal and wear report's intelligent post-processor: from measurements taken on the
 //! machine to a corrected NC program.
 //!
 //! - [`edge`]: the corner of the square reference tool in a 2D line-sensor

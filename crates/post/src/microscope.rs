@@ -3,7 +3,7 @@
 //!
 //! 1. Each field of view: the envelope of its frames (the darkest value of
 //!    each pixel while the tool turns, [`Envelope`]: one frame in memory at
-//!    a time, for the paper's ~1,000 frames).
+//!    a time, for the thermal and wear report's ~1,000 frames).
 //! 2. One threshold for all: [`otsu`] over the envelopes, unless given.
 //! 3. Fields placed ([`stitch::place`]) and joined ([`stitch::composite`]).
 //! 4. The silhouette of the joined picture: per pixel row from the lowest
@@ -66,7 +66,7 @@ pub struct Field {
 /// How to measure.
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
-    /// Side of a pixel on the tool, mm (0.71 µm in the paper: 0.00071).
+    /// Side of a pixel on the tool, mm (0.71 µm in the thermal and wear report: 0.00071).
     pub pixel_mm: f64,
     /// Gray level (0–1) at or below which a pixel is tool; Otsu's if `None`.
     pub threshold: Option<f32>,

@@ -1,6 +1,6 @@
-//! Fields of view stitched into one picture (seed 003: a tool larger than
-//! the microscope's field is imaged at several stage offsets, overlapping by
-//! 100 µm and 70 µm, and the pictures joined).
+//! Fields of view stitched into one picture (the thermal and wear report:
+//! a tool larger than the microscope's field is imaged at several stage
+//! offsets, overlapping by 100 µm and 70 µm, and the pictures joined).
 //!
 //! Each field is placed at its stage offset (pixels: where its pixel
 //! `(0, 0)` lies in the common frame, x right, y down). For every pair of

@@ -1,4 +1,5 @@
-//! The thermal error model and the corrected command (seed 003).
+//! The thermal error model and the corrected command (the thermal and
+//! wear report).
 //!
 //! The machine, warm, puts the tool at its ideal place for the command plus
 //! the sum over the linear axes of each axis's error vector, a function of
@@ -11,7 +12,7 @@
 //! [`ErrorModel::correct`] finds the command whose deformed tip lands on a
 //! target: Newton's method on the three linear commands, the rotary axes
 //! as the program indexes them, from the ideal inverse, to 1 nm.
-//! [`ErrorModel::correct_by_grid`] is the paper's brute force for
+//! [`ErrorModel::correct_by_grid`] is the report's brute force for
 //! comparison: candidates on a grid about the first-order estimate.
 
 use std::fmt;
@@ -281,7 +282,7 @@ impl ErrorModel {
         Corrector::new(self, k, c)?.correct(target)
     }
 
-    /// The paper's search: `(2·half + 1)³` candidates `spacing` mm apart
+    /// The thermal and wear report's search: `(2·half + 1)³` candidates `spacing` mm apart
     /// on each linear axis about the first-order estimate (the ideal
     /// inverse of the target less the error there); the one whose deformed
     /// tip lands nearest, with that distance.

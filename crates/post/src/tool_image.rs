@@ -1,4 +1,5 @@
-//! A tool's silhouette in backlit images (seed 003, the tool microscope).
+//! A tool's silhouette in backlit images (the thermal and wear
+//! report, the tool microscope).
 //!
 //! Convention (../shared/CLI.md): the tool axis is vertical, tip down, the
 //! tool dark on a bright backlight. Gray values are `0.0` (black) to `1.0`

@@ -1,5 +1,5 @@
-//! The worn, eccentric tool put where the new one would have cut (seed 003,
-//! tool wear and runout).
+//! The worn, eccentric tool put where the new one would have cut (the
+//! thermal and wear report, tool wear and runout).
 //!
 //! For a CL point (tool tip `T`, tool axis `a`, feed direction `f`):
 //! 1. The nominal tool's cutting point `p` on the finished surface: the

@@ -1,4 +1,4 @@
-//! Forward kinematics and its ideal inverse on a 3-axis mill and seed 003's
+//! Forward kinematics and its ideal inverse on a 3-axis mill and the thermal and wear report's
 //! Swiss-type mill-turn.
 
 use kezuri_geom::SplitMix64;

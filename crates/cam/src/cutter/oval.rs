@@ -1,4 +1,4 @@
-//! The egg-type oval end mill of seed 001: a half-ellipsoid tip with radial
+//! The egg-type oval end mill of the oval end mill paper: a half-ellipsoid tip with radial
 //! semi-axis `a = D/2` and axial semi-axis `b = RL`, on a cylinder of
 //! diameter `D`. `b > a` is the paper's egg; `b < a` an oblate "spoon";
 //! `b = a` a ball.

@@ -7,7 +7,7 @@
 //!   capture order, each ending with a line feed: a last record without
 //!   one was cut off by a crash or a power loss while it was written (it
 //!   may read as another number: `15,-5` of `15,-50.63`) and is refused.
-//! - **Bare `No,Z`** (the paper's files): the same records without a
+//! - **Bare `No,Z`** (the copy-milling paper's files): the same records without a
 //!   header; the grid comes from the caller ([`Hint`]). A record `No 0` is
 //!   ignored (the paper's files begin with `0,0`) and written back.
 //! - **CSV** `x,y,z` (an optional header line of names, then one point per
@@ -48,7 +48,7 @@ pub enum Format {
         /// The header lines, verbatim.
         header: Vec<String>,
     },
-    /// The paper's bare `No,Z` records.
+    /// The copy-milling paper's bare `No,Z` records.
     Bare {
         /// The file began with the record `0,0`.
         zero_record: bool,

@@ -1,4 +1,4 @@
-//! Export geometry: DXF cross sections (the paper's CAD files, one
+//! Export geometry: DXF cross sections (the copy-milling paper's CAD files, one
 //! polyline per row), a surface mesh, a shaded picture, and mirroring a
 //! model measured on one half.
 

@@ -8,7 +8,7 @@
 //!
 //! - **plane**: the least-squares plane through the reference points is
 //!   turned horizontal: `z' = z − b·(x − x̄) − c·(y − ȳ)`.
-//! - **lines** (the paper's): a least-squares line along each of two
+//! - **lines** (the copy-milling paper's): a least-squares line along each of two
 //!   reference rows (or columns); between and beyond them the correction
 //!   is the straight line from one to the other, row by row. This takes out
 //!   a tilt *and* a twist (the paper's ネジレ), which no plane can.
@@ -78,7 +78,7 @@ impl std::str::FromStr for Reference {
 pub enum Method {
     /// The least-squares plane.
     Plane,
-    /// The paper's least-squares lines (the better pair, where two).
+    /// The copy-milling paper's least-squares lines (the better pair, where two).
     Lines,
     /// The candidate with the smallest standard deviation.
     Auto,
@@ -148,7 +148,7 @@ impl Levelling {
         &self.candidates[self.chosen]
     }
 
-    /// The paper's table: count, max, min, mean, std for the raw data and
+    /// The copy-milling paper's table: count, max, min, mean, std for the raw data and
     /// every candidate, the kept one marked.
     pub fn table(&self) -> String {
         let mut t = String::new();

@@ -246,7 +246,7 @@ pub struct Margins {
 /// a cutter on the readings rides over the cusps between stylus positions)
 /// and are at least `min_length` long into rapids
 /// `clearance` above it along the same path: lift, traverse, and a plunge
-/// at `plunge_feed` back onto the path (the paper did this by hand for the
+/// at `plunge_feed` back onto the path (the copy-milling paper did this by hand for the
 /// rows over the margin, where there is nothing to cut).
 pub fn rapid_margins(
     path: &Toolpath,

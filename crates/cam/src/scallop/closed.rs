@@ -10,7 +10,7 @@ use crate::Cutter;
 pub enum ClosedForm {
     /// `R − √(R² − Pf²/4)`: two circles, at any angle.
     Ball,
-    /// Seed 001 (Iwabe, Kumaki, Hori): two ellipses, equations (1)–(6)
+    /// The oval end mill paper (Iwabe, Kumaki, Hori): two ellipses, equations (1)–(6)
     /// with the sign of (6) corrected.
     Iwabe,
     /// `Pf·sin α·cos α`: the staircase of a flat end mill (0 on a level
@@ -106,7 +106,7 @@ pub fn closed_form_cusp(cutter: &Cutter, angle: f64, pf: f64) -> Option<(f64, Cl
     }
 }
 
-/// Seed 001's equations (1)–(6) as printed, for ellipse I centred at the
+/// The oval end mill paper's equations (1)–(6) as printed, for ellipse I centred at the
 /// origin (`y²/Rs² + z²/Rl² = 1`) and ellipse II centred at `(y2, z2)`,
 /// on the plane (3) `z = m·y − √(Rs²m² + Rl²)`, `m = tan α`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,7 +127,7 @@ pub struct Iwabe {
     pub on_lower_half: bool,
 }
 
-/// Evaluates equations (4)–(6) of seed 001; `None` where the ellipses do
+/// Evaluates equations (4)–(6) of the oval end mill paper; `None` where the ellipses do
 /// not cross (the root in (4) would be imaginary) or coincide.
 pub fn iwabe(rs: f64, rl: f64, alpha: f64, y2: f64, z2: f64) -> Option<Iwabe> {
     let m = alpha.tan();

@@ -524,7 +524,7 @@ impl State {
 /// reproducible pseudo-random 1–1000 ms: an idealisation of a real control,
 /// where the value read depends on the time a block takes and on the 16 ms
 /// tick. (On a control whose clock moves in 16 ms steps the last digit of
-/// `#3001` is always even, so seed 004's `#3001 MOD 10` would never give an
+/// `#3001` is always even, so the texture paper's `#3001 MOD 10` would never give an
 /// odd digit there.) `#3001` wraps at 65,536 ms as on the control.
 #[derive(Clone, Debug)]
 pub(super) struct Clock {

@@ -331,7 +331,7 @@ impl<'a> Reader<'a> {
             _ => 0,
         };
         if take == 0 && prefix == Prefix::Bang && self.peek().is_some_and(|c| c.is_ascii_digit()) {
-            // Seed 002's converter ends the data at `!0`.
+            // The relief paper's converter ends the data at `!0`.
             let end = self.b[self.i..].iter().position(|c| !c.is_ascii_digit()).map_or(self.b.len(), |p| self.i + p);
             let span = self.span(start, end);
             let rest = self.text[end..].trim_matches(|c: char| c.is_ascii_whitespace() || c == ';');
