@@ -180,6 +180,13 @@ impl PostFile {
     }
 }
 
+impl PostFile {
+    /// Whether the machine file names a preset (`[post] preset`).
+    pub fn names_preset(&self) -> bool {
+        self.preset.is_some()
+    }
+}
+
 /// The write options of `--post NAME` (else the machine file's preset,
 /// else fanuc) for `machine`: its `[post]` and tool table.
 pub fn for_machine(machine: &Machine, name: Option<&str>) -> Result<WriteOptions> {

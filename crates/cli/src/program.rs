@@ -631,7 +631,7 @@ impl WriteArgs {
     }
 
     /// How G-code is written: the post (`--post`, `--to fanuc|linuxcnc|grbl`,
-    /// the machine file's `[post]`), then `--digits`, `--inch`,
+    /// the machine file's `[post]`, the output's extension), then `--digits`, `--inch`,
     /// `--line-numbers` and `--incremental`. A transformed program keeps its
     /// own start, tool changes and end (no [`Setup`](kezuri_nc::write::Setup)).
     pub fn options(&self, machine: &Machine, origin: Origin) -> Result<WriteOptions> {
@@ -641,6 +641,17 @@ impl WriteArgs {
             Some(Emit::Grbl) => Some("grbl"),
             Some(Emit::Csv | Emit::Rml) if self.post.is_some() => {
                 bail!("--post writes G-code: it cannot go with --to csv or rml")
+            }
+            // Without a post named, a program written to a `.ngc` or
+            // `.gcode` file is written for the control its name says (as
+            // every command will read it back), unless the machine file
+            // names one.
+            _ if self.post.is_none() && !machine.post.names_preset() => {
+                match self.output.as_deref().and_then(|p| kezuri_nc::detect::by_extension(&p.to_string_lossy())) {
+                    Some(kezuri_nc::Dialect::LinuxCnc) => Some("linuxcnc"),
+                    Some(kezuri_nc::Dialect::Grbl) => Some("grbl"),
+                    _ => None,
+                }
             }
             _ => None,
         };

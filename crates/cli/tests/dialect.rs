@@ -173,3 +173,23 @@ fn linuxcnc_motion_words_in_written_programs() {
     assert_eq!(xy.len(), 2, "{csv}");
     assert!(xy[1].starts_with("-10 "), "{csv}");
 }
+
+/// A program written to a `.ngc` or `.gcode` file without a post named is
+/// written for the control its name says, so that every command reads it
+/// back (it was Fanuc's, which the dialect rule then refused as mixed).
+#[test]
+fn a_written_program_is_read_back_by_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/nameplate-cam.nc");
+    for (name, dialect) in [("a.ngc", "linuxcnc"), ("a.gcode", "grbl"), ("a.nc", "fanuc")] {
+        let out = path(dir.path(), name);
+        ok(&kezuri(&["run", sample, "-o", &out]));
+        let o = kezuri(&["check", &out, "--json"]);
+        let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
+        assert_eq!(v["dialect"], dialect, "{name}");
+    }
+    // A post named is what is written, whatever the name says.
+    let out = path(dir.path(), "fanuc.ngc");
+    ok(&kezuri(&["run", sample, "--to", "fanuc", "-o", &out]));
+    assert!(std::fs::read_to_string(&out).unwrap().contains("O0001"));
+}

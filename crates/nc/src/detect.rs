@@ -55,6 +55,17 @@ impl fmt::Display for Marker {
     }
 }
 
+/// The dialect a file's name says by its extension: `.ngc` LinuxCNC,
+/// `.gcode` and `.gc` GRBL; `None` for any other (`.nc`, `.tap`, …: the
+/// content decides).
+pub fn by_extension(name: &str) -> Option<Dialect> {
+    match extension(name).as_str() {
+        "ngc" => Some(Dialect::LinuxCnc),
+        "gcode" | "gc" => Some(Dialect::Grbl),
+        _ => None,
+    }
+}
+
 /// The dialect `given` (`--dialect`), else the one the rule of this module
 /// finds for a file named `name` (its extension counts; `-` or `<stdin>`
 /// has none) holding `text`. `Err` is the refusal of a file with both
@@ -64,11 +75,7 @@ pub fn detect(given: Option<Dialect>, name: &str, text: &str) -> Result<Detected
         return Ok(Detected { dialect, reason: "given with --dialect".to_string() });
     }
     let ext = extension(name);
-    let by_extension = match ext.as_str() {
-        "ngc" => Some(Dialect::LinuxCnc),
-        "gcode" | "gc" => Some(Dialect::Grbl),
-        _ => None,
-    };
+    let by_extension = by_extension(name);
     let found = markers(text);
     let first = |d: Dialect| found.iter().find(|m| m.dialect == d);
     let fanuc_side = first(Dialect::Haas).or_else(|| first(Dialect::Fanuc));
