@@ -64,6 +64,48 @@ pub(crate) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
+/// Ticks in mm along the bottom and left of a frame at `(left, top)`,
+/// `w` × `h` pixels, showing `[x0, x1, y0, y1]` (y up), and the names of the
+/// two axes: the pictures' and the toolpath views' one way of drawing them.
+pub(crate) fn frame_axes(out: &mut String, (left, top, w, h): (f64, f64, f64, f64), e: [f64; 4], names: [&str; 2]) {
+    let base = top + h;
+    let (tu, du) = ticks(e[0], e[1], (w / 80.0).max(3.0));
+    for u in tu {
+        let x = left + w * (u - e[0]) / (e[1] - e[0]).max(1e-6);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{x:.1}" x2="{x:.1}" y1="{base:.1}" y2="{:.1}" stroke="#444"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{u:.du$}</text>"##,
+            base + 5.0,
+            base + 18.0
+        );
+    }
+    let (tv, dv) = ticks(e[2], e[3], (h / 60.0).max(3.0));
+    for v in tv {
+        let y = base - h * (v - e[2]) / (e[3] - e[2]).max(1e-6);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{:.1}" x2="{left:.1}" y1="{y:.1}" y2="{y:.1}" stroke="#444"/><text x="{:.1}" y="{:.1}" text-anchor="end">{v:.dv$}</text>"##,
+            left - 5.0,
+            left - 7.0,
+            y + 4.0
+        );
+    }
+    let _ = writeln!(
+        out,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+        left + w / 2.0,
+        base + 34.0,
+        escape(names[0])
+    );
+    let _ = writeln!(
+        out,
+        r#"<text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        left - 50.0,
+        top + h / 2.0,
+        escape(names[1])
+    );
+}
+
 /// The SVG chart titled `title`: `y_label` up against `x_label` right, a
 /// zero line, ticks with their values, and a legend of the lines.
 pub fn line_chart(title: &str, x_label: &str, y_label: &str, lines: &[Line]) -> String {

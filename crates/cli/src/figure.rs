@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use anyhow::{anyhow, bail, Result};
 use resvg::tiny_skia;
 
-use crate::chart::{escape, ticks};
+use crate::chart::{escape, frame_axes, ticks};
 use crate::plot::{render_onto, MAX_SIDE};
 
 /// Pixels of a picture, RGB, rows top to bottom.
@@ -165,43 +165,7 @@ impl Figure {
             if !p.caption.is_empty() {
                 let _ = writeln!(under, r#"<text x="{x}" y="{:.1}">{}</text>"#, y - 8.0, escape(&p.caption));
             }
-            let [x0, x1, y0, y1] = p.extent;
-            let (tx, dx) = ticks(x0, x1, (pw / 70.0).max(3.0));
-            for v in tx {
-                let px = x + pw * (v - x0) / (x1 - x0);
-                let _ = writeln!(
-                    under,
-                    r##"<line x1="{px:.1}" x2="{px:.1}" y1="{:.1}" y2="{:.1}" stroke="#444"/><text x="{px:.1}" y="{:.1}" text-anchor="middle">{v:.dx$}</text>"##,
-                    y + ph,
-                    y + ph + 5.0,
-                    y + ph + 18.0
-                );
-            }
-            let (ty, dy) = ticks(y0, y1, (ph / 50.0).max(3.0));
-            for v in ty {
-                let py = y + ph - ph * (v - y0) / (y1 - y0);
-                let _ = writeln!(
-                    under,
-                    r##"<line x1="{:.1}" x2="{x:.1}" y1="{py:.1}" y2="{py:.1}" stroke="#444"/><text x="{:.1}" y="{:.1}" text-anchor="end">{v:.dy$}</text>"##,
-                    x - 5.0,
-                    x - 7.0,
-                    py + 4.0
-                );
-            }
-            let _ = writeln!(
-                under,
-                r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-                x + pw / 2.0,
-                y + ph + 36.0,
-                escape(&p.axes[0])
-            );
-            let _ = writeln!(
-                under,
-                r#"<text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
-                x - 52.0,
-                y + ph / 2.0,
-                escape(&p.axes[1])
-            );
+            frame_axes(&mut under, (x, y, pw, ph), p.extent, [&p.axes[0], &p.axes[1]]);
             for o in &p.overlays {
                 let points: Vec<String> =
                     o.points.iter().map(|&(u, v)| format!("{:.1},{:.1}", x + u * k, y + v * k)).collect();

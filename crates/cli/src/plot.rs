@@ -13,7 +13,7 @@ use anyhow::{anyhow, bail, Context};
 use kezuri_geom::{Axes, MoveKind, Toolpath};
 use resvg::{tiny_skia, usvg};
 
-use crate::chart::{escape, ticks};
+use crate::chart::{escape, frame_axes};
 
 /// The longest side of a view, pixels.
 const PANEL: f64 = 480.0;
@@ -332,7 +332,7 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
         }
         out.push_str("</g>\n");
         if view.true_length {
-            axes(&mut out, &view, &e, (left, top, pw, ph));
+            frame_axes(&mut out, (left, top, pw, ph), e, view.axes);
         } else {
             triad(&mut out, &view, left - 20.0, base);
         }
@@ -340,47 +340,6 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
     legend(&mut out, legend_y, zlo, zhi, rapids);
     out.push_str("</svg>\n");
     out
-}
-
-/// Ticks in mm along the bottom and left of a view at `(left, top)`,
-/// `pw` × `ph` pixels, over the box `e`, and the axes' names.
-fn axes(out: &mut String, view: &View, e: &[f64; 4], (left, top, pw, ph): (f64, f64, f64, f64)) {
-    let base = top + ph;
-    let (tu, du) = ticks(e[0], e[1], (pw / 80.0).max(3.0));
-    for u in tu {
-        let x = left + pw * (u - e[0]) / (e[1] - e[0]).max(1e-6);
-        let _ = writeln!(
-            out,
-            r##"<line x1="{x:.1}" x2="{x:.1}" y1="{base:.1}" y2="{:.1}" stroke="#444"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{u:.du$}</text>"##,
-            base + 5.0,
-            base + 18.0
-        );
-    }
-    let (tv, dv) = ticks(e[2], e[3], (ph / 60.0).max(3.0));
-    for v in tv {
-        let y = base - ph * (v - e[2]) / (e[3] - e[2]).max(1e-6);
-        let _ = writeln!(
-            out,
-            r##"<line x1="{:.1}" x2="{left:.1}" y1="{y:.1}" y2="{y:.1}" stroke="#444"/><text x="{:.1}" y="{:.1}" text-anchor="end">{v:.dv$}</text>"##,
-            left - 5.0,
-            left - 7.0,
-            y + 4.0
-        );
-    }
-    let _ = writeln!(
-        out,
-        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-        left + pw / 2.0,
-        base + 34.0,
-        view.axes[0]
-    );
-    let _ = writeln!(
-        out,
-        r#"<text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
-        left - 48.0,
-        top + ph / 2.0,
-        view.axes[1]
-    );
 }
 
 /// The directions of X, Y and Z in a view without true lengths, 30 pixels
