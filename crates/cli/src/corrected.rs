@@ -15,11 +15,7 @@ pub fn run_to_correct(run: &RunOptions, check: impl FnOnce(&Ran) -> Result<()>) 
     let name = run.file.display().to_string();
     let text = read_text(&run.file)?;
     let (ran, parse_diagnostics) = run_text(run, text.clone())?;
-    ran.print_diagnostics(&parse_diagnostics);
-    crate::say::note!("{name}: {}", ran.dialect);
-    if ran.errors() > 0 {
-        bail!("{name}: {} error(s); nothing written", ran.errors());
-    }
+    ran.shown(&parse_diagnostics, &run.file, "nothing written")?;
     crate::program::refuse_comp(&ran, &run.file, "a correction moves")?;
     check(&ran)?;
     if let Some((axis, line)) = crate::program::missing_axes(&ran.outcome.toolpath, &ran.machine.kinematics).first() {

@@ -131,6 +131,18 @@ impl Ran {
             eprintln!("{}\n", d.render(&self.sources));
         }
     }
+
+    /// What a command that goes on to use the run says first: every
+    /// diagnostic and the dialect read (`file: dialect …`); a run with
+    /// errors is refused, `file: N error(s); {nothing}`.
+    pub fn shown(&self, parse_diagnostics: &[Diagnostic], file: &Path, nothing: &str) -> Result<()> {
+        self.print_diagnostics(parse_diagnostics);
+        crate::say::note!("{}: {}", file.display(), self.dialect);
+        if self.errors() > 0 {
+            bail!("{}: {} error(s); {nothing}", file.display(), self.errors());
+        }
+        Ok(())
+    }
 }
 
 /// Reads, parses and runs the program; returns parse diagnostics apart.
@@ -679,11 +691,7 @@ impl WriteArgs {
 /// no compensation, need `--apply-comp`.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     let (mut ran, parse_diagnostics) = if w.apply_comp { read_and_run_centre(o)? } else { read_and_run(o)? };
-    ran.print_diagnostics(&parse_diagnostics);
-    if ran.errors() > 0 {
-        bail!("{}: {} error(s); nothing written", o.file.display(), ran.errors());
-    }
-    crate::say::note!("{}: {}", o.file.display(), ran.dialect);
+    ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
     let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
     let centre = &ran.outcome.toolpath;
     // Which of the programmed contour and the tool-centre path is written.

@@ -264,14 +264,10 @@ pub fn run(args: &SimArgs) -> Result<()> {
         bail!("--json and -o - both want standard output");
     }
     let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
-    ran.print_diagnostics(&parse_diagnostics);
-    crate::say::note!("{}: {}", args.run.file.display(), ran.dialect);
+    ran.shown(&parse_diagnostics, &args.run.file, "nothing simulated")?;
     // Every output file (the DPRNT file too) is written together, or none.
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
-    if ran.errors() > 0 {
-        bail!("{file}: {} error(s); nothing simulated", ran.errors());
-    }
     let path = &ran.outcome.toolpath;
     let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), &file)?;
     let Simulated { tools, stock, top, zmap, report, comparison, seconds } = &sim;

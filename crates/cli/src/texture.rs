@@ -126,11 +126,7 @@ pub fn run(a: &TextureArgs) -> Result<()> {
         );
     }
     let (mut ran, parse_diagnostics) = run_text(&a.run, text.clone())?;
-    ran.print_diagnostics(&parse_diagnostics);
-    crate::say::note!("{name}: {}", ran.dialect);
-    if ran.errors() > 0 {
-        bail!("{name}: {} error(s); nothing written", ran.errors());
-    }
+    ran.shown(&parse_diagnostics, &a.run.file, "nothing written")?;
     crate::program::refuse_comp(&ran, &a.run.file, "texturing changes")?;
     // With the run's own outputs (the DPRNT file).
     let mut out = std::mem::take(&mut ran.outputs);

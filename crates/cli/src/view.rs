@@ -136,13 +136,9 @@ pub struct ViewArgs {
 /// Runs `kezuri view`.
 pub fn run(args: &ViewArgs) -> Result<()> {
     let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
-    ran.print_diagnostics(&parse_diagnostics);
-    crate::say::note!("{}: {}", args.run.file.display(), ran.dialect);
+    ran.shown(&parse_diagnostics, &args.run.file, "no page written")?;
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
-    if ran.errors() > 0 {
-        bail!("{file}: {} error(s); no page written", ran.errors());
-    }
     if !args.sim && (args.setup.compare.is_some() || args.setup.stock.is_some()) {
         bail!("--compare and --stock are for the simulated part: give --sim --res MM too");
     }
