@@ -291,22 +291,12 @@ fn the_simulated_part_and_its_deviation() {
     }
     std::fs::write(&target, grid).unwrap();
     let (png, html) = (path(dir.path(), "p.png"), path(dir.path(), "p.html"));
-    ok(&kezuri(&[
-        "sim",
-        &nc,
-        "--tool",
-        "ball:6",
-        "--res",
-        "0.25",
-        "--stock",
-        "0,0,20,10,0",
-        "--compare",
-        &target,
-        "-o",
-        &png,
-        "--view",
-        &html,
-    ]));
+    // `sim` or `view --sim` of the groove against the flat target.
+    let cut = |command: &[&str], extra: &[&str]| {
+        let part = [&nc, "--tool", "ball:6", "--res", "0.25", "--stock", "0,0,20,10,0", "--compare", &target];
+        kezuri(&[command, &part[..], extra].concat())
+    };
+    ok(&cut(&["sim"], &["-o", &png, "--view", &html]));
     assert!(std::path::Path::new(&png).exists());
     let page = read_page(&html);
     let sim = &page.meta["sim"];
@@ -338,23 +328,7 @@ fn the_simulated_part_and_its_deviation() {
 
     // The program's own allowance: a 0.5 mm dip within --gouge-tol 0.6 is
     // no gouge, and no worst gouge is marked.
-    ok(&kezuri(&[
-        "view",
-        &nc,
-        "--sim",
-        "--tool",
-        "ball:6",
-        "--res",
-        "0.25",
-        "--stock",
-        "0,0,20,10,0",
-        "--compare",
-        &target,
-        "--gouge-tol",
-        "0.6",
-        "-o",
-        &html,
-    ]));
+    ok(&cut(&["view", "--sim"], &["--gouge-tol", "0.6", "-o", &html]));
     let page = read_page(&html);
     assert_eq!(page.meta["sim"]["deviation"]["gouge_um"], 600.0);
     assert_eq!(page.meta["marks"].as_array().unwrap().len(), 1);
