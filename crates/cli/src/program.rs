@@ -1,6 +1,7 @@
 //! `kezuri check` and `kezuri run`: read a program, run it, report or write.
 
 use std::collections::BTreeMap;
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
@@ -248,17 +249,22 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
 /// A program kezuri wrote (`text`, to be saved as `name`) run on `machine`
 /// as `kezuri view` would run the file: for the page of a writer's `--view`.
 pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
-    #[derive(clap::Parser)]
-    struct Defaults {
-        #[command(flatten)]
-        run: RunOptions,
-    }
-    let o = <Defaults as clap::Parser>::try_parse_from([Path::new("kezuri"), Path::new("--"), name])?.run;
-    let (ran, _) = run_on(machine.clone(), &o, text, false)?;
+    let o: RunOptions = options_from(&[OsStr::new("--"), name.as_os_str()])?;
+    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, text, false)?;
     if ran.errors() > 0 {
+        ran.print_diagnostics(&parse_diagnostics);
         bail!("{}: the written program does not run back ({} errors): no page", name.display(), ran.errors());
     }
     Ok(ran)
+}
+
+/// Options of type `T` as the command line gives them from `words`, clap's
+/// defaults for the rest: one source for a default, the `--help` and the
+/// code that needs the options without a command line.
+pub fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr]) -> Result<T> {
+    let command = T::augment_args(clap::Command::new("kezuri"));
+    let matches = command.try_get_matches_from(std::iter::once(OsStr::new("kezuri")).chain(words.iter().copied()))?;
+    Ok(T::from_arg_matches(&matches)?)
 }
 
 /// [`run_program`] on a machine loaded already.

@@ -76,8 +76,9 @@ pub struct PageOptions {
 }
 
 impl Default for PageOptions {
+    /// The options' defaults, as `--help` gives them.
     fn default() -> PageOptions {
-        PageOptions { arc_tol: 0.01, shorten: None, no_text: false, max_page_mb: 32.0, mesh_vertices: 1_000_000 }
+        crate::program::options_from(&[]).expect("PageOptions' defaults parse")
     }
 }
 
