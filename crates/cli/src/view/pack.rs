@@ -186,7 +186,8 @@ pub fn pack(path: &Toolpath, seconds: &[f64], looks: Vec<ToolLook>, tol: f64, bl
         counts.push(count);
     }
 
-    blob.bytes(moves.iter().map(kind));
+    let kinds: Vec<u8> = moves.iter().map(kind).collect();
+    blob.bytes(kinds.iter().copied());
     blob.u16s(tool_column);
     blob.u16s(frame_column);
     let mut line = 0i64;
@@ -195,7 +196,7 @@ pub fn pack(path: &Toolpath, seconds: &[f64], looks: Vec<ToolLook>, tol: f64, bl
         line = i64::from(m.line);
         d as i32
     }));
-    blob.f32s(moves.iter().map(|m| if kind(m) == 0 || kind(m) == 5 { 0.0 } else { m.feed as f32 }));
+    blob.f32s(moves.iter().zip(&kinds).map(|(m, &k)| if k == 0 || k == 5 { 0.0 } else { m.feed as f32 }));
     blob.f32s(seconds.iter().map(|&s| s as f32));
     blob.u32s(counts);
     let vertices = breaks.len();
