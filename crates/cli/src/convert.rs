@@ -265,7 +265,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
             };
             // --to, or without --post the format the output's name says.
             let named = a.to.or(a.post.is_none().then_some(to)).map(name);
-            let post = post_options(a.post.as_deref(), named, &machine)?;
+            let post = post_options(a.post.as_deref(), named, &machine, None)?;
             let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
             // A converted program keeps its own start, tool changes and end.
             let options = WriteOptions { digits: a.digits, title: Some(title), setup: None, ..post };

@@ -27,6 +27,7 @@
 //! ```
 
 use std::collections::BTreeMap;
+use std::path::Path;
 
 use anyhow::{bail, Result};
 use kezuri_nc::write::{Arcs, CoolantChoice, Home, Retract, WriteOptions, PRESETS};
@@ -180,19 +181,20 @@ impl PostFile {
     }
 }
 
-impl PostFile {
-    /// Whether the machine file names a preset (`[post] preset`).
-    pub fn names_preset(&self) -> bool {
-        self.preset.is_some()
-    }
-}
-
-/// The write options of `--post NAME` (else the machine file's preset,
-/// else fanuc) for `machine`: its `[post]` and tool table.
-pub fn for_machine(machine: &Machine, name: Option<&str>) -> Result<WriteOptions> {
+/// The write options of `--post NAME` for `machine` (its `[post]` and
+/// tool table), else of the machine file's preset, else of the control the
+/// name of the `output` file says (`.ngc` linuxcnc, `.gcode` grbl: as every
+/// command reads the file back), else fanuc.
+pub fn for_machine(machine: &Machine, name: Option<&str>, output: Option<&Path>) -> Result<WriteOptions> {
     if let Some(n) = name.filter(|n| !PRESETS.iter().any(|p| p.eq_ignore_ascii_case(n.trim()))) {
         bail!("--post {n}: not a post; the posts are {}", PRESETS.join(", "));
     }
+    let named = || match output.and_then(|p| kezuri_nc::detect::by_extension(&p.to_string_lossy())) {
+        Some(kezuri_nc::Dialect::LinuxCnc) => Some("linuxcnc"),
+        Some(kezuri_nc::Dialect::Grbl) => Some("grbl"),
+        _ => None,
+    };
+    let name = name.or_else(|| machine.post.preset.is_none().then(named).flatten());
     options(&machine.post, name, &machine.tools)
 }
 

@@ -660,20 +660,9 @@ impl WriteArgs {
             Some(Emit::Csv | Emit::Rml) if self.post.is_some() => {
                 bail!("--post writes G-code: it cannot go with --to csv or rml")
             }
-            // Without a post named, a program written to a `.ngc` or
-            // `.gcode` file is written for the control its name says (as
-            // every command will read it back), unless the machine file
-            // names one.
-            _ if self.post.is_none() && !machine.post.names_preset() => {
-                match self.output.as_deref().and_then(|p| kezuri_nc::detect::by_extension(&p.to_string_lossy())) {
-                    Some(kezuri_nc::Dialect::LinuxCnc) => Some("linuxcnc"),
-                    Some(kezuri_nc::Dialect::Grbl) => Some("grbl"),
-                    _ => None,
-                }
-            }
             _ => None,
         };
-        let mut o = post_options(self.post.as_deref(), emit, machine)?;
+        let mut o = post_options(self.post.as_deref(), emit, machine, self.output.as_deref())?;
         if self.digits.is_some() || self.inch {
             o.digits = self.digits.unwrap_or(if self.inch { 4 } else { o.digits });
         }
@@ -761,14 +750,19 @@ pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
 /// The write options of `--post NAME` or `--to DIALECT` (another name of
 /// the fanuc, linuxcnc and grbl posts), else the machine file's `[post]
 /// preset`, else fanuc; with the machine file's `[post]` on top.
-pub fn post_options(post: Option<&str>, emit: Option<&str>, machine: &Machine) -> Result<WriteOptions> {
+pub fn post_options(
+    post: Option<&str>,
+    emit: Option<&str>,
+    machine: &Machine,
+    output: Option<&Path>,
+) -> Result<WriteOptions> {
     let name = match (post, emit) {
         (Some(p), Some(e)) if !p.trim().eq_ignore_ascii_case(e) => {
             bail!("--post {p} and --to {e} ask for two different controls: give one")
         }
         (p, e) => p.or(e),
     };
-    crate::post::for_machine(machine, name)
+    crate::post::for_machine(machine, name, output)
 }
 
 /// Adds to `out` what `w` asks for `path`: a program by the post, CSV or

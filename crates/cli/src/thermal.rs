@@ -294,7 +294,7 @@ fn plan(a: &PlanArgs) -> Result<()> {
         dwell: a.dwell,
         feed: a.feed,
         safe_z: a.safe_z,
-        post: crate::post::for_machine(&machine, a.post.as_deref())?,
+        post: crate::post::for_machine(&machine, a.post.as_deref(), a.output.as_deref())?,
         tool: a.tool_number,
     };
     let text = p.program()?;

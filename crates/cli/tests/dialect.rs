@@ -188,6 +188,13 @@ fn a_written_program_is_read_back_by_its_name() {
         let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
         assert_eq!(v["dialect"], dialect, "{name}");
     }
+    // Every writer: the measuring program too.
+    let out = path(dir.path(), "probe.ngc");
+    let plan =
+        ["probe", "plan", "--origin", "0,0", "--count", "3,3", "--pitch", "1", "--safe-z", "5", "--plunge", "10"];
+    ok(&kezuri(&[&plan[..], &["--style", "expanded", "-o", &out]].concat()));
+    let v: serde_json::Value = serde_json::from_str(&ok(&kezuri(&["check", &out, "--json"]))).unwrap();
+    assert_eq!(v["dialect"], "linuxcnc");
     // A post named is what is written, whatever the name says.
     let out = path(dir.path(), "fanuc.ngc");
     ok(&kezuri(&["run", sample, "--to", "fanuc", "-o", &out]));

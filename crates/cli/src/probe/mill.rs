@@ -201,7 +201,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         Emit::Linuxcnc => "linuxcnc",
         Emit::Grbl => "grbl",
     });
-    let mut post = post_options(args.post.as_deref(), emit, &machine)?;
+    let mut post = post_options(args.post.as_deref(), emit, &machine, args.output.as_deref())?;
     post.digits = args.digits.unwrap_or(post.digits);
     let t0 = std::time::Instant::now();
     let g = grid.grid;
