@@ -100,8 +100,8 @@ axes are drawn by their X Y Z only, which the page says.
 With --sim the program is cut out of the stock as `kezuri sim` cuts it (the same --tool,
 --machine, --stock and --res) and the part is drawn; with --compare the part is coloured by its
 deviation from the target on a fixed scale (--deviation-scale, else the 99th percentile of
-|deviation|): red below the target, blue above, gouges deeper than 1 µm in magenta; the worst
-gouge and the first rapid into the stock are marked and listed.
+|deviation|): red below the target, blue above, gouges deeper than --gouge-tol (1 µm) in
+magenta; the worst gouge and the first rapid into the stock are marked and listed.
 
 A program of a million moves makes a page of some 8 MB; above --max-page-mb (32) the page is
 refused: --shorten TOL merges moves first and says so on the page, --no-text leaves the program
