@@ -470,7 +470,7 @@ fn drift(axis: usize, t: f64) -> [f64; 3] {
 /// the edges, the fitted model, the corrected O2007, and a before/after
 /// picture of the errors on the warm machine.
 fn thermal_drift(out: &Path) -> Result<()> {
-    use kezuri_post::thermal::{fit, Measurement};
+    use kezuri_correct::thermal::{fit, Measurement};
     let dir = out.join("thermal");
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let machine = out.join("samples").join("mill-turn.toml");

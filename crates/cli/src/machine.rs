@@ -70,10 +70,10 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_cam::Cutter;
+use kezuri_correct::kinematics::{self, Axis, Kinematics, AXES};
 use kezuri_geom::{limits, Axes, Dynamics};
 use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
-use kezuri_post::kinematics::{self, Axis, Kinematics, AXES};
 use serde::Deserialize;
 
 use crate::tool_table::{self, Notes, Units};

@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::Cutter;
+use kezuri_correct::kinematics::{Kinematics, AXES};
 use kezuri_geom::{cycle_time, LengthOffset, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::write::WriteOptions;
 use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
-use kezuri_post::kinematics::{Kinematics, AXES};
 use serde_json::json;
 
 use crate::files::{read_text, write_output, Folder, Outputs};

@@ -4,11 +4,11 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
+use kezuri_correct::edge::find_edge;
+use kezuri_correct::kinematics::AXES;
+use kezuri_correct::thermal::{fit, AxisError, Corrector, ErrorModel, Measurement, Polynomial};
 use kezuri_geom::{Axes, MoveKind};
 use kezuri_nc::thermal_plan::{Station, ThermalPlan};
-use kezuri_post::edge::find_edge;
-use kezuri_post::kinematics::AXES;
-use kezuri_post::thermal::{fit, AxisError, Corrector, ErrorModel, Measurement, Polynomial};
 use serde_json::json;
 
 use crate::corrected::{run_to_correct, set_ends, write_corrected, ArcCentre};
@@ -678,6 +678,6 @@ fn apply(a: &ApplyArgs) -> Result<()> {
 
 /// The axis letters of the machine's tool and work chains, as a model
 /// file names them.
-fn chain_letters(k: &kezuri_post::kinematics::Kinematics) -> [Vec<String>; 2] {
+fn chain_letters(k: &kezuri_correct::kinematics::Kinematics) -> [Vec<String>; 2] {
     [&k.tool, &k.work].map(|axes| axes.iter().map(|x| AXES[x.index].to_string()).collect())
 }

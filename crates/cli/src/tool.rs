@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_cam::Cutter;
+use kezuri_correct::microscope::{frame_centre, measure, runout_mm, Envelope, Measured, Options, NO_RUNOUT};
+use kezuri_correct::tool_image::GrayImage;
 use kezuri_geom::ToolProfile;
-use kezuri_post::microscope::{frame_centre, measure, runout_mm, Envelope, Measured, Options, NO_RUNOUT};
-use kezuri_post::tool_image::GrayImage;
 use serde_json::json;
 
 use crate::figure::{Figure, Overlay, Panel, Raster};
@@ -261,7 +261,7 @@ fn overlay_png(m: &Measured, nominal: Option<(&str, &Cutter)>, runout: f64, px: 
         })
         .collect();
     let mut mids: Vec<f64> = m.edges.iter().map(|&(_, l, r)| 0.5 * (l + r)).collect();
-    let axis = kezuri_post::tool_image::median(&mut mids).unwrap_or(w as f64 / 2.0);
+    let axis = kezuri_correct::tool_image::median(&mut mids).unwrap_or(w as f64 / 2.0);
     let (red, green) = ("rgb(230,0,0)", "rgb(0,170,0)");
     let mut overlays = Vec::new();
     let mut legend = vec![("rgb(70,70,70)".to_string(), "the tool: the envelope of the pictures (dark)".to_string())];

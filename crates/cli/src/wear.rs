@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_cam::Cutter;
+use kezuri_correct::wear::{correct, Nominal, Options, Skip, Surface};
 use kezuri_geom::{Axes, Mesh, MoveKind, ToolProfile, Vec3};
-use kezuri_post::wear::{correct, Nominal, Options, Skip, Surface};
 use serde_json::json;
 
 use crate::corrected::{run_to_correct, set_ends, write_corrected, ArcCentre};

@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use kezuri_correct::synthetic::View;
 use kezuri_geom::{SplitMix64, ToolProfile};
-use kezuri_post::synthetic::View;
 
 mod common;
 use common::{kezuri, ok, path};

@@ -377,13 +377,13 @@ fn rows(file: &str) -> Vec<[f64; 6]> {
 }
 
 /// The error model of `measurements()`, warm less cold, fitted here.
-fn truth_model() -> kezuri_post::thermal::ErrorModel {
+fn truth_model() -> kezuri_correct::thermal::ErrorModel {
     truth_model_of(&measurements())
 }
 
 /// The error model of a measurements table, warm less cold, fitted here.
-fn truth_model_of(table: &str) -> kezuri_post::thermal::ErrorModel {
-    let table: Vec<kezuri_post::thermal::Measurement> = table
+fn truth_model_of(table: &str) -> kezuri_correct::thermal::ErrorModel {
+    let table: Vec<kezuri_correct::thermal::Measurement> = table
         .lines()
         .skip(1)
         .collect::<Vec<_>>()
@@ -391,7 +391,7 @@ fn truth_model_of(table: &str) -> kezuri_post::thermal::ErrorModel {
         .map(|pair| {
             let [cold, warm] = [pair[0], pair[1]].map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
             let n = |v: &Vec<String>, k: usize| v[k].parse::<f64>().unwrap();
-            kezuri_post::thermal::Measurement {
+            kezuri_correct::thermal::Measurement {
                 axis: ["X", "Y", "Z"].iter().position(|a| *a == cold[0]).unwrap(),
                 b_deg: n(&cold, 5),
                 command: n(&cold, 1),
@@ -399,12 +399,12 @@ fn truth_model_of(table: &str) -> kezuri_post::thermal::ErrorModel {
             }
         })
         .collect();
-    kezuri_post::thermal::fit(&table, None).unwrap()
+    kezuri_correct::thermal::fit(&table, None).unwrap()
 }
 
 /// The mill-turn of the machine files here: tool X, Z, B; work Y, C; pivots and tip at zero.
-fn plain_mill_turn() -> kezuri_post::kinematics::Kinematics {
-    kezuri_post::kinematics::Kinematics::mill_turn([0.0; 3], [0.0; 3])
+fn plain_mill_turn() -> kezuri_correct::kinematics::Kinematics {
+    kezuri_correct::kinematics::Kinematics::mill_turn([0.0; 3], [0.0; 3])
 }
 
 #[test]
@@ -503,7 +503,7 @@ fn the_grid_search_agrees_with_newton_within_its_spacing() {
 /// mill-turn deformed by `truth`, within 0.1 µm (written with 4 decimals)
 /// of where the ideal machine puts it for the same command of `plain`;
 /// returns the largest miss of `plain` itself on the warm machine.
-fn assert_lands(truth: &kezuri_post::thermal::ErrorModel, plain: &[[f64; 6]], warm: &[[f64; 6]]) -> f64 {
+fn assert_lands(truth: &kezuri_correct::thermal::ErrorModel, plain: &[[f64; 6]], warm: &[[f64; 6]]) -> f64 {
     assert_eq!(plain.len(), warm.len());
     let k = plain_mill_turn();
     let distance = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();

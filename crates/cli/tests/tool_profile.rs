@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
+use kezuri_correct::synthetic::View;
+use kezuri_correct::tool_image::GrayImage;
 use kezuri_geom::{SplitMix64, ToolProfile};
-use kezuri_post::synthetic::View;
-use kezuri_post::tool_image::GrayImage;
 
 mod common;
 use common::{kezuri, ok, path};

@@ -8,9 +8,9 @@ use std::path::Path;
 
 use anyhow::{bail, Result};
 use kezuri_cam::sim::{simulate_tool, MeasuredTool, SimOptions, Stock, Tool, ZMap};
+use kezuri_correct::synthetic::View;
+use kezuri_correct::tool_image::GrayImage;
 use kezuri_geom::{write_binary_stl, SplitMix64, ToolProfile, Triangle, Vec3};
-use kezuri_post::synthetic::View;
-use kezuri_post::tool_image::GrayImage;
 
 use super::{run_options, run_shown, words};
 use crate::chart::{line_chart, Line};

@@ -2,8 +2,8 @@
 //! checked by an oracle that knows the true surfaces and walks the
 //! measured tool's whole surface of revolution.
 
+use kezuri_correct::wear::{correct, Nominal, Options, Surface};
 use kezuri_geom::{Mesh, ToolProfile, Triangle, Vec3};
-use kezuri_post::wear::{correct, Nominal, Options, Surface};
 
 const R: f64 = 0.5;
 const RUNOUT: f64 = 0.010;
@@ -164,7 +164,7 @@ fn plunges_move_along_the_tool_axis_and_far_points_are_skipped() {
     assert!(c.along_axis);
     assert!((c.shift[2] + TIP_WEAR).abs() < 1e-12 && c.shift[0] == 0.0, "{:?}", c.shift);
     let far = correct(&surface, nominal, &profile, Vec3::new(1.0, 2.0, 3.0), up, None, &options).unwrap();
-    assert!(matches!(far, Err(kezuri_post::wear::Skip::Far(_))), "{far:?}");
+    assert!(matches!(far, Err(kezuri_correct::wear::Skip::Far(_))), "{far:?}");
     // Fed square into a vertical wall with the tool along it: skipped, not
     // moved a long way along the wall.
     let w = |y: f64, z: f64| Vec3::new(0.0, y, z);
@@ -176,7 +176,7 @@ fn plunges_move_along_the_tool_axis_and_far_points_are_skipped() {
     let tip = Vec3::new(-R, 0.0, 1.0);
     let into = Some(Vec3::new(1.0, 0.0, 0.0));
     let c = correct(&surface, nominal, &profile, tip, up, into, &options).unwrap();
-    assert!(matches!(c, Err(kezuri_post::wear::Skip::NoDirection(_))), "{c:?}");
+    assert!(matches!(c, Err(kezuri_correct::wear::Skip::NoDirection(_))), "{c:?}");
     // A profile shorter than the part of the tool that cuts a wall.
     let short = ToolProfile::new(vec![0.0, 0.1], vec![0.0, 0.3]).unwrap();
     let wall = Truth::Plane(80f64.to_radians());

@@ -3,14 +3,14 @@
 //! measured profile of 1,127 samples (0.8 mm at 0.71 µm); the paper took
 //! 45 ms per point, the goal is under 50 µs. One thread.
 //!
-//! `cargo bench -p kezuri-post --bench wear`
+//! `cargo bench -p kezuri-correct --bench wear`
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, Criterion, Throughput};
+use kezuri_correct::wear::{correct, Nominal, Options, Surface};
 use kezuri_geom::{Mesh, ToolProfile, Triangle, Vec3};
-use kezuri_post::wear::{correct, Nominal, Options, Surface};
 
 /// The dome: a sphere of radius 40 mm, 30 × 30 mm of it on a 0.1 mm grid.
 const RS: f64 = 40.0;

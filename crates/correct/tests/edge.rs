@@ -1,8 +1,8 @@
 //! The reference tool's edge from synthetic line-sensor profiles: known
 //! corners, 1 µm noise, 5 % outliers.
 
+use kezuri_correct::edge::{find_edge, EdgeError};
 use kezuri_geom::SplitMix64;
-use kezuri_post::edge::{find_edge, EdgeError};
 
 /// A normal deviate (Box–Muller).
 fn normal(rng: &mut SplitMix64) -> f64 {

@@ -1,5 +1,5 @@
-//! The thermal and wear report's intelligent post-processor: from measurements taken on the
-//! machine to a corrected NC program.
+//! Corrections from measurements taken on the machine: thermal drift and tool wear, the
+//! corrected command of every move of a program (the thermal and wear report's method).
 //!
 //! - [`edge`]: the corner of the square reference tool in a 2D line-sensor
 //!   profile — the profile split into its two sides, a robust least-squares

@@ -3,9 +3,9 @@
 //! runout, 0.71 µm pixels, noise; as one field of view and as four
 //! fields overlapping by 100 µm (across) and 70 µm (along the axis).
 
+use kezuri_correct::microscope::{measure_frames, Options};
+use kezuri_correct::synthetic::View;
 use kezuri_geom::{SplitMix64, ToolProfile};
-use kezuri_post::microscope::{measure_frames, Options};
-use kezuri_post::synthetic::View;
 
 const PIXEL: f64 = 0.00071;
 const R: f64 = 0.15;

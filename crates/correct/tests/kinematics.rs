@@ -1,8 +1,8 @@
 //! Forward kinematics and its ideal inverse on a 3-axis mill and the thermal and wear report's
 //! Swiss-type mill-turn.
 
+use kezuri_correct::kinematics::{Axis, Kinematics, Motion};
 use kezuri_geom::SplitMix64;
-use kezuri_post::kinematics::{Axis, Kinematics, Motion};
 
 fn linear(index: usize, direction: [f64; 3]) -> Axis {
     Axis { index, motion: Motion::Linear { direction } }

@@ -1,9 +1,9 @@
 //! The thermal model: fitted to measurements shaped like the paper's, and
 //! the corrected command by Newton and by the paper's grid search.
 
+use kezuri_correct::kinematics::Kinematics;
+use kezuri_correct::thermal::{fit, Measurement, ThermalError};
 use kezuri_geom::SplitMix64;
-use kezuri_post::kinematics::Kinematics;
-use kezuri_post::thermal::{fit, Measurement, ThermalError};
 
 /// The paper's drift at B 0 and -90: X moves ~50 µm off in X and 0–50 µm
 /// in Y across the travel; Z moves within 20 µm; Y small.

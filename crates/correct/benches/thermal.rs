@@ -3,15 +3,15 @@
 //! the paper's grid search (±50 candidates per axis at 1 µm, 10⁶ per point)
 //! on a few points, one thread each.
 //!
-//! `cargo bench -p kezuri-post --bench thermal`
+//! `cargo bench -p kezuri-correct --bench thermal`
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, Criterion, Throughput};
+use kezuri_correct::kinematics::Kinematics;
+use kezuri_correct::thermal::{fit, Corrector, ErrorModel, Measurement};
 use kezuri_geom::SplitMix64;
-use kezuri_post::kinematics::Kinematics;
-use kezuri_post::thermal::{fit, Corrector, ErrorModel, Measurement};
 
 /// A model shaped like the paper's drift (quadratic in X, linear in Z).
 fn model() -> ErrorModel {
