@@ -3,7 +3,7 @@
 //! program's own text with only its axis numbers changed (`--keep-text`).
 
 use anyhow::{bail, Result};
-use kezuri_geom::{Axes, MoveKind, Toolpath};
+use kezuri_geom::{MoveKind, Toolpath};
 
 use crate::files::read_text;
 use crate::program::{run_text, stage_toolpath, Origin, Ran, RunOptions, WriteArgs};
@@ -24,58 +24,12 @@ pub fn run_to_correct(run: &RunOptions, check: impl FnOnce(&Ran) -> Result<()>) 
     Ok((text, ran))
 }
 
-/// What an arc's centre does when its end point is corrected.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArcCentre {
-    /// Moves with the end point's correction: a correction that hardly
-    /// changes over the arc (thermal drift) keeps the arc's turn.
-    FollowsEnd,
-    /// Moves the least that puts it on the perpendicular bisector of the
-    /// corrected ends (in the arc's plane): a correction along the surface
-    /// normal (wear) changes the arc's radius, as a contour's offset does,
-    /// and both ends stay on one circle.
-    OnChordBisector,
-}
-
-/// `path` with each move's end set to `ends` (one per move; dwells stay
-/// where the tool is) and each start to the end before.
-pub fn set_ends(path: &mut Toolpath, ends: &[Axes], arcs: ArcCentre) {
-    let mut start: Option<Axes> = None;
-    for (m, end) in path.moves.iter_mut().zip(ends) {
-        if let MoveKind::Dwell(_) = m.kind {
-            if let Some(s) = start {
-                (m.start, m.end) = (s, s);
-            }
-            continue;
-        }
-        let shift = [end.x - m.end.x, end.y - m.end.y, end.z - m.end.z];
-        if let Some(s) = start {
-            m.start = s;
-        }
-        if let MoveKind::Arc(arc) = &mut m.kind {
-            match arcs {
-                ArcCentre::FollowsEnd => {
-                    for (c, d) in arc.center.iter_mut().zip(shift) {
-                        *c += d;
-                    }
-                }
-                ArcCentre::OnChordBisector => {
-                    let (i, j, _) = arc.plane.axes();
-                    let (s, e) = (m.start.xyz(), end.xyz());
-                    let (mi, mj) = (0.5 * (s[i] + e[i]), 0.5 * (s[j] + e[j]));
-                    let (di, dj) = (e[i] - s[i], e[j] - s[j]);
-                    let len2 = di * di + dj * dj;
-                    if len2 > 0.0 {
-                        // The centre less its part along the chord from the midpoint.
-                        let t = ((arc.center[i] - mi) * di + (arc.center[j] - mj) * dj) / len2;
-                        arc.center[i] -= t * di;
-                        arc.center[j] -= t * dj;
-                    }
-                }
-            }
-        }
-        m.end = *end;
-        start = Some(*end);
+/// A correction's error in the program `name`: `{name}: line {n}: …` for
+/// one about a move.
+pub fn in_program(name: &str, e: kezuri_correct::Error) -> anyhow::Error {
+    match e.line {
+        Some(line) => anyhow::Error::new(e).context(format!("{name}: line {line}")),
+        None => e.into(),
     }
 }
 

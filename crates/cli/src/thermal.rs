@@ -6,12 +6,12 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_correct::edge::find_edge;
 use kezuri_correct::kinematics::AXES;
-use kezuri_correct::thermal::{fit, AxisError, Corrector, ErrorModel, Measurement, Polynomial};
-use kezuri_geom::{Axes, MoveKind};
+use kezuri_correct::thermal::{self, correct_moves, fit, AxisError, Corrected, ErrorModel, Measurement, Polynomial};
+use kezuri_geom::{set_ends, ArcCentre};
 use kezuri_nc::thermal_plan::{Station, ThermalPlan};
 use serde_json::json;
 
-use crate::corrected::{run_to_correct, set_ends, write_corrected, ArcCentre};
+use crate::corrected::{in_program, run_to_correct, write_corrected};
 use crate::files::{read_text, write_output};
 use crate::machine::Machine;
 use crate::program::{RunOptions, WriteArgs};
@@ -578,63 +578,18 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         }
         Ok(())
     })?;
-    let k = &ran.machine.kinematics;
     let mut path = ran.outcome.toolpath.clone();
     let t0 = std::time::Instant::now();
-    let mut correctors: Vec<Corrector> = Vec::new();
-    let (mut largest, mut worst, mut arc_change) = (0.0f64, 0.0f64, 0.0f64);
-    let mut corrected: Vec<Axes> = Vec::with_capacity(path.moves.len());
-    let mut last_shift = [0.0; 3];
-    let (mut extrapolated, mut outside_points, mut checked): (Option<u32>, usize, usize) = (None, 0, 0);
-    for m in &path.moves {
-        // A return to the reference point goes where the control knows; a
-        // dwell stays: neither is a commanded position.
-        if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
-            corrected.push(m.end);
-            continue;
-        }
-        checked += 1;
-        let c = m.end.to_array();
-        let target = k.forward(&c);
-        let (x, residual) = match a.solver {
-            Solver::Newton => {
-                let at = match correctors.iter().position(|r| r.fits(&c)) {
-                    Some(at) => at,
-                    None => {
-                        correctors
-                            .push(Corrector::new(&model, k, &c).with_context(|| format!("{name}: line {}", m.line))?);
-                        correctors.len() - 1
-                    }
-                };
-                correctors[at].correct(target)
-            }
-            Solver::Grid => model.correct_by_grid(k, target, &c, 0.001, 50),
-        }
-        .with_context(|| format!("{name}: line {}", m.line))?;
-        // A command beyond the measured range of its axis's function is
-        // extrapolated: said, not hidden. A corrected stop at the range's
-        // edge lands a correction beyond it; a twentieth of the range (a
-        // tenth of the half-span) is not counted.
-        let outside = model.functions.iter().any(|f| {
-            (f.b_deg - c[4]).abs() < 1e-6 && (x[f.axis] - f.polynomial.center).abs() > f.polynomial.scale * 1.1 + 1e-9
-        });
-        if outside {
-            extrapolated.get_or_insert(m.line);
-            outside_points += 1;
-        }
-        let shift = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
-        largest = largest.max((shift[0] * shift[0] + shift[1] * shift[1] + shift[2] * shift[2]).sqrt());
-        worst = worst.max(residual);
-        if matches!(m.kind, MoveKind::Arc(_)) {
-            let d = [shift[0] - last_shift[0], shift[1] - last_shift[1], shift[2] - last_shift[2]];
-            arc_change = arc_change.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
-        }
-        last_shift = shift;
-        corrected.push(Axes::from_array(x));
-    }
+    let solver = match a.solver {
+        Solver::Newton => thermal::Solver::Newton,
+        Solver::Grid => thermal::Solver::Grid,
+    };
+    let Corrected { ends, summary } =
+        correct_moves(&model, &ran.machine.kinematics, &path.moves, solver).map_err(|e| in_program(&name, e))?;
     let seconds = t0.elapsed().as_secs_f64();
+    let (outside_points, checked) = (summary.extrapolated, summary.checked);
     let share = outside_points as f64 / checked.max(1) as f64;
-    if let Some(line) = extrapolated {
+    if let Some(line) = summary.first_extrapolated_line {
         let said = format!(
             "{outside_points} of {checked} points ({:.1} %) lie beyond the measured range of their axis's error \
              function (the first at line {line})",
@@ -649,13 +604,13 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         }
         eprintln!("warning: {name}: {said}: their correction is extrapolated");
     }
-    set_ends(&mut path, &corrected, ArcCentre::FollowsEnd);
+    set_ends(&mut path, &ends, ArcCentre::FollowsEnd);
     write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &mut ran)?;
     let v = json!({
-        "points": corrected.len(),
-        "max_correction_mm": largest,
-        "max_residual_mm": worst,
-        "arc_correction_change_mm": arc_change,
+        "points": ends.len(),
+        "max_correction_mm": summary.largest_correction,
+        "max_residual_mm": summary.largest_residual,
+        "arc_correction_change_mm": summary.arc_correction_change,
         "seconds": seconds,
         "solver": format!("{:?}", a.solver).to_lowercase(),
         "extrapolated_points": outside_points,
@@ -667,10 +622,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             "wrote {}: {name}, {} points corrected in {:.3} ms; largest correction {:.4} mm, largest residual \
              {:.2e} mm",
             crate::say::shown(a.write.output()),
-            corrected.len(),
+            ends.len(),
             seconds * 1e3,
-            largest,
-            worst
+            summary.largest_correction,
+            summary.largest_residual
         );
     }
     Ok(())

@@ -6,11 +6,11 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_cam::Cutter;
-use kezuri_correct::wear::{correct, Nominal, Options, Skip, Surface};
-use kezuri_geom::{Axes, Mesh, MoveKind, ToolProfile, Vec3};
+use kezuri_correct::wear::{correct_moves, Corrected, Nominal, Options, Summary, Surface};
+use kezuri_geom::{set_ends, ArcCentre, Mesh, MoveKind, ToolProfile};
 use serde_json::json;
 
-use crate::corrected::{run_to_correct, set_ends, write_corrected, ArcCentre};
+use crate::corrected::{in_program, run_to_correct, write_corrected};
 use crate::files::read_bytes;
 use crate::program::{RunOptions, WriteArgs};
 
@@ -103,12 +103,6 @@ fn nominal(spec: &str) -> Result<Nominal> {
     }
 }
 
-/// The unit direction of `v`, `None` for a standstill.
-fn unit(v: Vec3) -> Option<Vec3> {
-    let n = v.norm();
-    (n > 1e-12).then(|| v * (1.0 / n))
-}
-
 /// Runs `kezuri wear apply`.
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
@@ -127,78 +121,23 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         bail!("{stl}: no triangles");
     }
     let (text, mut ran) = run_to_correct(&a.run, |_| Ok(()))?;
-    let k = &ran.machine.kinematics;
     let mut path = ran.outcome.toolpath.clone();
     let surface = Surface::new(&mesh);
     let options = Options { reach: a.reach };
     let t0 = std::time::Instant::now();
-    let mut ends: Vec<Axes> = Vec::with_capacity(path.moves.len());
-    let (mut largest, mut worst, mut worst_before) = (0.0f64, 0.0f64, 0.0f64);
-    let (mut corrected, mut along_axis) = (0usize, 0usize);
-    let mut far: Vec<u32> = Vec::new();
-    let mut gouges: Vec<(u32, f64)> = Vec::new();
-    let mut square: Vec<(u32, f64)> = Vec::new();
-    let to_vec = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
-    for m in &path.moves {
-        let cutting = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
-        if !cutting {
-            ends.push(m.end);
-            continue;
-        }
-        let c = m.end.to_array();
-        let tip = to_vec(k.forward(&c));
-        let axis = to_vec(k.tool_axis(&c));
-        if path.frame(m) != kezuri_geom::Frame::default() {
-            bail!(
-                "{name}: line {}: a work or tool offset is in force; the surface is in program coordinates: run the \
-                 program without offsets",
-                m.line
-            );
-        }
-        let before = match m.kind {
-            // A hair back along the arc's tangent at its end.
-            MoveKind::Arc(arc) => {
-                let (i, j, _) = arc.plane.axes();
-                let (e, mut back) = (m.end.to_array(), m.end.to_array());
-                let (ri, rj) = (e[i] - arc.center[i], e[j] - arc.center[j]);
-                let r = ri.hypot(rj).max(1e-12);
-                let sign = if arc.ccw { 1.0 } else { -1.0 };
-                back[i] += sign * 1e-4 * rj / r;
-                back[j] -= sign * 1e-4 * ri / r;
-                to_vec(k.forward(&back))
-            }
-            _ => to_vec(k.forward(&m.start.to_array())),
-        };
-        let feed = unit(tip - before);
-        let fix = correct(&surface, nominal, &worn, tip, axis, feed, &options)
-            .map_err(|e| anyhow::anyhow!("{name}: line {}: {e}", m.line))?;
-        match fix {
-            Ok(fix) => {
-                let target = [tip.x + fix.shift[0], tip.y + fix.shift[1], tip.z + fix.shift[2]];
-                let x =
-                    k.inverse(target, &c).with_context(|| format!("{name}: line {}: no command reaches", m.line))?;
-                largest = largest.max(to_vec(fix.shift).norm());
-                worst = worst.max(fix.residual.abs());
-                worst_before = worst_before.max((fix.worn_gap - fix.nominal_gap).abs());
-                corrected += 1;
-                along_axis += usize::from(fix.along_axis);
-                ends.push(Axes::from_array(x));
-            }
-            Err(Skip::Far(_)) => {
-                far.push(m.line);
-                ends.push(m.end);
-            }
-            Err(Skip::Gouges(d)) => {
-                gouges.push((m.line, d));
-                ends.push(m.end);
-            }
-            Err(Skip::NoDirection(e)) => {
-                square.push((m.line, e));
-                ends.push(m.end);
-            }
-        }
-    }
+    let Corrected { ends, summary } = correct_moves(&surface, nominal, &worn, &ran.machine.kinematics, &path, &options)
+        .map_err(|e| in_program(&name, e))?;
     let seconds = t0.elapsed().as_secs_f64();
+    let Summary {
+        corrected,
+        along_axis,
+        largest_correction: largest,
+        largest_residual: worst,
+        largest_error_before: worst_before,
+        far,
+        gouging: gouges,
+        square,
+    } = summary;
     if corrected == 0 && !gouges.is_empty() && far.is_empty() {
         bail!("{name}: every cutting point cuts into {stl}: do its triangles face inward (check the STL's winding)?");
     }

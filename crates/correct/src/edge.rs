@@ -22,7 +22,7 @@
 //! A profile whose two lines are parallel (within 1°), or that is too
 //! short to hold two sides, has no corner: an error, never a made-up edge.
 
-use std::fmt;
+use crate::{Error, ErrorKind};
 
 /// A straight line: a point on it and its unit direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -62,53 +62,30 @@ pub struct Edge {
     pub split: usize,
 }
 
-/// Why a profile gave no edge.
-#[derive(Clone, Debug, PartialEq)]
-pub enum EdgeError {
-    /// Fewer points than two sides need.
-    TooFew(usize),
-    /// A point is not finite: its index.
-    NotFinite(usize),
-    /// The given split leaves a side with fewer than 3 points.
-    BadSplit(f64),
-    /// The two sides are parallel: no corner (the angle between them).
-    NoCorner(f64),
-}
-
-impl fmt::Display for EdgeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            EdgeError::TooFew(n) => write!(f, "a profile needs at least {MIN_POINTS} points for two sides, got {n}"),
-            EdgeError::NotFinite(k) => write!(f, "point {} is not a finite number", k + 1),
-            EdgeError::BadSplit(x) => write!(f, "the split at x = {x} leaves a side with fewer than 3 points"),
-            EdgeError::NoCorner(a) => write!(
-                f,
-                "the profile has no corner: its two best sides differ by {a:.2}° (a straight edge, or the sensor missed the corner)"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for EdgeError {}
-
 /// Fewest points of a profile.
 pub const MIN_POINTS: usize = 6;
 
 /// The edge of the profile `points` (in order along the profile), split at
 /// `split_x` (the first point of the second side is the first with `x` at
 /// least this) or where the fit is best.
-pub fn find_edge(points: &[[f64; 2]], split_x: Option<f64>) -> Result<Edge, EdgeError> {
+pub fn find_edge(points: &[[f64; 2]], split_x: Option<f64>) -> Result<Edge, Error> {
     if points.len() < MIN_POINTS {
-        return Err(EdgeError::TooFew(points.len()));
+        return Err(Error::new(
+            ErrorKind::TooFewPoints,
+            format!("a profile needs at least {MIN_POINTS} points for two sides, got {}", points.len()),
+        ));
     }
     if let Some(k) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
-        return Err(EdgeError::NotFinite(k));
+        return Err(Error::new(ErrorKind::NotFinite, format!("point {} is not a finite number", k + 1)));
     }
     let split = match split_x {
         Some(x) => {
             let k = points.iter().position(|p| p[0] >= x).unwrap_or(points.len());
             if k < 3 || points.len() - k < 3 {
-                return Err(EdgeError::BadSplit(x));
+                return Err(Error::new(
+                    ErrorKind::BadSplit,
+                    format!("the split at x = {x} leaves a side with fewer than 3 points"),
+                ));
             }
             k
         }
@@ -132,7 +109,13 @@ pub fn find_edge(points: &[[f64; 2]], split_x: Option<f64>) -> Result<Edge, Edge
     let cross = a.direction[0] * b.direction[1] - a.direction[1] * b.direction[0];
     let angle = cross.abs().asin().to_degrees();
     if angle < 1.0 {
-        return Err(EdgeError::NoCorner(angle));
+        return Err(Error::new(
+            ErrorKind::NoCorner,
+            format!(
+                "the profile has no corner: its two best sides differ by {angle:.2}° (a straight edge, or the sensor \
+                 missed the corner)"
+            ),
+        ));
     }
     // a.point + s·a.dir = b.point + t·b.dir.
     let (dx, dz) = (b.point[0] - a.point[0], b.point[1] - a.point[1]);

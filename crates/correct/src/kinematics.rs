@@ -16,7 +16,7 @@
 //! 3+2 work: with the rotaries fixed the tip is an affine function of the
 //! three linear commands, so the inverse is one 3 × 3 solve).
 
-use std::fmt;
+use crate::{Error, ErrorKind};
 
 /// Axis letters in command order: X Y Z A B C.
 pub const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
@@ -58,18 +58,6 @@ pub struct Kinematics {
     /// machine frame, mm.
     pub tip: [f64; 3],
 }
-
-/// Why a chain is not a machine.
-#[derive(Clone, Debug, PartialEq)]
-pub struct KinematicsError(pub String);
-
-impl fmt::Display for KinematicsError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for KinematicsError {}
 
 /// A rigid motion: `p ↦ r·p + t`.
 #[derive(Clone, Copy, Debug)]
@@ -149,8 +137,8 @@ impl Kinematics {
 
     /// Checks the chains: X, Y and Z once each and linear, every other axis
     /// at most once, unit directions, finite numbers.
-    pub fn check(&self) -> Result<(), KinematicsError> {
-        let bad = |m: String| Err(KinematicsError(m));
+    pub fn check(&self) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::new(ErrorKind::BadKinematics, m));
         let mut seen = [false; 6];
         for a in self.tool.iter().chain(&self.work) {
             if a.index >= 6 {

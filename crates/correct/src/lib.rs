@@ -6,11 +6,13 @@
 //!   line through each, their intersection (`kezuri thermal edge`).
 //!
 //! The crate works on numbers and [`kezuri_geom`]'s toolpaths; reading files
-//! and writing programs is the CLI's.
+//! and writing programs is the CLI's. Every failure is an [`Error`], its
+//! [`ErrorKind`] saying which.
 
 #![warn(missing_docs)]
 
 pub mod edge;
+mod error;
 pub mod kinematics;
 pub mod microscope;
 pub mod stitch;
@@ -18,3 +20,5 @@ pub mod synthetic;
 pub mod thermal;
 pub mod tool_image;
 pub mod wear;
+
+pub use error::{Error, ErrorKind};

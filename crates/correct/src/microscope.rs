@@ -14,12 +14,11 @@
 //!    ([`frame_centre`], a second pass over the frames once the threshold is
 //!    known).
 
-use std::fmt;
-
 use kezuri_geom::ToolProfile;
 
 use crate::stitch::{self, Placement};
 use crate::tool_image::{median, otsu, runout, silhouette, GrayImage};
+use crate::{Error, ErrorKind};
 
 /// The envelope of a field's frames, one frame at a time.
 #[derive(Clone, Debug, Default)]
@@ -98,31 +97,19 @@ pub struct Measured {
     pub warnings: Vec<String>,
 }
 
-/// Pictures that do not give a profile.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MicroscopeError(pub String);
-
-impl fmt::Display for MicroscopeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for MicroscopeError {}
-
 /// Least contrast between tool and backlight, full scale: below it the
 /// pictures show no tool.
 const MIN_CONTRAST: f32 = 0.1;
 
 /// The tool measured from `fields` (see the module).
-pub fn measure(fields: &[Field], options: &Options) -> Result<Measured, MicroscopeError> {
-    let fail = |s: String| Err(MicroscopeError(s));
+pub fn measure(fields: &[Field], options: &Options) -> Result<Measured, Error> {
+    let fail = |kind: ErrorKind, s: String| Err(Error::new(kind, s));
     if fields.is_empty() {
-        return fail("no pictures".into());
+        return fail(ErrorKind::BadPictures, "no pictures".into());
     }
     if let Some(k) = fields.iter().position(|f| f.envelope.width < 3 || f.envelope.height < 3) {
         let e = &fields[k].envelope;
-        return fail(format!("field {}: {}×{} pixels is too small", k + 1, e.width, e.height));
+        return fail(ErrorKind::BadPictures, format!("field {}: {}×{} pixels is too small", k + 1, e.width, e.height));
     }
     let envelopes: Vec<&GrayImage> = fields.iter().map(|f| &f.envelope).collect();
     let threshold = match options.threshold {
@@ -130,23 +117,34 @@ pub fn measure(fields: &[Field], options: &Options) -> Result<Measured, Microsco
         None => match otsu(envelopes.iter().copied()) {
             Some(s) if s.bright - s.dark >= MIN_CONTRAST => s.threshold,
             Some(s) => {
-                return fail(format!(
-                    "no tool in the pictures: gray levels only from {:.3} to {:.3} of full scale (a dark tool \
-                     on a bright backlight expected)",
-                    s.dark, s.bright
-                ))
+                return fail(
+                    ErrorKind::NoTool,
+                    format!(
+                        "no tool in the pictures: gray levels only from {:.3} to {:.3} of full scale (a dark tool \
+                         on a bright backlight expected)",
+                        s.dark, s.bright
+                    ),
+                )
             }
-            None => return fail("no tool in the pictures: every pixel has the same gray level".into()),
+            None => {
+                return fail(ErrorKind::NoTool, "no tool in the pictures: every pixel has the same gray level".into())
+            }
         },
     };
     let placed: Vec<(&GrayImage, [f64; 2])> = fields.iter().map(|f| (&f.envelope, f.at)).collect();
-    let placement = stitch::place(&placed, options.search).map_err(|e| MicroscopeError(e.0))?;
+    let placement = stitch::place(&placed, options.search)?;
     let (picture, origin) = stitch::composite(&envelopes, &placement.at);
     let Some(tool) = silhouette(&picture, threshold) else {
-        return fail(format!("no tool in the pictures: no pixel at or below the threshold {threshold:.3}"));
+        return fail(
+            ErrorKind::NoTool,
+            format!("no tool in the pictures: no pixel at or below the threshold {threshold:.3}"),
+        );
     };
     if tool.rows[0].is_none() {
-        return fail("the dark region does not reach the top of the picture: not a tool (shank up, tip down)".into());
+        return fail(
+            ErrorKind::NoTool,
+            "the dark region does not reach the top of the picture: not a tool (shank up, tip down)".into(),
+        );
     }
     let Some(tip) = tool.tip_row() else { unreachable!("a silhouette has a row") };
     let mut warnings = placement.warnings.clone();
@@ -167,17 +165,23 @@ pub fn measure(fields: &[Field], options: &Options) -> Result<Measured, Microsco
         }
     }
     if edges.len() < 2 {
-        return fail("the tool's edges are not inside the picture at its tip: widen the field of view".into());
+        return fail(
+            ErrorKind::ToolOutOfView,
+            "the tool's edges are not inside the picture at its tip: widen the field of view".into(),
+        );
     }
     let zero_row = match options.tip_row {
         // Rows of the first picture that the pictures together cover.
         Some(row) if !(0.0..=picture.height as f64).contains(&(row + placement.at[0][1] - origin[1])) => {
             let first = origin[1] - placement.at[0][1];
-            return fail(format!(
-                "the tip row {row} is outside the pictures (rows {first:.0} to {:.0} of the first one): the \
-                 tool-length reference must be a row they show",
-                first + picture.height as f64
-            ));
+            return fail(
+                ErrorKind::TipRowOutside,
+                format!(
+                    "the tip row {row} is outside the pictures (rows {first:.0} to {:.0} of the first one): the \
+                     tool-length reference must be a row they show",
+                    first + picture.height as f64
+                ),
+            );
         }
         Some(row) => row + placement.at[0][1] - origin[1],
         None => tip as f64,
@@ -185,7 +189,7 @@ pub fn measure(fields: &[Field], options: &Options) -> Result<Measured, Microsco
     let px = options.pixel_mm;
     let z = edges.iter().map(|&(r, ..)| (zero_row - r as f64) * px).collect();
     let radius = edges.iter().map(|&(_, l, r)| 0.5 * (r - l) * px).collect();
-    let profile = ToolProfile::new(z, radius).map_err(|e| MicroscopeError(e.to_string()))?;
+    let profile = ToolProfile::new(z, radius).map_err(|e| Error::new(ErrorKind::BadProfile, e.to_string()))?;
     Ok(Measured { profile, threshold, placement, picture, origin, edges, zero_row, warnings })
 }
 
@@ -220,22 +224,21 @@ pub const NO_RUNOUT: &str =
 pub fn measure_frames(
     fields: &[(Vec<GrayImage>, [f64; 2])],
     options: &Options,
-) -> Result<(Measured, Option<f64>), MicroscopeError> {
+) -> Result<(Measured, Option<f64>), Error> {
     let mut placed = Vec::with_capacity(fields.len());
     for (k, (frames, at)) in fields.iter().enumerate() {
         let mut e = Envelope::default();
         for (i, f) in frames.iter().enumerate() {
             e.add(f).map_err(|(w, h)| {
-                MicroscopeError(format!(
-                    "field {}: frame {} is {}×{} pixels, the first {w}×{h}",
-                    k + 1,
-                    i + 1,
-                    f.width,
-                    f.height
-                ))
+                Error::new(
+                    ErrorKind::BadPictures,
+                    format!("field {}: frame {} is {}×{} pixels, the first {w}×{h}", k + 1, i + 1, f.width, f.height),
+                )
             })?;
         }
-        placed.push(e.field(*at).ok_or_else(|| MicroscopeError(format!("field {}: no frames", k + 1)))?);
+        placed.push(
+            e.field(*at).ok_or_else(|| Error::new(ErrorKind::BadPictures, format!("field {}: no frames", k + 1)))?,
+        );
     }
     let m = measure(&placed, options)?;
     let centres: Vec<Vec<Option<f64>>> =

@@ -16,9 +16,8 @@
 //! toward its own stage offset for directions no overlap fixes (each
 //! reported in [`Placement::warnings`]).
 
-use std::fmt;
-
 use crate::tool_image::GrayImage;
+use crate::{Error, ErrorKind};
 
 /// A refined overlap between fields `a` and `b`.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,18 +49,6 @@ pub struct Placement {
     pub warnings: Vec<String>,
 }
 
-/// Fields that cannot be stitched.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StitchError(pub String);
-
-impl fmt::Display for StitchError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for StitchError {}
-
 /// Gray-level change per pixel below which a pixel is taken as flat
 /// (backlight or tool, its gradient only noise) and left out of the fit:
 /// a sharp edge changes by the full contrast within a pixel.
@@ -74,7 +61,7 @@ const MIN_OVERLAP: f64 = 8.0;
 const MAX_COMPARISONS: f64 = 1e10;
 
 /// The fields `(picture, stage offset)` placed: see the module.
-pub fn place(fields: &[(&GrayImage, [f64; 2])], search: usize) -> Result<Placement, StitchError> {
+pub fn place(fields: &[(&GrayImage, [f64; 2])], search: usize) -> Result<Placement, Error> {
     let n = fields.len();
     let mut pairs = Vec::new();
     for a in 0..n {
@@ -96,16 +83,20 @@ pub fn place(fields: &[(&GrayImage, [f64; 2])], search: usize) -> Result<Placeme
     let search = search.min(widest);
     let comparisons = pairs.len() as f64 * ((2 * search + 1) as f64).powi(2) * 40_000.0;
     if comparisons > MAX_COMPARISONS {
-        return Err(StitchError(format!(
-            "a search of {search} pixels over {} overlaps is up to {comparisons:.1e} comparisons, more than \
-             {MAX_COMPARISONS:.0e}: give a smaller --search-um (about the stage's error)",
-            pairs.len()
-        )));
+        return Err(Error::new(
+            ErrorKind::SearchTooWide,
+            format!(
+                "a search of {search} pixels over {} overlaps is up to {comparisons:.1e} comparisons, more than \
+                 {MAX_COMPARISONS:.0e}: give a smaller --search-um (about the stage's error)",
+                pairs.len()
+            ),
+        ));
     }
     let mut overlaps = Vec::new();
     for (a, b, stage) in pairs {
-        let (measured, hessian) = register(fields[a].0, fields[b].0, stage, search)
-            .ok_or_else(|| StitchError(format!("fields {} and {} do not overlap once shifted", a + 1, b + 1)))?;
+        let (measured, hessian) = register(fields[a].0, fields[b].0, stage, search).ok_or_else(|| {
+            Error::new(ErrorKind::NoOverlap, format!("fields {} and {} do not overlap once shifted", a + 1, b + 1))
+        })?;
         let hessian = fixed_part(hessian);
         let strength = [hessian[0][0].sqrt(), hessian[1][1].sqrt()];
         overlaps.push(Pair { overlap: Overlap { fields: (a, b), stage, measured, strength }, hessian });
@@ -153,7 +144,7 @@ struct Pair {
 }
 
 /// Every field joined to the first through overlaps, or which is not.
-fn connected(n: usize, pairs: &[Pair]) -> Result<(), StitchError> {
+fn connected(n: usize, pairs: &[Pair]) -> Result<(), Error> {
     let mut reached = vec![false; n];
     reached[0] = true;
     let mut changed = true;
@@ -169,11 +160,14 @@ fn connected(n: usize, pairs: &[Pair]) -> Result<(), StitchError> {
     }
     match reached.iter().position(|r| !r) {
         None => Ok(()),
-        Some(k) => Err(StitchError(format!(
-            "field {} does not overlap the others by its stage offset (at least {MIN_OVERLAP} pixels each way \
-             are needed; 100 and 70 µm overlaps are usual)",
-            k + 1
-        ))),
+        Some(k) => Err(Error::new(
+            ErrorKind::NoOverlap,
+            format!(
+                "field {} does not overlap the others by its stage offset (at least {MIN_OVERLAP} pixels each way \
+                 are needed; 100 and 70 µm overlaps are usual)",
+                k + 1
+            ),
+        )),
     }
 }
 

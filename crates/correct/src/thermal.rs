@@ -14,10 +14,15 @@
 //! as the program indexes them, from the ideal inverse, to 1 nm.
 //! [`ErrorModel::correct_by_grid`] is the report's brute force for
 //! comparison: candidates on a grid about the first-order estimate.
+//! [`correct_moves`] corrects every end of a program's moves by either, and
+//! says how far the correction went and where it was extrapolated.
 
-use std::fmt;
+use crate::kinematics::{solve3, Kinematics, AXES};
+use crate::{Error, ErrorKind};
 
-use crate::kinematics::{solve3, Kinematics};
+mod program;
+
+pub use program::{correct_moves, Corrected, Solver, Summary};
 
 /// One measurement: the command on one axis and the error there.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,56 +89,10 @@ pub struct ErrorModel {
     pub functions: Vec<AxisError>,
 }
 
-/// Why no model or no correction.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ThermalError {
-    /// Too few measurements for the degree asked: axis, angle, count, degree.
-    TooFew {
-        /// The axis.
-        axis: usize,
-        /// The B angle.
-        b_deg: f64,
-        /// Measurements there.
-        points: usize,
-        /// The degree asked (or 0).
-        degree: usize,
-    },
-    /// A measurement is not finite or names no linear axis: its index.
-    Bad(usize),
-    /// The model has no function for an axis at this B angle.
-    NoFunction {
-        /// The axis.
-        axis: usize,
-        /// The B angle.
-        b_deg: f64,
-    },
-    /// The linear axes do not span space at this command.
-    Singular,
-    /// Newton did not reach 1 nm (the residual left, mm).
-    NotConverged(f64),
+/// The linear axes do not span space at this command.
+fn singular() -> Error {
+    Error::new(ErrorKind::Singular, "the linear axes do not span space at this command")
 }
-
-impl fmt::Display for ThermalError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let name = |a: usize| ['X', 'Y', 'Z'][a.min(2)];
-        match self {
-            ThermalError::TooFew { axis, b_deg, points, degree } => write!(
-                f,
-                "axis {} at B {b_deg}°: {points} measurement(s), too few for a polynomial of degree {degree} ({} at least)",
-                name(*axis),
-                degree.saturating_add(1)
-            ),
-            ThermalError::Bad(k) => write!(f, "measurement {}: not finite, or not on X, Y or Z", k + 1),
-            ThermalError::NoFunction { axis, b_deg } => {
-                write!(f, "the model has no error function for axis {} at B {b_deg}°", name(*axis))
-            }
-            ThermalError::Singular => f.write_str("the linear axes do not span space at this command"),
-            ThermalError::NotConverged(r) => write!(f, "the corrected command did not converge ({r:.3e} mm left)"),
-        }
-    }
-}
-
-impl std::error::Error for ThermalError {}
 
 /// Highest degree tried by cross-validation.
 pub const MAX_DEGREE: usize = 5;
@@ -143,11 +102,14 @@ const SAME_ANGLE: f64 = 1e-6;
 
 /// Fits a model to `measurements`: per axis and B angle, polynomials of
 /// `degree`, or of the degree with the least leave-one-out error.
-pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorModel, ThermalError> {
+pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorModel, Error> {
     if let Some(k) = measurements.iter().position(|m| {
         m.axis > 2 || !m.b_deg.is_finite() || !m.command.is_finite() || !m.error.iter().all(|e| e.is_finite())
     }) {
-        return Err(ThermalError::Bad(k));
+        return Err(Error::new(
+            ErrorKind::BadMeasurement,
+            format!("measurement {}: not finite, or not on X, Y or Z", k + 1),
+        ));
     }
     let mut groups: Vec<(usize, f64, Vec<Measurement>)> = Vec::new();
     for m in measurements {
@@ -162,7 +124,15 @@ pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorM
         // A degree past any file's size asks for too many points, not an overflow.
         let need = degree.unwrap_or(0).saturating_add(1);
         if n < need {
-            return Err(ThermalError::TooFew { axis, b_deg, points: n, degree: degree.unwrap_or(0) });
+            let degree = degree.unwrap_or(0);
+            return Err(Error::new(
+                ErrorKind::TooFewMeasurements,
+                format!(
+                    "axis {} at B {b_deg}°: {n} measurement(s), too few for a polynomial of degree {degree} ({need} at \
+                     least)",
+                    AXES[axis]
+                ),
+            ));
         }
         let degree = match degree {
             Some(d) => d,
@@ -247,17 +217,22 @@ fn least_squares(ms: &[Measurement], degree: usize) -> Polynomial {
 
 impl ErrorModel {
     /// The function of `axis` at the B angle `b_deg`.
-    fn function(&self, axis: usize, b_deg: f64) -> Option<&AxisError> {
-        self.functions.iter().find(|f| f.axis == axis && (f.b_deg - b_deg).abs() < SAME_ANGLE)
+    fn function(&self, axis: usize, b_deg: f64) -> Result<&AxisError, Error> {
+        self.functions.iter().find(|f| f.axis == axis && (f.b_deg - b_deg).abs() < SAME_ANGLE).ok_or_else(|| {
+            Error::new(
+                ErrorKind::NoErrorFunction,
+                format!("the model has no error function for axis {} at B {b_deg}°", AXES[axis]),
+            )
+        })
     }
 
     /// The error of the tip at command `c` (sum over X, Y, Z), and its
     /// derivative by each linear command (columns).
-    pub fn error(&self, c: &[f64; 6]) -> Result<([f64; 3], [[f64; 3]; 3]), ThermalError> {
+    pub fn error(&self, c: &[f64; 6]) -> Result<([f64; 3], [[f64; 3]; 3]), Error> {
         let mut e = [0.0; 3];
         let mut d = [[0.0; 3]; 3];
         for axis in 0..3 {
-            let f = self.function(axis, c[4]).ok_or(ThermalError::NoFunction { axis, b_deg: c[4] })?;
+            let f = self.function(axis, c[4])?;
             let (v, s) = (f.polynomial.at(c[axis]), f.polynomial.slope(c[axis]));
             for i in 0..3 {
                 e[i] += v[i];
@@ -268,7 +243,7 @@ impl ErrorModel {
     }
 
     /// Where the warm machine puts the tip for command `c`.
-    pub fn deformed(&self, k: &Kinematics, c: &[f64; 6]) -> Result<[f64; 3], ThermalError> {
+    pub fn deformed(&self, k: &Kinematics, c: &[f64; 6]) -> Result<[f64; 3], Error> {
         let (e, _) = self.error(c)?;
         let p = k.forward(c);
         Ok([p[0] + e[0], p[1] + e[1], p[2] + e[2]])
@@ -278,7 +253,7 @@ impl ErrorModel {
     /// tip lands on `target`, by Newton's method from the ideal inverse,
     /// to 1 nm; with the residual left. (For many points at the same
     /// rotary angles, [`Corrector`] does the kinematics once.)
-    pub fn correct(&self, k: &Kinematics, target: [f64; 3], c: &[f64; 6]) -> Result<([f64; 6], f64), ThermalError> {
+    pub fn correct(&self, k: &Kinematics, target: [f64; 3], c: &[f64; 6]) -> Result<([f64; 6], f64), Error> {
         Corrector::new(self, k, c)?.correct(target)
     }
 
@@ -293,11 +268,10 @@ impl ErrorModel {
         c: &[f64; 6],
         spacing: f64,
         half: i32,
-    ) -> Result<([f64; 6], f64), ThermalError> {
-        let ideal = k.inverse(target, c).ok_or(ThermalError::Singular)?;
+    ) -> Result<([f64; 6], f64), Error> {
+        let ideal = k.inverse(target, c).ok_or_else(singular)?;
         let (e, _) = self.error(&ideal)?;
-        let first =
-            k.inverse([target[0] - e[0], target[1] - e[1], target[2] - e[2]], c).ok_or(ThermalError::Singular)?;
+        let first = k.inverse([target[0] - e[0], target[1] - e[1], target[2] - e[2]], c).ok_or_else(singular)?;
         let mut best = (first, f64::INFINITY);
         let mut x = first;
         for i in -half..=half {
@@ -331,12 +305,12 @@ pub struct Corrector<'m> {
 
 impl<'m> Corrector<'m> {
     /// For the rotary angles (and the other axes) of `c`.
-    pub fn new(model: &'m ErrorModel, k: &Kinematics, c: &[f64; 6]) -> Result<Corrector<'m>, ThermalError> {
+    pub fn new(model: &'m ErrorModel, k: &Kinematics, c: &[f64; 6]) -> Result<Corrector<'m>, Error> {
         let mut command = *c;
         command[..3].fill(0.0);
-        let j = k.linear_jacobian(&command).ok_or(ThermalError::Singular)?;
+        let j = k.linear_jacobian(&command).ok_or_else(singular)?;
         let p0 = k.forward(&command);
-        let function = |axis: usize| model.function(axis, c[4]).ok_or(ThermalError::NoFunction { axis, b_deg: c[4] });
+        let function = |axis: usize| model.function(axis, c[4]);
         Ok(Corrector { command, p0, j, functions: [function(0)?, function(1)?, function(2)?] })
     }
 
@@ -347,10 +321,9 @@ impl<'m> Corrector<'m> {
 
     /// The command whose deformed tip lands on `target` (see
     /// [`ErrorModel::correct`]).
-    pub fn correct(&self, target: [f64; 3]) -> Result<([f64; 6], f64), ThermalError> {
+    pub fn correct(&self, target: [f64; 3]) -> Result<([f64; 6], f64), Error> {
         let (p0, j) = (self.p0, self.j);
-        let mut x =
-            solve3(j, [target[0] - p0[0], target[1] - p0[1], target[2] - p0[2]]).ok_or(ThermalError::Singular)?;
+        let mut x = solve3(j, [target[0] - p0[0], target[1] - p0[1], target[2] - p0[2]]).ok_or_else(singular)?;
         let mut residual = f64::INFINITY;
         for _ in 0..20 {
             let mut f: [f64; 3] =
@@ -367,13 +340,16 @@ impl<'m> Corrector<'m> {
             if residual < 1e-7 {
                 break;
             }
-            let step = solve3(jj, f).ok_or(ThermalError::Singular)?;
+            let step = solve3(jj, f).ok_or_else(singular)?;
             for a in 0..3 {
                 x[a] -= step[a];
             }
         }
         if residual >= 1e-6 {
-            return Err(ThermalError::NotConverged(residual));
+            return Err(Error::new(
+                ErrorKind::NotConverged,
+                format!("the corrected command did not converge ({residual:.3e} mm left)"),
+            ));
         }
         let mut out = self.command;
         out[..3].copy_from_slice(&x);

@@ -25,10 +25,17 @@
 //! The translation keeps the tool's attitude, so the point of the profile
 //! that touches the plane does not change and one step is exact: the
 //! residual is rounding, and is reported, not assumed.
-
-use std::fmt;
+//!
+//! [`correct_moves`] does this for every cutting end of a program's
+//! toolpath, keeping and counting the points it skips.
 
 use kezuri_geom::{Mesh, ToolProfile, Vec3, XyIndex};
+
+use crate::{Error, ErrorKind};
+
+mod program;
+
+pub use program::{correct_moves, Corrected, Summary};
 
 /// The nominal tool: a torus end mill (a ball when the corner radius is the
 /// radius).
@@ -84,18 +91,6 @@ pub enum Skip {
     /// error (mm) is not corrected.
     NoDirection(f64),
 }
-
-/// A point that cannot be corrected safely.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WearError(pub String);
-
-impl fmt::Display for WearError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for WearError {}
 
 /// The finished surface, indexed for nearest-point questions.
 pub struct Surface<'a> {
@@ -177,7 +172,7 @@ pub fn correct(
     axis: Vec3,
     feed: Option<Vec3>,
     options: &Options,
-) -> Result<Result<Correction, Skip>, WearError> {
+) -> Result<Result<Correction, Skip>, Error> {
     let (big_r, rho) = (nominal.radius, nominal.corner);
     let ring = big_r - rho;
     let centre = tip + axis * rho;
@@ -219,21 +214,27 @@ pub fn correct(
     // The nominal tool touches at height ρ(1 − cos φ) on its corner.
     let nominal_z = rho * (1.0 - cos.max(0.0));
     if nominal_z > worn.top() {
-        return Err(WearError(format!(
-            "the profile ends at z {:.4} mm but the tool cuts at z {nominal_z:.4} mm here: measure more of the tool",
-            worn.top()
-        )));
+        return Err(Error::new(
+            ErrorKind::ProfileTooShort,
+            format!(
+                "the profile ends at z {:.4} mm but the tool cuts at z {nominal_z:.4} mm here: measure more of the tool",
+                worn.top()
+            ),
+        ));
     }
     let support = worn.support(cos, sin);
     // At a wall along the tool (|cos φ| < 0.05) the shank's widest sample
     // cuts, wherever it is; elsewhere the top sample touching means the
     // tool goes on cutting above what was measured.
     if support.index + 1 == worn.z().len() && sin > 1e-9 && cos.abs() >= 0.05 {
-        return Err(WearError(format!(
-            "the measured tool touches at the top of its profile (z {:.4} mm): the profile is shorter than the part \
-             of the tool that cuts here",
-            worn.top()
-        )));
+        return Err(Error::new(
+            ErrorKind::ProfileTooShort,
+            format!(
+                "the measured tool touches at the top of its profile (z {:.4} mm): the profile is shorter than the \
+                 part of the tool that cuts here",
+                worn.top()
+            ),
+        ));
     }
     let gap_of = |t: Vec3| n.dot(t - p) + support.value;
     let worn_gap = gap_of(tip);

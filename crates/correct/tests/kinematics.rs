@@ -71,17 +71,17 @@ fn the_inverse_undoes_the_forward_at_every_indexed_angle() {
 fn machines_that_are_not_are_refused() {
     let mut m = mill_turn();
     m.tool.push(linear(0, [1., 0., 0.]));
-    assert!(m.check().unwrap_err().0.contains("axis X is on the machine twice"));
+    assert!(m.check().unwrap_err().message.contains("axis X is on the machine twice"));
     let mut m = mill_turn();
     m.work.retain(|a| a.index != 1);
-    assert!(m.check().unwrap_err().0.contains("no Y axis"));
+    assert!(m.check().unwrap_err().message.contains("no Y axis"));
     let mut m = mill_turn();
     m.tool[0] = linear(0, [0., 0., 1.]);
-    assert!(m.check().unwrap_err().0.contains("do not span space"));
+    assert!(m.check().unwrap_err().message.contains("do not span space"));
     let mut m = mill_turn();
     m.tool[1] = linear(2, [0., 0., 2.]);
-    assert!(m.check().unwrap_err().0.contains("unit vector"));
+    assert!(m.check().unwrap_err().message.contains("unit vector"));
     let mut m = mill_turn();
     m.tool[2] = linear(4, [1., 0., 0.]);
-    assert!(m.check().unwrap_err().0.contains("axis B must be rotary"));
+    assert!(m.check().unwrap_err().message.contains("axis B must be rotary"));
 }

@@ -184,5 +184,5 @@ fn plunges_move_along_the_tool_axis_and_far_points_are_skipped() {
     let surface = Surface::new(&mesh);
     let tip = wall.point_at(0.0) + wall.normal_at(0.0) * R - up * R;
     let e = correct(&surface, nominal, &short, tip, up, Some(Vec3::new(0.0, 1.0, 0.0)), &options).unwrap_err();
-    assert!(e.0.contains("measure more of the tool"), "{e}");
+    assert!(e.message.contains("measure more of the tool"), "{e}");
 }

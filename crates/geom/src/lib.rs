@@ -32,6 +32,7 @@
 #![warn(missing_docs)]
 
 mod alloc;
+mod ends;
 mod heightfield;
 mod index;
 pub mod limits;
@@ -43,6 +44,7 @@ mod tool_profile;
 mod toolpath;
 
 pub use alloc::LargePages;
+pub use ends::{set_ends, ArcCentre};
 pub use heightfield::{Heightfield, HeightfieldError, Slopes, BLOCK};
 pub use index::XyIndex;
 pub use mesh::{Mesh, Triangle, Vec3};

@@ -1,0 +1,107 @@
+//! A program's moves corrected for thermal drift (`kezuri thermal apply`):
+//! every end point commanded where the warm machine puts the tool on the
+//! CAM target, and what that came to.
+
+use kezuri_geom::{Axes, Move, MoveKind};
+
+use super::{Corrector, ErrorModel};
+use crate::kinematics::Kinematics;
+use crate::Error;
+
+/// Which way the corrected command is found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Solver {
+    /// Newton's method to 1 nm ([`Corrector`], one per setting of the
+    /// rotary axes).
+    Newton,
+    /// A grid search: ±50 candidates per axis 1 µm apart about the
+    /// first-order estimate ([`ErrorModel::correct_by_grid`]).
+    Grid,
+}
+
+/// What correcting a program's moves came to.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// Points corrected: every move's end but returns to the reference
+    /// point and dwells.
+    pub checked: usize,
+    /// The largest correction, mm.
+    pub largest_correction: f64,
+    /// The largest residual left by the solver, mm.
+    pub largest_residual: f64,
+    /// The largest change of the correction from an arc's start to its
+    /// end (its centre moves with its end), mm.
+    pub arc_correction_change: f64,
+    /// Points whose correction is extrapolated: beyond the measured range
+    /// of their axis's error function.
+    pub extrapolated: usize,
+    /// The program line of the first of them.
+    pub first_extrapolated_line: Option<u32>,
+}
+
+/// The corrected moves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Corrected {
+    /// Each move's corrected end, in order (returns to the reference point
+    /// and dwells as they were).
+    pub ends: Vec<Axes>,
+    /// What the correction came to.
+    pub summary: Summary,
+}
+
+/// Every end of `moves` corrected by `model` on the machine `k`, found by
+/// `solver`; an error carries the line of its move.
+pub fn correct_moves(model: &ErrorModel, k: &Kinematics, moves: &[Move], solver: Solver) -> Result<Corrected, Error> {
+    let mut correctors: Vec<Corrector> = Vec::new();
+    let mut summary = Summary::default();
+    let mut ends: Vec<Axes> = Vec::with_capacity(moves.len());
+    let mut last_shift = [0.0; 3];
+    for m in moves {
+        // A return to the reference point goes where the control knows; a
+        // dwell stays: neither is a commanded position.
+        if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
+            ends.push(m.end);
+            continue;
+        }
+        summary.checked += 1;
+        let c = m.end.to_array();
+        let target = k.forward(&c);
+        let (x, residual) = match solver {
+            Solver::Newton => {
+                let at = match correctors.iter().position(|r| r.fits(&c)) {
+                    Some(at) => at,
+                    None => {
+                        correctors.push(Corrector::new(model, k, &c).map_err(|e| e.at_line(m.line))?);
+                        correctors.len() - 1
+                    }
+                };
+                correctors[at].correct(target)
+            }
+            Solver::Grid => model.correct_by_grid(k, target, &c, 0.001, 50),
+        }
+        .map_err(|e| e.at_line(m.line))?;
+        // A command beyond the measured range of its axis's function is
+        // extrapolated: said, not hidden. A corrected stop at the range's
+        // edge lands a correction beyond it; a twentieth of the range (a
+        // tenth of the half-span) is not counted.
+        let outside = model.functions.iter().any(|f| {
+            (f.b_deg - c[4]).abs() < 1e-6 && (x[f.axis] - f.polynomial.center).abs() > f.polynomial.scale * 1.1 + 1e-9
+        });
+        if outside {
+            summary.first_extrapolated_line.get_or_insert(m.line);
+            summary.extrapolated += 1;
+        }
+        let shift = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+        summary.largest_correction =
+            summary.largest_correction.max((shift[0] * shift[0] + shift[1] * shift[1] + shift[2] * shift[2]).sqrt());
+        summary.largest_residual = summary.largest_residual.max(residual);
+        if matches!(m.kind, MoveKind::Arc(_)) {
+            let d = [shift[0] - last_shift[0], shift[1] - last_shift[1], shift[2] - last_shift[2]];
+            summary.arc_correction_change =
+                summary.arc_correction_change.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+        }
+        last_shift = shift;
+        ends.push(Axes::from_array(x));
+    }
+    Ok(Corrected { ends, summary })
+}
