@@ -117,3 +117,35 @@ fn a_model_without_the_angle_is_a_clear_error() {
     assert_eq!(e.kind, ErrorKind::NoErrorFunction);
     assert!(e.to_string().contains("no error function for axis X at B -45°"));
 }
+
+#[test]
+fn a_programs_moves_land_on_their_targets_and_the_extrapolated_ones_are_counted() {
+    use kezuri_correct::thermal::{correct_moves, Solver};
+    use kezuri_geom::{Axes, Move, MoveKind};
+    let k = mill_turn();
+    let model = fit(&measurements(0.0, 1), None).unwrap();
+    let at = |x: f64, z: f64| Axes { x, z, ..Axes::ZERO };
+    let step = |kind: MoveKind, end: Axes, line: u32| Move { kind, end, line, ..Move::default() };
+    let moves = [
+        step(MoveKind::Feed, at(-12.0, -80.0), 1),
+        step(MoveKind::Dwell(1.0), at(-12.0, -80.0), 2),
+        // Beyond the measured travel of Z (-94 to -74).
+        step(MoveKind::Feed, at(-12.0, -60.0), 3),
+        step(MoveKind::Home, at(0.0, 0.0), 4),
+    ];
+    let c = correct_moves(&model, &k, &moves, Solver::Newton).unwrap();
+    assert_eq!(c.ends.len(), moves.len());
+    assert_eq!((c.ends[1], c.ends[3]), (moves[1].end, moves[3].end));
+    for i in [0, 2] {
+        let (target, landed) = (k.forward(&moves[i].end.to_array()), model.deformed(&k, &c.ends[i].to_array()));
+        let landed = landed.unwrap();
+        assert!((0..3).all(|j| (landed[j] - target[j]).abs() < 1e-6), "{landed:?} vs {target:?}");
+    }
+    let s = c.summary;
+    assert_eq!((s.checked, s.extrapolated, s.first_extrapolated_line), (2, 1, Some(3)));
+    assert!(s.largest_correction > 0.01 && s.largest_residual < 1e-6, "{s:?}");
+    // The model knows no B 45: the error says which move.
+    let tilted = [step(MoveKind::Feed, Axes { b: 45.0, ..at(-12.0, -80.0) }, 7)];
+    let e = correct_moves(&model, &k, &tilted, Solver::Newton).unwrap_err();
+    assert_eq!((e.kind, e.line), (ErrorKind::NoErrorFunction, Some(7)));
+}
