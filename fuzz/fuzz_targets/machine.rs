@@ -2,19 +2,15 @@
 //! each command does before its work. No input may panic.
 #![no_main]
 
-use std::io::Write;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
-use kezuri::inputs::Machine;
+use kezuri_machine::Machine;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    // `Machine::read` reads a path, as the commands do; the file sits in a
-    // folder of its own, so a `tools.import` finds nothing beside it.
-    let Ok(dir) = tempfile::tempdir() else { return };
-    let path = dir.path().join("m.toml");
-    let Ok(mut file) = std::fs::File::create(&path) else { return };
-    if file.write_all(data).is_err() {
-        return;
-    }
-    let _ = Machine::read(&path).map_err(|e| format!("{e:#}"));
+    // As the commands read it; no file is beside it, so a `tools.import`
+    // finds nothing.
+    let text = String::from_utf8_lossy(data);
+    let _ = Machine::parse(&text, Path::new(""), &BTreeMap::<PathBuf, Vec<u8>>::new()).map_err(|e| e.to_string());
 });

@@ -541,7 +541,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     // Before and after on the warm machine (the drift above): each stop's
     // miss as commanded and as corrected.
     let model = fit(&truth, None)?;
-    let k = crate::machine::Machine::load(&machine)?.kinematics;
+    let k = crate::machine::load(&machine)?.kinematics;
     let stops = |file: &str| -> Result<Vec<[f64; 6]>> {
         let options = run_options(file.into(), None);
         let (ran, _) = read_and_run(&options)?;

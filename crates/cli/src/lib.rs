@@ -30,7 +30,6 @@ mod machine;
 mod mill;
 mod numbers;
 mod plot;
-mod post;
 mod probe;
 mod program;
 mod progress;
@@ -222,11 +221,10 @@ fn run_words(words: &[&str]) -> anyhow::Result<()> {
     dispatch(&cli.command)
 }
 
-/// The readers of what users give kezuri (machine files, pictures, CSV
-/// tables, instrument lines), for the fuzz targets in `fuzz/`: not an API.
+/// The readers of what users give kezuri (pictures, CSV tables, instrument
+/// lines), for the fuzz targets in `fuzz/`: not an API.
 #[doc(hidden)]
 pub mod inputs {
-    pub use crate::machine::Machine;
     pub use crate::probe::capture::{parse_reading, Format};
     pub use crate::relief::read_gray;
     pub use crate::table::read_columns;

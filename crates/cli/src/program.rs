@@ -9,6 +9,7 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::Cutter;
 use kezuri_correct::kinematics::{Kinematics, AXES};
 use kezuri_geom::{cycle_time, LengthOffset, MoveKind, Toolpath};
+use kezuri_machine::{Machine, ToolEntry};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::write::WriteOptions;
@@ -16,7 +17,6 @@ use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, Source
 use serde_json::json;
 
 use crate::files::{read_text, write_output, Folder, Outputs};
-use crate::machine::{Machine, ToolEntry};
 
 /// How axis words without a decimal point are read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -240,7 +240,7 @@ pub fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
 
 fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
     let machine = match &o.machine {
-        Some(p) => Machine::load(p)?,
+        Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
     };
     run_on(machine, o, text, radii_required)
@@ -762,7 +762,7 @@ pub fn post_options(
         }
         (p, e) => p.or(e),
     };
-    crate::post::for_machine(machine, name, output)
+    Ok(kezuri_machine::post::for_machine(machine, name, output)?)
 }
 
 /// Adds to `out` what `w` asks for `path`: a program by the post, CSV or

@@ -6,8 +6,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use kezuri_geom::{cycle_time, Toolpath};
-
-use crate::machine::Machine;
+use kezuri_machine::Machine;
 
 static QUIET: AtomicBool = AtomicBool::new(false);
 

@@ -16,9 +16,9 @@ use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::compare::{compare, gouges_by_tool, target_heights};
 use kezuri_cam::sim::{simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
 use kezuri_geom::Toolpath;
+use kezuri_machine::Machine;
 
 use crate::files::write_output;
-use crate::machine::Machine;
 use crate::program::{read_and_run_centre, RunOptions};
 use crate::progress::LateBar;
 use report::Done;

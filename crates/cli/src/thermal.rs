@@ -8,12 +8,12 @@ use kezuri_correct::edge::find_edge;
 use kezuri_correct::kinematics::AXES;
 use kezuri_correct::thermal::{self, correct_moves, fit, AxisError, Corrected, ErrorModel, Measurement, Polynomial};
 use kezuri_geom::{set_ends, ArcCentre};
+use kezuri_machine::Machine;
 use kezuri_nc::thermal_plan::{Station, ThermalPlan};
 use serde_json::json;
 
 use crate::corrected::{in_program, run_to_correct, write_corrected};
 use crate::files::{read_text, write_output};
-use crate::machine::Machine;
 use crate::program::{RunOptions, WriteArgs};
 use crate::table::{read_columns, Table};
 
@@ -272,7 +272,7 @@ fn plan(a: &PlanArgs) -> Result<()> {
         })
         .collect::<Result<Vec<usize>>>()?;
     let machine = match &a.machine {
-        Some(p) => Machine::load(p)?,
+        Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
     };
     if let Some(s) = stations.iter().find(|s| s.b_deg != 0.0 && !machine.kinematics.has(4)) {
@@ -294,7 +294,7 @@ fn plan(a: &PlanArgs) -> Result<()> {
         dwell: a.dwell,
         feed: a.feed,
         safe_z: a.safe_z,
-        post: crate::post::for_machine(&machine, a.post.as_deref(), a.output.as_deref())?,
+        post: kezuri_machine::post::for_machine(&machine, a.post.as_deref(), a.output.as_deref())?,
         tool: a.tool_number,
     };
     let text = p.program()?;
@@ -445,7 +445,7 @@ fn fit_model(a: &FitArgs) -> Result<()> {
         bail!("--json prints to standard output: give the model a file with -o");
     }
     let machine = match &a.machine {
-        Some(p) => Machine::load(p)?,
+        Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
     };
     let table = Table::parse(&name, &read_text(&a.measurements)?)?;

@@ -42,10 +42,10 @@ use kezuri_cam::shorten::{shorten, ShortenOptions};
 use kezuri_cam::sim::Tool;
 use kezuri_cam::Cutter;
 use kezuri_geom::{move_times, Toolpath};
+use kezuri_machine::Machine;
 use serde_json::{json, Value};
 use sha2::Digest as _;
 
-use crate::machine::Machine;
 use crate::program::{read_and_run_centre, Ran, RunOptions};
 use crate::sim::picture::{DeviationScale, GOUGE_MM};
 use crate::sim::{DeviationArgs, SimSetup, Simulated};

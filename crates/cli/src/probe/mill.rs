@@ -12,11 +12,11 @@ use kezuri_cam::probe::smooth::{sharpest_bend, Smooth};
 use kezuri_cam::probe::stylus::{detect_flat, model, rapid_margins, reconstruct, OverFlat};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Axes, AxisSet, Heightfield, Move, MoveKind, Toolpath};
+use kezuri_machine::Machine;
 use kezuri_nc::write::{program, WriteOptions};
 
 use super::DataArgs;
 use crate::files::Outputs;
-use crate::machine::Machine;
 use crate::program::post_options;
 use parts::{check_left_over, part_name, remove_left_over};
 
@@ -193,7 +193,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
     let resolution = positive("--res", args.res.unwrap_or(pitch / 8.0))?;
     let machine = match &args.machine {
-        Some(p) => Machine::load(p)?,
+        Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
     };
     let emit = args.emit.map(|e| match e {

@@ -178,7 +178,7 @@ pub fn plan(args: &PlanArgs) -> Result<Plan> {
     plan.feed = args.feed;
     plan.digits = args.digits;
     let machine = args.machine.load()?;
-    plan.post = crate::post::for_machine(&machine, args.post.as_deref(), args.output.as_deref())?;
+    plan.post = kezuri_machine::post::for_machine(&machine, args.post.as_deref(), args.output.as_deref())?;
     plan.program = args.program_number.or(machine.post.program_number).unwrap_or(probe_plan::DEFAULT_PROGRAM);
     plan.tool = args.tool_number;
     plan.trigger = match &args.trigger {

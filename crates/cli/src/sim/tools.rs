@@ -8,9 +8,9 @@ use anyhow::{bail, Result};
 use kezuri_cam::sim::{cutting_tools, MeasuredTool, Tool};
 use kezuri_cam::Cutter;
 use kezuri_geom::{cycle_time, Dynamics, Toolpath};
+use kezuri_machine::ToolEntry;
 
 use super::SimSetup;
-use crate::machine::ToolEntry;
 
 /// The cutter of each tool number the program cuts with, in the order they
 /// first move.

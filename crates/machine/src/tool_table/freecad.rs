@@ -10,13 +10,13 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Result};
 use kezuri_cam::Cutter;
 use serde::Deserialize;
 use serde_json::Value;
 
 use super::{cutter, from_json, Table};
-use crate::files::read_text;
+use crate::error::{fail, Error, ErrorKind, Result};
+use crate::files::{read_text, Files};
 use crate::machine::ToolEntry;
 
 #[derive(Deserialize)]
@@ -42,11 +42,20 @@ struct Numbered {
 
 /// A bit file: its name and the cutter of its shape, where kezuri has one
 /// (a warning, starting with `what`, where not).
-fn read_bit(path: &Path, what: &str, warnings: &mut Vec<String>) -> Result<(Option<String>, Option<Cutter>)> {
+fn read_bit(
+    path: &Path,
+    files: &dyn Files,
+    what: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(Option<String>, Option<Cutter>)> {
     let file = path.display().to_string();
-    let bit: Bit = from_json(&file, &read_text(path)?)?;
+    let bit: Bit = from_json(&file, &read_text(files, path)?)?;
     if bit.version != 2 {
-        bail!("{file}: tool bit format version {}: kezuri reads version 2 (FreeCAD 0.19 on)", bit.version);
+        fail!(
+            UnknownFormat,
+            "{file}: tool bit format version {}: kezuri reads version 2 (FreeCAD 0.19 on)",
+            bit.version
+        );
     }
     let shape = shape_of(&file, &bit, what, warnings)?;
     Ok((bit.name, shape))
@@ -93,20 +102,20 @@ fn shape_of(file: &str, bit: &Bit, what: &str, warnings: &mut Vec<String>) -> Re
 }
 
 /// Reads a bit alone: one tool, numbered 1 (a bit has no number).
-pub fn read_bit_file(path: &Path) -> Result<Table> {
+pub fn read_bit_file(path: &Path, files: &dyn Files) -> Result<Table> {
     let mut table = Table::new("FreeCAD tool bit");
-    let (name, shape) = read_bit(path, "T1", &mut table.notes.warnings)?;
+    let (name, shape) = read_bit(path, files, "T1", &mut table.notes.warnings)?;
     table.notes.warnings.push("a tool bit has no number: shown as T1 (a library .fctl numbers its bits)".into());
     table.add(1, ToolEntry { shape, h: 1, d: None, name }, "");
     Ok(table)
 }
 
 /// Reads a library and the bits it numbers.
-pub fn read_library(path: &Path) -> Result<Table> {
+pub fn read_library(path: &Path, files: &dyn Files) -> Result<Table> {
     let file = path.display().to_string();
-    let library: Library = from_json(&file, &read_text(path)?)?;
+    let library: Library = from_json(&file, &read_text(files, path)?)?;
     if library.version != 1 {
-        bail!("{file}: tool library format version {}: kezuri reads version 1", library.version);
+        fail!(UnknownFormat, "{file}: tool library format version {}: kezuri reads version 1", library.version);
     }
     let mut table = Table::new("FreeCAD tool library");
     let dir = path.parent().unwrap_or(Path::new(""));
@@ -116,12 +125,13 @@ pub fn read_library(path: &Path) -> Result<Table> {
             continue;
         };
         let places = bit_places(dir, &t.path);
-        let Some(bit) = places.iter().find(|p| p.is_file()) else {
+        let Some(bit) = places.iter().find(|p| files.is_file(p)) else {
             let looked: Vec<String> = places.iter().map(|p| p.display().to_string()).collect();
             table.notes.skipped.push(format!("T{number}: bit {} not found (looked for {})", t.path, looked.join(", ")));
             continue;
         };
-        let (name, shape) = read_bit(bit, &format!("T{number} ({})", t.path), &mut table.notes.warnings)?;
+        let what = format!("T{number} ({})", t.path);
+        let (name, shape) = read_bit(bit, files, &what, &mut table.notes.warnings)?;
         table.add(number, ToolEntry { shape, h: number, d: None, name }, &t.path);
     }
     Ok(table)
@@ -161,7 +171,8 @@ const ANGLES: &[(&str, f64)] = &[("", 1.0), ("°", 1.0), ("deg", 1.0)];
 fn quantity(file: &str, bit: &Bit, key: &str, units: &[(&str, f64)]) -> Result<Option<f64>> {
     let Some(v) = bit.parameter.get(key) else { return Ok(None) };
     let bad = || {
-        anyhow::anyhow!("{file}: parameter {key}: {v} is not {}", if units == ANGLES { "an angle" } else { "a length" })
+        let kind = if units == ANGLES { "an angle" } else { "a length" };
+        Error::new(ErrorKind::Invalid, format!("{file}: parameter {key}: {v} is not {kind}"))
     };
     let text = match v {
         Value::Number(n) => return n.as_f64().map(Some).ok_or_else(bad),

@@ -9,15 +9,14 @@
 
 use std::path::Path;
 
-use anyhow::{bail, Result};
-
 use super::{Table, Units};
-use crate::files::read_text;
+use crate::error::{fail, Result};
+use crate::files::{read_text, Files};
 use crate::machine::ToolEntry;
 
 /// Reads a `tool.tbl`.
-pub fn read(path: &Path, units: Units) -> Result<Table> {
-    parse(&path.display().to_string(), &read_text(path)?, units)
+pub fn read(path: &Path, units: Units, files: &dyn Files) -> Result<Table> {
+    parse(&path.display().to_string(), &read_text(files, path)?, units)
 }
 
 /// One line's words, by letter.
@@ -39,12 +38,12 @@ fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
             continue;
         }
         let w = words(name, n, line, words_part)?;
-        let Some(t) = w.tool else { bail!("{name}:{n}: no tool number (T) on the line") };
+        let Some(t) = w.tool else { fail!(Syntax, "{name}:{n}: no tool number (T) on the line") };
         if t == 0 {
             table.notes.skipped.push(format!("line {n}: T0 is no tool (the empty spindle)"));
             continue;
         }
-        let Ok(number) = u32::try_from(t) else { bail!("{name}:{n}: T{t} is not a tool number") };
+        let Ok(number) = u32::try_from(t) else { fail!(Invalid, "{name}:{n}: T{t} is not a tool number") };
         let comment = line.split_once(';').map(|(_, c)| c.trim()).filter(|c| !c.is_empty());
         let entry = ToolEntry { shape: None, h: number, d: Some(number), name: comment.map(String::from) };
         if table.add(number, entry, &format!("line {n}")) {
@@ -81,7 +80,8 @@ fn words(name: &str, n: usize, line: &str, part: &str) -> Result<Words> {
         let value = &token[letter.len_utf8()..];
         let first = token.as_ptr() == part.trim_start().as_ptr();
         if first && (token.bytes().all(|b| b.is_ascii_digit()) || ["TOOLNO", "POC"].contains(&&*token.to_uppercase())) {
-            bail!(
+            fail!(
+                UnknownFormat,
                 "{at}: this is the tool table of LinuxCNC before 2.4 (columns TOOLNO POCKET LENGTH \
                  DIAMETER), which LinuxCNC no longer reads: write it as T1 P1 Z0.511 D0.125 ;name"
             );
@@ -89,14 +89,14 @@ fn words(name: &str, n: usize, line: &str, part: &str) -> Result<Words> {
         let number = || -> Result<f64> {
             match value.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
-                _ => bail!("{at}: '{token}': {letter} takes a number"),
+                _ => fail!(Syntax, "{at}: '{token}': {letter} takes a number"),
             }
         };
         // LinuxCNC reads these with %d: Q2.0 is 2 (and T1.5 would be T1, refused here).
         let whole = || -> Result<i64> {
             match value.parse::<f64>() {
                 Ok(v) if v.fract() == 0.0 && v.abs() < 1e15 => Ok(v as i64),
-                _ => bail!("{at}: '{token}': {letter} takes a whole number"),
+                _ => fail!(Syntax, "{at}: '{token}': {letter} takes a whole number"),
             }
         };
         match letter {
@@ -108,13 +108,14 @@ fn words(name: &str, n: usize, line: &str, part: &str) -> Result<Words> {
             'D' => {
                 let d = number()?;
                 if d < 0.0 {
-                    bail!("{at}: '{token}': a diameter cannot be negative");
+                    fail!(Invalid, "{at}: '{token}': a diameter cannot be negative");
                 }
                 w.diameter = Some(d);
             }
             'Z' => w.z = Some(number()?),
             'X' | 'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' | 'I' | 'J' => w.unused |= number()? != 0.0,
-            _ => bail!(
+            _ => fail!(
+                Syntax,
                 "{at}: '{token}' is not a tool table word (T P X Y Z A B C U V W D I J Q; a comment starts with ;)"
             ),
         }
@@ -163,7 +164,7 @@ mod tests {
                 "a.tbl:1:6: this is the tool table of LinuxCNC before 2.4",
             ),
         ] {
-            let e = format!("{:#}", parse("a.tbl", text, Units::Mm).expect_err(text));
+            let e = parse("a.tbl", text, Units::Mm).expect_err(text).to_string();
             assert!(e.contains(words), "{text}: {e}");
         }
     }

@@ -29,10 +29,10 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{bail, Result};
 use kezuri_nc::write::{Arcs, CoolantChoice, Home, Retract, WriteOptions, PRESETS};
 use serde::Deserialize;
 
+use crate::error::{fail, Error, ErrorKind, Result};
 use crate::machine::{Machine, ToolEntry};
 
 /// The machine file's `[post]`, as written: every key optional.
@@ -40,6 +40,7 @@ use crate::machine::{Machine, ToolEntry};
 #[serde(deny_unknown_fields)]
 pub struct PostFile {
     preset: Option<String>,
+    /// The program number (`O1001`, Fanuc and Haas).
     pub program_number: Option<u32>,
     start: Option<String>,
     work_offset: Option<String>,
@@ -66,12 +67,12 @@ pub struct PostFile {
 /// register of every tool of the table whose H is not its number.
 pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEntry>) -> Result<WriteOptions> {
     let name = name.or(file.preset.as_deref()).unwrap_or("fanuc");
-    let mut o = WriteOptions::preset(name).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut o = WriteOptions::preset(name).map_err(|e| Error::new(ErrorKind::UnknownPost, e.to_string()))?;
     let Some(setup) = o.setup.as_mut() else { unreachable!("a preset has a setup") };
     let word = |key: &str, v: &Option<String>| -> Result<Option<String>> {
         match v {
             Some(t) if t.contains(['(', ')', ';', '%', '\n']) => {
-                bail!("post.{key}: '{t}' must be codes only (no comment, no %)")
+                fail!(Invalid, "post.{key}: '{t}' must be codes only (no comment, no %)")
             }
             v => Ok(v.as_ref().map(|t| t.trim().to_ascii_uppercase())),
         }
@@ -84,7 +85,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
         // incremental arc centres: a start that changed them would move
         // every position of the program.
         if let Some(w) = t.split_whitespace().find(|w| ["G20", "G21", "G91", "G90.1"].contains(w)) {
-            bail!("post.start: '{w}' would change what every position of the program means (units, G91, G90.1): leave it out");
+            fail!(Invalid, "post.start: '{w}' would change what every position of the program means (units, G91, G90.1): leave it out");
         }
         setup.start = t;
     }
@@ -93,7 +94,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
     }
     if let Some(t) = word("end", &file.end)? {
         if !t.split_whitespace().any(|w| ["M30", "M02", "M2"].contains(&w)) {
-            bail!("post.end: '{t}' does not end the program: it must hold M30 or M02");
+            fail!(Invalid, "post.end: '{t}' does not end the program: it must hold M30 or M02");
         }
         setup.end = t;
     }
@@ -102,7 +103,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
             "G28" => Retract::Reference,
             "G53" => Retract::MachineZero,
             "NONE" => Retract::None,
-            _ => bail!("post.retract: '{r}' is not G28, G53 or none"),
+            _ => fail!(Invalid, "post.retract: '{r}' is not G28, G53 or none"),
         };
     }
     setup.prestage = file.prestage.unwrap_or(setup.prestage);
@@ -110,7 +111,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
     setup.length_offset = file.length_offset.unwrap_or(setup.length_offset);
     if let Some(d) = file.spindle_dwell_s {
         if !(0.0..=3600.0).contains(&d) {
-            bail!("post.spindle_dwell_s: {d} is not 0 to 3600 seconds");
+            fail!(Invalid, "post.spindle_dwell_s: {d} is not 0 to 3600 seconds");
         }
         setup.spindle_dwell = d;
     }
@@ -118,7 +119,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
         o.dwell_ms = Some(match u.trim() {
             "ms" => true,
             "s" => false,
-            _ => bail!("post.dwell_unit: '{u}' is not ms or s"),
+            _ => fail!(Invalid, "post.dwell_unit: '{u}' is not ms or s"),
         });
     }
     if let Some(c) = &file.coolant {
@@ -126,7 +127,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
             "flood" => CoolantChoice::Flood,
             "mist" => CoolantChoice::Mist,
             "none" => CoolantChoice::Off,
-            _ => bail!("post.coolant: '{c}' is not flood, mist or none"),
+            _ => fail!(Invalid, "post.coolant: '{c}' is not flood, mist or none"),
         };
     }
     if let Some(h) = &file.home {
@@ -137,10 +138,10 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
                 let v: Vec<f64> = a.iter().filter_map(|v| v.as_float().or(v.as_integer().map(|i| i as f64))).collect();
                 match v[..] {
                     [x, y] if a.len() == 2 && x.is_finite() && y.is_finite() => Home::Park([x, y]),
-                    _ => bail!("post.home: a park position is two numbers [X, Y], machine coordinates in mm"),
+                    _ => fail!(Invalid, "post.home: a park position is two numbers [X, Y], machine coordinates in mm"),
                 }
             }
-            _ => bail!("post.home: '{h}' is not G28, none or a park position [X, Y]"),
+            _ => fail!(Invalid, "post.home: '{h}' is not G28, none or a park position [X, Y]"),
         };
     }
     if let Some(step) = file.line_numbers {
@@ -148,7 +149,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
     }
     if let Some(d) = file.digits {
         if d > 6 {
-            bail!("post.digits: {d} is not 0 to 6");
+            fail!(Invalid, "post.digits: {d} is not 0 to 6");
         }
         o.digits = d;
     }
@@ -157,7 +158,7 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
             "ijk" => Arcs::Ijk,
             "r" => Arcs::Radius,
             "lines" | "none" => Arcs::Lines,
-            _ => bail!("post.arcs: '{a}' is not ijk, r or lines"),
+            _ => fail!(Invalid, "post.arcs: '{a}' is not ijk, r or lines"),
         };
     }
     o.comments = file.comments.unwrap_or(o.comments);
@@ -187,7 +188,7 @@ impl PostFile {
 /// command reads the file back), else fanuc.
 pub fn for_machine(machine: &Machine, name: Option<&str>, output: Option<&Path>) -> Result<WriteOptions> {
     if let Some(n) = name.filter(|n| !PRESETS.iter().any(|p| p.eq_ignore_ascii_case(n.trim()))) {
-        bail!("--post {n}: not a post; the posts are {}", PRESETS.join(", "));
+        fail!(UnknownPost, "--post {n}: not a post; the posts are {}", PRESETS.join(", "));
     }
     let named = || match output.and_then(|p| kezuri_nc::detect::by_extension(&p.to_string_lossy())) {
         Some(kezuri_nc::Dialect::LinuxCnc) => Some("linuxcnc"),
@@ -203,7 +204,7 @@ mod tests {
     use super::*;
 
     fn parse(text: &str) -> Result<WriteOptions> {
-        let file: PostFile = toml::from_str(text)?;
+        let file: PostFile = toml::from_str(text).map_err(|e| Error::new(ErrorKind::Syntax, e.to_string()))?;
         options(&file, None, &BTreeMap::new())
     }
 
@@ -244,7 +245,7 @@ mod tests {
             ("coolant = \"air\"", "post.coolant"),
             ("program = 5", "unknown field `program`"),
         ] {
-            let e = format!("{:#}", parse(text).expect_err(text));
+            let e = parse(text).expect_err(text).to_string();
             assert!(e.contains(words), "{text}: {e}");
         }
     }

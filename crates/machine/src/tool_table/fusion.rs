@@ -10,12 +10,12 @@
 use std::io::Read;
 use std::path::Path;
 
-use anyhow::{bail, Context, Result};
 use kezuri_cam::Cutter;
 use serde_json::Value;
 
 use super::{cutter, from_json, Table, Units};
-use crate::files::{read_bytes, read_text};
+use crate::error::{fail, with_sources, Error, ErrorKind, Result};
+use crate::files::{read_bytes, read_text, Files};
 use crate::machine::ToolEntry;
 
 /// Types kezuri cuts with, and the spindle tools it reads without a shape.
@@ -40,32 +40,38 @@ const UNSHAPED: &[&str] = &[
 ];
 
 /// Reads a library exported as JSON.
-pub fn read_json(path: &Path) -> Result<Table> {
+pub fn read_json(path: &Path, files: &dyn Files) -> Result<Table> {
     let file = path.display().to_string();
-    parse(&file, &read_text(path)?)
+    parse(&file, &read_text(files, path)?)
 }
 
 /// Reads a `.tools` file: a zip archive of the library's JSON.
-pub fn read_zip(path: &Path) -> Result<Table> {
+pub fn read_zip(path: &Path, files: &dyn Files) -> Result<Table> {
     let file = path.display().to_string();
-    let bytes = read_bytes(path)?;
-    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes))
-        .with_context(|| format!("{file}: not a zip archive (a Fusion 360 .tools file is one)"))?;
+    let bytes = read_bytes(files, path)?;
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).map_err(|e| {
+        let why = with_sources(&e);
+        Error::new(ErrorKind::Syntax, format!("{file}: not a zip archive (a Fusion 360 .tools file is one): {why}"))
+    })?;
     let names: Vec<String> = zip.file_names().filter_map(|n| n.ok()).map(|n| n.into_owned()).collect();
     let Some(json) = names.iter().find(|n| n.ends_with(".json")) else {
-        bail!("{file}: the archive holds no .json tool library");
+        fail!(UnknownFormat, "{file}: the archive holds no .json tool library");
     };
-    let mut entry = zip.by_name(json).with_context(|| format!("{file}: cannot read {json} in the archive"))?;
+    let mut entry = zip.by_name(json).map_err(|e| {
+        Error::new(ErrorKind::Syntax, format!("{file}: cannot read {json} in the archive: {}", with_sources(&e)))
+    })?;
     let inner = format!("{file}/{json}");
     let mut text = String::new();
-    entry.read_to_string(&mut text).with_context(|| format!("{inner}: cannot read it (not UTF-8 JSON?)"))?;
+    entry.read_to_string(&mut text).map_err(|e| {
+        Error::new(ErrorKind::Syntax, format!("{inner}: cannot read it (not UTF-8 JSON?): {}", with_sources(&e)))
+    })?;
     parse(&inner, &text)
 }
 
 fn parse(file: &str, text: &str) -> Result<Table> {
     let library: Value = from_json(file, text)?;
     let Some(tools) = library.get("data").and_then(Value::as_array) else {
-        bail!("{file}: no \"data\" list of tools: not a Fusion 360 tool library");
+        fail!(UnknownFormat, "{file}: no \"data\" list of tools: not a Fusion 360 tool library");
     };
     let mut table = Table::new("Fusion 360 tool library");
     for (i, tool) in tools.iter().enumerate() {
@@ -84,7 +90,7 @@ fn parse(file: &str, text: &str) -> Result<Table> {
                 None | Some(Value::Null) => Ok(None),
                 Some(v) => match v.as_u64().and_then(|n| u32::try_from(n).ok()) {
                     Some(n) => Ok(Some(n)),
-                    None => bail!("{file}: {what}: post-process {key} {v} is not a register number"),
+                    None => fail!(Invalid, "{file}: {what}: post-process {key} {v} is not a register number"),
                 },
             }
         };
@@ -111,7 +117,8 @@ fn shape(file: &str, tool: &Value, kind: &str, what: &str, warnings: &mut Vec<St
     let units = match tool.get("unit").and_then(Value::as_str) {
         Some("millimeters") => Units::Mm,
         Some("inches") => Units::Inch,
-        other => bail!(
+        other => fail!(
+            Invalid,
             "{file}: {what}: the unit must be \"millimeters\" or \"inches\", not {}",
             other.map(|u| format!("\"{u}\"")).unwrap_or_else(|| "missing".into())
         ),
@@ -121,7 +128,7 @@ fn shape(file: &str, tool: &Value, kind: &str, what: &str, warnings: &mut Vec<St
             None | Some(Value::Null) => Ok(None),
             Some(v) => match v.as_f64() {
                 Some(x) if x.is_finite() => Ok(Some(x)),
-                _ => bail!("{file}: {what}: geometry {key} {v} is not a number"),
+                _ => fail!(Invalid, "{file}: {what}: geometry {key} {v} is not a number"),
             },
         }
     };
@@ -194,7 +201,7 @@ mod tests {
             ),
             (r#"{"data": [{"type": "drill", "post-process": {"number": -1}}]}"#, "number -1 is not a register number"),
         ] {
-            let e = format!("{:#}", parse("lib.json", text).expect_err(text));
+            let e = parse("lib.json", text).expect_err(text).to_string();
             assert!(e.contains(words), "{text}: {e}");
         }
     }
