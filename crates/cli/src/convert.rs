@@ -15,7 +15,7 @@ use kezuri_nc::{parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, So
 
 use crate::files::{read_text, Folder, Outputs};
 use crate::machine::MachineArg;
-use crate::program::{choose_dialect, dialect_settings, post_options};
+use crate::program::{choose_dialect, dialect_settings, post_options, warn_rml_drops};
 
 /// A program format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -411,20 +411,6 @@ pub fn scale(path: &Toolpath, k: f64, s: f64) -> Toolpath {
     first.push(out.moves.len());
     out.kept = path.kept_in(&first);
     out
-}
-
-/// Warns of the blocks kept as the program wrote them (M codes, G10, …)
-/// that RML-1 has no command for: they are not written.
-pub fn warn_rml_drops(name: &str, path: &Toolpath) {
-    if let Some(k) = path.kept.first() {
-        eprintln!(
-            "warning: {name}: RML-1 has no M codes, offsets or the like: {} block(s) the program keeps are not \
-             written (the first at line {}: '{}')",
-            path.kept.len(),
-            k.line,
-            k.text.lines().next().unwrap_or("")
-        );
-    }
 }
 
 /// A cutter a program names.

@@ -180,7 +180,7 @@ fn geometry(out: &Path) -> Result<()> {
     let surface = Heightfield::from_fn(0.0, 0.0, 0.5, 121, 121, dome)?;
     let stl = out.join("samples").join("dome.stl");
     let mut files = crate::files::Outputs::new();
-    crate::relief::stage_surface_stl(&mut files, &stl, &surface)?;
+    crate::surface::stage_surface_stl(&mut files, &stl, &surface)?;
     files.commit()?;
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let stl = stl.to_string_lossy().into_owned();

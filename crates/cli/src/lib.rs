@@ -19,6 +19,7 @@ macro_rules! tool_help {
 
 mod budget;
 mod chart;
+mod check;
 mod convert;
 mod corrected;
 mod demo;
@@ -26,6 +27,7 @@ mod dropcut;
 mod engage;
 mod figure;
 mod files;
+mod gray;
 mod machine;
 mod mill;
 mod numbers;
@@ -33,7 +35,9 @@ mod plot;
 mod probe;
 mod program;
 mod progress;
+mod raster;
 mod relief;
+mod run;
 mod say;
 mod scallop;
 mod sim;
@@ -43,6 +47,8 @@ mod texture;
 mod thermal;
 mod tool;
 mod tool_db;
+mod tool_profile;
+mod tool_store;
 mod tool_table;
 mod view;
 mod wear;
@@ -168,7 +174,7 @@ position it never named (after G28, G53, a tool change) stays an increment.")]
     /// A tool's measured cutting profile from backlit images, the database of its wear, and tool
     /// tables read from LinuxCNC, FreeCAD and Fusion 360 files.
     #[command(subcommand)]
-    Tool(tool::ToolCommand),
+    Tool(ToolCommand),
     /// The program corrected for the measured tool's wear and runout.
     #[command(
         subcommand,
@@ -184,12 +190,24 @@ position it never named (after G28, G53, a tool change) stays an increment.")]
     Wear(wear::WearCommand),
 }
 
+/// `kezuri tool …`.
+#[derive(Subcommand, Debug)]
+enum ToolCommand {
+    /// A tool's cutting profile and runout from backlit pictures of it turning.
+    Profile(Box<tool::ProfileArgs>),
+    /// The database of each tool's measured profiles: add, list, show.
+    #[command(subcommand)]
+    Db(tool_db::DbCommand),
+    /// What a tool table file gives: LinuxCNC tool.tbl, FreeCAD .fctb/.fctl, Fusion 360 .json/.tools.
+    Table(tool_table::TableArgs),
+}
+
 /// Runs one command.
 fn dispatch(command: &Command) -> anyhow::Result<()> {
     match command {
         Command::Demo { out, only, frames } => demo::run(out, only, *frames),
-        Command::Check { run, json } => program::check(run, *json),
-        Command::Run { run, write } => program::run(run, write),
+        Command::Check { run, json } => check::run(run, *json),
+        Command::Run { run, write } => run::run(run, write),
         Command::Scallop(args) => scallop::run(args),
         Command::Engage(args) => engage::run(args),
         Command::Dropcut(args) => dropcut::run(args),
@@ -201,7 +219,9 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Convert(args) => convert::run(args),
         Command::Texture(args) => texture::run(args),
         Command::Thermal(command) => thermal::run(command),
-        Command::Tool(command) => tool::run(command),
+        Command::Tool(ToolCommand::Profile(args)) => tool::run(args),
+        Command::Tool(ToolCommand::Db(command)) => tool_db::run(command),
+        Command::Tool(ToolCommand::Table(args)) => tool_table::run(args),
         Command::Wear(command) => wear::run(command),
     }
 }
@@ -225,7 +245,7 @@ fn run_words(words: &[&str]) -> anyhow::Result<()> {
 /// lines), for the fuzz targets in `fuzz/`: not an API.
 #[doc(hidden)]
 pub mod inputs {
+    pub use crate::gray::read_gray;
     pub use crate::probe::capture::{parse_reading, Format};
-    pub use crate::relief::read_gray;
     pub use crate::table::read_columns;
 }

@@ -1,13 +1,14 @@
 //! `kezuri mill`: a raster finishing program over an STL or a height grid.
 
 use anyhow::{bail, Context, Result};
-use clap::{Args, ValueEnum};
-use kezuri_cam::mill::{raster, Direction, Pattern, RasterOptions, Region};
+use clap::Args;
+use kezuri_cam::mill::{raster, RasterOptions, Region};
 use kezuri_cam::{scallop, Cutter};
 
 use crate::files::Outputs;
 use crate::machine::MachineArg;
 use crate::program::{stage_toolpath, Origin, WriteArgs};
+use crate::raster::{RowDirection, RowPattern};
 use crate::surface::read_surface;
 
 /// Options of `kezuri mill`.
@@ -93,45 +94,6 @@ pub struct MillArgs {
     pub machine: MachineArg,
     #[command(flatten)]
     pub write: WriteArgs,
-}
-
-/// Row directions on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum RowDirection {
-    /// Rows along X.
-    X,
-    /// Rows along Y.
-    Y,
-    /// X rows, then Y rows.
-    Both,
-}
-
-impl From<RowDirection> for Direction {
-    fn from(d: RowDirection) -> Direction {
-        match d {
-            RowDirection::X => Direction::X,
-            RowDirection::Y => Direction::Y,
-            RowDirection::Both => Direction::Both,
-        }
-    }
-}
-
-/// Row linking on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum RowPattern {
-    /// Alternate directions, linked along the surface.
-    Zigzag,
-    /// One direction, retract between rows.
-    Oneway,
-}
-
-impl From<RowPattern> for Pattern {
-    fn from(p: RowPattern) -> Pattern {
-        match p {
-            RowPattern::Zigzag => Pattern::ZigZag,
-            RowPattern::Oneway => Pattern::OneWay,
-        }
-    }
 }
 
 /// Runs `kezuri mill`.

@@ -1,24 +1,23 @@
 //! `kezuri relief`: a grayscale sketch carved as a relief.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::{raster_with, ClRowsFn, RasterOptions, Region};
 use kezuri_cam::relief::reach::unreached;
-use kezuri_cam::relief::{check_smoothing, inside, parse_levels, surface, Gray, Mapping, Placement};
+use kezuri_cam::relief::{check_smoothing, inside, parse_levels, surface, Mapping, Placement};
 use kezuri_cam::rough::{levels, Levels};
 use kezuri_cam::Cutter;
-use kezuri_geom::{write_binary_stl_to, Heightfield, Toolpath};
+use kezuri_geom::Toolpath;
 
 use crate::files::Outputs;
+use crate::gray::{dimensions, read_gray};
 use crate::machine::MachineArg;
-use crate::mill::{RowDirection, RowPattern};
 use crate::program::{stage_toolpath, Origin, WriteArgs};
-
-/// Most pixels of a picture (8 bytes of height each, and the picture).
-pub const MAX_PIXELS: u64 = 64_000_000;
+use crate::raster::{RowDirection, RowPattern};
+use crate::surface::stage_surface_stl;
 
 /// Material the finishing cutter may leave where it cannot reach (normal
 /// to the relief, mm) before `relief` warns: five times --leave-tol, and
@@ -163,76 +162,6 @@ pub struct ReliefArgs {
     pub machine: MachineArg,
     #[command(flatten)]
     pub write: WriteArgs,
-}
-
-/// Reads a picture as gray values, refusing one too large to hold before
-/// decoding it.
-/// The width and height a picture file declares, read from its header.
-fn dimensions(path: &Path) -> Result<(u32, u32)> {
-    let name = path.display();
-    let reader = image::ImageReader::open(path)
-        .with_context(|| format!("cannot open {name}"))?
-        .with_guessed_format()
-        .with_context(|| format!("cannot read {name}"))?;
-    reader.into_dimensions().with_context(|| format!("{name}: not a picture kezuri can read"))
-}
-
-/// Refuses a JPEG cut short: its data must end with the end-of-image
-/// marker (FF D9) after its last start of scan (FF DA). The decoder fills
-/// a cut-short picture with gray and reports nothing, and a relief of that
-/// gray is no carving of the picture (a 525-byte start of a 7900 × 7900
-/// JPEG decoded to 62 million gray pixels).
-fn cut_short_jpeg(path: &Path) -> Result<()> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let marker = |m: u8| bytes.windows(2).rposition(|w| w == [0xFF, m]);
-    match (marker(0xDA), marker(0xD9)) {
-        (Some(scan), Some(end)) if end > scan => Ok(()),
-        _ => bail!(
-            "{}: the JPEG ends before its picture does (no end-of-image marker after its data): the file was \
-             cut short",
-            path.display()
-        ),
-    }
-}
-
-/// Decodes `reader`, a decoder's panic on a damaged file (zune-jpeg
-/// overflows on some damaged JPEGs where overflow checks are on) being
-/// an error like any other damage.
-fn decode_guarded(reader: image::ImageReader<std::io::BufReader<std::fs::File>>) -> Result<image::DynamicImage> {
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.decode()));
-    std::panic::set_hook(hook);
-    match decoded {
-        Ok(result) => Ok(result?),
-        Err(_) => bail!("the picture's data is damaged (its decoder gave up)"),
-    }
-}
-
-pub fn read_gray(path: &Path) -> Result<Gray> {
-    let name = path.display();
-    let (w, h) = dimensions(path)?;
-    let pixels = u64::from(w) * u64::from(h);
-    if pixels > MAX_PIXELS {
-        bail!(
-            "{name}: {w} × {h} = {pixels} pixels is more than {MAX_PIXELS}: scale the picture down \
-             (0.1 mm pixels over 800 × 800 mm is 64 million)"
-        );
-    }
-    let mut reader = image::ImageReader::open(path)?.with_guessed_format()?;
-    if reader.format() == Some(image::ImageFormat::Jpeg) {
-        cut_short_jpeg(path)?;
-    }
-    let mut limits = image::Limits::default();
-    limits.max_alloc = Some(MAX_PIXELS * 8);
-    reader.limits(limits);
-    let picture = decode_guarded(reader).with_context(|| format!("{name}: not a picture kezuri can read"))?;
-    let luma = picture.to_luma16();
-    Ok(Gray {
-        width: w as usize,
-        height: h as usize,
-        v: luma.as_raw().iter().map(|&v| f64::from(v) / 65535.0).collect(),
-    })
 }
 
 /// Runs `kezuri relief`.
@@ -398,11 +327,4 @@ fn with_bar(
         bar.finish_and_clear();
     }
     Ok(path?)
-}
-
-/// Adds the surface of `field` to `out` as a binary STL, a triangle at a
-/// time (a 64-million-pixel relief is 128 million triangles, 6.4 GB of STL,
-/// never in memory when written to a file).
-pub fn stage_surface_stl(out: &mut Outputs, path: &Path, field: &Heightfield) -> Result<()> {
-    out.add_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
 }

@@ -1,13 +1,14 @@
-//! Surfaces from files: an STL mesh, or a height grid of `x y z` lines.
+//! Surfaces from files: an STL mesh, or a height grid of `x y z` lines;
+//! and a height grid written as an STL.
 
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use kezuri_cam::dropcut::{drop_cutter, MeshSurface};
 use kezuri_cam::Cutter;
-use kezuri_geom::{Heightfield, Mesh, Triangle, Vec3};
+use kezuri_geom::{write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
 
-use crate::files::read_bytes;
+use crate::files::{read_bytes, Outputs};
 
 /// A surface to cut or to compare with.
 pub enum Surface {
@@ -132,4 +133,11 @@ fn grid(text: &str) -> Result<Surface> {
         })
     });
     Ok(Surface::Mesh(Box::new(MeshSurface::new(Mesh::from_triangles(triangles.collect::<Vec<_>>())))))
+}
+
+/// Adds the surface of `field` to `out` as a binary STL, a triangle at a
+/// time (a 64-million-pixel relief is 128 million triangles, 6.4 GB of STL,
+/// never in memory when written to a file).
+pub fn stage_surface_stl(out: &mut Outputs, path: &Path, field: &Heightfield) -> Result<()> {
+    out.add_with(Some(path), |w| write_binary_stl_to(w, field.triangles()))
 }

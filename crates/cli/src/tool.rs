@@ -1,23 +1,23 @@
-//! `kezuri tool`: a tool's measured cutting profile from backlit images
-//! (`tool profile`), the database of each tool's profiles as it wears
-//! (`tool db`) and the tool tables of other programs' files (`tool table`,
-//! in tool_table.rs). The profile CSV is `z_mm,radius_mm` (and `wear_mm`).
+//! `kezuri tool profile`: a tool's measured cutting profile from backlit
+//! images. Its neighbours under `kezuri tool`, the database of each tool's
+//! profiles as it wears (`tool db`, tool_db.rs) and the tool tables of other
+//! programs' files (`tool table`, tool_table.rs), are commands of their own.
+//! The profile CSV (tool_profile.rs) is `z_mm,radius_mm` (and `wear_mm`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
-use clap::{Args, Subcommand};
+use clap::Args;
 use kezuri_cam::Cutter;
 use kezuri_correct::microscope::{frame_centre, measure, runout_mm, Envelope, Measured, Options, NO_RUNOUT};
 use kezuri_correct::tool_image::GrayImage;
-use kezuri_geom::ToolProfile;
 use serde_json::json;
 
 use crate::figure::{Figure, Overlay, Panel, Raster};
 use crate::files::{read_text, Outputs};
 use crate::table::Table;
-use crate::{tool_db, tool_table};
+use crate::tool_profile::profile_csv;
 
 /// `kezuri tool profile IMAGE… --pixel-um UM -o PROFILE.csv`.
 #[derive(Args, Debug)]
@@ -79,30 +79,9 @@ pub struct ProfileArgs {
     pub json: bool,
 }
 
-/// `kezuri tool …`.
-#[derive(Subcommand, Debug)]
-pub enum ToolCommand {
-    /// A tool's cutting profile and runout from backlit pictures of it turning.
-    Profile(Box<ProfileArgs>),
-    /// The database of each tool's measured profiles: add, list, show.
-    #[command(subcommand)]
-    Db(tool_db::DbCommand),
-    /// What a tool table file gives: LinuxCNC tool.tbl, FreeCAD .fctb/.fctl, Fusion 360 .json/.tools.
-    Table(tool_table::TableArgs),
-}
-
-/// Runs a `tool` command.
-pub fn run(command: &ToolCommand) -> Result<()> {
-    match command {
-        ToolCommand::Profile(args) => profile(args),
-        ToolCommand::Db(command) => tool_db::run(command),
-        ToolCommand::Table(args) => tool_table::run(args),
-    }
-}
-
 /// A picture as gray values 0-1.
 fn read_picture(path: &Path) -> Result<GrayImage> {
-    let g = crate::relief::read_gray(path)?;
+    let g = crate::gray::read_gray(path)?;
     Ok(GrayImage { width: g.width, height: g.height, pixels: g.v.iter().map(|&v| v as f32).collect() })
 }
 
@@ -138,7 +117,7 @@ fn fields(a: &ProfileArgs) -> Result<Vec<(Vec<&PathBuf>, [f64; 2])>> {
 }
 
 /// Runs `kezuri tool profile`.
-fn profile(a: &ProfileArgs) -> Result<()> {
+pub fn run(a: &ProfileArgs) -> Result<()> {
     if a.json && a.output.as_deref().is_none_or(|o| o == Path::new("-")) {
         bail!("--json prints to standard output: give the profile a file with -o");
     }
@@ -302,57 +281,4 @@ fn overlay_png(m: &Measured, nominal: Option<(&str, &Cutter)>, runout: f64, px: 
         legend,
     }
     .png()
-}
-
-/// The profile CSV in `text` (`file` names it in errors): columns
-/// `z_mm,radius_mm` (others, such as `wear_mm`, ignored).
-pub fn parse_profile(file: &str, text: &str) -> Result<ToolProfile> {
-    let t = Table::parse(file, text)?;
-    let (zc, rc) = (t.require("z_mm", "z_mm,radius_mm")?, t.require("radius_mm", "z_mm,radius_mm")?);
-    let mut z = Vec::with_capacity(t.len());
-    let mut radius = Vec::with_capacity(t.len());
-    for r in 0..t.len() {
-        z.push(t.number(r, zc)?);
-        radius.push(t.number(r, rc)?);
-    }
-    ToolProfile::new(z, radius).map_err(|e| match e.index {
-        Some(i) => t.error_at(i, zc, &e.reason),
-        None => anyhow!("{file}: {}", e.reason),
-    })
-}
-
-/// The profile CSV at `path`.
-pub fn read_profile(path: &Path) -> Result<ToolProfile> {
-    parse_profile(&path.display().to_string(), &read_text(path)?)
-}
-
-/// The profile as CSV text, with a `wear_mm` column when `wear` is given
-/// (one value per sample).
-pub fn profile_csv(profile: &ToolProfile, wear: Option<&[f64]>) -> String {
-    let mut out = String::from(if wear.is_some() { "z_mm,radius_mm,wear_mm\n" } else { "z_mm,radius_mm\n" });
-    for (i, (z, r)) in profile.z().iter().zip(profile.radius()).enumerate() {
-        match wear {
-            Some(w) => out.push_str(&format!("{z:.5},{r:.5},{:.5}\n", w[i])),
-            None => out.push_str(&format!("{z:.5},{r:.5}\n")),
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn profile_csv_round_trip_and_errors_with_their_place() {
-        let p = ToolProfile::new(vec![0.0, 0.00071, 0.00142], vec![0.0, 0.03, 0.04]).unwrap();
-        let text = profile_csv(&p, None);
-        assert_eq!(parse_profile("p.csv", &text).unwrap(), p);
-        let e = parse_profile("p.csv", "z_mm,radius_mm\n0,0\n0,0.1\n").unwrap_err().to_string();
-        assert!(e.starts_with("p.csv: line 3, column 1: z 0 is not above"), "{e}");
-        let e = parse_profile("p.csv", "z_mm,radius_mm\n0,0\n1,-0.1\n").unwrap_err().to_string();
-        assert!(e.starts_with("p.csv: line 3, column 1: negative radius"), "{e}");
-        let e = parse_profile("p.csv", "z_mm,radius_mm\n0,0\n").unwrap_err().to_string();
-        assert!(e.contains("at least two"), "{e}");
-    }
 }

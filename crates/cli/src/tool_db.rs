@@ -1,11 +1,9 @@
 //! `kezuri tool db`: a database of each tool's measured profiles as it
 //! wears: `add` stores a profile CSV with the time it was
 //! measured, `list` names the tools, `show` tabulates (and charts) one
-//! tool's wear against its first profile. [`latest_profile`] gives
-//! `wear apply --tool-id` the newest profile. The file is SQLite
-//! (`tool_db/store.rs` has its schema).
+//! tool's wear against its first profile. The file is SQLite
+//! (`tool_store.rs` has its schema).
 
-mod store;
 mod time;
 
 use std::path::{Path, PathBuf};
@@ -18,7 +16,7 @@ use serde_json::json;
 use crate::chart::{line_chart, Line};
 use crate::files::write_atomic;
 use crate::plot::png_from_svg;
-use store::{Db, Entry};
+use crate::tool_store::{Db, Entry};
 
 /// Heights at which `show` tabulates the radius change.
 const HEIGHTS: usize = 10;
@@ -156,14 +154,6 @@ pub fn run(command: &DbCommand) -> Result<()> {
     }
 }
 
-/// The newest profile of `tool_id` in the database at `db` (by the time it
-/// was measured; of two at the same time, the one added last).
-pub fn latest_profile(db: &Path, tool_id: &str) -> Result<ToolProfile> {
-    let mut db = Db::open(db, false)?;
-    let mut profiles = db.profiles(tool_id, true)?;
-    Ok(profiles.pop().expect("profiles() returns one at least").1)
-}
-
 fn check_tool_id(id: &str) -> Result<()> {
     if id.is_empty() || id.trim() != id || id.chars().any(char::is_control) || id.chars().count() > 100 {
         bail!("tool id {id:?}: give 1 to 100 characters, no control characters nor spaces at either end");
@@ -192,7 +182,7 @@ fn add(args: &AddArgs) -> Result<()> {
         None => time::now(),
     };
     // The CSV first: a bad one leaves no new database behind.
-    let profile = crate::tool::read_profile(&args.profile)?;
+    let profile = crate::tool_profile::read_profile(&args.profile)?;
     let source = if args.profile == Path::new("-") { "(stdin)".into() } else { args.profile.display().to_string() };
     let (measured_at, added_at) = (time::format_utc(measured), time::format_utc(time::now()));
     let mut db = Db::open(&args.file.db, true)?;
@@ -415,20 +405,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_latest_profile_is_the_last_measured_and_a_loss_curve_meets_both_spans() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("t.sqlite");
+    fn a_loss_curve_meets_both_spans() {
         let p = |tip: f64, r: f64| ToolProfile::new(vec![tip, 1.0, 2.0], vec![0.0, r, r]).unwrap();
-        let mut db = Db::open(&path, true).unwrap();
-        db.add("T1", &p(0.0, 1.0), "2026-05-02T00:00:00Z", "2026-05-09T00:00:00Z", "a.csv", None).unwrap();
-        // Added later, measured earlier.
-        db.add("T1", &p(0.1, 0.9), "2026-05-01T00:00:00Z", "2026-05-09T00:00:00Z", "b.csv", None).unwrap();
-        db.add("T2", &p(0.2, 0.5), "2026-05-03T00:00:00Z", "2026-05-09T00:00:00Z", "c.csv", Some("x")).unwrap();
-        drop(db);
-        assert_eq!(latest_profile(&path, "T1").unwrap(), p(0.0, 1.0));
-        assert_eq!(latest_profile(&path, "T2").unwrap(), p(0.2, 0.5));
-        let e = latest_profile(&path, "T3").unwrap_err().to_string();
-        assert!(e.contains("no tool \"T3\"") && e.contains("T1, T2"), "{e}");
         let curve = loss_curve(&p(0.0, 1.0), &p(0.5, 0.9));
         // From the worn tip (where it has no radius yet) up: straight between.
         assert_eq!(curve, [(0.5, 0.5), (1.0, 1.0 - 0.9), (2.0, 1.0 - 0.9)]);

@@ -111,8 +111,8 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     }
     let nominal = nominal(&a.nominal)?;
     let worn: ToolProfile = match (&a.profile, &a.tool_id) {
-        (Some(p), _) => crate::tool::read_profile(p)?,
-        (None, Some(id)) => crate::tool_db::latest_profile(&a.db, id)?,
+        (Some(p), _) => crate::tool_profile::read_profile(p)?,
+        (None, Some(id)) => crate::tool_store::latest_profile(&a.db, id)?,
         (None, None) => bail!("give --profile or --tool-id"),
     };
     let stl = a.surface.display().to_string();

@@ -188,7 +188,7 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
         }
     }
     write_atomic(&out.join("groove-deviation.png"), &groove_deviation(out)?)?;
-    let worn = crate::tool::read_profile(&out.join("tool-T7-worn.csv"))?;
+    let worn = crate::tool_profile::read_profile(&out.join("tool-T7-worn.csv"))?;
     let before = section(&out.join("groove.nc"), &worn)?;
     let after = section(&out.join("groove-T7.nc"), &worn)?;
     let largest = |v: &[(f64, f64)]| v.iter().map(|p| p.1.abs()).fold(0.0, f64::max);

@@ -83,7 +83,7 @@ pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpa
             Some((Tool::Cutter(c), c.to_string()))
         }
         (None, Some(file)) => Some((
-            Tool::Measured(MeasuredTool::new(&crate::tool::read_profile(file)?)),
+            Tool::Measured(MeasuredTool::new(&crate::tool_profile::read_profile(file)?)),
             format!("profile:{}", file.display()),
         )),
         (None, None) => None,

@@ -1,5 +1,6 @@
-//! The SQLite file of `kezuri tool db`: one row per measured profile, one
-//! row per sample of it.
+//! The tool database, the SQLite file of `kezuri tool db` (which fills and
+//! shows it) and `kezuri wear apply --tool-id` (which reads a tool's newest
+//! profile): one row per measured profile, one row per sample of it.
 //!
 //! The file says what it is: `PRAGMA application_id` is [`APPLICATION_ID`]
 //! and `PRAGMA user_version` the schema's version ([`VERSION`]); any other
@@ -271,6 +272,14 @@ impl Db {
     }
 }
 
+/// The newest profile of `tool_id` in the database at `db` (by the time it
+/// was measured; of two at the same time, the one added last).
+pub fn latest_profile(db: &Path, tool_id: &str) -> Result<ToolProfile> {
+    let mut db = Db::open(db, false)?;
+    let mut profiles = db.profiles(tool_id, true)?;
+    Ok(profiles.pop().expect("profiles() returns one at least").1)
+}
+
 /// The records of the profiles (of `tool_id`, or all) in time order, tools
 /// by id.
 fn entries(conn: &Connection, tool_id: Option<&str>) -> Result<Vec<Entry>> {
@@ -304,5 +313,27 @@ fn unknown(conn: &Connection, path: &Path, tool_id: &str) -> anyhow::Error {
         0 => anyhow!("no tool {tool_id:?} in {shown}: it holds no tools yet"),
         1..=10 => anyhow!("no tool {tool_id:?} in {shown}; it knows {}", known.join(", ")),
         _ => anyhow!("no tool {tool_id:?} in {shown}; it knows {}, … (`kezuri tool db list`)", known[..10].join(", ")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_latest_profile_is_the_last_measured() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.sqlite");
+        let p = |tip: f64, r: f64| ToolProfile::new(vec![tip, 1.0, 2.0], vec![0.0, r, r]).unwrap();
+        let mut db = Db::open(&path, true).unwrap();
+        db.add("T1", &p(0.0, 1.0), "2026-05-02T00:00:00Z", "2026-05-09T00:00:00Z", "a.csv", None).unwrap();
+        // Added later, measured earlier.
+        db.add("T1", &p(0.1, 0.9), "2026-05-01T00:00:00Z", "2026-05-09T00:00:00Z", "b.csv", None).unwrap();
+        db.add("T2", &p(0.2, 0.5), "2026-05-03T00:00:00Z", "2026-05-09T00:00:00Z", "c.csv", Some("x")).unwrap();
+        drop(db);
+        assert_eq!(latest_profile(&path, "T1").unwrap(), p(0.0, 1.0));
+        assert_eq!(latest_profile(&path, "T2").unwrap(), p(0.2, 0.5));
+        let e = latest_profile(&path, "T3").unwrap_err().to_string();
+        assert!(e.contains("no tool \"T3\"") && e.contains("T1, T2"), "{e}");
     }
 }

@@ -1,0 +1,195 @@
+//! `kezuri check`: a program read and run, and what it does reported.
+
+use std::collections::BTreeMap;
+
+use anyhow::{bail, Result};
+use kezuri_geom::{LengthOffset, MoveKind, Toolpath};
+use kezuri_nc::interp::Control;
+use kezuri_nc::{Diagnostic, Dialect};
+use serde_json::json;
+
+use crate::files::write_output;
+use crate::program::{missing_axes, model_notes, read_and_run, whole_units, Report, RunOptions};
+use kezuri_machine::{Machine, ToolEntry};
+
+/// Whether `check` looks for Z moves without a length offset: on a Fanuc
+/// or Haas control (length offsets are how their tools are set), unless
+/// the machine file's `[post]` says otherwise (its `length_offset`, or its
+/// preset's: GRBL has none).
+fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
+    machine
+        .post
+        .length_offset()
+        .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
+}
+
+/// The first move that changes Z after each tool change with no tool
+/// length offset of its own in force: none (or H0), the one the last tool
+/// had (G43 is modal across M06), or a register other than the tool
+/// table's for that tool. On a machine whose tools are set with length
+/// offsets that Z is not the new tool's tip.
+pub fn unoffset_z_moves(path: &Toolpath, tools: &BTreeMap<u32, ToolEntry>) -> Vec<String> {
+    let mut out = Vec::new();
+    let (mut tool, mut armed) = (0, false);
+    let mut before: Option<LengthOffset> = None;
+    let mut last: Option<LengthOffset> = None;
+    for m in &path.moves {
+        if m.tool != tool {
+            tool = m.tool;
+            armed = tool != 0;
+            before = last;
+        }
+        // Returns and G53 moves are in machine coordinates: no offset needed.
+        let machine_coordinates = matches!(m.kind, MoveKind::Home | MoveKind::Machine | MoveKind::Dwell(_));
+        let length = path.frame(m).length.filter(|l| l.register != 0);
+        if !machine_coordinates {
+            last = length;
+        }
+        if !armed || machine_coordinates || (m.start.z == m.end.z && !m.named.contains(2)) {
+            continue;
+        }
+        armed = false;
+        let what = match (length, tools.get(&tool)) {
+            (None, _) => "no tool length offset (G43 H) in force".to_string(),
+            (Some(l), _) if before.is_some_and(|b| b.register == l.register) => {
+                format!("the last tool's length offset (H{}) still in force", l.register)
+            }
+            (Some(l), Some(e)) if e.h != l.register => {
+                format!("H{} in force where the tool table gives T{tool} H{}", l.register, e.h)
+            }
+            _ => continue,
+        };
+        out.push(format!(
+            "line {}: Z moves after the change to T{tool} with {what}: on a machine whose tools are set with \
+             length offsets this Z is not the tool tip's",
+            m.line
+        ));
+    }
+    out
+}
+
+/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, `T5 (not in the
+/// tool table)`, or `no tool (T0)`.
+fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
+    match entry {
+        _ if t == 0 => "no tool (T0)".to_string(),
+        None => format!("T{t} (not in the tool table)"),
+        Some(e) => {
+            let mut s = format!("T{t}");
+            if let Some(c) = e.shape {
+                s += &format!(" {c}");
+            }
+            s += &format!(" H{}", e.h);
+            if let Some(d) = e.d {
+                s += &format!(" D{d}");
+            }
+            if let Some(n) = &e.name {
+                s += &format!(" ({n})");
+            }
+            s
+        }
+    }
+}
+
+fn hms(s: f64) -> String {
+    let t = s.round() as u64;
+    format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+}
+
+/// Runs `kezuri check`.
+pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
+    let (mut ran, parse_diagnostics) = read_and_run(o)?;
+    std::mem::take(&mut ran.outputs).commit()?;
+    let report = Report::new(&ran);
+    let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
+    // Axes the program commands that the machine file's chains lack.
+    let missing: Vec<String> = match &o.machine {
+        Some(file) => missing_axes(&ran.outcome.toolpath, &ran.machine.kinematics)
+            .into_iter()
+            .map(|(axis, line)| {
+                format!("{}: the machine has no {axis} axis, and the program commands it (line {line})", file.display())
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    let missing: Vec<String> = if uses_length_offsets(ran.dialect.dialect, &ran.machine) {
+        let file = o.file.display();
+        missing
+            .into_iter()
+            .chain(
+                unoffset_z_moves(&ran.outcome.toolpath, &ran.machine.tools).into_iter().map(|w| format!("{file}: {w}")),
+            )
+            .collect()
+    } else {
+        missing
+    };
+    if as_json {
+        let (lo, hi) = report.bounds.unwrap_or(([0.0; 3], [0.0; 3]));
+        let headlines = |errors: bool| -> Vec<String> {
+            all.iter().filter(|d| d.is_error() == errors).map(|d| d.headline(&ran.sources)).collect()
+        };
+        let value = json!({
+            "file": o.file.display().to_string(),
+            "dialect": ran.dialect.dialect.name(),
+            "dialect_reason": ran.dialect.reason,
+            "completed": ran.outcome.completed && ran.errors() == 0,
+            "blocks": report.blocks,
+            "statements": report.statements,
+            "motions": report.motions,
+            "holes": report.holes,
+            "feed_length_mm": report.feed_length_mm,
+            "rapid_length_mm": report.rapid_length_mm,
+            "time_s": report.time_s,
+            "bounds": {"min": lo, "max": hi},
+            "tools": report.tools.iter().map(|(t, e)| json!({
+                "number": t,
+                "shape": e.as_ref().and_then(|e| e.shape).map(|c| c.to_string()),
+                "h": e.as_ref().map(|e| e.h),
+                "d": e.as_ref().and_then(|e| e.d),
+                "name": e.as_ref().and_then(|e| e.name.clone()),
+            })).collect::<Vec<_>>(),
+            "errors": headlines(true),
+            "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
+            "machine_values": model_notes(&ran.outcome),
+        });
+        write_output(None, (value.to_string() + "\n").as_bytes())?;
+    } else {
+        ran.print_diagnostics(&parse_diagnostics);
+        let mut text = format!(
+            "{}: {} blocks ({} statements), {} motions\n  feed  {:.3} mm\n  rapid {:.3} mm\n  time  {} ({:.1} s)\n",
+            o.file.display(),
+            report.blocks,
+            report.statements,
+            report.motions,
+            report.feed_length_mm,
+            report.rapid_length_mm,
+            hms(report.time_s),
+            report.time_s
+        );
+        text += &format!("  {}\n", ran.dialect);
+        if report.holes > 0 {
+            text += &format!("  holes {} (canned cycles)\n", report.holes);
+        }
+        for (t, e) in &report.tools {
+            text += &format!("  tool  {}\n", tool_line(*t, e));
+        }
+        if let Some((lo, hi)) = report.bounds {
+            for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
+                text += &format!("  {axis} {:>10.3} … {:>10.3}\n", lo[k], hi[k]);
+            }
+        }
+        for m in &missing {
+            eprintln!("warning: {m}");
+        }
+        for note in model_notes(&ran.outcome) {
+            text += &format!("  note: {note}\n");
+        }
+        let warnings = all.iter().filter(|d| !d.is_error()).count() + missing.len();
+        text += &format!("  {} errors, {} warnings\n", ran.errors(), warnings);
+        write_output(None, text.as_bytes())?;
+    }
+    if ran.errors() > 0 {
+        bail!("{}: {} error(s)", o.file.display(), ran.errors());
+    }
+    Ok(())
+}

@@ -1,0 +1,247 @@
+//! Writing a toolpath through a post: `--post`, `--to`, `-o`, `--svg` and
+//! `--view`, and the program, CSV or RML-1 they ask for.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use kezuri_cam::Cutter;
+use kezuri_geom::Toolpath;
+use kezuri_nc::write::WriteOptions;
+
+use super::run::run_written;
+use crate::files::Outputs;
+use kezuri_machine::Machine;
+
+/// What `run` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Emit {
+    /// Fanuc G-code (`X10.` style, `%` and `O` framing): the fanuc post.
+    Fanuc,
+    /// LinuxCNC G-code: the linuxcnc post.
+    Linuxcnc,
+    /// GRBL G-code: the grbl post.
+    Grbl,
+    /// `line,kind,x,y,z,a,b,c,feed` rows, full precision.
+    Csv,
+    /// Roland RML-1 (CAMM-3, MODELA), steps of 0.01 mm; rapids travel tool-up at the
+    /// highest point a rapid ends at.
+    Rml,
+}
+
+/// How a program is written: G-code by a post, CSV or RML-1.
+#[derive(Args, Clone, Debug)]
+pub struct WriteArgs {
+    /// G-code for this control: fanuc, haas, linuxcnc, grbl or mach3 [default: the
+    /// machine file's [post] preset, else fanuc]. The machine file's [post] changes
+    /// what it names.
+    #[arg(long, value_name = "NAME")]
+    post: Option<String>,
+    /// Output format: G-code by a post (fanuc, linuxcnc and grbl are the posts of those
+    /// names), csv or rml [default: G-code by --post].
+    #[arg(long = "to", alias = "emit", value_enum, value_name = "FORMAT")]
+    pub emit: Option<Emit>,
+    /// Output file (default: standard output).
+    #[arg(short, long, value_name = "OUT")]
+    output: Option<PathBuf>,
+    /// Decimals written in the program [default: the post's; 3 in mm, 4 in inches].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(0..=6))]
+    pub digits: Option<u8>,
+    /// Write the program in inches (G20) instead of mm (G21).
+    #[arg(long)]
+    pub inch: bool,
+    /// Number the blocks N10, N20, … (the step; 0 for none) [default: the post's].
+    #[arg(long, value_name = "STEP")]
+    line_numbers: Option<u32>,
+    /// Write the moves after the first complete positioning in incremental
+    /// coordinates (G91); G90 again before the end.
+    #[arg(long)]
+    incremental: bool,
+    /// Also draw the toolpath (top and front view) to this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    svg: Option<PathBuf>,
+    /// Also show the written program in 3D: one offline HTML page, as `kezuri view` makes
+    /// of it (the tool, the program text, a playback slider).
+    #[arg(long, value_name = "PAGE.html")]
+    view: Option<PathBuf>,
+    /// Write the tool-centre path of cutter radius compensation (G41/G42)
+    /// with the compensation off (G40), the radii from the machine file's
+    /// [tools] radii, for controls and simulators without compensation
+    /// (GRBL, RML-1). Without it Fanuc and LinuxCNC output keeps G41/G42 D
+    /// as programmed, for the control's own D register.
+    #[arg(long)]
+    pub apply_comp: bool,
+}
+
+/// Whether kezuri made the program (it gets the post's start, tool changes
+/// and end) or transforms one (which keeps its own).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    Made,
+    Transformed,
+}
+
+impl WriteArgs {
+    /// Whether the output is G-code (not CSV or RML-1).
+    pub fn is_gcode(&self) -> bool {
+        !matches!(self.emit, Some(Emit::Csv | Emit::Rml))
+    }
+
+    /// Whether the output is Fanuc-style G-code (the fanuc or haas post).
+    pub fn is_fanuc(&self, machine: &Machine) -> bool {
+        self.is_gcode()
+            && self.options(machine, Origin::Transformed).is_ok_and(|o| o.dialect == kezuri_nc::write::Dialect::Fanuc)
+    }
+
+    /// The output file (`None`: standard output).
+    pub fn output(&self) -> Option<&Path> {
+        self.output.as_deref()
+    }
+
+    /// How G-code is written: the post (`--post`, `--to fanuc|linuxcnc|grbl`,
+    /// the machine file's `[post]`, the output's extension), then `--digits`, `--inch`,
+    /// `--line-numbers` and `--incremental`. A transformed program keeps its
+    /// own start, tool changes and end (no [`Setup`](kezuri_nc::write::Setup)).
+    pub fn options(&self, machine: &Machine, origin: Origin) -> Result<WriteOptions> {
+        let emit = match self.emit {
+            Some(Emit::Fanuc) => Some("fanuc"),
+            Some(Emit::Linuxcnc) => Some("linuxcnc"),
+            Some(Emit::Grbl) => Some("grbl"),
+            Some(Emit::Csv | Emit::Rml) if self.post.is_some() => {
+                bail!("--post writes G-code: it cannot go with --to csv or rml")
+            }
+            _ => None,
+        };
+        let mut o = post_options(self.post.as_deref(), emit, machine, self.output.as_deref())?;
+        if self.digits.is_some() || self.inch {
+            o.digits = self.digits.unwrap_or(if self.inch { 4 } else { o.digits });
+        }
+        o.inch = self.inch;
+        if let Some(step) = self.line_numbers {
+            o.line_numbers = (step > 0).then_some(step);
+        }
+        o.incremental = self.incremental;
+        if origin == Origin::Transformed {
+            o.setup = None;
+        }
+        Ok(o)
+    }
+}
+
+/// The write options of `--post NAME` or `--to DIALECT` (another name of
+/// the fanuc, linuxcnc and grbl posts), else the machine file's `[post]
+/// preset`, else fanuc; with the machine file's `[post]` on top.
+pub fn post_options(
+    post: Option<&str>,
+    emit: Option<&str>,
+    machine: &Machine,
+    output: Option<&Path>,
+) -> Result<WriteOptions> {
+    let name = match (post, emit) {
+        (Some(p), Some(e)) if !p.trim().eq_ignore_ascii_case(e) => {
+            bail!("--post {p} and --to {e} ask for two different controls: give one")
+        }
+        (p, e) => p.or(e),
+    };
+    Ok(kezuri_machine::post::for_machine(machine, name, output)?)
+}
+
+/// Adds to `out` what `w` asks for `path`: a program by the post, CSV or
+/// RML-1, the SVG and the `--view` page (its tools drawn with `cutters`).
+pub fn stage_toolpath(
+    out: &mut Outputs,
+    path: &Toolpath,
+    title: &str,
+    w: &WriteArgs,
+    machine: &Machine,
+    origin: Origin,
+    cutters: &[(u32, Cutter)],
+) -> Result<()> {
+    write_program(out, path, path, title, &[], w, machine, origin, cutters)
+}
+
+/// [`stage_toolpath`] with the SVG drawing `drawn`; `cutters` are the
+/// shapes of the tools (by number) the `--view` page draws.
+#[allow(clippy::too_many_arguments)]
+pub fn write_program(
+    out: &mut Outputs,
+    path: &Toolpath,
+    drawn: &Toolpath,
+    title: &str,
+    notes: &[String],
+    w: &WriteArgs,
+    machine: &Machine,
+    origin: Origin,
+    cutters: &[(u32, Cutter)],
+) -> Result<()> {
+    let text = match w.emit {
+        Some(Emit::Csv) => kezuri_nc::write::csv(path),
+        Some(Emit::Rml) => {
+            warn_rml_drops(title, path);
+            kezuri_nc::rml::write_rml(path, &kezuri_nc::rml::RmlOptions::default())?
+        }
+        _ => {
+            let options =
+                WriteOptions { title: Some(title.to_string()), notes: notes.to_vec(), ..w.options(machine, origin)? };
+            kezuri_nc::write::program(path, &options)?
+        }
+    };
+    if let Some(page) = &w.view {
+        let options = crate::view::PageOptions::default();
+        let html = if w.is_gcode() {
+            let name = w.output.clone().unwrap_or_else(|| PathBuf::from("program.nc"));
+            let ran = run_written(machine, &name, text.clone())?;
+            crate::view::page(&ran, &name.display().to_string(), None, cutters, &options)?
+        } else {
+            crate::view::path_page(path, title, machine, cutters, &options)?
+        };
+        out.add(Some(page), &html)?;
+    }
+    out.add(w.output.as_deref(), text.as_bytes())?;
+    if let Some(svg) = &w.svg {
+        out.add(Some(svg), crate::plot::svg(drawn, &svg_title(w.output.as_deref(), title, cutters)).as_bytes())?;
+    }
+    Ok(())
+}
+
+/// The title of a toolpath's drawing: the program written (`output`), its
+/// `title` and the tools not named in it.
+pub fn svg_title(output: Option<&Path>, title: &str, cutters: &[(u32, Cutter)]) -> String {
+    let mut text = match output.and_then(Path::file_name) {
+        Some(name) if name != "-" => format!("{}: {title}", name.to_string_lossy()),
+        _ => title.to_string(),
+    };
+    let unnamed: Vec<String> =
+        cutters.iter().filter(|(_, c)| !title.contains(&c.to_string())).map(|(n, c)| format!("T{n} {c}")).collect();
+    if !unnamed.is_empty() {
+        text += &format!(" ({})", unnamed.join(", "));
+    }
+    text
+}
+
+impl WriteArgs {
+    /// The program's smallest increment in mm: a unit of the last decimal
+    /// written (`--digits` or the post's, in inches with `--inch`), or
+    /// RML-1's step.
+    pub fn quantum(&self, machine: &Machine) -> Result<f64> {
+        if let Some(Emit::Rml) = self.emit {
+            return Ok(kezuri_nc::rml::RmlOptions::default().unit);
+        }
+        let digits = self.options(machine, Origin::Made)?.digits;
+        Ok(10f64.powi(-i32::from(digits)) * if self.inch { 25.4 } else { 1.0 })
+    }
+}
+
+/// Warns of the blocks kept as the program wrote them (M codes, G10, …)
+/// that RML-1 has no command for: they are not written.
+pub fn warn_rml_drops(name: &str, path: &Toolpath) {
+    if let Some(k) = path.kept.first() {
+        eprintln!(
+            "warning: {name}: RML-1 has no M codes, offsets or the like: {} block(s) the program keeps are not \
+             written (the first at line {}: '{}')",
+            path.kept.len(),
+            k.line,
+            k.text.lines().next().unwrap_or("")
+        );
+    }
+}

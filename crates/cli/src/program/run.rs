@@ -1,0 +1,410 @@
+//! Reading and running a program: the options every command that runs one
+//! takes, the dialect it is read in, the run's settings, what it made.
+
+use std::collections::BTreeMap;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use kezuri_correct::kinematics::{Kinematics, AXES};
+use kezuri_geom::{cycle_time, MoveKind, Toolpath};
+use kezuri_nc::interp::comp::Rules;
+use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
+
+use crate::files::{read_text, Folder, Outputs};
+use kezuri_machine::{Machine, ToolEntry};
+
+/// How axis words without a decimal point are read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NoDecimal {
+    /// Counts of the least increment (0.001 mm): `X100` is 0.1 mm (Fanuc).
+    Increments,
+    /// Whole units: `X100` is 100 mm (LinuxCNC, GRBL).
+    Units,
+}
+
+/// Options shared by every command that runs a program.
+#[derive(Args, Debug)]
+pub struct RunOptions {
+    /// The program file (`-` for standard input).
+    pub file: PathBuf,
+    /// Folder of subprogram files `O1234.nc` [default: the program's folder].
+    #[arg(long, value_name = "DIR")]
+    pub lib: Option<PathBuf>,
+    /// Machine file (TOML): rapids, acceleration, tool table ([tools] H and D
+    /// registers), offsets (G54…, G54.1 P, reference points), the control
+    /// ([coordinates] fanuc, haas, linuxcnc), [cycles], [comp], [macro],
+    /// [signals].
+    #[arg(long, value_name = "M.toml")]
+    pub machine: Option<PathBuf>,
+    /// The language the program is written in: fanuc, haas, linuxcnc or
+    /// grbl [default: from the file's extension and content; see
+    /// docs/linuxcnc.md, "Choosing the dialect"].
+    #[arg(long, value_enum, value_name = "DIALECT")]
+    pub dialect: Option<DialectArg>,
+    /// LinuxCNC's parameter file (`NUMBER VALUE` lines, as `rs274 -v` reads
+    /// it): the starting values of #5161… (G28, G30), #5211… (G92), #5220
+    /// (the coordinate system), #5221… (G54 …), lengths in mm. The
+    /// linuxcnc and grbl dialects only.
+    #[arg(long, value_name = "FILE.var")]
+    pub var: Option<PathBuf>,
+    /// How axis words without a decimal point are read [default: units in
+    /// LinuxCNC and GRBL, increments in Fanuc and Haas].
+    #[arg(long, value_enum)]
+    pub no_decimal: Option<NoDecimal>,
+    /// Seed for the #3001 clock: each read advances it a reproducible
+    /// pseudo-random 1–1000 ms (default: one 16 ms tick per read).
+    #[arg(long, value_name = "N")]
+    pub clock_seed: Option<u64>,
+    /// Skip blocks that start with `/` (block delete switch on).
+    #[arg(long)]
+    pub block_delete: bool,
+    /// Most statements executed before a run is stopped as a runaway loop.
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub step_limit: u64,
+    /// Write DPRNT lines to this file (default: standard error).
+    #[arg(long, value_name = "FILE")]
+    pub dprnt: Option<PathBuf>,
+    /// Write canned cycles (G73, G76, G81–G89) as cycle blocks, as the
+    /// program gave them, instead of the moves they make. Tapping (G74,
+    /// G84) is always kept as a cycle.
+    #[arg(long)]
+    pub keep_cycles: bool,
+}
+
+/// The language a program is read in (`--dialect`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DialectArg {
+    /// Fanuc with Custom Macro B: `X100` is 0.1 mm (least increments).
+    Fanuc,
+    /// Haas: Fanuc with Haas's codes (G154 P, G187, G103, G47).
+    Haas,
+    /// LinuxCNC (rs274ngc): O-word subroutines, `#<name>`, `@ ^`; `X100` is 100 mm.
+    Linuxcnc,
+    /// GRBL 1.1: `X100` is 100 mm.
+    Grbl,
+}
+
+impl From<DialectArg> for Dialect {
+    fn from(d: DialectArg) -> Dialect {
+        match d {
+            DialectArg::Fanuc => Dialect::Fanuc,
+            DialectArg::Haas => Dialect::Haas,
+            DialectArg::Linuxcnc => Dialect::LinuxCnc,
+            DialectArg::Grbl => Dialect::Grbl,
+        }
+    }
+}
+
+/// The dialect of `file` holding `text`: `given` (`--dialect`), else the
+/// rule of [`kezuri_nc::detect`]; a mixed program is refused.
+pub fn choose_dialect(given: Option<Dialect>, file: &Path, text: &str) -> Result<Detected> {
+    let name = if file == Path::new("-") { String::new() } else { file.display().to_string() };
+    detect(given, &name, text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
+}
+
+/// A program read and run.
+pub struct Ran {
+    /// The dialect it was read in, and why.
+    pub dialect: Detected,
+    pub sources: Sources,
+    pub outcome: Outcome,
+    pub machine: Machine,
+    pub parse_errors: usize,
+    /// The outputs of the run (the DPRNT file), written with the command's
+    /// others.
+    pub outputs: Outputs,
+}
+
+impl Ran {
+    /// Errors in the parse and in the run.
+    pub fn errors(&self) -> usize {
+        self.parse_errors + self.outcome.diagnostics.iter().filter(|d| d.is_error()).count()
+    }
+
+    /// Renders every diagnostic to standard error.
+    pub fn print_diagnostics(&self, parse_diagnostics: &[Diagnostic]) {
+        for d in parse_diagnostics.iter().chain(&self.outcome.diagnostics) {
+            eprintln!("{}\n", d.render(&self.sources));
+        }
+    }
+
+    /// What a command that goes on to use the run says first: every
+    /// diagnostic and the dialect read (`file: dialect …`); a run with
+    /// errors is refused, `file: N error(s); {nothing}`.
+    pub fn shown(&self, parse_diagnostics: &[Diagnostic], file: &Path, nothing: &str) -> Result<()> {
+        self.print_diagnostics(parse_diagnostics);
+        crate::say::note!("{}: {}", file.display(), self.dialect);
+        if self.errors() > 0 {
+            bail!("{}: {} error(s); {nothing}", file.display(), self.errors());
+        }
+        Ok(())
+    }
+}
+
+/// Reads, parses and runs the program; returns parse diagnostics apart.
+/// A cutter compensation register the tool table lacks is a warning
+/// (radius 0).
+pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_text(o, read_text(&o.file)?)
+}
+
+/// [`read_and_run`] where the tool-centre path is needed (a simulation, a
+/// program written with the compensation applied): a cutter compensation
+/// register the tool table lacks is an error.
+pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_program(o, read_text(&o.file)?, true)
+}
+
+/// The folder subprograms and subroutine files come from: `--lib`, else
+/// the program's own folder (the working folder for standard input).
+pub fn library_dir(lib: Option<&Path>, file: &Path) -> PathBuf {
+    lib.map(Path::to_path_buf).unwrap_or_else(|| match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() && file != Path::new("-") => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    })
+}
+
+/// How a program's printed lines are shown on standard error: Fanuc's
+/// `DPRNT`, LinuxCNC's `(debug,…)`, `(print,…)` and `(msg,…)` messages.
+pub fn print_label(dialect: kezuri_nc::Dialect) -> &'static str {
+    if dialect.is_fanuc() {
+        "DPRNT"
+    } else {
+        "MESSAGE"
+    }
+}
+
+/// [`read_and_run`] on the program's text, read already.
+pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_program(o, text, false)
+}
+
+/// Whether `dialect` reads whole units without a decimal point and
+/// follows LinuxCNC's coordinate and compensation rules (LinuxCNC, GRBL).
+pub fn whole_units(dialect: Dialect) -> bool {
+    matches!(dialect, Dialect::LinuxCnc | Dialect::Grbl)
+}
+
+/// The settings of a run of a program in `dialect` on `machine`: axis words
+/// without a decimal point by `no_decimal`, else by the dialect; LinuxCNC's
+/// cutter compensation and coordinate rules for LinuxCNC and GRBL, Haas's
+/// coordinate rules for Haas, the machine file's otherwise.
+pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine: &Machine) -> Settings {
+    let units = match no_decimal {
+        Some(n) => n == NoDecimal::Units,
+        None => whole_units(dialect),
+    };
+    let control = match dialect {
+        Dialect::LinuxCnc | Dialect::Grbl => Control::LinuxCnc,
+        Dialect::Haas => Control::Haas,
+        Dialect::Fanuc => machine.settings.coords.control,
+    };
+    Settings {
+        dialect,
+        integer_input: if units { IntegerInput::Units } else { IntegerInput::Increments },
+        // Cutter compensation by the dialect: LinuxCNC's, or Fanuc's with
+        // the machine file's start-up type.
+        comp_rules: if whole_units(dialect) { Rules::LinuxCnc } else { machine.settings.comp_rules },
+        coords: CoordSettings { control, ..machine.settings.coords.clone() },
+        ..machine.settings.clone()
+    }
+}
+
+/// A LinuxCNC parameter file: each line with exactly two numbers is a
+/// parameter and its value (others are skipped, as LinuxCNC does); the
+/// numbers must ascend.
+fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
+    let text = read_text(path)?;
+    let mut out = BTreeMap::new();
+    let mut last = 0;
+    for (k, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let [n, v] = fields[..] else { continue };
+        let (Ok(n), Ok(v)) = (n.parse::<u32>(), v.parse::<f64>()) else { continue };
+        if !v.is_finite() || n == 0 {
+            bail!("{}:{}: '{line}' is not a parameter and a finite value", path.display(), k + 1);
+        }
+        if n <= last {
+            bail!("{}:{}: parameter #{n} after #{last}: a parameter file is in ascending order", path.display(), k + 1);
+        }
+        last = n;
+        out.insert(n, v);
+    }
+    Ok(out)
+}
+
+fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
+    let machine = match &o.machine {
+        Some(p) => crate::machine::load(p)?,
+        None => Machine::default(),
+    };
+    run_on(machine, o, text, radii_required)
+}
+
+/// A program kezuri wrote (`text`, to be saved as `name`) run on `machine`
+/// as `kezuri view` would run the file: for the page of a writer's `--view`.
+pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
+    let o: RunOptions = options_from(&[OsStr::new("--"), name.as_os_str()])?;
+    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, text, false)?;
+    if ran.errors() > 0 {
+        ran.print_diagnostics(&parse_diagnostics);
+        bail!("{}: the written program does not run back ({} errors): no page", name.display(), ran.errors());
+    }
+    Ok(ran)
+}
+
+/// Options of type `T` as the command line gives them from `words`, clap's
+/// defaults for the rest: one source for a default, the `--help` and the
+/// code that needs the options without a command line.
+pub fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr]) -> Result<T> {
+    let command = T::augment_args(clap::Command::new("kezuri"));
+    let matches = command.try_get_matches_from(std::iter::once(OsStr::new("kezuri")).chain(words.iter().copied()))?;
+    Ok(T::from_arg_matches(&matches)?)
+}
+
+/// [`run_program`] on a machine loaded already.
+fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
+    let detected = choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?;
+    let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
+    let parameters = match &o.var {
+        Some(_) if !whole_units(detected.dialect) => bail!(
+            "{}: --var is LinuxCNC's parameter file, and the program is read as {} ({}): give --dialect linuxcnc",
+            o.file.display(),
+            detected.dialect,
+            detected.reason
+        ),
+        Some(p) => read_var_file(p)?,
+        None => base.parameters.clone(),
+    };
+    let settings = Settings {
+        parameters,
+        radii_required,
+        clock_seed: o.clock_seed,
+        step_limit: o.step_limit,
+        block_delete: o.block_delete,
+        cycles: CycleSettings { keep: o.keep_cycles, ..machine.settings.cycles },
+        ..base
+    };
+    let mut sources = Sources::default();
+    let name = if o.file == Path::new("-") { "<stdin>".to_string() } else { o.file.display().to_string() };
+    let id = sources.add(SourceFile::new(name, text));
+    let mut program = Program::default();
+    let text = sources.get(id).text.clone();
+    let parse_diagnostics = parse_as(&mut program, id, &text, detected.dialect);
+    let parse_errors = parse_diagnostics.iter().filter(|d| d.is_error()).count();
+    let dir = library_dir(o.lib.as_deref(), &o.file);
+    let outcome = if parse_errors > 0 || program.units.is_empty() {
+        Outcome::default()
+    } else {
+        interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings)
+    };
+    let mut outputs = Outputs::new();
+    if !outcome.prints.is_empty() {
+        match &o.dprnt {
+            Some(p) => outputs.add(Some(p), (outcome.prints.join("\n") + "\n").as_bytes())?,
+            None => outcome.prints.iter().for_each(|l| eprintln!("{}: {l}", print_label(settings.dialect))),
+        }
+    }
+    report_logs(&outcome);
+    Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
+}
+
+/// Reports the lines a LinuxCNC program logs (`(log,…)`) on standard error,
+/// each with its file: kezuri writes no file a program names.
+pub fn report_logs(outcome: &Outcome) {
+    for log in &outcome.logs {
+        for line in &log.lines {
+            eprintln!("LOG {}: {line}", log.name);
+        }
+    }
+}
+
+/// The axes `path` moves that `machine` does not have, each with the first
+/// source line that moves it.
+pub fn missing_axes(path: &Toolpath, machine: &Kinematics) -> Vec<(char, u32)> {
+    let mut out: Vec<(char, u32)> = Vec::new();
+    for m in &path.moves {
+        for (k, (a, b)) in m.start.to_array().into_iter().zip(m.end.to_array()).enumerate() {
+            if a != b && !machine.has(k) && !out.iter().any(|&(axis, _)| axis == AXES[k]) {
+                out.push((AXES[k], m.line));
+            }
+        }
+    }
+    out
+}
+
+/// What a run made, counted: the `check` report (the demo prints it too).
+pub struct Report {
+    pub blocks: u64,
+    pub holes: u64,
+    pub statements: u64,
+    pub motions: usize,
+    pub feed_length_mm: f64,
+    pub rapid_length_mm: f64,
+    pub time_s: f64,
+    pub bounds: Option<([f64; 3], [f64; 3])>,
+    /// The tools that make moves, in the order they first do (0: none
+    /// loaded), each with what the machine file's tool table says of it.
+    pub tools: Vec<(u32, Option<ToolEntry>)>,
+}
+
+impl Report {
+    pub fn new(ran: &Ran) -> Report {
+        let path: &Toolpath = &ran.outcome.toolpath;
+        Report {
+            blocks: ran.outcome.blocks,
+            holes: ran.outcome.holes,
+            statements: ran.outcome.statements,
+            motions: path.moves.iter().filter(|m| !matches!(m.kind, MoveKind::Dwell(_))).count(),
+            feed_length_mm: path.feed_length(),
+            rapid_length_mm: path.rapid_length(),
+            time_s: cycle_time(path, &ran.machine.dynamics).0,
+            bounds: path.bounds(),
+            tools: tools_used(path).into_iter().map(|t| (t, ran.machine.tools.get(&t).cloned())).collect(),
+        }
+    }
+}
+
+/// The tool numbers that make moves in `path`, in the order they first do.
+fn tools_used(path: &Toolpath) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    for m in &path.moves {
+        if !out.contains(&m.tool) {
+            out.push(m.tool);
+        }
+    }
+    out
+}
+
+/// One line per kind of value the run took from the machine file rather
+/// than from the program: the written program holds this machine's value.
+pub fn model_notes(outcome: &Outcome) -> Vec<String> {
+    outcome
+        .model_reads
+        .iter()
+        .map(|r| {
+            format!(
+                "#{}, the {} read at line {}, came from the machine file: this program holds that machine's value",
+                r.variable, r.what, r.line
+            )
+        })
+        .collect()
+}
+
+/// Refuses a program that uses cutter radius compensation for a command
+/// (`what`) that changes its motions: they are the tool-centre path, which
+/// `kezuri run --apply-comp` writes out first.
+pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
+    if ran.outcome.programmed.is_some() {
+        bail!(
+            "{}: the program uses cutter radius compensation (G41/G42): {what} the tool centre path, so write it first \
+             with `kezuri run {} --apply-comp --machine M.toml -o centre.nc` and give that program",
+            file.display(),
+            file.display()
+        );
+    }
+    Ok(())
+}
