@@ -32,7 +32,10 @@
 pub mod ast;
 pub mod detect;
 mod dialect;
+mod error;
 pub mod interp;
+mod number;
+pub mod offsets;
 mod parse;
 pub mod probe_plan;
 pub mod rewrite;
@@ -45,5 +48,6 @@ pub mod write;
 pub use ast::Program;
 pub use detect::{detect, Detected};
 pub use dialect::Dialect;
+pub use error::{Error, ErrorKind, Place};
 pub use parse::{parse, parse_as};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

@@ -45,10 +45,8 @@
 //! All coordinates are integers of `10^-digits` mm inside, so the grid points
 //! are written exactly and the incremental steps add up to them.
 
-use std::fmt;
-
 use crate::write::{dwell_block, made_text, text_options, Dialect, WriteOptions};
-use crate::{interp, parse, Program, SourceFile, Sources};
+use crate::{interp, parse, Error, ErrorKind, Program, SourceFile, Sources};
 
 /// The dwell of the default trigger, s.
 pub const TRIGGER_DWELL: f64 = 0.5;
@@ -170,20 +168,9 @@ pub struct Plan {
     pub tool: u32,
 }
 
-/// Why a plan cannot be written.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct PlanError(pub String);
-
-impl fmt::Display for PlanError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for PlanError {}
-
-fn err<T>(message: impl Into<String>) -> Result<T, PlanError> {
-    Err(PlanError(message.into()))
+/// A plan that cannot be written: the value that is wrong and why.
+fn err<T>(message: impl Into<String>) -> Result<T, Error> {
+    Err(Error::new(ErrorKind::Plan, message))
 }
 
 /// The largest magnitude of a coordinate: eight digits, as a Fanuc control.
@@ -224,12 +211,12 @@ impl Plan {
     }
 
     /// Checks the plan; the error says which value is wrong and why.
-    pub fn validate(&self) -> Result<(), PlanError> {
+    pub fn validate(&self) -> Result<(), Error> {
         self.layout().map(|_| ())
     }
 
     /// The program text (`\n` line ends), framed by the post.
-    pub fn program(&self) -> Result<String, PlanError> {
+    pub fn program(&self) -> Result<String, Error> {
         let g = self.layout()?;
         let mut w = Writer { out: String::new(), digits: self.digits, plan: self, g, length: None };
         let options = WriteOptions {
@@ -238,7 +225,7 @@ impl Plan {
             notes: w.notes(),
             ..text_options(&self.post)
         };
-        let made = made_text(&options, self.tool).map_err(|e| PlanError(e.to_string()))?;
+        let made = made_text(&options, self.tool)?;
         w.out = made.start;
         w.length = made.length;
         match self.style {
@@ -260,7 +247,7 @@ impl Plan {
     }
 
     /// Validates and converts to integer units.
-    fn layout(&self) -> Result<Grid, PlanError> {
+    fn layout(&self) -> Result<Grid, Error> {
         let [nx, ny] = self.count;
         if nx < 1 || ny < 1 {
             return err(format!("the grid needs at least 1 point each way, got {nx} x {ny}"));
@@ -273,7 +260,7 @@ impl Plan {
             return err(format!("digits must be 0 to {MAX_DIGITS}, got {}", self.digits));
         }
         let scale = 10i64.pow(self.digits);
-        let units = |v: f64, what: &str| -> Result<i64, PlanError> {
+        let units = |v: f64, what: &str| -> Result<i64, Error> {
             if !v.is_finite() {
                 return err(format!("{what} must be a finite number, got {v}"));
             }
@@ -302,7 +289,7 @@ impl Plan {
         let pitch = units(self.pitch, "the pitch")?;
         let plunge = units(self.plunge, "the plunge depth")?;
         let z_safe = units(self.z_safe, "z-safe")?;
-        let check = |u: i64, what: &str| -> Result<i64, PlanError> {
+        let check = |u: i64, what: &str| -> Result<i64, Error> {
             if u.abs() > MAX_UNITS {
                 return err(format!("{what} is beyond 8 digits at {} decimals", self.digits));
             }
@@ -357,8 +344,7 @@ impl Plan {
                 return err("the trigger needs at least one block (default M07, G04 X0.5, M09)");
             }
             for (k, block) in self.trigger.iter().enumerate() {
-                check_trigger(block, dialect)
-                    .map_err(|m| PlanError(format!("trigger block {} '{block}': {m}", k + 1)))?;
+                check_trigger(block, dialect).or_else(|m| err(format!("trigger block {} '{block}': {m}", k + 1)))?;
             }
         }
         Ok(Grid { x0, y0, pitch, plunge, z_safe, bottom })
@@ -439,9 +425,9 @@ fn check_trigger(block: &str, dialect: Dialect) -> Result<(), String> {
 
 /// The trigger at each plunge bottom in `post`'s words: air blow on
 /// (`M07`), a dwell of [`TRIGGER_DWELL`] s, off (`M09`).
-pub fn default_trigger(post: &WriteOptions) -> Result<Vec<String>, PlanError> {
+pub fn default_trigger(post: &WriteOptions) -> Result<Vec<String>, Error> {
     let codes = post.dialect.codes();
-    let dwell = dwell_block(&text_options(post), TRIGGER_DWELL).map_err(|e| PlanError(e.to_string()))?;
+    let dwell = dwell_block(&text_options(post), TRIGGER_DWELL)?;
     Ok(vec![codes.mist.to_string(), dwell, codes.coolant_off.to_string()])
 }
 

@@ -36,7 +36,7 @@
 
 use std::fmt::Write;
 
-use crate::write::number;
+use crate::number::number;
 
 /// The numbers of a texture macro. Lengths in mm.
 #[derive(Clone, Copy, Debug)]

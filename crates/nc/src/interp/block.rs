@@ -2,12 +2,13 @@
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Spindle};
 
-use super::modal::{Cycle, Distance, FeedMode, GCode, ModalCallKind, Motion, Units, EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
+use super::modal::{Cycle, Distance, FeedMode, GCode, ModalCallKind, Motion, Units};
 use super::value::Value;
 use super::vars::Locals;
 use super::words::Words;
 use super::{Control, IntegerInput, ModalCall, State};
 use crate::ast::Program;
+use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use crate::source::{Diagnostic, Span};
 
 /// What the block pointer does after a block.

@@ -18,6 +18,7 @@ use kezuri_geom::{Axes, AxisSet, CycleBlock, MoveKind, Spindle};
 use super::modal::{Cycle, CycleReturn, Distance, Units};
 use super::words::Words;
 use super::{Control, IntegerInput, State};
+use crate::number::number;
 use crate::source::{Diagnostic, Span};
 
 /// LinuxCNC's fixed G73 retract and G83 clearance: 0.010 inch.
@@ -161,9 +162,9 @@ impl State {
         let mut text = String::from(if unit == 1.0 { "G21 G90 G33.1" } else { "G20 G90 G33.1" });
         for (i, &letter) in b"XYZABC".iter().enumerate().filter(|&(i, _)| w.axes().contains(i)) {
             let v = if i < 3 { (e[i] - o[i]) / unit } else { e[i] - o[i] };
-            text.push_str(&format!(" {}{}", letter as char, crate::write::number(v, 6)));
+            text.push_str(&format!(" {}{}", letter as char, number(v, 6)));
         }
-        text.push_str(&format!(" K{}", crate::write::number(k, 6)));
+        text.push_str(&format!(" K{}", number(k, 6)));
         let mut kept = self.kept(first, 2, text, false, line);
         kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[first]);
         self.toolpath.kept.push(kept);
@@ -321,7 +322,7 @@ impl State {
         // Z always (the end of the thread), X and Y as given.
         for (n, &letter) in b"XYZ".iter().enumerate() {
             if w.has(letter) || letter == b'Z' {
-                text.push_str(&format!(" {}{}", letter as char, crate::write::number((e[n] - o[n]) / unit, 6)));
+                text.push_str(&format!(" {}{}", letter as char, number((e[n] - o[n]) / unit, 6)));
             }
         }
         for (letter, v) in [(b'P', Some(pitch)), (b'I', Some(i)), (b'J', Some(j)), (b'K', Some(k))].into_iter().chain([
@@ -331,7 +332,7 @@ impl State {
             (b'E', w.get(b'E')),
         ]) {
             if let Some(v) = v {
-                text.push_str(&format!(" {}{}", letter as char, crate::write::number(v, 6)));
+                text.push_str(&format!(" {}{}", letter as char, number(v, 6)));
             }
         }
         if w.has(b'L') {
@@ -738,7 +739,7 @@ impl State {
         } else {
             levels.fold(f64::INFINITY, f64::min)
         };
-        let value = |v: f64, k: usize| crate::write::number((v - h.origin[k]) / unit, 6);
+        let value = |v: f64, k: usize| number((v - h.origin[k]) / unit, 6);
         let letters = ['X', 'Y', 'Z'];
         let units = if h.inch { "G20" } else { "G21" };
         let ret = match h.ret {
@@ -746,7 +747,7 @@ impl State {
             CycleReturn::R => "G99",
         };
         let head = match h.rigid_speed {
-            Some(s) => format!("M29 S{}\n{units} G90 ", crate::write::number(s, 0).trim_end_matches('.')),
+            Some(s) => format!("M29 S{}\n{units} G90 ", number(s, 0).trim_end_matches('.')),
             None => format!("{units} G90 "),
         };
         let mut text = format!(
@@ -761,15 +762,14 @@ impl State {
             value(r_level, n),
         );
         if let Some(q) = h.q {
-            text.push_str(&format!(" Q{}", crate::write::number(q / unit, 6)));
+            text.push_str(&format!(" Q{}", number(q / unit, 6)));
         }
         if h.dwell > 0.0 {
-            let p =
-                if h.seconds { crate::write::number(h.dwell, 3) } else { format!("{}", (h.dwell * 1000.0).round()) };
+            let p = if h.seconds { number(h.dwell, 3) } else { format!("{}", (h.dwell * 1000.0).round()) };
             text.push_str(&format!(" P{p}"));
         }
         let feed = moves.iter().find(|m| m.kind == MoveKind::Feed).map_or(0.0, |m| m.feed);
-        text.push_str(&format!(" F{}", crate::write::number(feed / unit, 4)));
+        text.push_str(&format!(" F{}", number(feed / unit, 4)));
         (head, text)
     }
 }
