@@ -464,3 +464,12 @@ impl Modal {
         })
     }
 }
+
+/// `G01`, `G66.1`: a G code as written, from ten times its number.
+pub(super) fn g_name(tenths: u32) -> String {
+    if tenths.is_multiple_of(10) {
+        format!("G{:02}", tenths / 10)
+    } else {
+        format!("G{:02}.{}", tenths / 10, tenths % 10)
+    }
+}
