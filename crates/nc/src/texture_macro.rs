@@ -34,7 +34,11 @@
 //! run's first (entered from wherever the tool was, so free of the step
 //! range).
 
+mod blocks;
+
 use std::fmt::Write;
+
+pub use blocks::Blocks;
 
 use crate::number::number;
 
