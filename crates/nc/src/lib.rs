@@ -7,7 +7,7 @@
 //!    located [`Diagnostic`].
 //! 2. [`interp::run`]: program to [`kezuri_geom::Toolpath`], running macros,
 //!    subprograms and modal calls like a Fanuc control does.
-//! 3. [`write`]: toolpath to text in a dialect.
+//! 3. [`write`](mod@write): toolpath to text in a dialect.
 //!
 //! `nc` knows nothing of cutters and does no I/O: subprogram libraries, the
 //! clock and `DPRNT` output go through [`interp::Settings`],

@@ -12,7 +12,7 @@
 //! [`Plan::program`] writes the program in one of three [`Style`]s, with a
 //! decimal point on every axis word. It begins and ends as the post
 //! ([`Plan::post`]) begins and ends a program it makes
-//! ([`made_text`]): its header (with the comments below), safe start,
+//! ([`made_text`](crate::write::made_text)): its header (with the comments below), safe start,
 //! retract and change to the stylus ([`Plan::tool`]); the tool length offset
 //! on the first Z move (`G00 G43 H1 Z30.`); and its end (retract, home,
 //! `M30`). The moves between are in the post's dialect (`G00`, or `G0` for

@@ -189,7 +189,7 @@ pub struct MadeText {
 }
 
 /// The post's start, tool change to `tool` and end of `options` (which
-/// must have a [`Setup`]), for a program kezuri writes as text.
+/// must have a [`Setup`](super::Setup)), for a program kezuri writes as text.
 ///
 /// ```
 /// use kezuri_nc::write::{made_text, WriteOptions};

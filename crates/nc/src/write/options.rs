@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use super::dialect::Dialect;
 
-/// How [`program`] writes. [`WriteOptions::preset`] gives a control's.
+/// How [`program`](super::program) writes. [`WriteOptions::preset`] gives a control's.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WriteOptions {
     /// The dialect.
