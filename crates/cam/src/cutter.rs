@@ -14,6 +14,7 @@
 mod ball;
 mod bull;
 mod flat;
+pub mod named;
 mod oval;
 mod vee;
 

@@ -4,7 +4,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::texture::{bake, check, is_textured, Dist, TextureOptions};
-use kezuri_nc::texture_macro::TextureMacro;
+use kezuri_nc::texture_macro::{Blocks, TextureMacro};
 
 use crate::files::read_text;
 use crate::program::{run_text, stage_toolpath, Origin, RunOptions, WriteArgs};
@@ -119,7 +119,8 @@ pub fn run(a: &TextureArgs) -> Result<()> {
     check(&options)?;
     let name = a.run.file.display().to_string();
     let text = read_text(&a.run.file)?;
-    if let Some(line) = modal_macro_line(&text) {
+    let blocks = Blocks::parse(&text);
+    if let Some(line) = blocks.modal_macro_line() {
         bail!(
             "{name}: line {line}: the program already calls a macro on its blocks (G66/G66.1); texture the \
              expanded program instead (kezuri run {name} -o expanded.nc)"
@@ -174,21 +175,19 @@ pub fn run(a: &TextureArgs) -> Result<()> {
                     a.macro_vars
                 );
             }
-            if !(1..=9999).contains(&a.macro_number) || words(&text).any(|(_, w)| has_word(&w, 'O', a.macro_number)) {
+            if !(1..=9999).contains(&a.macro_number) || blocks.has_program(a.macro_number) {
                 bail!("--macro-number {}: give 1-9999, not a program number the file has", a.macro_number);
             }
-            if let Some(line) =
-                words(&text).take(last_line(&cutting)).find(|(_, w)| has_word(w, 'G', 91)).map(|(n, _)| n)
-            {
+            if let Some(line) = blocks.incremental_line(last_line(&cutting)) {
                 bail!("{name}: line {line}: G91: --mode macro textures absolute (G90) moves; use --mode bake");
             }
-            if let Some((line, word)) = foreign_word(&text, cutting[0] as usize, last_line(&cutting)) {
+            if let Some((line, word)) = blocks.foreign_word(cutting[0] as usize, last_line(&cutting)) {
                 bail!(
                     "{name}: line {line}: '{word}' inside the cutting section: under G66.1 every block there calls \
                      the macro, which passes on motion words only (X Y Z I J K R F); use --mode bake"
                 );
             }
-            if let Some(line) = call_line(&text) {
+            if let Some(line) = blocks.call_line() {
                 bail!(
                     "{name}: line {line}: --mode macro marks the cutting blocks in this file, and this one calls \
                      another program (M98/G65); use --mode bake"
@@ -227,93 +226,7 @@ fn step_range(s: &str) -> Result<[f64; 2]> {
     }
 }
 
-/// The words of each line, comments dropped, upper case, no spaces.
-fn words(text: &str) -> impl Iterator<Item = (usize, String)> + '_ {
-    text.lines().enumerate().map(|(k, line)| {
-        let mut out = String::new();
-        let mut depth = 0;
-        for c in line.chars() {
-            match c {
-                '(' => depth += 1,
-                ')' if depth > 0 => depth -= 1,
-                ';' if depth == 0 => break,
-                c if depth == 0 && !c.is_whitespace() => out.push(c.to_ascii_uppercase()),
-                _ => {}
-            }
-        }
-        (k + 1, out)
-    })
-}
-
-/// Whether `line` has the word `letter` with the whole number `n` (`G66`,
-/// `G066`, `G66.1` for 66).
-fn has_word(line: &str, letter: char, n: u32) -> bool {
-    let b = line.as_bytes();
-    (0..b.len()).any(|k| {
-        if b[k] as char != letter || (k > 0 && b[k - 1].is_ascii_alphabetic() && b[k - 1] != b'#') {
-            return false;
-        }
-        let digits: String = line[k + 1..].chars().take_while(|c| c.is_ascii_digit()).collect();
-        !digits.is_empty() && digits.parse::<u32>() == Ok(n)
-    })
-}
-
-/// The first line that calls a macro on its blocks (G66, G66.1).
-fn modal_macro_line(text: &str) -> Option<usize> {
-    words(text).find(|(_, w)| has_word(w, 'G', 66)).map(|(n, _)| n)
-}
-
 /// The last of the cutting moves' lines.
 fn last_line(cutting: &[u32]) -> usize {
     cutting.iter().copied().max().unwrap_or(0) as usize
-}
-
-/// The first word on lines `first..=last` that is not a motion word the
-/// macro passes on: its line and the word.
-fn foreign_word(text: &str, first: usize, last: usize) -> Option<(usize, String)> {
-    const MOTION_G: [u32; 8] = [0, 1, 2, 3, 17, 18, 19, 90];
-    words(text).skip(first - 1).take(last + 1 - first).find_map(|(n, w)| {
-        let mut chars = w.chars().peekable();
-        while let Some(c) = chars.next() {
-            let mut value = String::new();
-            while let Some(&d) = chars.peek().filter(|d| d.is_ascii_digit() || matches!(d, '.' | '-' | '+')) {
-                value.push(d);
-                chars.next();
-            }
-            let fine = match c {
-                'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'F' | 'N' => !value.is_empty(),
-                'G' => value.parse::<f64>().is_ok_and(|g| MOTION_G.iter().any(|&m| f64::from(m) == g)),
-                _ => false,
-            };
-            if !fine {
-                return Some((n, format!("{c}{value}")));
-            }
-        }
-        None
-    })
-}
-
-/// The first line that calls another program (M98, M198, G65).
-fn call_line(text: &str) -> Option<usize> {
-    words(text).find(|(_, w)| has_word(w, 'M', 98) || has_word(w, 'M', 198) || has_word(w, 'G', 65)).map(|(n, _)| n)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn modal_calls_and_subprogram_calls_are_found() {
-        assert_eq!(modal_macro_line("G01 X1\nG66.1 P7023 X106.\n"), Some(2));
-        assert_eq!(modal_macro_line("g0 x1 (G66.1 IN A COMMENT)\n#166=1\nG660\n"), None);
-        assert_eq!(modal_macro_line("N10 G066 P9\n"), Some(1));
-        assert_eq!(call_line("G01 X1\nM98 P1000\n"), Some(2));
-        assert_eq!(call_line("G65 P9 A1\n"), Some(1));
-        assert_eq!(call_line("M9\nM980\n"), None);
-        let section = "G90\nG01 X1. F300 (CUT)\nG02 X2. R1.\nY5. M08\nX0\n";
-        assert_eq!(foreign_word(section, 2, 3), None);
-        assert_eq!(foreign_word(section, 2, 5), Some((4, "M08".into())));
-        assert_eq!(foreign_word("G04 X1.\n", 1, 1), Some((1, "G04".into())));
-        assert_eq!(foreign_word("#1=2\n", 1, 1), Some((1, "#1".into())));
-    }
 }

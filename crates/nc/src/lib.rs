@@ -7,7 +7,7 @@
 //!    located [`Diagnostic`].
 //! 2. [`interp::run`]: program to [`kezuri_geom::Toolpath`], running macros,
 //!    subprograms and modal calls like a Fanuc control does.
-//! 3. [`write`]: toolpath to text in a dialect.
+//! 3. [`write`](mod@write): toolpath to text in a dialect.
 //!
 //! `nc` knows nothing of cutters and does no I/O: subprogram libraries, the
 //! clock and `DPRNT` output go through [`interp::Settings`],
@@ -32,7 +32,10 @@
 pub mod ast;
 pub mod detect;
 mod dialect;
+mod error;
 pub mod interp;
+mod number;
+pub mod offsets;
 mod parse;
 pub mod probe_plan;
 pub mod rewrite;
@@ -45,5 +48,6 @@ pub mod write;
 pub use ast::Program;
 pub use detect::{detect, Detected};
 pub use dialect::Dialect;
-pub use parse::{parse, parse_as};
+pub use error::{Error, ErrorKind, Place};
+pub use parse::{comments, parse, parse_as};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

@@ -11,6 +11,7 @@ mod expr;
 mod number;
 mod oword;
 
+pub use comment::comments;
 use comment::with_comment;
 use number::plain_words;
 use oword::{link_oword, OpenOWord, OWORD_KEYWORDS};

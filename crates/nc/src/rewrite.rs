@@ -2,7 +2,7 @@
 //! comments, other words, spacing and the order of the words stay as they
 //! were (`kezuri thermal apply --keep-text`).
 
-use crate::write::number;
+use crate::number::number;
 
 /// A word of a line: its letter (upper case) and the byte range of its
 /// number.

@@ -92,7 +92,7 @@
 //!   pauses with `!NR;` for the operator to change the tool by hand;
 //! - spindle speed and coolant are not written (`!RC`'s scale differs
 //!   from model to model), nor are dwells or probing moves: those are
-//!   errors ([`RmlWriteError`]), as are a turned rotary axis and a toolpath
+//!   errors ([`Error`](crate::Error)), as are a turned rotary axis and a toolpath
 //!   in several work offsets;
 //! - the program ends with the tool up (`^PU;` where it is not), `!MC0;`
 //!   when the spindle runs, and `^IN;`.
@@ -127,7 +127,7 @@ mod read;
 mod write;
 
 pub use read::{looks_like_rml, read_rml, DeviceCommand, RmlProgram};
-pub use write::{linearize, write_rml, RmlWriteError};
+pub use write::{linearize, write_rml};
 
 /// Units and heights for reading and writing RML-1.
 #[derive(Clone, Debug, PartialEq)]

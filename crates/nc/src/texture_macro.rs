@@ -34,9 +34,13 @@
 //! run's first (entered from wherever the tool was, so free of the step
 //! range).
 
+mod blocks;
+
 use std::fmt::Write;
 
-use crate::write::number;
+pub use blocks::Blocks;
+
+use crate::number::number;
 
 /// The numbers of a texture macro. Lengths in mm.
 #[derive(Clone, Copy, Debug)]

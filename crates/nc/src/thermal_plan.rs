@@ -19,7 +19,9 @@
 
 use std::fmt::Write;
 
-use crate::write::{dwell_block, made_text, number, text_options, Dialect, WriteOptions};
+use crate::number::number;
+use crate::write::{dwell_block, made_text, text_options, Dialect, WriteOptions};
+use crate::{Error, ErrorKind};
 
 /// One indexed angle's measurements.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,18 +58,6 @@ pub struct ThermalPlan {
     pub tool: u32,
 }
 
-/// Why no program.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlanError(pub String);
-
-impl std::fmt::Display for PlanError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for PlanError {}
-
 /// A number as a program constant.
 fn num(v: f64) -> String {
     number(v, 4)
@@ -75,8 +65,8 @@ fn num(v: f64) -> String {
 
 impl ThermalPlan {
     /// Checks the numbers.
-    pub fn check(&self) -> Result<(), PlanError> {
-        let bad = |m: String| Err(PlanError(m));
+    pub fn check(&self) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::new(ErrorKind::Plan, m));
         if self.stations.is_empty() {
             return bad("at least one --at B:X,Y,Z is needed".into());
         }
@@ -120,9 +110,8 @@ impl ThermalPlan {
     }
 
     /// The program text, framed by the post.
-    pub fn program(&self) -> Result<String, PlanError> {
+    pub fn program(&self) -> Result<String, Error> {
         self.check()?;
-        let text_error = |e: crate::write::WriteError| PlanError(e.to_string());
         let options = WriteOptions {
             program_number: self.number,
             title: Some("THERMAL DRIFT MEASUREMENT: THE EDGE THROUGH THE LINE SENSORS".into()),
@@ -134,11 +123,11 @@ impl ThermalPlan {
             )],
             ..text_options(&self.post)
         };
-        let made = made_text(&options, self.tool).map_err(text_error)?;
+        let made = made_text(&options, self.tool)?;
         let comment = |text: &str| if options.comments { format!(" ({text})") } else { String::new() };
         let (safe, index, read) = (comment("SAFE"), comment("INDEX B"), comment("SENSORS READ"));
         let [rapid, feed, ..] = self.post.dialect.codes().motion;
-        let dwell = dwell_block(&options, self.dwell).map_err(text_error)?;
+        let dwell = dwell_block(&options, self.dwell)?;
         let mut t = made.start;
         let w = &mut t;
         let mut length = made.length.map(|l| l + " ").unwrap_or_default();

@@ -1,16 +1,26 @@
 //! Toolpath to text: NC dialects and the CSV motion dump.
+//!
+//! The modules stand in layers, each using only those above it:
+//! `dialect` and `options` (the words and the choices), `blocks` (the
+//! writer and what the control knows), then what it writes: `arcs`,
+//! `frames`, `kept` blocks and the presets' start, tool changes and end
+//! (`post`); `gcode` writes a whole program from them.
 
+mod arcs;
 mod blocks;
 mod csv;
+mod dialect;
 mod frames;
 mod gcode;
 mod kept;
+mod options;
 mod post;
 
-pub use blocks::Codes;
 pub use csv::csv;
-pub use gcode::{dwell_block, made_text, program, Dialect, MadeText, UnknownDialect, WriteError, WriteOptions};
-pub use post::{Arcs, CoolantChoice, Home, Retract, Setup, UnknownPost, PRESETS};
+pub use dialect::{Codes, Dialect};
+pub use gcode::{dwell_block, made_text, program, MadeText};
+pub use options::{Arcs, CoolantChoice, Home, Retract, Setup, WriteOptions};
+pub use post::PRESETS;
 
 /// `post` for a measuring program kezuri writes as text (`probe plan`,
 /// `thermal plan`): its dwells in seconds (Fanuc `G04 X0.5`, others
@@ -18,17 +28,4 @@ pub use post::{Arcs, CoolantChoice, Home, Retract, Setup, UnknownPost, PRESETS};
 /// without `N` numbers (the program's own blocks have none).
 pub fn text_options(post: &WriteOptions) -> WriteOptions {
     WriteOptions { dwell_ms: Some(post.dwell_ms.unwrap_or(false)), line_numbers: None, ..post.clone() }
-}
-
-/// A number as hand-made program text writes it: `digits` decimals,
-/// trailing zeros dropped, a decimal point always (`2.`, `-0.05`, never
-/// `-0.`).
-pub fn number(v: f64, digits: usize) -> String {
-    let s = format!("{v:.digits$}");
-    let s = if s.contains('.') { s.trim_end_matches('0').to_string() } else { s + "." };
-    if s == "-0." {
-        "0.".into()
-    } else {
-        s
-    }
 }

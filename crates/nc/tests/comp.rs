@@ -72,7 +72,7 @@ fn check(out: &[Move], want: &[Want]) {
 
 fn err(moves: &[Move], tags: &[Option<Comp>], rules: Rules) -> (usize, String) {
     let e = compensate(moves, tags, rules).expect_err("refused");
-    (e.move_index, e.message)
+    (e.move_index().expect("at a move"), e.message)
 }
 
 /// Start-up along +X, a collinear move, a left turn (inside for G41) and a

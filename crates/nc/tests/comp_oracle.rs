@@ -201,7 +201,7 @@ proptest! {
                 }
             }
             Err(e) => {
-                prop_assert!(e.move_index < moves.len());
+                prop_assert!(e.move_index().is_some_and(|k| k < moves.len()));
                 prop_assert!(!e.message.is_empty());
             }
         }

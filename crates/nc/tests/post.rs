@@ -7,7 +7,8 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane, Spindle, Toolpath};
-use kezuri_nc::write::{program, Arcs, Home, Retract, WriteError, WriteOptions, PRESETS};
+use kezuri_nc::write::{program, Arcs, Home, Retract, WriteOptions, PRESETS};
+use kezuri_nc::Error;
 
 fn at(x: f64, y: f64, z: f64) -> Axes {
     Axes { x, y, z, ..Axes::ZERO }
@@ -35,7 +36,7 @@ fn two_tools() -> Toolpath {
     path
 }
 
-fn written(name: &str, change: impl FnOnce(&mut WriteOptions)) -> Result<String, WriteError> {
+fn written(name: &str, change: impl FnOnce(&mut WriteOptions)) -> Result<String, Error> {
     let mut o = WriteOptions { title: Some("POST TEST".into()), ..WriteOptions::preset(name).unwrap() };
     change(&mut o);
     program(&two_tools(), &o)

@@ -17,10 +17,12 @@ mod coords;
 mod cycle;
 mod length;
 mod modal;
+mod motion;
 mod offsets;
 mod params;
 mod radius;
 mod signals;
+mod threads;
 mod value;
 mod vars;
 mod words;
@@ -30,13 +32,11 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, ToolState, Toolpath};
 
 use crate::ast::Program;
+use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
-pub use modal::{
-    Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units, EXTRA_OFFSETS,
-    EXTRA_OFFSET_COUNT,
-};
+pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
 use signals::Outputs;
 pub use value::Value;

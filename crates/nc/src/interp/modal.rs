@@ -2,12 +2,7 @@
 
 use kezuri_geom::Plane;
 
-/// Index of the first additional work offset (G54.1 P1, G154 P1, G110,
-/// G59.1) after G54 … G59.
-pub const EXTRA_OFFSETS: usize = 6;
-
-/// How many additional work offsets there are (Haas G154 P1–P99).
-pub const EXTRA_OFFSET_COUNT: usize = 99;
+use crate::offsets::EXTRA_OFFSETS;
 
 /// Group 1: how axis words move the tool.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -467,5 +462,14 @@ impl Modal {
             22 => 50.1,
             _ => return None,
         })
+    }
+}
+
+/// `G01`, `G66.1`: a G code as written, from ten times its number.
+pub(super) fn g_name(tenths: u32) -> String {
+    if tenths.is_multiple_of(10) {
+        format!("G{:02}", tenths / 10)
+    } else {
+        format!("G{:02}.{}", tenths / 10, tenths % 10)
     }
 }

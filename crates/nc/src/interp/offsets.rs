@@ -3,9 +3,10 @@
 
 use kezuri_geom::{Axes, AxisSet};
 
-use super::modal::{Distance, Units, EXTRA_OFFSETS};
+use super::modal::{Distance, Units};
 use super::words::Words;
 use super::{Control, State};
+use crate::offsets::EXTRA_OFFSETS;
 use crate::source::{Diagnostic, Span};
 
 impl State {

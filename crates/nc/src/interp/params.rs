@@ -13,8 +13,9 @@
 
 use kezuri_geom::{Axes, AxisSet};
 
-use super::modal::{Units, EXTRA_OFFSETS};
+use super::modal::Units;
 use super::{State, Value};
+use crate::offsets::EXTRA_OFFSETS;
 use crate::Dialect;
 
 /// Whether `dialect` numbers its parameters as LinuxCNC does.

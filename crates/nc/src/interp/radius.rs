@@ -16,6 +16,7 @@ use kezuri_geom::{Axes, Kept, MoveKind, Toolpath};
 use super::comp::{compensate_traced, Comp, Rules, Side};
 use super::modal::{RadiusComp, Units};
 use super::State;
+use crate::number::number;
 use crate::source::{Diagnostic, Span};
 
 /// What the interpreter records for cutter compensation.
@@ -105,7 +106,7 @@ impl State {
             };
             let units = if self.modal.units == Units::Inch { "G20" } else { "G21" };
             let mm = if self.modal.units == Units::Inch { d * 25.4 } else { d };
-            (mm / 2.0, None, format!("{units} {name} D{}", crate::write::number(d, 6)))
+            (mm / 2.0, None, format!("{units} {name} D{}", number(d, 6)))
         } else {
             let n = d.map(|d| register_number(d, at, linuxcnc)).transpose()?;
             if !linuxcnc && n.is_some() {
@@ -195,12 +196,13 @@ impl State {
                 Ok(done) => break Some(done),
                 // A control stops at the alarm: nothing from its move on is made.
                 Err(e) if alarm.is_none() => {
-                    let span = self.radius.spans.get(e.move_index).copied().unwrap_or(self.radius.block.0);
+                    let k = e.move_index().unwrap_or_default();
+                    let span = self.radius.spans.get(k).copied().unwrap_or(self.radius.block.0);
                     alarm = Some(Diagnostic::error(span, format!("cutter compensation: {}", e.message)));
-                    end = since + e.move_index;
+                    end = since + k;
                 }
                 // The moves before the alarm fail in turn: stop before theirs too.
-                Err(e) => end = since + e.move_index,
+                Err(e) => end = since + e.move_index().unwrap_or_default(),
             }
         };
         if alarm.is_some() {

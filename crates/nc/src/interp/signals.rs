@@ -13,6 +13,7 @@ use std::ops::RangeInclusive;
 
 use super::value::Value;
 use super::State;
+use crate::number::number;
 
 /// Input bits, one variable each.
 pub(super) const INPUT_BITS: RangeInclusive<u32> = 1000..=1031;
@@ -137,7 +138,7 @@ impl State {
             return None;
         }
         // The machine must set it between the same two moves.
-        let text = format!("#{n}={}", crate::write::number(v, 6).trim_end_matches('.'));
+        let text = format!("#{n}={}", number(v, 6).trim_end_matches('.'));
         self.keep(text, 0, false, self.at_line);
         Some(Ok(()))
     }

@@ -6,6 +6,8 @@ use std::ops::RangeInclusive;
 
 use super::value::Value;
 use super::{ModelRead, State};
+use crate::number::number;
+use crate::offsets::EXTRA_OFFSETS;
 use kezuri_geom::{Axes, SplitMix64};
 
 /// Local variables #1–#33 of one call level.
@@ -131,7 +133,7 @@ impl MacroVariables {
 /// variables), or `None` for a variable that is no offset.
 fn offset_as_g10(n: u32, v: f64) -> Option<String> {
     const LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
-    let value = crate::write::number(v, 6);
+    let value = number(v, 6);
     let (l, p, word) = match n {
         2001..=2200 => (10, n - 2000, 'R'),
         2201..=2400 => (12, n - 2200, 'R'),
@@ -142,7 +144,7 @@ fn offset_as_g10(n: u32, v: f64) -> Option<String> {
         5201..=5326 if (n - 5201) % 20 < 6 => (2, (n - 5201) / 20, LETTERS[((n - 5201) % 20) as usize]),
         7001..=7960 | 14001..=15980 if extra_offset(n).1 < 6 => {
             let (index, axis) = extra_offset(n);
-            (20, (index - super::EXTRA_OFFSETS + 1) as u32, LETTERS[axis as usize])
+            (20, (index - EXTRA_OFFSETS + 1) as u32, LETTERS[axis as usize])
         }
         _ => return None,
     };
@@ -153,7 +155,7 @@ fn offset_as_g10(n: u32, v: f64) -> Option<String> {
 /// P1…).
 fn extra_offset(n: u32) -> (usize, u32) {
     let base = if n >= 14001 { 14001 } else { 7001 };
-    (super::EXTRA_OFFSETS + ((n - base) / 20) as usize, (n - base) % 20)
+    (EXTRA_OFFSETS + ((n - base) / 20) as usize, (n - base) % 20)
 }
 
 fn axis(a: Axes, i: u32) -> Option<f64> {
@@ -424,7 +426,7 @@ impl State {
             4119 => self.speed,
             4120 => self.pending_tool as f64,
             // The P of G54.1 P in force (0 under G54 … G59).
-            4130 => (self.modal.work_offset + 1).saturating_sub(super::EXTRA_OFFSETS) as f64,
+            4130 => (self.modal.work_offset + 1).saturating_sub(EXTRA_OFFSETS) as f64,
             5001..=5006 => axis(self.work_position(), n - 5001).unwrap_or(0.0),
             5021..=5026 => axis(self.machine_position(), n - 5021).unwrap_or(0.0),
             // As on a Fanuc control, #5001… is the programmed end point (no

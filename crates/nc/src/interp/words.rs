@@ -7,6 +7,7 @@ use super::modal::{GCode, Units};
 use super::value::Value;
 use super::{IntegerInput, State};
 use crate::ast::{Program, Word, WordValue};
+use crate::number::number;
 use crate::source::{Diagnostic, FileId, Span};
 
 /// The evaluated words of one block. Kept small and filled in place: it is
@@ -125,7 +126,7 @@ impl<'a> Words<'a> {
             }
             out.push(letter as char);
             if AXIS_LETTERS.contains(&letter) || value.fract() != 0.0 {
-                out.push_str(&crate::write::number(value, 6));
+                out.push_str(&number(value, 6));
             } else if letter == b'G' {
                 out.push_str(&format!("{value:02}"));
             } else {
@@ -146,9 +147,9 @@ impl<'a> Words<'a> {
                 continue;
             }
             let text = match word.value() {
-                WordValue::Number { value, decimal: true } => crate::write::number(value, 6),
+                WordValue::Number { value, decimal: true } => number(value, 6),
                 WordValue::Number { value, decimal: false } => format!("{value}"),
-                WordValue::Expr(_) => crate::write::number(self.value[slot(letter)], 6),
+                WordValue::Expr(_) => number(self.value[slot(letter)], 6),
             };
             out.push(format!("{}{text}", letter as char));
         }

@@ -1,8 +1,37 @@
-//! LinuxCNC comment commands: `(debug,…)`, `(msg,…)`, `(log,…)` …, and
-//! the statement that runs one with its line.
+//! Comments: those of a program's text ([`comments`]), and LinuxCNC's
+//! comment commands, `(debug,…)`, `(msg,…)`, `(log,…)` …, with the
+//! statement that runs one with its line.
 
 use super::{named, LineParser};
 use crate::ast::{CommentCommand, Expr, Line, PrintItem, Statement};
+
+/// The comments of `text`, each with its line (from 1): the insides of
+/// `( … )` (a comment not closed runs to the end of the line) and what
+/// follows a `;`.
+///
+/// ```
+/// let text = "G00 X0 (RAPID) ; ball:14\n(DIA 8MM\n";
+/// let found: Vec<_> = kezuri_nc::comments(text).collect();
+/// assert_eq!(found, [(1, "RAPID"), (1, " ball:14"), (2, "DIA 8MM")]);
+/// ```
+pub fn comments(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines().enumerate().flat_map(|(n, line)| {
+        let mut rest = Some(line);
+        std::iter::from_fn(move || {
+            let r = rest?;
+            let open = r.find(['(', ';'])?;
+            if r[open..].starts_with(';') {
+                rest = None;
+                return Some(&r[open + 1..]);
+            }
+            let body = &r[open + 1..];
+            let close = body.find(')').unwrap_or(body.len());
+            rest = Some(&body[(close + 1).min(body.len())..]);
+            Some(&body[..close])
+        })
+        .map(move |c| (n + 1, c))
+    })
+}
 
 /// `statement` with the comment command of its line: run after the line's
 /// settings and before its words, as LinuxCNC runs them.
@@ -115,5 +144,29 @@ impl LineParser<'_> {
             items.push(PrintItem::Text(String::from_utf8_lossy(&text).into_owned()));
         }
         items
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::comments;
+
+    #[test]
+    fn comments_with_their_lines() {
+        let text = "(T1 D=6. CR=0. - FLAT END MILL)\nG00 X0 ; ball:14 for the relief\n(DIA 8MM)\n(TOOL Ø3 BALL)\n\
+                    (ID=5)(DIAMETER: 12.5)\n(HEIGHT 10)\n(φ14)\nG01 X1. (OPEN\n";
+        let found: Vec<(usize, &str)> = comments(text).collect();
+        let want = [
+            (1, "T1 D=6. CR=0. - FLAT END MILL"),
+            (2, " ball:14 for the relief"),
+            (3, "DIA 8MM"),
+            (4, "TOOL Ø3 BALL"),
+            (5, "ID=5"),
+            (5, "DIAMETER: 12.5"),
+            (6, "HEIGHT 10"),
+            (7, "φ14"),
+            (8, "OPEN"),
+        ];
+        assert_eq!(found, want);
     }
 }

@@ -1,119 +1,28 @@
 //! A toolpath to RML-1 text (see the module documentation for the rules).
 
-use std::fmt;
 use std::fmt::Write as _;
 
 use kezuri_geom::{Axes, Move, MoveKind, Spindle, Toolpath};
 
 use super::{RmlOptions, MAX_STEPS};
+use crate::{Error, ErrorKind, Place};
 
-/// Why a toolpath could not be written as RML-1.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RmlWriteError {
-    /// An [`RmlOptions`] field out of range.
-    Option {
-        /// The field.
-        name: &'static str,
-        /// Its value.
-        value: f64,
-    },
-    /// A number RML-1 cannot hold: a coordinate beyond ±2³¹ steps or not
-    /// finite, a feed that is not positive.
-    Number {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-        /// What the number is (`X`, `feed`, …).
-        what: &'static str,
-        /// The number.
-        value: f64,
-    },
-    /// A move RML-1 has no command for.
-    Unsupported {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-        /// What it is.
-        what: &'static str,
-    },
-    /// The toolpath turns a rotary axis.
-    RotaryAxis {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-        /// `A`, `B` or `C`.
-        axis: char,
-    },
-    /// The toolpath changes work offset; RML-1 has none.
-    WorkOffsets {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-    },
-    /// A rapid down needs a `Z` feed, and the toolpath has no cutting feed
-    /// (and the options none) to give it its `V`.
-    NoFeed {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-    },
-    /// A cutting move before the program has named X and Y: a `Z` command
-    /// names all three.
-    UnknownPosition {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-    },
+/// An error of `kind` at move `index` (source line `line`).
+fn at_move(kind: ErrorKind, index: usize, line: u32, message: impl Into<String>) -> Error {
+    Error::new(kind, message).at(Place::Move { index, line })
 }
 
-impl fmt::Display for RmlWriteError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let at = |f: &mut fmt::Formatter<'_>, index: usize, line: u32| {
-            write!(f, "move {}", index + 1)?;
-            if line > 0 {
-                write!(f, " (line {line})")?;
-            }
-            f.write_str(": ")
-        };
-        match self {
-            RmlWriteError::Option { name, value } => write!(f, "RML option {name} {value} is out of range"),
-            RmlWriteError::Number { index, line, what, value } => {
-                at(f, *index, *line)?;
-                write!(f, "{what} {value} cannot be written in RML-1")
-            }
-            RmlWriteError::Unsupported { index, line, what } => {
-                at(f, *index, *line)?;
-                write!(f, "{what} has no RML-1 command; remove it from the program to convert it")
-            }
-            RmlWriteError::RotaryAxis { index, line, axis } => {
-                at(f, *index, *line)?;
-                write!(f, "the toolpath turns axis {axis}; RML-1 moves X, Y and Z only")
-            }
-            RmlWriteError::WorkOffsets { index, line } => {
-                at(f, *index, *line)?;
-                f.write_str("the toolpath changes work offset; RML-1 has one work origin")
-            }
-            RmlWriteError::NoFeed { index, line } => {
-                at(f, *index, *line)?;
-                f.write_str(
-                    "a rapid down needs a speed (V) for its Z move, and the toolpath has no cutting feed; give a feed",
-                )
-            }
-            RmlWriteError::UnknownPosition { index, line } => {
-                at(f, *index, *line)?;
-                f.write_str("a cutting move before the program names X and Y; an RML-1 Z command needs all three")
-            }
-        }
-    }
+/// A number RML-1 cannot hold: a coordinate beyond ±2³¹ steps or not
+/// finite, a feed that is not positive.
+fn number(index: usize, line: u32, what: &str, value: f64) -> Error {
+    at_move(ErrorKind::Number, index, line, format!("{what} {value} cannot be written in RML-1"))
 }
 
-impl std::error::Error for RmlWriteError {}
+/// A move RML-1 has no command for.
+fn unsupported(index: usize, line: u32, what: &str) -> Error {
+    let message = format!("{what} has no RML-1 command; remove it from the program to convert it");
+    at_move(ErrorKind::Unsupported, index, line, message)
+}
 
 /// The points a move passes through as straight pieces, its end last: an
 /// arc as the fewest equal chords that stay within `tolerance` of it (its
@@ -153,13 +62,13 @@ pub fn linearize(m: &Move, tolerance: f64) -> Vec<Axes> {
 /// let text = write_rml(&path, &RmlOptions::default()).unwrap();
 /// assert_eq!(text, ";;^IN;\n^PA;\n!PZ0,500;\n^PU1000,0;\nV10.0;\nZ1000,0,-240;\n^PU;\n^IN;\n");
 /// ```
-pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, RmlWriteError> {
+pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, Error> {
     if let Some((name, value)) = options.invalid() {
-        return Err(RmlWriteError::Option { name, value });
+        return Err(Error::new(ErrorKind::Option, format!("RML option {name} {value} is out of range")));
     }
     // A tapping cycle synchronises spindle and feed: no plain moves for it.
     if let Some(k) = path.kept.iter().find(|k| k.cycle.is_some()) {
-        return Err(RmlWriteError::Unsupported { index: k.before, line: k.line, what: "a tapping cycle" });
+        return Err(unsupported(k.before, k.line, "a tapping cycle"));
     }
     let origin = path.moves.first().map_or(Axes::ZERO, |m| path.frame(m).origin);
     let rotary = path.moves.first().map_or(Axes::ZERO, |m| m.start);
@@ -181,12 +90,14 @@ pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, RmlWri
     for (index, m) in path.moves.iter().enumerate() {
         w.at = (index, m.line);
         if path.frame(m).origin != origin {
-            return Err(RmlWriteError::WorkOffsets { index, line: m.line });
+            let message = "the toolpath changes work offset; RML-1 has one work origin";
+            return Err(at_move(ErrorKind::Unsupported, index, m.line, message));
         }
         for (k, axis) in [(3, 'A'), (4, 'B'), (5, 'C')] {
             let base = rotary.to_array()[k];
             if m.start.to_array()[k] != base || m.end.to_array()[k] != base {
-                return Err(RmlWriteError::RotaryAxis { index, line: m.line, axis });
+                let message = format!("the toolpath turns axis {axis}; RML-1 moves X, Y and Z only");
+                return Err(at_move(ErrorKind::RotaryAxis, index, m.line, message));
             }
         }
     }
@@ -269,21 +180,21 @@ struct Writer<'a> {
 }
 
 impl Writer<'_> {
-    fn unsupported(&self, what: &'static str) -> RmlWriteError {
-        RmlWriteError::Unsupported { index: self.at.0, line: self.at.1, what }
+    fn unsupported(&self, what: &'static str) -> Error {
+        unsupported(self.at.0, self.at.1, what)
     }
 
     /// A length in program mm as whole steps.
-    fn step(&self, mm: f64, what: &'static str) -> Result<i64, RmlWriteError> {
+    fn step(&self, mm: f64, what: &'static str) -> Result<i64, Error> {
         let v = mm / self.unit;
         if !v.is_finite() || v.abs() > MAX_STEPS {
-            return Err(RmlWriteError::Number { index: self.at.0, line: self.at.1, what, value: mm });
+            return Err(number(self.at.0, self.at.1, what, mm));
         }
         Ok(v.round() as i64)
     }
 
     /// A machine position as program steps.
-    fn steps(&self, p: Axes) -> Result<[i64; 3], RmlWriteError> {
+    fn steps(&self, p: Axes) -> Result<[i64; 3], Error> {
         let o = self.origin;
         Ok([self.step(p.x - o.x, "X")?, self.step(p.y - o.y, "Y")?, self.step(p.z - o.z, "Z")?])
     }
@@ -310,9 +221,9 @@ impl Writer<'_> {
     }
 
     /// Writes `V` for `feed` mm/min where it changes.
-    fn speed(&mut self, feed: f64) -> Result<(), RmlWriteError> {
+    fn speed(&mut self, feed: f64) -> Result<(), Error> {
         if !(feed.is_finite() && feed > 0.0 && feed < 1e9) {
-            return Err(RmlWriteError::Number { index: self.at.0, line: self.at.1, what: "feed", value: feed });
+            return Err(number(self.at.0, self.at.1, "feed", feed));
         }
         let mut text = format!("{:.2}", feed / 60.0);
         while text.ends_with('0') && !text.ends_with(".0") {
@@ -326,13 +237,14 @@ impl Writer<'_> {
     }
 
     /// `Z x,y,z;` to `p` at `feed`, where the rounded position changes.
-    fn feed_to(&mut self, p: Axes, feed: f64, m: &Move) -> Result<(), RmlWriteError> {
+    fn feed_to(&mut self, p: Axes, feed: f64, m: &Move) -> Result<(), Error> {
         let t = self.steps(p)?;
         if self.pos == t.map(Some) {
             return Ok(());
         }
         if (0..3).any(|k| !self.named[k] && !m.named.contains(k)) {
-            return Err(RmlWriteError::UnknownPosition { index: self.at.0, line: self.at.1 });
+            let message = "a cutting move before the program names X and Y; an RML-1 Z command needs all three";
+            return Err(at_move(ErrorKind::UnknownPosition, self.at.0, self.at.1, message));
         }
         self.speed(feed)?;
         self.z(t);
@@ -346,7 +258,7 @@ impl Writer<'_> {
 
     /// The feed for the `Z` of a rapid: the current `V`, else the next
     /// cutting feed of the toolpath, else the options' feed.
-    fn plunge_speed(&mut self, index: usize) -> Result<(), RmlWriteError> {
+    fn plunge_speed(&mut self, index: usize) -> Result<(), Error> {
         if self.v.is_some() {
             return Ok(());
         }
@@ -356,11 +268,15 @@ impl Writer<'_> {
             .map(|m| m.feed);
         match ahead.or(self.default_feed) {
             Some(f) => self.speed(f),
-            None => Err(RmlWriteError::NoFeed { index, line: self.at.1 }),
+            None => {
+                let message =
+                    "a rapid down needs a speed (V) for its Z move, and the toolpath has no cutting feed; give a feed";
+                Err(at_move(ErrorKind::NoFeed, index, self.at.1, message))
+            }
         }
     }
 
-    fn rapid(&mut self, m: &Move, index: usize) -> Result<(), RmlWriteError> {
+    fn rapid(&mut self, m: &Move, index: usize) -> Result<(), Error> {
         let t = self.steps(m.end)?;
         let known = |k: usize| self.named[k] || m.named.contains(k);
         if !known(0) || !known(1) {

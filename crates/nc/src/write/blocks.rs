@@ -1,85 +1,21 @@
 //! The block writer behind [`program`](super::program): what the control
 //! knows at each point of the program, and the words of each block.
 
-use std::f64::consts::PI;
+use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, Toolpath};
 
-use kezuri_geom::{Arc, Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, ToolState, Toolpath};
-
-use super::gcode::{Dialect, WriteError, WriteOptions};
-use super::post::{Arcs, CoolantChoice, Home, Retract, Setup};
-use crate::interp::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
-
-/// The words that differ between dialects ([`Dialect::codes`]), for
-/// programs kezuri writes as text.
-#[derive(Debug)]
-pub struct Codes {
-    /// Rapid, feed, clockwise and counter-clockwise arc (`G00`…`G03`).
-    pub motion: [&'static str; 4],
-    plane: [&'static str; 3],
-    dwell: &'static str,
-    probe: &'static str,
-    spindle: [&'static str; 3],
-    tool_change: &'static str,
-    optional_stop: &'static str,
-    /// Mist coolant, or the air blow (`M07`).
-    pub mist: &'static str,
-    flood: &'static str,
-    /// Coolant off (`M09`).
-    pub coolant_off: &'static str,
-    home: &'static str,
-    pub(super) length: [&'static str; 2],
-    pub(super) length_cancel: &'static str,
-    end: &'static str,
-}
-
-static FANUC: Codes = Codes {
-    motion: ["G00", "G01", "G02", "G03"],
-    plane: ["G17", "G18", "G19"],
-    dwell: "G04",
-    probe: "G31",
-    spindle: ["M05", "M03", "M04"],
-    tool_change: "M06",
-    optional_stop: "M01",
-    mist: "M07",
-    flood: "M08",
-    coolant_off: "M09",
-    home: "G28",
-    length: ["G43", "G44"],
-    length_cancel: "G49",
-    end: "M30",
-};
-
-static SHORT: Codes = Codes {
-    motion: ["G0", "G1", "G2", "G3"],
-    plane: ["G17", "G18", "G19"],
-    dwell: "G4",
-    probe: "G38.2",
-    spindle: ["M5", "M3", "M4"],
-    tool_change: "M6",
-    optional_stop: "M1",
-    mist: "M7",
-    flood: "M8",
-    coolant_off: "M9",
-    home: "G28",
-    length: ["G43", "G44"],
-    length_cancel: "G49",
-    end: "M2",
-};
-
-/// The safe start block after the units (`G21` or `G20`): absolute, XY
-/// plane, feed per minute, no cutter compensation, no tool length offset, no
-/// canned cycle, work offset G54 (the default [`Frame`]).
-const SAFE_START: &str = "G90 G17 G94 G40 G49 G80 G54";
+use super::dialect::{Codes, Dialect};
+use super::options::{Arcs, Retract, Setup, WriteOptions};
+use crate::number::{push_fixed, push_uint, POW10};
+use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
+use crate::{Error, ErrorKind, Place};
 
 /// Largest `N` number a Fanuc control reads.
-const MAX_SEQUENCE: u32 = 99_999;
+pub(super) const MAX_SEQUENCE: u32 = 99_999;
 
 /// Numbers must be smaller than this in size.
 const LIMIT: f64 = 1e9;
 
 pub(super) const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
-
-const POW10: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
 
 /// The motion modal group (group 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -95,19 +31,19 @@ pub(super) struct Writer {
     pub(super) out: String,
     pub(super) dialect: Dialect,
     pub(super) codes: &'static Codes,
-    digits: u32,
+    pub(super) digits: u32,
     /// 10^digits.
-    scale: f64,
+    pub(super) scale: f64,
     /// Write a decimal point on every axis word (Fanuc).
     pub(super) point: bool,
-    step: u32,
-    sequence: u32,
+    pub(super) step: u32,
+    pub(super) sequence: u32,
     /// Which of X Y Z A B C the program writes.
     pub(super) used: [bool; 6],
     /// The control's position in units of the last digit (`None`: unknown).
     pub(super) pos: [Option<i64>; 6],
     /// Write motions in `G91` where every position is exact.
-    incremental: bool,
+    pub(super) incremental: bool,
     /// Whether the control is in `G91` (`None`: unknown, after a tool
     /// change in an incremental program).
     pub(super) relative: Option<bool>,
@@ -117,12 +53,12 @@ pub(super) struct Writer {
     /// change) moved it since. Only incremental programs look at it.
     pub(super) exact: [bool; 6],
     pub(super) motion: Option<Motion>,
-    plane: Option<Plane>,
-    feed: Option<i64>,
-    speed: Option<i64>,
-    spindle: Spindle,
-    coolant: Coolant,
-    tool: u32,
+    pub(super) plane: Option<Plane>,
+    pub(super) feed: Option<i64>,
+    pub(super) speed: Option<i64>,
+    pub(super) spindle: Spindle,
+    pub(super) coolant: Coolant,
+    pub(super) tool: u32,
     /// The frame the control is in.
     pub(super) frame: Option<Frame>,
     /// The origin of each work offset as the control has it: first as the
@@ -131,7 +67,7 @@ pub(super) struct Writer {
     /// The move being written is a block of increments from a position
     /// the program never named ([`Move::relative`]): `G91`, whatever the
     /// writer's own choice.
-    reckoned: bool,
+    pub(super) reckoned: bool,
     /// The program is in inches (`G20`).
     pub(super) inch: bool,
     /// A kept canned cycle is in force on the control: G80 before the next
@@ -139,56 +75,46 @@ pub(super) struct Writer {
     pub(super) cycle_open: bool,
     /// The toolpath was made, not read from a program: its start is real
     /// ([`Toolpath::unknown_start`] is false).
-    generated: bool,
+    pub(super) generated: bool,
     /// Words in the block being written.
-    words: u32,
+    pub(super) words: u32,
     /// Index and source line of the move being written.
     pub(super) at: (usize, u32),
     /// A made program's start, tool changes and end.
-    setup: Option<Setup>,
+    pub(super) setup: Option<Setup>,
     /// Write comments.
-    comments: bool,
-    arcs: Arcs,
+    pub(super) comments: bool,
+    pub(super) arcs: Arcs,
     /// Dwell `P` in milliseconds.
-    dwell_ms: bool,
+    pub(super) dwell_ms: bool,
     /// The length register to apply (`G43 H`) on the next block that moves
     /// Z: set by a made program's tool change.
-    pending_length: Option<u32>,
+    pub(super) pending_length: Option<u32>,
     /// The tools of the toolpath in the order they are loaded, and how many
     /// of those changes are written: the next tool is pre-staged.
-    loads: Vec<u32>,
-    changes: usize,
-    block_limit: Option<u32>,
-    byte_limit: Option<u64>,
+    pub(super) loads: Vec<u32>,
+    pub(super) changes: usize,
+    pub(super) block_limit: Option<u32>,
+    pub(super) byte_limit: Option<u64>,
     /// `%` first and last.
-    percent: bool,
-    probe_code: Option<&'static str>,
+    pub(super) percent: bool,
+    pub(super) probe_code: Option<&'static str>,
     /// The tool in the spindle when the program starts (no pause for it
     /// on a control without a tool changer).
-    loaded: Option<u32>,
+    pub(super) loaded: Option<u32>,
     /// The height of the next move where it is a rapid, in program units:
     /// where a made program with no retract takes the new tool before its
     /// spindle starts.
     pub(super) next_rapid_z: Option<f64>,
 }
 
-impl Dialect {
-    /// The dialect's words: `G00 M07` (Fanuc) or `G0 M7`.
-    pub fn codes(self) -> &'static Codes {
-        match self {
-            Dialect::Fanuc => &FANUC,
-            Dialect::LinuxCnc | Dialect::Grbl => &SHORT,
-        }
-    }
-}
-
 impl Writer {
-    pub(super) fn new(toolpath: &Toolpath, o: &WriteOptions) -> Result<Writer, WriteError> {
+    pub(super) fn new(toolpath: &Toolpath, o: &WriteOptions) -> Result<Writer, Error> {
         let range = |name, value: u32, min, max| {
             if (min..=max).contains(&value) {
                 Ok(())
             } else {
-                Err(WriteError::Option { name, value, min, max })
+                Err(Error::new(ErrorKind::Option, format!("{name} {value} is out of range: it must be {min} to {max}")))
             }
         };
         range("digits", u32::from(o.digits), 0, POW10.len() as u32 - 1)?;
@@ -258,12 +184,12 @@ impl Writer {
                     let wanted = w.fixed(v[k], AXIS_LETTERS[k])? != 0 || (named && m.named.contains(k));
                     if !w.used[k] && wanted {
                         if w.dialect == Dialect::Grbl {
-                            return Err(WriteError::RotaryAxis {
-                                index,
-                                line: m.line,
-                                axis: AXIS_LETTERS[k],
-                                dialect: w.dialect,
-                            });
+                            let message = format!(
+                                "{} has no rotary axis {}, but the toolpath turns it",
+                                w.dialect, AXIS_LETTERS[k]
+                            );
+                            let place = Place::Move { index, line: m.line };
+                            return Err(Error::new(ErrorKind::RotaryAxis, message).at(place));
                         }
                         w.used[k] = true;
                         w.pos[k] = None;
@@ -274,174 +200,22 @@ impl Writer {
         Ok(w)
     }
 
-    pub(super) fn header(&mut self, o: &WriteOptions) {
-        let title = o.title.as_deref().map(str::trim).filter(|t| !t.is_empty() && o.comments);
-        if self.percent {
-            self.out.push_str("%\n");
-        }
-        if self.dialect == Dialect::Fanuc {
-            self.out.push('O');
-            push_padded(&mut self.out, u64::from(o.program_number), 4);
-            if let Some(t) = title {
-                self.out.push(' ');
-                push_comment(&mut self.out, t);
-            }
-            self.out.push('\n');
-        } else if let Some(t) = title {
-            push_comment(&mut self.out, t);
-            self.out.push('\n');
-        }
-        for note in o.notes.iter().filter(|_| o.comments) {
-            push_comment(&mut self.out, note);
-            self.out.push('\n');
-        }
-        let units = if o.inch { "G20" } else { "G21" };
-        match &o.setup {
-            // The units, the safe start and the work offset each on a block
-            // of its own: a control reads only so many G codes in one.
-            Some(s) => {
-                for code in [units, &s.start, &s.work_offset].into_iter().filter(|c| !c.trim().is_empty()) {
-                    self.line(code.trim());
-                }
-            }
-            None => {
-                self.block();
-                self.code(units);
-                self.code(SAFE_START);
-                self.out.push('\n');
-            }
-        }
-    }
-
-    /// The last block and the closing line; the program text. An
-    /// incremental program goes back to `G90` first.
-    pub(super) fn finish(mut self) -> Result<String, WriteError> {
-        self.end_cycle();
-        self.absolute_line();
-        let end = match self.setup.clone() {
-            Some(setup) => {
-                self.stop_spindle_and_coolant();
-                self.retract(setup.retract);
-                match setup.home {
-                    Home::Reference => self.reference_return("X0. Y0."),
-                    Home::Park(p) => {
-                        // mm in the machine file; the program's units here.
-                        let unit = if self.inch { 1.0 / 25.4 } else { 1.0 };
-                        let (x, y) = (self.fixed(p[0] * unit, 'X')?, self.fixed(p[1] * unit, 'Y')?);
-                        self.block();
-                        self.code("G53");
-                        self.code(self.codes.motion[Motion::Rapid as usize]);
-                        self.word('X', x, self.point);
-                        self.word('Y', y, self.point);
-                        self.out.push('\n');
-                    }
-                    Home::None => {}
-                }
-                setup.end.trim().to_string()
-            }
-            None => self.codes.end.to_string(),
-        };
-        self.block();
-        self.code(&end);
-        self.out.push('\n');
-        if self.percent {
-            self.out.push_str("%\n");
-        }
-        self.check_limits()?;
-        Ok(self.out)
-    }
-
-    /// Refuses a program longer than the control's memory, or with a block
-    /// longer than its line buffer.
-    fn check_limits(&self) -> Result<(), WriteError> {
-        if let Some(limit) = self.block_limit {
-            let kept = |l: &str| kept_length(l) as u64;
-            if let Some((n, l)) = self.out.lines().enumerate().find(|(_, l)| kept(l) > u64::from(limit)) {
-                return Err(WriteError::Limit {
-                    what: format!("block {} of the program ('{l}')", n + 1),
-                    length: kept(l),
-                    limit: u64::from(limit),
-                    unit: "characters",
-                });
-            }
-        }
-        match self.byte_limit {
-            Some(limit) if self.out.len() as u64 > limit => Err(WriteError::Limit {
-                what: "the program".into(),
-                length: self.out.len() as u64,
-                limit,
-                unit: "bytes (drip-feed it, or cut it in parts)",
-            }),
-            _ => Ok(()),
-        }
-    }
-
-    /// `G91 G28` of `axes` (`Z0.`), then `G90`: every return is followed
-    /// by absolute before any motion.
-    fn reference_return(&mut self, axes: &str) {
-        self.block();
-        self.code("G91");
-        self.code(self.codes.home);
-        self.code(axes);
-        self.out.push('\n');
-        self.relative = Some(true);
-        self.absolute_line();
-    }
-
-    /// The words that apply the length offset a made program's tool change
-    /// left to do (`G43 H1`), taken: the caller writes them.
-    pub(super) fn take_pending_length(&mut self) -> Option<String> {
-        self.pending_length.take().map(|h| format!("{} H{h}", self.codes.length[0]))
-    }
-
-    /// A made program's retract before a tool change and at the end.
-    fn retract(&mut self, retract: Retract) {
-        match retract {
-            Retract::Reference => self.reference_return("Z0."),
-            Retract::MachineZero => {
-                self.absolute_line();
-                self.block();
-                self.code("G53");
-                self.code(self.codes.motion[Motion::Rapid as usize]);
-                self.code("Z0.");
-                self.out.push('\n');
-                self.motion = Some(Motion::Rapid);
-            }
-            Retract::None => {}
-        }
-        if retract != Retract::None {
-            self.pos[2] = None;
-            self.exact[2] = false;
-        }
-    }
-
-    /// `M05` and `M09` where the spindle or the coolant is on.
-    fn stop_spindle_and_coolant(&mut self) {
-        if self.spindle != Spindle::Off {
-            self.line(self.codes.spindle[0]);
-            self.spindle = Spindle::Off;
-        }
-        if self.coolant != Coolant::default() {
-            self.line(self.codes.coolant_off);
-            self.coolant = Coolant::default();
-        }
-    }
-
     /// A value in units of the last digit, or an error for a value no
     /// program can hold.
-    pub(super) fn fixed(&self, v: f64, word: char) -> Result<i64, WriteError> {
+    pub(super) fn fixed(&self, v: f64, word: char) -> Result<i64, Error> {
         if !v.is_finite() || v.abs() >= LIMIT {
             return Err(self.number_error(word, v));
         }
         Ok((v * self.scale).round() as i64)
     }
 
-    fn number_error(&self, word: char, value: f64) -> WriteError {
-        WriteError::Number { index: self.at.0, line: self.at.1, word, value }
+    pub(super) fn number_error(&self, word: char, value: f64) -> Error {
+        let place = Place::Move { index: self.at.0, line: self.at.1 };
+        Error::new(ErrorKind::Number, format!("{word}{value} cannot be written in a program")).at(place)
     }
 
     /// Like [`Writer::fixed`] for values that cannot be negative.
-    fn non_negative(&self, v: f64, word: char) -> Result<i64, WriteError> {
+    pub(super) fn non_negative(&self, v: f64, word: char) -> Result<i64, Error> {
         if v < 0.0 {
             return Err(self.number_error(word, v));
         }
@@ -449,7 +223,7 @@ impl Writer {
     }
 
     /// The rounded position of the axes the program writes.
-    pub(super) fn target(&self, p: Axes) -> Result<[i64; 6], WriteError> {
+    pub(super) fn target(&self, p: Axes) -> Result<[i64; 6], Error> {
         let v = p.to_array();
         let mut t = [0; 6];
         for k in 0..6 {
@@ -525,7 +299,7 @@ impl Writer {
     }
 
     /// A `G90` block where the control may be in `G91`.
-    fn absolute_line(&mut self) {
+    pub(super) fn absolute_line(&mut self) {
         if self.relative != Some(false) {
             self.block();
             self.distance(false);
@@ -541,7 +315,7 @@ impl Writer {
     }
 
     /// Starts a motion block: its `N` word and the `G90`/`G91` it needs.
-    fn motion_block(&mut self) {
+    pub(super) fn motion_block(&mut self) {
         self.end_cycle();
         self.block();
         let relative = self.reckoned || self.wants_relative();
@@ -553,7 +327,7 @@ impl Writer {
     /// ([`Move::relative`]) is written in `G91` from its own start, so the
     /// increments are the toolpath's, not differences from a position the
     /// machine model reckoned.
-    pub(super) fn reckon(&mut self, m: &Move) -> Result<(), WriteError> {
+    pub(super) fn reckon(&mut self, m: &Move) -> Result<(), Error> {
         self.reckoned = m.relative != AxisSet::NONE;
         if self.reckoned {
             let s = self.target(m.start)?;
@@ -564,145 +338,11 @@ impl Writer {
         Ok(())
     }
 
-    /// Tool, spindle and coolant blocks that bring the control to state
-    /// `m`.
-    pub(super) fn state(&mut self, mut m: ToolState) -> Result<(), WriteError> {
-        if m.tool != self.tool {
-            self.tool_change(m.tool);
-            // After a hand change the tip may rest on the stock: up to the
-            // next rapid's height before the spindle starts.
-            let by_hand = self.setup.as_ref().is_some_and(|s| s.retract == Retract::None);
-            if let (true, Some(z)) = (by_hand, self.next_rapid_z) {
-                self.straight(Some(Motion::Rapid), Axes { z, ..Axes::ZERO }, None, AxisSet::NONE.with(2))?;
-            }
-        }
-        // A made program's coolant comes on with the spindle.
-        let dwell = match &self.setup {
-            Some(s) => {
-                if m.spindle != Spindle::Off {
-                    m.coolant =
-                        Coolant { flood: s.coolant == CoolantChoice::Flood, mist: s.coolant == CoolantChoice::Mist };
-                }
-                s.spindle_dwell
-            }
-            None => 0.0,
-        };
-        let speed = self.non_negative(m.speed, 'S')?;
-        let turns_on = m.spindle != Spindle::Off && m.spindle != self.spindle;
-        // A speed of 0 is no speed (an M03 without S, RML-1's !MC1): S0
-        // would stop the spindle, so the control keeps the S it has.
-        let new_speed = speed != 0 && (turns_on || Some(speed) != self.speed);
-        if new_speed || m.spindle != self.spindle {
-            self.block();
-            if new_speed {
-                self.word('S', speed, false);
-                self.speed = Some(speed);
-            }
-            if m.spindle != self.spindle {
-                let code = match m.spindle {
-                    Spindle::Off => self.codes.spindle[0],
-                    Spindle::Cw => self.codes.spindle[1],
-                    Spindle::Ccw => self.codes.spindle[2],
-                };
-                self.code(code);
-                self.spindle = m.spindle;
-            }
-            self.out.push('\n');
-            // Time to come up to speed before the first move.
-            if turns_on && dwell > 0.0 {
-                self.dwell(dwell)?;
-            }
-        }
-        let (was, now) = (self.coolant, m.coolant);
-        if was != now {
-            if (was.mist && !now.mist) || (was.flood && !now.flood) {
-                self.line(self.codes.coolant_off);
-                self.coolant = Coolant::default();
-            }
-            if now.mist && !self.coolant.mist {
-                self.line(self.codes.mist);
-            }
-            if now.flood && !self.coolant.flood {
-                self.line(self.codes.flood);
-            }
-            self.coolant = now;
-        }
-        Ok(())
-    }
-
-    fn tool_change(&mut self, tool: u32) {
-        self.end_cycle();
-        // The macro runs in absolute.
-        self.absolute_line();
-        let setup = self.setup.clone();
-        self.stop_spindle_and_coolant();
-        if let Some(s) = &setup {
-            self.retract(s.retract);
-            // An optional stop to look at the last tool's work, the tool
-            // up and everything off.
-            if s.optional_stop && self.changes > 0 {
-                self.line(self.codes.optional_stop);
-            }
-        }
-        if self.dialect == Dialect::Grbl {
-            if self.loaded == Some(tool) {
-                // The operator started the program with it in.
-            } else {
-                if self.comments {
-                    self.out.push_str("(TOOL CHANGE: PUT IN TOOL ");
-                    push_uint(&mut self.out, u64::from(tool));
-                    // Without a length offset in the program (a made one),
-                    // the new tip must be set to the program's Z zero by
-                    // hand; a program's own G43.1 sets it.
-                    if setup.as_ref().is_some_and(|s| !s.length_offset) {
-                        self.out.push_str(", SET Z ZERO ON ITS TIP AT THE PROGRAM'S Z ZERO");
-                    }
-                    self.out.push_str(", THEN RESUME)\n");
-                }
-                self.line("M0");
-            }
-        } else {
-            self.block();
-            self.space();
-            self.out.push('T');
-            push_uint(&mut self.out, u64::from(tool));
-            self.code(self.codes.tool_change);
-            self.out.push('\n');
-            let next = self.loads.get(self.changes + 1).copied().filter(|&t| t != tool);
-            if let (Some(next), true) = (next, setup.as_ref().is_some_and(|s| s.prestage)) {
-                self.block();
-                self.space();
-                self.out.push('T');
-                push_uint(&mut self.out, u64::from(next));
-                self.out.push('\n');
-            }
-        }
-        if tool != 0 {
-            self.changes += 1;
-        }
-        self.pending_length = setup.as_ref().filter(|s| s.length_offset && tool != 0).map(|s| s.register(tool));
-        // A tool change macro may move the axes and change modal words.
-        self.tool = tool;
-        for k in 0..6 {
-            if self.used[k] {
-                self.pos[k] = None;
-            }
-        }
-        self.motion = None;
-        self.plane = None;
-        self.feed = None;
-        self.exact = [false; 6];
-        if self.incremental {
-            // The macro may leave the control in G91: G90 is written again.
-            self.relative = None;
-        }
-    }
-
     /// A return to the reference point (`G91 G28` with the axes at zero
     /// travel to the intermediate point, then `G90`; an incremental program
     /// stays in `G91`); `end` is where the toolpath puts the tool after it,
     /// in program coordinates.
-    pub(super) fn home(&mut self, axes: AxisSet, end: Axes) -> Result<(), WriteError> {
+    pub(super) fn home(&mut self, axes: AxisSet, end: Axes) -> Result<(), Error> {
         self.end_cycle();
         let t = self.target(end)?;
         // Every axis the return names, even one the program never turns (a
@@ -734,7 +374,7 @@ impl Writer {
     /// Positioning in machine coordinates (`G53` at rapid): `gauge` is the
     /// spindle gauge line in machine coordinates, `end` the tool tip after
     /// it in program coordinates.
-    pub(super) fn machine(&mut self, axes: AxisSet, gauge: Axes, end: Axes) -> Result<(), WriteError> {
+    pub(super) fn machine(&mut self, axes: AxisSet, gauge: Axes, end: Axes) -> Result<(), Error> {
         self.end_cycle();
         let (g, t) = (self.target(gauge)?, self.target(end)?);
         self.block();
@@ -760,7 +400,7 @@ impl Writer {
         end: Axes,
         feed: Option<f64>,
         named: AxisSet,
-    ) -> Result<(), WriteError> {
+    ) -> Result<(), Error> {
         let t = self.target(end)?;
         let feed = feed.map(|f| self.non_negative(f, 'F')).transpose()?;
         // A made program's first rapid after a tool change never moves Z
@@ -782,7 +422,7 @@ impl Writer {
         Ok(())
     }
 
-    fn straight_to(&mut self, motion: Option<Motion>, t: [i64; 6], feed: Option<i64>, named: AxisSet) {
+    pub(super) fn straight_to(&mut self, motion: Option<Motion>, t: [i64; 6], feed: Option<i64>, named: AxisSet) {
         if !(0..6).any(|k| self.writes(k, &t, named)) {
             return;
         }
@@ -843,7 +483,7 @@ impl Writer {
     /// `G91`, as the difference from the control's position; the control's
     /// position becomes `t` on those axes, exactly. Returns which axes were
     /// written.
-    fn axis_words(&mut self, t: &[i64; 6], named: AxisSet) -> [bool; 6] {
+    pub(super) fn axis_words(&mut self, t: &[i64; 6], named: AxisSet) -> [bool; 6] {
         let relative = self.relative == Some(true);
         let mut moved = [false; 6];
         for k in 0..6 {
@@ -864,7 +504,7 @@ impl Writer {
         moved
     }
 
-    fn feed_word(&mut self, f: i64) {
+    pub(super) fn feed_word(&mut self, f: i64) {
         // A feed the program never gave is left to the control, not F0.
         if f == 0 && self.feed.is_none() {
             return;
@@ -875,7 +515,7 @@ impl Writer {
         }
     }
 
-    pub(super) fn dwell(&mut self, seconds: f64) -> Result<(), WriteError> {
+    pub(super) fn dwell(&mut self, seconds: f64) -> Result<(), Error> {
         self.end_cycle();
         if !(0.0..LIMIT).contains(&seconds) {
             return Err(self.number_error('P', seconds));
@@ -898,288 +538,11 @@ impl Writer {
         self.out.push('\n');
         Ok(())
     }
-
-    pub(super) fn arc(&mut self, m: &Move, arc: Arc) -> Result<(), WriteError> {
-        let feed = self.non_negative(m.feed, 'F')?;
-        let start = self.target(m.start)?;
-        let exact = m.start.to_array();
-        // Where the control's position is unknown, a generated toolpath's
-        // start is real and is reached; an NC program's arc starts wherever
-        // the control is, as in the source (never a move to the model's
-        // guess).
-        let away = (0..6).any(|k| match self.pos[k] {
-            Some(p) => (p as f64 - exact[k] * self.scale).abs() > 1.0,
-            None => self.generated,
-        });
-        if away {
-            self.straight_to(Some(Motion::Linear), start, Some(feed), AxisSet::ALL);
-        }
-        if self.arcs == Arcs::Lines {
-            return self.chords(m, arc, feed);
-        }
-        let single = Arc { turns: 0, ..arc };
-        let mut from = m.start;
-        if arc.turns > 0 {
-            // One full circle per extra turn, the helical and rotary axes
-            // sharing out their travel by angle.
-            let total = arc.sweep(m.start, m.end);
-            let (s, e) = (m.start.to_array(), m.end.to_array());
-            let (_, _, n) = arc.plane.axes();
-            for turn in 1..=arc.turns {
-                let t = f64::from(turn) * std::f64::consts::TAU / total;
-                let mut p = s;
-                for k in (3..6).chain([n]) {
-                    p[k] = s[k] + (e[k] - s[k]) * t;
-                }
-                let to = Axes::from_array(p);
-                self.single_arc(from, to, single, feed, m.named)?;
-                from = to;
-            }
-        }
-        self.single_arc(from, m.end, single, feed, m.named)
-    }
-
-    /// Arc `m` as straight moves whose chords stray from it by at most one
-    /// unit of the last digit (for controls without arcs); the helical and
-    /// rotary axes share out their travel by angle.
-    fn chords(&mut self, m: &Move, arc: Arc, feed: i64) -> Result<(), WriteError> {
-        let (i, j, _) = arc.plane.axes();
-        let (s, e) = (m.start.to_array(), m.end.to_array());
-        let c = arc.center;
-        let (di, dj) = (s[i] - c[i], s[j] - c[j]);
-        let radius = di.hypot(dj);
-        let total = arc.sweep(m.start, m.end);
-        let tolerance = 1.0 / self.scale;
-        let step = if radius > tolerance { 2.0 * (1.0 - tolerance / radius).acos() } else { PI };
-        let count = (total / step).ceil().clamp(1.0, 1e7);
-        if !count.is_finite() {
-            return Err(self.number_error('R', radius));
-        }
-        let count = count as u32;
-        let sign = if arc.ccw { 1.0 } else { -1.0 };
-        for k in 1..=count {
-            let p = if k == count {
-                e
-            } else {
-                let f = f64::from(k) / f64::from(count);
-                let (sin, cos) = (sign * total * f).sin_cos();
-                let mut p: [f64; 6] = std::array::from_fn(|a| s[a] + (e[a] - s[a]) * f);
-                p[i] = c[i] + di * cos - dj * sin;
-                p[j] = c[j] + di * sin + dj * cos;
-                p
-            };
-            let t = self.target(Axes::from_array(p))?;
-            self.straight_to(Some(Motion::Linear), t, Some(feed), m.named);
-        }
-        Ok(())
-    }
-
-    /// One arc of at most a full turn from the control's position, which is
-    /// `start` rounded.
-    fn single_arc(&mut self, start: Axes, end: Axes, arc: Arc, feed: i64, named: AxisSet) -> Result<(), WriteError> {
-        let (i, j, _) = arc.plane.axes();
-        let mut t = self.target(end)?;
-        // The start is the control's position where it is known, else the
-        // toolpath's start (the centre is given from there, as the source
-        // gave it).
-        let from = self.target(start)?;
-        let s: [i64; 6] = std::array::from_fn(|k| self.pos[k].unwrap_or(from[k]));
-        let exact_sweep = arc.sweep(start, end);
-        let letters = ['I', 'J', 'K'];
-        let centre = [self.fixed(arc.center[i], letters[i])?, self.fixed(arc.center[j], letters[j])?];
-        let plain = [centre[0] - s[i], centre[1] - s[j]];
-        let full = t[i] == s[i] && t[j] == s[j];
-        let offset = if full {
-            if exact_sweep <= PI {
-                self.straight_to(Some(Motion::Linear), t, Some(feed), named);
-                return Ok(());
-            }
-            if self.arcs == Arcs::Radius {
-                // R cannot give a full circle: two half circles, the helical
-                // and rotary axes half way at the middle.
-                let (sv, ev) = (start.to_array(), end.to_array());
-                let mut mid: [f64; 6] = std::array::from_fn(|k| (sv[k] + ev[k]) / 2.0);
-                mid[i] = 2.0 * arc.center[i] - sv[i];
-                mid[j] = 2.0 * arc.center[j] - sv[j];
-                let mid = Axes::from_array(mid);
-                self.single_arc(start, mid, arc, feed, named)?;
-                return self.single_arc(mid, end, arc, feed, named);
-            }
-            plain
-        } else {
-            // Within half a unit, and 0.001 mm, of the circle is close enough.
-            let close = (0.001 * self.scale).min(0.5);
-            let offset = best_centre(plain, [t[i] - s[i], t[j] - s[j]], close);
-            let written = self.written_sweep(arc, &s, &t, offset);
-            if (written - exact_sweep).abs() > PI {
-                if exact_sweep <= PI {
-                    self.straight_to(Some(Motion::Linear), t, Some(feed), named);
-                    return Ok(());
-                }
-                // Rounding closed a near-full circle: make it a full one.
-                t[i] = s[i];
-                t[j] = s[j];
-                plain
-            } else {
-                offset
-            }
-        };
-        if offset[0] == 0 && offset[1] == 0 {
-            // A radius below the last digit.
-            self.straight_to(Some(Motion::Linear), t, Some(feed), named);
-            return Ok(());
-        }
-        self.motion_block();
-        if Some(arc.plane) != self.plane {
-            let code = match arc.plane {
-                Plane::Xy => self.codes.plane[0],
-                Plane::Zx => self.codes.plane[1],
-                Plane::Yz => self.codes.plane[2],
-            };
-            self.code(code);
-            self.plane = Some(arc.plane);
-        }
-        let g = if arc.ccw { Motion::Ccw } else { Motion::Cw };
-        if self.motion != Some(g) {
-            self.code(self.codes.motion[g as usize]);
-            self.motion = Some(g);
-        }
-        self.axis_words(&t, named);
-        if self.arcs == Arcs::Radius {
-            // R is the radius, negative past half a turn: rounded up from
-            // the largest of the written start's and end's distances to
-            // the centre and half the chord, so that a control always finds
-            // a circle through the written ends (GRBL's error 33, Fanuc's
-            // alarm, where R is short of half the chord).
-            let chord = [t[i] - s[i], t[j] - s[j]];
-            let r_end = ((chord[0] - offset[0]) as f64).hypot((chord[1] - offset[1]) as f64);
-            let r_start = (offset[0] as f64).hypot(offset[1] as f64);
-            let half = (chord[0] as f64).hypot(chord[1] as f64) / 2.0;
-            let r = r_start.max(r_end).max(half).ceil() as i64;
-            let written = self.written_sweep(arc, &s, &t, offset);
-            self.word('R', if written > PI + 1e-9 { -r } else { r }, self.point);
-        } else {
-            for (k, letter) in letters.into_iter().enumerate() {
-                if k == i {
-                    self.word(letter, offset[0], self.point);
-                } else if k == j {
-                    self.word(letter, offset[1], self.point);
-                }
-            }
-        }
-        self.feed_word(feed);
-        self.out.push('\n');
-        Ok(())
-    }
-
-    /// The sweep a control computes from the written start, end and centre.
-    fn written_sweep(&self, arc: Arc, s: &[i64; 6], t: &[i64; 6], offset: [i64; 2]) -> f64 {
-        let (i, j, _) = arc.plane.axes();
-        let unit = |v: i64| v as f64 / self.scale;
-        let point = |p: &[i64; 6]| Axes { x: unit(p[0]), y: unit(p[1]), z: unit(p[2]), ..Axes::ZERO };
-        let mut center = [0.0; 3];
-        center[i] = unit(s[i] + offset[0]);
-        center[j] = unit(s[j] + offset[1]);
-        Arc { center, ..arc }.sweep(point(s), point(t))
-    }
 }
 
-/// The characters of block `line` a control keeps in its line buffer: its
-/// words, without spaces and comments.
-fn kept_length(line: &str) -> usize {
-    let mut depth = 0;
-    let mut n = 0;
-    for c in line.chars() {
-        match c {
-            ';' if depth == 0 => break,
-            '(' => depth += 1,
-            ')' if depth > 0 => depth -= 1,
-            c if depth == 0 && !c.is_whitespace() => n += 1,
-            _ => {}
-        }
-    }
-    n
-}
-
-/// The centre offset (in units of the last digit) to write: `plain`, the
-/// rounded one, when the end (`end`, relative to the start) lies within
-/// `close` units of its circle, otherwise the one of the nine around `plain`
-/// that puts the end best on the circle through the start.
-fn best_centre(plain: [i64; 2], end: [i64; 2], close: f64) -> [i64; 2] {
-    let miss = |o: [i64; 2]| {
-        let r0 = (o[0] as f64).hypot(o[1] as f64);
-        let r1 = ((end[0] - o[0]) as f64).hypot((end[1] - o[1]) as f64);
-        (r1 - r0).abs()
-    };
-    let mut best = (plain, miss(plain));
-    if best.1 <= close {
-        return plain;
-    }
-    for d0 in -1..=1 {
-        for d1 in -1..=1 {
-            let o = [plain[0] + d0, plain[1] + d1];
-            let e = miss(o);
-            if e < best.1 - 1e-9 {
-                best = (o, e);
-            }
-        }
-    }
-    best.0
-}
-
-/// Writes `n` units of the last of `digits` decimals: trailing zeros
-/// trimmed, never `-0`, and with `point` a decimal point even on whole
-/// numbers.
-fn push_fixed(out: &mut String, n: i64, digits: u32, point: bool) {
-    if n < 0 {
-        out.push('-');
-    }
-    let a = n.unsigned_abs();
-    let p = POW10[digits as usize];
-    push_uint(out, a / p);
-    let frac = a % p;
-    if frac != 0 {
-        out.push('.');
-        push_padded(out, frac, digits);
-        // Trailing zeros go; a non-zero digit stops it before the point.
-        while out.ends_with('0') {
-            out.pop();
-        }
-    } else if point {
-        out.push('.');
-    }
-}
-
-pub(super) fn push_uint(out: &mut String, v: u64) {
-    push_padded(out, v, 1);
-}
-
-/// Writes `v` with at least `width` digits (leading zeros).
-fn push_padded(out: &mut String, mut v: u64, width: u32) {
-    let mut buf = [b'0'; 20];
-    let mut i = buf.len();
-    while v > 0 || buf.len() - i < width as usize {
-        i -= 1;
-        buf[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-    }
-    for &b in &buf[i..] {
-        out.push(char::from(b));
-    }
-}
-
-/// Writes `text` as a comment `( … )`, with characters that would end it
-/// or the tape replaced.
-fn push_comment(out: &mut String, text: &str) {
-    out.push('(');
-    for c in text.chars() {
-        out.push(match c {
-            '(' => '[',
-            ')' => ']',
-            '%' => '_',
-            c if c == ' ' || c.is_ascii_graphic() => c,
-            _ => '_',
-        });
-    }
-    out.push(')');
+/// A block the program must give the control as written, at source line
+/// `line`, that `dialect` has not.
+pub(super) fn unsupported(dialect: Dialect, line: u32, text: &str) -> Error {
+    let message = format!("{dialect} has no '{text}', which the machine must get as written");
+    Error::new(ErrorKind::Unsupported, message).at(Place::Line(line))
 }

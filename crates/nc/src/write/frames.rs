@@ -3,9 +3,11 @@
 
 use kezuri_geom::{Axes, Frame, LengthOffset};
 
-use super::blocks::{push_uint, Writer, AXIS_LETTERS};
-use super::gcode::{Dialect, WriteError};
-use crate::interp::EXTRA_OFFSETS;
+use super::blocks::{unsupported, Writer, AXIS_LETTERS};
+use super::dialect::Dialect;
+use crate::number::push_uint;
+use crate::offsets::EXTRA_OFFSETS;
+use crate::Error;
 
 impl Writer {
     /// Brings the control to frame `f`: the work offset (`G54`…`G59`, and a
@@ -13,7 +15,7 @@ impl Writer {
     /// length offset ([`Writer::length`]). `last` is the
     /// tool tip in machine coordinates, to carry the known position over to
     /// the new work offset.
-    pub(super) fn frame(&mut self, f: Frame, last: Option<Axes>) -> Result<(), WriteError> {
+    pub(super) fn frame(&mut self, f: Frame, last: Option<Axes>) -> Result<(), Error> {
         let old = self.frame;
         if old == Some(f) {
             return Ok(());
@@ -87,7 +89,7 @@ impl Writer {
     /// the value; LinuxCNC's `G43.1 Z` and `G43.2 H` as the program gave
     /// them, only the new additions where the rest is in force already.
     /// Fanuc has no dynamic offset: refused.
-    fn length(&self, f: Frame, old: Option<Option<LengthOffset>>) -> Result<(Option<String>, Vec<String>), WriteError> {
+    fn length(&self, f: Frame, old: Option<Option<LengthOffset>>) -> Result<(Option<String>, Vec<String>), Error> {
         let Some(l) = f.length else {
             return Ok((Some(self.codes.length_cancel.to_string()), Vec::new()));
         };
@@ -106,7 +108,7 @@ impl Writer {
                 }
                 None => format!("G43.2 H{} (a tool length added to the offset in force, LinuxCNC's)", added[0]),
             };
-            return Err(WriteError::Kept { line: self.at.1, text, dialect: self.dialect });
+            return Err(unsupported(self.dialect, self.at.1, &text));
         }
         // Only G43.2 additions since: the offset in force stays.
         if let Some(Some(o)) = old {
@@ -128,19 +130,13 @@ impl Writer {
     /// The code that selects work offset `work`: G54 … G59, then G54.1 P
     /// (Fanuc) or G59.1 … G59.3 (LinuxCNC); what the dialect has not is
     /// refused.
-    fn work_code(&self, work: usize) -> Result<String, WriteError> {
+    fn work_code(&self, work: usize) -> Result<String, Error> {
         let p = (work + 1).saturating_sub(EXTRA_OFFSETS);
         Ok(match work {
             0..EXTRA_OFFSETS => ["G54", "G55", "G56", "G57", "G58", "G59"][work].to_string(),
             _ if self.dialect == Dialect::Fanuc => format!("G54.1 P{p}"),
             _ if self.dialect == Dialect::LinuxCnc && p <= 3 => format!("G59.{p}"),
-            _ => {
-                return Err(WriteError::Kept {
-                    line: self.at.1,
-                    text: format!("G54.1 P{p} (an additional work offset)"),
-                    dialect: self.dialect,
-                })
-            }
+            _ => return Err(unsupported(self.dialect, self.at.1, &format!("G54.1 P{p} (an additional work offset)"))),
         })
     }
 }

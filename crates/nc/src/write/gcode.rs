@@ -94,236 +94,11 @@
 //! - `G90` is written before the program end, to leave the control in
 //!   absolute.
 
-use std::fmt;
-use std::str::FromStr;
-
 use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, ToolState, Toolpath};
 
 use super::blocks::{Motion, Writer};
-use super::post::{Arcs, Setup};
-
-/// An NC dialect the writer speaks.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Dialect {
-    /// Fanuc (ISO): `%` first and last line, `O` number, two-digit codes
-    /// (`G01`, `M03`), `G04 P` in ms, `G31`.
-    #[default]
-    Fanuc,
-    /// LinuxCNC: short codes (`G1`, `M3`), `G4 P` in seconds, `G38.2`.
-    LinuxCnc,
-    /// GRBL 1.1: as LinuxCNC, without rotary axes and without a tool changer.
-    Grbl,
-}
-
-impl Dialect {
-    /// Every dialect, in the order of their names in the documentation.
-    pub const ALL: [Dialect; 3] = [Dialect::Fanuc, Dialect::LinuxCnc, Dialect::Grbl];
-
-    /// The lower-case name: `fanuc`, `linuxcnc` or `grbl`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Dialect::Fanuc => "fanuc",
-            Dialect::LinuxCnc => "linuxcnc",
-            Dialect::Grbl => "grbl",
-        }
-    }
-}
-
-impl fmt::Display for Dialect {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// A dialect name that is not `fanuc`, `linuxcnc` or `grbl`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnknownDialect(pub String);
-
-impl fmt::Display for UnknownDialect {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "unknown dialect '{}': expected fanuc, linuxcnc or grbl", self.0)
-    }
-}
-
-impl std::error::Error for UnknownDialect {}
-
-impl FromStr for Dialect {
-    type Err = UnknownDialect;
-
-    /// Reads `fanuc`, `linuxcnc` or `grbl`, in any letter case.
-    fn from_str(s: &str) -> Result<Dialect, UnknownDialect> {
-        Dialect::ALL.into_iter().find(|d| d.name().eq_ignore_ascii_case(s)).ok_or_else(|| UnknownDialect(s.to_string()))
-    }
-}
-
-/// How [`program`] writes. [`WriteOptions::preset`] gives a control's.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WriteOptions {
-    /// The dialect.
-    pub dialect: Dialect,
-    /// Decimals of length (and degree) values, 0 to 6; trailing zeros are
-    /// trimmed. 3 suits mm, 4 inch.
-    pub digits: u8,
-    /// Write in inches (`G20`) instead of mm (`G21`).
-    pub inch: bool,
-    /// `Some(step)`: number the blocks `N<step>`, `N<2·step>`, …;
-    /// `None`: no `N` words.
-    pub line_numbers: Option<u32>,
-    /// The Fanuc program number `O…`, 1 to 9999 (other dialects have none).
-    pub program_number: u32,
-    /// A title: the comment on the `O` line (Fanuc) or the first line.
-    pub title: Option<String>,
-    /// Comment lines after the title: what the reader of the program must
-    /// know (values the expansion took from the machine file).
-    pub notes: Vec<String>,
-    /// Write the motions in incremental coordinates (`G91`) from the first
-    /// block at which every axis is known on: see the module documentation.
-    pub incremental: bool,
-    /// How arcs are written.
-    pub arcs: Arcs,
-    /// Write comments (the title, notes, a GRBL tool change's message):
-    /// some controls stop on them.
-    pub comments: bool,
-    /// Dwell `P` in milliseconds (`Some(true)`) or seconds (`Some(false)`);
-    /// `None`: the dialect's (Fanuc milliseconds, the others seconds).
-    pub dwell_ms: Option<bool>,
-    /// The most characters a block may have (the control's line buffer).
-    pub block_limit: Option<u32>,
-    /// The most bytes the program may have (the control's memory).
-    pub byte_limit: Option<u64>,
-    /// `%` as the first and last line; `None`: the dialect's (Fanuc yes,
-    /// the others no).
-    pub percent: Option<bool>,
-    /// The straight-probe code where the control's is not its dialect's
-    /// (Mach3 reads LinuxCNC's words but probes with `G31`).
-    pub probe_code: Option<&'static str>,
-    /// The tool the operator has in the spindle when the program starts
-    /// (the later parts of a program split in parts): on GRBL, which has
-    /// no tool changer, no pause to put it in.
-    pub loaded_tool: Option<u32>,
-    /// For a program kezuri makes: its start, tool changes and end. `None`
-    /// for a program kezuri transforms, which keeps its own.
-    pub setup: Option<Setup>,
-}
-
-impl Default for WriteOptions {
-    /// Fanuc, mm with 3 decimals, absolute, no `N` words, `O0001`, no
-    /// title, `I J K` arcs, comments, no limits, no [`Setup`].
-    fn default() -> WriteOptions {
-        WriteOptions {
-            dialect: Dialect::Fanuc,
-            digits: 3,
-            inch: false,
-            line_numbers: None,
-            program_number: 1,
-            title: None,
-            notes: Vec::new(),
-            incremental: false,
-            arcs: Arcs::Ijk,
-            comments: true,
-            dwell_ms: None,
-            block_limit: None,
-            byte_limit: None,
-            percent: None,
-            loaded_tool: None,
-            probe_code: None,
-            setup: None,
-        }
-    }
-}
-
-/// Why a toolpath could not be written.
-#[derive(Clone, Debug, PartialEq)]
-pub enum WriteError {
-    /// A [`WriteOptions`] field out of its range.
-    Option {
-        /// The field.
-        name: &'static str,
-        /// Its value.
-        value: u32,
-        /// Smallest value allowed.
-        min: u32,
-        /// Largest value allowed.
-        max: u32,
-    },
-    /// A number no program can hold: not finite, 10⁹ or more in size, or
-    /// negative where that means nothing (feed `F`, speed `S`, dwell `P`).
-    Number {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-        /// The address the number was for (`X`, `I`, `F`, …).
-        word: char,
-        /// The number.
-        value: f64,
-    },
-    /// A rotary axis is used in a dialect without rotary axes (GRBL).
-    RotaryAxis {
-        /// Index of the move in [`Toolpath::moves`].
-        index: usize,
-        /// Source line of the move (0 when generated).
-        line: u32,
-        /// `A`, `B` or `C`.
-        axis: char,
-        /// The dialect.
-        dialect: Dialect,
-    },
-    /// A block the program must give the control as written (an M code,
-    /// `G10`, a tapping cycle) that the dialect has not.
-    Kept {
-        /// Source line of the block.
-        line: u32,
-        /// The block.
-        text: String,
-        /// The dialect.
-        dialect: Dialect,
-    },
-    /// The program breaks a limit of the control.
-    Limit {
-        /// What is too long: `a block` (with its line) or `the program`.
-        what: String,
-        /// Its length.
-        length: u64,
-        /// The limit.
-        limit: u64,
-        /// The unit of both (`characters`, `bytes`).
-        unit: &'static str,
-    },
-}
-
-impl fmt::Display for WriteError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let at = |f: &mut fmt::Formatter<'_>, index: usize, line: u32| {
-            write!(f, "move {}", index + 1)?;
-            if line > 0 {
-                write!(f, " (line {line})")?;
-            }
-            Ok(())
-        };
-        match self {
-            WriteError::Option { name, value, min, max } => {
-                write!(f, "{name} {value} is out of range: it must be {min} to {max}")
-            }
-            WriteError::Number { index, line, word, value } => {
-                at(f, *index, *line)?;
-                write!(f, ": {word}{value} cannot be written in a program")
-            }
-            WriteError::RotaryAxis { index, line, axis, dialect } => {
-                at(f, *index, *line)?;
-                write!(f, ": {dialect} has no rotary axis {axis}, but the toolpath turns it")
-            }
-            WriteError::Kept { line, text, dialect } => {
-                write!(f, "line {line}: {dialect} has no '{text}', which the machine must get as written")
-            }
-            WriteError::Limit { what, length, limit, unit } => {
-                write!(f, "{what} is {length} {unit}, more than the {limit} the control takes")
-            }
-        }
-    }
-}
-
-impl std::error::Error for WriteError {}
+use super::options::WriteOptions;
+use crate::Error;
 
 /// Writes `toolpath` as a program in `options.dialect`.
 ///
@@ -340,7 +115,7 @@ impl std::error::Error for WriteError {}
 /// let grbl = program(&path, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() }).unwrap();
 /// assert!(grbl.contains("G0 X10. Y0. Z5.\nG1 Z-0.5 F300.\n"));
 /// ```
-pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, WriteError> {
+pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Error> {
     let mut w = Writer::new(toolpath, options)?;
     w.header(options);
     let unit = if options.inch { 1.0 / 25.4 } else { 1.0 };
@@ -414,7 +189,7 @@ pub struct MadeText {
 }
 
 /// The post's start, tool change to `tool` and end of `options` (which
-/// must have a [`Setup`]), for a program kezuri writes as text.
+/// must have a [`Setup`](super::Setup)), for a program kezuri writes as text.
 ///
 /// ```
 /// use kezuri_nc::write::{made_text, WriteOptions};
@@ -424,7 +199,7 @@ pub struct MadeText {
 /// assert_eq!(t.length.as_deref(), Some("G43 H9"));
 /// assert_eq!(t.end, "G53 G00 Z0.\nG53 G00 X0. Y0.\nM30\n%\n");
 /// ```
-pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, WriteError> {
+pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, Error> {
     let empty = Toolpath::default();
     let mut w = Writer::new(&empty, options)?;
     w.header(options);
@@ -446,7 +221,7 @@ pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, WriteErr
 /// assert_eq!(dwell_block(&WriteOptions { dwell_ms: Some(false), ..fanuc }, 0.5).unwrap(), "G04 X0.5");
 /// assert_eq!(dwell_block(&WriteOptions::preset("linuxcnc").unwrap(), 0.5).unwrap(), "G4 P0.5");
 /// ```
-pub fn dwell_block(options: &WriteOptions, seconds: f64) -> Result<String, WriteError> {
+pub fn dwell_block(options: &WriteOptions, seconds: f64) -> Result<String, Error> {
     let empty = Toolpath::default();
     let mut w = Writer::new(&empty, &WriteOptions { line_numbers: None, ..options.clone() })?;
     w.dwell(seconds)?;

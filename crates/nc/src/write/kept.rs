@@ -3,14 +3,15 @@
 
 use kezuri_geom::{Axes, CycleBlock, Kept};
 
-use super::blocks::Writer;
-use super::gcode::{Dialect, WriteError};
+use super::blocks::{unsupported, Writer};
+use super::dialect::Dialect;
+use crate::Error;
 
 impl Writer {
     /// A block kept as the program wrote it ([`Kept`]), a line each. Only
     /// the Fanuc and LinuxCNC writers can give it to the control; what GRBL
     /// has not is refused.
-    pub(super) fn kept(&mut self, k: &Kept) -> Result<(), WriteError> {
+    pub(super) fn kept(&mut self, k: &Kept) -> Result<(), Error> {
         let dialect = self.dialect;
         let refused = match dialect {
             Dialect::Grbl => !grbl_has(&k.text),
@@ -25,7 +26,7 @@ impl Writer {
             Dialect::LinuxCnc => false,
         };
         if refused {
-            return Err(WriteError::Kept { line: k.line, text: k.text.clone(), dialect });
+            return Err(unsupported(dialect, k.line, &k.text));
         }
         // A new cycle, or a block with axis words, ends the cycle in force;
         // the next hole, and M codes and the like between holes, go on in it.
@@ -65,7 +66,7 @@ impl Writer {
 
     /// The control is at `end` (program coordinates) after a move a kept
     /// block made.
-    pub(super) fn made(&mut self, end: Axes) -> Result<(), WriteError> {
+    pub(super) fn made(&mut self, end: Axes) -> Result<(), Error> {
         let t = self.target(end)?;
         for k in (0..6).filter(|&k| self.used[k]) {
             self.pos[k] = Some(t[k]);

@@ -1,7 +1,8 @@
 //! The controls' alarms and error messages, worded as each control words
 //! them (LinuxCNC's from `rs274ngc_return.hh` and `interp_convert.cc`).
 
-use super::{CompError, Rules};
+use super::{stop, Rules};
+use crate::Error;
 
 /// The conditions the controls alarm on.
 #[derive(Clone, Copy, Debug)]
@@ -39,8 +40,8 @@ pub(super) enum Alarm {
 }
 
 impl Alarm {
-    pub(super) fn at(self, move_index: usize, rules: Rules) -> CompError {
-        CompError { move_index, message: self.text(rules) }
+    pub(super) fn at(self, move_index: usize, rules: Rules) -> Error {
+        stop(move_index, self.text(rules))
     }
 
     fn text(self, rules: Rules) -> String {

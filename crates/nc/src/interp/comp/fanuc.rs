@@ -7,7 +7,8 @@
 //! before them stays perpendicular to it.
 
 use super::plane::{classify, intersect, Element, Path, Turn, V2};
-use super::{Alarm, Approach, CompError, Item, Run, Step};
+use super::{Alarm, Approach, Item, Run, Step};
+use crate::Error;
 
 /// How many moves without plane travel Fanuc reads past to find the next
 /// plane move (one start-up or corner calculation).
@@ -19,7 +20,7 @@ struct Corner {
     links: Vec<V2>,
 }
 
-pub(super) fn plan(run: &Run, approach: Approach) -> Result<Vec<Step>, CompError> {
+pub(super) fn plan(run: &Run, approach: Approach) -> Result<Vec<Step>, Error> {
     let planes: Vec<usize> =
         run.items.iter().enumerate().filter(|(_, it)| matches!(it, Item::Plane(_))).map(|(k, _)| k).collect();
     let elem = |k: usize| match run.items[planes[k]] {
@@ -87,7 +88,7 @@ fn perpendicular(run: &Run, a: &Element) -> Corner {
 /// Start-up from the uncompensated start of line `a` toward `b`: inside
 /// corners take the intersection; outside corners the perpendicular
 /// vector of `b` (type A) or the type C corner vectors (type B).
-fn start_up(run: &Run, a: &Element, b: &Element, approach: Approach) -> Result<Corner, CompError> {
+fn start_up(run: &Run, a: &Element, b: &Element, approach: Approach) -> Result<Corner, Error> {
     let turn = classify(a.end_tangent(), b.start_tangent(), run.s);
     match (turn, approach) {
         (Turn::OutsideObtuse | Turn::OutsideAcute, Approach::A) => {
@@ -98,7 +99,7 @@ fn start_up(run: &Run, a: &Element, b: &Element, approach: Approach) -> Result<C
 }
 
 /// Cancel after `a` by straight move `c`: the mirror of start-up.
-fn cancel(run: &Run, a: &Element, c: &Element, approach: Approach) -> Result<Corner, CompError> {
+fn cancel(run: &Run, a: &Element, c: &Element, approach: Approach) -> Result<Corner, Error> {
     let turn = classify(a.end_tangent(), c.start_tangent(), run.s);
     match (turn, approach) {
         (Turn::OutsideObtuse | Turn::OutsideAcute, Approach::A) => Ok(perpendicular(run, a)),
@@ -115,7 +116,7 @@ fn cancel(run: &Run, a: &Element, c: &Element, approach: Approach) -> Result<Cor
 /// ends joined by a straight move. An arc ends at its own perpendicular
 /// vector and reaches the tangent line's point by a straight move; an arc
 /// after the corner starts from its perpendicular vector the same way.
-fn corner(run: &Run, a: &Element, b: &Element) -> Result<Corner, CompError> {
+fn corner(run: &Run, a: &Element, b: &Element) -> Result<Corner, Error> {
     let (s, r) = (run.s, run.r);
     let (t1, t2) = (a.end_tangent(), b.start_tangent());
     let p = a.to;

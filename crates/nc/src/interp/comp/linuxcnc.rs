@@ -16,7 +16,8 @@
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use super::plane::{intersect, normal, turn_angle, Element, Path, V2};
-use super::{Alarm, CompError, Item, Run, Step};
+use super::{Alarm, Item, Run, Step};
+use crate::Error;
 
 /// `TOLERANCE_CONCAVE_CORNER` in LinuxCNC's `interp_internal.hh`, radians.
 const SMALL: f64 = 0.05;
@@ -32,7 +33,7 @@ struct Before {
     end: V2,
 }
 
-pub(super) fn plan(run: &Run) -> Result<Vec<Step>, CompError> {
+pub(super) fn plan(run: &Run) -> Result<Vec<Step>, Error> {
     let (s, r) = (run.s, run.r);
     let mut steps = Vec::with_capacity(run.items.len() * 2 + 1);
     let mut items = run.items.iter().copied().peekable();
@@ -109,7 +110,7 @@ fn with_end(step: Step, end: V2) -> Step {
 }
 
 /// The entry move `e` from the tool's uncompensated point.
-fn entry(run: &Run, e: &Element) -> Result<(Before, Step), CompError> {
+fn entry(run: &Run, e: &Element) -> Result<(Before, Step), Error> {
     let (s, r) = (run.s, run.r);
     let from = run.start;
     if from.dist(e.to) <= r {

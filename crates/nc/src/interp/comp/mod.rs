@@ -36,9 +36,10 @@ mod linuxcnc;
 mod plane;
 
 use std::f64::consts::TAU;
-use std::fmt;
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane};
+
+use crate::{Error, ErrorKind, Place};
 
 use alarm::Alarm;
 use plane::{in_plane, with_plane, wrap, Element, Path, SideSign, MIN_TRAVEL, V2};
@@ -110,22 +111,11 @@ impl Comp {
     }
 }
 
-/// Why a toolpath cannot be compensated, as the control would alarm.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CompError {
-    /// Index in the input of the move the control would stop on.
-    pub move_index: usize,
-    /// What is wrong, worded as the control's alarm.
-    pub message: String,
+/// Why a toolpath cannot be compensated: the move in the input the control
+/// would stop on, and what is wrong, worded as the control's alarm.
+fn stop(move_index: usize, message: String) -> Error {
+    Error::new(ErrorKind::Compensation, message).at(Place::Compensated(move_index))
 }
-
-impl fmt::Display for CompError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "move {}: {}", self.move_index, self.message)
-    }
-}
-
-impl std::error::Error for CompError {}
 
 /// Applies cutter radius compensation.
 ///
@@ -138,12 +128,13 @@ impl std::error::Error for CompError {}
 /// the plane's axes too). Uncompensated moves are copied unchanged.
 ///
 /// # Errors
-/// A [`CompError`] with the index of the offending move: interference (a
+/// An [`Error`] of kind [`ErrorKind::Compensation`] at the offending
+/// move ([`Place::Compensated`], its index in `moves`): interference (a
 /// compensated move that runs backwards, an inside arc not larger than the
 /// cutter), no intersection at a corner, an arc on a start-up or cancel
 /// move (Fanuc) or after G40 (LinuxCNC), a probe or machine-coordinate move
 /// while compensation is on, or a change of [`Comp`] without G40 between.
-pub fn compensate(moves: &[Move], tags: &[Option<Comp>], rules: Rules) -> Result<Vec<Move>, CompError> {
+pub fn compensate(moves: &[Move], tags: &[Option<Comp>], rules: Rules) -> Result<Vec<Move>, Error> {
     compensate_traced(moves, tags, rules).map(|(out, _)| out)
 }
 
@@ -158,10 +149,10 @@ pub fn compensate_traced(
     moves: &[Move],
     tags: &[Option<Comp>],
     rules: Rules,
-) -> Result<(Vec<Move>, Vec<usize>), CompError> {
+) -> Result<(Vec<Move>, Vec<usize>), Error> {
     if tags.len() != moves.len() {
         let message = format!("{} compensation tags for {} moves", tags.len(), moves.len());
-        return Err(CompError { move_index: tags.len().min(moves.len()), message });
+        return Err(stop(tags.len().min(moves.len()), message));
     }
     let mut out = Vec::with_capacity(moves.len() + moves.len() / 2);
     let mut origin = Vec::with_capacity(out.capacity());
@@ -235,7 +226,7 @@ impl<'a> Run<'a> {
         exit: Option<usize>,
         comp: Comp,
         rules: Rules,
-    ) -> Result<Run<'a>, CompError> {
+    ) -> Result<Run<'a>, Error> {
         let (s, r) = comp.effective();
         if rules == Rules::LinuxCnc && comp.plane == Plane::Yz && r > 0.0 {
             return Err(Alarm::PlaneUnsupported.at(range.start, rules));
@@ -260,7 +251,7 @@ impl<'a> Run<'a> {
 
     /// The offset path of `e`, refusing an inside arc not larger than the
     /// cutter.
-    fn path(&self, e: &Element) -> Result<Path, CompError> {
+    fn path(&self, e: &Element) -> Result<Path, Error> {
         match e.arc {
             Some(c) if e.tool_inside(self.s) && c.radius <= self.r => {
                 Err(Alarm::InsideArcTooSmall.at(e.index, self.rules))
@@ -304,13 +295,7 @@ enum Step {
     Exit { index: usize },
 }
 
-fn emit(
-    run: &Run,
-    steps: &[Step],
-    out: &mut Vec<Move>,
-    origin: &mut Vec<usize>,
-    cur: &mut Axes,
-) -> Result<(), CompError> {
+fn emit(run: &Run, steps: &[Step], out: &mut Vec<Move>, origin: &mut Vec<usize>, cur: &mut Axes) -> Result<(), Error> {
     let plane = run.plane;
     let (i, j, _) = plane.axes();
     let named = |m: &Move| AxisSet(m.named.0 | (1 << i) | (1 << j));

@@ -1,0 +1,476 @@
+//! The motion of a block, by its kind: dwells, returns to the reference
+//! point, machine-coordinate and skip moves, the shifts that move nothing,
+//! and straight and circular moves (canned cycles are `cycle.rs`'s).
+
+use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind};
+
+use super::modal::{g_name, Distance, FeedMode, GCode, Motion, Units};
+use super::words::Words;
+use super::{Control, IntegerInput, State};
+use crate::source::{Diagnostic, Span};
+
+/// Largest difference (mm) between an I J K arc's start and end radius that
+/// the control accepts: parameter 3410 of a Fanuc control, typically 0.02 mm.
+const ARC_RADIUS_ALARM: f64 = 0.02;
+
+impl State {
+    /// The feed in mm/min for the current modal state.
+    pub(super) fn feed_mm_min(&mut self, span: Span) -> f64 {
+        if !self.feed_set {
+            self.warn("no-feed", span, "a cutting move before any F word: the feed is unknown (0)");
+        }
+        let f = if self.modal.units == Units::Inch { self.feed_word * 25.4 } else { self.feed_word };
+        match self.modal.feed_mode {
+            FeedMode::PerMinute => f,
+            // Set per move from its length (see `motion`).
+            FeedMode::InverseTime => 0.0,
+            FeedMode::PerRev => {
+                if self.speed == 0.0 {
+                    self.warn("no-speed", span, "feed per revolution (G95) with spindle speed 0");
+                }
+                f * self.speed
+            }
+        }
+    }
+
+    /// Program units of a linear word, in mm.
+    pub(super) fn mm(&self, v: f64) -> f64 {
+        if self.modal.units == Units::Inch {
+            v * 25.4
+        } else {
+            v
+        }
+    }
+
+    /// The end point, in machine coordinates, that the axis words ask for
+    /// (through the transforms of `coords.rs`).
+    pub(super) fn target(&mut self, w: &Words) -> Axes {
+        self.program_target(w)
+    }
+
+    /// A dwell of the same block again, with nothing between (a wait
+    /// loop): the last dwell made longer, so that waiting takes no memory.
+    /// False where it must be a move of its own.
+    fn longer_dwell(&mut self, seconds: f64, line: u32) -> bool {
+        let moves = self.toolpath.moves.len();
+        let kept_after = self.toolpath.kept.last().is_some_and(|k| k.before >= moves);
+        let frame = self.frame();
+        let same = self.toolpath.frames.last() == Some(&frame) && !self.comp_on() && !kept_after;
+        match self.toolpath.moves.last_mut() {
+            Some(m) if same && m.line == line && m.end == self.tip && m.tool == self.tool => match &mut m.kind {
+                MoveKind::Dwell(s) => {
+                    *s += seconds;
+                    true
+                }
+                _ => false,
+            },
+            _ => false,
+        }
+    }
+
+    pub(super) fn push_move(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet, line: u32) {
+        let named = self.moved_axes(named, self.tip, end);
+        let start = self.tip;
+        // An increment from a position the program never named is reckoned
+        // from the machine model: the writer must keep it an increment.
+        let relative = match kind {
+            MoveKind::Rapid | MoveKind::Feed | MoveKind::Arc(_) | MoveKind::Probe
+                if self.modal.distance == Distance::Incremental && named.0 & self.guessed.0 != 0 =>
+            {
+                named
+            }
+            _ => AxisSet::NONE,
+        };
+        match kind {
+            MoveKind::Home | MoveKind::Machine => self.guessed = AxisSet(self.guessed.0 | named.0),
+            MoveKind::Dwell(_) => {}
+            _ if self.modal.distance == Distance::Absolute => self.guessed = AxisSet(self.guessed.0 & !named.0),
+            _ => {}
+        }
+        let frame = self.frame();
+        if self.toolpath.frames.last() != Some(&frame) {
+            self.toolpath.frames.push(frame);
+        }
+        let m = Move {
+            kind,
+            start: self.tip,
+            end,
+            feed,
+            speed: self.speed,
+            spindle: self.spindle,
+            coolant: self.coolant,
+            tool: self.tool,
+            line,
+            frame: (self.toolpath.frames.len() - 1) as u32,
+            named,
+            relative,
+        };
+        self.comp_tag();
+        self.toolpath.push(m);
+        self.tip = end;
+        self.settle_program(kind, start);
+    }
+
+    /// Applies the one-shot codes and the motion of a block. Returns whether
+    /// an axis moved.
+    pub(super) fn motion(
+        &mut self,
+        codes: &[Option<(GCode, Span)>],
+        w: &Words,
+        span: Span,
+        line: u32,
+    ) -> Result<bool, Diagnostic> {
+        if codes.iter().flatten().any(|(c, _)| *c == GCode::LengthGiven) {
+            // G43.1's axis words are its offset: nothing moves.
+            return Ok(false);
+        }
+        let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
+        if w.polar() {
+            self.polar_rules(one_shot, w)?;
+        }
+        match one_shot {
+            Some((GCode::Dwell, gspan)) => {
+                let then_moves = self.dwell(codes, w, gspan, line)?;
+                if !then_moves {
+                    return Ok(false);
+                }
+            }
+            Some((code @ (GCode::Home | GCode::OtherHome), gspan)) => {
+                return self.reference_return(code, w, gspan, line);
+            }
+            Some((code @ (GCode::ResetShift | GCode::SetPosition | GCode::LocalOffset), _)) => {
+                self.shift(code, w, line);
+                return Ok(false);
+            }
+            Some((GCode::MachineCoords, gspan)) if self.modal.distance == Distance::Incremental => {
+                // Fanuc: G53 ignored, an ordinary incremental move follows.
+                self.g53_incremental(gspan)?;
+            }
+            Some((GCode::MachineCoords, _)) => return Ok(self.machine_move(w, line)),
+            Some((GCode::Skip, gspan)) => return self.skip(w, gspan, span, line),
+            Some((GCode::SetOffsets, gspan)) => {
+                self.set_offsets(w, gspan)?;
+                // LinuxCNC's G10 ignores G91: kept as absolute for any control.
+                let absolute = self.settings.coords.control == Control::LinuxCnc;
+                self.keep_as_given(w, absolute, line);
+                return Ok(false);
+            }
+            _ => {}
+        }
+        // G68, G51, G51.1, G50.1: their axis words are centres, not moves.
+        if codes
+            .iter()
+            .flatten()
+            .any(|(c, _)| matches!(c, GCode::Rotation(true) | GCode::Scaling(true) | GCode::Mirror(_)))
+        {
+            return Ok(false);
+        }
+        if let Some(cycle) = self.modal.cycle {
+            return self.cycle_block(cycle, w, span, line);
+        }
+        if self.rigid_tap {
+            return self.rigid_tap_block(w, span, line);
+        }
+        if self.threading {
+            return self.thread_block(w, span, line);
+        }
+        self.modal_motion(w, span, line)
+    }
+
+    /// `G04`: the dwell. Returns whether the block's motion follows it.
+    fn dwell(
+        &mut self,
+        codes: &[Option<(GCode, Span)>],
+        w: &Words,
+        gspan: Span,
+        line: u32,
+    ) -> Result<bool, Diagnostic> {
+        let lcnc = self.settings.dialect == crate::Dialect::LinuxCnc;
+        if lcnc && !w.has(b'P') {
+            return Err(Diagnostic::error(gspan, "G4 needs P, the dwell in seconds (LinuxCNC reads no X dwell)"));
+        }
+        let seconds = match (w.get(b'P'), w.get(b'X')) {
+            // P is milliseconds on a Fanuc control, seconds on LinuxCNC and GRBL.
+            (Some(p), _) if self.settings.integer_input == IntegerInput::Units => p,
+            (Some(p), _) => p / 1000.0,
+            (None, Some(x)) => x,
+            (None, None) => {
+                return Err(Diagnostic::error(gspan, "G04 needs the dwell time: X (seconds) or P (milliseconds)"))
+            }
+        };
+        if seconds < 0.0 {
+            return Err(Diagnostic::error(gspan, "a dwell time cannot be negative"));
+        }
+        if !self.longer_dwell(seconds, line) {
+            self.push_move(MoveKind::Dwell(seconds), self.tip, self.feed_word, AxisSet::NONE, line);
+        }
+        // `G04 P.001 G00 X1. Y1.` (LinuxCNC programs write it): the
+        // dwell, then the block's motion. With X the dwell time,
+        // nothing moves.
+        // LinuxCNC dwells first in every block (its order of
+        // execution), then makes the block's motion in the motion
+        // mode in force: a canned cycle's holes too.
+        let motion_code = codes.iter().flatten().any(|(c, _)| matches!(c, GCode::Motion(_)));
+        Ok(w.has(b'P') && (motion_code || lcnc) && (w.any_axis() || (lcnc && w.has(b'R'))))
+    }
+
+    /// `G28`, `G30`: a return to the reference point, through the point the
+    /// axis words give. Returns whether an axis moved.
+    fn reference_return(&mut self, code: GCode, w: &Words, gspan: Span, line: u32) -> Result<bool, Diagnostic> {
+        let control = self.settings.coords.control;
+        if code == GCode::Home && control == Control::Haas {
+            // Haas: G28 cancels the tool length offset.
+            self.modal.length_comp = None;
+            self.length_loaded = None;
+        }
+        let every_axis = match code {
+            GCode::Home => control != Control::Fanuc,
+            _ => control == Control::LinuxCnc,
+        };
+        if !w.any_axis() {
+            if !every_axis {
+                self.warn("bare-g28", gspan, format!("{} without axis words moves nothing on this control (LinuxCNC returns every axis; Haas too for G28): name the axes, e.g. G91 {} Z0", g_name(if code == GCode::Home { 280 } else { 300 }), g_name(if code == GCode::Home { 280 } else { 300 })));
+                return Ok(false);
+            }
+            // Haas and LinuxCNC: every axis to the reference point, at
+            // once: X Y Z and the rotary axes the program has turned,
+            // named so that any control's written program does the same.
+            let h = self.reference_point(code, w)?.to_array();
+            let lz = self.length_offset();
+            let home = Axes::from_array(std::array::from_fn(|i| h[i] - if i == 2 { lz } else { 0.0 }));
+            let tip = self.tip.to_array();
+            let axes = (3..6).filter(|&k| tip[k] != 0.0).fold(AxisSet(0b111), |set, k| set.with(k));
+            if code == GCode::OtherHome {
+                let p = w.get(b'P').filter(|&p| p != 2.0).map_or(String::new(), |p| format!(" P{p}"));
+                let words: String =
+                    (0..6).filter(|&k| axes.contains(k)).map(|k| format!(" {}0.", b"XYZABC"[k] as char)).collect();
+                self.keep(format!("G91 G30{p}{words}"), 1, false, line);
+            }
+            self.push_move(MoveKind::Home, home, 0.0, axes, line);
+            return Ok(true);
+        }
+        let via = self.target(w);
+        let (h, mut v) = (self.reference_point(code, w)?.to_array(), self.tip.to_array());
+        let lz = self.length_offset();
+        for (i, &letter) in b"XYZABC".iter().enumerate() {
+            if w.has(letter) {
+                v[i] = h[i] - if i == 2 { lz } else { 0.0 };
+            }
+        }
+        let home = Axes::from_array(v);
+        // `G91 G28 Z0` has no intermediate move (nor does a via point a
+        // rounding away from the tool).
+        let (v, t) = (via.to_array(), self.tip.to_array());
+        if (0..6).any(|k| (v[k] - t[k]).abs() > 1e-9) {
+            self.push_move(MoveKind::Rapid, via, 0.0, w.axes(), line);
+        }
+        if code == GCode::OtherHome {
+            self.keep_other_return(w, line);
+        }
+        self.push_move(MoveKind::Home, home, 0.0, w.axes(), line);
+        Ok(true)
+    }
+
+    /// `G92.1` (`G92.2`), `G92`, `G52`: shifts that move nothing, kept for
+    /// the control as given.
+    fn shift(&mut self, code: GCode, w: &Words, line: u32) {
+        match code {
+            GCode::ResetShift => {
+                // The G92 shift is cancelled: on the named axes (Fanuc's
+                // preset), on every axis when none is named (LinuxCNC).
+                let mut g = self.g92_shift.to_array();
+                for (i, &letter) in b"XYZABC".iter().enumerate() {
+                    if !w.any_axis() || w.has(letter) {
+                        g[i] = 0.0;
+                    }
+                }
+                self.g92_shift = Axes::from_array(g);
+            }
+            GCode::SetPosition => self.set_position(w),
+            _ => self.local_offset(w),
+        }
+        self.guessed = AxisSet::ALL;
+        self.keep_as_given(w, false, line);
+    }
+
+    /// `G53` in absolute: a rapid in machine coordinates. Returns whether an
+    /// axis moved.
+    fn machine_move(&mut self, w: &Words, line: u32) -> bool {
+        let mut p = self.tip.to_array();
+        let lz = self.length_offset();
+        for (i, &letter) in b"XYZABC".iter().enumerate() {
+            if let Some(v) = w.get(letter) {
+                p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
+            }
+        }
+        // G53 positions at rapid traverse whatever the group 1 mode.
+        if w.any_axis() {
+            self.push_move(MoveKind::Machine, Axes::from_array(p), 0.0, w.axes(), line);
+        }
+        w.any_axis()
+    }
+
+    /// `G31`: a skip (probe) move, and where it stops. Returns whether an
+    /// axis moved.
+    fn skip(&mut self, w: &Words, gspan: Span, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        if !w.any_axis() {
+            return Ok(false);
+        }
+        if self.modal.feed_mode == FeedMode::InverseTime {
+            return Err(Diagnostic::error(gspan, "a skip move in inverse time feed (G93): give G94 first"));
+        }
+        let end = self.target(w);
+        let feed = self.feed_mm_min(span);
+        self.push_move(MoveKind::Probe, end, feed, w.axes(), line);
+        // #5061… include the tool length offset, as #5041… do.
+        let work = self.work_position();
+        self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
+        Ok(true)
+    }
+
+    /// A move in the motion mode in force: rapid, feed or arc. Returns
+    /// whether an axis moved.
+    fn modal_motion(&mut self, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
+        if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
+            return Ok(false);
+        }
+        let end = self.target(w);
+        match self.modal.motion {
+            Motion::Rapid => self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line),
+            Motion::Linear => {
+                let feed = self.feed_mm_min(span);
+                self.push_move(MoveKind::Feed, end, feed, w.axes(), line);
+            }
+            Motion::Cw | Motion::Ccw => {
+                let arc = self.arc(w, end, span)?;
+                let feed = self.feed_mm_min(span);
+                self.push_move(MoveKind::Arc(arc), end, feed, w.axes(), line);
+            }
+        }
+        if self.modal.feed_mode == FeedMode::InverseTime && self.modal.motion != Motion::Rapid {
+            // G93: F is 1 / the move's time in minutes, given on every move.
+            let Some(f) = w.get(b'F').filter(|f| *f > 0.0) else {
+                return Err(Diagnostic::error(
+                    span,
+                    "in inverse time feed (G93) every cutting move needs its F (1/minutes), greater than 0",
+                ));
+            };
+            if let Some(m) = self.toolpath.moves.last_mut() {
+                m.feed = m.feed_distance() * f;
+            }
+        }
+        Ok(true)
+    }
+
+    /// LinuxCNC's rules for the polar words `@` and `^`: they name X and Y
+    /// (neither may be given with them) in the XY plane, on a motion or a
+    /// canned cycle's hole (with a dwell before it, but with no other
+    /// one-shot code: G53, G28, G92, G10 …).
+    fn polar_rules(&self, one_shot: Option<(GCode, Span)>, w: &Words) -> Result<(), Diagnostic> {
+        let at = if w.has(b'@') { w.span(b'@') } else { w.span(b'^') };
+        for letter in [b'X', b'Y'] {
+            if w.has(letter) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!("{} with a polar word (@ ^): give the point in X Y or in @ ^, not both", letter as char),
+                ));
+            }
+        }
+        match one_shot {
+            None | Some((GCode::Dwell, _)) => {}
+            Some((GCode::MachineCoords, gspan)) => {
+                return Err(Diagnostic::error(gspan, "G53 cannot take polar words (@ ^): give X Y"))
+            }
+            Some((_, gspan)) => {
+                return Err(Diagnostic::error(gspan, "polar words (@ ^) are for motion only: give this code its X Y"))
+            }
+        }
+        if self.modal.plane != kezuri_geom::Plane::Xy {
+            return Err(Diagnostic::error(at, "polar words (@ ^) need the XY plane (G17)"));
+        }
+        if self.modal.cycle.is_none() {
+            self.polar_from_origin(w, at)?;
+        }
+        Ok(())
+    }
+
+    fn arc(&mut self, w: &Words, end: Axes, span: Span) -> Result<Arc, Diagnostic> {
+        let plane = self.modal.plane;
+        let (i, j, _) = plane.axes();
+        // A mirror image (or a negative scale) on one axis of the plane
+        // reverses the direction; an R arc's radius is scaled.
+        let ccw = (self.modal.motion == Motion::Ccw) != self.plane_reversed();
+        let scale = self.arc_scale(span)?;
+        let s = self.tip.xyz();
+        let e = end.xyz();
+        let mut center = s;
+        if let Some(r) = w.get(b'R') {
+            let r = self.mm(r) * scale;
+            let (dx, dy) = (e[i] - s[i], e[j] - s[j]);
+            let chord = dx.hypot(dy);
+            if chord < 1e-9 {
+                return Err(Diagnostic::error(
+                    w.span(b'R'),
+                    "an R arc cannot end where it starts: give I J K for a full circle",
+                ));
+            }
+            let half = chord / 2.0;
+            if r.abs() < half - 1e-6 {
+                return Err(Diagnostic::error(
+                    w.span(b'R'),
+                    format!(
+                        "the radius R, {:.4} mm, is smaller than half the distance to the end point ({half:.4} mm)",
+                        r.abs()
+                    ),
+                ));
+            }
+            let h = (r * r - half * half).max(0.0).sqrt();
+            // Centre to the left of the chord for a short CCW arc.
+            let left = (ccw == (r > 0.0)) as i32 as f64 * 2.0 - 1.0;
+            center[i] = s[i] + dx / 2.0 - left * h * dy / chord;
+            center[j] = s[j] + dy / 2.0 + left * h * dx / chord;
+        } else {
+            match self.arc_centre(w, span)? {
+                Some(c) => center = c,
+                None => return Err(Diagnostic::error(span, "an arc needs its centre (I J K) or its radius (R)")),
+            }
+            let r0 = (s[i] - center[i]).hypot(s[j] - center[j]);
+            let r1 = (e[i] - center[i]).hypot(e[j] - center[j]);
+            if r0 < 1e-9 {
+                return Err(Diagnostic::error(span, "the arc's centre is its start point (radius 0)"));
+            }
+            let off = (r1 - r0).abs();
+            if off > ARC_RADIUS_ALARM {
+                // The control stops here (Fanuc alarm PS0020, over tolerance of radius).
+                return Err(Diagnostic::error(
+                    span,
+                    format!("the arc's end point is {off:.4} mm off its circle (radius {r0:.4} at the start, {r1:.4} at the end): more than {ARC_RADIUS_ALARM} mm, the control stops with an alarm"),
+                ));
+            }
+            if off > 0.002 {
+                self.warn(
+                    "arc-radius",
+                    span,
+                    format!("the arc's end point is {:.4} mm off its circle (radius {r0:.4} at the start, {r1:.4} at the end)", (r1 - r0).abs()),
+                );
+            }
+        }
+        let (_, _, n) = plane.axes();
+        center[n] = s[n];
+        // LinuxCNC: P is the number of turns (P1 the arc itself).
+        let turns = match w.get(b'P') {
+            Some(p) if self.settings.coords.control == Control::LinuxCnc => {
+                if p.fract() != 0.0 || !(1.0..=10_000.0).contains(&p) {
+                    return Err(Diagnostic::error(
+                        w.span(b'P'),
+                        format!("P{p}: the number of turns of an arc is a whole number from 1"),
+                    ));
+                }
+                p as u32 - 1
+            }
+            _ => 0,
+        };
+        Ok(Arc { center, plane, ccw, turns })
+    }
+}
