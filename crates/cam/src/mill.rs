@@ -46,6 +46,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use kezuri_geom::{Axes, AxisSet, Move, MoveKind, Spindle, Toolpath};
 
+use crate::error::{Error, ErrorKind};
+
 use self::refine::{first_level, point_by_point, row_samples, sample_rows, Job, Quantum};
 
 /// Which way the rows run.
@@ -113,25 +115,10 @@ pub struct RasterOptions {
     pub tool: u32,
 }
 
-/// Why no toolpath could be made.
-#[derive(Clone, Debug, PartialEq)]
-pub enum MillError {
-    /// An option out of its range.
-    Option(String),
-    /// The CL function has no point anywhere in the region.
-    NothingToCut,
+/// The error of a raster or roughing that finds no point of the surface.
+pub(crate) fn nothing_to_cut() -> Error {
+    Error::new(ErrorKind::NothingToCut, "the surface lies nowhere under the region: nothing to cut")
 }
-
-impl std::fmt::Display for MillError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            MillError::Option(m) => f.write_str(m),
-            MillError::NothingToCut => f.write_str("the surface lies nowhere under the region: nothing to cut"),
-        }
-    }
-}
-
-impl std::error::Error for MillError {}
 
 /// The CL function: the tip's z over (x, y), `None` off the surface.
 pub type ClFn<'a> = dyn Fn(f64, f64) -> Option<f64> + Sync + 'a;
@@ -165,7 +152,7 @@ pub fn raster(
     o: &RasterOptions,
     pick_feed: Option<&PickFeedFn>,
     on_row: &Progress,
-) -> Result<Toolpath, MillError> {
+) -> Result<Toolpath, Error> {
     raster_with(cl, None, region, o, pick_feed, on_row)
 }
 
@@ -180,7 +167,7 @@ pub fn raster_with(
     o: &RasterOptions,
     pick_feed: Option<&PickFeedFn>,
     on_row: &Progress,
-) -> Result<Toolpath, MillError> {
+) -> Result<Toolpath, Error> {
     check(region, o)?;
     let passes: &[bool] = match o.direction {
         Direction::X => &[false],
@@ -208,7 +195,7 @@ pub fn raster_with(
             };
             rows.push(if v1 - (v + step) < 1e-9 { v1 } else { v + step });
             if rows.len() > MAX_ROWS {
-                return Err(MillError::Option(format!(
+                return Err(Error::new(ErrorKind::Option, format!(
                     "more than {MAX_ROWS} rows: the pick feed that meets the cusp target near {} = {v:.3} is {step:.2e} mm",
                     if along_y { "x" } else { "y" }
                 )));
@@ -278,40 +265,45 @@ pub fn raster_with(
         path.retract();
     }
     if path.toolpath.moves.is_empty() {
-        return Err(MillError::NothingToCut);
+        return Err(nothing_to_cut());
     }
     // Rapids run at the safe height: every cut must be below it.
     if let Some(m) = path.toolpath.moves.iter().filter(|m| !m.is_rapid()).find(|m| m.end.z >= o.safe_z) {
-        return Err(MillError::Option(format!(
-            "the safe height {} is not above the cut at ({:.3}, {:.3}, {:.3}): rapids would run into the part",
-            o.safe_z, m.end.x, m.end.y, m.end.z
-        )));
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!(
+                "the safe height {} is not above the cut at ({:.3}, {:.3}, {:.3}): rapids would run into the part",
+                o.safe_z, m.end.x, m.end.y, m.end.z
+            ),
+        ));
     }
     Ok(path.toolpath)
 }
 
-fn check(r: Region, o: &RasterOptions) -> Result<(), MillError> {
-    let positive = |v: f64, what: &str| kezuri_geom::limits::length(v, what).map(|_| ()).map_err(MillError::Option);
+fn check(r: Region, o: &RasterOptions) -> Result<(), Error> {
+    let positive = |v: f64, what: &str| {
+        kezuri_geom::limits::length(v, what).map(|_| ()).map_err(|m| Error::new(ErrorKind::Option, m))
+    };
     positive(o.stepover, "the stepover")?;
     positive(o.step, "the sampling step")?;
     positive(o.tolerance, "the tolerance")?;
     positive(o.gouge, "the gouge tolerance")?;
     if !(o.quantum.is_finite() && o.quantum >= 0.0 && o.quantum <= o.step) {
-        return Err(MillError::Option(format!(
-            "the output increment must be between 0 and the step, got {}",
-            o.quantum
-        )));
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!("the output increment must be between 0 and the step, got {}", o.quantum),
+        ));
     }
     positive(o.feed, "the feed")?;
     positive(o.plunge_feed, "the plunge feed")?;
     if !(o.safe_z.is_finite() && o.speed.is_finite() && o.speed >= 0.0) {
-        return Err(MillError::Option(format!(
-            "the safe height ({}) and the spindle speed ({}) must be finite numbers",
-            o.safe_z, o.speed
-        )));
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!("the safe height ({}) and the spindle speed ({}) must be finite numbers", o.safe_z, o.speed),
+        ));
     }
     if ![r.x0, r.y0, r.x1, r.y1].iter().all(|v| v.is_finite()) || r.x1 < r.x0 || r.y1 < r.y0 {
-        return Err(MillError::Option(format!("the region {r:?} must be finite with x0 ≤ x1 and y0 ≤ y1")));
+        return Err(Error::new(ErrorKind::Option, format!("the region {r:?} must be finite with x0 ≤ x1 and y0 ≤ y1")));
     }
     Ok(())
 }
@@ -327,7 +319,7 @@ fn least_points(
     o: &RasterOptions,
     pick_feed: Option<&PickFeedFn>,
     passes: &[bool],
-) -> Result<(), MillError> {
+) -> Result<(), Error> {
     let widest = pick_feed.and_then(|pf| pf(0.0)).map_or(o.stepover, |w| w.min(o.stepover));
     let (w, h) = (region.x1 - region.x0, region.y1 - region.y0);
     let (mut rows, mut samples) = (0.0, 0.0);
@@ -338,12 +330,15 @@ fn least_points(
     }
     if rows * samples > MAX_POINTS {
         let by = if pick_feed.is_some() { "the pick feed of the cusp height on the flat" } else { "the stepover" };
-        return Err(MillError::Option(format!(
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!(
             "{rows:.0} rows ({by}, {widest:.3e} mm) of {samples:.0} samples (the step, {} mm) is more than {} million \
              CL points: raise the stepover, the cusp height or the step",
             o.step,
             MAX_POINTS / 1e6
-        )));
+        ),
+        ));
     }
     Ok(())
 }
@@ -521,7 +516,9 @@ mod tests {
         let path = raster(&surface, SQUARE, &options(), None, &|_, _| {}).unwrap();
         // No cut crosses the hole.
         assert!(cuts(&path).iter().all(|m| !(m.start.x < 4.5 && m.end.x > 5.5 || m.end.x < 4.5 && m.start.x > 5.5)));
-        assert!(raster(&|_, _| None, SQUARE, &options(), None, &|_, _| {}) == Err(MillError::NothingToCut));
+        assert!(
+            raster(&|_, _| None, SQUARE, &options(), None, &|_, _| {}).unwrap_err().kind == ErrorKind::NothingToCut
+        );
     }
 
     #[test]
@@ -552,7 +549,9 @@ mod tests {
     #[test]
     fn bad_options_are_errors() {
         let bad = RasterOptions { stepover: 0.0, ..options() };
-        assert!(matches!(raster(&|_, _| Some(0.0), SQUARE, &bad, None, &|_, _| {}), Err(MillError::Option(_))));
+        assert!(
+            matches!(raster(&|_, _| Some(0.0), SQUARE, &bad, None, &|_, _| {}), Err(e) if e.kind == ErrorKind::Option)
+        );
         let nan = RasterOptions { tolerance: f64::NAN, ..options() };
         assert!(raster(&|_, _| Some(0.0), SQUARE, &nan, None, &|_, _| {}).is_err());
     }

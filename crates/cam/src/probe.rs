@@ -35,7 +35,7 @@ pub mod level;
 pub mod smooth;
 pub mod stylus;
 
-use kezuri_geom::{Heightfield, HeightfieldError};
+use kezuri_geom::Heightfield;
 
 /// The order points are visited in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -146,7 +146,7 @@ impl ProbeGrid {
     }
 
     /// The grid as a [`Heightfield`] (needs 2 × 2 points or more).
-    pub fn heightfield(&self) -> Result<Heightfield, HeightfieldError> {
+    pub fn heightfield(&self) -> Result<Heightfield, kezuri_geom::Error> {
         let g = &self.grid;
         Heightfield::new(g.origin[0], g.origin[1], g.pitch, g.nx, g.ny, self.z.clone())
     }

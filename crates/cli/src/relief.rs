@@ -385,7 +385,7 @@ fn origin_of(text: &str, size: [f64; 2]) -> Result<[f64; 2]> {
 /// A raster with a progress bar on long jobs.
 fn with_bar(
     label: &str,
-    work: impl FnOnce(&kezuri_cam::mill::Progress) -> Result<Toolpath, kezuri_cam::mill::MillError>,
+    work: impl FnOnce(&kezuri_cam::mill::Progress) -> Result<Toolpath, kezuri_cam::Error>,
 ) -> Result<Toolpath> {
     let bar = std::sync::OnceLock::new();
     let on_row = |done: usize, total: usize| {
