@@ -12,6 +12,8 @@
 //! row (`z[j·nx + i]`, as [`Heightfield`] stores them).
 //!
 //! # Modules
+//! - [`capture`]: a dial indicator's lines as readings and the rules of
+//!   the `No,Z` data file a capture writes.
 //! - [`data`]: readers and writers of the data files (the capture file
 //!   with its `#` header, the paper's bare `No,Z` files, `x,y,z` CSV and
 //!   LinuxCNC probe logs), with errors that name the line.
@@ -29,6 +31,7 @@
 //!   bound`), on which any cutter is placed with drop-cutter, and the flat
 //!   margins a program can cross at rapid.
 
+pub mod capture;
 pub mod data;
 pub mod export;
 pub mod level;

@@ -223,11 +223,10 @@ fn run_words(words: &[&str]) -> anyhow::Result<()> {
 }
 
 /// The readers of what users give kezuri (machine files, pictures, CSV
-/// tables, instrument lines), for the fuzz targets in `fuzz/`: not an API.
+/// tables), for the fuzz targets in `fuzz/`: not an API.
 #[doc(hidden)]
 pub mod inputs {
     pub use crate::machine::Machine;
-    pub use crate::probe::capture::{parse_reading, Format};
     pub use crate::relief::read_gray;
     pub use crate::table::read_columns;
 }
