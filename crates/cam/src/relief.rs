@@ -17,8 +17,16 @@
 //! node at `x = x0 + (column + ½)·p`, `y = y0 + (h − 1 − row + ½)·p`: the
 //! picture seen from above, its top row at the largest Y, and `[x0,
 //! x0 + w·p] × [y0, y0 + h·p]` the carving's extent.
+//!
+//! # Carving
+//! [`carve`] makes the toolpath of a relief: roughing in levels, raster
+//! finishing with drop-cutter on it, and [`reach`]'s check of where the
+//! finishing cutter cannot reach.
 
+mod carve;
 pub mod reach;
+
+pub use carve::{carve, Carved, Event, Job, Roughing, Stage};
 
 use kezuri_geom::Heightfield;
 
