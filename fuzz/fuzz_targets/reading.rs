@@ -3,7 +3,7 @@
 //! is a finite number.
 #![no_main]
 
-use kezuri::inputs::{parse_reading, Format};
+use kezuri_cam::probe::capture::{parse_reading, Format};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

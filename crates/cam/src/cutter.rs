@@ -18,9 +18,12 @@ pub mod named;
 mod oval;
 mod vee;
 
-use kezuri_geom::limits;
 use std::fmt;
 use std::str::FromStr;
+
+use kezuri_geom::limits;
+
+use crate::error::{Error, ErrorKind};
 
 pub use ball::Ball;
 pub use bull::Bull;
@@ -280,29 +283,12 @@ impl Cutter {
 /// and far enough below overflow for every formula.
 const MAX_SIZE: f64 = 10_000.0;
 
-/// A tool SPEC that cannot be a cutter.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct SpecError {
-    /// The SPEC as given.
-    pub spec: String,
-    /// What is wrong with it.
-    pub reason: String,
-}
-
-impl fmt::Display for SpecError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "tool '{}': {}", self.spec, self.reason)
-    }
-}
-
-impl std::error::Error for SpecError {}
-
 impl FromStr for Cutter {
-    type Err = SpecError;
+    type Err = Error;
 
     /// `flat:D`, `ball:D`, `bull:D,R`, `oval:D,RL`, `v:D,ANGLE` (mm, degrees).
-    fn from_str(spec: &str) -> Result<Cutter, SpecError> {
-        let fail = |reason: String| SpecError { spec: spec.to_string(), reason };
+    fn from_str(spec: &str) -> Result<Cutter, Error> {
+        let fail = |reason: String| Error::new(ErrorKind::Spec, format!("tool '{spec}': {reason}"));
         let (kind, numbers) = spec.trim().split_once(':').ok_or_else(|| {
             fail("expected SHAPE:NUMBERS, e.g. ball:6, bull:10,1, oval:16,24, v:6,90 or flat:3".into())
         })?;

@@ -39,7 +39,6 @@ mod contact;
 mod heightfield;
 mod rows;
 
-use std::fmt;
 use std::str::FromStr;
 use std::sync::Mutex;
 
@@ -47,6 +46,7 @@ use kezuri_geom::{Heightfield, Mesh, Triangle, XyIndex};
 use rayon::prelude::*;
 
 use crate::cutter::{each_shape, Cutter, Profile};
+use crate::error::{Error, ErrorKind};
 use contact::Probe;
 
 /// Something a cutter can be dropped on.
@@ -242,42 +242,34 @@ pub struct Grid {
     pub ny: usize,
 }
 
-/// Why numbers are not a [`Grid`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GridError(String);
-
-impl fmt::Display for GridError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for GridError {}
-
 impl Grid {
     /// Most points a grid may have.
     pub const MAX_POINTS: usize = 100_000_000;
 
     /// The grid from `(x0, y0)` to `(x1, y1)` at `step`: `round((x1 − x0) /
     /// step) + 1` columns, likewise rows.
-    pub fn new(x0: f64, y0: f64, x1: f64, y1: f64, step: f64) -> Result<Grid, GridError> {
+    pub fn new(x0: f64, y0: f64, x1: f64, y1: f64, step: f64) -> Result<Grid, Error> {
         if ![x0, y0, x1, y1, step].iter().all(|v| v.is_finite()) {
-            return Err(GridError("grid numbers must be finite".into()));
+            return Err(Error::new(ErrorKind::Grid, "grid numbers must be finite"));
         }
         if step <= 0.0 {
-            return Err(GridError(format!("the grid step must be positive, got {step}")));
+            return Err(Error::new(ErrorKind::Grid, format!("the grid step must be positive, got {step}")));
         }
         if x1 < x0 || y1 < y0 {
-            return Err(GridError(format!(
-                "the grid must run from low to high: X1 ≥ X0 and Y1 ≥ Y0, got {x0},{y0} to {x1},{y1}"
-            )));
+            return Err(Error::new(
+                ErrorKind::Grid,
+                format!("the grid must run from low to high: X1 ≥ X0 and Y1 ≥ Y0, got {x0},{y0} to {x1},{y1}"),
+            ));
         }
         let (cols, rows) = (((x1 - x0) / step).round() + 1.0, ((y1 - y0) / step).round() + 1.0);
         if cols * rows > Grid::MAX_POINTS as f64 {
-            return Err(GridError(format!(
-                "the grid has {cols} x {rows} points, more than {} million; use a larger step",
-                Grid::MAX_POINTS / 1_000_000
-            )));
+            return Err(Error::new(
+                ErrorKind::Grid,
+                format!(
+                    "the grid has {cols} x {rows} points, more than {} million; use a larger step",
+                    Grid::MAX_POINTS / 1_000_000
+                ),
+            ));
         }
         Ok(Grid { x0, y0, step, nx: cols as usize, ny: rows as usize })
     }
@@ -306,18 +298,21 @@ impl Grid {
 }
 
 impl FromStr for Grid {
-    type Err = GridError;
+    type Err = Error;
 
     /// `X0,Y0,X1,Y1,STEP`.
-    fn from_str(s: &str) -> Result<Grid, GridError> {
+    fn from_str(s: &str) -> Result<Grid, Error> {
         let v: Vec<f64> = s
             .split(',')
             .map(|w| w.trim().parse::<f64>())
             .collect::<Result<_, _>>()
-            .map_err(|_| GridError(format!("'{s}' is not X0,Y0,X1,Y1,STEP (five numbers)")))?;
+            .map_err(|_| Error::new(ErrorKind::Grid, format!("'{s}' is not X0,Y0,X1,Y1,STEP (five numbers)")))?;
         match v[..] {
             [x0, y0, x1, y1, step] => Grid::new(x0, y0, x1, y1, step),
-            _ => Err(GridError(format!("'{s}' is not X0,Y0,X1,Y1,STEP (five numbers, got {})", v.len()))),
+            _ => Err(Error::new(
+                ErrorKind::Grid,
+                format!("'{s}' is not X0,Y0,X1,Y1,STEP (five numbers, got {})", v.len()),
+            )),
         }
     }
 }

@@ -69,8 +69,8 @@ use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 pub use crate::scallop::Step;
-pub use error::EngageError;
 
+use crate::error::Error;
 use crate::Cutter;
 use quad::{integrate, Settings};
 
@@ -222,37 +222,34 @@ const CELLS: usize = 48;
 
 impl Chip {
     /// Checks the engagement and prepares its chip.
-    pub fn new(e: &Engagement) -> Result<Chip, EngageError> {
+    pub fn new(e: &Engagement) -> Result<Chip, Error> {
         let e = *e;
         let cutter = e.cutter;
         let radius = cutter.radius();
         if e.flutes == 0 {
-            return Err(EngageError::Flutes);
+            return Err(error::flutes());
         }
         if !(e.helix.is_finite() && (0.0..FRAC_PI_2).contains(&e.helix) && e.helix.tan().is_finite()) {
-            return Err(EngageError::Helix(e.helix));
+            return Err(error::helix(e.helix));
         }
         if !(e.angle.is_finite() && (0.0..FRAC_PI_2).contains(&e.angle) && e.angle.cos() > 0.0) {
-            return Err(EngageError::Angle(e.angle));
+            return Err(error::angle(e.angle));
         }
         if !(e.depth.is_finite() && e.depth > 0.0) {
-            return Err(EngageError::Depth(e.depth));
+            return Err(error::depth(e.depth));
         }
         if !(e.pick_feed.is_finite() && e.pick_feed > 0.0) {
-            return Err(EngageError::PickFeed(e.pick_feed));
+            return Err(error::pick_feed(e.pick_feed));
         }
         let (sin, cos) = e.angle.sin_cos();
         if e.pick_feed * cos > 2.0 * radius * (1.0 + 1e-12) {
-            return Err(EngageError::PickFeedTooWide {
-                pick_feed: e.pick_feed,
-                widest: crate::scallop::widest_pick_feed(&cutter, e.angle),
-            });
+            return Err(error::pick_feed_too_wide(e.pick_feed, crate::scallop::widest_pick_feed(&cutter, e.angle)));
         }
         if !(e.feed_per_tooth.is_finite() && e.feed_per_tooth >= MIN_FEED_PER_TOOTH) {
-            return Err(EngageError::FeedPerTooth(e.feed_per_tooth));
+            return Err(error::feed_per_tooth(e.feed_per_tooth));
         }
         if e.feed_per_tooth >= 2.0 * radius {
-            return Err(EngageError::FeedPerToothTooWide { feed_per_tooth: e.feed_per_tooth, diameter: 2.0 * radius });
+            return Err(error::feed_per_tooth_too_wide(e.feed_per_tooth, 2.0 * radius));
         }
         let slope = e.angle.tan();
         let contact = cutter.facet_radius(slope);
@@ -287,10 +284,10 @@ impl Chip {
             cross_section_y: 0.0,
             settings: Settings { cells: CELLS, tol: [0.0; 5], eps: 0.0, max_depth: 48, roots: [f64::NAN; 3] },
         };
-        let (zlo, zhi) = chip.height_range().ok_or(EngageError::NoChip)?;
+        let (zlo, zhi) = chip.height_range().ok_or_else(error::no_chip)?;
         let flutes = reference + 2.0 * radius;
         if zhi > flutes {
-            return Err(EngageError::Reach { needed: zhi, flutes });
+            return Err(error::reach(zhi, flutes));
         }
         chip.zlo = zlo;
         chip.zhi = zhi;
@@ -310,7 +307,7 @@ impl Chip {
             Settings { cells: CELLS, tol: [tol * e.feed_per_tooth, tol, tol * radius], eps, max_depth: 48, roots };
         let ([v, a, m], _) = integrate(&slab, zlo, zhi, &chip.fixed, &settings);
         if v.is_nan() || v <= 0.0 {
-            return Err(EngageError::NoChip);
+            return Err(error::no_chip());
         }
         chip.tabulate(ROWS, TOLERANCE, SUB);
         chip.volume = v;

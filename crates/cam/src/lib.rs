@@ -27,6 +27,7 @@
 pub mod cutter;
 pub mod dropcut;
 pub mod engage;
+mod error;
 pub mod mill;
 pub mod probe;
 pub mod relief;
@@ -36,5 +37,6 @@ pub mod shorten;
 pub mod sim;
 pub mod texture;
 
-pub use cutter::{Cutter, SpecError};
+pub use cutter::Cutter;
 pub use dropcut::{drop_cutter, drop_cutter_grid, drop_cutter_rows, rows_at_once, Grid, MeshSurface, Surface};
+pub use error::{Error, ErrorKind};

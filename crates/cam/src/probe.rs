@@ -12,6 +12,8 @@
 //! row (`z[j·nx + i]`, as [`Heightfield`] stores them).
 //!
 //! # Modules
+//! - [`capture`]: a dial indicator's lines as readings and the rules of
+//!   the `No,Z` data file a capture writes.
 //! - [`data`]: readers and writers of the data files (the capture file
 //!   with its `#` header, the paper's bare `No,Z` files, `x,y,z` CSV and
 //!   LinuxCNC probe logs), with errors that name the line.
@@ -29,13 +31,14 @@
 //!   bound`), on which any cutter is placed with drop-cutter, and the flat
 //!   margins a program can cross at rapid.
 
+pub mod capture;
 pub mod data;
 pub mod export;
 pub mod level;
 pub mod smooth;
 pub mod stylus;
 
-use kezuri_geom::{Heightfield, HeightfieldError};
+use kezuri_geom::Heightfield;
 
 /// The order points are visited in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -146,7 +149,7 @@ impl ProbeGrid {
     }
 
     /// The grid as a [`Heightfield`] (needs 2 × 2 points or more).
-    pub fn heightfield(&self) -> Result<Heightfield, HeightfieldError> {
+    pub fn heightfield(&self) -> Result<Heightfield, kezuri_geom::Error> {
         let g = &self.grid;
         Heightfield::new(g.origin[0], g.origin[1], g.pitch, g.nx, g.ny, self.z.clone())
     }

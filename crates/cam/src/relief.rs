@@ -17,10 +17,20 @@
 //! node at `x = x0 + (column + ½)·p`, `y = y0 + (h − 1 − row + ½)·p`: the
 //! picture seen from above, its top row at the largest Y, and `[x0,
 //! x0 + w·p] × [y0, y0 + h·p]` the carving's extent.
+//!
+//! # Carving
+//! [`carve`] makes the toolpath of a relief: roughing in levels, raster
+//! finishing with drop-cutter on it, and [`reach`]'s check of where the
+//! finishing cutter cannot reach.
 
+mod carve;
 pub mod reach;
 
+pub use carve::{carve, Carved, Event, Job, Roughing, Stage};
+
 use kezuri_geom::Heightfield;
+
+use crate::error::{Error, ErrorKind};
 
 /// A grayscale picture: `width × height` values in `[0, 1]` (0 black),
 /// row by row from the top.
@@ -62,25 +72,13 @@ pub enum Mapping {
     Levels(Vec<Level>),
 }
 
-/// Why a mapping or a picture cannot make a relief.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ReliefError(pub String);
-
-impl std::fmt::Display for ReliefError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for ReliefError {}
-
-fn error<T>(message: String) -> Result<T, ReliefError> {
-    Err(ReliefError(message))
+fn error<T>(message: String) -> Result<T, Error> {
+    Err(Error::new(ErrorKind::Relief, message))
 }
 
 /// Reads `--levels`: `FROM-TO:HEIGHT` ranges separated by commas, which
 /// together must cover every gray from 0 to 255 once.
-pub fn parse_levels(text: &str) -> Result<Vec<Level>, ReliefError> {
+pub fn parse_levels(text: &str) -> Result<Vec<Level>, Error> {
     let mut levels = Vec::new();
     for part in text.split(',').map(str::trim) {
         let parsed = part.split_once(':').and_then(|(range, h)| {
@@ -101,7 +99,7 @@ pub fn parse_levels(text: &str) -> Result<Vec<Level>, ReliefError> {
 
 /// Checks that `levels`, sorted by `from`, give every gray from 0 to 255
 /// one height.
-fn cover(levels: &[Level]) -> Result<(), ReliefError> {
+fn cover(levels: &[Level]) -> Result<(), Error> {
     let mut next = 0.0;
     for l in levels {
         if l.from != next {
@@ -124,7 +122,7 @@ fn cover(levels: &[Level]) -> Result<(), ReliefError> {
 
 impl Mapping {
     /// Checks the numbers.
-    pub fn check(&self) -> Result<(), ReliefError> {
+    pub fn check(&self) -> Result<(), Error> {
         match self {
             Mapping::Depth { depth, gamma, .. } => {
                 if !(depth.is_finite() && *depth > 0.0 && *depth <= 1000.0) {
@@ -180,7 +178,7 @@ pub fn surface(
     smooth: f64,
     mask: Option<&Gray>,
     placement: Placement,
-) -> Result<Heightfield, ReliefError> {
+) -> Result<Heightfield, Error> {
     mapping.check()?;
     let (w, h) = (picture.width, picture.height);
     if w < 2 || h < 2 {
@@ -207,7 +205,7 @@ pub fn surface(
     let rows: Vec<f64> = (0..h).rev().flat_map(|row| z[row * w..(row + 1) * w].iter().copied()).collect();
     let p = placement.pixel;
     Heightfield::new(placement.origin[0] + 0.5 * p, placement.origin[1] + 0.5 * p, p, w, h, rows)
-        .map_err(|e| ReliefError(e.to_string()))
+        .map_err(|e| Error::new(ErrorKind::Relief, e.to_string()))
 }
 
 /// Whether the mask lets the cutter's axis stand at `(x, y)` (inside a
@@ -229,7 +227,7 @@ const MAX_SMOOTHING: f64 = 1e10;
 /// Refuses a smoothing of `smooth` pixels outside 0 to 100, or one whose
 /// work over a `w` × `h` picture is more than [`MAX_SMOOTHING`] products:
 /// weighed from the picture's size, before it is read.
-pub fn check_smoothing(smooth: f64, w: usize, h: usize) -> Result<(), ReliefError> {
+pub fn check_smoothing(smooth: f64, w: usize, h: usize) -> Result<(), Error> {
     if !(smooth.is_finite() && (0.0..=100.0).contains(&smooth)) {
         return error(format!("the smoothing must be 0 to 100 pixels, got {smooth}"));
     }
@@ -277,7 +275,7 @@ mod tests {
         let l = parse_levels("0-63:0, 64-191:2.5,192-255:5").unwrap();
         let m = Mapping::Levels(l);
         assert_eq!((m.z(0.0), m.z(100.0 / 255.0), m.z(1.0)), (-5.0, -2.5, 0.0));
-        let e = |t: &str| parse_levels(t).unwrap_err().0;
+        let e = |t: &str| parse_levels(t).unwrap_err().message;
         assert_eq!(e("0-63:0,65-255:1"), "--levels leaves gray 64–64 without a height");
         assert_eq!(e("0-63:0,60-255:1"), "--levels gives gray 60 two heights");
         assert_eq!(e("0-200:0"), "--levels leaves gray 201–255 without a height");
@@ -286,7 +284,7 @@ mod tests {
         // Levels made in code are checked as those read: an error, not a
         // panic, for a gray without a height.
         let partial = Mapping::Levels(vec![Level { from: 0.0, to: 100.0, height: 1.0 }]);
-        assert_eq!(partial.check().unwrap_err().0, "--levels leaves gray 101–255 without a height");
+        assert_eq!(partial.check().unwrap_err().message, "--levels leaves gray 101–255 without a height");
         let g = Gray { width: 2, height: 2, v: vec![1.0; 4] };
         assert!(surface(&g, &partial, 0.0, None, Placement { pixel: 1.0, origin: [0.0, 0.0] }).is_err());
         assert_eq!((partial.z(0.0), partial.z(1.0)), (0.0, 0.0));

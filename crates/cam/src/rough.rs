@@ -15,7 +15,8 @@
 
 use kezuri_geom::Toolpath;
 
-use crate::mill::{raster, ClFn, MillError, Progress, RasterOptions, Region};
+use crate::error::{Error, ErrorKind};
+use crate::mill::{nothing_to_cut, raster, ClFn, Progress, RasterOptions, Region};
 
 /// What [`levels`] needs besides the raster's options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,30 +35,30 @@ const MAX_LEVELS: usize = 10_000;
 /// The roughing toolpath (module docs); `on_row` as in [`raster`], level
 /// after level. The levels go down until one finds nothing to cut (every
 /// deeper one then has nothing either).
-pub fn levels(
-    cl: &ClFn,
-    region: Region,
-    o: &RasterOptions,
-    l: Levels,
-    on_row: &Progress,
-) -> Result<Toolpath, MillError> {
+pub fn levels(cl: &ClFn, region: Region, o: &RasterOptions, l: Levels, on_row: &Progress) -> Result<Toolpath, Error> {
     if !(l.step_down.is_finite() && l.step_down > 0.0) {
-        return Err(MillError::Option(format!("the step-down must be a positive number, got {}", l.step_down)));
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!("the step-down must be a positive number, got {}", l.step_down),
+        ));
     }
     if !(l.allowance.is_finite() && l.allowance >= 0.0) {
-        return Err(MillError::Option(format!("the allowance must be zero or positive, got {}", l.allowance)));
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!("the allowance must be zero or positive, got {}", l.allowance),
+        ));
     }
     if !l.top.is_finite() {
-        return Err(MillError::Option(format!("the stock top must be a finite height, got {}", l.top)));
+        return Err(Error::new(ErrorKind::Option, format!("the stock top must be a finite height, got {}", l.top)));
     }
     let mut path = Toolpath::default();
     let mut k = 1;
     loop {
         if k > MAX_LEVELS {
-            return Err(MillError::Option(format!(
-                "more than {MAX_LEVELS} levels of {} mm: raise the step-down",
-                l.step_down
-            )));
+            return Err(Error::new(
+                ErrorKind::Option,
+                format!("more than {MAX_LEVELS} levels of {} mm: raise the step-down", l.step_down),
+            ));
         }
         let (above, level) = (l.top - (k - 1) as f64 * l.step_down, l.top - k as f64 * l.step_down);
         let cut = |x: f64, y: f64| {
@@ -66,13 +67,13 @@ pub fn levels(
         };
         match raster(&cut, region, o, None, on_row) {
             Ok(pass) => path.moves.extend(pass.moves),
-            Err(MillError::NothingToCut) => break,
+            Err(e) if e.kind == ErrorKind::NothingToCut => break,
             Err(e) => return Err(e),
         }
         k += 1;
     }
     if path.moves.is_empty() {
-        return Err(MillError::NothingToCut);
+        return Err(nothing_to_cut());
     }
     Ok(path)
 }

@@ -64,6 +64,7 @@ use std::fmt;
 
 pub use closed::{closed_form_cusp, iwabe, ClosedForm, Iwabe};
 
+use crate::error::{Error, ErrorKind};
 use crate::Cutter;
 
 /// The smallest positive target cusp [`pick_feed`] takes (1 pm): below it
@@ -139,71 +140,20 @@ impl Scallop {
     }
 }
 
-/// Input no pass can be made from.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ScallopError {
-    /// The angle (radians) is not in `[0, π/2)`.
-    Angle(f64),
-    /// The pick feed is negative or not a finite number.
-    PickFeed(f64),
-    /// The passes do not overlap: `pick_feed·cos α` exceeds the diameter,
-    /// leaving an uncut strip; `widest` is the largest pick feed that does.
-    NoOverlap {
-        /// The pick feed asked for.
-        pick_feed: f64,
-        /// `2R / cos α`.
-        widest: f64,
-    },
-    /// The target cusp is negative or not a finite number.
-    Target(f64),
-    /// A positive target below [`MIN_TARGET`].
-    TargetBelowResolution(f64),
-    /// No positive pick feed leaves a cusp this small (a target of 0 with a
-    /// cutter that leaves some cusp at every pick feed).
-    Unreachable(f64),
-}
-
-impl fmt::Display for ScallopError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match *self {
-            ScallopError::Angle(a) => {
-                write!(f, "the plane's angle must be from 0 up to (not including) 90 degrees, got {}", a.to_degrees())
-            }
-            ScallopError::PickFeed(p) => write!(f, "the pick feed must be a number ≥ 0 mm, got {p}"),
-            ScallopError::NoOverlap { pick_feed, widest } => write!(
-                f,
-                "a pick feed of {pick_feed} mm leaves an uncut strip between the passes: \
-                 the widest that overlaps at this angle is {} mm (the diameter / cos angle)",
-                mm(widest)
-            ),
-            ScallopError::Target(t) => write!(f, "the target cusp must be a number ≥ 0 mm, got {t}"),
-            ScallopError::TargetBelowResolution(t) => write!(
-                f,
-                "a target cusp of {t} mm is below the resolution of the computation ({MIN_TARGET} mm); \
-                 no pick feed can be told apart from one that meets it"
-            ),
-            ScallopError::Unreachable(t) => write!(
-                f,
-                "no pick feed leaves a cusp of {t} mm: with this cutter at this angle every pick feed \
-                 leaves some cusp; give a positive target"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for ScallopError {}
-
 /// `x` to the micrometre, without trailing zeros.
 fn mm(x: f64) -> String {
     let s = format!("{x:.6}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-fn check_angle(angle: f64) -> Result<(), ScallopError> {
+fn check_angle(angle: f64) -> Result<(), Error> {
     if angle.is_finite() && (0.0..std::f64::consts::FRAC_PI_2).contains(&angle) && angle.cos() > 0.0 {
         Ok(())
     } else {
-        Err(ScallopError::Angle(angle))
+        Err(Error::new(
+            ErrorKind::Angle,
+            format!("the plane's angle must be from 0 up to (not including) 90 degrees, got {}", angle.to_degrees()),
+        ))
     }
 }
 
@@ -212,20 +162,27 @@ pub fn widest_pick_feed(cutter: &Cutter, angle: f64) -> f64 {
     2.0 * cutter.radius() / angle.cos()
 }
 
-fn check_pick_feed(cutter: &Cutter, angle: f64, pick_feed: f64) -> Result<(), ScallopError> {
+fn check_pick_feed(cutter: &Cutter, angle: f64, pick_feed: f64) -> Result<(), Error> {
     if !(pick_feed.is_finite() && pick_feed >= 0.0) {
-        return Err(ScallopError::PickFeed(pick_feed));
+        return Err(Error::new(ErrorKind::PickFeed, format!("the pick feed must be a number ≥ 0 mm, got {pick_feed}")));
     }
     // A hair of slack so that `widest_pick_feed` itself passes.
     if pick_feed * angle.cos() > 2.0 * cutter.radius() * (1.0 + 1e-12) {
-        return Err(ScallopError::NoOverlap { pick_feed, widest: widest_pick_feed(cutter, angle) });
+        return Err(Error::new(
+            ErrorKind::NoOverlap,
+            format!(
+                "a pick feed of {pick_feed} mm leaves an uncut strip between the passes: \
+                 the widest that overlaps at this angle is {} mm (the diameter / cos angle)",
+                mm(widest_pick_feed(cutter, angle))
+            ),
+        ));
     }
     Ok(())
 }
 
 /// The cusp between two passes `pick_feed` apart in a plane inclined at
 /// `angle` radians: closed form where one holds, the envelope otherwise.
-pub fn cusp(cutter: &Cutter, angle: f64, pick_feed: f64) -> Result<Scallop, ScallopError> {
+pub fn cusp(cutter: &Cutter, angle: f64, pick_feed: f64) -> Result<Scallop, Error> {
     check_angle(angle)?;
     check_pick_feed(cutter, angle, pick_feed)?;
     let up = Envelope::new(cutter, angle).between(pick_feed);
@@ -250,7 +207,7 @@ pub fn cusp(cutter: &Cutter, angle: f64, pick_feed: f64) -> Result<Scallop, Scal
 
 /// The cusp from the numerical envelope alone, with the next pass on the
 /// `step` side (the two agree).
-pub fn envelope_cusp(cutter: &Cutter, angle: f64, pick_feed: f64, step: Step) -> Result<f64, ScallopError> {
+pub fn envelope_cusp(cutter: &Cutter, angle: f64, pick_feed: f64, step: Step) -> Result<f64, Error> {
     check_angle(angle)?;
     check_pick_feed(cutter, angle, pick_feed)?;
     let signed = match step {
@@ -265,13 +222,19 @@ pub fn envelope_cusp(cutter: &Cutter, angle: f64, pick_feed: f64, step: Step) ->
 /// pick feed (the gaps are convex), so the set meeting the target is an
 /// interval from 0. Where even the widest overlapping pick feed meets it,
 /// that one, flagged [`Scallop::width_limited`].
-pub fn pick_feed(cutter: &Cutter, angle: f64, target: f64) -> Result<Scallop, ScallopError> {
+pub fn pick_feed(cutter: &Cutter, angle: f64, target: f64) -> Result<Scallop, Error> {
     check_angle(angle)?;
     if !(target.is_finite() && target >= 0.0) {
-        return Err(ScallopError::Target(target));
+        return Err(Error::new(ErrorKind::Target, format!("the target cusp must be a number ≥ 0 mm, got {target}")));
     }
     if target > 0.0 && target < MIN_TARGET {
-        return Err(ScallopError::TargetBelowResolution(target));
+        return Err(Error::new(
+            ErrorKind::TargetBelowResolution,
+            format!(
+                "a target cusp of {target} mm is below the resolution of the computation ({MIN_TARGET} mm); \
+                 no pick feed can be told apart from one that meets it"
+            ),
+        ));
     }
     let envelope = Envelope::new(cutter, angle);
     let value = |pf: f64| closed_form_cusp(cutter, angle, pf).map_or_else(|| envelope.between(pf).cusp, |c| c.0);
@@ -296,7 +259,13 @@ pub fn pick_feed(cutter: &Cutter, angle: f64, target: f64) -> Result<Scallop, Sc
     // A target of 0 is met only on a plateau (a flat bottom on a level
     // plane); elsewhere the bisection creeps to where rounding hides the cusp.
     if target < MIN_TARGET && lo < 1e-6 * cutter.radius().max(1.0) {
-        return Err(ScallopError::Unreachable(target));
+        return Err(Error::new(
+            ErrorKind::Unreachable,
+            format!(
+                "no pick feed leaves a cusp of {target} mm: with this cutter at this angle every pick feed \
+                 leaves some cusp; give a positive target"
+            ),
+        ));
     }
     cusp(cutter, angle, lo)
 }

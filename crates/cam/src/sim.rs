@@ -83,6 +83,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use kezuri_geom::{limits, Toolpath};
 use rayon::prelude::*;
 
+use crate::error::{Error, ErrorKind};
 use crate::Cutter;
 pub use measured::MeasuredTool;
 use segments::segments;
@@ -197,111 +198,32 @@ pub struct SimReport {
     pub cut_by: Vec<u8>,
 }
 
-/// Why a simulation cannot run.
-#[derive(Clone, Debug, PartialEq)]
-pub enum SimError {
-    /// The cell size is not a positive number.
-    BadResolution(f64),
-    /// The chord tolerance is not a positive number.
-    BadTolerance(f64),
-    /// The stock box is empty or not finite.
-    BadStock(String),
-    /// The toolpath has no motion.
-    EmptyToolpath,
-    /// The grid would have more cells than allowed.
-    TooManyCells {
-        /// Cells along X.
-        nx: f64,
-        /// Cells along Y.
-        ny: f64,
-        /// The limit.
-        limit: usize,
-    },
-    /// The grid's memory could not be had.
-    OutOfMemory {
-        /// Cells asked for.
-        cells: usize,
-    },
-    /// A move has a coordinate that is not finite.
-    NonFinite {
-        /// Index of the move.
-        index: usize,
-        /// Its source line.
-        line: u32,
-    },
-    /// Arcs split into more chords than can be indexed.
-    TooManySegments(usize),
-    /// A move is made by a tool the table does not give.
-    NoTool {
-        /// The tool number.
-        number: u32,
-        /// The source line of its first move.
-        line: u32,
-    },
-    /// The program uses more tools than one simulation tells apart.
-    TooManyTools(usize),
+/// The chord tolerance `t` is not a length.
+fn bad_tolerance(t: f64) -> Error {
+    Error::new(ErrorKind::ChordTolerance, limits::length(t, "the chord tolerance").err().unwrap_or_default())
 }
 
-impl fmt::Display for SimError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimError::BadResolution(r) => {
-                write!(f, "{}", limits::length(*r, "the resolution").err().unwrap_or_default())
-            }
-            SimError::BadTolerance(t) => {
-                write!(f, "{}", limits::length(*t, "the chord tolerance").err().unwrap_or_default())
-            }
-            SimError::BadStock(why) => write!(f, "bad stock: {why}"),
-            SimError::EmptyToolpath => write!(f, "the program makes no motion: nothing to simulate"),
-            SimError::TooManyCells { nx, ny, limit } => write!(
-                f,
-                "a grid of {nx} × {ny} = {:.0} cells ({:.1} GB) is more than the limit of {limit} cells; \
-                 use a coarser resolution or a smaller stock",
-                nx * ny,
-                nx * ny * 9.0 / 1e9
-            ),
-            SimError::OutOfMemory { cells } => {
-                write!(f, "not enough memory for a grid of {cells} cells ({:.1} GB)", *cells as f64 * 9.0 / 1e9)
-            }
-            SimError::NonFinite { index, line } => {
-                write!(f, "move {index} (line {line}) has a coordinate that is not a finite number")
-            }
-            SimError::TooManySegments(n) => {
-                write!(
-                    f,
-                    "the moves split into {n} straight segments (arcs in chords), more than {}: raise the chord \
-                     tolerance",
-                    segments::MAX_SEGMENTS
-                )
-            }
-            SimError::NoTool { number, line } => {
-                write!(f, "T{number} (first moving at line {line}) has no shape to cut with")
-            }
-            SimError::TooManyTools(n) => write!(f, "the program uses more than {n} tools"),
-        }
-    }
+/// The memory of a grid of `cells` cells could not be had.
+fn out_of_memory(cells: usize) -> Error {
+    Error::new(
+        ErrorKind::OutOfMemory,
+        format!("not enough memory for a grid of {cells} cells ({:.1} GB)", cells as f64 * 9.0 / 1e9),
+    )
 }
 
-impl std::error::Error for SimError {}
+/// The toolpath has no motion.
+fn empty_toolpath() -> Error {
+    Error::new(ErrorKind::EmptyToolpath, "the program makes no motion: nothing to simulate")
+}
 
 /// Runs the toolpath over `zmap`, lowering it; reports rapids that cut.
-pub fn simulate(
-    path: &Toolpath,
-    cutter: &Cutter,
-    zmap: &mut ZMap,
-    options: &SimOptions,
-) -> Result<SimReport, SimError> {
+pub fn simulate(path: &Toolpath, cutter: &Cutter, zmap: &mut ZMap, options: &SimOptions) -> Result<SimReport, Error> {
     simulate_tool(path, &Tool::Cutter(*cutter), zmap, options)
 }
 
 /// [`simulate`] with any [`Tool`]: a nominal cutter or a measured one, for
 /// every move whatever tools the program loads.
-pub fn simulate_tool(
-    path: &Toolpath,
-    tool: &Tool,
-    zmap: &mut ZMap,
-    options: &SimOptions,
-) -> Result<SimReport, SimError> {
+pub fn simulate_tool(path: &Toolpath, tool: &Tool, zmap: &mut ZMap, options: &SimOptions) -> Result<SimReport, Error> {
     simulate_tools(path, Tooling::One(tool), zmap, options, &|_, _| {})
 }
 
@@ -318,15 +240,15 @@ pub fn simulate_tools(
     zmap: &mut ZMap,
     options: &SimOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
-) -> Result<SimReport, SimError> {
+) -> Result<SimReport, Error> {
     if limits::length(options.chord_tolerance, "").is_err() {
-        return Err(SimError::BadTolerance(options.chord_tolerance));
+        return Err(bad_tolerance(options.chord_tolerance));
     }
     let (segs, mut report, slots, unplaced_rapids) = segments(path, tooling, options.chord_tolerance)?;
     let (nx, ny, res, x0, y0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0);
     let mut cut_by = Vec::new();
     if cut_by.try_reserve_exact(zmap.cells()).is_err() {
-        return Err(SimError::OutOfMemory { cells: zmap.cells() });
+        return Err(out_of_memory(zmap.cells()));
     }
     cut_by.resize(zmap.cells(), UNCUT);
     report.cut_by = cut_by;

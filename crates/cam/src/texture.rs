@@ -29,9 +29,9 @@
 //! keeps successive knots apart by the authors' design rule (0.2–1.6 mm);
 //! the first knot of a run, entered from wherever the tool was, is free.
 
-use std::fmt;
-
 use kezuri_geom::{Axes, Move, MoveKind, Plane, SplitMix64, Toolpath};
+
+use crate::error::{Error, ErrorKind};
 
 /// How the knots' offsets are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,23 +84,6 @@ impl Default for TextureOptions {
     }
 }
 
-/// Why no texture could be made.
-#[derive(Clone, Debug, PartialEq)]
-pub enum TextureError {
-    /// An option out of its range.
-    Option(String),
-}
-
-impl fmt::Display for TextureError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            TextureError::Option(m) => f.write_str(m),
-        }
-    }
-}
-
-impl std::error::Error for TextureError {}
-
 /// A textured toolpath and what was done.
 #[derive(Clone, Debug)]
 pub struct Textured {
@@ -119,8 +102,8 @@ pub fn is_textured(m: &Move) -> bool {
 }
 
 /// Checks the options.
-pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
-    let bad = |m: String| Err(TextureError::Option(m));
+pub fn check(o: &TextureOptions) -> Result<(), Error> {
+    let bad = |m: String| Err(Error::new(ErrorKind::Option, m));
     if let Err(e) = kezuri_geom::limits::length(o.segment, "--segment") {
         return bad(e);
     }
@@ -169,19 +152,22 @@ pub fn check(o: &TextureOptions) -> Result<(), TextureError> {
 pub const MAX_KNOTS: f64 = 10e6;
 
 /// The texture paper's random texture on `path` (see the module docs).
-pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, TextureError> {
+pub fn bake(path: &Toolpath, o: &TextureOptions) -> Result<Textured, Error> {
     check(o)?;
     // Weighed before the work: one move a knot.
     let travel: f64 =
         path.moves.iter().filter(|m| is_textured(m)).map(|m| (m.end.x - m.start.x).hypot(m.end.y - m.start.y)).sum();
     let knots = (travel / o.segment).ceil();
     if knots > MAX_KNOTS {
-        return Err(TextureError::Option(format!(
+        return Err(Error::new(
+            ErrorKind::Option,
+            format!(
             "--segment {} mm: {travel:.0} mm of cutting travel would make {knots:.3e} knots, more than {} million: \
              give a longer segment",
             o.segment,
             MAX_KNOTS / 1e6
-        )));
+        ),
+        ));
     }
     let mut depths = Depths::new(o);
     let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };

@@ -2,7 +2,7 @@
 //! estimates written here from the solid's definition, not from the
 //! module's intervals.
 
-use kezuri_cam::engage::{sweep, Chip, Cut, EngageError, Engagement, Step};
+use kezuri_cam::engage::{sweep, Chip, Cut, Engagement, Step};
 use kezuri_cam::{scallop, Cutter};
 use std::f64::consts::TAU;
 
@@ -358,7 +358,7 @@ fn bad_input_is_refused() {
     let check = |f: &dyn Fn(&mut Engagement), want: &str| {
         let mut e = good;
         f(&mut e);
-        let err: EngageError = Chip::new(&e).unwrap_err();
+        let err: kezuri_cam::Error = Chip::new(&e).unwrap_err();
         let text = err.to_string();
         assert!(text.contains(want), "{text}");
     };

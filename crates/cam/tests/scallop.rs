@@ -2,8 +2,9 @@
 //! envelope, the envelope against a brute-force sampling, the inverse, and
 //! bad input.
 
-use kezuri_cam::scallop::{self, ClosedForm, Method, ScallopError, Step};
+use kezuri_cam::scallop::{self, ClosedForm, Method, Step};
 use kezuri_cam::Cutter;
+use kezuri_cam::ErrorKind;
 use proptest::prelude::*;
 
 fn tool(spec: &str) -> Cutter {
@@ -313,21 +314,21 @@ fn the_cusp_grows_with_the_pick_feed_and_the_inverse_finds_it() {
 fn bad_input_is_an_error_never_a_panic_or_nan() {
     let egg = tool(EGG);
     for a in [-0.1, std::f64::consts::FRAC_PI_2, 2.0, f64::NAN, f64::INFINITY] {
-        assert!(matches!(scallop::cusp(&egg, a, 0.5), Err(ScallopError::Angle(_))), "{a}");
-        assert!(matches!(scallop::pick_feed(&egg, a, 0.01), Err(ScallopError::Angle(_))), "{a}");
+        assert!(matches!(scallop::cusp(&egg, a, 0.5), Err(e) if e.kind == ErrorKind::Angle), "{a}");
+        assert!(matches!(scallop::pick_feed(&egg, a, 0.01), Err(e) if e.kind == ErrorKind::Angle), "{a}");
     }
     for pf in [-1.0, f64::NAN, f64::INFINITY, -0.0 - 1e-300] {
-        assert!(matches!(scallop::cusp(&egg, 0.3, pf), Err(ScallopError::PickFeed(_))), "{pf}");
+        assert!(matches!(scallop::cusp(&egg, 0.3, pf), Err(e) if e.kind == ErrorKind::PickFeed), "{pf}");
     }
     let e = scallop::cusp(&egg, rad(60.0), 33.0).unwrap_err();
-    assert!(matches!(e, ScallopError::NoOverlap { .. }) && e.to_string().contains("32"), "{e}");
+    assert!(e.kind == ErrorKind::NoOverlap && e.to_string().contains("32"), "{e}");
     for t in [-0.01, f64::NAN, f64::INFINITY] {
-        assert!(matches!(scallop::pick_feed(&egg, 0.3, t), Err(ScallopError::Target(_))), "{t}");
+        assert!(matches!(scallop::pick_feed(&egg, 0.3, t), Err(e) if e.kind == ErrorKind::Target), "{t}");
     }
-    assert!(matches!(scallop::pick_feed(&egg, 0.3, 1e-12), Err(ScallopError::TargetBelowResolution(_))));
+    assert!(matches!(scallop::pick_feed(&egg, 0.3, 1e-12), Err(e) if e.kind == ErrorKind::TargetBelowResolution));
     let e = scallop::pick_feed(&egg, 0.3, 0.0).unwrap_err();
-    assert!(matches!(e, ScallopError::Unreachable(_)) && e.to_string().contains("no pick feed"), "{e}");
-    assert!(matches!(scallop::pick_feed(&tool("ball:6"), 0.0, 0.0), Err(ScallopError::Unreachable(_))));
+    assert!(e.kind == ErrorKind::Unreachable && e.to_string().contains("no pick feed"), "{e}");
+    assert!(matches!(scallop::pick_feed(&tool("ball:6"), 0.0, 0.0), Err(e) if e.kind == ErrorKind::Unreachable));
     // A flat bottom on a level plane meets 0 at every overlapping pick feed.
     let s = scallop::pick_feed(&tool("flat:6"), 0.0, 0.0).unwrap();
     assert!(s.width_limited && s.pick_feed == 6.0 && s.cusp == 0.0);

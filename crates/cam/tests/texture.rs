@@ -1,7 +1,8 @@
 //! The texture paper's random texture baked into toolpaths: segments, depths, what passes
 //! unchanged, the distributions.
 
-use kezuri_cam::texture::{bake, Dist, TextureError, TextureOptions};
+use kezuri_cam::texture::{bake, Dist, TextureOptions};
+use kezuri_cam::ErrorKind;
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane, Toolpath};
 
 fn at(x: f64, y: f64, z: f64) -> Axes {
@@ -218,7 +219,9 @@ fn a_step_range_the_quantised_depths_cannot_meet_is_refused() {
     let path = polyline(&[at(0., 0., 0.), at(10., 0., 0.)]);
     // Depths are multiples of 0.2: no two differ by 0.1–0.15.
     let o = TextureOptions { step_range: Some([0.1, 0.15]), ..paper(1) };
-    assert!(matches!(bake(&path, &o), Err(TextureError::Option(m)) if m.contains("--step-range 0.1,0.15")));
+    assert!(
+        matches!(bake(&path, &o), Err(e) if e.kind == ErrorKind::Option && e.message.contains("--step-range 0.1,0.15"))
+    );
     // From ±0.8 nothing is 1.7 away within ±0.9 in steps of 0.2 (uniform): refused too.
     let o = TextureOptions { spread: 0.9, step_range: Some([1.7, 2.0]), dist: Dist::Uniform, ..paper(1) };
     assert!(bake(&path, &o).is_err());
@@ -250,7 +253,7 @@ fn bad_options_are_refused_with_their_name() {
         (TextureOptions { base: Some(f64::NAN), ..paper(1) }, "--base"),
     ] {
         match bake(&path, &o) {
-            Err(TextureError::Option(m)) => assert!(m.contains(words), "{m}"),
+            Err(e) if e.kind == ErrorKind::Option => assert!(e.message.contains(words), "{e}"),
             other => panic!("{o:?}: {other:?}"),
         }
     }

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::cutter::named::{cutter_warnings, in_comments};
 use kezuri_cam::shorten::{shorten, ShortenOptions};
 use kezuri_cam::Cutter;
-use kezuri_geom::{Axes, Move, MoveKind, Plane, Spindle, Toolpath};
+use kezuri_geom::{MoveKind, Spindle, Toolpath};
 use kezuri_nc::interp;
 use kezuri_nc::rml::{self, RmlOptions};
 use kezuri_nc::write::{program, WriteOptions};
@@ -243,7 +243,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
                 k.text.lines().next().unwrap_or("")
             );
         }
-        path = scale(&path, a.scale_xy, a.scale_z);
+        path = path.scaled(a.scale_xy, a.scale_z);
     }
     if let Some(tolerance) = a.shorten {
         let before = path.moves.len();
@@ -365,80 +365,5 @@ fn fill_feed_and_speed(path: &mut Toolpath, feed: Option<f64>, speed: Option<f64
                 m.speed = s;
             }
         }
-    }
-}
-
-/// `path` scaled by `k` in X and Y and `s` in Z about each move's program
-/// zero. An arc outside the XY plane scaled unevenly is no longer an arc:
-/// it becomes chords within 0.0005 mm of the scaled curve. Returns to the
-/// reference point and machine-coordinate moves are machine positions and
-/// keep theirs.
-pub fn scale(path: &Toolpath, k: f64, s: f64) -> Toolpath {
-    let mut out = Toolpath { moves: Vec::with_capacity(path.moves.len()), ..path.clone() };
-    out.moves.clear();
-    let mut fixed_end: Option<Axes> = None;
-    let mut first = Vec::with_capacity(path.moves.len() + 1);
-    for m in &path.moves {
-        first.push(out.moves.len());
-        let o = path.frame(m).origin;
-        let sc = |p: Axes| Axes { x: o.x + (p.x - o.x) * k, y: o.y + (p.y - o.y) * k, z: o.z + (p.z - o.z) * s, ..p };
-        let start = match fixed_end {
-            Some(e) if e == m.start => m.start,
-            _ => sc(m.start),
-        };
-        fixed_end = None;
-        match m.kind {
-            MoveKind::Home | MoveKind::Machine => {
-                out.moves.push(Move { start, ..*m });
-                fixed_end = Some(m.end);
-            }
-            MoveKind::Arc(arc) if arc.plane != Plane::Xy && k != s => {
-                let mut from = start;
-                for p in rml::linearize(m, 0.0005 / k.max(s)) {
-                    let end = sc(p);
-                    out.moves.push(Move { kind: MoveKind::Feed, start: from, end, ..*m });
-                    from = end;
-                }
-            }
-            MoveKind::Arc(arc) => {
-                let c = arc.center;
-                let centre = sc(Axes { x: c[0], y: c[1], z: c[2], ..Axes::ZERO });
-                let arc = kezuri_geom::Arc { center: centre.xyz(), ..arc };
-                out.moves.push(Move { kind: MoveKind::Arc(arc), start, end: sc(m.end), ..*m });
-            }
-            _ => out.moves.push(Move { start, end: sc(m.end), ..*m }),
-        }
-    }
-    first.push(out.moves.len());
-    out.kept = path.kept_in(&first);
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn scaling_keeps_arcs_and_home_moves() {
-        let at = |x, y, z| Axes { x, y, z, ..Axes::ZERO };
-        let arc = kezuri_geom::Arc { center: [5.0, 0.0, -1.0], plane: Plane::Xy, ccw: true, turns: 0 };
-        let zx = kezuri_geom::Arc { center: [10.0, 0.0, -2.0], plane: Plane::Zx, ccw: true, turns: 0 };
-        let path = Toolpath::from(vec![
-            Move { kind: MoveKind::Arc(arc), start: at(0.0, 0.0, -1.0), end: at(10.0, 0.0, -1.0), ..Move::default() },
-            Move { kind: MoveKind::Arc(zx), start: at(10.0, 0.0, -1.0), end: at(10.0, 0.0, -3.0), ..Move::default() },
-            Move { kind: MoveKind::Home, start: at(10.0, 0.0, -3.0), end: at(10.0, 0.0, 100.0), ..Move::default() },
-            Move { kind: MoveKind::Rapid, start: at(10.0, 0.0, 100.0), end: at(1.0, 1.0, 100.0), ..Move::default() },
-        ]);
-        let scaled = scale(&path, 2.0, 0.5);
-        let MoveKind::Arc(a) = scaled.moves[0].kind else { panic!() };
-        assert_eq!((a.center, scaled.moves[0].end), ([10.0, 0.0, -0.5], at(20.0, 0.0, -0.5)));
-        // The ZX arc is chords of the scaled ellipse.
-        let chords: Vec<&Move> = scaled.moves.iter().filter(|m| m.kind == MoveKind::Feed).collect();
-        assert!(chords.len() > 10);
-        assert_eq!(chords.last().unwrap().end, at(20.0, 0.0, -1.5));
-        let home = scaled.moves.iter().find(|m| m.kind == MoveKind::Home).unwrap();
-        assert_eq!(home.end, at(10.0, 0.0, 100.0));
-        let last = scaled.moves.last().unwrap();
-        assert_eq!((last.start, last.end), (at(10.0, 0.0, 100.0), at(2.0, 2.0, 50.0)));
     }
 }

@@ -241,11 +241,10 @@ fn run_words(words: &[&str]) -> anyhow::Result<()> {
     dispatch(&cli.command)
 }
 
-/// The readers of what users give kezuri (pictures, CSV tables, instrument
-/// lines), for the fuzz targets in `fuzz/`: not an API.
+/// The readers of what users give kezuri (pictures, CSV tables), for the
+/// fuzz targets in `fuzz/`: not an API.
 #[doc(hidden)]
 pub mod inputs {
     pub use crate::gray::read_gray;
-    pub use crate::probe::capture::{parse_reading, Format};
     pub use crate::table::read_columns;
 }

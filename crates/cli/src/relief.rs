@@ -1,16 +1,15 @@
 //! `kezuri relief`: a grayscale sketch carved as a relief.
 
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
-use kezuri_cam::mill::{raster_with, ClRowsFn, RasterOptions, Region};
-use kezuri_cam::relief::reach::unreached;
-use kezuri_cam::relief::{check_smoothing, inside, parse_levels, surface, Mapping, Placement};
-use kezuri_cam::rough::{levels, Levels};
+use indicatif::ProgressBar;
+use kezuri_cam::relief::{
+    carve, check_smoothing, parse_levels, surface, Carved, Event, Job, Mapping, Placement, Roughing, Stage,
+};
 use kezuri_cam::Cutter;
-use kezuri_geom::Toolpath;
 
 use crate::files::Outputs;
 use crate::gray::{dimensions, read_gray};
@@ -18,15 +17,6 @@ use crate::machine::MachineArg;
 use crate::program::{stage_toolpath, Origin, WriteArgs};
 use crate::raster::{RowDirection, RowPattern};
 use crate::surface::stage_surface_stl;
-
-/// Material the finishing cutter may leave where it cannot reach (normal
-/// to the relief, mm) before `relief` warns: five times --leave-tol, and
-/// not less than this (plus the scallop of the check's own grid).
-const REACH_LEFT: f64 = 0.05;
-
-/// How far the finishing path may dip below the exact cutter locations,
-/// mm: the chord between samples is refined until it stays this close.
-const GOUGE: f64 = 0.001;
 
 /// Options of `kezuri relief`.
 #[derive(Args, Debug)]
@@ -195,66 +185,31 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     let placement = Placement { pixel, origin };
     let name = args.image.display().to_string();
     let field = surface(&picture, &mapping, args.smooth, mask.as_ref(), placement).context(name.clone())?;
-    let [x0, y0, x1, y1] = field.xy_box();
-    let region = Region { x0, y0, x1, y1 };
-    let quantum = args.write.quantum(&machine)?;
-    let finish = RasterOptions {
+    let job = Job {
+        field: &field,
+        mask: mask.as_ref(),
+        placement,
+        cutter,
         direction: args.direction.into(),
         pattern: args.pattern.into(),
         stepover: args.stepover,
-        // Sampling finer than the program's increment writes nothing finer.
-        step: args.step.unwrap_or(pixel.max(quantum)),
-        tolerance: args.leave_tol,
-        gouge: GOUGE.min(args.leave_tol),
-        quantum,
+        step: args.step,
+        leave_tol: args.leave_tol,
+        quantum: args.write.quantum(&machine)?,
         safe_z: args.safe_z,
         feed: args.feed,
         plunge_feed: args.plunge_feed,
         speed: args.speed,
-        tool: if rough.is_some() { 2 } else { 1 },
-    };
-    let masked = mask.as_ref();
-    let cl_of = |c: Cutter| {
-        let field = &field;
-        move |x: f64, y: f64| if inside(masked, placement, x, y) { drop_cutter(&c, field, x, y) } else { None }
-    };
-    // The same, whole rows at once (drop_cutter_rows: a ball row by row).
-    let rows_of = |c: Cutter| {
-        let field = &field;
-        move |along_y: bool, asked: &[(f64, &[f64])]| {
-            let mut found = drop_cutter_rows(&c, field, along_y, asked);
-            for (&(v, us), zs) in asked.iter().zip(&mut found) {
-                for (&u, z) in us.iter().zip(zs) {
-                    let (x, y) = if along_y { (v, u) } else { (u, v) };
-                    if !inside(masked, placement, x, y) {
-                        *z = None;
-                    }
-                }
-            }
-            found
-        }
+        rough: rough.map(|cutter| Roughing {
+            cutter,
+            stepover: args.rough_stepover,
+            step_down: args.step_down,
+            allowance: args.allowance,
+        }),
     };
     let t0 = std::time::Instant::now();
-    let mut path = Toolpath::default();
-    if let Some(r) = rough {
-        let options = RasterOptions { stepover: args.rough_stepover.unwrap_or(0.8 * r.radius()), tool: 1, ..finish };
-        let l = Levels { top: 0.0, step_down: args.step_down, allowance: args.allowance };
-        path = with_bar("rough", |on_row| levels(&cl_of(r), region, &options, l, on_row))?;
-    }
-    let finishing = with_bar("finish", |on_row| {
-        let rows = rows_of(cutter);
-        let rows_at = rows_at_once(&cutter).then_some(&rows as &ClRowsFn);
-        raster_with(&cl_of(cutter), rows_at, region, &finish, None, on_row)
-    })?;
-    path.moves.extend(finishing.moves);
-    // What the finishing cutter cannot reach, at any stepover.
-    // Cutter locations a fifth of the radius apart: the sketch 200 mm wide
-    // with ball:12 carves in 0.03 s and the check adds 0.035 s (0.06 s at a
-    // tenth of the radius); the scallop that grid leaves on the flat,
-    // step²/8R, is forgiven on top of the threshold.
-    let step = pixel.max(cutter.radius() / 5.0);
-    let threshold = (5.0 * args.leave_tol).max(REACH_LEFT) + step * step / (8.0 * cutter.radius());
-    if let Some(u) = unreached(&field, &cutter, step, threshold, cl_of(cutter)) {
+    let Carved { path, unreached, threshold } = with_bars(|on| carve(&job, on))?;
+    if let Some(u) = unreached {
         eprintln!(
             "warning: {name}: {cutter} cannot reach all of the relief: up to {:.3} mm is left on it at X{:.3} Y{:.3} \
              ({:.1} % of its area more than {threshold:.3} mm): valleys narrower than the cutter; a smaller one reaches them",
@@ -311,20 +266,33 @@ fn origin_of(text: &str, size: [f64; 2]) -> Result<[f64; 2]> {
     })
 }
 
-/// A raster with a progress bar on long jobs.
-fn with_bar(
-    label: &str,
-    work: impl FnOnce(&kezuri_cam::mill::Progress) -> Result<Toolpath, kezuri_cam::mill::MillError>,
-) -> Result<Toolpath> {
-    let bar = std::sync::OnceLock::new();
-    let on_row = |done: usize, total: usize| {
-        if let Some(bar) = bar.get_or_init(|| crate::progress::bar(label, "rows", total as u64, 200)) {
-            bar.set_position(done as u64);
+/// The carving with a progress bar for each stage of a long job.
+fn with_bars(work: impl FnOnce(&(dyn Fn(Event) + Sync)) -> Result<Carved, kezuri_cam::Error>) -> Result<Carved> {
+    let (rough, finish) = (OnceLock::new(), OnceLock::new());
+    let bar = |stage: Stage| -> &OnceLock<Option<ProgressBar>> {
+        match stage {
+            Stage::Rough => &rough,
+            Stage::Finish => &finish,
         }
     };
-    let path = work(&on_row);
-    if let Some(Some(bar)) = bar.get() {
-        bar.finish_and_clear();
-    }
-    Ok(path?)
+    let clear = |stage: Stage| {
+        if let Some(Some(bar)) = bar(stage).get() {
+            if !bar.is_finished() {
+                bar.finish_and_clear();
+            }
+        }
+    };
+    let on = |event: Event| match event {
+        Event::Rows { stage, done, total } => {
+            let bar = bar(stage).get_or_init(|| crate::progress::bar(stage.name(), "rows", total as u64, 200));
+            if let Some(bar) = bar {
+                bar.set_position(done as u64);
+            }
+        }
+        Event::Done(stage) => clear(stage),
+    };
+    let carved = work(&on);
+    clear(Stage::Rough);
+    clear(Stage::Finish);
+    Ok(carved?)
 }

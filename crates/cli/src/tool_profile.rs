@@ -21,9 +21,9 @@ pub fn parse_profile(file: &str, text: &str) -> Result<ToolProfile> {
         z.push(t.number(r, zc)?);
         radius.push(t.number(r, rc)?);
     }
-    ToolProfile::new(z, radius).map_err(|e| match e.index {
-        Some(i) => t.error_at(i, zc, &e.reason),
-        None => anyhow!("{file}: {}", e.reason),
+    ToolProfile::new(z, radius).map_err(|e| match e.sample {
+        Some(i) => t.error_at(i, zc, &e.message),
+        None => anyhow!("{file}: {}", e.message),
     })
 }
 

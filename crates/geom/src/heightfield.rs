@@ -6,8 +6,7 @@
 //! `(i, j)` to `(i+1, j+1)`; [`Heightfield::to_mesh`] builds exactly those
 //! triangles, and [`Heightfield::z_at`] interpolates on them.
 
-use std::fmt;
-
+use crate::error::{Error, ErrorKind};
 use crate::mesh::{Mesh, Triangle, Vec3};
 
 /// Cells along each side of a block of [`Heightfield::block_top`].
@@ -71,75 +70,33 @@ impl Slopes {
     }
 }
 
-/// Why some numbers are not a height grid.
-#[derive(Clone, Debug, PartialEq)]
-pub enum HeightfieldError {
-    /// Fewer than 2 × 2 nodes.
-    TooSmall {
-        /// Nodes along X.
-        nx: usize,
-        /// Nodes along Y.
-        ny: usize,
-    },
-    /// The step is not a positive finite number, or the origin not finite.
-    BadStep(f64),
-    /// `z` does not hold `nx·ny` heights.
-    WrongLength {
-        /// `nx·ny`.
-        expected: usize,
-        /// Heights given.
-        found: usize,
-    },
-    /// A NaN or infinite height.
-    NonFinite {
-        /// Column of the node.
-        i: usize,
-        /// Row of the node.
-        j: usize,
-    },
-}
-
-impl fmt::Display for HeightfieldError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            HeightfieldError::TooSmall { nx, ny } => {
-                write!(f, "a height grid needs at least 2 x 2 nodes, got {nx} x {ny}")
-            }
-            HeightfieldError::BadStep(s) => {
-                write!(f, "the grid step must be positive and the origin finite, got step {s}")
-            }
-            HeightfieldError::WrongLength { expected, found } => {
-                write!(f, "the height grid needs {expected} heights, got {found}")
-            }
-            HeightfieldError::NonFinite { i, j } => write!(f, "height at column {i}, row {j} is NaN or infinite"),
-        }
-    }
-}
-
-impl std::error::Error for HeightfieldError {}
-
 impl Heightfield {
     /// A grid of `nx × ny` nodes from `(x0, y0)` at `step` mm, with heights
     /// `z` row by row (`z[j·nx + i]`).
-    pub fn new(
-        x0: f64,
-        y0: f64,
-        step: f64,
-        nx: usize,
-        ny: usize,
-        z: Vec<f64>,
-    ) -> Result<Heightfield, HeightfieldError> {
+    pub fn new(x0: f64, y0: f64, step: f64, nx: usize, ny: usize, z: Vec<f64>) -> Result<Heightfield, Error> {
         if nx < 2 || ny < 2 {
-            return Err(HeightfieldError::TooSmall { nx, ny });
+            return Err(Error::new(
+                ErrorKind::Heightfield,
+                format!("a height grid needs at least 2 x 2 nodes, got {nx} x {ny}"),
+            ));
         }
         if !(step > 0.0 && step.is_finite() && x0.is_finite() && y0.is_finite()) {
-            return Err(HeightfieldError::BadStep(step));
+            return Err(Error::new(
+                ErrorKind::Heightfield,
+                format!("the grid step must be positive and the origin finite, got step {step}"),
+            ));
         }
         if nx.checked_mul(ny) != Some(z.len()) {
-            return Err(HeightfieldError::WrongLength { expected: nx.saturating_mul(ny), found: z.len() });
+            return Err(Error::new(
+                ErrorKind::Heightfield,
+                format!("the height grid needs {} heights, got {}", nx.saturating_mul(ny), z.len()),
+            ));
         }
         if let Some(k) = z.iter().position(|v| !v.is_finite()) {
-            return Err(HeightfieldError::NonFinite { i: k % nx, j: k / nx });
+            return Err(Error::new(
+                ErrorKind::Heightfield,
+                format!("height at column {}, row {} is NaN or infinite", k % nx, k / nx),
+            ));
         }
         let (bx, by) = ((nx - 1).div_ceil(BLOCK), (ny - 1).div_ceil(BLOCK));
         let mut tops = vec![f64::NEG_INFINITY; bx * by];
@@ -174,7 +131,7 @@ impl Heightfield {
         nx: usize,
         ny: usize,
         f: impl Fn(f64, f64) -> f64,
-    ) -> Result<Heightfield, HeightfieldError> {
+    ) -> Result<Heightfield, Error> {
         let z = (0..nx * ny).map(|k| f(x0 + (k % nx) as f64 * step, y0 + (k / nx) as f64 * step)).collect();
         Heightfield::new(x0, y0, step, nx, ny, z)
     }
@@ -342,7 +299,7 @@ mod tests {
 
     #[test]
     fn bad_grids_say_why() {
-        let e = |r: Result<Heightfield, HeightfieldError>| r.unwrap_err().to_string();
+        let e = |r: Result<Heightfield, Error>| r.unwrap_err().to_string();
         assert_eq!(
             e(Heightfield::new(0., 0., 1., 1, 5, vec![0.; 5])),
             "a height grid needs at least 2 x 2 nodes, got 1 x 5"

@@ -7,7 +7,7 @@
 //!
 //! The surfaces CAM places cutters on live here too: [`Mesh`] (an indexed
 //! triangle mesh, read from binary or ASCII STL by [`Mesh::from_stl`], whose
-//! typed [`StlError`] says what is wrong with a bad file), [`XyIndex`] (XY
+//! [`Error`] says what is wrong with a bad file), [`XyIndex`] (XY
 //! grids of its triangles, the finest sized from the median triangle, each
 //! triangle in the grid its box fits: at most four entries a triangle)
 //! and [`Heightfield`] (z over a regular grid, a triangulated surface).
@@ -33,6 +33,7 @@
 
 mod alloc;
 mod ends;
+mod error;
 mod heightfield;
 mod index;
 pub mod limits;
@@ -45,13 +46,14 @@ mod toolpath;
 
 pub use alloc::LargePages;
 pub use ends::{set_ends, ArcCentre};
-pub use heightfield::{Heightfield, HeightfieldError, Slopes, BLOCK};
+pub use error::{Error, ErrorKind};
+pub use heightfield::{Heightfield, Slopes, BLOCK};
 pub use index::XyIndex;
 pub use mesh::{Mesh, Triangle, Vec3};
 pub use random::SplitMix64;
-pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlError};
+pub use stl::{parse_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to};
 pub use time::{cycle_time, move_times, Dynamics};
-pub use tool_profile::{ProfileError, Support, ToolProfile};
+pub use tool_profile::{Support, ToolProfile};
 pub use toolpath::{
     Arc, Axes, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, ToolState,
     Toolpath,

@@ -5,88 +5,15 @@
 //! (and has no NUL byte) is read as ASCII. Facet normals are ignored: the
 //! corners say which way a triangle faces, and drop-cutter does not care.
 
-use std::fmt;
 use std::io::Write;
 
+use crate::error::{Error, ErrorKind};
 use crate::mesh::{Mesh, Triangle, Vec3};
-
-/// Why some bytes are not an STL mesh.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum StlError {
-    /// A binary file shorter than its header, or than its triangle count
-    /// requires.
-    Truncated {
-        /// Triangle count in the header (0 when the header itself is cut).
-        triangles: u32,
-        /// Bytes the count requires.
-        expected: u64,
-        /// Bytes there are.
-        found: u64,
-    },
-    /// A binary file longer than its triangle count says.
-    WrongSize {
-        /// Triangle count in the header.
-        triangles: u32,
-        /// Bytes the count requires.
-        expected: u64,
-        /// Bytes there are.
-        found: u64,
-    },
-    /// An ASCII file that ends inside a facet.
-    UnexpectedEnd {
-        /// The last line (1-based).
-        line: usize,
-    },
-    /// An ASCII line that cannot be read.
-    Syntax {
-        /// The line (1-based).
-        line: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// A NaN or infinite coordinate.
-    NonFinite {
-        /// The triangle (1-based, in file order).
-        triangle: usize,
-    },
-    /// No triangle with an area.
-    Empty {
-        /// Degenerate triangles skipped.
-        skipped: usize,
-    },
-}
-
-impl fmt::Display for StlError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StlError::Truncated { triangles: 0, expected, found } if *expected == 84 => {
-                write!(f, "truncated STL: {found} bytes, shorter than the 84-byte binary header")
-            }
-            StlError::Truncated { triangles, expected, found } => write!(
-                f,
-                "truncated binary STL: the header announces {triangles} triangles ({expected} bytes), the file has {found} bytes"
-            ),
-            StlError::WrongSize { triangles, expected, found } => write!(
-                f,
-                "binary STL of the wrong size: the header announces {triangles} triangles ({expected} bytes), the file has {found} bytes"
-            ),
-            StlError::UnexpectedEnd { line } => write!(f, "truncated ASCII STL: the file ends inside a facet (line {line})"),
-            StlError::Syntax { line, message } => write!(f, "ASCII STL line {line}: {message}"),
-            StlError::NonFinite { triangle } => write!(f, "STL triangle {triangle} has a NaN or infinite coordinate"),
-            StlError::Empty { skipped: 0 } => write!(f, "empty STL: no triangles"),
-            StlError::Empty { skipped } => {
-                write!(f, "empty STL: all {skipped} triangles are degenerate (zero area)")
-            }
-        }
-    }
-}
-
-impl std::error::Error for StlError {}
 
 /// The triangles of an STL file, binary or ASCII, in file order (degenerate
 /// ones included). Fails on a truncated or mis-sized file, an unreadable
 /// ASCII line, or a non-finite coordinate.
-pub fn parse_stl(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
+pub fn parse_stl(bytes: &[u8]) -> Result<Vec<Triangle>, Error> {
     let binary_size = |n: u32| 84 + 50 * u64::from(n);
     let count = bytes.get(80..84).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
     if let Some(n) = count {
@@ -99,22 +26,41 @@ pub fn parse_stl(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
     }
     let found = bytes.len() as u64;
     match count {
-        None => Err(StlError::Truncated { triangles: 0, expected: 84, found }),
-        Some(n) if binary_size(n) > found => Err(StlError::Truncated { triangles: n, expected: binary_size(n), found }),
-        Some(n) => Err(StlError::WrongSize { triangles: n, expected: binary_size(n), found }),
+        None => Err(stl_error(format!("truncated STL: {found} bytes, shorter than the 84-byte binary header"))),
+        Some(n) if binary_size(n) > found => Err(stl_error(format!(
+            "truncated binary STL: the header announces {n} triangles ({} bytes), the file has {found} bytes",
+            binary_size(n)
+        ))),
+        Some(n) => Err(stl_error(format!(
+            "binary STL of the wrong size: the header announces {n} triangles ({} bytes), the file has {found} bytes",
+            binary_size(n)
+        ))),
     }
 }
 
 impl Mesh {
     /// Reads an STL file (see [`parse_stl`]) into a mesh, skipping
     /// degenerate triangles; a mesh with no triangle left is an error.
-    pub fn from_stl(bytes: &[u8]) -> Result<Mesh, StlError> {
+    pub fn from_stl(bytes: &[u8]) -> Result<Mesh, Error> {
         let mesh = Mesh::from_triangles(parse_stl(bytes)?);
         if mesh.is_empty() {
-            return Err(StlError::Empty { skipped: mesh.skipped() });
+            return Err(stl_error(match mesh.skipped() {
+                0 => "empty STL: no triangles".to_string(),
+                skipped => format!("empty STL: all {skipped} triangles are degenerate (zero area)"),
+            }));
         }
         Ok(mesh)
     }
+}
+
+/// Bytes that are not an STL mesh.
+fn stl_error(message: String) -> Error {
+    Error::new(ErrorKind::Stl, message)
+}
+
+/// Triangle `triangle` (from 1) with a NaN or infinite coordinate.
+fn non_finite(triangle: usize) -> Error {
+    stl_error(format!("STL triangle {triangle} has a NaN or infinite coordinate"))
 }
 
 fn looks_ascii(bytes: &[u8]) -> bool {
@@ -123,7 +69,7 @@ fn looks_ascii(bytes: &[u8]) -> bool {
     head.len() >= 5 && head[..5].eq_ignore_ascii_case(b"solid") && !bytes.contains(&0)
 }
 
-fn parse_binary(body: &[u8], n: usize) -> Result<Vec<Triangle>, StlError> {
+fn parse_binary(body: &[u8], n: usize) -> Result<Vec<Triangle>, Error> {
     let mut out = Vec::with_capacity(n);
     for (k, rec) in body.chunks_exact(50).enumerate() {
         let f = |i: usize| {
@@ -133,14 +79,14 @@ fn parse_binary(body: &[u8], n: usize) -> Result<Vec<Triangle>, StlError> {
         let p = |c: usize| Vec3::new(f(3 * c), f(3 * c + 1), f(3 * c + 2));
         let t = Triangle::new(p(0), p(1), p(2));
         if !t.v.iter().all(|v| v.is_finite()) {
-            return Err(StlError::NonFinite { triangle: k + 1 });
+            return Err(non_finite(k + 1));
         }
         out.push(t);
     }
     Ok(out)
 }
 
-fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
+fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, Error> {
     let text = String::from_utf8_lossy(bytes);
     let mut out = Vec::new();
     let mut corners: Vec<Vec3> = Vec::with_capacity(3);
@@ -150,7 +96,7 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
         let line_no = k + 1;
         last = line_no;
         let mut words = line.split_whitespace();
-        let syntax = |message: String| StlError::Syntax { line: line_no, message };
+        let syntax = |message: String| stl_error(format!("ASCII STL line {line_no}: {message}"));
         match words.next().map(|w| w.to_ascii_lowercase()).as_deref() {
             Some("facet") => {
                 if in_facet {
@@ -172,7 +118,7 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
                     return Err(syntax("a facet with more than three vertices".into()));
                 }
                 if !xyz.iter().all(|v| v.is_finite()) {
-                    return Err(StlError::NonFinite { triangle: out.len() + 1 });
+                    return Err(non_finite(out.len() + 1));
                 }
                 corners.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
             }
@@ -188,7 +134,7 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, StlError> {
         }
     }
     if in_facet {
-        return Err(StlError::UnexpectedEnd { line: last });
+        return Err(stl_error(format!("truncated ASCII STL: the file ends inside a facet (line {last})")));
     }
     Ok(out)
 }

@@ -8,7 +8,7 @@
 //! below the first sample the tool is absent; above the last the profile is
 //! not known.
 
-use std::fmt;
+use crate::error::{Error, ErrorKind};
 
 /// Points of a measured profile, `z` strictly increasing (mm).
 #[derive(Clone, Debug, PartialEq)]
@@ -16,26 +16,6 @@ pub struct ToolProfile {
     z: Vec<f64>,
     radius: Vec<f64>,
 }
-
-/// Why numbers are not a profile; `index` is the 0-based sample.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ProfileError {
-    /// The sample at fault (0-based), if one is.
-    pub index: Option<usize>,
-    /// What is wrong.
-    pub reason: String,
-}
-
-impl fmt::Display for ProfileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.index {
-            Some(i) => write!(f, "sample {}: {}", i + 1, self.reason),
-            None => f.write_str(&self.reason),
-        }
-    }
-}
-
-impl std::error::Error for ProfileError {}
 
 /// Where a plane touches the tool: see [`ToolProfile::support`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,8 +29,8 @@ pub struct Support {
 impl ToolProfile {
     /// The profile through `(z[i], radius[i])`: at least two samples, `z`
     /// strictly increasing, every number finite, radii ≥ 0.
-    pub fn new(z: Vec<f64>, radius: Vec<f64>) -> Result<ToolProfile, ProfileError> {
-        let fail = |index, reason: String| Err(ProfileError { index, reason });
+    pub fn new(z: Vec<f64>, radius: Vec<f64>) -> Result<ToolProfile, Error> {
+        let fail = |sample, message: String| Err(Error { sample, ..Error::new(ErrorKind::Profile, message) });
         if z.len() != radius.len() {
             return fail(None, format!("{} heights but {} radii", z.len(), radius.len()));
         }
@@ -158,7 +138,7 @@ mod tests {
     #[test]
     fn refuses_what_is_not_a_profile() {
         assert!(ToolProfile::new(vec![0.0], vec![0.0]).is_err());
-        assert!(ToolProfile::new(vec![0.0, 0.0], vec![0.0, 1.0]).unwrap_err().index == Some(1));
+        assert!(ToolProfile::new(vec![0.0, 0.0], vec![0.0, 1.0]).unwrap_err().sample == Some(1));
         assert!(ToolProfile::new(vec![0.0, 1.0], vec![0.0, -1.0]).is_err());
         assert!(ToolProfile::new(vec![0.0, f64::NAN], vec![0.0, 1.0]).is_err());
         assert!(ToolProfile::new(vec![0.0, 1.0], vec![0.0]).is_err());

@@ -1,5 +1,7 @@
 //! The machine-neutral toolpath: a list of self-contained moves.
 
+mod transform;
+
 use std::f64::consts::TAU;
 
 /// A position of all six axes: X Y Z in mm, A B C in degrees.

@@ -127,7 +127,7 @@ mod read;
 mod write;
 
 pub use read::{looks_like_rml, read_rml, DeviceCommand, RmlProgram};
-pub use write::{linearize, write_rml};
+pub use write::write_rml;
 
 /// Units and heights for reading and writing RML-1.
 #[derive(Clone, Debug, PartialEq)]

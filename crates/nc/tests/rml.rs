@@ -1,12 +1,10 @@
 //! RML-1: the relief paper's listing read with units, every command, located
 //! errors, the writer's rules, and round trips RML → G-code → RML.
 
-use std::f64::consts::PI;
-
 use expect_test::{expect, expect_file};
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane, Spindle, Toolpath};
 use kezuri_nc::interp::{self, Settings};
-use kezuri_nc::rml::{linearize, looks_like_rml, read_rml, write_rml, RmlOptions, RmlProgram};
+use kezuri_nc::rml::{looks_like_rml, read_rml, write_rml, RmlOptions, RmlProgram};
 use kezuri_nc::write::{csv, program, WriteOptions};
 use kezuri_nc::ErrorKind;
 use kezuri_nc::{parse, Program, SourceFile, Sources};
@@ -265,29 +263,6 @@ fn writer_rounds_each_point_on_the_grid_without_drift() {
     for m in back.toolpath.moves.iter().filter(|m| m.kind == MoveKind::Feed) {
         assert!((m.end.x * 100.0 - (m.end.x * 100.0).round()).abs() < 1e-9);
     }
-}
-
-#[test]
-fn arcs_become_chords_within_the_tolerance() {
-    let arc = Arc { center: [0.0, 0.0, 0.0], plane: Plane::Xy, ccw: false, turns: 0 };
-    let m = Move { kind: MoveKind::Arc(arc), start: at(10.0, 0.0, 0.0), end: at(-10.0, 0.0, -2.0), ..Move::default() };
-    let tol = 0.005;
-    let pts = linearize(&m, tol);
-    // Half a turn at 10 mm: chords of at most 2·acos(1 − 0.0005) each.
-    let n = (PI / (2.0 * (1.0 - tol / 10.0).acos())).ceil() as usize;
-    assert_eq!(pts.len(), n);
-    assert_eq!(*pts.last().unwrap(), m.end);
-    let mut prev = m.start;
-    for p in &pts {
-        assert!((p.x.hypot(p.y) - 10.0).abs() < 1e-9);
-        assert!(p.y <= 1e-12, "clockwise from +X goes through -Y: {p:?}");
-        let mid = ((prev.x + p.x) / 2.0).hypot((prev.y + p.y) / 2.0);
-        assert!(10.0 - mid <= tol + 1e-12);
-        prev = *p;
-    }
-    // Straight moves are their end.
-    let line = Move { end: at(1.0, 2.0, 3.0), ..Move::default() };
-    assert_eq!(linearize(&line, tol), vec![line.end]);
 }
 
 #[test]

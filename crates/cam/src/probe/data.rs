@@ -25,6 +25,7 @@ use std::fmt::Write as _;
 use kezuri_geom::limits;
 
 use super::{Grid, Order, ProbeGrid};
+use crate::error::{Error, ErrorKind};
 
 /// What the caller knows of the grid (the command line's `--count`,
 /// `--pitch`, `--pattern`, `--origin`).
@@ -82,31 +83,8 @@ pub struct Data {
     pub format: Format,
 }
 
-/// Why a file is not probe data.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DataError {
-    /// The line (from 1), where one is to blame.
-    pub line: Option<usize>,
-    /// The column (in characters, from 1) of the field to blame, if one is.
-    pub column: Option<usize>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl std::fmt::Display for DataError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match (self.line, self.column) {
-            (Some(n), Some(c)) => write!(f, "line {n}, column {c}: {}", self.message),
-            (Some(n), None) => write!(f, "line {n}: {}", self.message),
-            _ => f.write_str(&self.message),
-        }
-    }
-}
-
-impl std::error::Error for DataError {}
-
-fn err<T>(line: Option<usize>, message: impl Into<String>) -> Result<T, DataError> {
-    Err(DataError { line, column: None, message: message.into() })
+fn err<T>(line: Option<usize>, message: impl Into<String>) -> Result<T, Error> {
+    Err(Error::at(ErrorKind::Data, line, None, message))
 }
 
 /// Blank lines, comments (`#`, `;`, `(`) and lines of nothing but control
@@ -150,7 +128,7 @@ fn texts<'a>(fields: &[Field<'a>]) -> Vec<&'a str> {
 
 /// A coordinate (every number of a data file is in mm: within ±1000000),
 /// or an error naming the line and column.
-fn number(field: Field<'_>, n: usize) -> Result<f64, DataError> {
+fn number(field: Field<'_>, n: usize) -> Result<f64, Error> {
     let message = match field.text.parse::<f64>() {
         Ok(v) => match limits::coordinate(v, &format!("'{}'", field.text)) {
             Ok(v) => return Ok(v),
@@ -158,11 +136,11 @@ fn number(field: Field<'_>, n: usize) -> Result<f64, DataError> {
         },
         Err(_) => format!("'{}' is not a number", field.text),
     };
-    Err(DataError { line: Some(n), column: Some(field.column), message })
+    Err(Error::at(ErrorKind::Data, Some(n), Some(field.column), message))
 }
 
 /// Reads a data file of any of the formats (module docs).
-pub fn read(text: &str, hint: &Hint) -> Result<Data, DataError> {
+pub fn read(text: &str, hint: &Hint) -> Result<Data, Error> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let lines: Vec<&str> = text.lines().collect();
     let grid_line = lines.iter().position(|l| {
@@ -230,7 +208,7 @@ pub fn read(text: &str, hint: &Hint) -> Result<Data, DataError> {
     Ok(Data { grid, format: if csv { Format::Csv } else { Format::LinuxCnc } })
 }
 
-fn checked_grid(nx: usize, ny: usize, pitch: f64, origin: [f64; 2], order: Order) -> Result<Grid, DataError> {
+fn checked_grid(nx: usize, ny: usize, pitch: f64, origin: [f64; 2], order: Order) -> Result<Grid, Error> {
     if nx < 2 || ny < 2 {
         return err(None, format!("the grid needs at least 2 × 2 points, got {nx} × {ny}"));
     }
@@ -248,7 +226,7 @@ fn checked_grid(nx: usize, ny: usize, pitch: f64, origin: [f64; 2], order: Order
 
 /// The grid of a `# grid key=value …` line; the hint fills in, and must
 /// agree with, what the header says.
-fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, DataError> {
+fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, Error> {
     let mut nx = None;
     let mut ny = None;
     let mut pitch = None;
@@ -259,10 +237,8 @@ fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, DataError> {
         let Some((key, value)) = token.split_once('=') else { continue };
         // `token` lies in `line`: its column is the characters before it, plus one.
         let column = Some(line[..token.as_ptr() as usize - line.as_ptr() as usize].chars().count() + 1);
-        let bad = |what: &str| DataError {
-            line: Some(n),
-            column,
-            message: format!("grid header: {key}={value} is not {what}"),
+        let bad = |what: &str| {
+            Error::at(ErrorKind::Data, Some(n), column, format!("grid header: {key}={value} is not {what}"))
         };
         match key.to_ascii_lowercase().as_str() {
             "nx" => nx = Some(value.parse::<usize>().map_err(|_| bad("a count"))?),
@@ -277,7 +253,9 @@ fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, DataError> {
                 origin = Some([v[0], v[1]]);
             }
             "pattern" | "order" => {
-                order = Some(value.parse::<Order>().map_err(|message| DataError { line: Some(n), column, message })?)
+                order = Some(
+                    value.parse::<Order>().map_err(|message| Error::at(ErrorKind::Data, Some(n), column, message))?,
+                )
             }
             _ => {}
         }
@@ -299,13 +277,13 @@ fn header_grid(line: &str, n: usize, hint: &Hint) -> Result<Grid, DataError> {
         return err(Some(n), "grid header without pitch= (or give --pitch P)");
     };
     checked_grid(nx, ny, pitch, origin.or(hint.origin).unwrap_or([0.0, 0.0]), order.or(hint.order).unwrap_or_default())
-        .map_err(|e| DataError { line: Some(n), ..e })
+        .map_err(|e| Error { line: Some(n), ..e })
 }
 
 /// The `No,Z` records of `lines` (header, comments and a leading No 0
 /// skipped), placed on `grid`; also whether there was a No 0 record and a
 /// `No,Z` title.
-fn records(lines: &[&str], grid: &Grid) -> Result<(Vec<f64>, bool, bool), DataError> {
+fn records(lines: &[&str], grid: &Grid) -> Result<(Vec<f64>, bool, bool), Error> {
     let mut z = vec![f64::NAN; grid.len()];
     let (mut count, mut zero_record, mut title) = (0usize, false, false);
     let mut last_line = 0;
@@ -323,7 +301,7 @@ fn records(lines: &[&str], grid: &Grid) -> Result<(Vec<f64>, bool, bool), DataEr
         }
         let Ok(no) = f[0].text.parse::<usize>() else {
             let message = format!("point number '{}' is not a whole number", f[0].text);
-            return Err(DataError { line: Some(n), column: Some(f[0].column), message });
+            return Err(Error::at(ErrorKind::Data, Some(n), Some(f[0].column), message));
         };
         let value = number(f[1], n)?;
         if no == 0 && count == 0 && !zero_record {
@@ -356,7 +334,7 @@ fn records(lines: &[&str], grid: &Grid) -> Result<(Vec<f64>, bool, bool), DataEr
 }
 
 /// The regular grid the points lie on.
-fn points_grid(points: &[([f64; 3], usize)], hint: &Hint) -> Result<ProbeGrid, DataError> {
+fn points_grid(points: &[([f64; 3], usize)], hint: &Hint) -> Result<ProbeGrid, Error> {
     if points.len() < 4 {
         return err(None, format!("{} points: a grid needs at least 2 × 2", points.len()));
     }

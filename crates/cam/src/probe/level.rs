@@ -32,6 +32,7 @@
 use std::fmt::Write as _;
 
 use super::{Grid, ProbeGrid};
+use crate::error::{Error, ErrorKind};
 
 /// The points that should lie in one horizontal plane.
 #[derive(Clone, Debug, PartialEq)]
@@ -168,31 +169,19 @@ impl Levelling {
     }
 }
 
-/// Why the data cannot be levelled.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LevelError(pub String);
-
-impl std::fmt::Display for LevelError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for LevelError {}
-
 /// The reference points of `reference` on `grid` (errors for rows or
 /// columns outside it, a mask of the wrong size or an empty one).
-pub fn reference_mask(grid: &Grid, reference: &Reference) -> Result<Vec<bool>, LevelError> {
+pub fn reference_mask(grid: &Grid, reference: &Reference) -> Result<Vec<bool>, Error> {
     let (nx, ny) = (grid.nx, grid.ny);
     let mut mask = vec![false; nx * ny];
     let check = |a: usize, b: usize, n: usize, (one, what): (&str, &str)| {
         for v in [a, b] {
             if v == 0 || v > n {
-                return Err(LevelError(format!("{one} {v} is outside the grid's {what} 1..{n}")));
+                return Err(Error::new(ErrorKind::Level, format!("{one} {v} is outside the grid's {what} 1..{n}")));
             }
         }
         if a == b {
-            return Err(LevelError(format!("{what} {a},{b}: two different {what} are needed")));
+            return Err(Error::new(ErrorKind::Level, format!("{what} {a},{b}: two different {what} are needed")));
         }
         Ok(())
     };
@@ -224,20 +213,23 @@ pub fn reference_mask(grid: &Grid, reference: &Reference) -> Result<Vec<bool>, L
         }
         Reference::Mask(m) => {
             if m.len() != nx * ny {
-                return Err(LevelError(format!("the mask has {} points, the grid {nx} × {ny} = {}", m.len(), nx * ny)));
+                return Err(Error::new(
+                    ErrorKind::Level,
+                    format!("the mask has {} points, the grid {nx} × {ny} = {}", m.len(), nx * ny),
+                ));
             }
             mask.clone_from(m);
         }
     }
     if mask.iter().filter(|&&m| m).count() < 3 {
-        return Err(LevelError("the reference region has fewer than 3 points".into()));
+        return Err(Error::new(ErrorKind::Level, "the reference region has fewer than 3 points"));
     }
     Ok(mask)
 }
 
 /// Levels `data` against `reference`: every candidate, and the one
 /// `method` keeps.
-pub fn level(data: &ProbeGrid, reference: &Reference, method: Method) -> Result<Levelling, LevelError> {
+pub fn level(data: &ProbeGrid, reference: &Reference, method: Method) -> Result<Levelling, Error> {
     let g = &data.grid;
     let mask = reference_mask(g, reference)?;
     let raw = Stats::of(&data.z, &mask);
@@ -255,8 +247,9 @@ pub fn level(data: &ProbeGrid, reference: &Reference, method: Method) -> Result<
         Reference::Mask(_) => vec![],
     };
     if pairs.is_empty() && method == Method::Lines {
-        return Err(LevelError(
-            "--method lines needs two rows or columns: corners, border, rows:A,B or cols:A,B".into(),
+        return Err(Error::new(
+            ErrorKind::Level,
+            "--method lines needs two rows or columns: corners, border, rows:A,B or cols:A,B",
         ));
     }
     for (rows, a, b) in pairs {
@@ -277,12 +270,12 @@ pub fn level(data: &ProbeGrid, reference: &Reference, method: Method) -> Result<
         Method::Lines => best(Some(false)),
         Method::Auto => best(None),
     }
-    .ok_or_else(|| LevelError("no correction could be made from the reference region".into()))?;
+    .ok_or_else(|| Error::new(ErrorKind::Level, "no correction could be made from the reference region"))?;
     Ok(Levelling { mask, raw, candidates, chosen })
 }
 
 /// The plane candidate.
-fn plane(data: &ProbeGrid, mask: &[bool]) -> Result<Vec<f64>, LevelError> {
+fn plane(data: &ProbeGrid, mask: &[bool]) -> Result<Vec<f64>, Error> {
     let g = &data.grid;
     let pts: Vec<[f64; 3]> =
         (0..g.len()).filter(|&k| mask[k]).map(|k| [g.x(k % g.nx), g.y(k / g.nx), data.z[k]]).collect();
@@ -299,7 +292,10 @@ fn plane(data: &ProbeGrid, mask: &[bool]) -> Result<Vec<f64>, LevelError> {
     }
     let det = sxx * syy - sxy * sxy;
     if det.abs() <= 1e-12 * (sxx * syy).max(1e-300) {
-        return Err(LevelError("the reference points lie on one line: they do not determine a plane".into()));
+        return Err(Error::new(
+            ErrorKind::Level,
+            "the reference points lie on one line: they do not determine a plane",
+        ));
     }
     let b = (sxz * syy - syz * sxy) / det;
     let c = (syz * sxx - sxz * sxy) / det;
@@ -309,20 +305,23 @@ fn plane(data: &ProbeGrid, mask: &[bool]) -> Result<Vec<f64>, LevelError> {
 /// The lines candidate: least-squares lines along rows (or columns) `a`
 /// and `b` (from 0), through their reference points; the correction at
 /// every point is the straight line between the two, across.
-fn lines(data: &ProbeGrid, mask: &[bool], rows: bool, a: usize, b: usize) -> Result<Vec<f64>, LevelError> {
+fn lines(data: &ProbeGrid, mask: &[bool], rows: bool, a: usize, b: usize) -> Result<Vec<f64>, Error> {
     let g = &data.grid;
     // In a frame where the lines run along u and lie at v = a, b.
     let (nu, nv) = if rows { (g.nx, g.ny) } else { (g.ny, g.nx) };
     let k = |u: usize, v: usize| if rows { v * g.nx + u } else { u * g.nx + v };
-    let fit = |v: usize| -> Result<(f64, f64), LevelError> {
+    let fit = |v: usize| -> Result<(f64, f64), Error> {
         let pts: Vec<(f64, f64)> = (0..nu).filter(|&u| mask[k(u, v)]).map(|u| (u as f64, data.z[k(u, v)])).collect();
         let n = pts.len() as f64;
         if pts.len() < 2 {
-            return Err(LevelError(format!(
-                "{} {} has fewer than 2 reference points: no line through it",
-                if rows { "row" } else { "column" },
-                v + 1
-            )));
+            return Err(Error::new(
+                ErrorKind::Level,
+                format!(
+                    "{} {} has fewer than 2 reference points: no line through it",
+                    if rows { "row" } else { "column" },
+                    v + 1
+                ),
+            ));
         }
         let mu = pts.iter().map(|p| p.0).sum::<f64>() / n;
         let mz = pts.iter().map(|p| p.1).sum::<f64>() / n;

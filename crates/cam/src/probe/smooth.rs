@@ -62,8 +62,8 @@
 //! their chords). [`sharpest_bend`] finds where the readings bend so
 //! sharply that this is more than a tolerance.
 
-use super::ProbeGrid;
-use super::{stylus::StylusError, Grid};
+use super::{Grid, ProbeGrid};
+use crate::error::{Error, ErrorKind};
 
 /// The bicubic surface through the readings (module docs).
 #[derive(Clone, Debug)]
@@ -195,13 +195,19 @@ fn basis(t: f64, d: usize) -> [f64; 4] {
 
 impl Smooth {
     /// The surface through `data` (2 × 2 points or more, finite heights).
-    pub fn new(data: &ProbeGrid) -> Result<Smooth, StylusError> {
+    pub fn new(data: &ProbeGrid) -> Result<Smooth, Error> {
         let g = data.grid;
         if g.nx < 2 || g.ny < 2 || data.z.len() != g.len() {
-            return Err(StylusError(format!("a surface needs 2 × 2 points or more, got {} × {}", g.nx, g.ny)));
+            return Err(Error::new(
+                ErrorKind::Surface,
+                format!("a surface needs 2 × 2 points or more, got {} × {}", g.nx, g.ny),
+            ));
         }
         if let Some(k) = data.z.iter().position(|z| !z.is_finite()) {
-            return Err(StylusError(format!("reading at node ({}, {}) is not a number", k % g.nx, k / g.nx)));
+            return Err(Error::new(
+                ErrorKind::Surface,
+                format!("reading at node ({}, {}) is not a number", k % g.nx, k / g.nx),
+            ));
         }
         let mut p = vec![0.0; g.len()];
         let mut q = vec![0.0; g.len()];

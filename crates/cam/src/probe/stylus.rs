@@ -83,18 +83,7 @@ use rayon::prelude::*;
 use super::smooth::Smooth;
 use super::ProbeGrid;
 use crate::cutter::Cutter;
-
-/// Why no surface could be made.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StylusError(pub String);
-
-impl std::fmt::Display for StylusError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for StylusError {}
+use crate::error::{Error, ErrorKind};
 
 /// Most nodes of the fine grid.
 pub const MAX_NODES: usize = 60_000_000;
@@ -108,16 +97,19 @@ pub fn subdivision(pitch: f64, resolution: f64) -> usize {
 /// The highest surface consistent with the stylus readings `data` (module
 /// docs), sampled every `pitch / m` with `m` the smallest whole number
 /// making the spacing at most `resolution`.
-pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
+pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result<Heightfield, Error> {
     let g = &data.grid;
     let r = stylus.radius();
     // Every point of the grid's box must be under some stylus.
     if r < g.pitch * std::f64::consts::FRAC_1_SQRT_2 {
-        return Err(StylusError(format!(
-            "the stylus ({stylus}) is narrower than the grid's diagonal half-pitch ({:.3} mm): \
+        return Err(Error::new(
+            ErrorKind::Surface,
+            format!(
+                "the stylus ({stylus}) is narrower than the grid's diagonal half-pitch ({:.3} mm): \
              the surface between the points is unknown",
-            g.pitch * std::f64::consts::FRAC_1_SQRT_2
-        )));
+                g.pitch * std::f64::consts::FRAC_1_SQRT_2
+            ),
+        ));
     }
     let m = fine(data, resolution)?;
     envelope(&data.z, [g.nx, g.ny], m, g.origin, g.pitch / m as f64, stylus)
@@ -132,7 +124,7 @@ pub fn reconstruct(data: &ProbeGrid, stylus: &Cutter, resolution: f64) -> Result
 /// each height is at or above the exact model's, by at most about
 /// `δ²/4 · (1/R_c + 1/(R·cos³θ))` for node spacing `δ`, the surface's
 /// radius of curvature `R_c` and slope `θ`, and a stylus of radius `R`.
-pub fn model(smooth: &Smooth, stylus: &Cutter, resolution: f64) -> Result<Heightfield, StylusError> {
+pub fn model(smooth: &Smooth, stylus: &Cutter, resolution: f64) -> Result<Heightfield, Error> {
     let g = smooth.grid();
     let data = ProbeGrid { grid: *g, z: Vec::new() };
     let m = fine(&data, resolution)?;
@@ -147,17 +139,21 @@ pub fn model(smooth: &Smooth, stylus: &Cutter, resolution: f64) -> Result<Height
 
 /// The subdivision of the pitch for a node spacing of at most
 /// `resolution`, checked to give a grid of at most [`MAX_NODES`].
-fn fine(data: &ProbeGrid, resolution: f64) -> Result<usize, StylusError> {
+fn fine(data: &ProbeGrid, resolution: f64) -> Result<usize, Error> {
     let g = &data.grid;
     if !(resolution.is_finite() && resolution > 0.0) {
-        return Err(StylusError(format!("the resolution must be a positive number of mm, got {resolution}")));
+        return Err(Error::new(
+            ErrorKind::Surface,
+            format!("the resolution must be a positive number of mm, got {resolution}"),
+        ));
     }
     let m = subdivision(g.pitch, resolution);
     let (fx, fy) = ((g.nx - 1).saturating_mul(m) + 1, (g.ny - 1).saturating_mul(m) + 1);
     if fx.saturating_mul(fy) > MAX_NODES {
-        return Err(StylusError(format!(
-            "a fine grid of {fx} × {fy} nodes is too large: raise the resolution (now {resolution} mm)"
-        )));
+        return Err(Error::new(
+            ErrorKind::Surface,
+            format!("a fine grid of {fx} × {fy} nodes is too large: raise the resolution (now {resolution} mm)"),
+        ));
     }
     Ok(m)
 }
@@ -172,7 +168,7 @@ fn envelope(
     origin: [f64; 2],
     step: f64,
     stylus: &Cutter,
-) -> Result<Heightfield, StylusError> {
+) -> Result<Heightfield, Error> {
     let (fx, fy) = ((size[0] - 1) * stride + 1, (size[1] - 1) * stride + 1);
     let r = stylus.radius();
     // The stylus height at every offset (di, dj) fine steps from its tip.
@@ -218,9 +214,9 @@ fn envelope(
         .collect();
     let z: Vec<f64> = rows.into_iter().flatten().collect();
     if z.iter().any(|v| !v.is_finite()) {
-        return Err(StylusError("a point of the grid is under no stylus position".into()));
+        return Err(Error::new(ErrorKind::Surface, "a point of the grid is under no stylus position"));
     }
-    Heightfield::new(origin[0], origin[1], step, fx, fy, z).map_err(|e| StylusError(e.to_string()))
+    Heightfield::new(origin[0], origin[1], step, fx, fy, z).map_err(|e| Error::new(ErrorKind::Surface, e.to_string()))
 }
 
 /// The height of a flat margin at the top of the data: the highest height

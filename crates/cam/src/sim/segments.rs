@@ -4,7 +4,8 @@ use kezuri_geom::{MoveKind, Toolpath};
 
 use super::sweep::{Prep, Shape};
 use super::tools::{cutting_tools, Slots, ToolCut, Tooling};
-use super::{SimError, SimReport};
+use super::{empty_toolpath, SimReport};
+use crate::error::{Error, ErrorKind};
 
 /// A straight piece of a move.
 #[derive(Clone, Copy, Debug)]
@@ -88,7 +89,7 @@ pub(super) fn segments<'a>(
     path: &Toolpath,
     tooling: Tooling<'a>,
     tol: f64,
-) -> Result<(Vec<Segment>, SimReport, Slots<'a>, Vec<usize>), SimError> {
+) -> Result<(Vec<Segment>, SimReport, Slots<'a>, Vec<usize>), Error> {
     // Weighed before the work: every arc's chords at `tol`.
     let total = path
         .moves
@@ -99,7 +100,7 @@ pub(super) fn segments<'a>(
         })
         .fold(0usize, usize::saturating_add);
     if total > MAX_SEGMENTS {
-        return Err(SimError::TooManySegments(total));
+        return Err(too_many_segments(total));
     }
     let mut out = Vec::with_capacity(path.moves.len());
     let mut report = SimReport::default();
@@ -113,7 +114,10 @@ pub(super) fn segments<'a>(
             continue;
         }
         if !m.start.to_array().iter().chain(&m.end.to_array()).all(|v| v.is_finite()) {
-            return Err(SimError::NonFinite { index, line: m.line });
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                format!("move {index} (line {}) has a coordinate that is not a finite number", m.line),
+            ));
         }
         let slot = slots.slot(number, m.line)?;
         if slot as usize == report.tools.len() {
@@ -140,7 +144,7 @@ pub(super) fn segments<'a>(
         if (m.start.a, m.start.b, m.start.c) != (m.end.a, m.end.b, m.end.c) {
             report.rotary_moves += 1;
         }
-        let index32 = u32::try_from(index).map_err(|_| SimError::TooManySegments(index))?;
+        let index32 = u32::try_from(index).map_err(|_| too_many_segments(index))?;
         let rapid = m.is_rapid();
         let shape = &slots.shapes[slot as usize];
         let r = shape.radius();
@@ -164,9 +168,20 @@ pub(super) fn segments<'a>(
         cut.segments += out.len() - before;
     }
     if report.moves == 0 {
-        return Err(SimError::EmptyToolpath);
+        return Err(empty_toolpath());
     }
     report.segments = out.len();
     continuations(&mut out, &slots.shapes);
     Ok((out, report, slots, unplaced_rapids))
+}
+
+/// Arcs split into `n` chords, more than can be indexed.
+fn too_many_segments(n: usize) -> Error {
+    Error::new(
+        ErrorKind::TooManySegments,
+        format!(
+            "the moves split into {n} straight segments (arcs in chords), more than {MAX_SEGMENTS}: raise the chord \
+             tolerance"
+        ),
+    )
 }

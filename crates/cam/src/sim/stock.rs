@@ -8,7 +8,8 @@
 use kezuri_geom::{limits, MoveKind, Toolpath};
 
 use super::compare::target_heights;
-use super::{SimError, SimOptions, Tool};
+use super::{bad_tolerance, empty_toolpath, out_of_memory, SimOptions, Tool};
+use crate::error::{Error, ErrorKind};
 use crate::Cutter;
 
 /// The stock box: `x0..x1` × `y0..y1` in XY (mm), its top at `top`.
@@ -32,36 +33,36 @@ impl Stock {
     /// highest point. Rapids are left out: a return to a far home position
     /// must not grow the grid, and a rapid approach to just above the
     /// work must not count as cutting. Without cutting moves, all moves.
-    pub fn around(path: &Toolpath, cutter: &Cutter) -> Result<Stock, SimError> {
+    pub fn around(path: &Toolpath, cutter: &Cutter) -> Result<Stock, Error> {
         Stock::around_tool(path, &Tool::Cutter(*cutter))
     }
 
     /// [`Stock::around`] for any [`Tool`]: the cutting moves' box grown by
     /// the tool's radius.
-    pub fn around_tool(path: &Toolpath, tool: &Tool) -> Result<Stock, SimError> {
+    pub fn around_tool(path: &Toolpath, tool: &Tool) -> Result<Stock, Error> {
         Stock::around_reach(path, tool.radius())
     }
 
     /// [`Stock::around`] grown by `radius` (the widest of a program's tools).
-    pub fn around_reach(path: &Toolpath, radius: f64) -> Result<Stock, SimError> {
+    pub fn around_reach(path: &Toolpath, radius: f64) -> Result<Stock, Error> {
         let cutting: Vec<_> =
             path.moves.iter().filter(|m| !m.is_rapid() && !matches!(m.kind, MoveKind::Dwell(_))).copied().collect();
         let bounds = if cutting.is_empty() { path.bounds() } else { Toolpath::from(cutting).bounds() };
-        let (lo, hi) = bounds.ok_or(SimError::EmptyToolpath)?;
+        let (lo, hi) = bounds.ok_or_else(empty_toolpath)?;
         if !lo.iter().chain(&hi).all(|v| v.is_finite()) {
-            return Err(SimError::BadStock("the program's bounds are not finite".into()));
+            return Err(bad_stock("the program's bounds are not finite"));
         }
         let r = radius;
         Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top: hi[2] })
     }
 
-    fn check(&self) -> Result<(), SimError> {
+    fn check(&self) -> Result<(), Error> {
         let v = [self.x0, self.y0, self.x1, self.y1, self.top];
         if !v.iter().all(|v| v.is_finite()) {
-            return Err(SimError::BadStock(format!("{:?} is not finite", v)));
+            return Err(bad_stock(format!("{:?} is not finite", v)));
         }
         if !(self.x1 > self.x0 && self.y1 > self.y0) {
-            return Err(SimError::BadStock(format!(
+            return Err(bad_stock(format!(
                 "empty box: X {} to {}, Y {} to {} (need X0 < X1 and Y0 < Y1)",
                 self.x0, self.x1, self.y0, self.y1
             )));
@@ -93,13 +94,13 @@ impl ZMap {
     /// The stock as a grid at `options.resolution`, every cell at the top.
     /// The grid covers the box, the last cell reaching past its edge when
     /// the size is not a whole number of cells.
-    pub fn new(stock: &Stock, options: &SimOptions) -> Result<ZMap, SimError> {
+    pub fn new(stock: &Stock, options: &SimOptions) -> Result<ZMap, Error> {
         let res = options.resolution;
-        if limits::length(res, "").is_err() {
-            return Err(SimError::BadResolution(res));
+        if let Err(m) = limits::length(res, "the resolution") {
+            return Err(Error::new(ErrorKind::Resolution, m));
         }
         if limits::length(options.chord_tolerance, "").is_err() {
-            return Err(SimError::BadTolerance(options.chord_tolerance));
+            return Err(bad_tolerance(options.chord_tolerance));
         }
         stock.check()?;
         let count = |len: f64| {
@@ -114,12 +115,21 @@ impl ZMap {
         let (fx, fy) = (count(stock.x1 - stock.x0), count(stock.y1 - stock.y0));
         let cells = fx * fy;
         if cells > options.max_cells as f64 {
-            return Err(SimError::TooManyCells { nx: fx, ny: fy, limit: options.max_cells });
+            return Err(Error::new(
+                ErrorKind::TooManyCells,
+                format!(
+                    "a grid of {fx} × {fy} = {:.0} cells ({:.1} GB) is more than the limit of {} cells; \
+                     use a coarser resolution or a smaller stock",
+                    fx * fy,
+                    fx * fy * 9.0 / 1e9,
+                    options.max_cells
+                ),
+            ));
         }
         let (nx, ny) = (fx as usize, fy as usize);
         let mut z = Vec::new();
         if z.try_reserve_exact(nx * ny).is_err() {
-            return Err(SimError::OutOfMemory { cells: nx * ny });
+            return Err(out_of_memory(nx * ny));
         }
         z.resize(nx * ny, stock.top);
         Ok(ZMap { x0: stock.x0, y0: stock.y0, res, nx, ny, z })
@@ -165,10 +175,10 @@ pub struct Cylinder {
 impl ZMap {
     /// An upright cylinder as a grid over its square: cells whose centre
     /// lies within the circle at the top, the others at its bottom.
-    pub fn cylinder(c: &Cylinder, options: &SimOptions) -> Result<ZMap, SimError> {
+    pub fn cylinder(c: &Cylinder, options: &SimOptions) -> Result<ZMap, Error> {
         let v = [c.x, c.y, c.diameter, c.height, c.top];
         if !v.iter().all(|v| v.is_finite()) || c.diameter <= 0.0 || c.height <= 0.0 {
-            return Err(SimError::BadStock(format!(
+            return Err(bad_stock(format!(
                 "cylinder Ø{} × {} at ({}, {}), top {}: need a positive diameter and height",
                 c.diameter, c.height, c.x, c.y, c.top
             )));
@@ -191,7 +201,7 @@ impl ZMap {
     /// The top surface of a solid (its triangles) as a grid over its XY
     /// box: at each cell centre the highest triangle over it; where none,
     /// the solid's lowest point (its bottom: no stock there).
-    pub fn top_of(triangles: &[[[f64; 3]; 3]], options: &SimOptions) -> Result<ZMap, SimError> {
+    pub fn top_of(triangles: &[[[f64; 3]; 3]], options: &SimOptions) -> Result<ZMap, Error> {
         let finite: Vec<&[[f64; 3]; 3]> =
             triangles.iter().filter(|t| t.iter().flatten().all(|v| v.is_finite())).collect();
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -202,17 +212,22 @@ impl ZMap {
             }
         }
         if finite.is_empty() || !(hi[0] > lo[0] && hi[1] > lo[1]) {
-            return Err(SimError::BadStock("the solid has no area seen from above".into()));
+            return Err(bad_stock("the solid has no area seen from above"));
         }
         let square = Stock { x0: lo[0], y0: lo[1], x1: hi[0], y1: hi[1], top: hi[2] };
         let mut zmap = ZMap::new(&square, options)?;
         let heights = target_heights(&zmap, finite.into_iter().copied());
         if heights.iter().all(|&h| h == f64::NEG_INFINITY) {
-            return Err(SimError::BadStock("the solid covers no cell centre: use a finer resolution".into()));
+            return Err(bad_stock("the solid covers no cell centre: use a finer resolution"));
         }
         for (z, h) in zmap.z.iter_mut().zip(heights) {
             *z = if h == f64::NEG_INFINITY { lo[2] } else { h };
         }
         Ok(zmap)
     }
+}
+
+/// The stock box or solid is empty or not finite: `why`.
+fn bad_stock(why: impl std::fmt::Display) -> Error {
+    Error::new(ErrorKind::Stock, format!("bad stock: {why}"))
 }

@@ -20,7 +20,8 @@ use std::ops::Range;
 use kezuri_geom::Toolpath;
 
 use super::sweep::Shape;
-use super::{SimError, Tool};
+use super::Tool;
+use crate::error::{Error, ErrorKind};
 
 /// Which tool cuts each move.
 #[derive(Clone, Copy, Debug)]
@@ -28,7 +29,7 @@ pub enum Tooling<'a> {
     /// One tool for every move, whatever tools the program loads.
     One(&'a Tool),
     /// The tool of each tool number (a machine's tool table): a move of a
-    /// tool the table lacks is an error ([`SimError::NoTool`]).
+    /// tool the table lacks is an error ([`ErrorKind::NoTool`]).
     Table(&'a [(u32, Tool)]),
 }
 
@@ -79,18 +80,27 @@ impl<'a> Slots<'a> {
 
     /// The slot of tool `number` (met at source line `line`), added at the
     /// end when new.
-    pub fn slot(&mut self, number: u32, line: u32) -> Result<u8, SimError> {
+    pub fn slot(&mut self, number: u32, line: u32) -> Result<u8, Error> {
         if let Some(k) = self.numbers.iter().position(|&n| n == number) {
             return Ok(k as u8);
         }
         let tool = match self.tooling {
             Tooling::One(tool) => tool,
             Tooling::Table(table) => {
-                &table.iter().find(|(n, _)| *n == number).ok_or(SimError::NoTool { number, line })?.1
+                &table
+                    .iter()
+                    .find(|(n, _)| *n == number)
+                    .ok_or_else(|| {
+                        Error::new(
+                            ErrorKind::NoTool,
+                            format!("T{number} (first moving at line {line}) has no shape to cut with"),
+                        )
+                    })?
+                    .1
             }
         };
         if self.numbers.len() == MAX_TOOLS {
-            return Err(SimError::TooManyTools(MAX_TOOLS));
+            return Err(Error::new(ErrorKind::TooManyTools, format!("the program uses more than {MAX_TOOLS} tools")));
         }
         self.numbers.push(number);
         self.shapes.push(tool.shape());

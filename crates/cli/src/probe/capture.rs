@@ -19,12 +19,14 @@
 //! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). The
 //! file is created with its first point, locked while a capture writes it,
 //! and every point is appended in one write and fsync'd before the next is
-//! taken (`store`).
+//! taken (`store`; what is written when is
+//! `kezuri_cam::probe::capture::DataFile`'s).
 //!
 //! # Readings
 //!
 //! Lines end with CR, LF or CR LF; blank lines are skipped. A reading is a
-//! whole, well-formed record (`reading` has the formats and their sources):
+//! whole, well-formed record (`kezuri_cam::probe::capture::parse_reading`
+//! has the formats and their sources):
 //! a line in none of the forms, a Mitutoyo record with characters lost or
 //! added, the rest of a line over 256 bytes, a reading outside `--range` or
 //! from another `--channel` is reported (with its raw text) and never
@@ -48,8 +50,6 @@
 mod clock;
 #[path = "capture/port.rs"]
 mod port;
-#[path = "capture/reading.rs"]
-mod reading;
 #[path = "capture/store.rs"]
 mod store;
 
@@ -61,12 +61,12 @@ use std::time::{Duration, Instant, SystemTime};
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use kezuri_cam::probe::data::{grid_header, num};
+use kezuri_cam::probe::capture::{self, parse_reading, Capture, Reading, TipZ};
+use kezuri_cam::probe::data::num;
 use kezuri_cam::probe::{Grid, Order};
 
 use clock::{human, local_time, utc_iso};
 use port::{Got, Port};
-pub use reading::{parse_reading, TipZ};
 use store::Store;
 
 /// How long the line must be quiet after the port is opened before a
@@ -186,6 +186,16 @@ pub enum Format {
     Number,
 }
 
+impl From<Format> for capture::Format {
+    fn from(f: Format) -> capture::Format {
+        match f {
+            Format::Auto => capture::Format::Auto,
+            Format::Digimatic => capture::Format::Digimatic,
+            Format::Number => capture::Format::Number,
+        }
+    }
+}
+
 impl Format {
     fn name(self) -> &'static str {
         match self {
@@ -255,33 +265,23 @@ impl CaptureArgs {
         self.count.0 * self.count.1
     }
 
-    fn tip(&self) -> TipZ {
-        TipZ { bottom: self.bottom, sign: self.sign, zero: self.zero }
-    }
-
-    /// The header lines that must match on `--resume` (grid and tip Z).
-    fn header_fixed(&self) -> [String; 3] {
-        [
-            "# kezuri probe capture".to_string(),
-            grid_header(&Grid {
+    /// What the data file records of this capture.
+    fn capture(&self) -> Capture {
+        Capture {
+            grid: Grid {
                 nx: self.count.0,
                 ny: self.count.1,
                 pitch: self.pitch,
                 origin: [self.origin.0, self.origin.1],
                 order: self.pattern.into(),
-            }),
-            format!(
-                "# tip_z = bottom + sign * (reading - zero): bottom={} sign={} zero={}",
-                self.bottom, self.sign, self.zero
-            ),
-        ]
+            },
+            tip: TipZ { bottom: self.bottom, sign: self.sign, zero: self.zero },
+        }
     }
 
     /// The whole header of a new file.
     fn header(&self, started: SystemTime) -> String {
-        let mut h = self.header_fixed().join("\n");
-        let _ = write!(h, "\n# port {} {} baud, started {}\nNo,Z\n", self.port, self.baud, utc_iso(started));
-        h
+        self.capture().header(&self.port, self.baud, &utc_iso(started))
     }
 
     /// The command that continues this capture.
@@ -375,8 +375,8 @@ pub fn run(args: &CaptureArgs, quiet: bool) -> Result<()> {
 
 /// The reading of one line, or why it is ignored (and whether that counts
 /// as a rejected line: another channel's reading does not).
-fn accept(args: &CaptureArgs, raw: &str) -> Result<reading::Reading, (String, bool)> {
-    let reading = parse_reading(raw, args.format).map_err(|why| (format!("line ignored ({why})"), true))?;
+fn accept(args: &CaptureArgs, raw: &str) -> Result<Reading, (String, bool)> {
+    let reading = parse_reading(raw, args.format.into()).map_err(|why| (format!("line ignored ({why})"), true))?;
     if let (Some(want), Some(ch)) = (args.channel, reading.channel) {
         if want != ch {
             return Err((format!("reading from channel {ch} ignored (--channel {want})"), false));
@@ -396,7 +396,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     let total = args.total();
     let name = args.output.display().to_string();
     let mut store = Store::open(args, log)?;
-    let stored = store.stored;
+    let stored = store.data.stored;
     if stored == total {
         log(&format!("{name} already holds all {total} points; nothing to capture"));
         return Ok(());
@@ -406,7 +406,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     let mut out = Out { log, bar: None };
     // Readings carry no point number: a resume takes the last stored point
     // again and checks it before taking new ones.
-    let mut check = store.last.map(|z| (stored, z));
+    let mut check = store.data.last.map(|z| (stored, z));
     if stored > 0 {
         out.say(&format!("{name}: {stored} of {total} points stored; {}", args.restart(stored + 1)));
     }
@@ -446,7 +446,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
         out.bar = Some(b);
     }
 
-    let tip = args.tip();
+    let tip = args.capture().tip;
     let mut next = stored + 1;
     let mut line: Vec<u8> = Vec::new();
     let mut buf = [0u8; 512];

@@ -24,30 +24,6 @@ fn unsupported(index: usize, line: u32, what: &str) -> Error {
     at_move(ErrorKind::Unsupported, index, line, message)
 }
 
-/// The points a move passes through as straight pieces, its end last: an
-/// arc as the fewest equal chords that stay within `tolerance` of it (its
-/// rotary axes and helical axis vary linearly), any other move as its end.
-/// A tolerance that is not positive, or an arc that would need more than a
-/// million chords, is taken at the tolerance of a million.
-pub fn linearize(m: &Move, tolerance: f64) -> Vec<Axes> {
-    let MoveKind::Arc(arc) = m.kind else { return vec![m.end] };
-    let r = arc.radius(m.start);
-    let sweep = arc.sweep(m.start, m.end);
-    let n = if tolerance > 0.0 && r > tolerance {
-        let step = 2.0 * (1.0 - tolerance / r).acos();
-        (sweep / step).ceil()
-    } else if tolerance > 0.0 {
-        // Every chord of a circle this small is within the tolerance.
-        (sweep / std::f64::consts::FRAC_PI_2).ceil()
-    } else {
-        f64::INFINITY
-    };
-    let n = if n.is_finite() { n.clamp(1.0, 1e6) as usize } else { 1_000_000 };
-    let mut points: Vec<Axes> = (1..n).map(|k| arc.point_at(m.start, m.end, k as f64 / n as f64)).collect();
-    points.push(m.end);
-    points
-}
-
 /// Writes `path` as an RML-1 program in absolute steps of `options.unit`
 /// mm (see the module documentation).
 ///
@@ -140,7 +116,7 @@ pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, Error>
                 if w.pos.iter().zip(start).any(|(p, s)| *p != Some(s)) {
                     w.feed_to(m.start, m.feed, m)?;
                 }
-                for p in linearize(m, w.tolerance) {
+                for p in m.linearize(w.tolerance) {
                     w.feed_to(p, m.feed, m)?;
                 }
             }

@@ -26,7 +26,17 @@
 //!   open and the check of the last point on `--resume` guard it against a
 //!   line cut in two.
 
-use super::Format;
+/// Which line formats a capture accepts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Any of the formats below.
+    Auto,
+    /// Mitutoyo multiplexer/USB records (`01A+0012.345`) and raw Digimatic
+    /// nibbles.
+    Digimatic,
+    /// Plain numbers (`-12.345`, `19.16 mm`).
+    Number,
+}
 
 /// One indicator reading, in mm.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -147,7 +157,7 @@ fn parse_number(t: &str) -> Option<Result<Reading, String>> {
 }
 
 /// How a reading becomes the tip Z: `bottom + sign * (reading - zero)`.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TipZ {
     /// Tip Z at the plunge bottom with the indicator at `zero`.
     pub bottom: f64,
