@@ -18,18 +18,16 @@ macro_rules! tool_help {
 }
 
 mod budget;
-mod chart;
 mod convert;
 mod corrected;
 mod demo;
 mod dropcut;
 mod engage;
-mod figure;
 mod files;
 mod machine;
 mod mill;
 mod numbers;
-mod plot;
+mod page;
 mod post;
 mod probe;
 mod program;
@@ -38,6 +36,7 @@ mod relief;
 mod say;
 mod scallop;
 mod sim;
+mod simulation;
 mod surface;
 mod table;
 mod texture;
