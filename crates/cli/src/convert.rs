@@ -275,16 +275,16 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     };
     let mut outputs = Outputs::new();
     if let Some(page) = &a.view {
-        let options = crate::view::PageOptions::default();
+        let options = kezuri_picture::PageOptions::default();
         // Every tool the program loads drawn as --tool.
         let tools: std::collections::BTreeSet<u32> = path.moves.iter().map(|m| m.tool).collect();
         let cutters: Vec<(u32, Cutter)> = a.tool.map(|c| tools.iter().map(|&n| (n, c)).collect()).unwrap_or_default();
         let html = match to {
-            Format::Rml => crate::view::path_page(&path, &name, &machine, &cutters, &options)?,
+            Format::Rml => crate::page::path_page(&path, &name, &machine, &cutters, &options)?,
             _ => {
                 let written = a.output.clone().unwrap_or_else(|| PathBuf::from("program.nc"));
                 let ran = crate::program::run_written(&machine, &written, out.clone())?;
-                crate::view::page(&ran, &written.display().to_string(), None, &cutters, &options)?
+                crate::page::page(&ran, &written.display().to_string(), None, &cutters, &options)?
             }
         };
         outputs.add(Some(page), &html)?;

@@ -10,7 +10,6 @@ use kezuri_geom::Heightfield;
 use kezuri_nc::write::{csv, program, WriteOptions};
 
 use crate::files::write_atomic;
-use crate::plot;
 use crate::program::{read_and_run, Report, RunOptions};
 
 /// The bundled samples: file name, what it shows, text.
@@ -102,7 +101,7 @@ fn programs(out: &Path, samples: &Path) -> Result<()> {
         let options = WriteOptions { title: Some(format!("{stem} expanded by kezuri")), ..WriteOptions::default() };
         write_atomic(&expanded, program(path, &options)?.as_bytes())?;
         write_atomic(&out.join(format!("{stem}.csv")), csv(path).as_bytes())?;
-        write_atomic(&out.join(format!("{stem}.svg")), plot::svg(path, name).as_bytes())?;
+        write_atomic(&out.join(format!("{stem}.svg")), kezuri_picture::plot::svg(path, name).as_bytes())?;
         let r = Report::new(&ran);
         let warnings = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).filter(|d| !d.is_error()).count();
         println!("\n{name}  ({what})");
@@ -568,7 +567,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
         was.push(miss(plain, target)?);
         now.push(miss(fixed, target)?);
     }
-    let chart = plot::log_chart(
+    let chart = kezuri_picture::plot::log_chart(
         "o2007-thermal.nc and o2007-corrected.nc: O2007's stops on the warm machine, tool tip from target",
         "stop of O2007, in program order",
         "µm",

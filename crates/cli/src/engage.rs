@@ -9,11 +9,11 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::engage::{self, Chip, Cut, Engagement, Step, Sweep};
 use kezuri_cam::{scallop, Cutter};
+use kezuri_picture::chart::{line_chart, stack, Line};
+use kezuri_picture::png_from_svg;
 use serde_json::{json, Value};
 
-use crate::chart::{line_chart, stack, Line};
 use crate::files::Outputs;
-use crate::plot::png_from_svg;
 
 /// Options of `kezuri engage`.
 #[derive(Args, Debug)]

@@ -18,20 +18,18 @@ macro_rules! tool_help {
 }
 
 mod budget;
-mod chart;
 mod check;
 mod convert;
 mod corrected;
 mod demo;
 mod dropcut;
 mod engage;
-mod figure;
 mod files;
 mod gray;
 mod machine;
 mod mill;
 mod numbers;
-mod plot;
+mod page;
 mod probe;
 mod program;
 mod progress;
@@ -41,6 +39,7 @@ mod run;
 mod say;
 mod scallop;
 mod sim;
+mod simulation;
 mod surface;
 mod table;
 mod texture;

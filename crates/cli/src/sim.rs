@@ -2,27 +2,20 @@
 //! tool each move is made by, its pictures and STL, rapids into the stock,
 //! what each tool removed, and the comparison with the intended surface.
 
-pub(crate) mod picture;
 mod report;
-mod stock;
-mod tools;
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
-use anyhow::{bail, Context, Result};
-use clap::{ArgGroup, Args};
-use kezuri_cam::sim::compare::Comparison;
-use kezuri_cam::sim::compare::{compare, gouges_by_tool, target_heights};
-use kezuri_cam::sim::{simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
-use kezuri_geom::Toolpath;
-use kezuri_machine::Machine;
+use anyhow::{bail, Result};
+use clap::Args;
+use kezuri_cam::sim::compare::gouges_by_tool;
+use kezuri_geom::write_binary_stl_to;
+use kezuri_picture::sim as picture;
 
 use crate::files::write_output;
 use crate::program::{read_and_run_centre, RunOptions};
-use crate::progress::LateBar;
+use crate::simulation::{simulate, tools, DeviationArgs, SimSetup, Simulated};
 use report::Done;
-use stock::StockSpec;
 
 /// Options of `kezuri sim`.
 #[derive(Args, Debug)]
@@ -120,128 +113,6 @@ pub struct SimArgs {
     pub json: bool,
 }
 
-/// How the deviation from the target is coloured: the options `sim` and
-/// `view` share.
-#[derive(Args, Debug)]
-pub struct DeviationArgs {
-    /// Deviation shown in full colour, mm [default: the 99th percentile of |deviation|].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
-    pub deviation_scale: Option<f64>,
-    /// Deeper than this below the target is a gouge (magenta), mm: give the program's own
-    /// allowance, as mill's --gouge-tol.
-    #[arg(long, value_name = "MM", default_value_t = picture::GOUGE_MM, value_parser = crate::numbers::length)]
-    pub gouge_tol: f64,
-}
-
-impl DeviationArgs {
-    /// The scale of `sim`'s deviation, where it has a target.
-    pub fn scale(&self, sim: &Simulated) -> Option<picture::DeviationScale> {
-        let (_, heights) = sim.comparison.as_ref()?;
-        Some(picture::DeviationScale::new(&sim.zmap, heights, self.deviation_scale, self.gouge_tol))
-    }
-}
-
-/// What a simulation is cut with and compared to: the options `sim` and
-/// `view --sim` share.
-#[derive(Args, Debug, Default)]
-#[command(group(ArgGroup::new("cutter").args(["tool", "profile"])))]
-pub struct SimSetup {
-    /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
-    /// degrees) [default: the machine file's tool table].
-    #[arg(
-        long,
-        value_name = "SPEC",
-        long_help = tool_help!("Cutter of a program with one tool [default: the machine file's tool table].")
-    )]
-    pub tool: Option<String>,
-    /// A measured tool instead of --tool: its profile CSV (`z_mm,radius_mm`, from `kezuri tool
-    /// profile`).
-    #[arg(long, alias = "tool-profile", value_name = "PROFILE.csv")]
-    pub profile: Option<PathBuf>,
-    /// Cut every move with --tool (or --profile), whatever tools the program changes to.
-    #[arg(long)]
-    pub same_tool_for_all: bool,
-    /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm
-    /// [default: the cutting moves' XY box grown by the widest cutter's radius, top at their
-    /// highest Z].
-    #[arg(long, value_name = "X0,Y0,X1,Y1,ZTOP|cyl:D,H|FILE.stl", allow_hyphen_values = true)]
-    pub stock: Option<String>,
-    /// Intended surface: an STL, or a height grid of `x y z` lines.
-    #[arg(long, value_name = "TARGET")]
-    pub compare: Option<PathBuf>,
-    /// Largest sagitta of the chords arcs are cut as, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
-    pub chord_tol: f64,
-    /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
-    #[arg(long, value_name = "N", default_value_t = 250_000_000)]
-    pub max_cells: usize,
-}
-
-/// A simulation done: the cutters, the stock, the cut grid, the report and
-/// the comparison with the target.
-pub struct Simulated {
-    pub tools: tools::ToolSet,
-    pub stock: StockSpec,
-    /// The stock's highest point before cutting.
-    pub top: f64,
-    pub zmap: ZMap,
-    pub report: SimReport,
-    /// With --compare: the comparison and the target's height over each cell.
-    pub comparison: Option<(Comparison, Vec<f64>)>,
-    /// Seconds the cutting took.
-    pub seconds: f64,
-}
-
-/// Cuts `path` (of `file`, run on `machine`) out of the stock at `res` mm
-/// cells, with a progress bar on a terminal, and compares it with the
-/// target (a histogram of `bins` bins).
-pub fn simulate(
-    path: &Toolpath,
-    machine: &Machine,
-    setup: &SimSetup,
-    res: f64,
-    bins: usize,
-    file: &str,
-) -> Result<Simulated> {
-    let mut options = SimOptions::new(res);
-    options.chord_tolerance = setup.chord_tol;
-    options.max_cells = setup.max_cells;
-    let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
-    let tools = tools::tool_set(setup, &machine.tools, path).with_context(|| file.to_string())?;
-    let stock = match stock {
-        Some(s) => s,
-        None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.to_string())?),
-    };
-    let mut zmap = stock.grid(&options)?;
-    let top = zmap.range().1;
-    let t0 = Instant::now();
-    let bar = LateBar::new("cutting", "pieces", Duration::from_secs(1));
-    let progress = |done: u64, total: u64| {
-        if let Some(bar) = &bar {
-            bar.update(done, total)
-        }
-    };
-    let report = simulate_tools(path, Tooling::Table(&tools.table), &mut zmap, &options, &progress);
-    if let Some(bar) = &bar {
-        bar.finish();
-    }
-    let report = report.with_context(|| file.to_string())?;
-    let seconds = t0.elapsed().as_secs_f64();
-    let comparison = match &setup.compare {
-        Some(target) => {
-            let triangles = crate::surface::read_surface(target)?.triangles();
-            let heights = target_heights(&zmap, triangles);
-            let c = compare(&zmap, &heights, bins);
-            if c.compared == 0 {
-                bail!("{}: the target covers none of the {} cells", target.display(), zmap.cells());
-            }
-            Some((c, heights))
-        }
-        None => None,
-    };
-    Ok(Simulated { tools, stock, top, zmap, report, comparison, seconds })
-}
-
 /// The name of the file at `path`, without its folder.
 fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
@@ -277,7 +148,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         out.add(Some(png), &picture::height_png(zmap, &title)?)?;
     }
     if let Some(stl) = &args.stl {
-        picture::stage_surface_stl(&mut out, stl, zmap)?;
+        out.add_with(Some(stl), |w| write_binary_stl_to(w, picture::surface_triangles(zmap)))?;
     }
     let mut deviation_note = None;
     let scale = args.deviation.scale(&sim);
@@ -303,8 +174,8 @@ pub fn run(args: &SimArgs) -> Result<()> {
         }
     }
     if let Some(page) = &args.view {
-        let options = crate::view::PageOptions::default();
-        out.add(Some(page), &crate::view::page(&ran, &file, Some((&sim, scale.as_ref())), &[], &options)?)?;
+        let options = kezuri_picture::PageOptions::default();
+        out.add(Some(page), &crate::page::page(&ran, &file, Some((&sim, scale.as_ref())), &[], &options)?)?;
     }
     out.commit()?;
 

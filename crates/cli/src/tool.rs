@@ -12,9 +12,9 @@ use clap::Args;
 use kezuri_cam::Cutter;
 use kezuri_correct::microscope::{frame_centre, measure, runout_mm, Envelope, Measured, Options, NO_RUNOUT};
 use kezuri_correct::tool_image::GrayImage;
+use kezuri_picture::figure::{Figure, Overlay, Panel, Raster};
 use serde_json::json;
 
-use crate::figure::{Figure, Overlay, Panel, Raster};
 use crate::files::{read_text, Outputs};
 use crate::table::Table;
 use crate::tool_profile::profile_csv;
@@ -266,7 +266,7 @@ fn overlay_png(m: &Measured, nominal: Option<(&str, &Cutter)>, runout: f64, px: 
     overlays.push(Overlay { points: found(|e| e.2), colour: red.into(), width: 1.5 });
     legend.push((red.into(), "edges found: the profile written".into()));
     let top = m.zero_row * px;
-    Figure {
+    Ok(Figure {
         title: title.into(),
         subtitle: format!("{w} × {h} pixels of {:.2} µm; z up from the nominal tip", px * 1000.0),
         panels: vec![Panel {
@@ -280,5 +280,5 @@ fn overlay_png(m: &Measured, nominal: Option<(&str, &Cutter)>, runout: f64, px: 
         bar: None,
         legend,
     }
-    .png()
+    .png()?)
 }

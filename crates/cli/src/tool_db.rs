@@ -11,11 +11,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
 use kezuri_geom::ToolProfile;
+use kezuri_picture::chart::{line_chart, Line};
+use kezuri_picture::png_from_svg;
 use serde_json::json;
 
-use crate::chart::{line_chart, Line};
 use crate::files::write_atomic;
-use crate::plot::png_from_svg;
 use crate::tool_store::{Db, Entry};
 
 /// Heights at which `show` tabulates the radius change.

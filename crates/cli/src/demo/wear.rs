@@ -11,15 +11,15 @@ use kezuri_cam::sim::{simulate_tool, MeasuredTool, SimOptions, Stock, Tool, ZMap
 use kezuri_correct::synthetic::View;
 use kezuri_correct::tool_image::GrayImage;
 use kezuri_geom::{write_binary_stl, SplitMix64, ToolProfile, Triangle, Vec3};
+use kezuri_picture::chart::{line_chart, Line};
+use kezuri_picture::figure::Figure;
+use kezuri_picture::png_from_svg;
+use kezuri_picture::sim::{deviation_panel, DeviationScale, GOUGE_MM};
 
 use super::{run_options, run_shown, words};
-use crate::chart::{line_chart, Line};
-use crate::figure::Figure;
 use crate::files::write_atomic;
-use crate::plot::png_from_svg;
 use crate::program::read_and_run;
-use crate::sim::picture::{deviation_panel, DeviationScale, GOUGE_MM};
-use crate::sim::{simulate, SimSetup};
+use crate::simulation::{simulate, SimSetup};
 
 /// The ball's radius, mm.
 const R: f64 = 0.25;
@@ -243,7 +243,7 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
         );
         panels.push(deviation_panel(&sim.zmap, heights, &scale, &caption));
     }
-    Figure {
+    Ok(Figure {
         title: "groove.nc and groove-T7.nc: measured tool tool-T7-worn.csv".into(),
         subtitle: "deviation from groove-target.stl (simulated − target), 0.002 mm cells, +Y up".into(),
         panels,
@@ -251,7 +251,7 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
         bar: Some(scale.bar()),
         legend: vec![],
     }
-    .png()
+    .png()?)
 }
 
 /// The cut of `program` by the measured tool across the groove at y 0.25:

@@ -8,9 +8,9 @@ use kezuri_cam::probe::data::{self, Format};
 use kezuri_cam::probe::export::{dxf, mirror, shade, shade_size, triangles, Mirror};
 use kezuri_cam::probe::ProbeGrid;
 use kezuri_geom::write_binary_stl;
+use kezuri_picture::figure::{ColourBar, Figure, Panel, Raster};
 
 use super::DataArgs;
-use crate::figure::{ColourBar, Figure, Panel, Raster};
 use crate::files::Outputs;
 
 /// Options of `kezuri probe export`.
@@ -79,7 +79,7 @@ fn picture(grid: &ProbeGrid, scale: usize, data: &std::path::Path) -> Result<Vec
     // The tint of the lowest and highest point, fully lit (as `shade`'s).
     let tint = |t: f64| [255.0 * (0.55 + 0.45 * t), 255.0 * 0.8, 255.0 * (1.0 - 0.45 * t)].map(|c| c.round() as u8);
     let name = data.file_name().map_or_else(|| data.display().to_string(), |n| n.to_string_lossy().into_owned());
-    Figure {
+    Ok(Figure {
         title: format!("{name}: probed surface"),
         subtitle: format!("{} × {} points at {} mm, +Y up", g.nx, g.ny, g.pitch),
         panels: vec![Panel {
@@ -98,7 +98,7 @@ fn picture(grid: &ProbeGrid, scale: usize, data: &std::path::Path) -> Result<Vec
         }),
         legend: vec![],
     }
-    .png()
+    .png()?)
 }
 
 /// Runs `kezuri probe export`.

@@ -335,17 +335,17 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     if let Some(svg) = &args.svg {
         let name = crate::program::svg_title(args.output.as_deref(), &title, &[]);
-        out.add(Some(svg), crate::plot::svg(&path, &name).as_bytes())?;
+        out.add(Some(svg), kezuri_picture::plot::svg(&path, &name).as_bytes())?;
     }
     if let Some(page) = &args.view {
-        let (options, cutters) = (crate::view::PageOptions::default(), [(args.tool_number, cutter)]);
+        let (options, cutters) = (kezuri_picture::PageOptions::default(), [(args.tool_number, cutter)]);
         let html = match parts.as_slice() {
             [one] => {
                 let name = file.unwrap_or(Path::new("copy.nc"));
                 let ran = crate::program::run_written(&machine, name, one.clone())?;
-                crate::view::page(&ran, &name.display().to_string(), None, &cutters, &options)?
+                crate::page::page(&ran, &name.display().to_string(), None, &cutters, &options)?
             }
-            _ => crate::view::path_page(&path, &title, &machine, &cutters, &options)?,
+            _ => crate::page::path_page(&path, &title, &machine, &cutters, &options)?,
         };
         out.add(Some(page), &html)?;
     }

@@ -187,19 +187,22 @@ pub fn write_program(
         }
     };
     if let Some(page) = &w.view {
-        let options = crate::view::PageOptions::default();
+        let options = kezuri_picture::PageOptions::default();
         let html = if w.is_gcode() {
             let name = w.output.clone().unwrap_or_else(|| PathBuf::from("program.nc"));
             let ran = run_written(machine, &name, text.clone())?;
-            crate::view::page(&ran, &name.display().to_string(), None, cutters, &options)?
+            crate::page::page(&ran, &name.display().to_string(), None, cutters, &options)?
         } else {
-            crate::view::path_page(path, title, machine, cutters, &options)?
+            crate::page::path_page(path, title, machine, cutters, &options)?
         };
         out.add(Some(page), &html)?;
     }
     out.add(w.output.as_deref(), text.as_bytes())?;
     if let Some(svg) = &w.svg {
-        out.add(Some(svg), crate::plot::svg(drawn, &svg_title(w.output.as_deref(), title, cutters)).as_bytes())?;
+        out.add(
+            Some(svg),
+            kezuri_picture::plot::svg(drawn, &svg_title(w.output.as_deref(), title, cutters)).as_bytes(),
+        )?;
     }
     Ok(())
 }

@@ -259,7 +259,7 @@ pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> 
 /// Options of type `T` as the command line gives them from `words`, clap's
 /// defaults for the rest: one source for a default, the `--help` and the
 /// code that needs the options without a command line.
-pub fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr]) -> Result<T> {
+fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr]) -> Result<T> {
     let command = T::augment_args(clap::Command::new("kezuri"));
     let matches = command.try_get_matches_from(std::iter::once(OsStr::new("kezuri")).chain(words.iter().copied()))?;
     Ok(T::from_arg_matches(&matches)?)

@@ -8,9 +8,9 @@ use kezuri_cam::sim::compare::{Comparison, ToolGouge};
 use kezuri_cam::sim::{SimReport, ToolCut, ZMap, UNCUT};
 use serde_json::json;
 
-use super::stock::StockSpec;
-use super::tools::ToolSet;
 use super::SimArgs;
+use crate::simulation::stock::StockSpec;
+use crate::simulation::tools::ToolSet;
 
 /// A simulation done, all its report needs.
 pub struct Done<'a> {

@@ -9,11 +9,11 @@ use std::collections::{BTreeMap, HashSet};
 use std::fmt::Write;
 use std::sync::{Arc, OnceLock};
 
-use anyhow::{anyhow, bail, Context};
 use kezuri_geom::{Axes, MoveKind, Toolpath};
 use resvg::{tiny_skia, usvg};
 
 use crate::chart::{escape, frame_axes};
+use crate::{Error, ErrorKind};
 
 /// The longest side of a view, pixels.
 const PANEL: f64 = 480.0;
@@ -478,10 +478,10 @@ pub fn log_chart(title: &str, x_label: &str, unit: &str, floor: f64, series: &[(
 /// DejaVu Sans (assets/fonts, licence beside it): the one font of PNG
 /// charts, so their text is drawn alike on every machine, fonts installed or
 /// not.
-static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 const FONT_FAMILY: &str = "DejaVu Sans";
 /// The largest side of a PNG picture, in pixels.
-pub(crate) const MAX_SIDE: u32 = 16_384;
+const MAX_SIDE: u32 = 16_384;
 
 /// The font database of PNG charts: the bundled font alone, the family of
 /// every generic name (`sans-serif`, `serif`, `monospace`, …).
@@ -501,12 +501,35 @@ fn fonts() -> Arc<usvg::fontdb::Database> {
         .clone()
 }
 
+/// The SVG picture `svg` read, its text in the bundled DejaVu Sans.
+fn tree(svg: &str) -> Result<usvg::Tree, Error> {
+    let options = usvg::Options { font_family: FONT_FAMILY.into(), fontdb: fonts(), ..usvg::Options::default() };
+    usvg::Tree::from_str(svg, &options)
+        .map_err(|e| Error::new(ErrorKind::BadSvg, format!("cannot read the SVG picture: {e}")))
+}
+
+/// A transparent picture of `w` × `h` pixels, at most [`MAX_SIDE`] on a
+/// side.
+pub(crate) fn canvas(w: u32, h: u32) -> Result<tiny_skia::Pixmap, Error> {
+    if w > MAX_SIDE || h > MAX_SIDE {
+        return Err(Error::new(
+            ErrorKind::PictureTooLarge,
+            format!("the picture is {w} x {h} pixels: more than {MAX_SIDE} on a side"),
+        ));
+    }
+    tiny_skia::Pixmap::new(w, h)
+        .ok_or_else(|| Error::new(ErrorKind::EmptyPicture, format!("no picture of {w} x {h} pixels")))
+}
+
+/// `pixmap` as PNG bytes.
+pub(crate) fn encode(pixmap: &tiny_skia::Pixmap) -> Result<Vec<u8>, Error> {
+    pixmap.encode_png().map_err(|e| Error::new(ErrorKind::PngEncoding, format!("cannot encode the PNG picture: {e}")))
+}
+
 /// Draws the SVG picture `svg` onto `pixmap` (one pixel per SVG user unit,
 /// from its top-left corner), text in the bundled DejaVu Sans.
-pub(crate) fn render_onto(svg: &str, pixmap: &mut tiny_skia::Pixmap) -> anyhow::Result<()> {
-    let options = usvg::Options { font_family: FONT_FAMILY.into(), fontdb: fonts(), ..usvg::Options::default() };
-    let tree = usvg::Tree::from_str(svg, &options).context("cannot read the SVG picture")?;
-    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+pub(crate) fn render_onto(svg: &str, pixmap: &mut tiny_skia::Pixmap) -> Result<(), Error> {
+    resvg::render(&tree(svg)?, tiny_skia::Transform::default(), &mut pixmap.as_mut());
     Ok(())
 }
 
@@ -514,17 +537,12 @@ pub(crate) fn render_onto(svg: &str, pixmap: &mut tiny_skia::Pixmap) -> anyhow::
 /// as PNG bytes, one pixel per SVG user unit of its `width` × `height`; text
 /// in the bundled DejaVu Sans; what the picture leaves unpainted is
 /// transparent.
-pub fn png_from_svg(svg: &str) -> anyhow::Result<Vec<u8>> {
-    let options = usvg::Options { font_family: FONT_FAMILY.into(), fontdb: fonts(), ..usvg::Options::default() };
-    let tree = usvg::Tree::from_str(svg, &options).context("cannot read the SVG picture")?;
+pub fn png_from_svg(svg: &str) -> Result<Vec<u8>, Error> {
+    let tree = tree(svg)?;
     let size = tree.size().to_int_size();
-    let (w, h) = (size.width(), size.height());
-    if w > MAX_SIDE || h > MAX_SIDE {
-        bail!("the picture is {w} x {h} pixels: more than {MAX_SIDE} on a side");
-    }
-    let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| anyhow!("no picture of {w} x {h} pixels"))?;
+    let mut pixmap = canvas(size.width(), size.height())?;
     resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
-    pixmap.encode_png().map_err(|e| anyhow!("cannot encode the PNG picture: {e}"))
+    encode(&pixmap)
 }
 
 #[cfg(test)]

@@ -2,11 +2,11 @@
 //! tool, frame, line, feed, time, vertices) and one per vertex (position
 //! deltas in quanta, breaks). See [`super`] for the layout.
 
-use anyhow::{bail, Result};
 use kezuri_geom::{Move, MoveKind, Toolpath};
 use serde_json::{json, Value};
 
 use super::blob::Blob;
+use crate::{Error, ErrorKind};
 
 /// Position step of the packed coordinates, mm.
 pub const QUANTUM_MM: f64 = 1e-4;
@@ -30,12 +30,19 @@ pub struct ToolLook {
 
 /// What [`pack`] found: the meta entries of the path.
 pub struct Packed {
+    /// Moves packed.
     pub moves: usize,
+    /// Vertices packed.
     pub vertices: usize,
+    /// Where the vertex deltas start, mm.
     pub origin: [f64; 3],
+    /// The path's box, mm, where it has moves.
     pub bounds: Option<([f64; 3], [f64; 3])>,
+    /// Whether a move turns a rotary axis.
     pub rotary: bool,
+    /// The work zeros, by the index the moves give.
     pub frames: Vec<[f64; 3]>,
+    /// The tools, by the index the moves give.
     pub tools: Vec<ToolLook>,
 }
 
@@ -89,19 +96,28 @@ fn points(m: &Move, tol: f64, out: &mut Vec<[f64; 3]>) {
 
 /// Packs `path` into `blob` (sections 1 to 9): `seconds` is each move's
 /// time, `looks` the tools by number, arcs as chords within `tol` mm.
-pub fn pack(path: &Toolpath, seconds: &[f64], looks: Vec<ToolLook>, tol: f64, blob: &mut Blob) -> Result<Packed> {
+pub fn pack(
+    path: &Toolpath,
+    seconds: &[f64],
+    looks: Vec<ToolLook>,
+    tol: f64,
+    blob: &mut Blob,
+) -> Result<Packed, Error> {
     let moves = &path.moves;
     let bounds = path.bounds();
     let origin = match bounds {
         Some((lo, hi)) => std::array::from_fn(|k| ((lo[k] + hi[k]) / 2.0 / QUANTUM_MM).round() * QUANTUM_MM),
         None => [0.0; 3],
     };
-    let quantize = |p: [f64; 3]| -> Result<[i64; 3]> {
+    let quantize = |p: [f64; 3]| -> Result<[i64; 3], Error> {
         let mut q = [0i64; 3];
         for k in 0..3 {
             let v = ((p[k] - origin[k]) / QUANTUM_MM).round();
             if !v.is_finite() || v.abs() >= REACH as f64 {
-                bail!("a position {:.3} mm from the middle of the program cannot be shown", p[k] - origin[k]);
+                return Err(Error::new(
+                    ErrorKind::PositionOutOfReach,
+                    format!("a position {:.3} mm from the middle of the program cannot be shown", p[k] - origin[k]),
+                ));
             }
             q[k] = v as i64;
         }
@@ -126,7 +142,12 @@ pub fn pack(path: &Toolpath, seconds: &[f64], looks: Vec<ToolLook>, tol: f64, bl
                 tools.push(look);
                 (tools.len() - 1) as u16
             }
-            None => bail!("the program uses more than {} tools: too many to show", u16::MAX),
+            None => {
+                return Err(Error::new(
+                    ErrorKind::TooManyTools,
+                    format!("the program uses more than {} tools: too many to show", u16::MAX),
+                ))
+            }
         };
         tool_column.push(tool);
         let f = (m.frame as usize).min(frame_of.len() - 1);

@@ -8,7 +8,7 @@ use serde_json::{json, Value};
 
 use super::blob::Blob;
 use super::pack::QUANTUM_MM;
-use crate::sim::picture::DeviationScale;
+use crate::sim::DeviationScale;
 
 /// Deviation step of the packed values, µm.
 const DEVIATION_QUANTUM_UM: f64 = 0.1;
@@ -108,18 +108,6 @@ impl Part<'_> {
         let far = [x0 + cell * (s.nx - 1) as f64, y0 + cell * (s.ny - 1) as f64, hi];
         (meta, ([x0, y0, lo], far))
     }
-}
-
-/// The 99th percentile of |deviation| over the cells of `zmap` that
-/// `target` covers (`-inf` where it does not), mm.
-pub fn percentile_99(zmap: &ZMap, target: &[f64]) -> f64 {
-    let mut all: Vec<f64> =
-        zmap.z.iter().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY).map(|(z, t)| (z - t).abs()).collect();
-    if all.is_empty() {
-        return 0.0;
-    }
-    let k = ((all.len() - 1) as f64 * 0.99).round() as usize;
-    *all.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// The largest squares of quads (power-of-two sides, at least 2) whose

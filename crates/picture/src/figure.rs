@@ -2,25 +2,29 @@
 //! surface, its deviation, a probed grid, a tool's silhouette) framed by a
 //! title, axes in mm and, where colour carries a value, a colour bar with
 //! its unit — drawn as SVG around (and over) the raster and rendered to one
-//! PNG with the bundled font ([`crate::plot::png_from_svg`]'s).
+//! PNG with the bundled font ([`crate::png_from_svg`]'s).
 
 use std::fmt::Write as _;
 
-use anyhow::{anyhow, bail, Result};
 use resvg::tiny_skia;
 
 use crate::chart::{escape, frame_axes, ticks};
-use crate::plot::{render_onto, MAX_SIDE};
+use crate::plot::{canvas, encode, render_onto};
+use crate::Error;
 
 /// Pixels of a picture, RGB, rows top to bottom.
 pub struct Raster {
+    /// Pixels across.
     pub width: usize,
+    /// Pixels down.
     pub height: usize,
+    /// Red, green and blue of each pixel, row by row.
     pub rgb: Vec<u8>,
 }
 
 /// A line drawn over a raster, in its pixels (x right, y down).
 pub struct Overlay {
+    /// The line's points, in the raster's pixels.
     pub points: Vec<(f64, f64)>,
     /// An SVG colour.
     pub colour: String,
@@ -30,6 +34,7 @@ pub struct Overlay {
 
 /// One raster with its axes.
 pub struct Panel {
+    /// The picture itself.
     pub raster: Raster,
     /// What the raster covers, mm: left, right, bottom, top edge.
     pub extent: [f64; 4],
@@ -65,6 +70,7 @@ pub struct Figure {
     pub panels: Vec<Panel>,
     /// Panels one above the other (else side by side).
     pub stacked: bool,
+    /// What colour means, where it carries a value.
     pub bar: Option<ColourBar>,
     /// Lines of the legend under the panels: an SVG colour and its meaning.
     pub legend: Vec<(String, String)>,
@@ -254,20 +260,16 @@ impl Figure {
     }
 
     /// The figure as PNG bytes.
-    pub fn png(&self) -> Result<Vec<u8>> {
+    pub fn png(&self) -> Result<Vec<u8>, Error> {
         let l = self.layout();
-        let (w, h) = (l.width as u32, l.height as u32);
-        if w > MAX_SIDE || h > MAX_SIDE {
-            bail!("the picture is {w} x {h} pixels: more than {MAX_SIDE} on a side");
-        }
+        let mut pixmap = canvas(l.width as u32, l.height as u32)?;
         let (under, over) = self.layers(&l);
-        let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| anyhow!("no picture of {w} x {h} pixels"))?;
         render_onto(&under, &mut pixmap)?;
         for (p, &(x, y)) in self.panels.iter().zip(&l.at) {
             blit(&mut pixmap, &p.raster, x as usize, y as usize, l.k);
         }
         render_onto(&over, &mut pixmap)?;
-        pixmap.encode_png().map_err(|e| anyhow!("cannot encode the PNG picture: {e}"))
+        encode(&pixmap)
     }
 }
 

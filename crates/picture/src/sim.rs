@@ -1,15 +1,11 @@
-//! `sim`'s pictures (shaded heights, deviation), framed with their title,
-//! axes in mm and colour bar, and its surface as STL.
+//! A simulation's pictures (shaded heights, deviation), framed with their
+//! title, axes in mm and colour bar, and its surface as triangles.
 
-use std::path::Path;
-
-use anyhow::Result;
 use kezuri_cam::sim::ZMap;
-use kezuri_geom::{write_binary_stl_to, Triangle, Vec3};
+use kezuri_geom::{Triangle, Vec3};
 
 use crate::figure::{colour_at, ColourBar, Figure, Panel, Raster};
-use crate::files::Outputs;
-use crate::view::part::percentile_99;
+use crate::Error;
 
 /// Largest picture side; bigger grids are sampled every k-th cell.
 const MAX_SIDE: usize = 4096;
@@ -88,7 +84,7 @@ fn xy() -> [String; 2] {
 
 /// The simulated surface as a framed PNG titled `title`: hill-shaded and
 /// tinted by height, with a colour bar of Z.
-pub fn height_png(zmap: &ZMap, title: &str) -> Result<Vec<u8>> {
+pub fn height_png(zmap: &ZMap, title: &str) -> Result<Vec<u8>, Error> {
     let (lo, hi) = zmap.range();
     let colour = |t: f64| tint(t).map(|c| (255.0 * c).round() as u8);
     Figure {
@@ -117,8 +113,11 @@ pub fn height_png(zmap: &ZMap, title: &str) -> Result<Vec<u8>> {
 /// full colour at ±`mm`, said as `basis`; deeper than `gouge` below the
 /// target a gouge.
 pub struct DeviationScale {
+    /// The deviation shown in full colour, mm.
     pub mm: f64,
+    /// What set it: `--deviation-scale` or the 99th percentile.
     pub basis: String,
+    /// Deeper than this below the target is a gouge, mm.
     pub gouge: f64,
 }
 
@@ -188,6 +187,18 @@ impl DeviationScale {
     }
 }
 
+/// The 99th percentile of |deviation| over the cells of `zmap` that
+/// `target` covers (`-inf` where it does not), mm.
+fn percentile_99(zmap: &ZMap, target: &[f64]) -> f64 {
+    let mut all: Vec<f64> =
+        zmap.z.iter().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY).map(|(z, t)| (z - t).abs()).collect();
+    if all.is_empty() {
+        return 0.0;
+    }
+    let k = ((all.len() - 1) as f64 * 0.99).round() as usize;
+    *all.select_nth_unstable_by(k, f64::total_cmp).1
+}
+
 /// `v` with few digits and its unit: `3.2 µm`, `0.154 mm`.
 fn short(v: f64, unit: &str) -> String {
     let digits = if v >= 10.0 {
@@ -234,7 +245,7 @@ pub fn deviation_png(
     scale: &DeviationScale,
     title: &str,
     subtitle: &str,
-) -> Result<Vec<u8>> {
+) -> Result<Vec<u8>, Error> {
     Figure {
         title: title.into(),
         subtitle: subtitle.into(),
@@ -246,16 +257,16 @@ pub fn deviation_png(
     .png()
 }
 
-/// Adds the simulated surface to `out` as a binary STL, a triangle at a
-/// time: two per square of four neighbouring cell centres, facing up, split
-/// as a height grid's cells are.
-pub fn stage_surface_stl(out: &mut Outputs, path: &Path, zmap: &ZMap) -> Result<()> {
+/// The simulated surface as triangles, one at a time: two per square of
+/// four neighbouring cell centres, facing up, split as a height grid's
+/// cells are.
+pub fn surface_triangles(zmap: &ZMap) -> impl ExactSizeIterator<Item = Triangle> + '_ {
     let (cx, cy) = (zmap.nx.saturating_sub(1), zmap.ny.saturating_sub(1));
     let p = |i: usize, j: usize| {
         let [x, y] = zmap.centre(i, j);
         Vec3::new(x, y, zmap.height(i, j))
     };
-    let triangles = (0..2 * cx * cy).map(|k| {
+    (0..2 * cx * cy).map(move |k| {
         let (i, j) = ((k / 2) % cx, k / 2 / cx);
         let (a, c) = (p(i, j), p(i + 1, j + 1));
         if k % 2 == 0 {
@@ -263,8 +274,7 @@ pub fn stage_surface_stl(out: &mut Outputs, path: &Path, zmap: &ZMap) -> Result<
         } else {
             Triangle::new(a, c, p(i, j + 1))
         }
-    });
-    out.add_with(Some(path), |w| write_binary_stl_to(w, triangles))
+    })
 }
 
 #[cfg(test)]

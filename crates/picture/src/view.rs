@@ -1,0 +1,326 @@
+//! The view page: the job in 3D as one self-contained, offline HTML page —
+//! the toolpath, the tool, the simulated part and its deviation (`kezuri
+//! view`, and the `--view` output of `sim`, `mill`, `relief` and `probe mill`).
+//!
+//! # The page
+//!
+//! `page.html` (the body), `viewer.css` and `viewer.js` (hand-written
+//! WebGL2, no library) are compiled in. The data follows them as three
+//! inert script elements: `kz-meta`, JSON with `<`, `>` and `&` escaped;
+//! `kz-data` and `kz-text`, base64 of gzip (the browser's
+//! `DecompressionStream` unpacks them). The page's Content-Security-Policy
+//! forbids every network request and lets only `viewer.js` run (by its
+//! SHA-256), and the viewer puts program text and names on the page as text
+//! only: an NC comment holding `</script>` is shown, never run.
+//!
+//! # kz-data
+//!
+//! Little-endian arrays, each from a multiple of four bytes: per move (N)
+//! `kind: u8` (0 rapid, 1 feed, 2 arc, 3 plunge, 4 probe, 5 dwell),
+//! `tool: u16` (index into meta.tools; number 0 there is the tool of a
+//! program that loads none), `frame: u16` (index into
+//! meta.frames, the work zeros), `line_delta: i32`, `feed: f32` (mm/min),
+//! `seconds: f32`, `vertex_count: u32`; per vertex (V) `dx, dy, dz: i32`
+//! (quanta of meta.quantum_mm from the previous vertex, the first from
+//! meta.origin_mm) and `break: u8` (1: no segment from the vertex before);
+//! with a simulation, `height: i32[nx·ny]` (delta coded, quanta above
+//! sim.z0_mm), `block: u32[3·B]` (flat squares `i, j, size` of the vertex
+//! grid) and with a target `deviation: i32[nx·ny]` (0.1 µm; i32::MIN where
+//! the target does not reach).
+
+mod blob;
+mod pack;
+mod part;
+
+use std::io::Write as _;
+
+use base64::Engine as _;
+use kezuri_cam::shorten::{shorten, ShortenOptions};
+use kezuri_cam::sim::compare::Comparison;
+use kezuri_cam::sim::{SimReport, Tool, ZMap};
+use kezuri_cam::Cutter;
+use kezuri_geom::{move_times, Dynamics, Toolpath};
+use serde_json::{json, Value};
+use sha2::Digest as _;
+
+use crate::sim::{DeviationScale, GOUGE_MM};
+use crate::{Error, ErrorKind};
+use blob::Blob;
+use pack::ToolLook;
+use part::Part;
+
+/// How the page is made.
+#[derive(Debug, Clone)]
+pub struct PageOptions {
+    /// Largest sagitta of the chords arcs are drawn as, mm.
+    pub arc_tol: f64,
+    /// Merge moves within this distance first (said on the page).
+    pub shorten: Option<f64>,
+    /// Leave the program text out of the page (the view and the readouts stay).
+    pub no_text: bool,
+    /// Largest page to make, MB: a bigger one is refused.
+    pub max_page_mb: f64,
+    /// Most vertices of the simulated part's mesh (a finer grid is shown
+    /// coarser, each vertex the lowest cell under it).
+    pub mesh_vertices: usize,
+}
+
+impl Default for PageOptions {
+    /// The defaults of `kezuri view`'s options.
+    fn default() -> PageOptions {
+        PageOptions { arc_tol: 0.01, shorten: None, no_text: false, max_page_mb: 32.0, mesh_vertices: 1_000_000 }
+    }
+}
+
+/// What a page shows: a program's moves, its text, its units, how fast the
+/// machine moves (for the cycle time) and the tools' shapes.
+pub struct Job<'a> {
+    /// The page's title: the program's file.
+    pub title: &'a str,
+    /// The moves.
+    pub path: &'a Toolpath,
+    /// The program text, where there is one.
+    pub text: Option<&'a str>,
+    /// Whether the program is in inches.
+    pub inch: bool,
+    /// The machine's rapids, feeds and acceleration.
+    pub dynamics: &'a Dynamics,
+    /// Tool number and shape where known: the first of a number counts (the
+    /// command's own, then the machine file's).
+    pub shapes: Vec<(u32, Cutter)>,
+    /// The shape of every tool nothing else names.
+    pub any: Option<Cutter>,
+}
+
+/// A simulation on the page: its cutters, the cut grid, its report and,
+/// with a target, the comparison and how the deviation is coloured.
+pub struct Simulation<'a> {
+    /// Tool number and cutter, as the simulation cut with them.
+    pub tools: &'a [(u32, Tool)],
+    /// How each of `tools` is named: `flat:6`, `profile:FILE`.
+    pub names: &'a [String],
+    /// The simulated heights.
+    pub zmap: &'a ZMap,
+    /// What the cutting found: rapids into the stock, the tool that cut
+    /// each cell last.
+    pub report: &'a SimReport,
+    /// With a target: the comparison and the target's height over each
+    /// cell (`-inf` where it has none).
+    pub comparison: Option<(&'a Comparison, &'a [f64])>,
+    /// How the deviation is coloured (with a target).
+    pub scale: Option<&'a DeviationScale>,
+}
+
+/// The page of `job` (and of its simulation): the tools' shapes from the
+/// simulation, else the job's.
+pub fn page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Result<Vec<u8>, Error> {
+    let file = job.title;
+    let mut notes = Vec::new();
+    let original = job.path;
+    let shortened;
+    let path = match options.shorten {
+        Some(tolerance) => {
+            shortened = shorten(original, &ShortenOptions { tolerance, arcs: false });
+            notes.push(format!(
+                "shortened within {tolerance} mm: {} moves drawn as {}",
+                original.moves.len(),
+                shortened.moves.len()
+            ));
+            &shortened
+        }
+        None => original,
+    };
+    let (seconds, _) = move_times(path, job.dynamics);
+    let looks = tool_looks(job, path, sim);
+    let mut blob = Blob::default();
+    let packed = pack::pack(path, &seconds, looks, options.arc_tol, &mut blob)?;
+    let mut bounds = packed.bounds;
+    let mut marks = Vec::new();
+    let sim_meta = match sim {
+        Some(s) => {
+            let part = Part {
+                zmap: s.zmap,
+                target: s.comparison.map(|c| c.1),
+                scale: s.scale,
+                max_vertices: options.mesh_vertices,
+            };
+            let (meta, (lo, hi)) = part.pack(&mut blob);
+            if meta["cell_mm"].as_f64() != Some(s.zmap.res) {
+                notes.push(format!(
+                    "the part is shown at {:.3} mm cells (simulated at {} mm), each the lowest of its cells",
+                    meta["cell_mm"].as_f64().unwrap_or(0.0),
+                    s.zmap.res
+                ));
+            }
+            bounds = Some(match bounds {
+                Some((a, b)) => (std::array::from_fn(|k| a[k].min(lo[k])), std::array::from_fn(|k| b[k].max(hi[k]))),
+                None => (lo, hi),
+            });
+            marks.extend(sim_marks(s, original, path, s.scale.map_or(GOUGE_MM, |d| d.gouge)));
+            meta
+        }
+        None => Value::Null,
+    };
+    let text = job.text.filter(|_| !options.no_text);
+    let mut meta = packed.meta();
+    let extra = json!({
+        "version": 1,
+        "title": file,
+        "units": if job.inch { "inch" } else { "mm" },
+        "unit_mm": if job.inch { 25.4 } else { 1.0 },
+        "bbox_mm": bounds.map(|(a, b)| [a, b]),
+        "arc_tolerance_mm": options.arc_tol,
+        "cycle_time_s": seconds.iter().sum::<f64>(),
+        "notes": notes,
+        "text": text.is_some(),
+        "sim": sim_meta,
+        "marks": marks,
+    });
+    if let (Value::Object(m), Value::Object(e)) = (&mut meta, extra) {
+        m.extend(e);
+    }
+    let html = html(&meta, &blob.into_bytes(), text);
+    let limit = options.max_page_mb * 1e6;
+    if html.len() as f64 > limit {
+        return Err(Error::new(
+            ErrorKind::PageTooLarge,
+            format!(
+                "{file}: the page would be {:.1} MB, over --max-page-mb {}: merge moves with --shorten 0.005 \
+                 (or a larger tolerance){}, or raise --max-page-mb",
+                html.len() as f64 / 1e6,
+                options.max_page_mb,
+                if text.is_some() { ", leave the program text out with --no-text" } else { "" }
+            ),
+        ));
+    }
+    Ok(html)
+}
+
+/// How each tool `path` loads looks: the simulation's cutters, else the
+/// job's shapes, or its shape of any tool.
+fn tool_looks(job: &Job, path: &Toolpath, sim: Option<&Simulation>) -> Vec<ToolLook> {
+    let mut numbers: Vec<u32> = path.moves.iter().map(|m| m.tool).collect();
+    numbers.sort_unstable();
+    numbers.dedup();
+    let changes = numbers.iter().any(|&n| n != 0);
+    numbers
+        .into_iter()
+        .map(|number| {
+            let simulated = sim.and_then(|s| {
+                let k = s.tools.iter().position(|(n, _)| *n == number)?;
+                Some((s.names[k].clone(), profile(&s.tools[k].1)))
+            });
+            let named = || job.shapes.iter().find(|(n, _)| *n == number).map(|(_, c)| *c);
+            let (shape, outline) = match simulated {
+                Some((name, outline)) => (Some(name), Some(outline)),
+                None => match named().or(job.any) {
+                    Some(c) => (Some(c.to_string()), Some(profile(&Tool::Cutter(c)))),
+                    None => (None, None),
+                },
+            };
+            let label = match (number, &shape) {
+                (0, _) if changes => "before the first tool change".to_string(),
+                (0, Some(s)) => format!("the tool, {s} (no tool change)"),
+                (0, None) => "the tool (no tool change; shape not given)".to_string(),
+                (n, Some(s)) => format!("T{n} {s}"),
+                (n, None) => format!("T{n} (shape not given)"),
+            };
+            ToolLook { number, label, shape, profile: outline }
+        })
+        .collect()
+}
+
+/// The outline of a tool from its tip up, `(z, r)`: the cutting end
+/// sampled over its radius, then the flutes as a cylinder three radii high.
+fn profile(tool: &Tool) -> Vec<[f64; 2]> {
+    let mut out: Vec<[f64; 2]> = match tool {
+        Tool::Cutter(c) => {
+            let r = c.radius();
+            (0..=24).map(|k| r * f64::from(k) / 24.0).map(|x| [c.height(x), x]).collect()
+        }
+        Tool::Measured(m) => m.corners().iter().map(|&(r, z)| [z, r]).collect(),
+    };
+    out.retain(|p| p[0].is_finite() && p[1].is_finite());
+    let (top, r) = out.last().map_or((0.0, tool.radius()), |p| (p[0], p[1]));
+    out.push([top + 3.0 * tool.radius().max(r), tool.radius().max(r)]);
+    out
+}
+
+/// The marks of a simulation: the first rapid into the stock and the
+/// worst gouge, if deeper than `gouge`. Move numbers are of `drawn` (the moves of `run`, or fewer
+/// where shortened: then the rapid is marked without one).
+fn sim_marks(s: &Simulation, run: &Toolpath, drawn: &Toolpath, gouge: f64) -> Vec<Value> {
+    let mut marks = Vec::new();
+    if let Some(hit) = s.report.rapid_hits.first() {
+        let m = &run.moves[hit.index];
+        let index = (run.moves.len() == drawn.moves.len()).then_some(hit.index);
+        marks.push(json!({
+            "kind": "rapid",
+            "label": format!("first rapid into the stock: line {}, {:.3} mm deep ({} in all)", hit.line, hit.depth, s.report.rapid_hits.len()),
+            "at_mm": m.end.xyz(),
+            "move": index,
+            "line": hit.line,
+        }));
+    }
+    if let Some((c, _)) = s.comparison {
+        if let (Some(cell), true) = (c.gouge_cell, c.max_gouge > gouge) {
+            let [x, y] = s.zmap.centre(cell % s.zmap.nx, cell / s.zmap.nx);
+            let by = s.report.cut_by.get(cell).copied().filter(|&b| b != kezuri_cam::sim::UNCUT);
+            // Tool 0 is the one tool of a program that changes none.
+            let number = by.map(|b| s.report.tools[b as usize].number).filter(|&n| n != 0);
+            let tool = number.map(|n| format!(", cut last by T{n}")).unwrap_or_default();
+            marks.push(json!({
+                "kind": "gouge",
+                "label": format!("worst gouge {:.1} µm below the target at X{x:.3} Y{y:.3}{tool}", c.max_gouge * 1000.0),
+                "at_mm": [x, y, s.zmap.z[cell]],
+                "move": null,
+                "line": null,
+            }));
+        }
+    }
+    marks
+}
+
+const VIEWER_JS: &str = include_str!("view/viewer.js");
+const VIEWER_CSS: &str = include_str!("view/viewer.css");
+const BODY: &str = include_str!("view/page.html");
+
+/// `data` gzipped and in base64.
+fn packed(data: &[u8]) -> String {
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::new(3));
+    gz.write_all(data).expect("gzip into memory cannot fail");
+    base64::engine::general_purpose::STANDARD.encode(gz.finish().expect("gzip into memory cannot fail"))
+}
+
+/// The page: the viewer and the data as inert script elements, a policy
+/// that lets only the viewer run and nothing load.
+fn html(meta: &Value, data: &[u8], text: Option<&str>) -> Vec<u8> {
+    let hash = base64::engine::general_purpose::STANDARD.encode(sha2::Sha256::digest(VIEWER_JS.as_bytes()));
+    // JSON holds < > & only inside strings, where \u escapes mean the same.
+    let meta = meta.to_string().replace('<', "\\u003c").replace('>', "\\u003e").replace('&', "\\u0026");
+    let mut page = String::with_capacity(data.len() / 2 + VIEWER_JS.len() + 4096);
+    page.push_str("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n");
+    page.push_str(&format!(
+        "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'sha256-{hash}'; \
+         style-src 'unsafe-inline'; img-src data: blob:\">\n"
+    ));
+    page.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
+    page.push_str("<title>kezuri view</title>\n<style>");
+    page.push_str(VIEWER_CSS);
+    page.push_str("</style>\n</head><body>\n");
+    page.push_str(BODY);
+    page.push_str("\n<script type=\"application/json\" id=\"kz-meta\">");
+    page.push_str(&meta);
+    page.push_str("</script>\n<script type=\"application/octet-stream\" id=\"kz-data\">");
+    page.push_str(&packed(data));
+    page.push_str("</script>\n");
+    if let Some(text) = text {
+        page.push_str("<script type=\"application/octet-stream\" id=\"kz-text\">");
+        page.push_str(&packed(text.as_bytes()));
+        page.push_str("</script>\n");
+    }
+    page.push_str("<script>");
+    page.push_str(VIEWER_JS);
+    page.push_str("</script>\n</body></html>\n");
+    page.into_bytes()
+}
