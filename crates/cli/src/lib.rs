@@ -18,44 +18,31 @@ macro_rules! tool_help {
 }
 
 mod budget;
-mod check;
-mod convert;
+mod cmd;
 mod corrected;
-mod demo;
-mod dropcut;
-mod engage;
 mod files;
 mod gray;
 mod machine;
-mod mill;
 mod numbers;
 mod page;
-mod probe;
 mod program;
 mod progress;
 mod raster;
-mod relief;
-mod run;
 mod say;
-mod scallop;
-mod sim;
 mod simulation;
 mod surface;
 mod table;
-mod texture;
-mod thermal;
-mod tool;
-mod tool_db;
 mod tool_profile;
 mod tool_store;
-mod tool_table;
-mod view;
-mod wear;
 
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
+use cmd::tool::ToolCommand;
+use cmd::{
+    check, convert, demo, dropcut, engage, mill, probe, relief, run, scallop, sim, texture, thermal, tool, view, wear,
+};
 use program::{RunOptions, WriteArgs};
 
 /// kezuri (削り): read, run, check and write NC programs — Fanuc Custom Macro B,
@@ -189,18 +176,6 @@ position it never named (after G28, G53, a tool change) stays an increment.")]
     Wear(wear::WearCommand),
 }
 
-/// `kezuri tool …`.
-#[derive(Subcommand, Debug)]
-enum ToolCommand {
-    /// A tool's cutting profile and runout from backlit pictures of it turning.
-    Profile(Box<tool::ProfileArgs>),
-    /// The database of each tool's measured profiles: add, list, show.
-    #[command(subcommand)]
-    Db(tool_db::DbCommand),
-    /// What a tool table file gives: LinuxCNC tool.tbl, FreeCAD .fctb/.fctl, Fusion 360 .json/.tools.
-    Table(tool_table::TableArgs),
-}
-
 /// Runs one command.
 fn dispatch(command: &Command) -> anyhow::Result<()> {
     match command {
@@ -218,9 +193,7 @@ fn dispatch(command: &Command) -> anyhow::Result<()> {
         Command::Convert(args) => convert::run(args),
         Command::Texture(args) => texture::run(args),
         Command::Thermal(command) => thermal::run(command),
-        Command::Tool(ToolCommand::Profile(args)) => tool::run(args),
-        Command::Tool(ToolCommand::Db(command)) => tool_db::run(command),
-        Command::Tool(ToolCommand::Table(args)) => tool_table::run(args),
+        Command::Tool(command) => tool::run(command),
         Command::Wear(command) => wear::run(command),
     }
 }

@@ -8,7 +8,7 @@
 #![cfg(unix)]
 
 #[allow(dead_code)]
-#[path = "../src/probe/capture.rs"]
+#[path = "../src/cmd/probe/capture.rs"]
 mod capture;
 mod pty;
 

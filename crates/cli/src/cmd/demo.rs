@@ -17,17 +17,17 @@ const SAMPLES: [(&str, &str, &str); 3] = [
     (
         "o1011-digitize.nc",
         "digitizing program O1011/O1012/O1013, 85 x 105 plunges",
-        include_str!("../../../samples/o1011-digitize.nc"),
+        include_str!("../../../../samples/o1011-digitize.nc"),
     ),
     (
         "o7023-texture.nc",
         "texture: CAM path under G66.1 P7023, random depths from #3001 (--clock-seed 7)",
-        include_str!("../../../samples/o7023-texture.nc"),
+        include_str!("../../../../samples/o7023-texture.nc"),
     ),
     (
         "o2007-thermal.nc",
         "thermal drift test moves O2007 with B indexing",
-        include_str!("../../../samples/o2007-thermal.nc"),
+        include_str!("../../../../samples/o2007-thermal.nc"),
     ),
 ];
 
@@ -354,7 +354,7 @@ fn copy_milling(out: &Path) -> Result<()> {
 /// with its own cutter from a machine file's tool table.
 fn relief_carving(out: &Path) -> Result<()> {
     let sketch = out.join("samples").join("plum-sketch.png");
-    write_atomic(&sketch, include_bytes!("../../../samples/plum-sketch.png"))?;
+    write_atomic(&sketch, include_bytes!("../../../../samples/plum-sketch.png"))?;
     println!("\nsamples/plum-sketch.png  (a grayscale sketch for a relief, 256 x 192 pixels)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let sketch = sketch.to_string_lossy().into_owned();
@@ -418,7 +418,7 @@ fn relief_carving(out: &Path) -> Result<()> {
 /// and the baked one simulated.
 fn textured_nameplate(out: &Path) -> Result<()> {
     let cam = out.join("samples").join("nameplate-cam.nc");
-    write_atomic(&cam, include_bytes!("../../../samples/nameplate-cam.nc"))?;
+    write_atomic(&cam, include_bytes!("../../../../samples/nameplate-cam.nc"))?;
     println!("\nsamples/nameplate-cam.nc  (a nameplate's zig-zag area clearing at CAM Z 0)");
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let cam = cam.to_string_lossy().into_owned();
@@ -473,7 +473,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     let dir = out.join("thermal");
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let machine = out.join("samples").join("mill-turn.toml");
-    write_atomic(&machine, include_bytes!("../../../samples/mill-turn.toml"))?;
+    write_atomic(&machine, include_bytes!("../../../../samples/mill-turn.toml"))?;
     println!("\nsamples/mill-turn.toml  (a mill-turn: tool side X Z B, work side Y C)");
     // The stops of O2007, each axis's travel at each B angle, and Y about zero.
     let stations: [(f64, [(f64, f64); 3]); 2] = [
@@ -513,7 +513,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
     let at = |name: &str| out.join(name).to_string_lossy().into_owned();
     let m = machine.to_string_lossy().into_owned();
     let o2007 = out.join("samples").join("o2007-thermal.nc");
-    write_atomic(&o2007, include_bytes!("../../../samples/o2007-thermal.nc"))?;
+    write_atomic(&o2007, include_bytes!("../../../../samples/o2007-thermal.nc"))?;
     let o2007 = o2007.to_string_lossy().into_owned();
     let commands: [Vec<String>; 4] = [
         words(&["thermal", "plan", "--machine", &m, "-o", &at("O2007-plan.nc")]),
