@@ -1,5 +1,7 @@
 //! What the interpreter's tests share: a program parsed (a parse error
-//! fails the test) and run, and what the run said.
+//! fails the test) and run, and what the run said. The writer's tests share
+//! [`writer`], the tests of LinuxCNC's program language [`ngc`] and those of
+//! its motion words [`linuxcnc`].
 
 // Each test file uses a part of it.
 #![allow(dead_code)]
@@ -7,6 +9,10 @@
 use kezuri_geom::Toolpath;
 use kezuri_nc::interp::{self, Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
+
+pub mod linuxcnc;
+pub mod ngc;
+pub mod writer;
 
 /// A program run: its parse diagnostics, the outcome, the sources to
 /// render diagnostics with.
