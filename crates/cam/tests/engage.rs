@@ -3,7 +3,7 @@
 //! module's intervals.
 
 use kezuri_cam::engage::{sweep, Chip, Cut, Engagement, Step};
-use kezuri_cam::{scallop, Cutter};
+use kezuri_cam::{scallop, Cutter, ErrorKind};
 use std::f64::consts::TAU;
 
 fn deg(d: f64) -> f64 {
@@ -355,31 +355,33 @@ fn paper_grid() {
 fn bad_input_is_refused() {
     let good = paper(45.0, Step::Up, Cut::Down, 0.8);
     assert!(Chip::new(&good).is_ok());
-    let check = |f: &dyn Fn(&mut Engagement), want: &str| {
+    let check = |f: &dyn Fn(&mut Engagement), kind: ErrorKind, want: &str| {
         let mut e = good;
         f(&mut e);
         let err: kezuri_cam::Error = Chip::new(&e).unwrap_err();
+        assert_eq!(err.kind, kind, "{err}");
         let text = err.to_string();
         assert!(text.contains(want), "{text}");
     };
-    check(&|e| e.pick_feed = 30.0, "wider than the cutter");
-    check(&|e| e.pick_feed = 0.0, "pick feed must be");
-    check(&|e| e.depth = 0.0, "depth of cut must be");
-    check(&|e| e.depth = -1.0, "got -1");
-    check(&|e| e.depth = f64::NAN, "depth of cut must be");
-    check(&|e| e.angle = deg(90.0), "got 90");
-    check(&|e| e.angle = deg(-5.0), "plane's angle");
-    check(&|e| e.helix = deg(90.0), "helix angle");
-    check(&|e| e.helix = f64::INFINITY, "helix angle");
-    check(&|e| e.flutes = 0, "at least 1 flute");
-    check(&|e| e.feed_per_tooth = 0.0, "feed per tooth must be");
-    check(&|e| e.feed_per_tooth = 16.0, "not less than the cutter's diameter");
+    check(&|e| e.pick_feed = 30.0, ErrorKind::NoOverlap, "wider than the cutter");
+    check(&|e| e.pick_feed = 0.0, ErrorKind::PickFeed, "pick feed must be");
+    check(&|e| e.depth = 0.0, ErrorKind::Depth, "depth of cut must be");
+    check(&|e| e.depth = -1.0, ErrorKind::Depth, "got -1");
+    check(&|e| e.depth = f64::NAN, ErrorKind::Depth, "depth of cut must be");
+    check(&|e| e.angle = deg(90.0), ErrorKind::Angle, "got 90");
+    check(&|e| e.angle = deg(-5.0), ErrorKind::Angle, "plane's angle");
+    check(&|e| e.helix = deg(90.0), ErrorKind::Helix, "helix angle");
+    check(&|e| e.helix = f64::INFINITY, ErrorKind::Helix, "helix angle");
+    check(&|e| e.flutes = 0, ErrorKind::Flutes, "at least 1 flute");
+    check(&|e| e.feed_per_tooth = 0.0, ErrorKind::FeedPerTooth, "feed per tooth must be");
+    check(&|e| e.feed_per_tooth = 16.0, ErrorKind::FeedPerToothTooWide, "not less than the cutter's diameter");
     check(
         &|e| {
             e.cutter = "flat:6".parse().unwrap();
             e.angle = 0.0;
             e.depth = 10.0;
         },
+        ErrorKind::Reach,
         "cannot reach the depth",
     );
 }

@@ -5,7 +5,7 @@
 use kezuri_cam::probe::smooth::{sharpest_bend, slopes, Smooth};
 use kezuri_cam::probe::stylus::model;
 use kezuri_cam::probe::{Grid, Order, ProbeGrid};
-use kezuri_cam::Cutter;
+use kezuri_cam::{Cutter, ErrorKind};
 
 fn grid(nx: usize, ny: usize, pitch: f64) -> Grid {
     Grid { nx, ny, pitch, origin: [-3.0, 2.0], order: Order::ZigZag }
@@ -202,7 +202,9 @@ fn readings_tighter_than_the_stylus_are_reported() {
 fn bad_readings_are_refused() {
     let mut d = data(grid(3, 3, 1.0), |_, _| 1.0);
     d.z[4] = f64::NAN;
-    assert!(Smooth::new(&d).unwrap_err().to_string().contains("(1, 1)"));
+    let e = Smooth::new(&d).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Surface, "{e}");
+    assert!(e.to_string().contains("(1, 1)"));
     assert!(Smooth::new(&data(grid(1, 3, 1.0), |_, _| 1.0)).is_err());
 }
 

@@ -496,7 +496,9 @@ fn a_comparison_with_the_plane_finds_the_cusp_as_material_left() {
 fn bad_input_is_a_clear_error() {
     let box_ = stock(0.0, 0.0, 10.0, 10.0, 0.0);
     for res in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        assert!(ZMap::new(&box_, &SimOptions::new(res)).unwrap_err().to_string().contains("resolution"));
+        let e = ZMap::new(&box_, &SimOptions::new(res)).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Resolution, "{e}");
+        assert!(e.to_string().contains("resolution"));
     }
     let e = ZMap::new(&stock(0.0, 0.0, 1e5, 1e5, 0.0), &SimOptions::new(0.001)).unwrap_err();
     assert_eq!(e.kind, ErrorKind::TooManyCells);

@@ -5,6 +5,7 @@
 
 use kezuri_correct::microscope::{measure_frames, Options};
 use kezuri_correct::synthetic::View;
+use kezuri_correct::ErrorKind;
 use kezuri_geom::{SplitMix64, ToolProfile};
 
 const PIXEL: f64 = 0.00071;
@@ -104,12 +105,16 @@ fn pictures_without_a_tool_and_tiles_apart_are_refused() {
     let mut empty = v.clone();
     empty.tip_y = -1000.0;
     let field = (empty.frames(3, 100, 80, [0.0, 0.0], &mut rng), [0.0, 0.0]);
-    let e = measure_frames(&[field], &options).unwrap_err().message;
+    let e = measure_frames(&[field], &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::NoTool, "{e}");
+    let e = e.message;
     assert!(e.contains("no tool"), "{e}");
     // Two tiles 20 px apart.
     let a = (v.frames(2, 200, 420, [0.0, 0.0], &mut rng), [0.0, 0.0]);
     let b = (v.frames(2, 200, 420, [220.0, 0.0], &mut rng), [220.0, 0.0]);
-    let e = measure_frames(&[a, b], &options).unwrap_err().message;
+    let e = measure_frames(&[a, b], &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::NoOverlap, "{e}");
+    let e = e.message;
     assert!(e.contains("field 2 does not overlap"), "{e}");
 }
 
@@ -120,7 +125,9 @@ fn a_tip_row_outside_the_pictures_is_refused() {
     let field = (v.frames(3, 560, 420, [0.0, 0.0], &mut rng), [0.0, 0.0]);
     for row in [-1.0, 421.0, 880.0] {
         let options = Options { pixel_mm: PIXEL, threshold: None, search: 5, tip_row: Some(row) };
-        let e = measure_frames(std::slice::from_ref(&field), &options).unwrap_err().message;
+        let e = measure_frames(std::slice::from_ref(&field), &options).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::TipRowOutside, "{e}");
+        let e = e.message;
         assert!(e.contains(&format!("the tip row {row} is outside the pictures (rows 0 to 420")), "{e}");
     }
     let options = Options { pixel_mm: PIXEL, threshold: None, search: 5, tip_row: Some(400.0) };

@@ -3,6 +3,7 @@
 //! measured tool's whole surface of revolution.
 
 use kezuri_correct::wear::{correct, Nominal, Options, Surface};
+use kezuri_correct::ErrorKind;
 use kezuri_geom::{Mesh, ToolProfile, Triangle, Vec3};
 
 const R: f64 = 0.5;
@@ -184,5 +185,6 @@ fn plunges_move_along_the_tool_axis_and_far_points_are_skipped() {
     let surface = Surface::new(&mesh);
     let tip = wall.point_at(0.0) + wall.normal_at(0.0) * R - up * R;
     let e = correct(&surface, nominal, &short, tip, up, Some(Vec3::new(0.0, 1.0, 0.0)), &options).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::ProfileTooShort, "{e}");
     assert!(e.message.contains("measure more of the tool"), "{e}");
 }

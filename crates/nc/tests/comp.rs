@@ -4,6 +4,7 @@
 
 use kezuri_geom::{Arc, Axes, Move, MoveKind, Plane};
 use kezuri_nc::interp::comp::{compensate, Approach, Comp, Rules, Side};
+use kezuri_nc::ErrorKind;
 
 const FANUC_A: Rules = Rules::Fanuc { startup: Approach::A };
 const FANUC_B: Rules = Rules::Fanuc { startup: Approach::B };
@@ -72,6 +73,7 @@ fn check(out: &[Move], want: &[Want]) {
 
 fn err(moves: &[Move], tags: &[Option<Comp>], rules: Rules) -> (usize, String) {
     let e = compensate(moves, tags, rules).expect_err("refused");
+    assert_eq!(e.kind, ErrorKind::Compensation, "{e}");
     (e.move_index().expect("at a move"), e.message)
 }
 

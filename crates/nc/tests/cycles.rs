@@ -5,6 +5,7 @@
 use kezuri_geom::{MoveKind, Spindle, Toolpath};
 use kezuri_nc::interp::{CycleSettings, Outcome, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
+use kezuri_nc::ErrorKind;
 
 mod common;
 
@@ -223,7 +224,9 @@ fn g84_reverses_the_spindle_at_the_bottom_and_is_written_as_a_cycle() {
     assert_eq!(moves(&run(&written).toolpath), moves(&out.toolpath), "{written}");
     // GRBL has no tapping cycle: refused, with the line.
     let grbl = program(&out.toolpath, &WriteOptions { dialect: Dialect::Grbl, ..WriteOptions::default() });
-    assert!(grbl.unwrap_err().to_string().contains("line 3"));
+    let e = grbl.unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported, "{e}");
+    assert!(e.to_string().contains("line 3"));
 }
 
 #[test]

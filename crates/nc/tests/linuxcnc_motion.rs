@@ -388,6 +388,7 @@ fn g43_1_and_g43_2_errors() {
 #[test]
 fn g43_1_and_g43_2_are_written_back_for_linuxcnc_and_refused_by_fanuc() {
     use kezuri_nc::write::{program, Dialect as Out, WriteOptions};
+    use kezuri_nc::ErrorKind;
     let text = "G21 G90\nG0 X1 Y1 Z5\nG43.1 Z2\nG0 X2\nG43 H1\nG43.2 H2\nG0 X3\nG43.2 H3\nG0 X4\nG49\nG0 X5\nM2\n";
     let t = path_with(text, &with_tools());
     let options = |dialect| WriteOptions { dialect, ..WriteOptions::default() };
@@ -404,10 +405,14 @@ fn g43_1_and_g43_2_are_written_back_for_linuxcnc_and_refused_by_fanuc() {
     assert_eq!(moves(&back), moves(&t), "{written}");
     // Fanuc (and Haas) have no such code: refused, not dropped (at the
     // first move under it).
-    let e = program(&t, &options(Out::Fanuc)).unwrap_err().to_string();
+    let e = program(&t, &options(Out::Fanuc)).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported, "{e}");
+    let e = e.to_string();
     assert!(e.starts_with("line 4: fanuc has no 'G43.1 Z2. (a dynamic tool length offset"), "{e}");
     let t = path_with("G21 G90\nG0 X1 Y1 Z5\nG43 H1\nG43.2 H2\nG0 X3\nM2\n", &with_tools());
-    let e = program(&t, &options(Out::Fanuc)).unwrap_err().to_string();
+    let e = program(&t, &options(Out::Fanuc)).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported, "{e}");
+    let e = e.to_string();
     assert!(e.contains("fanuc has no 'G43.2 H2"), "{e}");
     // GRBL gets the offset itself, as for G43 H.
     let written = program(&t, &options(Out::Grbl)).unwrap();

@@ -264,6 +264,7 @@ fn g76_errors_are_rs274s() {
 #[test]
 fn g76_is_written_back_for_linuxcnc_and_refused_by_fanuc_and_grbl() {
     use kezuri_nc::write::{program, Dialect as Out, WriteOptions};
+    use kezuri_nc::ErrorKind;
     let t = path("G21 G90\nG0 X10 Z5\nS500 M3\nG91 G76 P1.5 Z-25 I-1 J0.3 K1 H2\nG90 G0 X20\nM2\n");
     let kept: Vec<_> = t.kept.iter().filter(|k| k.moves > 0).map(|k| (k.before, k.moves, k.text.as_str())).collect();
     assert_eq!(kept, [(1, 25, "G21 G90 G76 Z-20. P1.5 I-1. J0.3 K1. Q0. H2.")]);
@@ -277,7 +278,9 @@ fn g76_is_written_back_for_linuxcnc_and_refused_by_fanuc_and_grbl() {
     assert!(written.contains("G76 Z-20. P1.5 I-1. J0.3 K1. Q0. E2. L3\n"), "{written}");
     assert_eq!(moves(&path(&written)), moves(&t), "{written}");
     for out in [Out::Fanuc, Out::Grbl] {
-        let e = program(&t, &options(out)).unwrap_err().to_string();
+        let e = program(&t, &options(out)).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Unsupported, "{e}");
+        let e = e.to_string();
         assert!(e.contains("no 'G21 G90 G76 Z-20."), "{e}");
     }
 }

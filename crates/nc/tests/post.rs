@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind, Plane, Spindle, Toolpath};
 use kezuri_nc::write::{program, Arcs, Home, Retract, WriteOptions, PRESETS};
-use kezuri_nc::Error;
+use kezuri_nc::{Error, ErrorKind};
 
 fn at(x: f64, y: f64, z: f64) -> Axes {
     Axes { x, y, z, ..Axes::ZERO }
@@ -241,6 +241,7 @@ fn limits_comments_and_dwell_units() {
     );
     let whole = written("fanuc", |_| {}).unwrap().len() as u64;
     let e = written("fanuc", |o| o.byte_limit = Some(whole - 1)).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
     assert!(e.to_string().starts_with(&format!("the program is {whole} bytes (drip-feed it")), "{e}");
     assert!(written("fanuc", |o| o.byte_limit = Some(whole)).is_ok());
     let framed = written("linuxcnc", |o| o.percent = Some(true)).unwrap();

@@ -7,7 +7,7 @@ use kezuri_geom::{Axes, Move, MoveKind};
 use kezuri_nc::interp::{self, Outcome, Settings};
 use kezuri_nc::probe_plan::{grid_index, order, read_as, Pattern, Plan, Style};
 use kezuri_nc::write::{Dialect, WriteOptions, PRESETS};
-use kezuri_nc::{parse, Program, SourceFile, Sources};
+use kezuri_nc::{parse, ErrorKind, Program, SourceFile, Sources};
 
 const STYLES: [Style; 3] = [Style::Subprogram, Style::Expanded, Style::G31];
 const PATTERNS: [Pattern; 2] = [Pattern::Zigzag, Pattern::OneWay];
@@ -269,6 +269,7 @@ fn every_post_writes_the_expanded_style_in_its_own_words() {
             match (dialect, plan.program()) {
                 (Dialect::Fanuc, Ok(_)) => {}
                 (_, Err(e)) if dialect != Dialect::Fanuc => {
+                    assert_eq!(e.kind, ErrorKind::Plan, "{name}: {e}");
                     let e = e.to_string();
                     assert!(e.contains("only Fanuc and Haas") && e.contains("--style expanded"), "{name}: {e}");
                 }
@@ -338,7 +339,9 @@ fn bad_plans_are_refused_with_clear_errors() {
         (Plan { trigger: vec!["M30".into()], ..good.clone() }, "must not end"),
     ];
     for (plan, want) in cases {
-        let e = plan.program().expect_err(want).to_string();
+        let e = plan.program().expect_err(want);
+        assert_eq!(e.kind, ErrorKind::Plan, "{want:?}: {e}");
+        let e = e.to_string();
         assert!(e.contains(want), "{want:?} in {e:?}");
     }
     // The program-number and repeat limits belong to the subprogram style.

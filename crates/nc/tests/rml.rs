@@ -350,6 +350,7 @@ fn writer_errors_name_the_move() {
     );
     let mut b = base();
     b.go(MoveKind::Probe, at(1.0, 1.0, -5.0), 100.0);
+    assert!(matches!(write_rml(&b.path, &o), Err(e) if e.kind == ErrorKind::Unsupported));
     assert!(err(&b.path, &o).contains("a probing move (G31)"));
     let mut b = base();
     b.go(MoveKind::Feed, Axes { a: 90.0, ..at(1.0, 1.0, 5.0) }, 100.0);
