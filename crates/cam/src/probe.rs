@@ -14,6 +14,7 @@
 //! # Modules
 //! - [`capture`]: a dial indicator's lines as readings and the rules of
 //!   the `No,Z` data file a capture writes.
+//! - [`copy`]: the copy-milling job, from the readings to the toolpath.
 //! - [`data`]: readers and writers of the data files (the capture file
 //!   with its `#` header, the paper's bare `No,Z` files, `x,y,z` CSV and
 //!   LinuxCNC probe logs), with errors that name the line.
@@ -32,6 +33,7 @@
 //!   margins a program can cross at rapid.
 
 pub mod capture;
+pub mod copy;
 pub mod data;
 pub mod export;
 pub mod level;
