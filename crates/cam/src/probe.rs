@@ -24,6 +24,8 @@
 //!   table.
 //! - [`export`]: DXF cross sections, a surface mesh, a shaded picture,
 //!   mirroring a half-measured model.
+//! - [`simulate`]: the readings a ball stylus would give on a model, to
+//!   try the pipeline on.
 //! - [`smooth`]: a smooth (C¹, shape-preserving bicubic) surface through
 //!   the readings, each cell between its readings, with the places where it
 //!   bends tighter than the stylus.
@@ -37,6 +39,7 @@ pub mod copy;
 pub mod data;
 pub mod export;
 pub mod level;
+pub mod simulate;
 pub mod smooth;
 pub mod stylus;
 

@@ -140,12 +140,43 @@ pub struct Copied {
     pub surface: Surface,
     /// The flat top crossed at rapid, and how much of the cuts that was.
     pub flat: Option<(f64, Margins)>,
-    /// Where the surface through the readings bends tighter than a ball
-    /// stylus: no ball rolling on a model reads like that.
-    pub tight: Option<Tight>,
-    /// Where the readings bend down so sharply that the copy may cut more
-    /// than `gouge_tol` below the model between them.
-    pub bend: Option<Bend>,
+    /// What the operator is warned of: where the surface through the
+    /// readings bends tighter than a ball stylus (no ball rolling on a
+    /// model reads like that), and where the readings bend down so sharply
+    /// that the copy may cut more than `gouge_tol` below the model between
+    /// them.
+    pub warnings: Vec<String>,
+}
+
+/// The warnings of a copy with `stylus` whose surface bends `tight`er than
+/// it and whose readings `bend` down more than `gouge_tol` at `pitch`.
+fn warnings(stylus: &Cutter, tight: Option<Tight>, bend: Option<Bend>, gouge_tol: f64, pitch: f64) -> Vec<String> {
+    let tight = tight.map(|t| {
+        format!(
+            "the surface through the readings bends tighter than the stylus (radius {} mm) in {} cell(s), tightest \
+             radius {:.3} mm at X{:.3} Y{:.3}: no ball rolling on a model reads like that (a sharp edge, noise or a \
+             pitch too coarse); the model there is what the stylus could reach",
+            stylus.radius(),
+            t.cells,
+            t.radius,
+            t.at[0],
+            t.at[1]
+        )
+    });
+    let bend = bend.map(|b| {
+        format!(
+            "the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the copy may \
+             cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {gouge_tol}; a \
+             finer pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm \
+             between readings on a flat)",
+            b.points,
+            b.depth,
+            b.at[0],
+            b.at[1],
+            stylus.height(0.5 * pitch)
+        )
+    });
+    tight.into_iter().chain(bend).collect()
 }
 
 /// `v` if it is a length (the data's pitch sets the defaults).
@@ -271,5 +302,6 @@ pub fn copy(job: &Job, on: &Progress) -> Result<Copied, Error> {
         (Some(f), Between::Smooth) => Surface::Model { nodes: [f.nx(), f.ny()], step: f.step() },
         (None, _) => Surface::Followed,
     };
-    Ok(Copied { path, stepover, safe_z: options.safe_z, surface, flat, tight, bend })
+    let warnings = warnings(&stylus, tight, bend, job.gouge_tol, pitch);
+    Ok(Copied { path, stepover, safe_z: options.safe_z, surface, flat, warnings })
 }

@@ -4,6 +4,11 @@
 //! the operator; the [`Session`] decides what each byte, silence and
 //! reading means and what is to be done.
 //!
+//! Lines end with CR, LF or CR LF; blank lines are skipped. A line that is
+//! not a whole, well-formed reading ([`parse_reading`]), a reading outside
+//! the plausible range or from another multiplexer channel is reported
+//! with its raw text and never becomes a point.
+//!
 //! Readings carry no point number, so a resumed session takes the last
 //! stored point again first (the operator restarts the measuring program
 //! there) and compares its Z with the stored one: a mismatch stops the

@@ -3,48 +3,18 @@
 //! bottom of each plunge triggers it), into a `No,Z` data file. The user's
 //! page is docs/capture.md.
 //!
-//! # Data file
-//!
-//! ```text
-//! # kezuri probe capture
-//! # grid nx=85 ny=105 pitch=1 origin=0,0 pattern=zigzag
-//! # tip_z = bottom + sign * (reading - zero): bottom=-20 sign=-1 zero=0
-//! # port /dev/ttyUSB0 9600 baud, started 2026-11-23T19:45:00Z
-//! No,Z
-//! 1,-12.345
-//! ```
-//!
-//! `No` counts from 1 in capture order, `Z` is the stylus tip Z in mm
-//! (shortest round-trip float, rounded to the decimals of the reading,
-//! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). The
-//! file is created with its first point, locked while a capture writes it,
-//! and every point is appended in one write and fsync'd before the next is
-//! taken (`store`; what is written when is
-//! `kezuri_cam::probe::capture::DataFile`'s).
-//!
-//! # Readings
-//!
-//! Lines end with CR, LF or CR LF; blank lines are skipped. A reading is a
-//! whole, well-formed record (`kezuri_cam::probe::capture::parse_reading`
-//! has the formats and their sources):
-//! a line in none of the forms, a Mitutoyo record with characters lost or
-//! added, the rest of a line over 256 bytes, a reading outside `--range` or
-//! from another `--channel` is reported (with its raw text) and never
-//! becomes a point.
-//!
-//! # Interruptions
-//!
-//! What each byte, silence and reading means is
-//! `kezuri_cam::probe::capture::Session`'s; here are the port, the clock,
-//! the file and the terminal. The port's input is flushed on open and what arrives until the line has
-//! been quiet for `SETTLE` is discarded (a reading sent while kezuri was
-//! stopped, or the tail of one under way). Readings carry no point number,
-//! so `--resume` takes the last stored point again first (the operator
-//! restarts the measuring program there) and compares its Z with the stored
-//! one within `--recheck-tol`: a mismatch stops the capture with nothing
-//! new stored. A long silence is reported and the capture keeps waiting; a
-//! read error or end of file (cable pulled, converter unplugged) ends it
-//! with the number of points stored and the command that resumes it.
+//! The rules are `kezuri_cam::probe::capture`'s: the data file and what is
+//! written when (`DataFile`), the reading formats (`parse_reading`) and the
+//! session (`Session`: what each byte, silence and reading means, and the
+//! check of the last stored point on `--resume`). Here are the serial port
+//! (its input flushed on open, and what arrives until the line has been
+//! quiet for `SETTLE` discarded: a reading sent while kezuri was stopped,
+//! or the tail of one under way), the clock, the data file on disk
+//! (`store`: created with its first point, locked while a capture writes
+//! it, every point fsync'd before the next is taken) and the terminal. A
+//! read error or end of file (cable pulled, converter unplugged) ends the
+//! capture with the number of points stored and the command that resumes
+//! it.
 
 // By path, so that the test that compiles this file by path
 // (tests/probe_capture.rs) finds them too.

@@ -226,7 +226,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         tool: args.tool_number,
     };
     let t0 = std::time::Instant::now();
-    let Copied { path, stepover, safe_z, surface, flat, tight, bend } = copy::copy(&job, &|_, _| {}).map_err(|e| {
+    let Copied { path, stepover, safe_z, surface, flat, warnings } = copy::copy(&job, &|_, _| {}).map_err(|e| {
         if e.kind == ErrorKind::Surface {
             anyhow::Error::new(e).context(name.clone())
         } else {
@@ -301,31 +301,8 @@ pub fn run(args: &MillArgs) -> Result<()> {
         g.ny,
         g.pitch,
     );
-    if let Some(t) = tight {
-        eprintln!(
-            "warning: the surface through the readings bends tighter than the stylus (radius {} mm) in {} cell(s), \
-             tightest radius {:.3} mm at X{:.3} Y{:.3}: no ball rolling on a model reads like that (a sharp edge, \
-             noise or a pitch too coarse); the model there is what the stylus could reach",
-            stylus.radius(),
-            t.cells,
-            t.radius,
-            t.at[0],
-            t.at[1]
-        );
-    }
-    if let Some(b) = bend {
-        eprintln!(
-            "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
-             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {}; a \
-             finer pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm \
-             between readings on a flat)",
-            b.points,
-            b.depth,
-            b.at[0],
-            b.at[1],
-            args.gouge_tol,
-            stylus.height(0.5 * g.pitch)
-        );
+    for warning in warnings {
+        eprintln!("warning: {warning}");
     }
     Ok(())
 }
