@@ -24,6 +24,8 @@ pub enum ErrorKind {
     Surface,
     /// A capture's data file that does not continue this capture.
     Capture,
+    /// A simulated reading where the stylus finds no model.
+    OffModel,
     /// The simulation's cell size is not a length.
     Resolution,
     /// The chord tolerance is not a length.

@@ -14,6 +14,7 @@
 //! # Modules
 //! - [`capture`]: a dial indicator's lines as readings and the rules of
 //!   the `No,Z` data file a capture writes.
+//! - [`copy`]: the copy-milling job, from the readings to the toolpath.
 //! - [`data`]: readers and writers of the data files (the capture file
 //!   with its `#` header, the paper's bare `No,Z` files, `x,y,z` CSV and
 //!   LinuxCNC probe logs), with errors that name the line.
@@ -23,6 +24,8 @@
 //!   table.
 //! - [`export`]: DXF cross sections, a surface mesh, a shaded picture,
 //!   mirroring a half-measured model.
+//! - [`simulate`]: the readings a ball stylus would give on a model, to
+//!   try the pipeline on.
 //! - [`smooth`]: a smooth (C¹, shape-preserving bicubic) surface through
 //!   the readings, each cell between its readings, with the places where it
 //!   bends tighter than the stylus.
@@ -32,9 +35,11 @@
 //!   margins a program can cross at rapid.
 
 pub mod capture;
+pub mod copy;
 pub mod data;
 pub mod export;
 pub mod level;
+pub mod simulate;
 pub mod smooth;
 pub mod stylus;
 

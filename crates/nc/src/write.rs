@@ -4,7 +4,8 @@
 //! `dialect` and `options` (the words and the choices), `blocks` (the
 //! writer and what the control knows), then what it writes: `arcs`,
 //! `frames`, `kept` blocks and the presets' start, tool changes and end
-//! (`post`); `gcode` writes a whole program from them.
+//! (`post`); `gcode` writes a whole program from them, and `parts` a
+//! program in parts of at most so many bytes.
 
 mod arcs;
 mod blocks;
@@ -14,12 +15,14 @@ mod frames;
 mod gcode;
 mod kept;
 mod options;
+mod parts;
 mod post;
 
 pub use csv::csv;
 pub use dialect::{Codes, Dialect};
 pub use gcode::{dwell_block, made_text, program, MadeText};
 pub use options::{Arcs, CoolantChoice, Home, Retract, Setup, WriteOptions};
+pub use parts::parts;
 pub use post::PRESETS;
 
 /// `post` for a measuring program kezuri writes as text (`probe plan`,

@@ -12,6 +12,7 @@ pub mod chart;
 mod error;
 pub mod figure;
 pub mod plot;
+pub mod probe;
 pub mod sim;
 pub mod view;
 

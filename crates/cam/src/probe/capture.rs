@@ -1,8 +1,10 @@
 //! A dial-indicator capture (`kezuri probe capture`): the lines an
 //! indicator sends read as readings ([`parse_reading`]), a reading made the
-//! tip Z ([`TipZ`]), and the rules of the `No,Z` data file the points go to
-//! ([`DataFile`]). The serial port, the clock and the file itself are the
-//! caller's: this module works on strings, bytes and [`Write`] values.
+//! tip Z ([`TipZ`]), the session that makes the bytes from the instrument
+//! points and decides what to do at each ([`Session`]), and the rules of
+//! the `No,Z` data file the points go to ([`DataFile`]). The serial port,
+//! the clock and the file itself are the caller's: this module works on
+//! strings, bytes, time values and [`Write`] values.
 //!
 //! # Data file
 //!
@@ -22,10 +24,12 @@
 //! record cut off by a crash or a power loss (no end of line) is dropped.
 
 mod reading;
+mod session;
 
 use std::io::{self, Write};
 
 pub use reading::{parse_reading, Format, Reading, TipZ};
+pub use session::{human, restart, utc_iso, Action, Session, Settings, MAX_LINE};
 
 use super::data::grid_header;
 use super::Grid;

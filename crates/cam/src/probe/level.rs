@@ -31,6 +31,7 @@
 
 use std::fmt::Write as _;
 
+use super::data::{num, Format};
 use super::{Grid, ProbeGrid};
 use crate::error::{Error, ErrorKind};
 
@@ -71,6 +72,43 @@ impl std::str::FromStr for Reference {
             t if t.starts_with("cols:") => pair(&t[5..]).map(|(a, b)| Reference::Cols(a, b)),
             t => Err(format!("reference '{t}': expected corners, border, rows:A,B, cols:A,B or mask:FILE")),
         }
+    }
+}
+
+impl Reference {
+    /// The mask `text` gives an `nx × ny` grid: one line per row, row 1 (the
+    /// first measured) first, a `0` or `1` per point (spaces and commas
+    /// between them are ignored; blank lines and `#` lines are skipped).
+    /// Errors name the line (from 1) and the column.
+    pub fn mask(text: &str, nx: usize, ny: usize) -> Result<Reference, Error> {
+        let fail = |line: Option<usize>, column: Option<usize>, message: String| {
+            Err(Error::at(ErrorKind::Level, line, column, message))
+        };
+        let mut mask = Vec::with_capacity(nx * ny);
+        let mut rows = 0;
+        for (n, line) in text.lines().enumerate() {
+            let t = line.trim();
+            if t.is_empty() || t.starts_with('#') {
+                continue;
+            }
+            let cells: Vec<(usize, char)> =
+                line.chars().enumerate().filter(|(_, c)| !(c.is_whitespace() || *c == ',')).collect();
+            if let Some((column, c)) = cells.iter().find(|(_, c)| !matches!(c, '0' | '1')) {
+                return fail(Some(n + 1), Some(column + 1), format!("'{c}' is not 0 or 1"));
+            }
+            if cells.len() != nx {
+                return fail(Some(n + 1), None, format!("{} points, a row of the grid has {nx}", cells.len()));
+            }
+            rows += 1;
+            if rows > ny {
+                return fail(Some(n + 1), None, format!("more rows than the grid's {ny}"));
+            }
+            mask.extend(cells.iter().map(|&(_, c)| c == '1'));
+        }
+        if rows != ny {
+            return fail(None, None, format!("{rows} rows, the grid has {ny}"));
+        }
+        Ok(Reference::Mask(mask))
     }
 }
 
@@ -147,6 +185,23 @@ impl Levelling {
     /// The kept candidate.
     pub fn kept(&self) -> &Candidate {
         &self.candidates[self.chosen]
+    }
+
+    /// The format to write the levelled data in, for data `read` in that
+    /// format: the same, and a capture file's header gains a `# levelled`
+    /// line with the kept candidate, the `reference` region and the
+    /// standard deviation of its points before and after.
+    pub fn written_as(&self, read: &Format, reference: &str) -> Format {
+        let Format::Capture { header } = read else { return read.clone() };
+        let kept = self.kept();
+        let mut header = header.clone();
+        header.push(format!(
+            "# levelled: {} against {reference}, reference std {} -> {} mm",
+            kept.name,
+            num(self.raw.std, 6),
+            num(kept.stats.std, 6)
+        ));
+        Format::Capture { header }
     }
 
     /// The copy-milling paper's table: count, max, min, mean, std for the raw data and

@@ -3,46 +3,18 @@
 //! bottom of each plunge triggers it), into a `No,Z` data file. The user's
 //! page is docs/capture.md.
 //!
-//! # Data file
-//!
-//! ```text
-//! # kezuri probe capture
-//! # grid nx=85 ny=105 pitch=1 origin=0,0 pattern=zigzag
-//! # tip_z = bottom + sign * (reading - zero): bottom=-20 sign=-1 zero=0
-//! # port /dev/ttyUSB0 9600 baud, started 2026-11-23T19:45:00Z
-//! No,Z
-//! 1,-12.345
-//! ```
-//!
-//! `No` counts from 1 in capture order, `Z` is the stylus tip Z in mm
-//! (shortest round-trip float, rounded to the decimals of the reading,
-//! `--bottom` and `--zero`, so `-20 - 12.345` is written `-32.345`). The
-//! file is created with its first point, locked while a capture writes it,
-//! and every point is appended in one write and fsync'd before the next is
-//! taken (`store`; what is written when is
-//! `kezuri_cam::probe::capture::DataFile`'s).
-//!
-//! # Readings
-//!
-//! Lines end with CR, LF or CR LF; blank lines are skipped. A reading is a
-//! whole, well-formed record (`kezuri_cam::probe::capture::parse_reading`
-//! has the formats and their sources):
-//! a line in none of the forms, a Mitutoyo record with characters lost or
-//! added, the rest of a line over 256 bytes, a reading outside `--range` or
-//! from another `--channel` is reported (with its raw text) and never
-//! becomes a point.
-//!
-//! # Interruptions
-//!
-//! The port's input is flushed on open and what arrives until the line has
-//! been quiet for `SETTLE` is discarded (a reading sent while kezuri was
-//! stopped, or the tail of one under way). Readings carry no point number,
-//! so `--resume` takes the last stored point again first (the operator
-//! restarts the measuring program there) and compares its Z with the stored
-//! one within `--recheck-tol`: a mismatch stops the capture with nothing
-//! new stored. A long silence is reported and the capture keeps waiting; a
-//! read error or end of file (cable pulled, converter unplugged) ends it
-//! with the number of points stored and the command that resumes it.
+//! The rules are `kezuri_cam::probe::capture`'s: the data file and what is
+//! written when (`DataFile`), the reading formats (`parse_reading`) and the
+//! session (`Session`: what each byte, silence and reading means, and the
+//! check of the last stored point on `--resume`). Here are the serial port
+//! (its input flushed on open, and what arrives until the line has been
+//! quiet for `SETTLE` discarded: a reading sent while kezuri was stopped,
+//! or the tail of one under way), the clock, the data file on disk
+//! (`store`: created with its first point, locked while a capture writes
+//! it, every point fsync'd before the next is taken) and the terminal. A
+//! read error or end of file (cable pulled, converter unplugged) ends the
+//! capture with the number of points stored and the command that resumes
+//! it.
 
 // By path, so that the test that compiles this file by path
 // (tests/probe_capture.rs) finds them too.
@@ -61,11 +33,10 @@ use std::time::{Duration, Instant, SystemTime};
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use kezuri_cam::probe::capture::{self, parse_reading, Capture, Reading, TipZ};
-use kezuri_cam::probe::data::num;
+use kezuri_cam::probe::capture::{self, human, restart, utc_iso, Action, Capture, Session, Settings, TipZ};
 use kezuri_cam::probe::{Grid, Order};
 
-use clock::{human, local_time, utc_iso};
+use clock::local_time;
 use port::{Got, Port};
 use store::Store;
 
@@ -315,18 +286,6 @@ impl CaptureArgs {
         c
     }
 
-    /// Where the operator restarts the measuring program to take point
-    /// `next` on: at the last stored point, which is measured again.
-    fn restart(&self, next: usize) -> String {
-        match next - 1 {
-            0 => "restart the measuring program at point 1".into(),
-            last => format!(
-                "restart the measuring program at point {last} (measured again to check the restart; \
-                 point {next} follows)"
-            ),
-        }
-    }
-
     /// The error when the instrument goes away with point `next` to take.
     fn gone(&self, why: &str, next: usize) -> anyhow::Error {
         anyhow::anyhow!(
@@ -336,9 +295,22 @@ impl CaptureArgs {
             next - 1,
             self.total(),
             self.output.display(),
-            self.restart(next),
+            restart(next),
             self.resume_command()
         )
+    }
+
+    /// How the session takes readings.
+    fn settings(&self) -> Settings {
+        Settings {
+            capture: self.capture(),
+            name: self.output.display().to_string(),
+            format: self.format.into(),
+            channel: self.channel,
+            range: self.range,
+            recheck_tol: self.recheck_tol,
+            timeout: Duration::from_secs_f64(self.timeout),
+        }
     }
 }
 
@@ -373,23 +345,6 @@ pub fn run(args: &CaptureArgs, quiet: bool) -> Result<()> {
     run_with(args, bar, &mut |m| eprintln!("{m}"))
 }
 
-/// The reading of one line, or why it is ignored (and whether that counts
-/// as a rejected line: another channel's reading does not).
-fn accept(args: &CaptureArgs, raw: &str) -> Result<Reading, (String, bool)> {
-    let reading = parse_reading(raw, args.format.into()).map_err(|why| (format!("line ignored ({why})"), true))?;
-    if let (Some(want), Some(ch)) = (args.channel, reading.channel) {
-        if want != ch {
-            return Err((format!("reading from channel {ch} ignored (--channel {want})"), false));
-        }
-    }
-    if let Some((lo, hi)) = args.range {
-        if !(lo..=hi).contains(&reading.mm) {
-            return Err((format!("reading {} mm ignored (outside --range {lo},{hi})", reading.mm), true));
-        }
-    }
-    Ok(reading)
-}
-
 /// The capture, with every message passed to `log` (one message a call)
 /// and a progress bar on stderr when `bar`.
 pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Result<()> {
@@ -404,29 +359,15 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
     let mut port = Port::open(&args.port, args.baud)?;
     let started = SystemTime::now();
     let mut out = Out { log, bar: None };
-    // Readings carry no point number: a resume takes the last stored point
-    // again and checks it before taking new ones.
-    let mut check = store.data.last.map(|z| (stored, z));
+    let mut session = Session::new(args.settings(), stored, store.data.last);
     if stored > 0 {
-        out.say(&format!("{name}: {stored} of {total} points stored; {}", args.restart(stored + 1)));
+        out.say(&format!("{name}: {stored} of {total} points stored; {}", restart(stored + 1)));
     }
     let timeout = Duration::from_secs_f64(args.timeout);
     let settled =
         port.settle(SETTLE, timeout.max(Duration::from_secs(1))).map_err(|why| args.gone(&why, stored + 1))?;
-    if settled.discarded > 0 {
-        out.say(&format!(
-            "discarded {} byte(s) that were arriving as the port opened (sent while kezuri was stopped, \
-             or a line already begun): {:?}",
-            settled.discarded,
-            String::from_utf8_lossy(&settled.sample)
-        ));
-    }
-    // A line under way when the settling gave up may be partial: skip to its end.
-    let mut skipping = !settled.quiet;
-    if skipping {
-        out.say(
-            "the instrument sends without a pause: its first line is dropped (set it to send one reading per trigger)",
-        );
+    for said in session.settled(settled.quiet, settled.discarded, &settled.sample) {
+        out.say(&said);
     }
     out.say(&format!(
         "capture: {total} points ({}×{}) to {name}; waiting for readings on {} at {} baud (point {} is next)",
@@ -434,7 +375,7 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
         args.count.1,
         args.port,
         args.baud,
-        check.map_or(stored + 1, |(no, _)| no)
+        session.point()
     ));
     if bar && total - stored > 1 {
         let b = ProgressBar::new(total as u64);
@@ -446,140 +387,59 @@ pub fn run_with(args: &CaptureArgs, bar: bool, log: &mut dyn FnMut(&str)) -> Res
         out.bar = Some(b);
     }
 
-    let tip = args.capture().tip;
-    let mut next = stored + 1;
-    let mut line: Vec<u8> = Vec::new();
     let mut buf = [0u8; 512];
-    let mut last_data = Instant::now();
-    let mut silences = 0u32;
-    let mut session: Vec<Instant> = Vec::new();
-    let mut rejected = 0usize;
-    const MAX_LINE: usize = 256;
-
+    let t0 = Instant::now();
     let result = 'capture: loop {
-        // The point the next reading is for: on --resume, first the check.
-        let point = check.map_or(next, |(no, _)| no);
         match port.read(&mut buf, Duration::from_millis(200)) {
             Got::Data(n) => {
-                last_data = Instant::now();
-                silences = 0;
-                for &b in &buf[..n] {
-                    if b != b'\r' && b != b'\n' {
-                        if skipping {
-                            continue;
+                for action in session.bytes(&buf[..n], t0.elapsed()) {
+                    match action {
+                        Action::Say(said) => out.say(&said),
+                        Action::Store { no, z } => {
+                            if let Err(e) = store.append(no, z) {
+                                break 'capture Err(e.context(format!(
+                                    "{} of {total} points are stored — free the disk; to continue, {} and run:\n  {}",
+                                    no - 1,
+                                    restart(no),
+                                    args.resume_command()
+                                )));
+                            }
+                            if let Some(b) = &out.bar {
+                                b.set_position(no as u64);
+                            }
                         }
-                        line.push(b);
-                        if line.len() > MAX_LINE {
-                            let raw = String::from_utf8_lossy(&line).into_owned();
+                        Action::Pace { per, left } => {
+                            let end = SystemTime::now() + per * left as u32;
                             out.say(&format!(
-                                "line ignored to its end (over {MAX_LINE} bytes without an end of line; \
-                                 wrong --baud?): {raw:?}"
+                                "started {}; {:.2} s per point over the first 10; predicted end {} ({} for {left} \
+                                 points)",
+                                local_time(started),
+                                per.as_secs_f64(),
+                                local_time(end),
+                                human(per * left as u32)
                             ));
-                            rejected += 1;
-                            line.clear();
-                            skipping = true;
                         }
-                        continue;
-                    }
-                    skipping = false;
-                    let raw = String::from_utf8_lossy(&line).into_owned();
-                    line.clear();
-                    if raw.trim().is_empty() {
-                        continue;
-                    }
-                    // (a check earlier in this buffer may have been taken)
-                    let point = check.map_or(next, |(no, _)| no);
-                    let reading = match accept(args, &raw) {
-                        Ok(r) => r,
-                        Err((why, counts)) => {
-                            rejected += usize::from(counts);
-                            let hint = if counts && session.is_empty() { " (check --baud and --format)" } else { "" };
-                            out.say(&format!("point {point}: {why}{hint}: {raw:?}"));
-                            continue;
-                        }
-                    };
-                    let z = tip.tip_z(&reading);
-                    if let Some((no, was)) = check.take() {
-                        if (z - was).abs() > args.recheck_tol + 1e-9 {
+                        Action::Mismatch(what) => {
                             break 'capture Err(anyhow::anyhow!(
-                                "point {no} measured again reads Z {z}, but {name} holds Z {was} for it \
-                                 ({} mm apart, more than --recheck-tol {}): the measuring program did not \
-                                 restart at point {no}, or the part or the indicator moved; nothing new was \
-                                 stored.\nTo continue, {} and run:\n  {}",
-                                num((z - was).abs(), 6),
-                                args.recheck_tol,
-                                args.restart(next),
+                                "{what}\nTo continue, {} and run:\n  {}",
+                                restart(session.next()),
                                 args.resume_command()
-                            ));
+                            ))
                         }
-                        out.say(&format!(
-                            "point {no} measured again: Z {z}, stored {was} (within --recheck-tol {}); \
-                             point {next} is next",
-                            args.recheck_tol
-                        ));
-                        continue;
-                    }
-                    if let Err(e) = store.append(next, z) {
-                        break 'capture Err(e.context(format!(
-                            "{} of {total} points are stored — free the disk; to continue, {} and run:\n  {}",
-                            next - 1,
-                            args.restart(next),
-                            args.resume_command()
-                        )));
-                    }
-                    session.push(Instant::now());
-                    if let Some(b) = &out.bar {
-                        b.set_position(next as u64);
-                    }
-                    if session.len() == 10 && next < total {
-                        let per = (session[9] - session[0]) / 9;
-                        let left = (total - next) as u32;
-                        let end = SystemTime::now() + per * left;
-                        out.say(&format!(
-                            "started {}; {:.2} s per point over the first 10; predicted end {} ({} for {left} points)",
-                            local_time(started),
-                            per.as_secs_f64(),
-                            local_time(end),
-                            human(per * left)
-                        ));
-                    }
-                    next += 1;
-                    if next > total {
-                        break 'capture Ok(());
+                        Action::Done => break 'capture Ok(()),
                     }
                 }
             }
             Got::Quiet => {
-                if last_data.elapsed() >= timeout * (silences + 1) {
-                    silences += 1;
-                    skipping = false;
-                    if !line.is_empty() {
-                        let raw = String::from_utf8_lossy(&line).into_owned();
-                        out.say(&format!("point {point}: incomplete line ignored after a silence: {raw:?}"));
-                        rejected += 1;
-                        line.clear();
-                    }
-                    let lost = if rejected > 0 {
-                        format!(
-                            "; {rejected} line(s) were rejected in this session — if the measuring program \
-                             has finished, a plunge's reading was lost and the points after it are shifted"
-                        )
-                    } else {
-                        String::new()
-                    };
-                    out.say(&format!(
-                        "no reading for {} (point {point} of {total} is next); still waiting — check the \
-                         machine and the cable{lost}",
-                        human(last_data.elapsed())
-                    ));
+                for said in session.quiet(t0.elapsed()) {
+                    out.say(&said);
                 }
             }
             Got::Gone(why) => {
-                if !line.is_empty() {
-                    let raw = String::from_utf8_lossy(&line).into_owned();
-                    out.say(&format!("point {point}: incomplete line dropped at the disconnect: {raw:?}"));
+                if let Some(said) = session.gone() {
+                    out.say(&said);
                 }
-                break 'capture Err(args.gone(&why, next));
+                break 'capture Err(args.gone(&why, session.next()));
             }
         }
     };

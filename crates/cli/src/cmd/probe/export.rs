@@ -5,10 +5,8 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::probe::data::{self, Format};
-use kezuri_cam::probe::export::{dxf, mirror, shade, shade_size, triangles, Mirror};
-use kezuri_cam::probe::ProbeGrid;
+use kezuri_cam::probe::export::{dxf, mirror, shade_size, triangles, Mirror};
 use kezuri_geom::write_binary_stl;
-use kezuri_picture::figure::{ColourBar, Figure, Panel, Raster};
 
 use super::DataArgs;
 use crate::files::Outputs;
@@ -67,40 +65,6 @@ pub enum MirrorAxis {
 /// The most pixels a --png may have (150 MB of RGB).
 const MAX_PIXELS: usize = 50_000_000;
 
-/// The grid hill-shaded and tinted by height (`scale` pixels per pitch),
-/// framed: titled with the data's file name, axes in mm and a colour bar
-/// of Z.
-fn picture(grid: &ProbeGrid, scale: usize, data: &std::path::Path) -> Result<Vec<u8>> {
-    let (w, h, rgb) = shade(grid, scale);
-    let g = &grid.grid;
-    let px = g.pitch / scale.max(1) as f64;
-    let [x0, y0] = g.origin;
-    let (lo, hi) = grid.range();
-    // The tint of the lowest and highest point, fully lit (as `shade`'s).
-    let tint = |t: f64| [255.0 * (0.55 + 0.45 * t), 255.0 * 0.8, 255.0 * (1.0 - 0.45 * t)].map(|c| c.round() as u8);
-    let name = data.file_name().map_or_else(|| data.display().to_string(), |n| n.to_string_lossy().into_owned());
-    Ok(Figure {
-        title: format!("{name}: probed surface"),
-        subtitle: format!("{} × {} points at {} mm, +Y up", g.nx, g.ny, g.pitch),
-        panels: vec![Panel {
-            raster: Raster { width: w, height: h, rgb },
-            extent: [x0 - px / 2.0, x0 + (w as f64 - 0.5) * px, y0 - px / 2.0, y0 + (h as f64 - 0.5) * px],
-            axes: ["X, mm".into(), "Y, mm".into()],
-            caption: String::new(),
-            overlays: vec![],
-        }],
-        stacked: false,
-        bar: Some(ColourBar {
-            stops: vec![(lo, tint(0.0)), (hi.max(lo + 1e-9), tint(1.0))],
-            label: "Z, mm".into(),
-            notes: vec!["shaded as lit from the upper left".into()],
-            swatches: vec![],
-        }),
-        legend: vec![],
-    }
-    .png()?)
-}
-
 /// Runs `kezuri probe export`.
 pub fn run(args: &ExportArgs) -> Result<()> {
     if args.dxf.is_none() && args.stl.is_none() && args.png.is_none() && args.csv.is_none() {
@@ -131,7 +95,9 @@ pub fn run(args: &ExportArgs) -> Result<()> {
             ),
             None => bail!("--png: the picture is too large: give a smaller --png-scale"),
         }
-        outputs.push((p, picture(&grid, args.png_scale, &args.data.data)?));
+        let data = &args.data.data;
+        let name = data.file_name().map_or_else(|| data.display().to_string(), |n| n.to_string_lossy().into_owned());
+        outputs.push((p, kezuri_picture::probe::probed(&grid, args.png_scale, &name)?));
     }
     if let Some(p) = &args.csv {
         outputs.push((p, data::write(&grid, &Format::Csv).into_bytes()));

@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use kezuri_cam::probe::data::{self, Format};
+use kezuri_cam::probe::data;
 use kezuri_cam::probe::level::{level, Method, Reference};
 use kezuri_cam::probe::ProbeGrid;
 use serde_json::json;
@@ -66,44 +66,12 @@ pub enum LevelMethod {
     Auto,
 }
 
-/// Reads a mask file: one line per row (row 1 first), `0`/`1` per point,
-/// separated or not.
-fn read_mask(path: &Path, nx: usize, ny: usize) -> Result<Vec<bool>> {
-    let text = read_text(path)?;
-    let name = path.display();
-    let mut mask = Vec::with_capacity(nx * ny);
-    let mut rows = 0;
-    for (n, line) in text.lines().enumerate() {
-        let t = line.trim();
-        if t.is_empty() || t.starts_with('#') {
-            continue;
-        }
-        let cells: Vec<(usize, char)> =
-            line.chars().enumerate().filter(|(_, c)| !(c.is_whitespace() || *c == ',')).collect();
-        if let Some((column, c)) = cells.iter().find(|(_, c)| !matches!(c, '0' | '1')) {
-            bail!("{name}: line {}, column {}: '{c}' is not 0 or 1", n + 1, column + 1);
-        }
-        if cells.len() != nx {
-            bail!("{name}: line {}: {} points, a row of the grid has {nx}", n + 1, cells.len());
-        }
-        rows += 1;
-        if rows > ny {
-            bail!("{name}: line {}: more rows than the grid's {ny}", n + 1);
-        }
-        mask.extend(cells.iter().map(|&(_, c)| c == '1'));
-    }
-    if rows != ny {
-        bail!("{name}: {rows} rows, the grid has {ny}");
-    }
-    Ok(mask)
-}
-
 /// Runs `kezuri probe level`.
 pub fn run(args: &LevelArgs) -> Result<()> {
     let data = args.data.read()?;
     let g = data.grid.grid;
     let reference = match args.reference.strip_prefix("mask:") {
-        Some(file) => Reference::Mask(read_mask(Path::new(file), g.nx, g.ny)?),
+        Some(file) => Reference::mask(&read_text(Path::new(file))?, g.nx, g.ny).with_context(|| file.to_string())?,
         None => args.reference.parse::<Reference>().map_err(anyhow::Error::msg)?,
     };
     let method = match args.method {
@@ -114,20 +82,7 @@ pub fn run(args: &LevelArgs) -> Result<()> {
     let levelled = level(&data.grid, &reference, method)
         .with_context(|| format!("{}: --reference {}", args.data.data.display(), args.reference))?;
     let kept = levelled.kept();
-    let format = match &data.format {
-        Format::Capture { header } => {
-            let mut header = header.clone();
-            header.push(format!(
-                "# levelled: {} against {}, reference std {} -> {} mm",
-                kept.name,
-                args.reference,
-                data::num(levelled.raw.std, 6),
-                data::num(kept.stats.std, 6)
-            ));
-            Format::Capture { header }
-        }
-        f => f.clone(),
-    };
+    let format = levelled.written_as(&data.format, &args.reference);
     let out = ProbeGrid { grid: g, z: kept.z.clone() };
     write_output(args.output.as_deref(), data::write(&out, &format).as_bytes())?;
     // The table goes to standard output unless the data went there.

@@ -6,14 +6,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use kezuri_cam::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
-use kezuri_cam::mill::{raster_with, ClRowsFn, Direction, Pattern, RasterOptions, Region};
-use kezuri_cam::probe::smooth::{sharpest_bend, Smooth};
-use kezuri_cam::probe::stylus::{detect_flat, model, rapid_margins, reconstruct, OverFlat};
-use kezuri_cam::Cutter;
-use kezuri_geom::{cycle_time, Axes, AxisSet, Heightfield, Move, MoveKind, Toolpath};
+use kezuri_cam::probe::copy::{self, Copied, Floor, Job};
+use kezuri_cam::{Cutter, ErrorKind};
+use kezuri_geom::cycle_time;
 use kezuri_machine::Machine;
-use kezuri_nc::write::{program, WriteOptions};
+use kezuri_nc::write::{self, program, WriteOptions};
 
 use super::DataArgs;
 use crate::files::Outputs;
@@ -159,6 +156,15 @@ pub enum Between {
     Bound,
 }
 
+impl From<Between> for copy::Between {
+    fn from(b: Between) -> copy::Between {
+        match b {
+            Between::Smooth => copy::Between::Smooth,
+            Between::Bound => copy::Between::Bound,
+        }
+    }
+}
+
 /// `--emit` (or `--to`), the older name of `--post` for three of the posts.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Emit {
@@ -170,28 +176,26 @@ pub enum Emit {
     Grbl,
 }
 
-/// `v` if it is a length (the data's pitch sets the defaults).
-fn positive(name: &str, v: f64) -> Result<f64> {
-    kezuri_geom::limits::length(v, name).map_err(anyhow::Error::msg)
+/// `--floor-z`: auto, off or a height.
+fn floor(text: &str) -> Result<Floor> {
+    Ok(match text.trim() {
+        "off" | "none" => Floor::Off,
+        "auto" => Floor::Auto,
+        z => Floor::At(
+            z.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("--floor-z '{z}': expected auto, off or a height"))?,
+        ),
+    })
 }
-
-/// How far from the flat top a reading may be and still be on it, mm.
-const FLAT_TOLERANCE: f64 = 0.01;
 
 /// Runs `kezuri probe mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
     let stylus: Cutter = args.stylus.parse().context("--stylus")?;
     let cutter: Cutter = args.tool.parse().context("--tool")?;
     let data = args.data.read()?;
-    let grid = &data.grid;
-    let pitch = grid.grid.pitch;
-    let stepover = positive("--stepover", args.stepover.unwrap_or(pitch))?;
-    // The stylus's own ball follows the surface between the readings at a
-    // quarter of the pitch: straight lines from reading to reading (--step
-    // the pitch) cut p²/(8ρ) into a ridge of radius ρ (docs/probe-copy.md).
-    let follows = args.between == Between::Smooth && cutter == stylus;
-    let step = positive("--step", args.step.unwrap_or(if follows { pitch / 4.0 } else { pitch }))?;
-    let resolution = positive("--res", args.res.unwrap_or(pitch / 8.0))?;
+    let name = args.data.data.display().to_string();
     let machine = match &args.machine {
         Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
@@ -203,118 +207,44 @@ pub fn run(args: &MillArgs) -> Result<()> {
     });
     let mut post = post_options(args.post.as_deref(), emit, &machine, args.output.as_deref())?;
     post.digits = args.digits.unwrap_or(post.digits);
-    let t0 = std::time::Instant::now();
-    let g = grid.grid;
-    let (x1, y1) = (g.x(g.nx - 1), g.y(g.ny - 1));
-    let top = grid.range().1;
-    let smooth = match args.between {
-        Between::Smooth => Some(Smooth::new(grid).with_context(|| args.data.data.display().to_string())?),
-        Between::Bound => None,
-    };
-    // The stylus's own shape follows the smooth surface itself (or the
-    // straight line between readings where that is higher); any other
-    // cutter (and every cutter with --between bound) is placed on a fine
-    // sampling of the surface with drop-cutter.
-    let follow = smooth.as_ref().filter(|_| follows);
-    let field = match (&smooth, follow) {
-        (_, Some(_)) => None,
-        (Some(s), None) => Some(model(s, &stylus, resolution)),
-        (None, _) => Some(reconstruct(grid, &stylus, resolution)),
-    }
-    .transpose()
-    .with_context(|| args.data.data.display().to_string())?;
-    let tight = match (&smooth, stylus) {
-        (Some(s), Cutter::Ball(_)) => s.tighter_than(stylus.radius()),
-        _ => None,
-    };
-    let bend = smooth.as_ref().and_then(|_| sharpest_bend(grid, args.gouge_tol));
-    let options = RasterOptions {
-        direction: Direction::X,
-        pattern: Pattern::ZigZag,
-        stepover,
-        step,
-        tolerance: args.gouge_tol,
-        gouge: args.gouge_tol,
-        // Bound: positions on the output grid and heights rounded up to it
-        // (never below the bound); smooth: exact positions, the writer
-        // rounds to the nearest.
-        quantum: match args.between {
-            Between::Bound => 10f64.powi(-i32::from(post.digits)),
-            Between::Smooth => 0.0,
-        },
-        safe_z: args.safe_z.unwrap_or(top + 5.0),
+    let job = Job {
+        data: &data.grid,
+        stylus,
+        cutter,
+        stepover: args.stepover,
+        step: args.step,
+        gouge_tol: args.gouge_tol,
+        between: args.between.into(),
+        resolution: args.res,
+        quantum: 10f64.powi(-i32::from(post.digits)),
+        safe_z: args.safe_z,
+        floor: floor(&args.floor_z)?,
+        clearance: args.clearance,
         feed: args.feed,
         plunge_feed: args.plunge_feed,
         speed: args.speed,
         tool: args.tool_number,
     };
-    if options.safe_z <= top {
-        bail!("--safe-z {} is not above the data's top, z = {top}: rapids would run into the part", options.safe_z);
-    }
-    let flat = match args.floor_z.trim() {
-        "off" | "none" => None,
-        "auto" => detect_flat(grid, FLAT_TOLERANCE, 0.05),
-        z => Some(
-            z.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .with_context(|| format!("--floor-z '{z}': expected auto, off or a height"))?,
-        ),
-    };
-    // Over the flat margin, which becomes rapids, a bound of the cutter's
-    // location serves: no drop-cutter there.
-    let over_flat = flat.map(|z| OverFlat::new(grid, &stylus, z, FLAT_TOLERANCE));
-    let flat_at = |x: f64, y: f64| over_flat.as_ref().and_then(|f| f.height(x, y));
-    // With --step the pitch, straight from reading to reading along the rows.
-    let straight = (step - pitch).abs() <= 1e-9 * pitch;
-    let on_tip = |s: &Smooth, x: f64, y: f64| if straight { s.chord(x, y) } else { s.over_chord(x, y) };
-    let cl = |x: f64, y: f64| {
-        flat_at(x, y).or_else(|| match (follow, &field) {
-            (Some(s), _) => Some(on_tip(s, x, y)),
-            (None, Some(f)) => drop_cutter(&cutter, f, x, y),
-            (None, None) => None,
-        })
-    };
-    let rows = |f: &Heightfield, along_y: bool, asked: &[(f64, &[f64])]| {
-        let mut found = drop_cutter_rows(&cutter, f, along_y, asked);
-        for (&(v, us), zs) in asked.iter().zip(&mut found) {
-            for (&u, z) in us.iter().zip(zs) {
-                let (x, y) = if along_y { (v, u) } else { (u, v) };
-                *z = flat_at(x, y).or(*z);
-            }
+    let t0 = std::time::Instant::now();
+    let Copied { path, stepover, safe_z, surface, flat, warnings } = copy::copy(&job, &|_, _| {}).map_err(|e| {
+        if e.kind == ErrorKind::Surface {
+            anyhow::Error::new(e).context(name.clone())
+        } else {
+            e.into()
         }
-        found
-    };
-    let on_field =
-        field.as_ref().filter(|_| rows_at_once(&cutter)).map(|f| move |a: bool, q: &[(f64, &[f64])]| rows(f, a, q));
-    let rows_at = on_field.as_ref().map(|r| r as &ClRowsFn);
-    let region = Region { x0: g.origin[0], y0: g.origin[1], x1, y1 };
-    let path = raster_with(&cl, rows_at, region, &options, None, &|_, _| {})?;
-    let (path, margins) = match flat {
-        Some(z) => {
-            rapid_margins(&path, z, args.gouge_tol.max(1e-3), args.clearance, 2.0 * pitch.max(step), args.plunge_feed)
-        }
-        None => (path, Default::default()),
-    };
-    if path.moves.iter().any(|m| m.kind == MoveKind::Rapid && m.end.z > options.safe_z + 1e-9) {
-        bail!("--clearance {} lifts rapids above --safe-z {}", args.clearance, options.safe_z);
-    }
+    })?;
     let seconds_cam = t0.elapsed().as_secs_f64();
     let title = format!("COPY {} {} STYLUS {} STEPOVER {}", args.data.data.display(), cutter, stylus, stepover);
-    let first_number = args.program_number.unwrap_or(post.program_number);
-    let write_options = |k: usize, of: usize| WriteOptions {
-        program_number: first_number + k as u32,
-        // The later parts begin with the tool in the spindle.
-        loaded_tool: (k > 0).then_some(args.tool_number),
-        title: Some(if of > 1 { format!("{title} PART {}/{of}", k + 1) } else { title.clone() }),
+    let options = WriteOptions {
+        program_number: args.program_number.unwrap_or(post.program_number),
+        loaded_tool: None,
+        title: Some(title.clone()),
         incremental: args.incremental,
-        ..post.clone()
+        ..post
     };
-    let text_of =
-        |path: &Toolpath, k: usize, of: usize| -> Result<String> { Ok(program(path, &write_options(k, of))?) };
     let parts: Vec<String> = match args.split_bytes {
-        None => vec![text_of(&path, 0, 1)?],
-        Some(limit) => split(&path, limit, options.safe_z, args.plunge_feed, &text_of)?,
+        None => vec![program(&path, &options)?],
+        Some(limit) => write::parts(&path, &options, limit, safe_z, args.plunge_feed)?,
     };
     let (time, _) = cycle_time(&path, &machine.dynamics);
     // Everything is made before anything is written, and written together.
@@ -353,21 +283,13 @@ pub fn run(args: &MillArgs) -> Result<()> {
     remove_left_over(&left_over)?;
     let bytes: usize = parts.iter().map(|p| p.len()).sum();
     let lines: usize = parts.iter().map(|p| p.lines().count()).sum();
-    let surface = match (&field, args.between) {
-        (Some(f), Between::Bound) => {
-            format!("the highest the readings allow, {} × {} nodes at {:.4} mm", f.nx(), f.ny(), f.step())
-        }
-        (Some(f), Between::Smooth) => {
-            format!("smooth through the readings, the model {} × {} nodes at {:.4} mm", f.nx(), f.ny(), f.step())
-        }
-        (None, _) => "smooth through the readings, followed by the stylus's own shape".to_string(),
-    };
-    let flat_top = flat.map_or_else(String::new, |z| {
+    let flat_top = flat.map_or_else(String::new, |(z, margins)| {
         format!("; flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid", margins.runs, margins.length)
     });
+    let g = data.grid.grid;
     crate::say::note!(
         "wrote {}: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {}; \
-         from {}, {} × {} points at pitch {pitch} mm, surface {surface}{flat_top}; computed in {seconds_cam:.2} s",
+         from {}, {} × {} points at pitch {} mm, surface {surface}{flat_top}; computed in {seconds_cam:.2} s",
         crate::say::shown(file),
         parts.len(),
         path.moves.len(),
@@ -377,91 +299,10 @@ pub fn run(args: &MillArgs) -> Result<()> {
         args.data.data.display(),
         g.nx,
         g.ny,
+        g.pitch,
     );
-    if let Some(t) = tight {
-        eprintln!(
-            "warning: the surface through the readings bends tighter than the stylus (radius {} mm) in {} cell(s), \
-             tightest radius {:.3} mm at X{:.3} Y{:.3}: no ball rolling on a model reads like that (a sharp edge, \
-             noise or a pitch too coarse); the model there is what the stylus could reach",
-            stylus.radius(),
-            t.cells,
-            t.radius,
-            t.at[0],
-            t.at[1]
-        );
-    }
-    if let Some(b) = bend {
-        eprintln!(
-            "warning: the readings bend down sharply at {} point(s) (a rim or a crest): between readings there the \
-             copy may cut about {:.3} mm below the model (the most at X{:.3} Y{:.3}), more than --gouge-tol {}; a \
-             finer pitch there, or --between bound (the highest surface the readings allow: it leaves {:.3} mm \
-             between readings on a flat)",
-            b.points,
-            b.depth,
-            b.at[0],
-            b.at[1],
-            args.gouge_tol,
-            stylus.height(0.5 * pitch)
-        );
+    for warning in warnings {
+        eprintln!("warning: {warning}");
     }
     Ok(())
-}
-
-/// The toolpath in parts whose programs are at most `limit` bytes: each
-/// part after the first starts at the safe height, over its first point,
-/// and plunges to it; each ends at the safe height.
-fn split(
-    path: &Toolpath,
-    limit: usize,
-    safe_z: f64,
-    plunge_feed: f64,
-    text_of: &dyn Fn(&Toolpath, usize, usize) -> Result<String>,
-) -> Result<Vec<String>> {
-    let whole = text_of(path, 0, 1)?;
-    if whole.len() <= limit {
-        return Ok(vec![whole]);
-    }
-    let overhead = text_of(&Toolpath::from(path.moves[..1].to_vec()), 0, 1)?.len() + 200;
-    if limit <= overhead + 200 {
-        bail!("--split-bytes {limit} is too small: a part's frame alone takes about {overhead} bytes");
-    }
-    let per_move = whole.len() as f64 / path.moves.len() as f64;
-    let mut factor = 0.95;
-    for _ in 0..20 {
-        let chunk = (((limit - overhead) as f64 / per_move * factor) as usize).max(1);
-        let pieces: Vec<&[Move]> = path.moves.chunks(chunk).collect();
-        let n = pieces.len();
-        let mut texts = Vec::with_capacity(n);
-        for (k, piece) in pieces.iter().enumerate() {
-            let mut moves = Vec::with_capacity(piece.len() + 4);
-            let first = piece[0];
-            if k > 0 {
-                let start = first.start;
-                let up = Axes { z: safe_z, ..start };
-                let base = Move { kind: MoveKind::Rapid, feed: 0.0, ..first };
-                moves.push(Move { start: up, end: up, named: AxisSet(0b100), ..base });
-                moves.push(Move { start: up, end: up, named: AxisSet(0b011), ..base });
-                if start.z < safe_z {
-                    moves.push(Move { kind: MoveKind::Feed, start: up, end: start, feed: plunge_feed, ..first });
-                }
-            }
-            moves.extend_from_slice(piece);
-            let last = *moves.last().expect("a part has moves");
-            if last.end.z < safe_z {
-                let up = Axes { z: safe_z, ..last.end };
-                moves.push(Move { kind: MoveKind::Rapid, start: last.end, end: up, feed: 0.0, ..last });
-            }
-            let text = text_of(&Toolpath::from(moves), k, n)?;
-            if text.len() > limit {
-                texts.clear();
-                break;
-            }
-            texts.push(text);
-        }
-        if texts.len() == n {
-            return Ok(texts);
-        }
-        factor *= 0.85;
-    }
-    bail!("cannot split the program into parts of {limit} bytes")
 }

@@ -2,13 +2,13 @@
 //! model, for trying the pipeline (level, export, mill, sim) before a
 //! night on the machine, and for the demo and benchmarks.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::probe::data::{grid_header, num};
-use kezuri_cam::probe::{Grid, Order};
+use kezuri_cam::probe::data::num;
+use kezuri_cam::probe::simulate::{simulate, Simulated, Simulation};
+use kezuri_cam::probe::Order;
 use kezuri_cam::Cutter;
 
 use super::pair;
@@ -81,40 +81,22 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     }
     let order: Order = args.pattern.parse().map_err(anyhow::Error::msg)?;
     let model = read_surface(&args.model)?;
-    let [x0, y0, x1, y1] = model.xy_box();
-    let (width, depth) = ((nx - 1) as f64 * args.pitch, (ny - 1) as f64 * args.pitch);
-    let origin = match &args.origin {
-        Some(t) => pair::<f64>("--origin", t)?,
-        None => [0.5 * (x0 + x1 - width), 0.5 * (y0 + y1 - depth)],
-    };
-    let grid = Grid { nx, ny, pitch: args.pitch, origin, order };
-    let centre = [origin[0] + 0.5 * width, origin[1] + 0.5 * depth];
-    let mut noise = Noise(args.seed);
-    let mut text = format!(
-        "# kezuri probe simulate\n{}\n# simulated: stylus {stylus} on {}, tilt {},{} mm/mm, noise ±{} mm, seed {}\n\
-         # z: the stylus tip's height (its lowest point), mm\nNo,Z\n",
-        grid_header(&grid),
-        args.model.display(),
-        num(tilt[0], 9),
-        num(tilt[1], 9),
-        num(args.noise, 6),
-        args.seed,
-    );
-    for k in 0..grid.len() {
-        let (i, j) = grid.node(k);
-        let (x, y) = (grid.x(i), grid.y(j));
-        let Some(z) = model.drop_cutter(&stylus, x, y) else {
-            bail!(
-                "point {} at ({}, {}) is off the model ({}): the stylus would find nothing there",
-                k + 1,
-                num(x, 4),
-                num(y, 4),
-                args.model.display()
-            );
-        };
-        let z = z + tilt[0] * (x - centre[0]) + tilt[1] * (y - centre[1]) + args.noise * noise.next();
-        let _ = writeln!(text, "{},{}", k + 1, num(z, 4));
-    }
+    let origin = args.origin.as_deref().map(|t| pair::<f64>("--origin", t)).transpose()?;
+    let name = args.model.display().to_string();
+    let Simulated { grid, text } = simulate(&Simulation {
+        model: &|x, y| model.drop_cutter(&stylus, x, y),
+        model_box: model.xy_box(),
+        name: &name,
+        stylus,
+        count: [nx, ny],
+        pitch: args.pitch,
+        origin,
+        order,
+        tilt,
+        noise: args.noise,
+        seed: args.seed,
+    })?;
+    let origin = grid.origin;
     write_output(args.output.as_deref(), text.as_bytes())?;
     crate::say::note!(
         "wrote {}: {nx} × {ny} readings of {stylus} at pitch {} mm from ({}, {})",
@@ -124,15 +106,4 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         num(origin[1], 4)
     );
     Ok(())
-}
-
-/// Uniform numbers in [−1, 1) from a 64-bit linear congruential generator
-/// (Knuth's MMIX constants): the same seed, the same readings.
-struct Noise(u64);
-
-impl Noise {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
 }
