@@ -61,6 +61,7 @@
 
 mod error;
 mod quad;
+pub mod report;
 mod section;
 mod set;
 mod volume;

@@ -40,6 +40,11 @@ impl Line {
         let (dx, dz) = (p[0] - self.point[0], p[1] - self.point[1]);
         self.direction[0] * dz - self.direction[1] * dx
     }
+
+    /// The angle of its direction from +x, degrees.
+    pub fn angle_deg(&self) -> f64 {
+        self.direction[1].atan2(self.direction[0]).to_degrees()
+    }
 }
 
 /// The edge found in a profile.
@@ -60,6 +65,22 @@ pub struct Edge {
     pub outliers: usize,
     /// Index of the first point of the second side (in profile order).
     pub split: usize,
+}
+
+impl Edge {
+    /// The report of `kezuri thermal edge` on the profile `name` of
+    /// `points` points: the edge, the angle between the sides, each side
+    /// and the residual, a line each.
+    pub fn report(&self, name: &str, points: usize) -> String {
+        let mut out = format!("{name}: {points} points\n");
+        out += &format!("  edge       x {:.6} mm, z {:.6} mm\n", self.edge[0], self.edge[1]);
+        out += &format!("  angle      {:.4}° between the sides\n", self.angle_deg);
+        for (k, s) in self.sides.iter().enumerate() {
+            out += &format!("  side {}     {} points, direction {:.4}°\n", k + 1, self.inliers[k], s.angle_deg());
+        }
+        out += &format!("  residual   {:.4} µm rms; {} outliers left out\n", self.rms_residual_mm * 1e3, self.outliers);
+        out
+    }
 }
 
 /// Fewest points of a profile.

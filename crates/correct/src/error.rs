@@ -16,8 +16,13 @@ pub enum ErrorKind {
     NoCorner,
     /// Too few measurements for the polynomial degree asked.
     TooFewMeasurements,
-    /// A measurement is not finite or names no linear axis.
+    /// A measurement is not finite, names no linear axis or its state is
+    /// neither cold nor warm.
     BadMeasurement,
+    /// A warm measurement has no cold one at the same axis, angle and command.
+    NoColdMeasurement,
+    /// A model file is not one `kezuri thermal fit` writes.
+    NotAModel,
     /// The thermal model has no error function for an axis at a B angle.
     NoErrorFunction,
     /// The linear axes do not span space at a command.
@@ -44,6 +49,11 @@ pub enum ErrorKind {
     ProfileTooShort,
     /// A work or tool offset is in force where the surface is in program coordinates.
     OffsetInForce,
+    /// More of a program's points than allowed lie beyond the measured range
+    /// of their axis's error function.
+    Extrapolated,
+    /// A thermal model was fitted on a machine with other kinematic chains.
+    OtherMachine,
     /// No command puts the tool where the correction asks.
     Unreachable,
 }

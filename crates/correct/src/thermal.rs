@@ -20,9 +20,12 @@
 use crate::kinematics::{solve3, Kinematics, AXES};
 use crate::{Error, ErrorKind};
 
+mod measurement;
+pub mod model_file;
 mod program;
 
-pub use program::{correct_moves, Corrected, Solver, Summary};
+pub use measurement::{is_warm, linear_axis, stop_error, warm_less_cold};
+pub use program::{correct_moves, Corrected, Solver, Summary, MOST_EXTRAPOLATED};
 
 /// One measurement: the command on one axis and the error there.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -216,6 +219,26 @@ fn least_squares(ms: &[Measurement], degree: usize) -> Polynomial {
 }
 
 impl ErrorModel {
+    /// The fit as a table: a header line, then for each error function
+    /// its axis, B angle, degree, points and rms residual along X, Y and Z
+    /// in µm, a line each.
+    pub fn table(&self) -> String {
+        let mut table = String::from("  axis  B deg  degree  points  rms X / Y / Z µm\n");
+        for f in &self.functions {
+            table += &format!(
+                "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}\n",
+                AXES[f.axis],
+                f.b_deg,
+                f.degree,
+                f.points,
+                f.rms_mm[0] * 1e3,
+                f.rms_mm[1] * 1e3,
+                f.rms_mm[2] * 1e3
+            );
+        }
+        table
+    }
+
     /// The function of `axis` at the B angle `b_deg`.
     fn function(&self, axis: usize, b_deg: f64) -> Result<&AxisError, Error> {
         self.functions.iter().find(|f| f.axis == axis && (f.b_deg - b_deg).abs() < SAME_ANGLE).ok_or_else(|| {

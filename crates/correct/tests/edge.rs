@@ -88,3 +88,16 @@ fn a_given_split_and_profiles_without_a_corner() {
     bad[7][1] = f64::NAN;
     assert_eq!(find_edge(&bad, None).unwrap_err().kind, ErrorKind::NotFinite);
 }
+
+#[test]
+fn the_report_gives_the_edge_the_sides_and_the_residual() {
+    let points = profile([0.0, 0.0], 40.0, 0.5, 0.01, 0.0, 0.0, 1);
+    let e = find_edge(&points, None).unwrap();
+    assert!((e.sides[0].angle_deg() - 40.0).abs() < 1e-6, "{}", e.sides[0].angle_deg());
+    let report = e.report("p.csv", points.len());
+    let lines: Vec<&str> = report.lines().collect();
+    assert_eq!(lines.len(), 6, "{report}");
+    assert_eq!(lines[0], "p.csv: 101 points");
+    assert!(lines[1].starts_with("  edge       x ") && lines[2].ends_with("° between the sides"), "{report}");
+    assert!(lines[5].starts_with("  residual   ") && report.ends_with("outliers left out\n"), "{report}");
+}

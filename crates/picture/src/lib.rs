@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod chart;
+pub mod engage;
 mod error;
 pub mod figure;
 pub mod plot;

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_correct::edge::find_edge;
-use kezuri_correct::kinematics::AXES;
-use kezuri_correct::thermal::{self, correct_moves, fit, AxisError, Corrected, ErrorModel, Measurement, Polynomial};
+use kezuri_correct::thermal::model_file;
+use kezuri_correct::thermal::{self, correct_moves, fit, is_warm, linear_axis, stop_error, warm_less_cold};
+use kezuri_correct::thermal::{Corrected, Measurement};
 use kezuri_geom::{set_ends, ArcCentre};
 use kezuri_machine::Machine;
 use kezuri_nc::thermal_plan::{Station, ThermalPlan};
@@ -91,10 +92,6 @@ pub struct ApplyArgs {
     pub allow_extrapolation: bool,
 }
 
-/// The share of a program's points beyond the measured range above which
-/// `thermal apply` refuses without --allow-extrapolation.
-const MOST_EXTRAPOLATED: f64 = 0.1;
-
 /// `kezuri thermal measure INDEX.csv -o MEAS.csv`.
 #[derive(Args, Debug)]
 #[command(after_help = "INDEX.csv has the header axis,command_mm,b_deg,state,profile_1,profile_2: one row per stop
@@ -134,14 +131,9 @@ fn measure(a: &MeasureArgs) -> Result<()> {
     let mut out = String::from("axis,command_mm,ex_mm,ey_mm,ez_mm,b_deg,state\n");
     for r in 0..t.len() {
         let letter = t.text(r, axis)?.to_ascii_uppercase();
-        let k = ["X", "Y", "Z"]
-            .iter()
-            .position(|x| *x == letter)
-            .ok_or_else(|| t.error_at(r, axis, &format!("'{letter}' is not a linear axis (X, Y or Z)")))?;
+        let k = linear_axis(&letter).map_err(|e| t.error_at(r, axis, &e.message))?;
         let c = t.number(r, command)?;
-        let (e1, e2) = (edge_of(r, p1)?, edge_of(r, p2)?);
-        let mut edge = [e1[0], e2[0], 0.5 * (e1[1] + e2[1])];
-        edge[k] -= c;
+        let edge = stop_error(k, c, edge_of(r, p1)?, edge_of(r, p2)?);
         out += &format!(
             "{letter},{c},{},{},{},{},{}\n",
             edge[0],
@@ -352,7 +344,7 @@ fn edge(a: &EdgeArgs) -> Result<()> {
             json!({
                 "point": e.sides[k].point,
                 "direction": e.sides[k].direction,
-                "angle_deg": e.sides[k].direction[1].atan2(e.sides[k].direction[0]).to_degrees(),
+                "angle_deg": e.sides[k].angle_deg(),
                 "inliers": e.inliers[k],
             })
         };
@@ -369,72 +361,37 @@ fn edge(a: &EdgeArgs) -> Result<()> {
         });
         println!("{v}");
     } else {
-        println!("{name}: {} points", points.len());
-        println!("  edge       x {:.6} mm, z {:.6} mm", e.edge[0], e.edge[1]);
-        println!("  angle      {:.4}° between the sides", e.angle_deg);
-        for (k, s) in e.sides.iter().enumerate() {
-            println!(
-                "  side {}     {} points, direction {:.4}°",
-                k + 1,
-                e.inliers[k],
-                s.direction[1].atan2(s.direction[0]).to_degrees()
-            );
-        }
-        println!("  residual   {:.4} µm rms; {} outliers left out", e.rms_residual_mm * 1e3, e.outliers);
+        print!("{}", e.report(&name, points.len()));
     }
     Ok(())
 }
 
-/// The measurements of a table (module docs of `kezuri thermal fit`).
+/// The measurements of a table (module docs of `kezuri thermal fit`):
+/// with a state column, the drift (warm less cold).
 fn measurements(t: &Table) -> Result<Vec<Measurement>> {
     let expected = "axis,command_mm,ex_mm,ey_mm,ez_mm[,b_deg][,state]";
     let [axis, command, ex, ey, ez] = ["axis", "command_mm", "ex_mm", "ey_mm", "ez_mm"].map(|n| t.require(n, expected));
     let (axis, command, e) = (axis?, command?, [ex?, ey?, ez?]);
     let (b, state) = (t.column("b_deg"), t.column("state"));
     // (measurement, warm?) per row.
-    let mut rows: Vec<(Measurement, Option<bool>, usize)> = Vec::new();
+    let mut rows: Vec<(Measurement, bool)> = Vec::new();
     for r in 0..t.len() {
-        let letter = t.text(r, axis)?.to_ascii_uppercase();
-        let a = match letter.as_str() {
-            "X" => 0,
-            "Y" => 1,
-            "Z" => 2,
-            _ => return Err(t.error_at(r, axis, &format!("'{letter}' is not a linear axis (X, Y or Z)"))),
-        };
+        let a = linear_axis(t.text(r, axis)?).map_err(|e| t.error_at(r, axis, &e.message))?;
         let warm = match state {
-            None => None,
-            Some(c) => match t.text(r, c)?.to_ascii_lowercase().as_str() {
-                "cold" => Some(false),
-                "warm" => Some(true),
-                other => return Err(t.error_at(r, c, &format!("state '{other}' is neither cold nor warm"))),
-            },
+            None => false,
+            Some(c) => is_warm(t.text(r, c)?).map_err(|e| t.error_at(r, c, &e.message))?,
         };
         let error = [t.number(r, e[0])?, t.number(r, e[1])?, t.number(r, e[2])?];
         let b_deg = match b {
             Some(c) => t.number(r, c)?,
             None => 0.0,
         };
-        rows.push((Measurement { axis: a, b_deg, command: t.number(r, command)?, error }, warm, r));
+        rows.push((Measurement { axis: a, b_deg, command: t.number(r, command)?, error }, warm));
     }
     if state.is_none() {
-        return Ok(rows.into_iter().map(|(m, _, _)| m).collect());
+        return Ok(rows.into_iter().map(|(m, _)| m).collect());
     }
-    // Warm less cold at the same axis, angle and command.
-    let same = |p: &Measurement, q: &Measurement| {
-        p.axis == q.axis && (p.b_deg - q.b_deg).abs() < 1e-6 && (p.command - q.command).abs() < 1e-6
-    };
-    let mut out = Vec::new();
-    for (m, _, r) in rows.iter().filter(|r| r.1 == Some(true)) {
-        let Some((cold, _, _)) = rows.iter().find(|(c, w, _)| *w == Some(false) && same(c, m)) else {
-            return Err(t.error_at(
-                *r,
-                command,
-                &format!("no cold measurement of axis {} at {} mm, B {}°", AXES[m.axis], m.command, m.b_deg),
-            ));
-        };
-        out.push(Measurement { error: std::array::from_fn(|k| m.error[k] - cold.error[k]), ..*m });
-    }
-    Ok(out)
+    warm_less_cold(&rows).map_err(|(r, e)| t.error_at(r, command, &e.message))
 }
 
 fn fit_model(a: &FitArgs) -> Result<()> {
@@ -451,52 +408,19 @@ fn fit_model(a: &FitArgs) -> Result<()> {
     let table = Table::parse(&name, &read_text(&a.measurements)?)?;
     let ms = measurements(&table)?;
     let model = fit(&ms, a.degree).with_context(|| name.clone())?;
-    let k = &machine.kinematics;
-    let functions: Vec<serde_json::Value> = model
-        .functions
-        .iter()
-        .map(|f| {
-            json!({
-                "axis": AXES[f.axis].to_string(),
-                "b_deg": f.b_deg,
-                "degree": f.degree,
-                "points": f.points,
-                "center_mm": f.polynomial.center,
-                "scale_mm": f.polynomial.scale,
-                "coefficients_mm": f.polynomial.coefficients,
-                "rms_mm": f.rms_mm,
-            })
-        })
-        .collect();
-    let v = json!({
-        "kezuri_thermal_model": 1,
-        "measurements": ms.len(),
-        "machine": {"tool": chain_letters(k)[0], "work": chain_letters(k)[1], "tip": k.tip},
-        "functions": functions,
-    });
+    let v = model_file::to_json(&model, ms.len(), &machine.kinematics);
     write_output(a.output.as_deref(), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;
     if a.json {
         println!("{v}");
         return Ok(());
     }
-    let mut table = format!(
-        "{name}: {} measurements, {} error functions -> {}\n  axis  B deg  degree  points  rms X / Y / Z µm\n",
+    let table = format!(
+        "{name}: {} measurements, {} error functions -> {}\n{}",
         ms.len(),
         model.functions.len(),
-        crate::say::shown(a.output.as_deref())
+        crate::say::shown(a.output.as_deref()),
+        model.table()
     );
-    for f in &model.functions {
-        table += &format!(
-            "  {}    {:>6.1}  {:>6}  {:>6}  {:.3} / {:.3} / {:.3}\n",
-            AXES[f.axis],
-            f.b_deg,
-            f.degree,
-            f.points,
-            f.rms_mm[0] * 1e3,
-            f.rms_mm[1] * 1e3,
-            f.rms_mm[2] * 1e3
-        );
-    }
     if !model_to_stdout {
         write_output(None, table.as_bytes())?;
     } else if !crate::say::quiet() {
@@ -505,79 +429,16 @@ fn fit_model(a: &FitArgs) -> Result<()> {
     Ok(())
 }
 
-/// A model file back: the error functions and the machine's chains it was
-/// fitted for (tool and work axis letters).
-fn load_model(path: &std::path::Path) -> Result<(ErrorModel, [Vec<String>; 2])> {
-    let name = path.display().to_string();
-    let v: serde_json::Value =
-        serde_json::from_str(&read_text(path)?).with_context(|| format!("{name}: not a thermal model (JSON)"))?;
-    let bad = || anyhow::anyhow!("{name}: not a thermal model of kezuri thermal fit");
-    if v["kezuri_thermal_model"] != 1 {
-        return Err(bad());
-    }
-    let letters = |key: &str| -> Result<Vec<String>> {
-        v["machine"][key]
-            .as_array()
-            .ok_or_else(bad)?
-            .iter()
-            .map(|l| l.as_str().map(str::to_string).ok_or_else(bad))
-            .collect()
-    };
-    let chains = [letters("tool")?, letters("work")?];
-    let number = |x: &serde_json::Value| x.as_f64().ok_or_else(bad);
-    let mut functions = Vec::new();
-    for f in v["functions"].as_array().ok_or_else(bad)? {
-        let axis = ["X", "Y", "Z"].iter().position(|a| f["axis"] == *a).ok_or_else(bad)?;
-        let coefficients: Vec<Vec<f64>> = f["coefficients_mm"]
-            .as_array()
-            .filter(|c| c.len() == 3)
-            .ok_or_else(bad)?
-            .iter()
-            .map(|c| c.as_array().ok_or_else(bad)?.iter().map(number).collect::<Result<Vec<f64>>>())
-            .collect::<Result<_>>()?;
-        let rms: Vec<f64> = f["rms_mm"].as_array().ok_or_else(bad)?.iter().map(number).collect::<Result<_>>()?;
-        let [cx, cy, cz]: [Vec<f64>; 3] = coefficients.try_into().map_err(|_| bad())?;
-        functions.push(AxisError {
-            axis,
-            b_deg: number(&f["b_deg"])?,
-            polynomial: Polynomial {
-                center: number(&f["center_mm"])?,
-                scale: number(&f["scale_mm"])?,
-                coefficients: [cx, cy, cz],
-            },
-            degree: f["degree"].as_u64().ok_or_else(bad)? as usize,
-            rms_mm: [
-                rms.first().copied().unwrap_or(0.0),
-                rms.get(1).copied().unwrap_or(0.0),
-                rms.get(2).copied().unwrap_or(0.0),
-            ],
-            points: f["points"].as_u64().unwrap_or(0) as usize,
-        });
-    }
-    Ok((ErrorModel { functions }, chains))
-}
-
 fn apply(a: &ApplyArgs) -> Result<()> {
     let name = a.run.file.display().to_string();
     if a.json && a.write.output().is_none_or(|o| o == std::path::Path::new("-")) {
         bail!("--json prints to standard output: give the program a file with -o");
     }
-    let (model, chains) = load_model(&a.model)?;
+    let shown = a.model.display().to_string();
+    let file = model_file::from_json(&read_text(&a.model)?).with_context(|| shown.clone())?;
     // The model's machine is checked before the program's axes against it.
-    let (text, mut ran) = run_to_correct(&a.run, |ran| {
-        let here = chain_letters(&ran.machine.kinematics);
-        if here != chains {
-            bail!(
-                "{}: the model is for a machine with tool axes {:?} and work axes {:?}; this one (--machine) has {:?} and {:?}",
-                a.model.display(),
-                chains[0],
-                chains[1],
-                here[0],
-                here[1]
-            );
-        }
-        Ok(())
-    })?;
+    let (text, mut ran) =
+        run_to_correct(&a.run, |ran| file.check_machine(&ran.machine.kinematics).with_context(|| shown.clone()))?;
     let mut path = ran.outcome.toolpath.clone();
     let t0 = std::time::Instant::now();
     let solver = match a.solver {
@@ -585,24 +446,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         Solver::Grid => thermal::Solver::Grid,
     };
     let Corrected { ends, summary } =
-        correct_moves(&model, &ran.machine.kinematics, &path.moves, solver).map_err(|e| in_program(&name, e))?;
+        correct_moves(&file.model, &ran.machine.kinematics, &path.moves, solver).map_err(|e| in_program(&name, e))?;
     let seconds = t0.elapsed().as_secs_f64();
-    let (outside_points, checked) = (summary.extrapolated, summary.checked);
-    let share = outside_points as f64 / checked.max(1) as f64;
-    if let Some(line) = summary.first_extrapolated_line {
-        let said = format!(
-            "{outside_points} of {checked} points ({:.1} %) lie beyond the measured range of their axis's error \
-             function (the first at line {line})",
-            share * 100.0
-        );
-        if share > MOST_EXTRAPOLATED && !a.allow_extrapolation {
-            bail!(
-                "{name}: {said}: more than {:.0} % of the program would be corrected by extrapolating the fitted \
-                 curves. Measure over the program's travel (thermal plan), or give --allow-extrapolation",
-                MOST_EXTRAPOLATED * 100.0
-            );
-        }
-        eprintln!("warning: {name}: {said}: their correction is extrapolated");
+    if let Some(warning) = summary.extrapolation(a.allow_extrapolation).with_context(|| name.clone())? {
+        eprintln!("warning: {name}: {warning}");
     }
     set_ends(&mut path, &ends, ArcCentre::FollowsEnd);
     write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &mut ran)?;
@@ -613,7 +460,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         "arc_correction_change_mm": summary.arc_correction_change,
         "seconds": seconds,
         "solver": format!("{:?}", a.solver).to_lowercase(),
-        "extrapolated_points": outside_points,
+        "extrapolated_points": summary.extrapolated,
     });
     if a.json {
         println!("{v}");
@@ -629,10 +476,4 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The axis letters of the machine's tool and work chains, as a model
-/// file names them.
-fn chain_letters(k: &kezuri_correct::kinematics::Kinematics) -> [Vec<String>; 2] {
-    [&k.tool, &k.work].map(|axes| axes.iter().map(|x| AXES[x.index].to_string()).collect())
 }

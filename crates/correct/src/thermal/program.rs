@@ -6,7 +6,11 @@ use kezuri_geom::{Axes, Move, MoveKind};
 
 use super::{Corrector, ErrorModel};
 use crate::kinematics::Kinematics;
-use crate::Error;
+use crate::{Error, ErrorKind};
+
+/// The share of a program's points beyond the measured range above which
+/// its correction is refused unless extrapolation is allowed.
+pub const MOST_EXTRAPOLATED: f64 = 0.1;
 
 /// Which way the corrected command is found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,6 +41,35 @@ pub struct Summary {
     pub extrapolated: usize,
     /// The program line of the first of them.
     pub first_extrapolated_line: Option<u32>,
+}
+
+impl Summary {
+    /// What a machinist is told where some points' corrections are
+    /// extrapolated (`None` where none are): how many, their share and the
+    /// line of the first. Refused where more than [`MOST_EXTRAPOLATED`] of
+    /// the points are, unless `allowed`.
+    pub fn extrapolation(&self, allowed: bool) -> Result<Option<String>, Error> {
+        let Some(line) = self.first_extrapolated_line else { return Ok(None) };
+        let share = self.extrapolated as f64 / self.checked.max(1) as f64;
+        let said = format!(
+            "{} of {} points ({:.1} %) lie beyond the measured range of their axis's error function (the first at \
+             line {line})",
+            self.extrapolated,
+            self.checked,
+            share * 100.0
+        );
+        if share > MOST_EXTRAPOLATED && !allowed {
+            return Err(Error::new(
+                ErrorKind::Extrapolated,
+                format!(
+                    "{said}: more than {:.0} % of the program would be corrected by extrapolating the fitted curves. \
+                     Measure over the program's travel (thermal plan), or give --allow-extrapolation",
+                    MOST_EXTRAPOLATED * 100.0
+                ),
+            ));
+        }
+        Ok(Some(format!("{said}: their correction is extrapolated")))
+    }
 }
 
 /// The corrected moves.
@@ -104,4 +137,25 @@ pub fn correct_moves(model: &ErrorModel, k: &Kinematics, moves: &[Move], solver:
         ends.push(Axes::from_array(x));
     }
     Ok(Corrected { ends, summary })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extrapolated_points_are_said_and_too_many_refused() {
+        let mut s = Summary { checked: 28, ..Summary::default() };
+        assert_eq!(s.extrapolation(false), Ok(None));
+        s.extrapolated = 2;
+        s.first_extrapolated_line = Some(7);
+        let said = "2 of 28 points (7.1 %) lie beyond the measured range of their axis's error function (the first \
+                    at line 7): their correction is extrapolated";
+        assert_eq!(s.extrapolation(false).unwrap().as_deref(), Some(said));
+        s.extrapolated = 5;
+        let e = s.extrapolation(false).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Extrapolated);
+        assert!(e.to_string().contains("(17.9 %)") && e.to_string().contains("more than 10 % of the program"), "{e}");
+        assert!(s.extrapolation(true).unwrap().is_some());
+    }
 }
