@@ -113,6 +113,7 @@ impl State {
 
     /// Applies the one-shot codes and the motion of a block. Returns whether
     /// an axis moved.
+    #[inline(always)]
     pub(super) fn motion(
         &mut self,
         codes: &[Option<(GCode, Span)>],
@@ -330,6 +331,7 @@ impl State {
 
     /// A move in the motion mode in force: rapid, feed or arc. Returns
     /// whether an axis moved.
+    #[inline(always)]
     fn modal_motion(&mut self, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
         let is_arc = matches!(self.modal.motion, Motion::Cw | Motion::Ccw);
         if !w.any_axis() && !(is_arc && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
