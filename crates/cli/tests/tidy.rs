@@ -5,7 +5,8 @@
 //!   plumbing the commands share (`crates/cli/src/*` outside `cmd/`) imports no command, but
 //!   for `lib.rs`, the command line that dispatches to them.
 //! - nc's stages run one way: nothing in `interp` imports `write`, nothing in `parse` imports
-//!   `interp` or `write`.
+//!   `interp` or `write`; inside `write` each file imports only the layers before its own
+//!   ([`WRITE_LAYERS`]).
 //! - A library (every crate but the cli) opens no path, port or terminal: no `std::fs`, no
 //!   `File`, no standard input, output or error, no printing, no network, no serial port.
 //!   Libraries take `Read`/`Write` values and report progress through a callback.
@@ -19,6 +20,24 @@ const MAX_LINES: usize = 700;
 
 /// The one file allowed past [`MAX_LINES`]: the 3D page's script, a single program for the browser.
 const LONG_FILES: &[&str] = &["viewer.js"];
+
+/// The layers of nc's writer, first to last: a file imports (`super::NAME`) only the layers
+/// before its own, so the writer has no loop.
+const WRITE_LAYERS: &[&[&str]] =
+    &[&["dialect", "csv"], &["options"], &["blocks"], &["arcs", "frames", "kept", "post"], &["gcode"], &["parts"]];
+
+/// The layer of nc's writer a module is in.
+fn write_layer(name: &str) -> Option<usize> {
+    WRITE_LAYERS.iter().position(|layer| layer.contains(&name))
+}
+
+/// The modules a line names through `super::NAME`.
+fn supers_named(line: &str) -> impl Iterator<Item = &str> {
+    line.match_indices("super::").map(move |(at, _)| {
+        let after = &line[at + 7..];
+        &after[..after.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(after.len())]
+    })
+}
 
 /// What a library must not name: each a way to reach a file, a port or the terminal.
 const OUTSIDE: &[&str] = &[
@@ -186,6 +205,18 @@ fn violations(root: &Path) -> Vec<String> {
                 if krate == "nc" && inner.starts_with("interp") && names(line, "crate::write") {
                     found.push(format!("{}:{n}: interp imports write (`crate::write`)", s.path));
                 }
+                if let Some(own) =
+                    inner.strip_prefix("write/").and_then(|f| f.strip_suffix(".rs")).and_then(write_layer)
+                {
+                    for name in supers_named(line) {
+                        if write_layer(name).is_some_and(|l| l >= own) {
+                            found.push(format!(
+                                "{}:{n}: write's layers loop (`super::{name}` is not before this file)",
+                                s.path
+                            ));
+                        }
+                    }
+                }
                 if krate == "nc"
                     && inner.starts_with("parse")
                     && (names(line, "crate::interp") || names(line, "crate::write"))
@@ -241,6 +272,7 @@ fn a_planted_violation_of_each_rule_is_named_at_its_line() {
         ("crates/cli/src/lib.rs", "use cmd::{check, sim};\n"),
         ("crates/nc/src/interp/cycle.rs", "// crate::write in a comment\nlet s = crate::write::number(1.0, 3);\n"),
         ("crates/nc/src/parse/expr.rs", "use crate::interp::Value;\n"),
+        ("crates/nc/src/write/blocks.rs", "use super::dialect::Dialect;\nuse super::post::Setup;\n"),
         ("crates/cam/src/mill.rs", "fn f() {\n    let f = std::fs::File::open(\"x\");\n    eprintln!(\"hi\");\n}\n"),
         ("crates/geom/src/big.rs", long.as_str()),
         ("crates/cam/src/ok.rs", "fn f() {}\n#[cfg(test)]\nmod tests { fn t() { std::fs::write(\"x\", \"\"); } }\n"),
@@ -259,6 +291,7 @@ fn a_planted_violation_of_each_rule_is_named_at_its_line() {
         "crates/geom/src/big.rs:701: 701 lines, over the limit of 700: split it along its seams",
         "crates/nc/src/interp/cycle.rs:2: interp imports write (`crate::write`)",
         "crates/nc/src/parse/expr.rs:1: parse imports a later stage",
+        "crates/nc/src/write/blocks.rs:2: write's layers loop (`super::post` is not before this file)",
     ];
     for e in expected {
         assert!(found.iter().any(|f| f == e), "not found: {e}\nfound:\n{}", found.join("\n"));
