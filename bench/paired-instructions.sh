@@ -24,7 +24,7 @@ open("raster.nc", "w").write("\n".join(lines) + "\n")
 PY
 "$new" demo --only thermal --out demo >/dev/null 2>&1
 "$new" thermal measure demo/thermal/index.csv -o meas.csv -q
-"$new" thermal fit meas.csv --machine samples/mill-turn.toml -o model.json -q
+"$new" thermal fit meas.csv --machine samples/mill-turn.toml -o model.json -q >/dev/null
 jobs=(
   "check raster.nc"
   "run raster.nc --to linuxcnc -o OUT.ngc"
@@ -42,5 +42,6 @@ for j in "${jobs[@]}"; do
     read -r -a words <<<"$j"
     a=$(count "$old" -q "${words[@]/OUT/old}")
     b=$(count "$new" -q "${words[@]/OUT/new}")
-    printf '%-12s %16s %16s %8.4f\n' "${words[0]}" "$a" "$b" "$(echo "$b / $a" | bc -l)"
+    label=${words[0]}; [[ $j == *--sim* ]] && label="$label --sim"
+    printf '%-12s %16s %16s %8.4f\n' "$label" "$a" "$b" "$(echo "$b / $a" | bc -l)"
 done
