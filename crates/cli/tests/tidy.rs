@@ -98,14 +98,29 @@ fn code(line: &str) -> &str {
 }
 
 /// The lines of a file's code outside its `#[cfg(test)]` items (unit tests may write files
-/// of their own), numbered from 1.
+/// of their own), numbered from 1. An item runs from its attribute to the line that closes
+/// its braces (or ends it with `;`), counted roughly: braces in strings or comments can only
+/// make it end late or early by a few lines.
 fn code_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    let mut in_tests = false;
+    // Inside a test item: the depth of its braces and whether its body has opened.
+    let mut test_item: Option<(i32, bool)> = None;
     text.lines().enumerate().filter_map(move |(i, line)| {
-        if line.trim_start().starts_with("#[cfg(test)]") {
-            in_tests = true;
+        if test_item.is_none() && line.trim_start().starts_with("#[cfg(test)]") {
+            test_item = Some((0, false));
+            return None;
         }
-        (!in_tests).then_some((i + 1, code(line)))
+        let Some((depth, opened)) = test_item.as_mut() else { return Some((i + 1, code(line))) };
+        for c in code(line).chars() {
+            match c {
+                '{' => (*depth, *opened) = (*depth + 1, true),
+                '}' => *depth -= 1,
+                _ => {}
+            }
+        }
+        if (*opened && *depth <= 0) || (!*opened && code(line).trim_end().ends_with(';')) {
+            test_item = None;
+        }
+        None
     })
 }
 
@@ -275,13 +290,21 @@ fn a_planted_violation_of_each_rule_is_named_at_its_line() {
         ("crates/nc/src/write/blocks.rs", "use super::dialect::Dialect;\nuse super::post::Setup;\n"),
         ("crates/cam/src/mill.rs", "fn f() {\n    let f = std::fs::File::open(\"x\");\n    eprintln!(\"hi\");\n}\n"),
         ("crates/geom/src/big.rs", long.as_str()),
-        ("crates/cam/src/ok.rs", "fn f() {}\n#[cfg(test)]\nmod tests { fn t() { std::fs::write(\"x\", \"\"); } }\n"),
+        (
+            "crates/cam/src/ok.rs",
+            "fn f() {}\n#[cfg(test)]\nmod tests {\n    fn t() { std::fs::write(\"x\", \"\"); }\n}\n",
+        ),
+        (
+            "crates/cam/src/after.rs",
+            "#[cfg(test)]\nuse std::fs;\n#[cfg(test)]\nmod tests {\n}\nfn f() { println!(\"x\"); }\n",
+        ),
         ("crates/cli/src/cmd/view/viewer.js", long.as_str()),
     ]);
     let found = violations(dir.path());
     let expected = [
         "crates/cam/src/mill.rs:2: a library reaches outside (`std::fs`)",
         "crates/cam/src/mill.rs:3: a library reaches outside (`eprintln!`)",
+        "crates/cam/src/after.rs:6: a library reaches outside (`println!`)",
         "crates/cli/src/cmd/sim.rs:2: command `sim` imports command `view`",
         "crates/cli/src/cmd/view.rs:1: a command reaches its sibling commands through `super::`",
         "crates/cli/src/cmd/probe/mill.rs:3: a command reaches its sibling commands through `super::`",
