@@ -549,16 +549,6 @@ impl Chip {
     pub fn heights(&self) -> (f64, f64) {
         (self.zlo, self.zhi)
     }
-
-    /// The stock plane, `z = tan α · y + c`: the `c`, mm.
-    pub fn stock_plane(&self) -> f64 {
-        self.stock
-    }
-
-    /// The engagement this chip was made from.
-    pub fn engagement(&self) -> &Engagement {
-        &self.e
-    }
 }
 
 /// The sections of one tooth at `steps` equal angles over one revolution

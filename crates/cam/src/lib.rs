@@ -10,8 +10,8 @@
 //! Every cutter is a surface of revolution about its axis: a convex,
 //! non-decreasing profile `height(r)` above the tip for `0 ≤ r ≤ R`, then a
 //! cylindrical shank of radius `R`. Drop-cutter and the scallop envelope
-//! need nothing else from a shape, so a new shape is one new file in
-//! `cutter/` (see [`cutter::Profile`]).
+//! need nothing else from a shape ([`cutter::Profile`]); what else a new shape
+//! takes (a `Cutter` variant, its SPEC, its cusp) ARCHITECTURE.md lists.
 //!
 //! # Example
 //! ```

@@ -1,5 +1,5 @@
 //! CSV tables with a header line, read by column name (the measurement
-//! files of thermal, tool and probe): every error names the line and column.
+//! files of thermal and tool): every error names the line and column.
 
 use anyhow::{anyhow, bail, Result};
 

@@ -4,7 +4,7 @@
 //! The machine, warm, puts the tool at its ideal place for the command plus
 //! the sum over the linear axes of each axis's error vector, a function of
 //! the command on that axis alone: `tip(c) = forward(c) + Σₐ Eₐ(cₐ)`
-//! (../shared/CLI.md). Each `Eₐ` is kept per indexed B angle, as three
+//! (the thermal and wear report's model). Each `Eₐ` is kept per indexed B angle, as three
 //! polynomials (the errors along X, Y and Z) in the command, fitted by
 //! least squares to measurements; the degree, unless given, is the lowest
 //! whose leave-one-out error is within 1 % (or (1 nm)²) of the least.

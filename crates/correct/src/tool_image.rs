@@ -1,7 +1,7 @@
 //! A tool's silhouette in backlit images (the thermal and wear
 //! report, the tool microscope).
 //!
-//! Convention (../shared/CLI.md): the tool axis is vertical, tip down, the
+//! Convention (`kezuri tool profile`): the tool axis is vertical, tip down, the
 //! tool dark on a bright backlight. Gray values are `0.0` (black) to `1.0`
 //! (full scale); pixel `(c, r)` covers `[c − ½, c + ½] × [r − ½, r + ½]`,
 //! row 0 at the top.

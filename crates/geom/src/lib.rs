@@ -3,7 +3,7 @@
 //! `geom` sits at the bottom of the workspace: it knows nothing of NC syntax,
 //! cutters, files or the terminal. Today it holds the machine-neutral
 //! [`Toolpath`]: the one motion model that the NC interpreter produces, the CAM
-//! pipelines will produce, and every writer and transform reads.
+//! pipelines produce, and every writer and transform reads.
 //!
 //! The surfaces CAM places cutters on live here too: [`Mesh`] (an indexed
 //! triangle mesh, read from binary or ASCII STL by [`Mesh::from_stl`], whose

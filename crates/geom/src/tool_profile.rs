@@ -1,5 +1,5 @@
 //! A measured tool: the radius of its swept envelope about the spindle axis
-//! along the tool axis (`kezuri tool profile`, ../shared/CLI.md's profile
+//! along the tool axis (`kezuri tool profile`, its profile
 //! CSV `z_mm,radius_mm`).
 //!
 //! `z` runs up the tool axis from the nominal tip (the tool-length

@@ -396,7 +396,7 @@ fn full(v: f64) -> String {
 }
 
 /// Writes `grid` in `format`: heights at full precision (the shortest
-/// text that reads back to the same number, as ../shared/CLI.md asks of
+/// text that reads back to the same number, as kezuri asks of all its
 /// data outputs), X and Y of the nominal grid to 6 decimals.
 pub fn write(grid: &ProbeGrid, format: &Format) -> String {
     let mut out = String::new();

@@ -91,11 +91,6 @@ fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
     }
 }
 
-fn hms(s: f64) -> String {
-    let t = s.round() as u64;
-    format!("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
-}
-
 /// Runs `kezuri check`.
 pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
     let (mut ran, parse_diagnostics) = read_and_run(o)?;
@@ -163,7 +158,7 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             report.motions,
             report.feed_length_mm,
             report.rapid_length_mm,
-            hms(report.time_s),
+            crate::say::hms(report.time_s),
             report.time_s
         );
         text += &format!("  {}\n", ran.dialect);

@@ -1,7 +1,8 @@
 //! `kezuri tool profile`: a tool's measured cutting profile from backlit
 //! images. Its neighbours under `kezuri tool`, the database of each tool's
-//! profiles as it wears (`tool db`, tool_db.rs) and the tool tables of other
-//! programs' files (`tool table`, tool_table.rs), are commands of their own.
+//! profiles as it wears (`tool db`, cmd/tool/db.rs) and the tool tables of other
+//! programs' files (`tool table`, cmd/tool/table.rs, over `kezuri_machine::tool_table`),
+//! are commands of their own.
 //! The profile CSV (tool_profile.rs) is `z_mm,radius_mm` (and `wear_mm`).
 
 use std::collections::BTreeMap;
