@@ -39,6 +39,8 @@
 //! [coordinates]                          # docs/coordinates.md
 //! control = "fanuc"                      # or "haas", "linuxcnc": G28, G52, G53, G90.1
 //! rotation_incremental = false           # G68 R follows G91 (Fanuc RIN)
+//! arc_tolerance_mm = 0.02                # I J K arc: end radius off the start's
+//!                                        #   (Fanuc parameter 3410)
 //!
 //! [cycles]                               # canned cycles
 //! peck_retract_mm = 0.1                  # G73 retract (Fanuc parameter 5114)
@@ -110,6 +112,8 @@ struct Coordinates {
     control: Option<String>,
     #[serde(default)]
     rotation_incremental: bool,
+    /// How far an I J K arc's end may be off its circle (Fanuc parameter 3410).
+    arc_tolerance_mm: Option<f64>,
 }
 
 /// `[cycles]`: the canned cycles' parameters.
@@ -519,6 +523,9 @@ impl Machine {
             Some(other) => fail!(Invalid, "coordinates.control: '{other}' is not fanuc, haas or linuxcnc"),
         };
         settings.coords.rotation_incremental = file.coordinates.rotation_incremental;
+        if let Some(t) = file.coordinates.arc_tolerance_mm {
+            settings.arc_tolerance = Some(positive("coordinates.arc_tolerance_mm", Some(t), 0.0)?);
+        }
         let kinematics = match &file.kinematics {
             Some(c) => chains(c)?,
             None => Kinematics::mill(),
@@ -570,6 +577,8 @@ mod tests {
         assert!(l.settings.coords.rotation_incremental);
         assert_eq!(l.settings.coords.reference_points[2].x, 1.0);
         assert!(parse("[coordinates]\ncontrol = \"okuma\"").is_err());
+        assert_eq!((m.settings.arc_tolerance, l.settings.arc_tolerance), (Some(0.02), None));
+        assert!(parse("[coordinates]\narc_tolerance_mm = 0").is_err());
         assert!(parse("[offsets]\nref5 = [1]").is_err());
         assert_eq!(m.settings.comp_rules, Rules::Fanuc { startup: Approach::A });
         let b = parse("[comp]\nstartup = \"b\"").unwrap();

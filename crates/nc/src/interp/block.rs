@@ -168,6 +168,19 @@ impl State {
             };
             let group = code.group();
             if let Some(j) = codes[..k].iter().position(|c| c.is_some_and(|(c, _)| c.group() == group)) {
+                // A skip to a machine position: G53 with G31 (Fanuc, Haas).
+                let pair = [code, codes[j].map_or(code, |(c, _)| c)];
+                let machine_skip = pair.contains(&GCode::MachineCoords) && pair.contains(&GCode::Skip);
+                if group == 0 && machine_skip && self.settings.coords.control != Control::LinuxCnc {
+                    codes[k] = Some((code, gspan));
+                    continue;
+                }
+                if group == 0 && machine_skip {
+                    return Err(Diagnostic::error(
+                        gspan,
+                        "Must use G0 or G1 with G53 (LinuxCNC stops here): no probe move in machine coordinates",
+                    ));
+                }
                 if group == 0 {
                     return Err(Diagnostic::error(
                         gspan,
@@ -498,9 +511,12 @@ fn fill_arguments(w: &Words, args: &mut Locals) {
             args[slot - 1] = Value::Num(v);
         }
     }
-    // M words are kept apart as M codes; the first one is argument #13.
+    // M words are kept apart as M codes; the first one is argument #13,
+    // which may have a fraction (`M0.070`).
     if w.m_count > 0 {
         args[12] = Value::Num(f64::from(w.m[0].0));
+    } else if let Some(m) = w.m_argument {
+        args[12] = Value::Num(m);
     }
 }
 

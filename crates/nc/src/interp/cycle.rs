@@ -16,7 +16,7 @@
 mod families;
 mod kept;
 
-use kezuri_geom::{Axes, AxisSet, MoveKind};
+use kezuri_geom::{Axes, AxisSet, MoveKind, Spindle};
 
 use super::modal::{Cycle, CycleReturn, Distance};
 use super::words::Words;
@@ -72,6 +72,8 @@ struct RunHole {
     /// P is written in seconds (LinuxCNC), not milliseconds.
     seconds: bool,
     initial: f64,
+    /// LinuxCNC's G87: its shift I J (mm), written with the top K.
+    back_shift: Option<[f64; 2]>,
 }
 
 /// The hole data in force, as the program gave them (mm, seconds).
@@ -89,6 +91,9 @@ pub(super) struct HoleData {
     p_given: bool,
     /// G76/G87 shift given by I and J (plane axes), mm.
     shift: Option<[f64; 2]>,
+    /// LinuxCNC's G87: K, the top of the back bore, and whether it was
+    /// given in G91 (from the bottom) or G90 (a level).
+    back_top: Option<(f64, Distance)>,
     /// Machine coordinate of the tool tip on the depth axis when the cycle
     /// began: the initial level.
     initial: f64,
@@ -144,16 +149,19 @@ impl State {
         let (i, j, n) = self.modal.plane.axes();
         let depth_letter = b"XYZ"[n];
         let plane_letters = [b"XYZ"[i], b"XYZ"[j]];
-        self.hole_data(w, depth_letter)?;
+        // LinuxCNC's G87 reads K as the top of the back bore.
+        let lcnc_back = cycle == Cycle::BackBore && self.settings.dialect == crate::Dialect::LinuxCnc;
+        self.hole_data(w, depth_letter, lcnc_back)?;
         let drills =
             plane_letters.iter().chain(b"ABC").any(|&l| w.has(l)) || w.polar() || w.has(depth_letter) || w.has(b'R');
         let repeats = match (w.get(b'K'), w.get(b'L')) {
             (Some(_), Some(_)) => {
                 return Err(Diagnostic::error(w.span(b'L'), "give the repeat count in K or in L, not both"))
             }
-            (Some(k), None) => whole_count(k, w.span(b'K'))?,
+            (Some(k), None) if !lcnc_back => whole_count(k, w.span(b'K'))?,
+            (_, Some(l)) if lcnc_back => whole_count(l, w.span(b'L'))?,
             (None, Some(l)) => whole_count(l, w.span(b'L'))?,
-            (None, None) => 1,
+            _ => 1,
         };
         if !drills || repeats == 0 {
             return Ok(false);
@@ -179,6 +187,7 @@ impl State {
             _ => None,
         };
         let shift = match cycle {
+            Cycle::BackBore if lcnc_back => self.linuxcnc_back_bore_words(span)?,
             Cycle::FineBore | Cycle::BackBore => self.boring_shift(w, span, g)?,
             _ => [0.0, 0.0],
         };
@@ -213,7 +222,9 @@ impl State {
                 (v, Distance::Absolute) => v + offset,
                 (v, Distance::Incremental) => r_level + v,
             };
-            let back = cycle == Cycle::BackBore;
+            // Fanuc's G87 bores upward from R below the part; LinuxCNC's
+            // goes down past R to the bottom like any hole.
+            let back = cycle == Cycle::BackBore && !lcnc_back;
             if !back && bottom_level > r_level {
                 let at = if w.has(depth_letter) { w.span(depth_letter) } else { span };
                 return Err(Diagnostic::error(
@@ -263,7 +274,16 @@ impl State {
                 if self.tip.to_array()[n] != r_level {
                     self.along(MoveKind::Rapid, r_level, 0.0, line);
                 }
-                self.hole_motion(cycle, levels, feed, peck, shift, span, line);
+                if lcnc_back {
+                    let top = match self.hole.back_top {
+                        Some((v, Distance::Absolute)) => v + offset,
+                        Some((v, Distance::Incremental)) => bottom_level + v,
+                        None => bottom_level,
+                    };
+                    self.linuxcnc_back_bore(shift, levels, top, feed, line);
+                } else {
+                    self.hole_motion(cycle, levels, feed, peck, shift, span, line);
+                }
             }
             self.spindle = spindle;
             self.end_hole(cycle, start, line);
@@ -273,7 +293,7 @@ impl State {
 
     /// Stores the hole data a cycle block gives: the bottom (the depth axis
     /// `depth_letter`), R, Q, the dwell P and the shift I J.
-    fn hole_data(&mut self, w: &Words, depth_letter: u8) -> Result<(), Diagnostic> {
+    fn hole_data(&mut self, w: &Words, depth_letter: u8, lcnc_back: bool) -> Result<(), Diagnostic> {
         let mode = self.modal.distance;
         if let Some(v) = w.get(depth_letter) {
             self.hole.bottom = Some((self.mm(v), mode));
@@ -293,6 +313,9 @@ impl State {
             self.hole.dwell = seconds;
             self.hole.p_given = true;
         }
+        if let Some(k) = w.get(b'K').filter(|_| lcnc_back) {
+            self.hole.back_top = Some((self.mm(k), mode));
+        }
         if w.has(b'I') || w.has(b'J') {
             let shift = [w.get(b'I').map_or(0.0, |v| self.mm(v)), w.get(b'J').map_or(0.0, |v| self.mm(v))];
             self.hole.shift = Some(shift);
@@ -304,14 +327,11 @@ impl State {
     fn cycle_refusals(&self, cycle: Cycle, span: Span) -> Result<(), Diagnostic> {
         let g = cycle.number();
         let lcnc_rules = self.settings.dialect == crate::Dialect::LinuxCnc;
-        if lcnc_rules && matches!(cycle, Cycle::BackBore | Cycle::BoreManual) {
-            return Err(Diagnostic::error(
-                span,
-                format!("G{g} is not defined in LinuxCNC (its manual: accepted, behaviour undefined): refused in the linuxcnc dialect"),
-            ));
+        if lcnc_rules && matches!(cycle, Cycle::BoreStop | Cycle::BoreManual) && !self.hole.p_given {
+            return Err(Diagnostic::error(span, format!("G{g} needs the dwell P in LinuxCNC (P0 for none)")));
         }
-        if lcnc_rules && cycle == Cycle::BoreStop && !self.hole.p_given {
-            return Err(Diagnostic::error(span, "G86 needs the dwell P in LinuxCNC (P0 for none)"));
+        if lcnc_rules && matches!(cycle, Cycle::BackBore | Cycle::BoreManual) && self.spindle == Spindle::Off {
+            return Err(Diagnostic::error(span, format!("G{g} needs the spindle turning (M3 or M4) in LinuxCNC")));
         }
         if self.comp_on() {
             // LinuxCNC stops here; on Fanuc the holes would land off the

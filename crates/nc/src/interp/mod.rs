@@ -107,6 +107,12 @@ pub struct Settings {
     /// the work offsets, #5220 the coordinate system, … (docs/linuxcnc.md,
     /// "Parameters"). Lengths in mm.
     pub parameters: BTreeMap<u32, f64>,
+    /// Largest difference (mm) between an I J K arc's radius at its start
+    /// and at its end that the control runs: Fanuc's parameter 3410 (the
+    /// whole rule on Fanuc and Haas), LinuxCNC's
+    /// `CENTER_ARC_RADIUS_TOLERANCE_MM` (its absolute part; the 0.1 % of the
+    /// radius stays). `None`: the control's default (`docs/gcode-support.md`).
+    pub arc_tolerance: Option<f64>,
 }
 
 impl Settings {
@@ -139,6 +145,7 @@ impl Default for Settings {
             macro_variables: MacroVariables::default(),
             input_signals: BTreeMap::new(),
             parameters: BTreeMap::new(),
+            arc_tolerance: None,
         }
     }
 }

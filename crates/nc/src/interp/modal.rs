@@ -267,8 +267,9 @@ impl GCode {
             690 => Rotation(false),
             510 => Scaling(true),
             500 => Scaling(false),
-            511 => Mirror(true),
-            501 => Mirror(false),
+            // Haas G101/G100: mirror image about the work zero (coords/codes.rs).
+            511 | 1010 => Mirror(true),
+            501 | 1000 => Mirror(false),
             160 => Polar(true),
             150 => Polar(false),
             901 => ArcCentre(self::Distance::Absolute),

@@ -10,8 +10,24 @@ use super::{Control, IntegerInput, State};
 use crate::source::{Diagnostic, Span};
 
 /// Largest difference (mm) between an I J K arc's start and end radius that
-/// the control accepts: parameter 3410 of a Fanuc control, typically 0.02 mm.
+/// a Fanuc or Haas control accepts by default: parameter 3410, typically
+/// 0.02 mm (the machine file's `[coordinates] arc_tolerance_mm` sets it).
 const ARC_RADIUS_ALARM: f64 = 0.02;
+
+/// LinuxCNC's default absolute part of the rule (`CENTER_ARC_RADIUS_TOLERANCE`
+/// in its interpreter): 0.02·√2 mm under G21, 0.002·√2 inch under G20.
+const LINUXCNC_ARC_MM: f64 = 0.02 * std::f64::consts::SQRT_2;
+const LINUXCNC_ARC_INCH: f64 = 0.002 * std::f64::consts::SQRT_2;
+
+/// LinuxCNC's relative part: a difference past the absolute tolerance is
+/// refused where it is also past 0.1 % of the larger radius (and any past
+/// 100 times the absolute tolerance), as rs274 2.9 runs it.
+const LINUXCNC_ARC_RELATIVE: f64 = 0.001;
+
+/// GRBL's rule: off by more than 0.005 mm and more than 0.1 % of the
+/// radius, or by more than 0.5 mm.
+const GRBL_ARC_MM: f64 = 0.005;
+const GRBL_ARC_LIMIT_MM: f64 = 0.5;
 
 impl State {
     /// The feed in mm/min for the current modal state.
@@ -126,6 +142,12 @@ impl State {
             return Ok(false);
         }
         let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
+        if let Some((_, gspan)) = one_shot.filter(|_| {
+            let has = |g: GCode| codes.iter().flatten().any(|(c, _)| *c == g);
+            has(GCode::MachineCoords) && has(GCode::Skip)
+        }) {
+            return self.machine_skip(w, gspan, span, line);
+        }
         if w.polar() {
             self.polar_rules(one_shot, w)?;
         }
@@ -329,6 +351,34 @@ impl State {
         Ok(true)
     }
 
+    /// `G53 G31` (Fanuc, Haas): a skip move to a machine position, the
+    /// length offset ignored as for G53 (the gauge line goes there); under
+    /// G91 the G53 is ignored (a warning) and the skip moves by increments.
+    fn machine_skip(&mut self, w: &Words, gspan: Span, span: Span, line: u32) -> Result<bool, Diagnostic> {
+        if self.modal.distance == Distance::Incremental {
+            self.g53_incremental(gspan)?;
+            return self.skip(w, gspan, span, line);
+        }
+        if !w.any_axis() {
+            return Ok(false);
+        }
+        if self.modal.feed_mode == FeedMode::InverseTime {
+            return Err(Diagnostic::error(gspan, "a skip move in inverse time feed (G93): give G94 first"));
+        }
+        let mut p = self.tip.to_array();
+        let lz = self.length_offset();
+        for (i, &letter) in b"XYZABC".iter().enumerate() {
+            if let Some(v) = w.get(letter) {
+                p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
+            }
+        }
+        let feed = self.feed_mm_min(span);
+        self.push_move(MoveKind::Probe, Axes::from_array(p), feed, w.axes(), line);
+        let work = self.work_position();
+        self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
+        Ok(true)
+    }
+
     /// A move in the motion mode in force: rapid, feed or arc. Returns
     /// whether an axis moved.
     #[inline(always)]
@@ -443,11 +493,13 @@ impl State {
                 return Err(Diagnostic::error(span, "the arc's centre is its start point (radius 0)"));
             }
             let off = (r1 - r0).abs();
-            if off > ARC_RADIUS_ALARM {
-                // The control stops here (Fanuc alarm PS0020, over tolerance of radius).
+            if let Some(limit) = self.arc_radius_refused(r0, r1) {
+                // The control stops here (Fanuc alarm PS0020, over tolerance
+                // of radius; LinuxCNC "Radius to end of arc differs from
+                // radius to start").
                 return Err(Diagnostic::error(
                     span,
-                    format!("the arc's end point is {off:.4} mm off its circle (radius {r0:.4} at the start, {r1:.4} at the end): more than {ARC_RADIUS_ALARM} mm, the control stops with an alarm"),
+                    format!("the arc's end point is {off:.4} mm off its circle (radius {r0:.4} at the start, {r1:.4} at the end): more than {limit}, the control stops with an alarm"),
                 ));
             }
             if off > 0.002 {
@@ -474,5 +526,42 @@ impl State {
             _ => 0,
         };
         Ok(Arc { center, plane, ccw, turns })
+    }
+
+    /// Whether the control refuses an I J K arc whose radius is `r0` at the
+    /// start and `r1` at the end (mm): what it allows, in words, if it does.
+    /// Fanuc and Haas: the difference past parameter 3410 (0.02 mm unless
+    /// the machine file says). LinuxCNC: past its absolute tolerance and
+    /// 0.1 % of the larger radius, both, or past 100 times the absolute
+    /// tolerance. GRBL: past 0.005 mm and 0.1 %,
+    /// both, or past 0.5 mm.
+    fn arc_radius_refused(&self, r0: f64, r1: f64) -> Option<String> {
+        let off = (r1 - r0).abs();
+        let given = self.settings.arc_tolerance;
+        match self.settings.dialect {
+            crate::Dialect::Grbl if given.is_none() => {
+                let relative = LINUXCNC_ARC_RELATIVE * r0;
+                (off > GRBL_ARC_LIMIT_MM || (off > GRBL_ARC_MM && off > relative))
+                    .then(|| format!("GRBL allows ({GRBL_ARC_MM} mm and 0.1 % of the radius, {relative:.4} mm, both)"))
+            }
+            _ if self.settings.coords.control == Control::LinuxCnc => {
+                let absolute = given.unwrap_or(if self.modal.units == Units::Inch {
+                    LINUXCNC_ARC_INCH * 25.4
+                } else {
+                    LINUXCNC_ARC_MM
+                });
+                let relative = LINUXCNC_ARC_RELATIVE * r0.max(r1);
+                (off > 100.0 * absolute || (off > absolute && off > relative)).then(|| {
+                    format!(
+                        "LinuxCNC allows ({absolute:.4} mm and 0.1 % of the radius, {relative:.4} mm, both; {:.4} mm at most)",
+                        100.0 * absolute
+                    )
+                })
+            }
+            _ => {
+                let limit = given.unwrap_or(ARC_RADIUS_ALARM);
+                (off > limit).then(|| format!("{limit} mm"))
+            }
+        }
     }
 }

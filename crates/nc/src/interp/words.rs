@@ -26,6 +26,9 @@ pub(super) struct Words<'a> {
     pub(super) g_count: usize,
     pub(super) m: [(u32, Span); 4],
     pub(super) m_count: usize,
+    /// In a macro call's block (G65, G66, G66.1), an M word that is no M
+    /// code (`M0.070`, `M-1.`): argument #13 only.
+    pub(super) m_argument: Option<f64>,
 }
 
 /// A–Z, `@` (the polar radius) and `^` (the polar angle).
@@ -56,6 +59,7 @@ impl<'a> Words<'a> {
             g_count: 0,
             m: [(0, Span::default()); 4],
             m_count: 0,
+            m_argument: None,
         }
     }
 
@@ -203,6 +207,14 @@ impl State {
                 }
                 b'M' => {
                     if v.fract() != 0.0 || !(0.0..=99_999_999.0).contains(&v) {
+                        // In a macro call M is argument #13, any number.
+                        if self.calls_macro(w.words) {
+                            if w.m_argument.is_some() {
+                                return Err(Diagnostic::error(word_span, "address M appears twice in this block"));
+                            }
+                            w.m_argument = Some(v);
+                            continue;
+                        }
                         return Err(Diagnostic::error(word_span, format!("M{v} is not an M code")));
                     }
                     if w.m_count == w.m.len() {
@@ -264,6 +276,22 @@ impl State {
             }
         }
         Ok(())
+    }
+}
+
+impl State {
+    /// Whether the block of `words` calls a macro with its words as
+    /// arguments: G65, G66 or G66.1 written in it, or G66.1 in force.
+    fn calls_macro(&self, words: &[Word]) -> bool {
+        let every_block = self.modal.modal_call == Some(super::modal::ModalCallKind::EveryBlock)
+            && self.modal_call.is_some()
+            && self.modal_depth == 0;
+        every_block
+            || words.iter().any(|w| {
+                w.letter == b'G'
+                    && matches!(w.value(), WordValue::Number { value, .. }
+                        if matches!(GCode::decode((value * 10.0).round() as u32), Some(GCode::MacroCall | GCode::ModalCall(_))))
+            })
     }
 }
 

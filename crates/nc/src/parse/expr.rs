@@ -34,6 +34,15 @@ impl LineParser<'_> {
                 self.pos += close + 1;
                 Ok(self.push(Expr::Named(name)))
             }
+            // LinuxCNC reads `##n` as `#[#n]` (a parameter's number in
+            // another parameter), to any depth; Fanuc needs the brackets.
+            Some(b'#') if self.dialect == Dialect::LinuxCnc => {
+                let n = self.variable_number()?;
+                Ok(match self.program.exprs[n as usize] {
+                    Expr::Named(_) => n,
+                    _ => self.push(Expr::Var(n)),
+                })
+            }
             Some(b'#') => Err(self.error_here("write #[#n] for an indirect variable, not ##n")),
             _ => Err(Diagnostic::error(self.span(start), "expected a variable number or '[' after '#'")),
         }

@@ -43,18 +43,36 @@ impl State {
             GCode::Scaling(false) => self.coords.scale = None,
             GCode::Scaling(true) => self.scaling(w, gspan)?,
             GCode::Mirror(on) => {
+                // Haas G101 X… mirrors the named axes about the work zero
+                // (the words' values do not matter), G100 ends it.
+                let haas = w.g[..w.g_count].iter().any(|&(t, _)| t == 1010 || t == 1000);
+                let name = match (haas, on) {
+                    (true, true) => "G101",
+                    (true, false) => "G100",
+                    (false, true) => "G51.1",
+                    (false, false) => "G50.1",
+                };
+                if haas && self.settings.coords.control != Control::Haas {
+                    return Err(Diagnostic::error(
+                        gspan,
+                        format!(
+                            "{name} is Haas's mirror image: read the program with --dialect haas (Fanuc: G51.1/G50.1)"
+                        ),
+                    ));
+                }
                 let named: Vec<usize> = (0..3).filter(|&i| w.has(LETTERS[i])).collect();
                 for (i, &letter) in LETTERS[..3].iter().enumerate() {
                     if on {
                         if let Some(v) = w.get(letter) {
-                            self.coords.mirror[i] = Some(self.mm(v));
+                            self.coords.mirror[i] = Some(if haas { 0.0 } else { self.mm(v) });
                         }
                     } else if named.is_empty() || named.contains(&i) {
                         self.coords.mirror[i] = None;
                     }
                 }
                 if on && named.is_empty() {
-                    return Err(Diagnostic::error(gspan, "G51.1 needs the mirror line: X, Y or Z"));
+                    let what = if haas { "the axes to mirror" } else { "the mirror line" };
+                    return Err(Diagnostic::error(gspan, format!("{name} needs {what}: X, Y or Z")));
                 }
             }
             _ => return Ok(false),

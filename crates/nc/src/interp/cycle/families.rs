@@ -130,6 +130,37 @@ impl State {
         self.shift_by(shift, -1.0, line);
     }
 
+    /// LinuxCNC's G87, from R above the hole, as rs274 runs it: shifted by
+    /// I J with the spindle stopped, down to the bottom Z, back on the
+    /// centre, the spindle on, feed up to the top K and back down, stopped
+    /// again, shifted, out to the clear level, back on the centre.
+    pub(super) fn linuxcnc_back_bore(&mut self, shift: [f64; 2], l: Levels, top: f64, feed: f64, line: u32) {
+        let spindle = self.spindle;
+        self.spindle = Spindle::Off;
+        self.shift_by(shift, 1.0, line);
+        self.along(MoveKind::Rapid, l.bottom, 0.0, line);
+        self.shift_by(shift, -1.0, line);
+        self.spindle = spindle;
+        self.along(MoveKind::Feed, top, feed, line);
+        self.along(MoveKind::Feed, l.bottom, feed, line);
+        self.spindle = Spindle::Off;
+        self.shift_by(shift, 1.0, line);
+        self.along(MoveKind::Rapid, l.up, 0.0, line);
+        self.shift_by(shift, -1.0, line);
+    }
+
+    /// LinuxCNC's G87 needs I, J (the shift, always incremental) and K (the
+    /// top of the back bore) when the cycle begins; later holes keep them.
+    pub(super) fn linuxcnc_back_bore_words(&self, span: Span) -> Result<[f64; 2], Diagnostic> {
+        match (self.hole.shift, self.hole.back_top) {
+            (Some(shift), Some(_)) => Ok(shift),
+            _ => Err(Diagnostic::error(
+                span,
+                "G87 needs I and J (the shift that lets the tool through the hole) and K (the top of the back bore) in LinuxCNC",
+            )),
+        }
+    }
+
     /// G84, G74: the spindle cutting into the hole, feed in, the dwell, the
     /// spindle reversed, feed out to R (LinuxCNC: to the clear level), the
     /// spindle as it cut.

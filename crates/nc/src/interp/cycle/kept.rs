@@ -18,7 +18,8 @@ impl State {
         if moves == 0 {
             return;
         }
-        let to_initial = cycle == Cycle::BackBore || self.modal.cycle_return == CycleReturn::Initial;
+        let lcnc_back = cycle == Cycle::BackBore && self.settings.dialect == crate::Dialect::LinuxCnc;
+        let to_initial = (cycle == Cycle::BackBore && !lcnc_back) || self.modal.cycle_return == CycleReturn::Initial;
         // What its block is made of, written only if the hole is kept.
         let hole = RunHole {
             start,
@@ -36,6 +37,7 @@ impl State {
             rigid_speed: (cycle.is_tapping() && self.hole.rigid).then_some(self.speed),
             seconds: self.settings.integer_input == IntegerInput::Units,
             initial: self.hole.initial,
+            back_shift: self.hole.shift.filter(|_| lcnc_back),
         };
         let keep = cycle.is_tapping()
             || self.settings.cycles.keep
@@ -82,7 +84,10 @@ impl State {
         let place = first.to_array();
         let r_level = hole_r_level(moves, n);
         let levels = moves.iter().map(|m| m.end.to_array()[n]);
-        let bottom = if h.cycle == Cycle::BackBore {
+        let bottom = if h.back_shift.is_some() {
+            // LinuxCNC's G87 ends its bore where it went down to.
+            moves.iter().rev().find(|m| m.kind == MoveKind::Feed).map_or(r_level, |m| m.end.to_array()[n])
+        } else if h.cycle == Cycle::BackBore {
             levels.fold(f64::NEG_INFINITY, f64::max).min(h.initial)
         } else {
             levels.fold(f64::INFINITY, f64::min)
@@ -109,7 +114,12 @@ impl State {
             value(bottom, n),
             value(r_level, n),
         );
-        if let Some(q) = h.q {
+        if let Some([si, sj]) = h.back_shift {
+            // The top of the back bore: where the first feed ends.
+            let top = moves.iter().find(|m| m.kind == MoveKind::Feed).map_or(bottom, |m| m.end.to_array()[n]);
+            let k = value(top, n);
+            text.push_str(&format!(" I{} J{} K{k}", number(si / unit, 6), number(sj / unit, 6)));
+        } else if let Some(q) = h.q {
             text.push_str(&format!(" Q{}", number(q / unit, 6)));
         }
         if h.dwell > 0.0 {
