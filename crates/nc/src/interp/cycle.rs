@@ -155,11 +155,11 @@ impl State {
         let drills =
             plane_letters.iter().chain(b"ABC").any(|&l| w.has(l)) || w.polar() || w.has(depth_letter) || w.has(b'R');
         let repeats = match (w.get(b'K'), w.get(b'L')) {
+            (_, Some(l)) if lcnc_back => whole_count(l, w.span(b'L'))?,
             (Some(_), Some(_)) => {
                 return Err(Diagnostic::error(w.span(b'L'), "give the repeat count in K or in L, not both"))
             }
             (Some(k), None) if !lcnc_back => whole_count(k, w.span(b'K'))?,
-            (_, Some(l)) if lcnc_back => whole_count(l, w.span(b'L'))?,
             (None, Some(l)) => whole_count(l, w.span(b'L'))?,
             _ => 1,
         };

@@ -1,0 +1,138 @@
+//! Codes real programs use that each control reads its own way: the arc
+//! radius tolerance of each dialect, `G65` arguments with a fraction on M,
+//! LinuxCNC's `##n`, `G53` with `G31`, Haas `G101`/`G100`. The LinuxCNC
+//! expectations were confirmed with `rs274 -g` (LinuxCNC 2.9.0~pre1), as
+//! `crates/cli/tests/linuxcnc_codes.rs` does again where rs274 is installed.
+
+use kezuri_geom::MoveKind;
+use kezuri_nc::interp::{Control, CoordSettings, IntegerInput, Settings};
+use kezuri_nc::Dialect;
+
+mod common;
+
+fn settings(dialect: Dialect) -> Settings {
+    let units = matches!(dialect, Dialect::LinuxCnc | Dialect::Grbl);
+    let control = match dialect {
+        Dialect::LinuxCnc | Dialect::Grbl => Control::LinuxCnc,
+        Dialect::Haas => Control::Haas,
+        Dialect::Fanuc => Control::Fanuc,
+    };
+    Settings {
+        dialect,
+        integer_input: if units { IntegerInput::Units } else { IntegerInput::Increments },
+        coords: CoordSettings { control, ..CoordSettings::default() },
+        ..Settings::default()
+    }
+}
+
+/// A G2 from X0 Y0 to `x` with its centre at I `i`: whether it runs.
+fn arc_runs(x: &str, i: &str, settings: &Settings) -> bool {
+    let text = format!("G21 G90 G17\nG0 X0. Y0. Z0.\nF100.\nG2 X{x} Y0. I{i} J0.\nM30\n");
+    let run = common::run("a.nc", &text, settings);
+    match run.error() {
+        None => true,
+        Some(d) => {
+            assert!(d.message.contains("off its circle"), "{x} {i}: {}", d.message);
+            false
+        }
+    }
+}
+
+#[test]
+fn each_control_has_its_own_arc_radius_tolerance() {
+    let lcnc = settings(Dialect::LinuxCnc);
+    // rs274 runs a 0.0254 mm difference on a 50 mm radius (0.05 %), and
+    // draws the arc to the end as given.
+    let t = common::run(
+        "a.ngc",
+        "G21 G90 G17\nG0 X0 Y0 Z0\nF100\nG2 X100 Y0 I50.0127 J0\nG3 X0 Y0 I-49.9873 J0\nM2\n",
+        &lcnc,
+    )
+    .path();
+    assert_eq!(t.moves.iter().filter(|m| matches!(m.kind, MoveKind::Arc(_))).count(), 2);
+    // rs274: refused past 0.02·√2 mm where that is also past 0.1 % of the
+    // radius, and past 100 times 0.02·√2 mm whatever the radius.
+    for (x, i, runs) in [
+        ("10", "5.0141", true),
+        ("10", "5.0142", false),
+        ("100", "50.0142", true),
+        ("100", "50.06", false),
+        ("0.01", "0.0193", true),
+        ("10000", "5001.41", true),
+        ("10000", "5001.42", false),
+    ] {
+        assert_eq!(arc_runs(x, i, &lcnc), runs, "LinuxCNC X{x} I{i}");
+    }
+    // Fanuc: parameter 3410, 0.02 mm unless the machine file says.
+    let fanuc = settings(Dialect::Fanuc);
+    assert!(!arc_runs("100.", "50.0127", &fanuc));
+    assert!(arc_runs("100.", "50.0127", &Settings { arc_tolerance: Some(0.03), ..fanuc.clone() }));
+    assert!(arc_runs("10.", "5.009", &fanuc));
+    // GRBL: past 0.005 mm and 0.1 % of the radius.
+    let grbl = settings(Dialect::Grbl);
+    assert!(!arc_runs("10", "5.005", &grbl));
+    assert!(arc_runs("100", "50.0127", &grbl));
+}
+
+#[test]
+fn a_g65_argument_m_may_have_a_fraction() {
+    // `M0.070` is argument M, #13; other letters too take fractions.
+    let text =
+        "O1000\nG65 P9010 M0.070 A1.5\nG66.1 P9010 M2.5 A3.\nG00 M0.25 A0.5\nG67\nM30\nO9010\nG00 X#13 Y#1\nM99\n";
+    let t = common::run("m.nc", text, &settings(Dialect::Fanuc)).path();
+    let ends: Vec<[f64; 2]> = t.moves.iter().map(|m| [m.end.x, m.end.y]).collect();
+    assert_eq!(ends, [[0.07, 1.5], [2.5, 3.0], [0.25, 0.5]]);
+    // Outside a macro call it is no M code.
+    let run = common::run("m.nc", "O1000\nG00 X1. M0.070\nM30\n", &settings(Dialect::Fanuc));
+    assert_eq!(run.message(), "M0.07 is not an M code");
+}
+
+#[test]
+fn linuxcnc_reads_hash_hash_n_as_an_indirect_parameter() {
+    // rs274: STRAIGHT_TRAVERSE(7.5, 3, …), then (2, 3, …).
+    let text = "G21 G90\n#1=2\n#2=7.5\n#3=3\nG0 X##1 Y#3\n##1=2\nG0 X#2\nM2\n";
+    let t = common::linuxcnc::path(text);
+    let ends: Vec<[f64; 2]> = t.moves.iter().map(|m| [m.end.x, m.end.y]).collect();
+    assert_eq!(ends, [[7.5, 3.0], [2.0, 3.0]]);
+    // Three deep: #[#[#1]].
+    let t = common::linuxcnc::path("#1=2\n#2=3\n#3=4.5\nG0 X###1\nM2\n");
+    assert_eq!(t.moves[0].end.x, 4.5);
+}
+
+#[test]
+fn g53_with_g31_skips_to_a_machine_position_on_fanuc_and_haas() {
+    let mut s = settings(Dialect::Fanuc);
+    s.work_offsets[0] = kezuri_geom::Axes { x: 100.0, z: -200.0, ..kezuri_geom::Axes::ZERO };
+    s.tool_lengths.insert(1, 50.0);
+    // After mojimould/mould_moji, Created_NC_Programs/sub_programs/O919100.nc
+    // (tool length measurement): `G91 G53 G31 P2 Z-#06 F#654`.
+    let text = "O1000\nG90 G54 G00 X0. Y0. Z10.\nG43 H1 Z10.\nG53 G31 Z-300. F200.\n#100=#5063\nG91 G53 G31 P2 Z-5. F100.\nG90 G00 X#100\nM30\n";
+    let run = common::run("s.nc", text, &s);
+    let o = run.completed();
+    let probes: Vec<[f64; 3]> =
+        o.toolpath.moves.iter().filter(|m| m.kind == MoveKind::Probe).map(|m| [m.end.x, m.end.y, m.end.z]).collect();
+    // The gauge line to machine Z-300: the tip 50 mm below; then 5 mm down.
+    assert_eq!(probes, [[100.0, 0.0, -350.0], [100.0, 0.0, -355.0]]);
+    // #5063: the skip position in work coordinates with the length offset,
+    // -350 + 200 + 50 = -100; X-100 in G54 is machine X0.
+    assert_eq!(o.toolpath.moves.last().unwrap().end.x, 0.0);
+    assert!(o.diagnostics.iter().any(|d| d.message.contains("G53 under G91")));
+    // Haas too; LinuxCNC stops ("Must use g0 or g1 with g53").
+    common::run("s.nc", "G53 G31 Z-300. F200.\nM30\n", &settings(Dialect::Haas)).completed();
+    let e = common::linuxcnc::error("G53 G38.2 Z-20 F100\nM2\n");
+    assert!(e.contains("Must use G0 or G1 with G53"), "{e}");
+}
+
+#[test]
+fn haas_g101_mirrors_the_named_axes_about_the_work_zero() {
+    // Haas 96-8000 (June 1999), G101: "Mirror image will reflect
+    // programmed motion around your work coordinate zero point"; one axis
+    // of the plane mirrored reverses G02/G03.
+    let text = "O1000\nG90 G54 G17\nG00 X0. Y0. Z5.\nG101 X5.\nG01 X10. Y5. F100.\nG02 X20. Y5. R5.\nG100 X0.\nG00 X10. Y5.\nM30\n";
+    let t = common::run("m.nc", text, &settings(Dialect::Haas)).path();
+    let ends: Vec<[f64; 2]> = t.moves.iter().map(|m| [m.end.x, m.end.y]).collect();
+    assert_eq!(ends, [[0.0, 0.0], [-10.0, 5.0], [-20.0, 5.0], [10.0, 5.0]]);
+    assert!(matches!(t.moves[2].kind, MoveKind::Arc(a) if a.ccw));
+    let run = common::run("m.nc", text, &settings(Dialect::Fanuc));
+    assert!(run.message().contains("Haas's mirror image"), "{}", run.message());
+}
