@@ -136,3 +136,76 @@ fn haas_g101_mirrors_the_named_axes_about_the_work_zero() {
     let run = common::run("m.nc", text, &settings(Dialect::Fanuc));
     assert!(run.message().contains("Haas's mirror image"), "{}", run.message());
 }
+
+/// The point at `t` of the Bézier curve with control points `p`.
+fn bezier(p: &[[f64; 2]], t: f64) -> [f64; 2] {
+    let s = 1.0 - t;
+    let w: Vec<f64> = if p.len() == 3 {
+        vec![s * s, 2.0 * s * t, t * t]
+    } else {
+        vec![s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t]
+    };
+    let mut q = [0.0; 2];
+    for (c, wk) in p.iter().zip(w) {
+        q[0] += wk * c[0];
+        q[1] += wk * c[1];
+    }
+    q
+}
+
+/// How far point `q` is from the polyline through `pts`.
+fn off_polyline(q: [f64; 2], pts: &[[f64; 2]]) -> f64 {
+    pts.windows(2)
+        .map(|s| {
+            let (a, b) = (s[0], s[1]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let len2 = dx * dx + dy * dy;
+            let t = if len2 == 0.0 { 0.0 } else { (((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / len2).clamp(0.0, 1.0) };
+            (q[0] - a[0] - t * dx).hypot(q[1] - a[1] - t * dy)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn linuxcnc_splines_are_feed_moves_within_a_micrometre_of_the_curve() {
+    // G5.1 from (0, 0), control point (0, 0) + I J, end X Y; then G5 from
+    // there with I J P Q, and a G5 without I J leaving along the last P Q.
+    let text = "G21 G90 G17\nG0 X0 Y0 Z0\nF100\nG5.1 X10 Y0 I5 J5\nG5 X20 Y5 I2 J-3 P-1 Q4\nG5 X30 Y0 P2 Q2\nX31\nM2\n";
+    let t = common::linuxcnc::path(text);
+    let feeds: Vec<(u32, [f64; 2])> =
+        t.moves.iter().filter(|m| m.kind == MoveKind::Feed).map(|m| (m.line, [m.end.x, m.end.y])).collect();
+    let curve = |line: u32, start: [f64; 2]| -> Vec<[f64; 2]> {
+        std::iter::once(start).chain(feeds.iter().filter(|f| f.0 == line).map(|f| f.1)).collect()
+    };
+    let quad = [[0.0, 0.0], [5.0, 5.0], [10.0, 0.0]];
+    let cubic = [[10.0, 0.0], [12.0, -3.0], [19.0, 9.0], [20.0, 5.0]];
+    let tangent = [[20.0, 5.0], [21.0, 1.0], [32.0, 2.0], [30.0, 0.0]];
+    for (line, p, steps) in [(4, &quad[..], 12.0), (5, &cubic[..], 16.0), (6, &tangent[..], 16.0)] {
+        let pts = curve(line, p[0]);
+        assert_eq!(*pts.last().unwrap(), p[p.len() - 1], "line {line} ends at X Y");
+        // LinuxCNC's canon makes biarcs through the curve at 12 (G5.1) or
+        // 16 (G5) equal steps: each of those points is within 0.001 mm.
+        for k in 0..=steps as u32 {
+            let q = bezier(p, f64::from(k) / steps);
+            assert!(off_polyline(q, &pts) <= 0.001 + 1e-12, "line {line} at {k}/{steps}: {q:?}");
+        }
+        // And so is the curve between the moves' ends, everywhere.
+        for k in 0..=1000 {
+            let q = bezier(p, f64::from(k) / 1000.0);
+            assert!(off_polyline(q, &pts) <= 0.001 + 1e-9, "line {line} at {k}/1000");
+        }
+        assert!(pts.len() > 10 && pts.len() < 200, "line {line}: {} moves", pts.len() - 1);
+    }
+    // The spline is its block's motion only: `X31` moves in the mode before
+    // it (G0 here), as rs274 2.9 moves it.
+    assert!(t.moves.last().is_some_and(|m| m.kind == MoveKind::Rapid && m.end.x == 31.0));
+    for (block, said) in [
+        ("G5.1 X10 Y0 I5", "Must specify both I and J with G5.1"),
+        ("G5 X10 Y0 I1 J1", "Must specify both P and Q with G5"),
+        ("G5.1 X10 Y0 Z1 I5 J5", "Splines may not have motion in Z"),
+        ("G18 G5.1 X10 I5 J5", "needs the XY plane"),
+    ] {
+        let e = common::linuxcnc::error(&format!("G21 G90 G17\nG0 X0 Y0 Z0\nF100\n{block}\nM2\n"));
+        assert!(e.contains(said), "{block}: {e}");
+    }
+}

@@ -215,12 +215,11 @@ impl State {
         match (code, self.settings.coords.control) {
             // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
             (GCode::Smoothing(80), Control::LinuxCnc) => return Ok(()),
-            // LinuxCNC's G5 and G5.1 are splines.
+            // LinuxCNC's G5 and G5.1 are splines, of their block only:
+            // rs274 2.9 leaves the motion mode as it was.
             (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {
-                return Err(Diagnostic::error(
-                    gspan,
-                    format!("{} (a LinuxCNC spline) is not supported yet", g_name(tenths)),
-                ));
+                self.spline = Some(tenths);
+                return Ok(());
             }
             (GCode::Smoothing(tenths), Control::LinuxCnc) => {
                 return Err(Diagnostic::error(gspan, format!("{} is not a LinuxCNC code", g_name(tenths))));

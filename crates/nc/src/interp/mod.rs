@@ -22,6 +22,7 @@ mod offsets;
 mod params;
 mod radius;
 mod signals;
+mod spline;
 mod threads;
 mod value;
 mod vars;
@@ -292,6 +293,11 @@ struct State {
     rigid_tap: bool,
     /// LinuxCNC's G76 threading cycle is the motion mode (group 1).
     threading: bool,
+    /// LinuxCNC's spline (G5: 50, G5.1: 51) is this block's motion; the
+    /// motion mode stays as it was (rs274 2.9).
+    spline: Option<u32>,
+    /// The last G5's P Q (mm): a G5 without I J leaves along that tangent.
+    spline_pq: [f64; 2],
     /// Holes drilled by canned cycles.
     holes: u64,
     /// Tool length wear by H number (G10 L11, #10001…), added to the
@@ -404,6 +410,8 @@ impl State {
             hole: cycle::HoleData::default(),
             rigid_tap: false,
             threading: false,
+            spline: None,
+            spline_pq: [0.0; 2],
             holes: 0,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),

@@ -137,6 +137,8 @@ impl State {
         span: Span,
         line: u32,
     ) -> Result<bool, Diagnostic> {
+        // A LinuxCNC spline is its block's motion only.
+        let spline = self.spline.take();
         if codes.iter().flatten().any(|(c, _)| *c == GCode::LengthGiven) {
             // G43.1's axis words are its offset: nothing moves.
             return Ok(false);
@@ -187,6 +189,9 @@ impl State {
             .any(|(c, _)| matches!(c, GCode::Rotation(true) | GCode::Scaling(true) | GCode::Mirror(_)))
         {
             return Ok(false);
+        }
+        if let Some(code) = spline {
+            return self.spline_block(code, w, span, line);
         }
         if let Some(cycle) = self.modal.cycle {
             return self.cycle_block(cycle, w, span, line);
