@@ -209,3 +209,57 @@ fn linuxcnc_splines_are_feed_moves_within_a_micrometre_of_the_curve() {
         assert!(e.contains(said), "{block}: {e}");
     }
 }
+
+#[test]
+fn haas_g12_and_g13_mill_circular_pockets() {
+    // After the Haas manual's sample G12 (as in CodeNameMPC/CNClingish,
+    // test.nc), in mm: D1 a 3 mm radius.
+    let mut s = settings(Dialect::Haas);
+    s.tool_radii.insert(1, 3.0);
+    let text = "O0098\nG21 G90 G17 G54\nG00 X10. Y20. Z2.\nG12 I8. F300. Z-5. D01\nG00 Z2.\nG13 X50. I5. K14. Q4. Z-3. F300. D01\nG00 Z2.\nM30\n";
+    let t = common::run("p.nc", text, &s).path();
+    let moves: Vec<(char, [f64; 3])> = t.moves[1..]
+        .iter()
+        .map(|m| {
+            let k = match m.kind {
+                MoveKind::Rapid => 'r',
+                MoveKind::Feed => 'f',
+                MoveKind::Arc(a) if a.ccw => 'l',
+                MoveKind::Arc(_) => 'c',
+                _ => '?',
+            };
+            (k, [m.end.x, m.end.y, m.end.z])
+        })
+        .collect();
+    #[rustfmt::skip]
+    let want = [
+        // G12: down at the centre, out on a half circle to 8 - 3 = 5 mm,
+        // the circle clockwise, back to the centre.
+        ('f', [10.0, 20.0, -5.0]), ('c', [15.0, 20.0, -5.0]), ('c', [15.0, 20.0, -5.0]), ('c', [10.0, 20.0, -5.0]),
+        ('r', [10.0, 20.0, 2.0]),
+        // G13 X50.: to the centre at rapid, then circles of 5, 9, 13, 14 less 3.
+        ('r', [50.0, 20.0, 2.0]), ('f', [50.0, 20.0, -3.0]),
+        ('l', [52.0, 20.0, -3.0]), ('l', [52.0, 20.0, -3.0]), ('l', [56.0, 20.0, -3.0]), ('l', [56.0, 20.0, -3.0]),
+        ('l', [60.0, 20.0, -3.0]), ('l', [60.0, 20.0, -3.0]), ('l', [61.0, 20.0, -3.0]), ('l', [61.0, 20.0, -3.0]),
+        ('l', [50.0, 20.0, -3.0]),
+        ('r', [50.0, 20.0, 2.0]),
+    ];
+    assert_eq!(moves, want);
+    // The full circles: about the centre, start = end.
+    assert!(matches!(t.moves[3].kind, MoveKind::Arc(a) if a.center[0] == 10.0 && a.center[1] == 20.0));
+    // L with G91: each pass Z deeper.
+    let t = common::run("p.nc", "G21 G90 G17\nG00 X0. Y0. Z0.\nG91 G12 I5. Z-2. L3 F100.\nM30\n", &s).path();
+    let depths: Vec<f64> = t.moves.iter().filter(|m| m.kind == MoveKind::Feed).map(|m| m.end.z).collect();
+    assert_eq!(depths, [-2.0, -4.0, -6.0]);
+    for (block, said) in [
+        ("G12 I3. D01 F100.", "must be greater than the tool radius"),
+        ("G12 I5. K4. Q1. F100.", "K (the finished radius) must be greater than I"),
+        ("G12 I5. K8. F100.", "K and Q go together"),
+        ("G12 K8. F100.", "needs I"),
+    ] {
+        let run = common::run("p.nc", &format!("G21 G90 G17\nG00 X0. Y0. Z0.\n{block}\nM30\n"), &s);
+        assert!(run.message().contains(said), "{block}: {}", run.message());
+    }
+    let run = common::run("p.nc", "G12 I5. F100.\nM30\n", &settings(Dialect::Fanuc));
+    assert!(run.message().contains("Haas's circular pocket"), "{}", run.message());
+}

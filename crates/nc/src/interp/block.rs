@@ -480,6 +480,7 @@ impl State {
             | GCode::ResetShift
             | GCode::Smoothing(_)
             | GCode::ExactStop
+            | GCode::Pocket(_)
             | GCode::ConstantSpeedOff => {}
         }
         Ok(())

@@ -20,6 +20,7 @@ mod modal;
 mod motion;
 mod offsets;
 mod params;
+mod pocket;
 mod radius;
 mod signals;
 mod spline;

@@ -207,6 +207,8 @@ pub enum GCode {
     ExtraWorkOffset,
     /// G65
     MacroCall,
+    /// G12 (`true`), G13: Haas's circular pocket milling.
+    Pocket(bool),
     /// G66, G66.1
     ModalCall(ModalCallKind),
     /// G67
@@ -293,6 +295,8 @@ impl GCode {
             // Fanuc G54.1 P1–P48, Haas G154 P1–P99.
             541 | 1540 => ExtraWorkOffset,
             650 => MacroCall,
+            120 => Pocket(true),
+            130 => Pocket(false),
             660 => ModalCall(ModalCallKind::AfterMove),
             661 => ModalCall(ModalCallKind::EveryBlock),
             670 => ModalCallOff,
@@ -343,7 +347,7 @@ impl GCode {
             ExactStop => 100,
             ConstantSpeedOff => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
-            | ResetShift => 0,
+            | ResetShift | Pocket(_) => 0,
         }
     }
 }

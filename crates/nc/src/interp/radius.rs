@@ -228,7 +228,7 @@ impl State {
     /// The radius in register `n` (a D number, or a LinuxCNC tool number);
     /// 0 for register 0. One the tool table lacks reads 0 with a warning, or
     /// is an error where the compensated path is needed.
-    fn register_radius(&mut self, n: u32, at: Span, linuxcnc: bool) -> Result<f64, Diagnostic> {
+    pub(super) fn register_radius(&mut self, n: u32, at: Span, linuxcnc: bool) -> Result<f64, Diagnostic> {
         if n == 0 {
             return Ok(0.0);
         }

@@ -160,6 +160,11 @@ impl<'a> Words<'a> {
         out.join(" ")
     }
 
+    /// The words with only the one of `letter`.
+    pub(super) fn only(&self, letter: u8) -> Words<'a> {
+        Words { present: self.present & bit(letter), ..*self }
+    }
+
     /// The words without the one of `letter`.
     pub(super) fn without(&self, letter: u8) -> Words<'a> {
         Words { present: self.present & !bit(letter), ..*self }
