@@ -129,6 +129,20 @@ impl State {
         if has(|c| matches!(c, GCode::ModalCall(_))).is_some() {
             return Ok(Action::Next);
         }
+        // An axis the machine model has not would lose its motion: never
+        // dropped in silence. G10 sets its offset, which moves nothing.
+        if has(|c| *c == GCode::SetOffsets).is_none() {
+            if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!(
+                        "{} is an axis kezuri does not model on this machine (X Y Z A B C): its motion would be lost, \
+                         so the program is not run",
+                        letter as char
+                    ),
+                ));
+            }
+        }
 
         self.feed_speed_tool(&w);
         self.comp_register(w.get(b'D'), w.span(b'D'))?;
@@ -477,9 +491,11 @@ impl State {
         if let Some(f) = w.get(b'F') {
             self.feed_word = f;
             self.feed_set = true;
+            self.feed_span = w.span(b'F');
         }
         if let Some(s) = w.get(b'S') {
             self.speed = s;
+            self.speed_span = Some(w.span(b'S'));
         }
         if let Some(t) = w.get(b'T') {
             self.pending_tool = t.max(0.0) as u32;

@@ -314,7 +314,11 @@ struct State {
     guessed: AxisSet,
     feed_word: f64,
     feed_set: bool,
+    /// Where the F word in force was written (a zero feed's error names it).
+    feed_span: Span,
     speed: f64,
+    /// Where the S word in force was written.
+    speed_span: Option<Span>,
     spindle: Spindle,
     coolant: Coolant,
     tool: u32,
@@ -410,7 +414,9 @@ impl State {
             guessed: AxisSet::ALL,
             feed_word: 0.0,
             feed_set: false,
+            feed_span: Span::default(),
             speed: 0.0,
+            speed_span: None,
             spindle: Spindle::Off,
             coolant: Coolant::default(),
             tool: 0,
