@@ -81,8 +81,14 @@ fn argument_slot(letter: u8) -> Option<usize> {
 }
 
 impl State {
-    /// Executes the NC block at `pc`.
+    /// Executes the NC block at `pc`. An error in a block that a word
+    /// without a decimal point may be behind says how it was read.
     pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
+        self.exec_words(program, pc).map_err(|d| self.with_decimal_hint(program, pc, d))
+    }
+
+    #[inline(always)]
+    fn exec_words(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
         let block = &program.blocks[pc as usize];
         let (span, line) = (block.span, block.line);
         self.comp_block(span, line);
@@ -148,7 +154,9 @@ impl State {
         self.comp_register(w.get(b'D'), w.span(b'D'))?;
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
+        let first_move = self.toolpath.moves.len();
         let moved = self.motion(codes, &w, span, line)?;
+        self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
             self.keep_m_code(&w, m, line);
         }

@@ -15,6 +15,7 @@ pub mod comp;
 mod control;
 mod coords;
 mod cycle;
+mod hint;
 mod length;
 mod modal;
 mod motion;
@@ -312,6 +313,9 @@ struct State {
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
     guessed: AxisSet,
+    /// The first axis word without a decimal point read as least
+    /// increments: where, its letter and its value as written.
+    first_integer: Option<(Span, u8, f64)>,
     feed_word: f64,
     feed_set: bool,
     /// Where the F word in force was written (a zero feed's error names it).
@@ -412,6 +416,7 @@ impl State {
             set_by_program: BTreeSet::new(),
             panel: BTreeMap::new(),
             guessed: AxisSet::ALL,
+            first_integer: None,
             feed_word: 0.0,
             feed_set: false,
             feed_span: Span::default(),
