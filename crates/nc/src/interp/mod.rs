@@ -206,6 +206,10 @@ pub struct Outcome {
     /// signal, the clock): the first read of each kind. An expanded program
     /// holds the value the model gave, which another machine may not.
     pub model_reads: Vec<ModelRead>,
+    /// Warnings the run raised: those in `diagnostics` and those left out
+    /// of it past the first few of a kind (said there in one line, `… and
+    /// 10 more warnings like these`, which this does not count).
+    pub warnings: u64,
 }
 
 /// A log file a LinuxCNC program opened, with the lines it wrote to it.
