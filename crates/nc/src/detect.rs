@@ -158,7 +158,7 @@ pub fn cam_header(text: &str) -> Option<Marker> {
     for (n, raw) in text.lines().take(HEADER_LINES).enumerate() {
         for comment in comments_of(raw) {
             let lower = comment.to_ascii_lowercase();
-            let about = ["machine", "vendor", "model", "post", "control"].iter().any(|w| lower.contains(w));
+            let about = ["machine", "vendor", "model", "post", "control"].iter().any(|w| is_key(&lower, w));
             let found = CAM_NAMES
                 .iter()
                 .filter(|(name, _)| about || *name == "haas")
@@ -174,6 +174,16 @@ pub fn cam_header(text: &str) -> Option<Marker> {
         }
     }
     None
+}
+
+/// Whether the comment `text` opens with `key` as a header's key: the key
+/// (or a word that begins with it), at most two words more, then `:`, `=`
+/// or `-` (`vendor: Haas`, `Posts processor: grbl.cps`, `MACHINE - HAAS
+/// VF2`), not a word in a sentence (`AS ON A FANUC CONTROL: …`).
+fn is_key(text: &str, key: &str) -> bool {
+    let rest = text.trim_start();
+    rest.starts_with(key)
+        && rest.find([':', '=', '-']).is_some_and(|end| rest[..end].split_whitespace().count() <= 3)
 }
 
 /// Whether `name` stands in `text` as a word or the start of one

@@ -61,7 +61,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
             let at = Span::new(file, p.pos, p.pos + 1);
-            if percent_seen == 0 && program.blocks.len() > blocks_before {
+            if percent_seen == 0 && program.blocks.len() > blocks_before && !after_end {
                 // Not the tape's leader: the file did not open with '%'.
                 diagnostics.push(Diagnostic::error(
                     at,

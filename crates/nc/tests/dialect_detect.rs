@@ -120,8 +120,10 @@ fn cam_headers_name_the_control() {
     assert_eq!(got.dialect, Grbl, "{got}");
     assert!(got.reason.contains("Posts processor: MPCNC21.cps") && got.reason.ends_with("on line 3"), "{got}");
     // A maker named outside a machine or post comment decides nothing.
-    let note = "(CUT THE GRBL LOGO)\nG21\nG1 X5. F100.\nM30\n";
-    assert_eq!(detect(None, "a.nc", note).unwrap().dialect, Fanuc);
+    for note in ["(CUT THE GRBL LOGO)", "(THE LAST ONE IS VALID, AS ON A LINUXCNC CONTROL: X1 IS 1 MM)"] {
+        let got = detect(None, "a.nc", &format!("{note}\nG21\nG1 X5. F100.\nM30\n")).unwrap();
+        assert_eq!((got.dialect, got.reason.as_str()), (Fanuc, "the default (no extension or marker of another dialect)"));
+    }
     // The code's markers and the extension come first.
     assert_eq!(detect(None, "a.ngc", haas).unwrap().dialect, LinuxCnc);
 }
