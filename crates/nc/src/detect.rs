@@ -182,8 +182,7 @@ pub fn cam_header(text: &str) -> Option<Marker> {
 /// VF2`), not a word in a sentence (`AS ON A FANUC CONTROL: …`).
 fn is_key(text: &str, key: &str) -> bool {
     let rest = text.trim_start();
-    rest.starts_with(key)
-        && rest.find([':', '=', '-']).is_some_and(|end| rest[..end].split_whitespace().count() <= 3)
+    rest.starts_with(key) && rest.find([':', '=', '-']).is_some_and(|end| rest[..end].split_whitespace().count() <= 3)
 }
 
 /// Whether `name` stands in `text` as a word or the start of one

@@ -122,7 +122,10 @@ fn cam_headers_name_the_control() {
     // A maker named outside a machine or post comment decides nothing.
     for note in ["(CUT THE GRBL LOGO)", "(THE LAST ONE IS VALID, AS ON A LINUXCNC CONTROL: X1 IS 1 MM)"] {
         let got = detect(None, "a.nc", &format!("{note}\nG21\nG1 X5. F100.\nM30\n")).unwrap();
-        assert_eq!((got.dialect, got.reason.as_str()), (Fanuc, "the default (no extension or marker of another dialect)"));
+        assert_eq!(
+            (got.dialect, got.reason.as_str()),
+            (Fanuc, "the default (no extension or marker of another dialect)")
+        );
     }
     // The code's markers and the extension come first.
     assert_eq!(detect(None, "a.ngc", haas).unwrap().dialect, LinuxCnc);
