@@ -151,9 +151,9 @@ pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_text(o, read_text(&o.file)?)
 }
 
-/// [`read_and_run`] where the tool-centre path is needed (a simulation, a
-/// program written with the compensation applied): a cutter compensation
-/// register the tool table lacks is an error.
+/// [`read_and_run`] where the tool-centre path was asked for (`run
+/// --apply-comp`): a cutter compensation register the tool table lacks is
+/// an error. `sim` and `view` warn of it, as `check` and `run` do.
 pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_program(o, read_text(&o.file)?, true)
 }
