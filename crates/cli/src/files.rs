@@ -25,9 +25,30 @@ pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
 }
 
 /// Reads a text input; `-` is stdin. Bytes that are not UTF-8 (Shift-JIS
-/// comments in old programs, say) become U+FFFD instead of failing.
+/// comments in old programs, say) become U+FFFD instead of failing. A
+/// UTF-8 byte-order mark (as Windows editors write) is skipped; UTF-16 text
+/// is refused, named.
 pub fn read_text(path: &Path) -> Result<String> {
-    Ok(String::from_utf8_lossy(&read_bytes(path)?).into_owned())
+    let bytes = read_bytes(path)?;
+    text_of(&bytes).map_err(|why| anyhow::anyhow!("{}: {why}", path.display()))
+}
+
+/// The text of `bytes`, as [`read_text`] reads it.
+fn text_of(bytes: &[u8]) -> std::result::Result<String, String> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let utf16 = match bytes {
+        [0xFF, 0xFE, ..] => Some("little-endian, with the byte-order mark FF FE"),
+        [0xFE, 0xFF, ..] => Some("big-endian, with the byte-order mark FE FF"),
+        // ASCII text in UTF-16 without a mark: every other byte is zero.
+        [a, 0, b, 0, ..] | [0, a, 0, b, ..] if a.is_ascii() && b.is_ascii() && *a != 0 && *b != 0 => {
+            Some("without a byte-order mark")
+        }
+        _ => None,
+    };
+    if let Some(how) = utf16 {
+        return Err(format!("the file is UTF-16 text ({how}): save it as UTF-8 or ASCII text"));
+    }
+    Ok(String::from_utf8_lossy(bytes).into_owned())
 }
 
 /// Writes `data` to `path`, or to stdout when `path` is `None` or `-`:

@@ -85,10 +85,17 @@ enum Command {
     #[command(after_help = "Examples:
   kezuri check samples/o1011-digitize.nc
   kezuri check samples/nameplate-cam.nc --json --machine samples/tools/mill.toml
-  kezuri check samples/o2007-thermal.nc --machine samples/mill-turn.toml\n\n\
+  kezuri check samples/o2007-thermal.nc --machine samples/mill-turn.toml
+  printf 'G21 G90 F300\\nG0 Z5\\nG1 X10.5 Y0\\nG3 X20.5 Y10 I10\\nM30\\n' > router.nc
+  kezuri check router.nc --no-decimal units   # Y10 is 10 mm, not 0.010 mm\n\n\
 Values the program read from the machine file rather than set itself (a work offset #5221, a tool \
 offset #2001, the machine position #5021, an input #1000, the clock #3001) are listed as notes: a \
 program expanded from them holds this machine's values.\n\n\
+A program `kezuri run` refuses to write (with no option of how to write it: a block the post has no \
+words for, G41/G42 for GRBL) is an error here too, said as run says it. Where a word without a decimal \
+point may be behind an error, the error says how it was read and the option that reads it otherwise: \
+without --no-decimal units, router.nc above stops at its arc with `…; Y10 was read as 0.010 mm \
+(Fanuc increments); with --no-decimal units it is 10 mm`.\n\n\
 Exit code 1 when the program has errors (each shown with file:line:column).")]
     Check {
         #[command(flatten)]
@@ -113,7 +120,10 @@ Exit code 1 when the program has errors (each shown with file:line:column).")]
 What the machine must do itself is written where the program had it: M codes kezuri does not \
 follow (M00, M19, clamps), G10, G92, G52, smoothing codes (G05.1, G187), output signals, taps \
 (G84/G74, always as cycles), G41/G42 D. A move the program made as an increment from a \
-position it never named (after G28, G53, a tool change) stays an increment.")]
+position it never named (after G28, G53, a tool change) stays an increment.\n\n\
+Where nothing names the control (no --post or --to, no [post] preset in the machine file, no .ngc or \
+.gcode output), a LinuxCNC or GRBL program is written for its own control, a Fanuc or Haas one for \
+Fanuc. What the post cannot write is said at its line, file:line:column.")]
     Run {
         #[command(flatten)]
         run: RunOptions,

@@ -4,7 +4,10 @@
 mod emit;
 mod run;
 
-pub use emit::{post_options, stage_toolpath, svg_title, warn_rml_drops, write_program, Emit, Origin, WriteArgs};
+pub use emit::{
+    located, post_options, run_refusal, stage_toolpath, svg_title, warn_rml_drops, write_program, written_path, Origin,
+    WriteArgs,
+};
 pub use run::{
     choose_dialect, dialect_settings, library_dir, missing_axes, model_notes, print_label, read_and_run,
     read_and_run_centre, refuse_comp, report_logs, run_text, run_written, whole_units, Ran, Report, RunOptions,

@@ -39,6 +39,16 @@ pub fn shown(output: Option<&Path>) -> String {
     }
 }
 
+/// A count and its noun, the noun plural unless the count is one: `1
+/// error`, `0 errors`, `12 warnings`.
+pub fn count(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// `h:mm:ss`.
 pub fn hms(s: f64) -> String {
     let t = s.round() as u64;

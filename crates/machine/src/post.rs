@@ -170,6 +170,11 @@ pub fn options(file: &PostFile, name: Option<&str>, tools: &BTreeMap<u32, ToolEn
 }
 
 impl PostFile {
+    /// The `preset` this `[post]` names, if any.
+    pub fn preset(&self) -> Option<&str> {
+        self.preset.as_deref()
+    }
+
     /// Whether this `[post]` says the machine uses tool length offsets:
     /// its `length_offset`, else its preset's; `None` where it says
     /// neither.

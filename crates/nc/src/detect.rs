@@ -16,7 +16,10 @@
 //!    must say `--dialect`.
 //! 3. Otherwise, first that applies: a Haas marker (haas), a Fanuc marker
 //!    (fanuc), a LinuxCNC marker (linuxcnc), `.ngc` (linuxcnc), `.gcode` or
-//!    `.gc` (grbl), a GRBL marker (grbl), else fanuc, the default.
+//!    `.gc` (grbl), a GRBL marker (grbl), the control a CAM system's header
+//!    comment names (`(  vendor: Haas Automation)`, `(MACHINE: HAAS VF2)`,
+//!    `( Posts processor: grbl.cps)`: [`cam_header`]), else fanuc, the
+//!    default.
 
 use std::fmt;
 
@@ -103,6 +106,10 @@ pub fn detect(given: Option<Dialect>, name: &str, text: &str) -> Result<Detected
         return Ok(from(h));
     }
     if let Some(f) = first(Dialect::Fanuc) {
+        // A Haas is a Fanuc-family control: a CAM header naming it says which.
+        if let Some(h) = cam_header(text).filter(|h| h.dialect == Dialect::Haas) {
+            return Ok(Detected { dialect: Dialect::Haas, reason: format!("{f} and {h}") });
+        }
         return Ok(from(f));
     }
     if let Some(l) = first(Dialect::LinuxCnc) {
@@ -114,7 +121,91 @@ pub fn detect(given: Option<Dialect>, name: &str, text: &str) -> Result<Detected
     if let Some(g) = first(Dialect::Grbl) {
         return Ok(from(g));
     }
+    if let Some(h) = cam_header(text) {
+        return Ok(Detected { dialect: h.dialect, reason: h.to_string() });
+    }
     Ok(Detected { dialect: Dialect::Fanuc, reason: "the default (no extension or marker of another dialect)".into() })
+}
+
+/// Lines of a program's head where a CAM system's header is looked for.
+const HEADER_LINES: usize = 60;
+
+/// What a CAM system's header comment says of the control, in the words
+/// posts write: the machine's maker (`(  vendor: Haas Automation)`,
+/// `(MACHINE: HAAS VF-2)`) or the post's name (`( Posts processor:
+/// MPCNC21.cps)`, `(POST: grbl)`), each lower case, and the dialect it
+/// names.
+const CAM_NAMES: [(&str, Dialect); 12] = [
+    ("haas", Dialect::Haas),
+    ("fanuc", Dialect::Fanuc),
+    ("linuxcnc", Dialect::LinuxCnc),
+    ("emc2", Dialect::LinuxCnc),
+    ("pathpilot", Dialect::LinuxCnc),
+    ("mach3", Dialect::LinuxCnc),
+    ("mach4", Dialect::LinuxCnc),
+    ("grbl", Dialect::Grbl),
+    ("mpcnc", Dialect::Grbl),
+    ("marlin", Dialect::Grbl),
+    ("shapeoko", Dialect::Grbl),
+    ("carbide", Dialect::Grbl),
+];
+
+/// The control a CAM header names: in a comment of the first
+/// [`HEADER_LINES`] lines that speaks of the machine or the post (`machine`,
+/// `vendor`, `model`, `post`, `control`), the first name of [`CAM_NAMES`];
+/// HAAS in any comment of the head. The text is the comment as written.
+pub fn cam_header(text: &str) -> Option<Marker> {
+    for (n, raw) in text.lines().take(HEADER_LINES).enumerate() {
+        for comment in comments_of(raw) {
+            let lower = comment.to_ascii_lowercase();
+            let about = ["machine", "vendor", "model", "post", "control"].iter().any(|w| is_key(&lower, w));
+            let found = CAM_NAMES
+                .iter()
+                .filter(|(name, _)| about || *name == "haas")
+                .find(|(name, _)| contains_word(&lower, name));
+            if let Some(&(_, dialect)) = found {
+                let shown: String = comment.trim().chars().take(40).collect();
+                return Some(Marker {
+                    dialect,
+                    text: format!("the CAM header's comment ({shown})"),
+                    line: n as u32 + 1,
+                });
+            }
+        }
+    }
+    None
+}
+
+/// Whether the comment `text` opens with `key` as a header's key: the key
+/// (or a word that begins with it), at most two words more, then `:`, `=`
+/// or `-` (`vendor: Haas`, `Posts processor: grbl.cps`, `MACHINE - HAAS
+/// VF2`), not a word in a sentence (`AS ON A FANUC CONTROL: …`).
+fn is_key(text: &str, key: &str) -> bool {
+    let rest = text.trim_start();
+    rest.starts_with(key) && rest.find([':', '=', '-']).is_some_and(|end| rest[..end].split_whitespace().count() <= 3)
+}
+
+/// Whether `name` stands in `text` as a word or the start of one
+/// (`haas`, `haas-vf2`, `mach3mill`, `mpcnc21.cps`), not inside another.
+fn contains_word(text: &str, name: &str) -> bool {
+    text.match_indices(name).any(|(i, _)| i == 0 || !text.as_bytes()[i - 1].is_ascii_alphabetic())
+}
+
+/// The comments of a line: `( … )` and what follows `;`.
+fn comments_of(raw: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut rest = raw;
+    while let Some(i) = rest.find(['(', ';']) {
+        if rest.as_bytes()[i] == b';' {
+            out.push(&rest[i + 1..]);
+            break;
+        }
+        let after = &rest[i + 1..];
+        let end = after.find(')').unwrap_or(after.len());
+        out.push(&after[..end]);
+        rest = &after[(end + 1).min(after.len())..];
+    }
+    out
 }
 
 /// The lower-case extension of a file name (`""` for none).
@@ -269,10 +360,20 @@ fn line_markers(raw: &str) -> Vec<(Dialect, String)> {
         out.push((Dialect::Haas, g.to_string()));
     }
 
-    // GRBL's system commands.
+    // GRBL's system commands: `$H`, `$X`, `$J=…`, `$$`, `$#`, `$G`, `$I`,
+    // `$N`, `$C`, `$SLP`, `$RST=…` and settings `$110=…`. Other `$` lines
+    // (a Haas control's, say) are no GRBL evidence.
     if let Some(rest) = code.strip_prefix('$') {
         let len = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '$')).map_or(rest.len(), |i| i + 1);
-        out.push((Dialect::Grbl, format!("${}", &rest[..len.min(rest.len())])));
+        let command = &rest[..len.min(rest.len())];
+        let name = command.trim_end_matches('=');
+        let setting = name.trim_start_matches('N');
+        let grbl = ["H", "X", "J", "$", "#", "G", "I", "N", "C", "SLP", "RST", ""].contains(&name)
+            && (name != "J" || command.ends_with('='))
+            || (!setting.is_empty() && setting.bytes().all(|b| b.is_ascii_digit()) && command.ends_with('='));
+        if grbl {
+            out.push((Dialect::Grbl, format!("${command}")));
+        }
     }
     out
 }

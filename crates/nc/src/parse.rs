@@ -45,6 +45,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
         blocks: program.blocks.len() as u32..program.blocks.len() as u32,
     };
     let mut percent_seen = 0;
+    let blocks_before = program.blocks.len();
     // After M30/M02 a unit's lines that are not NC blocks are notes: the
     // first such line and how many there are, for one warning at the end.
     let mut after_end = false;
@@ -59,11 +60,24 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
         let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0, operators: 0, dialect };
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
+            let at = Span::new(file, p.pos, p.pos + 1);
+            if percent_seen == 0 && program.blocks.len() > blocks_before && !after_end {
+                // Not the tape's leader: the file did not open with '%'.
+                diagnostics.push(Diagnostic::error(
+                    at,
+                    "a '%' in the middle of the program, which did not open with one: a control stops reading \
+                     here (LinuxCNC refuses it); remove it, or begin the file with '%'",
+                ));
+                break;
+            }
             percent_seen += 1;
-        } else if percent_seen >= 2 {
-            if p.pos < end && !text[p.pos..end].trim().is_empty() {
-                diagnostics
-                    .push(Diagnostic::warning(Span::new(file, p.pos, end), "text after the closing '%' is ignored"));
+            if percent_seen == 2 {
+                let after = text[(end + 1).min(text.len())..].lines().filter(|l| !l.trim().is_empty()).count();
+                if after > 0 {
+                    let lines =
+                        if after == 1 { "line after it is".to_string() } else { format!("{after} lines after it are") };
+                    diagnostics.push(Diagnostic::warning(at, format!("this '%' ends the tape: the {lines} not read")));
+                }
                 break;
             }
         } else if let Some(header) = p.program_header(&mut diagnostics) {
@@ -135,7 +149,9 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
             .push(Diagnostic::warning(span, format!("text after M30/M02 that is not an NC block is ignored{more}")));
     }
     let at_end = Span::new(file, bytes.len(), bytes.len());
-    if percent_seen == 1 && text.trim_start().starts_with('%') {
+    // A '%' inside a line was refused where it stands: not again at the end.
+    let stray_percent = diagnostics.iter().any(|d| d.is_error() && d.message.contains("'%'"));
+    if percent_seen == 1 && text.trim_start().starts_with('%') && !stray_percent {
         // A tape that opens with '%' ends with one (LinuxCNC refuses a file
         // without it); a missing one means the file was cut short.
         diagnostics.push(Diagnostic::error(at_end, "the file ends before its closing '%': is it complete?"));
@@ -351,6 +367,10 @@ impl LineParser<'_> {
                 let value = self.expr(0)?;
                 Ok(Statement::Assign { var, value })
             }
+            b'$' if matches!(self.dialect, Dialect::Fanuc | Dialect::Haas) => Ok(self.unsupported(&format!(
+                "a '$' line is not an NC block of a {} control: kezuri does not run it",
+                if self.dialect == Dialect::Haas { "Haas" } else { "Fanuc" }
+            ))),
             b'$' => Ok(self.unsupported("GRBL '$' system commands are not run by kezuri")),
             b'O' => {
                 let word = String::from_utf8_lossy(&self.b[self.pos..self.end]).trim().to_string();

@@ -98,3 +98,48 @@ fn lower_case_and_sequence_numbers() {
     assert_eq!(detect(None, "a.nc", "G64\n").unwrap().dialect, Dialect::Fanuc);
     assert!(detect(None, "a.nc", "G64\n").unwrap().reason.starts_with("the default"));
 }
+
+/// A CAM system's header names the machine or the post it wrote for: the
+/// rule reads it where the code says nothing, and says so.
+#[test]
+fn cam_headers_name_the_control() {
+    use Dialect::*;
+    // Fusion 360's Haas post: `(Machine)` then `(  vendor: Haas Automation)`.
+    let fusion_haas =
+        "%\nO1001 (BRACKET)\n(Machine)\n(  vendor: Haas Automation)\n(  model: VF-2)\nG21 G90\nG1 X5. F100.\nM30\n%\n";
+    let got = detect(None, "a.nc", fusion_haas).unwrap();
+    assert_eq!(got.dialect, Haas, "{got}");
+    assert_eq!(got.reason, "O1001 on line 2 and the CAM header's comment (vendor: Haas Automation) on line 4");
+    // HAAS in a comment of the head, with no code marker at all.
+    let haas = "(MACHINE: HAAS VF2)\nG21 G90\nG1 X5. F100.\nM30\n";
+    let got = detect(None, "a.nc", haas).unwrap();
+    assert_eq!((got.dialect, got.reason.as_str()), (Haas, "the CAM header's comment (MACHINE: HAAS VF2) on line 1"));
+    // Fusion's MPCNC post (a GRBL/Marlin machine): X10 is 10 mm.
+    let mpcnc = "%\n(Fusion CAM 2.0.18961)\n( Posts processor: MPCNC21.cps)\nG0 Z3 F300\nG1 Z-3 F1000\n";
+    let got = detect(None, "a.nc", mpcnc).unwrap();
+    assert_eq!(got.dialect, Grbl, "{got}");
+    assert!(got.reason.contains("Posts processor: MPCNC21.cps") && got.reason.ends_with("on line 3"), "{got}");
+    // A maker named outside a machine or post comment decides nothing.
+    for note in ["(CUT THE GRBL LOGO)", "(THE LAST ONE IS VALID, AS ON A LINUXCNC CONTROL: X1 IS 1 MM)"] {
+        let got = detect(None, "a.nc", &format!("{note}\nG21\nG1 X5. F100.\nM30\n")).unwrap();
+        assert_eq!(
+            (got.dialect, got.reason.as_str()),
+            (Fanuc, "the default (no extension or marker of another dialect)")
+        );
+    }
+    // The code's markers and the extension come first.
+    assert_eq!(detect(None, "a.ngc", haas).unwrap().dialect, LinuxCnc);
+}
+
+/// `$` lines that are no GRBL command (a Haas program's) are no GRBL
+/// evidence: the program is not refused as mixed.
+#[test]
+fn dollar_lines_that_are_not_grbl_commands() {
+    let haas = "%\nO1000 (HAAS VF2)\n$AXES=X,Y,Z\nG21 G90\nG1 X1. F100.\nM30\n%\n";
+    let got = detect(None, "a.nc", haas).unwrap();
+    assert_eq!(got.dialect, Dialect::Haas, "{got}");
+    for grbl in ["$H", "$X", "$J=G91 X1 F100", "$$", "$#", "$110=500", "$N0=G21", "$SLP", "$RST=*"] {
+        let got = detect(None, "a.nc", &format!("{grbl}\nG21\nG1 X50 F300\n")).unwrap();
+        assert_eq!(got.dialect, Dialect::Grbl, "{grbl}: {got}");
+    }
+}

@@ -46,8 +46,9 @@ fn with_ranges(common: &[&str], kept: &[&str], values: &[(u32, f64)]) -> Setting
 fn the_default_ranges_hold_every_common_variable_shop_programs_use() {
     let d = Settings::default();
     for n in [100, 199, 200, 499, 500, 999, 900_000, 901_200, 901_300, 999_999] {
-        let text = format!("#{n}={n}.\nG01 X#{n} F100.\nM30\n");
-        assert_eq!(ends(&text, &d), [(f64::from(n), 0.0)], "#{n}");
+        // In metres: a move of 1 km is beyond any machine.
+        let text = format!("#{n}={n}.\nG01 X[#{n}/1000] F100.\nM30\n");
+        assert_eq!(ends(&text, &d), [(f64::from(n) / 1000.0, 0.0)], "#{n}");
     }
     // Sparse numbers are distinct variables, and #0 empties one again.
     let text = "#901200=1.\n#901201=2.\nG01 X#901200 Y#901201 F100.\n#901200=#0\nG01 X#901200 Y5.\nM30\n";
@@ -125,7 +126,7 @@ fn input_bits_come_from_the_machine_file_and_1032_reads_them_all() {
     assert!(warnings(&outcome, &sources).is_empty());
     // Bit 31 is the sign of the 32-bit group.
     let settings = with_inputs(&[(1000, 1.0), (1031, 1.0)]);
-    assert_eq!(ends("G01 X#1032 F100.\nM30\n", &settings), [(-2_147_483_647.0, 0.0)]);
+    assert_eq!(ends("G01 X[#1032/1000000] F100.\nM30\n", &settings), [(-2_147.483_647, 0.0)]);
 }
 
 #[test]

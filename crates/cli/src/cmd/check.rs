@@ -9,7 +9,8 @@ use kezuri_nc::{Diagnostic, Dialect};
 use serde_json::json;
 
 use crate::files::write_output;
-use crate::program::{missing_axes, model_notes, read_and_run, whole_units, Report, RunOptions};
+use crate::program::{missing_axes, model_notes, read_and_run, run_refusal, whole_units, Report, RunOptions};
+use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
 
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
@@ -95,6 +96,9 @@ fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
 pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
     let (mut ran, parse_diagnostics) = read_and_run(o)?;
     std::mem::take(&mut ran.outputs).commit()?;
+    // What `kezuri run` refuses of a program that ran is an error here too.
+    let refusal = if ran.errors() == 0 { run_refusal(&ran, &o.file) } else { None };
+    let errors = ran.errors() + usize::from(refusal.is_some());
     let report = Report::new(&ran);
     let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
     // Axes the program commands that the machine file's chains lack.
@@ -127,7 +131,7 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             "file": o.file.display().to_string(),
             "dialect": ran.dialect.dialect.name(),
             "dialect_reason": ran.dialect.reason,
-            "completed": ran.outcome.completed && ran.errors() == 0,
+            "completed": ran.outcome.completed && errors == 0,
             "blocks": report.blocks,
             "statements": report.statements,
             "motions": report.motions,
@@ -143,7 +147,7 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
                 "d": e.as_ref().and_then(|e| e.d),
                 "name": e.as_ref().and_then(|e| e.name.clone()),
             })).collect::<Vec<_>>(),
-            "errors": headlines(true),
+            "errors": headlines(true).into_iter().chain(refusal.iter().cloned()).collect::<Vec<_>>(),
             "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
             "machine_values": model_notes(&ran.outcome),
         });
@@ -179,12 +183,17 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         for note in model_notes(&ran.outcome) {
             text += &format!("  note: {note}\n");
         }
-        let warnings = all.iter().filter(|d| !d.is_error()).count() + missing.len();
-        text += &format!("  {} errors, {} warnings\n", ran.errors(), warnings);
+        if let Some(r) = &refusal {
+            eprintln!("{r}\n");
+        }
+        let warnings = parse_diagnostics.iter().filter(|d| !d.is_error()).count() as u64
+            + ran.outcome.warnings
+            + missing.len() as u64;
+        text += &format!("  {}, {}\n", say::count(errors as u64, "error"), say::count(warnings, "warning"));
         write_output(None, text.as_bytes())?;
     }
-    if ran.errors() > 0 {
-        bail!("{}: {} error(s)", o.file.display(), ran.errors());
+    if errors > 0 {
+        bail!("{}: {}", o.file.display(), say::count(errors as u64, "error"));
     }
     Ok(())
 }

@@ -13,7 +13,7 @@ use kezuri_geom::write_binary_stl_to;
 use kezuri_picture::sim as picture;
 
 use crate::files::write_output;
-use crate::program::{read_and_run_centre, RunOptions};
+use crate::program::{read_and_run, RunOptions};
 use crate::simulation::{simulate, tools, DeviationArgs, SimSetup, Simulated};
 use report::Done;
 
@@ -134,7 +134,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     if args.json && args.output.as_deref() == Some(Path::new("-")) {
         bail!("--json and -o - both want standard output");
     }
-    let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
+    let (mut ran, parse_diagnostics) = read_and_run(&args.run)?;
     ran.shown(&parse_diagnostics, &args.run.file, "nothing simulated")?;
     // Every output file (the DPRNT file too) is written together, or none.
     let mut out = std::mem::take(&mut ran.outputs);

@@ -9,7 +9,7 @@ use clap::Args;
 use kezuri_cam::Cutter;
 use kezuri_picture::{Job, PageOptions};
 
-use crate::program::{read_and_run_centre, RunOptions};
+use crate::program::{read_and_run, RunOptions};
 use crate::simulation::{simulate, DeviationArgs, SimSetup};
 
 /// How the page is made: `view`'s options of [`PageOptions`].
@@ -101,7 +101,7 @@ pub struct ViewArgs {
 
 /// Runs `kezuri view`.
 pub fn run(args: &ViewArgs) -> Result<()> {
-    let (mut ran, parse_diagnostics) = read_and_run_centre(&args.run)?;
+    let (mut ran, parse_diagnostics) = read_and_run(&args.run)?;
     ran.shown(&parse_diagnostics, &args.run.file, "no page written")?;
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();

@@ -9,7 +9,7 @@ use kezuri_cam::Cutter;
 use kezuri_geom::Toolpath;
 use kezuri_nc::write::WriteOptions;
 
-use super::run::run_written;
+use super::run::{options_from, run_written, Ran};
 use crate::files::Outputs;
 use kezuri_machine::Machine;
 
@@ -82,6 +82,23 @@ pub enum Origin {
 }
 
 impl WriteArgs {
+    /// These options for writing back a program read in `dialect` on
+    /// `machine`: where nothing names a control (no `--post`, `--to`, `[post]
+    /// preset` or telling extension of the output), a LinuxCNC or GRBL
+    /// program is written for its own control, not Fanuc's.
+    pub fn for_program(&self, machine: &Machine, dialect: kezuri_nc::Dialect) -> WriteArgs {
+        let named = self.post.is_some()
+            || self.emit.is_some()
+            || machine.post.preset().is_some()
+            || self.output.as_deref().and_then(|p| kezuri_nc::detect::by_extension(&p.to_string_lossy())).is_some();
+        let own = match dialect {
+            kezuri_nc::Dialect::LinuxCnc => Some(Emit::Linuxcnc),
+            kezuri_nc::Dialect::Grbl => Some(Emit::Grbl),
+            kezuri_nc::Dialect::Fanuc | kezuri_nc::Dialect::Haas => None,
+        };
+        WriteArgs { emit: if named { self.emit } else { own }, ..self.clone() }
+    }
+
     /// Whether the output is G-code (not CSV or RML-1).
     pub fn is_gcode(&self) -> bool {
         !matches!(self.emit, Some(Emit::Csv | Emit::Rml))
@@ -247,4 +264,78 @@ pub fn warn_rml_drops(name: &str, path: &Toolpath) {
             k.text.lines().next().unwrap_or("")
         );
     }
+}
+
+/// The toolpath `kezuri run` writes of `ran` (the program `file`) with `w`
+/// (made [`WriteArgs::for_program`]): with cutter radius compensation the
+/// programmed contour with its G41/G42 D and G40 blocks for Fanuc and
+/// LinuxCNC G-code, the tool-centre path for CSV and with `--apply-comp`;
+/// refused for GRBL and RML-1, which have no compensation, without
+/// `--apply-comp`.
+pub fn written_path<'a>(ran: &'a Ran, w: &WriteArgs, file: &Path) -> Result<&'a Toolpath> {
+    let centre = &ran.outcome.toolpath;
+    let without_comp = match w.emit {
+        Some(Emit::Csv) => None,
+        Some(Emit::Rml) => Some("RML-1"),
+        _ => {
+            (w.options(&ran.machine, Origin::Transformed)?.dialect == kezuri_nc::write::Dialect::Grbl).then_some("GRBL")
+        }
+    };
+    Ok(match (&ran.outcome.programmed, without_comp) {
+        (Some(_), Some(control)) if !w.apply_comp => bail!(
+            "{}: the program uses cutter radius compensation (G41/G42), which {control} has not: give --apply-comp to \
+             write the tool centre path (radii from the machine file's [tools] radii)",
+            file.display(),
+        ),
+        (Some(p), None) if !w.apply_comp && w.is_gcode() => p,
+        _ => centre,
+    })
+}
+
+/// `e` where it is: an error of the writer at a move or a line of the
+/// program read (`move 2 (line 7): …`) as `file:line:column: …`, the column
+/// that of the block's first character. Others as they are.
+pub fn located(ran: &Ran, e: anyhow::Error) -> anyhow::Error {
+    match place(ran, &e) {
+        Some((at, message)) => anyhow::anyhow!("{at}: {message}"),
+        None => e,
+    }
+}
+
+/// `file:line:column` of an error of the writer at a line of the program
+/// read, and its message without the place.
+fn place(ran: &Ran, e: &anyhow::Error) -> Option<(String, String)> {
+    let nc = e.downcast_ref::<kezuri_nc::Error>()?;
+    let line = match nc.place {
+        kezuri_nc::Place::Move { line, .. } | kezuri_nc::Place::Line(line) => line,
+        kezuri_nc::Place::None | kezuri_nc::Place::Compensated(_) => 0,
+    };
+    if ran.sources.is_empty() || line == 0 {
+        return None;
+    }
+    let file = ran.sources.get(0);
+    if line as usize > file.text.lines().count() {
+        return None;
+    }
+    let column = file.line_text(line).chars().take_while(|c| c.is_whitespace()).count() + 1;
+    Some((format!("{}:{line}:{column}", file.name), nc.message.clone()))
+}
+
+/// Why `kezuri run` of the program `file` (run as `ran`, with no option of
+/// how to write it) refuses it, as an error line (`file:line:column: error:
+/// …` where it has a place); `None` where it writes it. `check` says the
+/// same.
+pub fn run_refusal(ran: &Ran, file: &Path) -> Option<String> {
+    let written = || -> Result<()> {
+        let w = options_from::<WriteArgs>(&[])?.for_program(&ran.machine, ran.dialect.dialect);
+        let path = written_path(ran, &w, file)?;
+        let options = w.options(&ran.machine, Origin::Transformed)?;
+        kezuri_nc::write::program(path, &options)?;
+        Ok(())
+    };
+    let e = written().err()?;
+    Some(match place(ran, &e) {
+        Some((at, message)) => format!("{at}: error: kezuri run refuses this: {message}"),
+        None => format!("error: kezuri run refuses this: {e:#}"),
+    })
 }

@@ -138,7 +138,7 @@ impl Ran {
         self.print_diagnostics(parse_diagnostics);
         crate::say::note!("{}: {}", file.display(), self.dialect);
         if self.errors() > 0 {
-            bail!("{}: {} error(s); {nothing}", file.display(), self.errors());
+            bail!("{}: {}; {nothing}", file.display(), crate::say::count(self.errors() as u64, "error"));
         }
         Ok(())
     }
@@ -151,9 +151,9 @@ pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_text(o, read_text(&o.file)?)
 }
 
-/// [`read_and_run`] where the tool-centre path is needed (a simulation, a
-/// program written with the compensation applied): a cutter compensation
-/// register the tool table lacks is an error.
+/// [`read_and_run`] where the tool-centre path was asked for (`run
+/// --apply-comp`): a cutter compensation register the tool table lacks is
+/// an error. `sim` and `view` warn of it, as `check` and `run` do.
 pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
     run_program(o, read_text(&o.file)?, true)
 }
@@ -251,7 +251,11 @@ pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> 
     let (ran, parse_diagnostics) = run_on(machine.clone(), &o, text, false)?;
     if ran.errors() > 0 {
         ran.print_diagnostics(&parse_diagnostics);
-        bail!("{}: the written program does not run back ({} errors): no page", name.display(), ran.errors());
+        bail!(
+            "{}: the written program does not run back ({}): no page",
+            name.display(),
+            crate::say::count(ran.errors() as u64, "error")
+        );
     }
     Ok(ran)
 }
@@ -259,7 +263,7 @@ pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> 
 /// Options of type `T` as the command line gives them from `words`, clap's
 /// defaults for the rest: one source for a default, the `--help` and the
 /// code that needs the options without a command line.
-fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr]) -> Result<T> {
+pub(super) fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr]) -> Result<T> {
     let command = T::augment_args(clap::Command::new("kezuri"));
     let matches = command.try_get_matches_from(std::iter::once(OsStr::new("kezuri")).chain(words.iter().copied()))?;
     Ok(T::from_arg_matches(&matches)?)

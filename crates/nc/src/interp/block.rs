@@ -81,8 +81,14 @@ fn argument_slot(letter: u8) -> Option<usize> {
 }
 
 impl State {
-    /// Executes the NC block at `pc`.
+    /// Executes the NC block at `pc`. An error in a block that a word
+    /// without a decimal point may be behind says how it was read.
     pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
+        self.exec_words(program, pc).map_err(|d| self.with_decimal_hint(program, pc, d))
+    }
+
+    #[inline(always)]
+    fn exec_words(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
         let block = &program.blocks[pc as usize];
         let (span, line) = (block.span, block.line);
         self.comp_block(span, line);
@@ -129,12 +135,28 @@ impl State {
         if has(|c| matches!(c, GCode::ModalCall(_))).is_some() {
             return Ok(Action::Next);
         }
+        // An axis the machine model has not would lose its motion: never
+        // dropped in silence. G10 sets its offset, which moves nothing.
+        if has(|c| *c == GCode::SetOffsets).is_none() {
+            if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!(
+                        "{} is an axis kezuri does not model on this machine (X Y Z A B C): its motion would be lost, \
+                         so the program is not run",
+                        letter as char
+                    ),
+                ));
+            }
+        }
 
         self.feed_speed_tool(&w);
         self.comp_register(w.get(b'D'), w.span(b'D'))?;
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
+        let first_move = self.toolpath.moves.len();
         let moved = self.motion(codes, &w, span, line)?;
+        self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
             self.keep_m_code(&w, m, line);
         }
@@ -490,9 +512,11 @@ impl State {
         if let Some(f) = w.get(b'F') {
             self.feed_word = f;
             self.feed_set = true;
+            self.feed_span = w.span(b'F');
         }
         if let Some(s) = w.get(b'S') {
             self.speed = s;
+            self.speed_span = Some(w.span(b'S'));
         }
         if let Some(t) = w.get(b'T') {
             self.pending_tool = t.max(0.0) as u32;

@@ -144,7 +144,9 @@ impl<'a> Interp<'a> {
             }
             c.programmed
         });
+        let shown = self.st.diagnostics.iter().filter(|d| !d.is_error()).count() as u64;
         let mut summary: Vec<_> = self.st.warned.iter().filter(|(_, &n)| n > super::WARNINGS_PER_KIND).collect();
+        let warnings = shown + summary.iter().map(|(_, &n)| u64::from(n - super::WARNINGS_PER_KIND)).sum::<u64>();
         summary.sort();
         for (kind, n) in summary {
             let span = self.st.diagnostics.iter().rev().find(|d| !d.is_error()).map_or(Span::default(), |d| d.span);
@@ -165,6 +167,7 @@ impl<'a> Interp<'a> {
             holes: self.st.holes,
             inch: self.st.modal.units == super::modal::Units::Inch,
             model_reads: self.st.model_reads,
+            warnings,
         }
     }
 

@@ -258,7 +258,7 @@ impl State {
             if hole != self.tip {
                 self.push_move(MoveKind::Rapid, hole, 0.0, place.axes(), line);
             }
-            let feed = self.feed_mm_min(span);
+            let feed = self.feed_mm_min(span)?;
             let spindle = self.spindle;
             // LinuxCNC never returns below R (G98 from an initial level
             // below it goes to R).

@@ -15,6 +15,7 @@ pub mod comp;
 mod control;
 mod coords;
 mod cycle;
+mod hint;
 mod length;
 mod modal;
 mod motion;
@@ -214,6 +215,10 @@ pub struct Outcome {
     /// signal, the clock): the first read of each kind. An expanded program
     /// holds the value the model gave, which another machine may not.
     pub model_reads: Vec<ModelRead>,
+    /// Warnings the run raised: those in `diagnostics` and those left out
+    /// of it past the first few of a kind (said there in one line, `… and
+    /// 10 more warnings like these`, which this does not count).
+    pub warnings: u64,
 }
 
 /// A log file a LinuxCNC program opened, with the lines it wrote to it.
@@ -326,9 +331,16 @@ struct State {
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
     guessed: AxisSet,
+    /// The first axis word without a decimal point read as least
+    /// increments: where, its letter and its value as written.
+    first_integer: Option<(Span, u8, f64)>,
     feed_word: f64,
     feed_set: bool,
+    /// Where the F word in force was written (a zero feed's error names it).
+    feed_span: Span,
     speed: f64,
+    /// Where the S word in force was written.
+    speed_span: Option<Span>,
     spindle: Spindle,
     coolant: Coolant,
     tool: u32,
@@ -424,9 +436,12 @@ impl State {
             set_by_program: BTreeSet::new(),
             panel: BTreeMap::new(),
             guessed: AxisSet::ALL,
+            first_integer: None,
             feed_word: 0.0,
             feed_set: false,
+            feed_span: Span::default(),
             speed: 0.0,
+            speed_span: None,
             spindle: Spindle::Off,
             coolant: Coolant::default(),
             tool: 0,

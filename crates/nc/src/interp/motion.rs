@@ -30,22 +30,55 @@ const GRBL_ARC_MM: f64 = 0.005;
 const GRBL_ARC_LIMIT_MM: f64 = 0.5;
 
 impl State {
-    /// The feed in mm/min for the current modal state.
-    pub(super) fn feed_mm_min(&mut self, span: Span) -> f64 {
+    /// The feed in mm/min for the current modal state, for a cutting move
+    /// of the block at `span`. A feed of zero is an error in every dialect
+    /// (LinuxCNC refuses it; a Fanuc axis would wait forever): `F0` in
+    /// G94, or G95 with spindle speed 0. No F word at all is a warning.
+    pub(super) fn feed_mm_min(&mut self, span: Span) -> Result<f64, Diagnostic> {
         if !self.feed_set {
             self.warn("no-feed", span, "a cutting move before any F word: the feed is unknown (0)");
         }
         let f = if self.modal.units == Units::Inch { self.feed_word * 25.4 } else { self.feed_word };
-        match self.modal.feed_mode {
-            FeedMode::PerMinute => f,
-            // Set per move from its length (see `motion`).
-            FeedMode::InverseTime => 0.0,
-            FeedMode::PerRev => {
-                if self.speed == 0.0 {
-                    self.warn("no-speed", span, "feed per revolution (G95) with spindle speed 0");
-                }
-                f * self.speed
+        // The word that set the zero where this block has it, else the block.
+        let at = |set: Span| {
+            if set.file == span.file && set.start >= span.start && set.end <= span.end {
+                set
+            } else {
+                span
             }
+        };
+        let earlier = |set: Span| if at(set) == set { "" } else { " (given in an earlier block)" };
+        match self.modal.feed_mode {
+            FeedMode::PerMinute if self.feed_set && f <= 0.0 => Err(Diagnostic::error(
+                at(self.feed_span),
+                format!(
+                    "a cutting move at F{}{}: at feed 0 the move never ends; give F greater than 0",
+                    self.feed_word,
+                    earlier(self.feed_span)
+                ),
+            )),
+            FeedMode::PerMinute => Ok(f),
+            // Set per move from its length (see `motion`).
+            FeedMode::InverseTime => Ok(0.0),
+            FeedMode::PerRev if self.feed_set && self.speed <= 0.0 => {
+                let (place, what) = match self.speed_span {
+                    Some(s) => (at(s), format!("spindle speed S{}{}", self.speed, earlier(s))),
+                    None => (span, "no spindle speed (S) given".to_string()),
+                };
+                Err(Diagnostic::error(
+                    place,
+                    format!("feed per revolution (G95) with {what}: the feed is 0 and the move never ends; give S greater than 0"),
+                ))
+            }
+            FeedMode::PerRev if self.feed_set && f <= 0.0 => Err(Diagnostic::error(
+                at(self.feed_span),
+                format!(
+                    "a cutting move at F{} per revolution{}: at feed 0 the move never ends; give F greater than 0",
+                    self.feed_word,
+                    earlier(self.feed_span)
+                ),
+            )),
+            FeedMode::PerRev => Ok(f * self.speed),
         }
     }
 
@@ -349,7 +382,7 @@ impl State {
             return Err(Diagnostic::error(gspan, "a skip move in inverse time feed (G93): give G94 first"));
         }
         let end = self.target(w);
-        let feed = self.feed_mm_min(span);
+        let feed = self.feed_mm_min(span)?;
         self.push_move(MoveKind::Probe, end, feed, w.axes(), line);
         // #5061… include the tool length offset, as #5041… do.
         let work = self.work_position();
@@ -397,12 +430,12 @@ impl State {
         match self.modal.motion {
             Motion::Rapid => self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line),
             Motion::Linear => {
-                let feed = self.feed_mm_min(span);
+                let feed = self.feed_mm_min(span)?;
                 self.push_move(MoveKind::Feed, end, feed, w.axes(), line);
             }
             Motion::Cw | Motion::Ccw => {
                 let arc = self.arc(w, end, span)?;
-                let feed = self.feed_mm_min(span);
+                let feed = self.feed_mm_min(span)?;
                 self.push_move(MoveKind::Arc(arc), end, feed, w.axes(), line);
             }
         }

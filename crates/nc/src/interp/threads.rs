@@ -49,7 +49,10 @@ impl State {
             return Err(Diagnostic::error(span, "G33.1 with cutter compensation on (G41/G42): give G40 first"));
         }
         if self.speed <= 0.0 {
-            self.warn("no-speed", span, "G33.1 with spindle speed 0: the feed is 0");
+            return Err(Diagnostic::error(
+                span,
+                "G33.1 with spindle speed 0: the feed is 0 and the tap never ends; give S greater than 0",
+            ));
         }
         let (start, first, spindle) = (self.tip, self.toolpath.moves.len(), self.spindle);
         let end = self.target(w);
@@ -181,7 +184,10 @@ impl State {
         }
         depths.extend(std::iter::repeat_n(self.mm(k), 1 + h as usize));
         if self.speed <= 0.0 {
-            self.warn("no-speed", span, "G76 with spindle speed 0: the feed is 0");
+            return Err(Diagnostic::error(
+                span,
+                "G76 with spindle speed 0: the feed is 0 and the thread never ends; give S greater than 0",
+            ));
         }
         Ok(Thread { pitch, i, j, k, q, ends, taper, entry, exit, depths })
     }

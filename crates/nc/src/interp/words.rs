@@ -183,7 +183,7 @@ impl<'a> Words<'a> {
 }
 
 /// Addresses whose integer values count least input increments.
-const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@";
+pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@";
 
 impl State {
     /// Evaluates the words of `w` (made by [`Words::new`]) into it.
@@ -249,6 +249,7 @@ impl State {
                         let counts =
                             if b"ABC".contains(&letter) || self.modal.units == Units::Mm { 1000.0 } else { 10_000.0 };
                         if v != 0.0 {
+                            self.first_integer.get_or_insert((word_span, letter, v));
                             let dwell = letter == b'X' && w.g[..w.g_count].iter().any(|&(g, _)| g == 40);
                             let unit = match self.modal.units {
                                 _ if dwell => "s",
