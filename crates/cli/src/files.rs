@@ -8,7 +8,7 @@ mod same;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-pub use outputs::Outputs;
+pub use outputs::{cannot_write, Outputs};
 pub use same::{refuse_same_files, Usage};
 
 use anyhow::{Context, Result};

@@ -17,6 +17,10 @@ fn main() -> ExitCode {
     // thread exists.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        // A file past the size limit (`ulimit -f`) is a write error that
+        // names the file, as a full disk is, not a killed process that
+        // leaves its temporary files behind.
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
     // A number out of its range is bad input (exit 1, as every other bad
     // value); a malformed command line stays clap's usage error (exit 2).
