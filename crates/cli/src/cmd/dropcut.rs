@@ -28,11 +28,13 @@ Examples:
   kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
       --stepover 1 --surface-stl plum.stl -o plum.nc
   kezuri dropcut plum.stl --tool ball:6 --grid 0,0,40,30,2 -o plum.cl
+  kezuri dropcut plum.stl --units inch --tool ball:6 --grid 0,0,1016,762,50 \\
+      -o plum-inch.cl   # the model drawn in inches: 25.4 times larger
   kezuri dropcut plum.stl --tool bull:10,1 --grid -5,-5,45,35,1 --fill 5 \\
       > plum-bull.cl
   cat plum.stl | kezuri dropcut - --tool oval:16,24 --grid 0,0,40,30,1
 
-Exit code 1 for an unreadable or empty STL, a NaN coordinate, a bad tool or grid.")]
+Exit code 1 for an unreadable or empty STL, a coordinate that is no number or beyond the format (file:line:column), a bad tool or grid.")]
 pub struct DropcutArgs {
     /// The STL mesh (binary or ASCII); `-` reads stdin.
     #[arg(value_name = "MESH")]
