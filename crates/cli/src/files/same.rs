@@ -1,14 +1,18 @@
-//! No output over an input: before a command starts, every file the
-//! command line names is compared with every other by device and inode,
-//! so `-o` naming the program read (by the same path, `./path`, a link or
-//! a hard link) is refused before anything is read or written.
+//! No output over an input: before a command starts, every file its
+//! outputs name is compared with every file the command line names by
+//! device and inode, so `-o` naming the program read (by the same path,
+//! `./path`, a link or a hard link) is refused before anything is read or
+//! written.
 //!
 //! The check reads the parsed command line itself: every option or
-//! argument clap parses as a path takes part, whatever the command, so a
-//! new command or a new output option cannot be left out. Two names of
-//! one argument (`check a.nc a.nc`) are no conflict; the commands that
-//! rewrite their own input in place (`run FILE -o FILE`, `convert`,
-//! `probe level`) keep doing so through their `-o`.
+//! argument clap parses as a path takes part, whatever the command, each
+//! known as an output ([`OUTPUTS`]) or an input (a test holds that no path
+//! argument is neither: a new output option cannot be left out); a text
+//! that names a file (`--stock FILE.stl`, `mask:FILE`) counts as an input.
+//! Two names of one argument (`tool table a.tbl ./a.tbl`) and two inputs
+//! naming one file are no conflict; the commands that rewrite their own
+//! input in place (`run FILE -o FILE`, `convert`, `probe level`) keep
+//! doing so through their `-o`.
 
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
@@ -55,6 +59,11 @@ pub fn refuse_same_files(command: &Command, matches: &ArgMatches) -> Result<(), 
             if a.id == b.id || a.file != b.file || !(a.is_path || b.is_path) {
                 continue;
             }
+            // Two inputs may be one file (`sim --stock part.stl --compare
+            // part.stl` shows only the gouges).
+            if !is_output(&a.id) && !is_output(&b.id) {
+                continue;
+            }
             let pair = |x: &str, y: &str| (a.id == x && b.id == y) || (a.id == y && b.id == x);
             if in_place.is_some_and(|input| pair(input, "output")) {
                 continue;
@@ -75,13 +84,39 @@ pub fn refuse_same_files(command: &Command, matches: &ArgMatches) -> Result<(), 
     Ok(())
 }
 
-/// The usual names of outputs, for the message only (every pair of
-/// arguments naming one file is refused whatever they are).
+/// The arguments (by clap id) that name a file kezuri writes: outputs,
+/// and the tool database (`tool db add` writes it).
+const OUTPUTS: [&str; 12] =
+    ["output", "svg", "png", "stl", "surface_stl", "view", "deviation_png", "dxf", "csv", "out", "dprnt", "db"];
+
+/// The path arguments that kezuri only reads. Every path argument of the
+/// command line is in one list or the other (the test below holds it: a
+/// new output option cannot be left out of the check).
+#[cfg(test)]
+const INPUTS: [&str; 19] = [
+    "file",
+    "input",
+    "data",
+    "mesh",
+    "surface",
+    "model",
+    "image",
+    "images",
+    "mask",
+    "profile",
+    "offsets",
+    "files",
+    "machine",
+    "lib",
+    "var",
+    "compare",
+    "measurements",
+    "index",
+    "tool_profile",
+];
+
 fn is_output(id: &str) -> bool {
-    matches!(
-        id,
-        "output" | "svg" | "png" | "stl" | "surface_stl" | "view" | "deviation_png" | "dxf" | "csv" | "out" | "dprnt"
-    )
+    OUTPUTS.contains(&id)
 }
 
 /// The existing files named by `matches` and its subcommands' matches;
@@ -136,4 +171,31 @@ fn identity(p: &Path) -> Option<(u64, u64)> {
     }
     let m = std::fs::metadata(p).ok()?;
     m.is_file().then(|| (m.dev(), m.ino()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    /// Every argument parsed as a path, in every command, is a known input
+    /// or a known output.
+    #[test]
+    fn every_path_argument_is_an_input_or_an_output() {
+        fn walk(c: &Command, path: &str, unknown: &mut Vec<String>) {
+            let path_parser = clap::value_parser!(PathBuf).type_id();
+            for a in c.get_arguments() {
+                let id = a.get_id().as_str();
+                if a.get_value_parser().type_id() == path_parser && !OUTPUTS.contains(&id) && !INPUTS.contains(&id) {
+                    unknown.push(format!("{path} {id}"));
+                }
+            }
+            for s in c.get_subcommands() {
+                walk(s, &format!("{path} {}", s.get_name()), unknown);
+            }
+        }
+        let mut unknown = Vec::new();
+        walk(&crate::Cli::command(), "kezuri", &mut unknown);
+        assert!(unknown.is_empty(), "path arguments in neither OUTPUTS nor INPUTS of files/same.rs: {unknown:?}");
+    }
 }
