@@ -3,11 +3,13 @@
 
 mod live;
 mod outputs;
+mod same;
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-pub use outputs::Outputs;
+pub use outputs::{cannot_write, Outputs};
+pub use same::{refuse_same_files, Usage};
 
 use anyhow::{Context, Result};
 use kezuri_nc::interp::Library;

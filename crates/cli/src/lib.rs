@@ -216,10 +216,23 @@ impl Cli {
     }
 }
 
+/// Refuses a command line that names one file as an output and an input
+/// (by device and inode), before the command reads or writes anything:
+/// the error is a [`Usage`] (exit code 2).
+pub fn refuse_same_files(matches: &clap::ArgMatches) -> anyhow::Result<()> {
+    use clap::CommandFactory;
+    Ok(files::refuse_same_files(&Cli::command(), matches)?)
+}
+
+pub use files::Usage;
+
 /// Runs `kezuri ARGS…` in this process, as the demo does: the words are
 /// parsed exactly as on the command line.
 fn run_words(words: &[&str]) -> anyhow::Result<()> {
-    let cli = Cli::try_parse_from(std::iter::once("kezuri").chain(words.iter().copied()))?;
+    use clap::{CommandFactory, FromArgMatches};
+    let matches = Cli::command().try_get_matches_from(std::iter::once("kezuri").chain(words.iter().copied()))?;
+    refuse_same_files(&matches)?;
+    let cli = Cli::from_arg_matches(&matches)?;
     dispatch(&cli.command)
 }
 

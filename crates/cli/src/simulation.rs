@@ -70,6 +70,9 @@ pub struct SimSetup {
     /// Intended surface: an STL, or a height grid of `x y z` lines.
     #[arg(long, value_name = "TARGET")]
     pub compare: Option<PathBuf>,
+    /// The unit the --compare and --stock files are drawn in (STL files carry none).
+    #[arg(long, value_enum, default_value = "mm")]
+    pub units: crate::surface::Units,
     /// Largest sagitta of the chords arcs are cut as, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
     pub chord_tol: f64,
@@ -127,7 +130,7 @@ pub fn simulate(
         Some(s) => s,
         None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.to_string())?),
     };
-    let mut zmap = stock.grid(&options)?;
+    let mut zmap = stock.grid(&options, setup.units)?;
     let top = zmap.range().1;
     let t0 = Instant::now();
     let bar = LateBar::new("cutting", "pieces", Duration::from_secs(1));
@@ -144,7 +147,7 @@ pub fn simulate(
     let seconds = t0.elapsed().as_secs_f64();
     let comparison = match &setup.compare {
         Some(target) => {
-            let triangles = crate::surface::read_surface(target)?.triangles();
+            let triangles = crate::surface::read_surface(target, setup.units)?.triangles();
             let heights = target_heights(&zmap, triangles);
             let c = compare(&zmap, &heights, bins);
             if c.compared == 0 {

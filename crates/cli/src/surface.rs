@@ -4,11 +4,13 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use clap::ValueEnum;
 use kezuri_cam::dropcut::{drop_cutter, MeshSurface};
 use kezuri_cam::Cutter;
-use kezuri_geom::{write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
+use kezuri_geom::{read_stl, write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
 
 use crate::files::{read_bytes, Outputs};
+use crate::say::note;
 
 /// A surface to cut or to compare with.
 pub enum Surface {
@@ -56,10 +58,83 @@ impl Surface {
     }
 }
 
+/// The unit an STL (or a height grid) is drawn in: STL files carry none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Units {
+    /// Millimetres (as kezuri works).
+    #[default]
+    Mm,
+    /// Inches: every coordinate is multiplied by 25.4.
+    Inch,
+}
+
+impl Units {
+    /// Millimetres per unit.
+    pub fn scale(self) -> f64 {
+        match self {
+            Units::Mm => 1.0,
+            Units::Inch => 25.4,
+        }
+    }
+}
+
+/// A model smaller than this in every direction, read as mm, may well be
+/// drawn in inches.
+const INCH_SUSPECT_MM: f64 = 13.0;
+
+/// Says a model's size (`model: 120.0 × 80.0 × 30.0 mm`), with a note
+/// where it is so small that it may be in inches.
+fn say_size(name: &str, units: Units, lo: [f64; 3], hi: [f64; 3]) {
+    let d: [f64; 3] = std::array::from_fn(|k| hi[k] - lo[k]);
+    let from = if units == Units::Inch { " (from inches)" } else { "" };
+    note!("{name}: model: {:.1} × {:.1} × {:.1} mm{from}", d[0], d[1], d[2]);
+    if units == Units::Mm && d.iter().all(|d| *d < INCH_SUSPECT_MM) {
+        note!(
+            "note: {name}: the model is under {INCH_SUSPECT_MM} mm in every direction: if it was drawn in inches, \
+             give --units inch"
+        );
+    }
+}
+
+/// Reads an STL mesh (binary or ASCII) in `units`: says its size, and
+/// warns of degenerate triangles skipped and of an ASCII file cut short.
+pub fn read_mesh(path: &Path, units: Units) -> Result<Mesh> {
+    let bytes = read_bytes(path)?;
+    mesh_of(&path.display().to_string(), &bytes, units)
+}
+
+fn mesh_of(name: &str, bytes: &[u8], units: Units) -> Result<Mesh> {
+    let file = read_stl(bytes).map_err(|e| match e.at {
+        Some((line, column)) => anyhow::anyhow!("{name}:{line}:{column}: {} (ASCII STL)", e.message),
+        None => anyhow::Error::new(e).context(name.to_string()),
+    })?;
+    if let Some(line) = file.cut_short {
+        eprintln!(
+            "warning: {name}: the ASCII STL ends at line {line} without its `endsolid` line: the file may be cut \
+             short ({} triangles read)",
+            file.triangles.len()
+        );
+    }
+    let k = units.scale();
+    let triangles = match units {
+        Units::Mm => file.triangles,
+        Units::Inch => file.triangles.into_iter().map(|t| Triangle { v: t.v.map(|p| p * k) }).collect(),
+    };
+    let mesh = Mesh::from_stl_triangles(triangles).with_context(|| name.to_string())?;
+    if mesh.skipped() > 0 {
+        eprintln!("warning: {name}: skipped {} degenerate (zero-area) triangles", mesh.skipped());
+    }
+    if let Some((lo, hi)) = mesh.bounds() {
+        say_size(name, units, [lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]);
+    }
+    Ok(mesh)
+}
+
 /// Reads an STL (binary or ASCII) or a height grid (`x y z` or `x,y,z`
 /// lines on a regular grid; lines that do not start with a number, headers
-/// and comments, are skipped; a line that starts with one must be `x y z`).
-pub fn read_surface(path: &Path) -> Result<Surface> {
+/// and comments, are skipped; a line that starts with one must be `x y z`),
+/// in `units`, and says its size.
+pub fn read_surface(path: &Path, units: Units) -> Result<Surface> {
     let bytes = read_bytes(path)?;
     let name = path.display().to_string();
     let is_stl = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
@@ -68,19 +143,25 @@ pub fn read_surface(path: &Path) -> Result<Surface> {
             .get(80..84)
             .is_some_and(|c| 84 + 50 * u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])) == bytes.len() as u64);
     if is_stl {
-        let mesh = Mesh::from_stl(&bytes).with_context(|| name.clone())?;
-        if mesh.skipped() > 0 {
-            eprintln!("warning: {name}: skipped {} degenerate (zero-area) triangles", mesh.skipped());
-        }
-        return Ok(Surface::Mesh(Box::new(MeshSurface::new(mesh))));
+        return Ok(Surface::Mesh(Box::new(MeshSurface::new(mesh_of(&name, &bytes, units)?))));
     }
-    grid(&String::from_utf8_lossy(&bytes)).with_context(|| name)
+    let surface = grid(&String::from_utf8_lossy(&bytes), units.scale()).with_context(|| name.clone())?;
+    let [x0, y0, x1, y1] = surface.xy_box();
+    let (z0, z1) = match &surface {
+        Surface::Grid(g) => {
+            g.heights().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(*z), b.max(*z)))
+        }
+        Surface::Mesh(m) => m.mesh().bounds().map_or((0.0, 0.0), |(lo, hi)| (lo.z, hi.z)),
+    };
+    say_size(&name, units, [x0, y0, z0], [x1, y1, z1]);
+    Ok(surface)
 }
 
-/// A regular height grid: a [`Heightfield`] when its cells are square,
-/// otherwise its triangles (each cell split along the diagonal from its
-/// lowest corner, as the heightfield does).
-fn grid(text: &str) -> Result<Surface> {
+/// A regular height grid, its coordinates multiplied by `scale`: a
+/// [`Heightfield`] when its cells are square, otherwise its triangles (each
+/// cell split along the diagonal from its lowest corner, as the heightfield
+/// does).
+fn grid(text: &str, scale: f64) -> Result<Surface> {
     let mut points = Vec::new();
     for (n, line) in text.lines().enumerate() {
         let fields: Vec<&str> = line.split(|c: char| c == ',' || c.is_whitespace()).filter(|f| !f.is_empty()).collect();
@@ -95,7 +176,7 @@ fn grid(text: &str) -> Result<Surface> {
         if !v.iter().all(|v| v.is_finite()) {
             bail!("line {}: a coordinate is not a finite number", n + 1);
         }
-        points.push([v[0], v[1], v[2]]);
+        points.push([v[0] * scale, v[1] * scale, v[2] * scale]);
     }
     if points.len() < 4 {
         bail!("not an STL and not a height grid: {} `x y z` lines, need a grid of at least 2 × 2", points.len());

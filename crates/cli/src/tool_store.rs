@@ -72,6 +72,91 @@ pub struct Entry {
 pub struct Db {
     conn: Connection,
     path: PathBuf,
+    /// A write failed for want of space: on closing, the `-wal` and `-shm`
+    /// files are removed where nothing needs them.
+    full: std::cell::Cell<bool>,
+    /// The database file did not exist before this connection made it.
+    made: bool,
+}
+
+impl Drop for Db {
+    fn drop(&mut self) {
+        if !self.full.get() {
+            return;
+        }
+        // Close the connection first (its locks go with it).
+        if let Ok(memory) = Connection::open_in_memory() {
+            drop(std::mem::replace(&mut self.conn, memory));
+            leave_nothing(&self.path, self.made);
+        }
+    }
+}
+
+/// After a write that found the disk full, with no connection of this
+/// process open: removes the `-wal` and `-shm` files where no other
+/// connection uses them (SQLite's own test: an exclusive lock on the
+/// `-shm`'s byte 128) and the log holds no committed transaction; and the
+/// database file itself where this run made it and it is still empty.
+fn leave_nothing(path: &Path, made: bool) {
+    use std::os::unix::io::AsRawFd;
+    let with = |tail: &str| {
+        let mut p = path.as_os_str().to_owned();
+        p.push(tail);
+        PathBuf::from(p)
+    };
+    let (wal, shm) = (with("-wal"), with("-shm"));
+    let empty_made = || made && std::fs::metadata(path).is_ok_and(|m| m.len() == 0);
+    let Ok(f) = std::fs::OpenOptions::new().read(true).write(true).open(&shm) else {
+        if !wal.exists() && empty_made() {
+            std::fs::remove_file(path).ok();
+        }
+        return;
+    };
+    // SAFETY: a plain struct of integers, zeroed then filled.
+    let mut lock: libc::flock = unsafe { std::mem::zeroed() };
+    lock.l_type = libc::F_WRLCK as _;
+    lock.l_whence = libc::SEEK_SET as _;
+    lock.l_start = 128;
+    lock.l_len = 1;
+    // SAFETY: `f` is open for the call; `lock` lives through it.
+    if unsafe { libc::fcntl(f.as_raw_fd(), libc::F_SETLK, &lock) } != 0 {
+        return; // Another connection uses the database.
+    }
+    let log = std::fs::read(&wal).unwrap_or_default();
+    if commits(&log) {
+        return; // Transactions not yet in the database file: they stay.
+    }
+    std::fs::remove_file(&wal).ok();
+    std::fs::remove_file(&shm).ok();
+    drop(f);
+    if empty_made() {
+        std::fs::remove_file(path).ok();
+    }
+}
+
+/// Whether the write-ahead log `log` holds a committed transaction: a frame
+/// whose "database size after commit" is set, its salts the header's.
+fn commits(log: &[u8]) -> bool {
+    if log.len() < 32 {
+        return false;
+    }
+    let word = |at: usize| u32::from_be_bytes([log[at], log[at + 1], log[at + 2], log[at + 3]]);
+    let page = match word(8) {
+        1 => 65536,
+        p => p as usize,
+    };
+    let (salt1, salt2) = (word(16), word(20));
+    let mut at = 32;
+    while page > 0 && at + 24 + page <= log.len() {
+        if word(at + 8) != salt1 || word(at + 12) != salt2 {
+            break;
+        }
+        if word(at + 4) != 0 {
+            return true;
+        }
+        at += 24 + page;
+    }
+    false
 }
 
 fn is_code(e: &rusqlite::Error, code: ErrorCode) -> bool {
@@ -97,9 +182,10 @@ impl Db {
         if create {
             flags |= OpenFlags::SQLITE_OPEN_CREATE;
         }
+        let made = !path.exists();
         let conn = Connection::open_with_flags(path, flags).with_context(|| format!("cannot open {shown}"))?;
         conn.busy_timeout(BUSY_TIMEOUT)?;
-        let db = Db { conn, path: path.to_path_buf() };
+        let db = Db { conn, path: path.to_path_buf(), full: std::cell::Cell::new(false), made };
         // Making a new file races other `add`s making it; switching it to
         // WAL can meet another's lock without waiting (SQLite's deadlock
         // rule): try again until the busy timeout.
@@ -111,7 +197,8 @@ impl Db {
                     attempt += 1;
                     std::thread::sleep(Duration::from_millis(5 + (attempt * 7 + u64::from(std::process::id())) % 40));
                 }
-                r => return r.map(|_| db),
+                Err(e) => return Err(db.said(e)),
+                Ok(()) => return Ok(db),
             }
         }
     }
@@ -189,9 +276,61 @@ impl Db {
         }
     }
 
+    /// An error of this database as said to the user: a write that found
+    /// the disk full (or a quota, or the file size limit) says so, naming
+    /// the file, and marks the `-wal` and `-shm` files for removal.
+    fn said(&self, e: anyhow::Error) -> anyhow::Error {
+        let io = e
+            .chain()
+            .filter_map(|c| c.downcast_ref::<rusqlite::Error>())
+            .any(|e| is_code(e, ErrorCode::DiskFull) || is_code(e, ErrorCode::SystemIoFailure));
+        if !io {
+            return e;
+        }
+        // SAFETY: the handle of this open connection, read at once.
+        let errno = unsafe { rusqlite::ffi::sqlite3_system_errno(self.conn.handle()) };
+        let sqlite = |e: &rusqlite::Error| match e {
+            rusqlite::Error::SqliteFailure(f, _) => Some(f.extended_code),
+            _ => None,
+        };
+        let codes: Vec<i32> =
+            e.chain().filter_map(|c| c.downcast_ref::<rusqlite::Error>()).filter_map(sqlite).collect();
+        if [libc::ENOSPC, libc::EDQUOT, libc::EFBIG].contains(&errno) {
+            self.full.set(true);
+            return crate::files::cannot_write(&self.path, std::io::Error::from_raw_os_error(errno));
+        }
+        if codes.contains(&rusqlite::ffi::SQLITE_FULL) {
+            self.full.set(true);
+            return crate::files::cannot_write(&self.path, std::io::Error::from_raw_os_error(libc::ENOSPC));
+        }
+        // The `-shm` file could not grow (SQLite keeps no errno of it).
+        if codes.contains(&rusqlite::ffi::SQLITE_IOERR_SHMSIZE) {
+            self.full.set(true);
+            return anyhow!(
+                "cannot write {}: its shared-memory file ({0}-shm) cannot grow: the disk is full or the file size \
+                 limit is reached",
+                self.path.display()
+            );
+        }
+        e
+    }
+
     /// Stores `profile` of `tool_id` measured at `measured_at` (UTC text)
     /// in one transaction; returns its id.
     pub fn add(
+        &mut self,
+        tool_id: &str,
+        profile: &ToolProfile,
+        measured_at: &str,
+        added_at: &str,
+        source: &str,
+        note: Option<&str>,
+    ) -> Result<i64> {
+        let r = self.add_one(tool_id, profile, measured_at, added_at, source, note);
+        r.map_err(|e| self.said(e))
+    }
+
+    fn add_one(
         &mut self,
         tool_id: &str,
         profile: &ToolProfile,
@@ -231,13 +370,18 @@ impl Db {
     /// Every tool's profiles (or `tool_id`'s) in time order (ties in the
     /// order added), tools by id.
     pub fn entries(&self, tool_id: Option<&str>) -> Result<Vec<Entry>> {
-        entries(&self.conn, tool_id)
+        entries(&self.conn, tool_id).map_err(|e| self.said(e))
     }
 
     /// The profiles of `tool_id` in time order with their samples (the
     /// latest alone when `latest_only`), read in one transaction; one at
     /// least: a tool with none is an error naming known ones.
     pub fn profiles(&mut self, tool_id: &str, latest_only: bool) -> Result<Vec<(Entry, ToolProfile)>> {
+        let r = self.read_profiles(tool_id, latest_only);
+        r.map_err(|e| self.said(e))
+    }
+
+    fn read_profiles(&mut self, tool_id: &str, latest_only: bool) -> Result<Vec<(Entry, ToolProfile)>> {
         let tx = self.conn.transaction()?;
         let mut entries = entries(&tx, Some(tool_id))?;
         if entries.is_empty() {

@@ -113,7 +113,10 @@ fn a_written_program_is_summed_up_on_standard_error_unless_quiet() {
     let o = mill(&[]);
     ok(&o);
     let said = stderr(&o);
-    assert_eq!(said.lines().count(), 1, "{said}");
+    // The surface's size as read, then what was written.
+    assert_eq!(said.lines().count(), 2, "{said}");
+    let (model, said) = said.split_once('\n').unwrap();
+    assert_eq!(model, format!("{dome}: model: 20.0 × 20.0 × 3.0 mm"));
     assert!(
         said.starts_with(&format!("wrote {nc}: ")) && said.contains(" moves, feed ") && said.contains("cycle time")
     );

@@ -287,7 +287,11 @@ fn errors_say_what_is_wrong() {
     fail(&["tool", "db", "show", "T9", "--db", &db], "it knows A1, B2, C3");
     // Not a database at all, and a database of something else: untouched.
     fail(&["tool", "db", "list", "--db", &csv], "is not a kezuri tool database (not an SQLite file)");
-    fail(&["tool", "db", "add", "T1", &csv, "--db", &csv], "is not a kezuri tool database (not an SQLite file)");
+    // The profile named as the database is an output over an input: a usage error, before anything.
+    let o = kezuri(&["tool", "db", "add", "T1", &csv, "--db", &csv]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("never writes over an input"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), profile_csv(50, 0.01, 0, 0.0));
     let other = path(dir.path(), "other.sqlite");
     rusqlite::Connection::open(&other).unwrap().execute_batch("CREATE TABLE t (x); INSERT INTO t VALUES (1);").unwrap();
     let before = std::fs::read(&other).unwrap();

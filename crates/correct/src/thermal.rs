@@ -106,6 +106,13 @@ const SAME_ANGLE: f64 = 1e-6;
 /// Fits a model to `measurements`: per axis and B angle, polynomials of
 /// `degree`, or of the degree with the least leave-one-out error.
 pub fn fit(measurements: &[Measurement], degree: Option<usize>) -> Result<ErrorModel, Error> {
+    // No measurement is no model: an empty one would correct nothing.
+    if measurements.is_empty() {
+        return Err(Error::new(
+            ErrorKind::TooFewMeasurements,
+            "no measurements: nothing to fit a model to".to_string(),
+        ));
+    }
     if let Some(k) = measurements.iter().position(|m| {
         m.axis > 2 || !m.b_deg.is_finite() || !m.command.is_finite() || !m.error.iter().all(|e| e.is_finite())
     }) {

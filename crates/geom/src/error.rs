@@ -24,20 +24,23 @@ pub struct Error {
     pub message: String,
     /// The sample of a tool profile to blame (0-based), where one is.
     pub sample: Option<usize>,
+    /// The line and column (from 1) of a text file to blame, where one is.
+    pub at: Option<(usize, usize)>,
 }
 
 impl Error {
     /// An error of `kind` that says `message`.
     pub fn new(kind: ErrorKind, message: impl Into<String>) -> Error {
-        Error { kind, message: message.into(), sample: None }
+        Error { kind, message: message.into(), sample: None, at: None }
     }
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.sample {
-            Some(i) => write!(f, "sample {}: {}", i + 1, self.message),
-            None => f.write_str(&self.message),
+        match (self.sample, self.at) {
+            (Some(i), _) => write!(f, "sample {}: {}", i + 1, self.message),
+            (None, Some((line, column))) => write!(f, "line {line}, column {column}: {}", self.message),
+            (None, None) => f.write_str(&self.message),
         }
     }
 }

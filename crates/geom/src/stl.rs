@@ -12,13 +12,30 @@ use crate::mesh::{Mesh, Triangle, Vec3};
 
 /// The triangles of an STL file, binary or ASCII, in file order (degenerate
 /// ones included). Fails on a truncated or mis-sized file, an unreadable
-/// ASCII line, or a non-finite coordinate.
+/// ASCII line, or a coordinate that is not a number the format can hold
+/// (a 32-bit float: NaN, infinite or beyond ±3.4e38).
 pub fn parse_stl(bytes: &[u8]) -> Result<Vec<Triangle>, Error> {
+    read_stl(bytes).map(|f| f.triangles)
+}
+
+/// An STL file read: its triangles, and what a reader should be told.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StlFile {
+    /// The triangles in file order (degenerate ones included).
+    pub triangles: Vec<Triangle>,
+    /// An ASCII file that ends (after whole facets) without its `endsolid`
+    /// line: it may be cut short. The number of its last line.
+    pub cut_short: Option<usize>,
+}
+
+/// Reads an STL file as [`parse_stl`], saying too whether an ASCII file
+/// lacks its `endsolid` line.
+pub fn read_stl(bytes: &[u8]) -> Result<StlFile, Error> {
     let binary_size = |n: u32| 84 + 50 * u64::from(n);
     let count = bytes.get(80..84).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
     if let Some(n) = count {
         if binary_size(n) == bytes.len() as u64 {
-            return parse_binary(&bytes[84..], n as usize);
+            return Ok(StlFile { triangles: parse_binary(&bytes[84..], n as usize)?, cut_short: None });
         }
     }
     if looks_ascii(bytes) {
@@ -42,7 +59,12 @@ impl Mesh {
     /// Reads an STL file (see [`parse_stl`]) into a mesh, skipping
     /// degenerate triangles; a mesh with no triangle left is an error.
     pub fn from_stl(bytes: &[u8]) -> Result<Mesh, Error> {
-        let mesh = Mesh::from_triangles(parse_stl(bytes)?);
+        Mesh::from_stl_triangles(parse_stl(bytes)?)
+    }
+
+    /// The mesh of an STL's `triangles` (see [`Mesh::from_stl`]).
+    pub fn from_stl_triangles(triangles: Vec<Triangle>) -> Result<Mesh, Error> {
+        let mesh = Mesh::from_triangles(triangles);
         if mesh.is_empty() {
             return Err(stl_error(match mesh.skipped() {
                 0 => "empty STL: no triangles".to_string(),
@@ -86,17 +108,22 @@ fn parse_binary(body: &[u8], n: usize) -> Result<Vec<Triangle>, Error> {
     Ok(out)
 }
 
-fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, Error> {
+fn parse_ascii(bytes: &[u8]) -> Result<StlFile, Error> {
     let text = String::from_utf8_lossy(bytes);
     let mut out = Vec::new();
     let mut corners: Vec<Vec3> = Vec::with_capacity(3);
     let mut in_facet = false;
     let mut last = 0;
+    let mut ended = false;
     for (k, line) in text.lines().enumerate() {
         let line_no = k + 1;
         last = line_no;
         let mut words = line.split_whitespace();
-        let syntax = |message: String| stl_error(format!("ASCII STL line {line_no}: {message}"));
+        // The column (from 1) of `word`, a slice of `line`.
+        let column = |word: &str| line[..word.as_ptr() as usize - line.as_ptr() as usize].chars().count() + 1;
+        let first = line.split_whitespace().next().map_or(1, column);
+        let at = |message: String, column: usize| Error { at: Some((line_no, column)), ..stl_error(message) };
+        let syntax = |message: String| at(message, first);
         match words.next().map(|w| w.to_ascii_lowercase()).as_deref() {
             Some("facet") => {
                 if in_facet {
@@ -112,7 +139,18 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, Error> {
                 let mut xyz = [0.0f64; 3];
                 for v in &mut xyz {
                     let w = words.next().ok_or_else(|| syntax("'vertex' needs three coordinates".into()))?;
-                    *v = w.parse().map_err(|_| syntax(format!("'{w}' is not a number")))?;
+                    let not_a_number = || at(format!("'{w}' is not a number"), column(w));
+                    *v = w.parse().map_err(|_| not_a_number())?;
+                    if v.is_nan() {
+                        return Err(not_a_number());
+                    }
+                    // The format's numbers are 32-bit floats.
+                    if v.abs() > f64::from(f32::MAX) {
+                        return Err(at(
+                            format!("'{w}' is beyond the range of an STL coordinate (a 32-bit float, ±3.4e38)"),
+                            column(w),
+                        ));
+                    }
                 }
                 if corners.len() == 3 {
                     return Err(syntax("a facet with more than three vertices".into()));
@@ -129,14 +167,15 @@ fn parse_ascii(bytes: &[u8]) -> Result<Vec<Triangle>, Error> {
                 out.push(Triangle::new(corners[0], corners[1], corners[2]));
                 in_facet = false;
             }
-            // solid, outer loop, endloop, endsolid, blank lines.
+            Some("endsolid") => ended = true,
+            // solid, outer loop, endloop, blank lines.
             _ => {}
         }
     }
     if in_facet {
         return Err(stl_error(format!("truncated ASCII STL: the file ends inside a facet (line {last})")));
     }
-    Ok(out)
+    Ok(StlFile { triangles: out, cut_short: (!ended).then_some(last) })
 }
 
 /// A binary STL of `triangles` (an 80-byte header of spaces; normals from
@@ -242,12 +281,24 @@ mod tests {
         let a = write_ascii_stl("sq", &square());
         assert_eq!(
             err(a.replacen("vertex 2 2 1.5", "vertex 2 nan 1.5", 1).as_bytes()),
-            "STL triangle 1 has a NaN or infinite coordinate"
+            "line 6, column 16: 'nan' is not a number"
         );
         assert_eq!(
             err(a.replacen("vertex 2 0 1", "vertex 2 x 1", 1).as_bytes()),
-            "ASCII STL line 5: 'x' is not a number"
+            "line 5, column 16: 'x' is not a number"
         );
+        assert_eq!(
+            err(a.replacen("vertex 2 0 1", "vertex 2 1e39 1", 1).as_bytes()),
+            "line 5, column 16: '1e39' is beyond the range of an STL coordinate (a 32-bit float, ±3.4e38)"
+        );
+        assert_eq!(
+            err(a.replacen("vertex 2 0 1", "vertex 2 -1e400 1", 1).as_bytes()),
+            "line 5, column 16: '-1e400' is beyond the range of an STL coordinate (a 32-bit float, ±3.4e38)"
+        );
+        assert_eq!(read_stl(a.as_bytes()).unwrap().cut_short, None);
+        let no_end = a.replace("endsolid sq\n", "");
+        assert_eq!(read_stl(no_end.as_bytes()).unwrap().cut_short, Some(15));
+        assert_eq!(read_stl(&b).unwrap().cut_short, None);
         let cut: String = a.lines().take(12).collect::<Vec<_>>().join("\n");
         assert_eq!(err(cut.as_bytes()), "truncated ASCII STL: the file ends inside a facet (line 12)");
         assert_eq!(

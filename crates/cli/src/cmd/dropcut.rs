@@ -8,9 +8,8 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use kezuri_cam::dropcut::{drop_cutter_grid, Grid, MeshSurface};
 use kezuri_cam::Cutter;
-use kezuri_geom::Mesh;
 
-use crate::files::{read_bytes, write_output};
+use crate::files::write_output;
 
 /// Options of `kezuri dropcut`.
 #[derive(Args, Debug)]
@@ -29,15 +28,20 @@ Examples:
   kezuri relief samples/plum-sketch.png --width 40 --depth 3 --tool ball:3 \\
       --stepover 1 --surface-stl plum.stl -o plum.nc
   kezuri dropcut plum.stl --tool ball:6 --grid 0,0,40,30,2 -o plum.cl
+  kezuri dropcut plum.stl --units inch --tool ball:6 --grid 0,0,1016,762,50 \\
+      -o plum-inch.cl   # the model drawn in inches: 25.4 times larger
   kezuri dropcut plum.stl --tool bull:10,1 --grid -5,-5,45,35,1 --fill 5 \\
       > plum-bull.cl
   cat plum.stl | kezuri dropcut - --tool oval:16,24 --grid 0,0,40,30,1
 
-Exit code 1 for an unreadable or empty STL, a NaN coordinate, a bad tool or grid.")]
+Exit code 1 for an unreadable or empty STL, a coordinate that is no number or beyond the format (file:line:column), a bad tool or grid.")]
 pub struct DropcutArgs {
     /// The STL mesh (binary or ASCII); `-` reads stdin.
     #[arg(value_name = "MESH")]
     pub mesh: PathBuf,
+    /// The unit the mesh is drawn in (STL files carry none): `inch` multiplies it by 25.4.
+    #[arg(long, value_enum, default_value = "mm")]
+    pub units: crate::surface::Units,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
     #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
@@ -59,12 +63,7 @@ pub fn run(args: &DropcutArgs) -> Result<()> {
     let grid: Grid = args.grid.parse().with_context(|| "--grid")?;
     // Each point's height (16 bytes) and its line of text (about 40).
     crate::budget::memory("--grid", grid.len() as f64, "points", 56.0)?;
-    let bytes = read_bytes(&args.mesh)?;
-    let mesh = Mesh::from_stl(&bytes).with_context(|| format!("{}", args.mesh.display()))?;
-    drop(bytes);
-    if mesh.skipped() > 0 {
-        eprintln!("warning: {}: skipped {} degenerate (zero-area) triangles", args.mesh.display(), mesh.skipped());
-    }
+    let mesh = crate::surface::read_mesh(&args.mesh, args.units)?;
     let surface = MeshSurface::new(mesh);
 
     // Long runs only: a quarter of a million points take a second or so.

@@ -47,6 +47,9 @@ pub struct MillArgs {
     /// lines; `-` reads stdin.
     #[arg(value_name = "SURFACE")]
     pub surface: std::path::PathBuf,
+    /// The unit the surface is drawn in (STL files carry none): `inch` multiplies it by 25.4.
+    #[arg(long, value_enum, default_value = "mm")]
+    pub units: crate::surface::Units,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
     #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,
@@ -100,7 +103,7 @@ pub struct MillArgs {
 pub fn run(args: &MillArgs) -> Result<()> {
     let cutter: Cutter = args.tool.parse()?;
     let machine = args.machine.load()?;
-    let surface = read_surface(&args.surface)?;
+    let surface = read_surface(&args.surface, args.units)?;
     let [x0, y0, x1, y1] = match &args.region {
         Some(text) => parse_region(text)?,
         None => surface.xy_box(),

@@ -368,7 +368,7 @@ fn edge(a: &EdgeArgs) -> Result<()> {
 
 /// The measurements of a table (module docs of `kezuri thermal fit`):
 /// with a state column, the drift (warm less cold).
-fn measurements(t: &Table) -> Result<Vec<Measurement>> {
+fn measurements(name: &str, t: &Table) -> Result<Vec<Measurement>> {
     let expected = "axis,command_mm,ex_mm,ey_mm,ez_mm[,b_deg][,state]";
     let [axis, command, ex, ey, ez] = ["axis", "command_mm", "ex_mm", "ey_mm", "ez_mm"].map(|n| t.require(n, expected));
     let (axis, command, e) = (axis?, command?, [ex?, ey?, ez?]);
@@ -391,7 +391,15 @@ fn measurements(t: &Table) -> Result<Vec<Measurement>> {
     if state.is_none() {
         return Ok(rows.into_iter().map(|(m, _)| m).collect());
     }
-    warm_less_cold(&rows).map_err(|(r, e)| t.error_at(r, command, &e.message))
+    let drift = warm_less_cold(&rows).map_err(|(r, e)| t.error_at(r, command, &e.message))?;
+    if drift.is_empty() {
+        let cold = rows.iter().filter(|(_, warm)| !warm).count();
+        bail!(
+            "{name}: no warm measurement ({cold} cold, 0 warm): the drift is warm less cold at each stop, so a model needs \
+             every stop measured cold and warm",
+        );
+    }
+    Ok(drift)
 }
 
 fn fit_model(a: &FitArgs) -> Result<()> {
@@ -406,7 +414,7 @@ fn fit_model(a: &FitArgs) -> Result<()> {
         None => Machine::default(),
     };
     let table = Table::parse(&name, &read_text(&a.measurements)?)?;
-    let ms = measurements(&table)?;
+    let ms = measurements(&name, &table)?;
     let model = fit(&ms, a.degree).with_context(|| name.clone())?;
     let v = model_file::to_json(&model, ms.len(), &machine.kinematics);
     write_output(a.output.as_deref(), (serde_json::to_string_pretty(&v)? + "\n").as_bytes())?;

@@ -7,11 +7,10 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_cam::Cutter;
 use kezuri_correct::wear::{correct_moves, Corrected, Nominal, Options, Summary, Surface};
-use kezuri_geom::{set_ends, ArcCentre, Mesh, MoveKind, ToolProfile};
+use kezuri_geom::{set_ends, ArcCentre, MoveKind, ToolProfile};
 use serde_json::json;
 
 use crate::corrected::{in_program, run_to_correct, write_corrected};
-use crate::files::read_bytes;
 use crate::program::{RunOptions, WriteArgs};
 
 /// `kezuri wear …`.
@@ -71,6 +70,9 @@ pub struct ApplyArgs {
     /// The finished part (STL, program coordinates).
     #[arg(long, value_name = "PART.stl")]
     pub surface: PathBuf,
+    /// The unit the --surface STL is drawn in (STL files carry none): `inch` multiplies it by 25.4.
+    #[arg(long, value_enum, default_value = "mm")]
+    pub units: crate::surface::Units,
     /// Points whose new tool is farther than this from the surface are kept (mm).
     #[arg(long, value_name = "MM", default_value_t = 0.05, value_parser = crate::numbers::length)]
     pub reach: f64,
@@ -116,10 +118,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         (None, None) => bail!("give --profile or --tool-id"),
     };
     let stl = a.surface.display().to_string();
-    let mesh = Mesh::from_stl(&read_bytes(&a.surface)?).with_context(|| stl.clone())?;
-    if mesh.is_empty() {
-        bail!("{stl}: no triangles");
-    }
+    let mesh = crate::surface::read_mesh(&a.surface, a.units)?;
     let (text, mut ran) = run_to_correct(&a.run, |_| Ok(()))?;
     let mut path = ran.outcome.toolpath.clone();
     let surface = Surface::new(&mesh);

@@ -78,17 +78,22 @@ impl Outputs {
         // From here on the temporary file is listed: a failure, a drop or a
         // signal removes it.
         self.staged.push(Staged::File { shown: path.to_path_buf(), target, tmp: tmp.clone() });
-        let cannot = || format!("cannot write {}", path.display());
+        let cannot = |e: std::io::Error| cannot_write(path, e);
         let mut options = OpenOptions::new();
         options.write(true).create_new(true).mode(0o666);
-        let f = options.open(&tmp).with_context(cannot)?;
+        let f = options.open(&tmp).map_err(cannot)?;
         if let Some(p) = old {
-            f.set_permissions(p).with_context(cannot)?;
+            f.set_permissions(p).map_err(cannot)?;
         }
         let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
-        fill(&mut w).and_then(|_| w.flush()).with_context(cannot)?;
-        let f = w.into_inner().map_err(|e| e.into_error()).with_context(cannot)?;
-        f.sync_all().ok();
+        fill(&mut w).and_then(|_| w.flush()).map_err(cannot)?;
+        let f = w.into_inner().map_err(|e| e.into_error()).map_err(cannot)?;
+        // A full disk may show only here (space the file system promised
+        // and could not give); a file system that cannot sync is no error.
+        match f.sync_all() {
+            Err(e) if is_full(&e) => return Err(cannot(e)),
+            _ => {}
+        }
         Ok(())
     }
 
@@ -135,6 +140,23 @@ impl Drop for Outputs {
     }
 }
 
+/// Whether `e` says the disk (or the user's quota, or the file size
+/// limit) is full.
+fn is_full(e: &std::io::Error) -> bool {
+    matches!(e.raw_os_error(), Some(libc::ENOSPC) | Some(libc::EDQUOT) | Some(libc::EFBIG))
+}
+
+/// `cannot write PATH: …`, a full disk said as such.
+pub fn cannot_write(path: &Path, e: std::io::Error) -> anyhow::Error {
+    let full = match e.raw_os_error() {
+        Some(libc::ENOSPC) => "the disk is full",
+        Some(libc::EDQUOT) => "the disk quota is used up",
+        Some(libc::EFBIG) => "the file is past the size this system allows (ulimit -f)",
+        _ => return anyhow::Error::new(e).context(format!("cannot write {}", path.display())),
+    };
+    anyhow::anyhow!("cannot write {}: {full} ({e})", path.display())
+}
+
 /// Writes `bytes` to standard output (`None`) or into a device or pipe; a
 /// reader of standard output that stops early is no error.
 fn write_stream(to: Option<&Path>, bytes: &[u8]) -> Result<()> {
@@ -146,11 +168,9 @@ fn write_stream(to: Option<&Path>, bytes: &[u8]) -> Result<()> {
                 r => r.context("cannot write to standard output"),
             }
         }
-        Some(p) => OpenOptions::new()
-            .write(true)
-            .open(p)
-            .and_then(|mut f| f.write_all(bytes))
-            .with_context(|| format!("cannot write {}", p.display())),
+        Some(p) => {
+            OpenOptions::new().write(true).open(p).and_then(|mut f| f.write_all(bytes)).map_err(|e| cannot_write(p, e))
+        }
     }
 }
 

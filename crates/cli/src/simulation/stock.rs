@@ -58,12 +58,12 @@ pub fn parse(text: &str) -> Result<StockSpec> {
 
 impl StockSpec {
     /// The grid the simulation starts from.
-    pub fn grid(&self, options: &SimOptions) -> Result<ZMap> {
+    pub fn grid(&self, options: &SimOptions, units: crate::surface::Units) -> Result<ZMap> {
         Ok(match self {
             StockSpec::Box(s) => ZMap::new(s, options)?,
             StockSpec::Cylinder(c) => ZMap::cylinder(c, options)?,
             StockSpec::Solid(file) => {
-                let triangles = crate::surface::read_surface(file)?.triangles();
+                let triangles = crate::surface::read_surface(file, units)?.triangles();
                 ZMap::top_of(&triangles, options).with_context(|| format!("--stock {}", file.display()))?
             }
         })

@@ -148,14 +148,15 @@ pub fn reading_um(no: usize) -> i64 {
     12_345 + (no as i64 * 7_919) % 20_000
 }
 
-/// The lines the instrument sends for point `no`, in rotating formats, and
-/// now and then rejected lines before the good one.
+/// The lines the instrument sends for point `no`, in rotating forms of the
+/// Mitutoyo family (once a record is seen, `--format auto` takes no plain
+/// number), and now and then rejected lines before the good one.
 pub fn plunge(no: usize) -> String {
     let um = reading_um(no);
     let mm = format!("{}.{:03}", um / 1000, um % 1000);
     let good = match no % 4 {
         0 => format!("01A+{:0>8}\r", mm),   // Mitutoyo multiplexer, CR
-        1 => format!("{mm}\r\n"),           // plain number, CR LF
+        1 => format!("01A+{:0>8}\r\n", mm), // Mitutoyo record, CR LF
         2 => format!("FFFF0{:06}30\r", um), // Digimatic nibbles
         _ => format!("01A+{:0>8}\n", mm),   // USB-ITN style, LF
     };

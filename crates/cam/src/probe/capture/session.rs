@@ -237,9 +237,16 @@ impl Session {
 
     /// The reading of one line, or why it is ignored (and whether that
     /// counts as a rejected line: another channel's reading does not).
-    fn accept(&self, raw: &str) -> Result<Reading, (String, bool)> {
+    /// With `Format::Auto`, the first Mitutoyo record or Digimatic frame
+    /// locks the format to those: a stray number between records (noise,
+    /// a `7`) is then no reading and shifts no point.
+    fn accept(&mut self, raw: &str) -> Result<Reading, (String, bool)> {
+        let reading =
+            parse_reading(raw, self.settings.format).map_err(|why| (format!("line ignored ({why})"), true))?;
+        if self.settings.format == Format::Auto && parse_reading(raw, Format::Digimatic).is_ok() {
+            self.settings.format = Format::Digimatic;
+        }
         let s = &self.settings;
-        let reading = parse_reading(raw, s.format).map_err(|why| (format!("line ignored ({why})"), true))?;
         if let (Some(want), Some(ch)) = (s.channel, reading.channel) {
             if want != ch {
                 return Err((format!("reading from channel {ch} ignored (--channel {want})"), false));
@@ -386,6 +393,21 @@ mod tests {
         assert_eq!(todo[2], Action::Store { no: 3, z: -32.345 });
         assert_eq!(s.gone().unwrap(), "point 4: incomplete line dropped at the disconnect: \"01A+0012.\"");
         assert_eq!(s.bytes(b"000\r01A+0001.000\r", t)[..], [Action::Store { no: 4, z: -32.0 }, Action::Done]);
+    }
+
+    #[test]
+    fn auto_locks_to_mitutoyo_records_once_it_has_seen_one() {
+        let mut s = session(0, None);
+        let t = Duration::from_secs(1);
+        // A noise line `7` between two records is no point: the second
+        // record is point 2, not point 3.
+        let todo = s.bytes(b"01A+0012.345\r7\r01A+0012.000\r", t);
+        assert_eq!(todo[0], Action::Store { no: 1, z: -32.345 });
+        assert!(matches!(&todo[1], Action::Say(m) if m.starts_with("point 2: line ignored")), "{todo:?}");
+        assert_eq!(todo[2], Action::Store { no: 2, z: -32.0 });
+        // Before any record, a plain number is a reading.
+        let mut s = session(0, None);
+        assert_eq!(s.bytes(b"19.16\r", t)[..], [Action::Store { no: 1, z: -39.16 }]);
     }
 
     #[test]

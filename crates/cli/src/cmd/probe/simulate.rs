@@ -35,6 +35,9 @@ pub struct SimulateArgs {
     /// The model: STL (binary or ASCII) or an `x y z` height grid.
     #[arg(value_name = "MODEL")]
     pub model: PathBuf,
+    /// The unit the model is drawn in (STL files carry none): `inch` multiplies it by 25.4.
+    #[arg(long, value_enum, default_value = "mm")]
+    pub units: crate::surface::Units,
     /// Points along X and Y.
     #[arg(long, value_name = "NX,NY")]
     pub count: String,
@@ -80,7 +83,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         bail!("--tilt {}: a slope is at most 1 mm per mm (45°) either way", args.tilt);
     }
     let order: Order = args.pattern.parse().map_err(anyhow::Error::msg)?;
-    let model = read_surface(&args.model)?;
+    let model = read_surface(&args.model, args.units)?;
     let origin = args.origin.as_deref().map(|t| pair::<f64>("--origin", t)).transpose()?;
     let name = args.model.display().to_string();
     let Simulated { grid, text } = simulate(&Simulation {

@@ -250,11 +250,30 @@ fn list(args: &ListArgs) -> Result<()> {
     }
     let width = tools.iter().map(|t| t.0.tool_id.chars().count()).max().unwrap_or(0).max(4);
     println!("{:<width$}  profiles  first                 latest                max_radius_mm  tip_z_mm", "tool");
+    // A stored size that is no number (a database changed outside kezuri)
+    // is shown as `-` and said, never as `inf` or `NaN`.
+    let mm = |v: f64| if v.is_finite() { format!("{v:.4}") } else { "-".to_string() };
     for (first, latest, n) in &tools {
         println!(
-            "{:<width$}  {n:>8}  {}  {}  {:>13.4}  {:>8.4}",
-            first.tool_id, first.measured_at, latest.measured_at, latest.max_radius_mm, latest.tip_z_mm
+            "{:<width$}  {n:>8}  {}  {}  {:>13}  {:>8}",
+            first.tool_id,
+            first.measured_at,
+            latest.measured_at,
+            mm(latest.max_radius_mm),
+            mm(latest.tip_z_mm)
         );
+    }
+    for (first, latest, _) in &tools {
+        if !(latest.max_radius_mm.is_finite() && latest.tip_z_mm.is_finite()) {
+            eprintln!(
+                "warning: {}: profile {} of tool {} stores a max_radius_mm or tip_z_mm that is not a finite number \
+                 (shown as -): the database was changed outside kezuri; `kezuri tool db show {}` reads its samples",
+                args.file.db.display(),
+                latest.id,
+                first.tool_id,
+                first.tool_id
+            );
+        }
     }
     if tools.is_empty() {
         println!("(no tools in {})", args.file.db.display());
