@@ -25,7 +25,8 @@ use stock::StockSpec;
 /// `view` share.
 #[derive(Args, Debug)]
 pub struct DeviationArgs {
-    /// Deviation shown in full colour, mm [default: the 99th percentile of |deviation|].
+    /// Deviation shown in full colour, mm; beyond it amber (material left) or dark purple (a
+    /// gouge), the largest in the legend [default: the 99th percentile of |deviation|].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub deviation_scale: Option<f64>,
     /// Deeper than this below the target is a gouge (magenta), mm: give the program's own

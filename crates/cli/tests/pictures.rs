@@ -50,7 +50,7 @@ fn a_path_in_one_plane_is_drawn_where_it_shows_with_axes_and_a_legend() {
 }
 
 #[test]
-fn a_raster_is_seen_across_its_passes_and_dense_paths_are_thin() {
+fn a_raster_is_seen_across_its_passes_thin_from_the_front_and_as_its_form_from_the_top() {
     let dir = tempfile::tempdir().unwrap();
     // Passes along X, 40 mm long, over a Y span of 60 mm: from the side
     // (the wider view) each pass would be a vertical line; from the front
@@ -69,13 +69,20 @@ fn a_raster_is_seen_across_its_passes_and_dense_paths_are_thin() {
     let text = svg(dir.path(), &p);
     assert!(text.contains(">top (X right, Y up)<") && text.contains("front (X right, Z up)"), "{}", &text[..600]);
     assert!(!text.contains("side (Y right"));
-    // 300 passes in a view under 500 pixels: thin lines.
-    let widths: Vec<f64> = text
-        .lines()
-        .filter(|l| l.starts_with("<path") && l.contains("stroke=\"rgb(") && !l.contains("stroke-linecap"))
-        .filter_map(|l| l.split("stroke-width=\"").nth(1)?.split('"').next()?.parse().ok())
-        .collect();
-    assert!(!widths.is_empty() && widths.iter().all(|&w| w < 0.5), "{widths:?}");
+    let widths = |view: &str| -> Vec<f64> {
+        view.lines()
+            .filter(|l| l.starts_with("<path") && l.contains("stroke=\"rgb(") && !l.contains("stroke-linecap"))
+            .filter_map(|l| l.split("stroke-width=\"").nth(1)?.split('"').next()?.parse().ok())
+            .collect()
+    };
+    let (top, front) = text.split_once("clip-path=\"url(#view1)\"").unwrap();
+    // From the front, 300 passes on top of each other in a view under 500
+    // pixels: thin lines.
+    let (top, front) = (widths(top), widths(front));
+    assert!(!front.is_empty() && front.iter().all(|&w| w < 0.5), "{front:?}");
+    // From the top the passes lie 1.6 pixels apart: drawn as wide, the
+    // form shaded by depth, not a carpet of rows with white between.
+    assert!(!top.is_empty() && top.iter().all(|&w| w >= 1.6), "{top:?}");
 }
 
 /// Level raster rows along X at Y = 0, 1, …, 6 and Z −1.

@@ -111,7 +111,10 @@ pub(crate) fn frame_axes(out: &mut String, (left, top, w, h): (f64, f64, f64, f6
 pub fn line_chart(title: &str, x_label: &str, y_label: &str, lines: &[Line]) -> String {
     let (left, top, plot_w, plot_h): (f64, f64, f64, f64) = (80.0, 40.0, 520.0, 340.0);
     let legend_x = left + plot_w + 30.0;
-    let width = legend_x + 230.0;
+    // The legend's longest line (a swatch, then its text, in DejaVu Sans
+    // at 12 px: at most 7.2 px a character) within the picture.
+    let longest = lines.iter().map(|l| l.label.chars().count()).max().unwrap_or(0) as f64;
+    let width = legend_x + (30.0 + 7.2 * longest + 10.0).max(230.0);
     let height = (top + plot_h + 50.0).max(top + 20.0 * lines.len() as f64 + 20.0);
     let all = || lines.iter().flat_map(|l| l.points.iter());
     let (mut z0, mut z1) = all().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
@@ -247,8 +250,38 @@ mod tests {
         assert!(svg.contains("a &lt;b&gt;") && svg.contains("x &amp; y") && svg.contains("polyline"));
         let (w, h) = size(&svg);
         assert!(w > 600.0 && h > 400.0, "{w} x {h}");
-        let two = stack(&[svg.clone(), svg]);
+        let two = stack(&[svg.clone(), svg.clone()]);
         assert_eq!(size(&two), (w, 2.0 * h));
         assert!(two.contains(&format!("<svg y=\"{h:.0}\" ")), "the second chart stands under the first");
+    }
+
+    #[test]
+    fn a_long_legend_stays_inside_the_picture() {
+        // The engage study's legend: a step and cut named after the tool.
+        let label = "oval:16,24, step-down, down-cut";
+        let points = vec![(0.0, 0.0), (75.0, 0.11)];
+        let svg = line_chart(
+            "Largest chip area per inclination, oval:16,24",
+            "inclination α, deg",
+            "A max, mm²",
+            &[
+                Line { label: "oval:16,24, step-up, down-cut".into(), points: points.clone() },
+                Line { label: label.into(), points },
+            ],
+        );
+        let png = crate::plot::png_from_svg(&svg).unwrap();
+        let img = image::load_from_memory(&png).unwrap().to_rgba8();
+        let (w, h) = img.dimensions();
+        // Text reaching the right edge is cut off there: the last 8 columns
+        // stay white.
+        let inked = (w - 8..w).flat_map(|x| (0..h).map(move |y| (x, y))).filter(|&(x, y)| {
+            let p = img.get_pixel(x, y).0;
+            u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]) < 600
+        });
+        assert_eq!(inked.count(), 0, "the legend runs off the right edge of a {w} px chart");
+        // And the legend's text is there, right of the plot.
+        let text =
+            (700..w).flat_map(|x| (40..80).map(move |y| (x, y))).filter(|&(x, y)| img.get_pixel(x, y).0[0] < 128);
+        assert!(text.count() > 100);
     }
 }

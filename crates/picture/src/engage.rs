@@ -21,19 +21,7 @@ pub fn charts(study: &Study, tool: &str) -> String {
     let combo_name = |s: Step, c: Cut| format!("{tool}, step-{}, {}-cut", step_name(s), cut_name(c));
     let per_theta = |s: Step, c: Cut, value: &dyn Fn(&Section) -> f64| -> Vec<Line> {
         let these: Vec<&Case> = cases.iter().filter(|x| x.step == s && x.cut == c).collect();
-        let (centre, lo, hi) = window(&these);
-        these
-            .iter()
-            .map(|x| Line {
-                label: format!("α {}°, Pf {:.3} mm", x.angle_deg, x.pick_feed),
-                points: x
-                    .around_peak(centre)
-                    .into_iter()
-                    .filter(|(t, _)| (lo..=hi).contains(t))
-                    .map(|(t, v)| (t, value(v)))
-                    .collect(),
-            })
-            .collect()
+        per_rotation_angle(&these, value)
     };
     let mut svgs = Vec::new();
     for &(s, c) in &combos {
@@ -82,6 +70,37 @@ pub fn charts(study: &Study, tool: &str) -> String {
     stack(&svgs)
 }
 
+/// A line per case of its `value` per rotation angle, on an axis within one
+/// turn, 0 to 360°: the window where the chips are ([`window`]) where it
+/// lies within it, else the whole turn (each case's points in [0°, 360°),
+/// the turn closed at 360°).
+fn per_rotation_angle(these: &[&Case], value: &dyn Fn(&Section) -> f64) -> Vec<Line> {
+    let (centre, lo, hi) = window(these);
+    let within = lo >= 0.0 && hi <= 360.0;
+    these
+        .iter()
+        .map(|x| {
+            let label = format!("α {}°, Pf {:.3} mm", x.angle_deg, x.pick_feed);
+            let mut points: Vec<(f64, f64)> = if within {
+                x.around_peak(centre)
+                    .into_iter()
+                    .filter(|(t, _)| (lo..=hi).contains(t))
+                    .map(|(t, v)| (t, value(v)))
+                    .collect()
+            } else {
+                x.around_peak(centre).into_iter().map(|(t, v)| (t.rem_euclid(360.0), value(v))).collect()
+            };
+            if !within {
+                points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                if let Some(&(t, v)) = points.first().filter(|p| p.0 < 1e-9) {
+                    points.push((t + 360.0, v));
+                }
+            }
+            Line { label, points }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,5 +132,40 @@ mod tests {
         assert!(two.contains("Largest chip area per inclination, ball:10"));
         assert!(two.contains("Largest E_d per inclination, ball:10; torque ≈ 3500 N/mm² × E_d"));
         assert!(!two.contains("E_d = A·L_G per rotation angle"));
+    }
+
+    #[test]
+    fn the_rotation_angle_stays_within_one_turn() {
+        // The demo's oval end mill stepping down: its chips peak from 165°
+        // to 50° past a turn, drawn before over 60° … 460°.
+        let mut s = Study {
+            cutter: "oval:16,24".parse().unwrap(),
+            flutes: 2,
+            helix_deg: 30.0,
+            depth: 0.8,
+            feed_per_tooth: 0.16,
+            kc: 3500.0,
+            rotation_steps: 360,
+            cases: Vec::new(),
+        };
+        for (a, pf) in [(0.0, 0.462), (15.0, 0.484), (30.0, 0.558), (45.0, 0.718), (60.0, 1.053), (75.0, 1.739)] {
+            s.add(a, pf, Step::Down, Cut::Down).unwrap();
+        }
+        let these: Vec<&Case> = s.cases.iter().collect();
+        let lines = per_rotation_angle(&these, &|v| v.area);
+        let (lo, hi) =
+            lines.iter().flat_map(|l| &l.points).fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+        assert!(lo >= 0.0 && hi <= 360.0, "rotation angles from {lo}° to {hi}°");
+        // Every case's largest chip is still on its line.
+        for (line, case) in lines.iter().zip(&s.cases) {
+            let most = line.points.iter().map(|p| p.1).fold(0.0, f64::max);
+            assert!((most - case.sweep.area_max).abs() < 1e-12, "{}: {most} of {}", line.label, case.sweep.area_max);
+        }
+        // One inclination's window within the turn is kept as it was.
+        let one = study(&[30.0]);
+        let these: Vec<&Case> = one.cases.iter().collect();
+        let (_, lo, hi) = window(&these);
+        let line = &per_rotation_angle(&these, &|v| v.area)[0];
+        assert!(line.points.iter().all(|p| (lo..=hi).contains(&p.0)));
     }
 }

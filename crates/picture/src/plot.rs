@@ -2,8 +2,11 @@
 //! view and the front or side view, whichever is wider; an isometric view
 //! where one of them would be a line), with axes in mm and a legend. Feed
 //! moves are solid and shaded by depth (a colour bar of Z), rapids dashed
-//! red, dense paths drawn thin. Charts are SVG text too; [`png_from_svg`]
-//! makes any of them a PNG picture.
+//! red and framed whole, dense paths drawn thin but passes closer than a
+//! few pixels seen from the top drawn as wide as they lie apart (the cut
+//! form shaded by depth). The count is of motions, as `check` counts them.
+//! Charts are SVG text too; [`png_from_svg`] makes any of them a PNG
+//! picture.
 
 use std::collections::{BTreeMap, HashSet};
 use std::fmt::Write;
@@ -159,8 +162,9 @@ fn draw(out: &mut String, style: Stroke, lines: Vec<Vec<(i64, i64)>>, width: f64
     let _ = match style {
         Stroke::Cut(s) => writeln!(
             out,
-            r#"<path d="{}" fill="none" stroke="rgb({s},{s},255)" stroke-width="{width:.2}"/>"#,
-            d.trim_end()
+            r#"<path d="{}" fill="none" stroke="{}" stroke-width="{width:.2}"/>"#,
+            d.trim_end(),
+            cut_colour(s)
         ),
         Stroke::Rapid => writeln!(
             out,
@@ -170,6 +174,14 @@ fn draw(out: &mut String, style: Stroke, lines: Vec<Vec<(i64, i64)>>, width: f64
             (4.0 * width).max(1.5)
         ),
     };
+}
+
+/// The colour of a cut at depth shade `s` (150 at the top, 0 at the
+/// bottom): light blue high, dark blue deep, so heights read in every view.
+fn cut_colour(s: u8) -> String {
+    let t = f64::from(s.min(150)) / 150.0;
+    let c = |lo: f64, hi: f64| (lo + (hi - lo) * t).round() as u8;
+    format!("rgb({},{},{})", c(10.0, 190.0), c(20.0, 200.0), c(120.0, 255.0))
 }
 
 /// Width of a line of `length` pixels in all over `area` square pixels: a
@@ -182,17 +194,41 @@ fn width_for(length: f64, area: f64, widest: f64) -> f64 {
 pub fn svg(path: &Toolpath, title: &str) -> String {
     let drawn_moves = || path.moves.iter().filter(|m| !matches!(m.kind, MoveKind::Dwell(_)));
     let xyz = |m: &kezuri_geom::Move| points(m).into_iter().map(|p| p.xyz()).collect::<Vec<_>>();
-    // The views frame the feed moves (rapids up to a clearance height are
-    // cut off at their edge), or the rapids where there are none.
+    // The views frame the feed moves and the rapids (G0), drawn whole; a
+    // return to the reference point or a G53 move (and a rapid on from one)
+    // goes to a machine position the program does not name, and is cut off
+    // at the view's edge.
     let feeds: Vec<Vec<[f64; 3]>> = drawn_moves().filter(|m| !m.is_rapid()).map(xyz).collect();
+    let machine = |m: &kezuri_geom::Move| matches!(m.kind, MoveKind::Home | MoveKind::Machine);
     let mut framed: Vec<[f64; 3]> = feeds.concat();
+    // A program's first move starts wherever the machine is: not framed.
+    let mut after_machine = path.unknown_start;
+    for m in drawn_moves() {
+        if m.kind == MoveKind::Rapid {
+            if !after_machine {
+                framed.push(m.start.xyz());
+            }
+            framed.push(m.end.xyz());
+        }
+        after_machine = machine(m);
+    }
     if framed.is_empty() {
         framed = drawn_moves().flat_map(xyz).collect();
     }
     if framed.is_empty() {
         framed = vec![[0.0; 3], [1.0; 3]];
     }
-    let (zlo, zhi) = framed.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[2]), b.max(p[2])));
+    // Feed moves shaded by their depth (the rapids' heights left out).
+    let shaded: Vec<&[f64; 3]> =
+        if feeds.is_empty() { framed.iter().collect() } else { feeds.iter().flatten().collect() };
+    let (zlo, zhi) = shaded.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[2]), b.max(p[2])));
+    // Whether a move from the unknown start, to or from a machine position
+    // leaves the views' box.
+    let (lo, hi) = framed.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+        ([0, 1, 2].map(|i| lo[i].min(p[i])), [0, 1, 2].map(|i| hi[i].max(p[i])))
+    });
+    let outside = |p: Axes| (0..3).any(|i| p.xyz()[i] < lo[i] - 1e-6 || p.xyz()[i] > hi[i] + 1e-6);
+    let cut_off = drawn_moves().any(|m| outside(m.start) || outside(m.end));
     let depth = (zhi - zlo).max(1e-9);
     let (shown, left_out) = views(&framed, &feeds);
     let span = |s: &Shown| ((s.e[1] - s.e[0]).max(1e-6), ((s.e[3] - s.e[2]) * s.stretch).max(1e-6));
@@ -208,8 +244,27 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
     }
     let tallest = placed.iter().map(|p| p.3).fold(0.0, f64::max);
     let legend_y = top + tallest + 56.0;
-    let width = (left - GAP + 20.0).max(LEFT + 560.0).max(30.0 + 7.2 * title.chars().count() as f64);
-    let height = legend_y + 50.0;
+    let views_text: Vec<&str> = placed.iter().map(|p| p.0.view.caption).collect();
+    let subtitle = format!(
+        "{} {}, {} motions (moves without dwells, as check counts them){}",
+        views_text.join(" and "),
+        if placed.len() > 1 { "views" } else { "view" },
+        drawn_moves().count(),
+        if left_out.is_empty() {
+            String::new()
+        } else {
+            format!("; no {} view: the path is a line in it", left_out.join(" or "))
+        }
+    );
+    // The title (14 px), the subtitle and the legend's lines (12 px) within
+    // the picture: DejaVu Sans is at most about 0.6 em a character.
+    let text_width = |text: &str, size: f64| 0.6 * size * text.chars().count() as f64;
+    let width = (left - GAP + 20.0)
+        .max(LEFT + 560.0)
+        .max(30.0 + text_width(title, 14.0))
+        .max(30.0 + text_width(&subtitle, 12.0))
+        .max(if cut_off { LEFT + 20.0 + text_width(CUT_OFF, 12.0) } else { 0.0 });
+    let height = legend_y + 50.0 + if cut_off { 20.0 } else { 0.0 };
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -217,19 +272,7 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
     );
     let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
     let _ = writeln!(out, r#"<text x="20" y="20" font-size="14">{}</text>"#, escape(title));
-    let views_text: Vec<&str> = placed.iter().map(|p| p.0.view.caption).collect();
-    let _ = writeln!(
-        out,
-        r##"<text x="20" y="38" fill="#444">{} {}, {} moves{}</text>"##,
-        escape(&views_text.join(" and ")),
-        if placed.len() > 1 { "views" } else { "view" },
-        path.moves.len(),
-        if left_out.is_empty() {
-            String::new()
-        } else {
-            format!("; no {} view: the path is a line in it", left_out.join(" or "))
-        }
-    );
+    let _ = writeln!(out, r##"<text x="20" y="38" fill="#444">{}</text>"##, escape(&subtitle));
     let mut rapids = false;
     for (k, (shown, left, pw, ph)) in placed.into_iter().enumerate() {
         let Shown { view, e, stretch } = *shown;
@@ -253,6 +296,9 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
         // already drawn in that style (a repeated plunge seen from the front)
         // is drawn once, and steps on along a line lengthen it.
         let mut drawn = HashSet::new();
+        // The 8-pixel squares the cuts pass over: the area they cover (a
+        // lone line covers 8 pixels each side of it, rows closer cover less).
+        let mut covered = HashSet::new();
         let mut styles: BTreeMap<Stroke, Vec<Vec<(i64, i64)>>> = BTreeMap::new();
         let mut dots: BTreeMap<Stroke, Vec<(i64, i64)>> = BTreeMap::new();
         let (mut cut_length, mut rapid_length) = (0.0, 0.0);
@@ -294,6 +340,11 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
                     rapid_length += length;
                 } else {
                     cut_length += length;
+                    let steps = (length / 4.0).ceil().max(1.0) as i64;
+                    for k in 0..=steps {
+                        let (x, y) = (a.0 + (b.0 - a.0) * k / steps, a.1 + (b.1 - a.1) * k / steps);
+                        covered.insert((x.div_euclid(800), y.div_euclid(800)));
+                    }
                 }
                 match lines.last_mut() {
                     Some(line) if line.last() == Some(&a) => {
@@ -310,7 +361,14 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
             }
         }
         let area = pw.max(20.0) * ph.max(20.0);
-        let (cut_width, rapid_width) = (width_for(cut_length, area, 1.2), width_for(rapid_length, area, 0.8));
+        let (mut cut_width, rapid_width) = (width_for(cut_length, area, 1.2), width_for(rapid_length, area, 0.8));
+        // Seen from the top, passes closer than a few pixels (a raster, a
+        // pocket's rows) are drawn as wide as they lie apart: the cut form,
+        // shaded by depth, not a carpet of rows.
+        let apart = 64.0 * covered.len() as f64 / cut_length.max(1.0);
+        if view.caption == TOP.caption && apart < 7.0 {
+            cut_width = cut_width.max(1.2 * apart);
+        }
         let _ = writeln!(out, r#"<g clip-path="url(#view{k})">"#);
         for (style, lines) in styles.into_iter().rev() {
             if !lines.is_empty() {
@@ -324,8 +382,9 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
                     at.iter().map(|&(x, y)| format!("M{:.2} {:.2}h0.01", x as f64 / 100.0, y as f64 / 100.0)).collect();
                 let _ = writeln!(
                     out,
-                    r#"<path d="{}" fill="none" stroke="rgb({s},{s},255)" stroke-width="{:.2}" stroke-linecap="round"/>"#,
+                    r#"<path d="{}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-linecap="round"/>"#,
                     d.join(""),
+                    cut_colour(s),
                     (2.0 * cut_width).clamp(1.5, 2.5)
                 );
             }
@@ -337,7 +396,7 @@ pub fn svg(path: &Toolpath, title: &str) -> String {
             triad(&mut out, &view, left - 20.0, base);
         }
     }
-    legend(&mut out, legend_y, zlo, zhi, rapids);
+    legend(&mut out, legend_y, zlo, zhi, rapids, cut_off);
     out.push_str("</svg>\n");
     out
 }
@@ -374,11 +433,17 @@ fn mm(v: f64) -> String {
     }
 }
 
+/// The legend's line for moves cut off at a view's edge.
+const CUT_OFF: &str = "moves from where the machine stood at the start, or to or from the reference point \
+                       (G28, G30) or a G53 position: cut off at the view's edge";
+
 /// What the strokes mean: feed moves by depth (a bar of Z), rapids.
-fn legend(out: &mut String, y: f64, zlo: f64, zhi: f64, rapids: bool) {
+fn legend(out: &mut String, y: f64, zlo: f64, zhi: f64, rapids: bool, cut_off: bool) {
     let _ = writeln!(
         out,
-        r#"<linearGradient id="depth" x1="0" x2="1"><stop offset="0" stop-color="rgb(150,150,255)"/><stop offset="1" stop-color="rgb(0,0,255)"/></linearGradient>"#
+        r#"<linearGradient id="depth" x1="0" x2="1"><stop offset="0" stop-color="{}"/><stop offset="1" stop-color="{}"/></linearGradient>"#,
+        cut_colour(150),
+        cut_colour(0)
     );
     let _ = writeln!(
         out,
@@ -400,6 +465,9 @@ fn legend(out: &mut String, y: f64, zlo: f64, zhi: f64, rapids: bool) {
             y + 16.0,
             y + 16.0
         );
+    }
+    if cut_off {
+        let _ = writeln!(out, r#"<text x="{LEFT}" y="{:.1}">{CUT_OFF}</text>"#, y + 40.0);
     }
 }
 
@@ -546,43 +614,4 @@ pub fn png_from_svg(svg: &str) -> Result<Vec<u8>, Error> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Pixels of `png` darker than mid grey (and opaque) within `x0..x1`.
-    fn dark(png: &image::RgbaImage, x0: u32, x1: u32) -> usize {
-        png.enumerate_pixels()
-            .filter(|(x, _, p)| (x0..x1).contains(x) && p[3] > 128 && (p[0] as u32 + p[1] as u32 + p[2] as u32) < 384)
-            .count()
-    }
-
-    #[test]
-    fn a_chart_becomes_a_png_of_its_size_with_its_text_and_lines_drawn() {
-        let svg = log_chart("wear", "point", "mm", 1e-4, &[("before", "black", vec![0.1, 0.01, 0.001])]);
-        let png = png_from_svg(&svg).unwrap();
-        let img = image::load_from_memory_with_format(&png, image::ImageFormat::Png).unwrap().to_rgba8();
-        assert_eq!(img.dimensions(), (720, 380));
-        // The left 60 pixels hold only the axis labels (text): drawn in the
-        // bundled font, whatever this machine has installed.
-        assert!(dark(&img, 0, 60) > 200, "{} dark pixels of text", dark(&img, 0, 60));
-        // The series' line and its name.
-        assert!(dark(&img, 70, 720) > 500, "{}", dark(&img, 70, 720));
-        // The white background is painted.
-        assert_eq!(img.get_pixel(715, 375).0, [255, 255, 255, 255]);
-    }
-
-    #[test]
-    fn text_alone_is_drawn_and_bad_svg_is_an_error() {
-        let blank = r#"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="40"><rect width="100%" height="100%" fill="white"/></svg>"#;
-        let text = blank.replace(
-            "</svg>",
-            r#"<text x="4" y="28" font-family="sans-serif" font-size="20">Radius 3.0 mm</text></svg>"#,
-        );
-        let img = |svg: &str| image::load_from_memory(&png_from_svg(svg).unwrap()).unwrap().to_rgba8();
-        assert_eq!(dark(&img(blank), 0, 200), 0);
-        assert!(dark(&img(&text), 0, 200) > 150, "{}", dark(&img(&text), 0, 200));
-        assert!(png_from_svg("not svg").is_err());
-        let huge = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100000" height="10"/>"#;
-        assert!(png_from_svg(huge).unwrap_err().to_string().contains("more than"));
-    }
-}
+mod tests;

@@ -39,3 +39,24 @@ pub fn probed(grid: &ProbeGrid, scale: usize, name: &str) -> Result<Vec<u8>, Err
     }
     .png()
 }
+
+#[cfg(test)]
+mod tests {
+    use kezuri_cam::probe::export::shade;
+    use kezuri_cam::probe::{Grid, Order, ProbeGrid};
+
+    #[test]
+    fn a_steep_side_of_a_probed_pocket_is_not_drawn_black() {
+        // A mould's side rising 2 mm per mm to the north-west (the far side
+        // of the plum pocket): turned from the light, still 60 % of its tint.
+        let grid = Grid { nx: 8, ny: 8, pitch: 1.0, origin: [0.0, 0.0], order: Order::ZigZag };
+        let z = (0..64).map(|k| 2.0 * ((k / 8) as f64 - (k % 8) as f64)).collect();
+        let (w, h, rgb) = shade(&ProbeGrid { grid, z }, 1);
+        assert_eq!((w, h), (8, 8));
+        // The green channel's tint is 0.8 at every height.
+        let least = (0.55 * 255.0 * 0.8) as u8;
+        for (k, px) in rgb.chunks(3).enumerate() {
+            assert!(px[1] >= least, "pixel {k}: {px:?} darker than 55 % of its tint");
+        }
+    }
+}

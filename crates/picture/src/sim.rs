@@ -27,6 +27,11 @@ const GOUGE_LIGHT: [u8; 3] = [240, 160, 240];
 const BELOW: [u8; 3] = [250, 215, 215];
 const ON: [u8; 3] = [255, 255, 255];
 const ABOVE: [u8; 3] = [30, 70, 210];
+/// More material left than the scale holds: its own colour, not the
+/// scale's full blue (1.13 mm left must not look like the scale's 10 µm).
+pub const OVER_LEFT: [u8; 3] = [245, 160, 0];
+/// A gouge deeper than the scale holds.
+pub const OVER_GOUGE: [u8; 3] = [90, 0, 50];
 
 /// The cells a picture shows: every `k`-th along both axes.
 fn picture_grid(zmap: &ZMap) -> (usize, usize, usize) {
@@ -46,16 +51,31 @@ fn tint(t: f64) -> [f64; 3] {
     [0.45 + 0.55 * t, 0.42 + 0.5 * t, 0.38 + 0.4 * t]
 }
 
-/// The simulated surface, hill-shaded (light from the north-west, 45° up)
-/// and tinted by height; +Y up.
+/// The light of the shaded pictures: from the north-west, 60° up.
+const LIGHT_AZIMUTH_DEG: f64 = 315.0;
+const LIGHT_ALTITUDE_DEG: f64 = 60.0;
+/// The part of a face's tint that the light does not take away: a face
+/// turned from the light is drawn at this share of its tint, never black.
+const AMBIENT: f64 = 0.6;
+
+/// How lit a face of slopes `gx`, `gy` (dZ/dX, dZ/dY) is: [`AMBIENT`] for a
+/// face turned away from the light (or a wall), 1 for one facing it.
+pub(crate) fn lit(gx: f64, gy: f64) -> f64 {
+    let (az, alt) = (LIGHT_AZIMUTH_DEG.to_radians(), LIGHT_ALTITUDE_DEG.to_radians());
+    let light = [alt.cos() * az.sin(), alt.cos() * az.cos(), alt.sin()];
+    let n = (1.0 + gx * gx + gy * gy).sqrt();
+    let lambert = ((-gx * light[0] - gy * light[1] + light[2]) / n).clamp(0.0, 1.0);
+    AMBIENT + (1.0 - AMBIENT) * lambert
+}
+
+/// The simulated surface, hill-shaded (light from the north-west, 60° up,
+/// a face turned from it at 60 % of its tint) and tinted by height; +Y up.
 fn height_raster(zmap: &ZMap) -> Raster {
     let (k, w, h) = picture_grid(zmap);
     let (lo, hi) = zmap.range();
     let span = (hi - lo).max(1e-12);
     let z = |i: usize, j: usize| zmap.height(i.min(zmap.nx - 1), j.min(zmap.ny - 1));
     let d = k as f64 * zmap.res;
-    let (az, alt) = (315f64.to_radians(), 45f64.to_radians());
-    let light = [alt.cos() * az.sin(), alt.cos() * az.cos(), alt.sin()];
     let mut rgb = Vec::with_capacity(w * h * 3);
     for row in 0..h {
         let j = (h - 1 - row) * k;
@@ -66,11 +86,9 @@ fn height_raster(zmap: &ZMap) -> Raster {
             let gy =
                 (z(i, j + k) - z(i, j.saturating_sub(k))) / (d * if j >= k && j + k < zmap.ny { 2.0 } else { 1.0 });
             // Relief exaggerated twice, so gentle cusps show.
-            let (gx, gy) = (2.0 * gx, 2.0 * gy);
-            let n = (1.0 + gx * gx + gy * gy).sqrt();
-            let shade = ((-gx * light[0] - gy * light[1] + light[2]) / n).clamp(0.0, 1.0);
+            let shade = lit(2.0 * gx, 2.0 * gy);
             for c in tint((z(i, j) - lo) / span) {
-                rgb.push((255.0 * c * (0.15 + 0.85 * shade)).round().clamp(0.0, 255.0) as u8);
+                rgb.push((255.0 * c * shade).round().clamp(0.0, 255.0) as u8);
             }
         }
     }
@@ -119,6 +137,10 @@ pub struct DeviationScale {
     pub basis: String,
     /// Deeper than this below the target is a gouge, mm.
     pub gouge: f64,
+    /// The deepest gouge and the most material left over the cells drawn
+    /// on this scale, mm, both as amounts (0 for none): what the bar says
+    /// of the cells beyond it.
+    pub extremes: [f64; 2],
 }
 
 impl DeviationScale {
@@ -126,13 +148,31 @@ impl DeviationScale {
     /// |deviation| over the compared cells (at least the gouge limit
     /// `gouge`, `--gouge-tol`).
     pub fn new(zmap: &ZMap, target: &[f64], given: Option<f64>, gouge: f64) -> DeviationScale {
-        match given {
-            Some(mm) => DeviationScale { mm, basis: "--deviation-scale".into(), gouge },
-            None => DeviationScale {
-                mm: percentile_99(zmap, target).max(gouge),
-                basis: "the 99th percentile of |deviation|".into(),
+        let mut scale = match given {
+            Some(mm) => DeviationScale::fixed(mm, "--deviation-scale", gouge),
+            None => DeviationScale::fixed(
+                percentile_99(zmap, target).max(gouge),
+                "the 99th percentile of |deviation|",
                 gouge,
-            },
+            ),
+        };
+        scale.include(zmap, target);
+        scale
+    }
+
+    /// Full colour at ±`mm`, said as `basis`, for pictures drawn on it
+    /// after [`Self::include`] has seen their cells.
+    pub fn fixed(mm: f64, basis: &str, gouge: f64) -> DeviationScale {
+        DeviationScale { mm, basis: basis.into(), gouge, extremes: [0.0; 2] }
+    }
+
+    /// Takes in the cells of `zmap` against `target` (`-inf` where none):
+    /// one scale for several pictures of a job, its bar saying the extremes
+    /// of them all.
+    pub fn include(&mut self, zmap: &ZMap, target: &[f64]) {
+        for (z, t) in zmap.z.iter().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY) {
+            let d = z - t;
+            self.extremes = [self.extremes[0].max(-d), self.extremes[1].max(d)];
         }
     }
 
@@ -166,7 +206,14 @@ impl DeviationScale {
         let notes = vec![format!("full colour at ±{}", short(s, unit)), format!("({})", self.basis)];
         let gouge = format!("gouge: over {} below the target", short(self.gouge * 1000.0, "µm"));
         // Where the bar holds the gouges they deepen in colour as they do.
-        let swatches = vec![(GOUGE, gouge), (NO_TARGET, "no target".to_string())];
+        let mut swatches = vec![(GOUGE, gouge), (NO_TARGET, "no target".to_string())];
+        let [deepest, most] = self.extremes;
+        if most > self.mm {
+            swatches.push((OVER_LEFT, format!("left over +{}: up to {}", short(s, unit), amount(most))));
+        }
+        if deepest > self.mm && self.mm > self.gouge {
+            swatches.push((OVER_GOUGE, format!("gouge deeper than {}: down to {}", short(s, unit), amount(deepest))));
+        }
         ColourBar { stops: self.stops(), label: format!("simulated − target, {unit}"), notes, swatches }
     }
 
@@ -175,7 +222,11 @@ impl DeviationScale {
     fn colour(&self, d: f64) -> [u8; 3] {
         let f = self.unit().0;
         let (v, s, g) = (d * f, self.mm * f, self.gouge * f);
-        if d < -self.gouge {
+        if d > self.mm {
+            OVER_LEFT
+        } else if d < -self.mm && s > g {
+            OVER_GOUGE
+        } else if d < -self.gouge {
             if s > g {
                 colour_at(&[(-s, GOUGE), (-g, GOUGE_LIGHT)], v)
             } else {
@@ -209,6 +260,16 @@ fn short(v: f64, unit: &str) -> String {
         3
     };
     format!("{v:.digits$} {unit}")
+}
+
+/// An amount of `mm`, in µm under 0.1 mm, else in mm: `25.3 µm`,
+/// `1.130 mm`.
+fn amount(mm: f64) -> String {
+    if mm < 0.1 {
+        format!("{:.1} µm", mm * 1000.0)
+    } else {
+        format!("{mm:.3} mm")
+    }
 }
 
 /// The deviation simulated − `target` on `scale`: red below, white on it,
@@ -312,7 +373,13 @@ mod tests {
             [r.rgb[i], r.rgb[i + 1], r.rgb[i + 2]]
         };
         assert_eq!(pixel(1), ABOVE, "the 99th percentile in full colour");
-        assert_eq!(pixel(0), ABOVE, "beyond it too");
+        assert_eq!(pixel(0), OVER_LEFT, "beyond it its own colour: 0.5 mm left is not 4 µm");
+        let bar = scale.bar();
+        assert!(
+            bar.swatches.iter().any(|(c, t)| *c == OVER_LEFT && t == "left over +4.0 µm: up to 0.500 mm"),
+            "{:?}",
+            bar.swatches
+        );
         assert_eq!(pixel(5), [143, 163, 233], "half the scale, half way to blue");
         // A gouge deeper than 1 µm in its own colour; 0.5 µm below is red-ish.
         let (z, target) = grid(|k| match k {
@@ -332,11 +399,34 @@ mod tests {
         assert_eq!(scale.colour(-0.0025), [220, 80, 220]);
         assert_eq!(scale.colour(-0.001), BELOW);
         assert_eq!(scale.colour(-0.0010001), GOUGE_LIGHT);
-        assert_eq!(scale.colour(-0.01), GOUGE);
+        assert_eq!(scale.colour(-0.004), GOUGE);
+        assert_eq!(scale.colour(-0.01), OVER_GOUGE, "deeper than the scale");
+        assert_eq!(scale.bar().swatches.len(), 2, "no cell beyond ±4 µm here: nothing said of them");
         // The bar says the scale and its basis, in µm.
         let bar = DeviationScale::new(&z, &target, None, GOUGE_MM).bar();
         assert_eq!(bar.label, "simulated − target, µm");
         assert!(bar.notes[1].contains("99th percentile"), "{:?}", bar.notes);
+    }
+
+    #[test]
+    fn a_steep_face_turned_from_the_light_keeps_its_tint_readable() {
+        // A 10 × 10 mm block rising 3 mm per mm to the north-west: every
+        // face turns from the light (the dome's far side, a pocket's wall).
+        let (z, _) = grid(|k| 3.0 * ((k / 10) as f64 - (k % 10) as f64));
+        let (lo, hi) = z.range();
+        let r = height_raster(&z);
+        for row in 0..10 {
+            for col in 0..10 {
+                let t = (z.height(col, 9 - row) - lo) / (hi - lo);
+                let i = 3 * (row * 10 + col);
+                for (c, full) in tint(t).into_iter().enumerate() {
+                    let least = (0.55 * 255.0 * full).floor() as u8;
+                    assert!(r.rgb[i + c] >= least, "cell {col},{row}: {:?} under 55 % of its tint", &r.rgb[i..i + 3]);
+                }
+            }
+        }
+        // Lit and flat faces stay lighter than those turned away.
+        assert!(lit(0.0, 0.0) > 0.9 && lit(-1.0, 1.0) < lit(0.0, 0.0) && lit(1.0, -1.0) > lit(0.0, 0.0));
     }
 
     #[test]

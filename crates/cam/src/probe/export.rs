@@ -126,8 +126,9 @@ pub fn shade_size(data: &ProbeGrid, scale: usize) -> Option<(usize, usize)> {
     Some((side(data.grid.nx)?, side(data.grid.ny)?))
 }
 
-/// A hill-shaded picture (light from the north-west, 45° up, tinted by
-/// height), `scale` pixels per pitch, +Y up: `(width, height, RGB bytes)`.
+/// A hill-shaded picture (light from the north-west, 60° up, a face turned
+/// from it at 60 % of its tint, never black; tinted by height), `scale`
+/// pixels per pitch, +Y up: `(width, height, RGB bytes)`.
 /// The caller bounds the size ([`shade_size`]).
 pub fn shade(data: &ProbeGrid, scale: usize) -> (usize, usize, Vec<u8>) {
     let g = &data.grid;
@@ -143,7 +144,7 @@ pub fn shade(data: &ProbeGrid, scale: usize) -> (usize, usize, Vec<u8>) {
         let b = data.z(i, j + 1) * (1.0 - s) + data.z(i + 1, j + 1) * s;
         a * (1.0 - t) + b * t
     };
-    let (az, alt) = (315f64.to_radians(), 45f64.to_radians());
+    let (az, alt) = (315f64.to_radians(), 60f64.to_radians());
     let light = [alt.cos() * az.sin(), alt.cos() * az.cos(), alt.sin()];
     let d = 1.0 / scale as f64;
     let mut rgb = Vec::with_capacity(w * h * 3);
@@ -159,7 +160,7 @@ pub fn shade(data: &ProbeGrid, scale: usize) -> (usize, usize, Vec<u8>) {
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             let lit = ((n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len).max(0.0);
             let t = (at(u, v) - lo) / span;
-            let shade = 0.25 + 0.75 * lit;
+            let shade = 0.6 + 0.4 * lit;
             rgb.extend_from_slice(&[
                 (255.0 * shade * (0.55 + 0.45 * t)).round() as u8,
                 (255.0 * shade * 0.8).round() as u8,

@@ -163,9 +163,17 @@ pub fn run(args: &SimArgs) -> Result<()> {
             let target = args.setup.compare.as_deref().map(file_name).unwrap_or_default();
             let subtitle = format!("deviation from {target} (simulated − target), {:.3} mm cells, +Y up", zmap.res);
             out.add(Some(&png), &picture::deviation_png(zmap, heights, scale, &title, &subtitle)?)?;
+            let [deepest, most] = scale.extremes;
+            let mut beyond = String::new();
+            if most > scale.mm {
+                beyond += &format!("; amber = more left than the scale (up to {most:.4} mm)");
+            }
+            if deepest > scale.mm && scale.mm > scale.gouge {
+                beyond += &format!("; dark purple = a gouge deeper than the scale (down to {deepest:.4} mm)");
+            }
             deviation_note = Some(format!(
                 "{}: red = below the target, blue = above (material left), white = on it; \
-                 full colour at ±{:.4} mm ({}); magenta = a gouge over {} µm deep; grey = no target",
+                 full colour at ±{:.4} mm ({}); magenta = a gouge over {} µm deep{beyond}; grey = no target",
                 png.display(),
                 scale.mm,
                 scale.basis,

@@ -222,7 +222,7 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
 /// The grooves as programmed and corrected, cut by the worn tool, their
 /// deviation from the target one above the other on one scale.
 fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
-    let scale = DeviationScale { mm: GROOVE_SCALE, basis: "one scale for both".into(), gouge: GOUGE_MM };
+    let mut scale = DeviationScale::fixed(GROOVE_SCALE, "one scale for both", GOUGE_MM);
     let mut panels = Vec::new();
     for (program, what) in [("groove.nc", "as programmed"), ("groove-T7.nc", "corrected for the wear")] {
         let (ran, _) = read_and_run(&run_options(out.join(program), None))?;
@@ -241,6 +241,7 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
             c.max_gouge * 1000.0,
             c.max_left * 1000.0
         );
+        scale.include(&sim.zmap, heights);
         panels.push(deviation_panel(&sim.zmap, heights, &scale, &caption));
     }
     Ok(Figure {
