@@ -69,7 +69,7 @@ pub struct EngageArgs {
     pub helix: f64,
     /// Which way the passes go on the slope: each next pass lower (down: step-down, the previous
     /// pass above it) or higher (up: step-up, the previous pass below); both computes each.
-    #[arg(long = "next-pass", alias = "step", value_enum, default_value = "down")]
+    #[arg(long = "next-pass", alias = "step", value_enum, value_name = "down|up|both", default_value = "down")]
     pub step: StepChoice,
     /// Down-cut (climb) or up-cut (conventional), spindle turning M03; both computes each.
     #[arg(long, value_enum, default_value = "down")]
