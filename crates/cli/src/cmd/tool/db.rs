@@ -24,8 +24,8 @@ const HEIGHTS: usize = 10;
 /// `kezuri tool db …`.
 #[derive(Subcommand, Debug)]
 #[command(after_help = "The database is one SQLite file (--db, default kezuri-tools.sqlite in this folder) that
-commands running at once on this computer may share; keep it on a local disk (SQLite's WAL
-mode does not work over a network file system).
+commands running at once on this computer may share; keep it on a local disk (the way SQLite
+lets them share it, its write-ahead log, does not work over a network file system).
 
 Examples:
   kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
