@@ -66,11 +66,11 @@ pub struct Cli {
 enum Command {
     /// Run every pipeline on the bundled samples and show what it made.
     #[command(
-        after_help = "Examples:\n  kezuri demo --only thermal,copy --out demo\n  kezuri demo --only relief --quiet"
+        after_help = "Examples:\n  kezuri demo --only thermal,copy -o demo\n  kezuri demo --only relief --quiet"
     )]
     Demo {
         /// Folder for the outputs.
-        #[arg(long, default_value = "kezuri-demo")]
+        #[arg(short = 'o', long = "output", alias = "out", value_name = "DIR", default_value = "kezuri-demo")]
         out: PathBuf,
         /// Only these pipelines (comma-separated) [default: all].
         #[arg(long, value_enum, value_delimiter = ',', value_name = "PIPELINE")]
@@ -130,16 +130,20 @@ Fanuc. What the post cannot write is said at its line, file:line:column.")]
         #[command(flatten)]
         write: WriteArgs,
     },
-    /// Cusp between neighbouring passes on an inclined plane, or the pick feed for a target cusp.
+    /// Cusp (the ridge left between neighbouring passes) on an inclined plane, or the pick feed
+    /// (the step from one pass to the next) for a target cusp.
     Scallop(scallop::ScallopArgs),
-    /// Chip area, its distance from the axis (E_d) and a torque estimate per rotation angle on an inclined plane.
+    /// Chip area, E_d (the area times its distance from the axis: what the torque follows) and a
+    /// torque estimate per rotation angle on an inclined plane.
     Engage(engage::EngageArgs),
-    /// Cutter-location z over a grid of points on an STL mesh (drop-cutter).
+    /// Cutter-location z over a grid of points on an STL mesh: drop-cutter, the cutter lowered at
+    /// each point until it touches.
     Dropcut(dropcut::DropcutArgs),
-    /// Raster finishing program over an STL or a height grid, with pick-feed control.
+    /// Raster finishing program over an STL or a height grid: rows a stepover apart, or as far
+    /// apart as a largest cusp (the ridge left between rows) allows.
     Mill(Box<mill::MillArgs>),
-    /// Material-removal simulation (Z-map) of a program: picture, STL, rapids into the stock,
-    /// comparison with the intended surface.
+    /// Material-removal simulation of a program on a Z-map (the stock as a grid of heights seen
+    /// from above): picture, STL, rapids into the stock, comparison with the intended surface.
     Sim(Box<sim::SimArgs>),
     /// See the job in 3D: one offline HTML page with the toolpath, the tool, the program text
     /// and a playback slider; with --sim the simulated part, with --compare its deviation.
@@ -147,7 +151,8 @@ Fanuc. What the post cannot write is said at its line, file:line:column.")]
     /// Digitize a model on a grid and copy-mill it: plan, capture, level, export, mill.
     #[command(subcommand)]
     Probe(probe::ProbeCommand),
-    /// Carve a grayscale sketch as a relief: heights from gray, drop-cutter, roughing.
+    /// Carve a grayscale sketch as a relief: heights from gray, the cutter lowered onto them until
+    /// it touches (drop-cutter), roughing.
     Relief(Box<relief::ReliefArgs>),
     /// Convert between G-code dialects and Roland RML-1: units, scaling, shortening.
     Convert(Box<convert::ConvertArgs>),
@@ -159,7 +164,7 @@ Fanuc. What the post cannot write is said at its line, file:line:column.")]
     #[command(
         subcommand,
         after_help = "The pipeline, on the demo's simulated sensor profiles (in demo/thermal/):
-  kezuri demo --only thermal --out demo
+  kezuri demo --only thermal -o demo
   kezuri thermal plan --machine samples/mill-turn.toml -o O2007.nc
   kezuri thermal measure demo/thermal/index.csv -o meas.csv
   kezuri thermal fit meas.csv --machine samples/mill-turn.toml -o model.json

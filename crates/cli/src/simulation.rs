@@ -68,13 +68,14 @@ pub struct SimSetup {
     /// highest Z].
     #[arg(long, value_name = "X0,Y0,X1,Y1,ZTOP|cyl:D,H|FILE.stl", allow_hyphen_values = true)]
     pub stock: Option<String>,
-    /// Intended surface: an STL, or a height grid of `x y z` lines.
+    /// The part as designed, to compare the cut with: an STL (such as relief's --surface-stl), or a
+    /// height grid of `x y z` lines.
     #[arg(long, value_name = "TARGET")]
     pub compare: Option<PathBuf>,
     /// The unit the --compare and --stock files are drawn in (STL files carry none).
     #[arg(long, value_enum, default_value = "mm")]
     pub units: crate::surface::Units,
-    /// Largest sagitta of the chords arcs are cut as, mm.
+    /// How far the chords arcs are cut as may stray from the arc (their sagitta), mm.
     #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
     pub chord_tol: f64,
     /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
@@ -111,26 +112,57 @@ impl Simulated {
     }
 }
 
+/// The cell size `sim` and `view --sim` take without `--res`, as their
+/// helps say it.
+pub const DEFAULT_RES_HELP: &str = "a tenth of the smallest cutter's radius, at most 0.1 mm; \
+coarser where the stock would need more than 16 million cells";
+
+/// Most cells the default cell size gives (16 million: 144 MB).
+const DEFAULT_CELLS: f64 = 16e6;
+
+/// The cell size without `--res`: a tenth of the smallest cutter's radius,
+/// at most 0.1 mm, coarsened to whole hundredths until the stock holds at
+/// most [`DEFAULT_CELLS`] cells (or `--max-cells`).
+fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f64 {
+    let smallest = tools.table.iter().map(|(_, t)| t.radius()).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
+    let fine = (smallest / 10.0).min(0.1);
+    // The stock's area, from a grid of 1 mm cells.
+    let mut coarse = SimOptions::new(1.0);
+    coarse.max_cells = setup.max_cells;
+    let area = stock.grid(&coarse).map_or(0.0, |z| z.cells() as f64);
+    let most = DEFAULT_CELLS.min(setup.max_cells as f64);
+    if area / (fine * fine) > most {
+        ((area / most).sqrt() * 100.0).ceil() / 100.0
+    } else {
+        fine
+    }
+}
+
 /// Cuts `path` (of `file`, run on `machine`) out of the stock at `res` mm
-/// cells, with a progress bar on a terminal, and compares it with the
-/// target (a histogram of `bins` bins).
+/// cells (none: [`DEFAULT_RES_HELP`]), with a progress bar on a terminal,
+/// and compares it with the target (a histogram of `bins` bins).
 pub fn simulate(
     path: &Toolpath,
     machine: &Machine,
     setup: &SimSetup,
-    res: f64,
+    res: Option<f64>,
     bins: usize,
     file: &str,
 ) -> Result<Simulated> {
-    let mut options = SimOptions::new(res);
-    options.chord_tolerance = setup.chord_tol;
-    options.max_cells = setup.max_cells;
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
     let tools = tools::tool_set(setup, &machine.tools, path).with_context(|| file.to_string())?;
     let stock = match stock {
         Some(s) => s,
         None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.to_string())?),
     };
+    let res = res.unwrap_or_else(|| {
+        let res = default_res(&stock, &tools, setup);
+        crate::say::note!("{file}: cells of {res} mm (no --res: {DEFAULT_RES_HELP})");
+        res
+    });
+    let mut options = SimOptions::new(res);
+    options.chord_tolerance = setup.chord_tol;
+    options.max_cells = setup.max_cells;
     let mut zmap = stock.grid(&options, setup.units)?;
     let top = zmap.range().1;
     let t0 = Instant::now();

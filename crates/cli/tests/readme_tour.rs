@@ -113,3 +113,20 @@ fn the_readme_tour_runs_as_written() {
         failures.join("\n")
     );
 }
+
+#[test]
+fn the_readme_installs_the_tested_versions() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    // The two set-up commands, as they are.
+    for line in ["cargo run --release -- demo ", "cargo test --workspace "] {
+        assert!(readme.lines().any(|l| l.starts_with(line)), "README's set-up lost `{line}`");
+    }
+    // `cargo install` builds with Cargo.lock's versions, not the newest ones.
+    let installs: Vec<&str> = readme.lines().filter(|l| l.trim_start().starts_with("cargo install")).collect();
+    assert!(!installs.is_empty(), "the README says how to install");
+    for line in installs {
+        assert!(line.split_whitespace().any(|w| w == "--locked"), "{line}: without --locked");
+    }
+    assert!(root.join("Cargo.lock").is_file());
+}

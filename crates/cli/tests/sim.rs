@@ -214,7 +214,7 @@ fn bad_input_is_a_clear_error() {
         assert!(stdout(&o).is_empty(), "{args:?}");
     }
     // Bad usage: exit code 2.
-    assert_eq!(kezuri(&["sim", &nc, "--tool", "ball:6"]).status.code(), Some(2));
+    assert_eq!(kezuri(&["sim", &nc, "--tool", "ball:6", "--res"]).status.code(), Some(2));
 }
 
 #[test]

@@ -278,7 +278,7 @@ fn errors_say_what_is_wrong() {
     // A bad CSV or time stores nothing and makes no file.
     fail(&["tool", "db", "add", "T1", &path(dir.path(), "missing.csv"), "--db", &db], "cannot read");
     fail(&["tool", "db", "add", "T1", &csv, "--db", &db, "--at", "noon"], "RFC 3339");
-    fail(&["tool", "db", "add", " T1", &csv, "--db", &db], "tool id");
+    fail(&["tool", "db", "add", " T1", &csv, "--db", &db], "tool name");
     assert!(!Path::new(&db).exists());
     for id in ["A1", "B2", "C3"] {
         ok(&kezuri(&["tool", "db", "add", id, &csv, "--db", &db]));

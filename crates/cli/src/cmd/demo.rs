@@ -36,7 +36,8 @@ const SAMPLES: [(&str, &str, &str); 3] = [
 pub enum Pipeline {
     /// The bundled programs run, expanded and drawn.
     Programs,
-    /// Pick feeds, a chip, a finishing program and its simulation on a dome.
+    /// The step between passes on a slope, a chip, a finishing program and its simulation on a
+    /// dome.
     Geometry,
     /// Digitizing a model and copy-milling it.
     Copy,
@@ -199,7 +200,7 @@ fn geometry(out: &Path) -> Result<()> {
             "0.8",
             "--feed-per-tooth",
             "0.16",
-            "--step",
+            "--next-pass",
             "both",
             "--png",
             &at("oval-engage.png"),

@@ -15,7 +15,7 @@ use crate::files::write_output;
 #[derive(Args, Debug)]
 #[command(after_help = "\
 For every grid point (x, y) the cutter is lowered onto the mesh until it touches: the output is
-the tip's z (the lowest point of the cutter, as OpenCAMLib's CL points), exact for every shape
+the tip's z (the lowest point of the cutter: cutter-location or CL points, as OpenCAMLib's), exact for every shape
 (vertex, facet and edge contacts). Points run x = X0 + i·STEP for i = 0..round((X1−X0)/STEP),
 y likewise; one line `x y z` a point, no header, y outer, x inner, numbers in full precision
 (shortest round-trip). Binary and ASCII STL are read; degenerate triangles are skipped.
@@ -52,7 +52,7 @@ pub struct DropcutArgs {
     /// leave them out).
     #[arg(long, value_name = "Z", allow_negative_numbers = true, value_parser = crate::numbers::coordinate)]
     pub fill: Option<f64>,
-    /// Output file; `-` or none for stdout.
+    /// The cutter locations, `x y z` a line; `-` or none for stdout.
     #[arg(short, long, value_name = "CL")]
     pub output: Option<PathBuf>,
 }

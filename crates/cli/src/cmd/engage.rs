@@ -18,8 +18,8 @@ use crate::files::Outputs;
 #[command(after_help = "\
 The tool runs along X on a plane inclined at --angle about X, tangent to its tip; the stock
 surface stands --depth above that plane (square to it) and the previous pass lies --pick-feed
-away along the slope: higher for --step down, lower for --step up. One tooth's chip is what
-this pass removes in one feed per tooth; its rake face (the straight radial line from the axis
+away along the slope: higher for --next-pass down, lower for --next-pass up. One tooth's
+chip is what this pass removes in one feed per tooth; its rake face (the straight radial line from the axis
 to the helical edge at each height) turns through it. For each rotation angle θ (0 where the
 edge at the top of the cutter's tip points to +Y, increasing as the spindle turns, M03):
   A    the area where the rake face cuts the chip, mm²
@@ -32,7 +32,8 @@ Examples:
   kezuri engage --tool oval:16,24 --angle 45 --pick-feed 0.8 --depth 0.8 \\
       --feed-per-tooth 0.16
   kezuri engage --tool oval:16,24 --angle 0:75:15 --pick-feed auto --cusp 0.01 \\
-      --depth 0.8 --feed-per-tooth 0.16 --step both --cut both --png engage.png
+      --depth 0.8 --feed-per-tooth 0.16 --next-pass both --cut both \\
+      --png engage.png
   kezuri engage --tool ball:10 --angle 30 --pick-feed 0.5 --depth 0.5 \\
       --feed-per-tooth 0.1 --json
 
@@ -46,9 +47,9 @@ pub struct EngageArgs {
     /// (15,30,45) or a range FIRST:LAST:STEP (0:75:15).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub angle: String,
-    /// Pick feed along the slope, mm: one for every angle, one per angle
-    /// (0.462,0.484,…), or `auto` for the largest that keeps the cusp
-    /// within --cusp.
+    /// Pick feed (the step from the previous pass to this one) along the slope, mm: one for every
+    /// angle, one per angle (0.462,0.484,…), or `auto` for the largest that keeps the cusp (the
+    /// ridge left between two passes) within --cusp.
     #[arg(long, value_name = "MM|auto", allow_negative_numbers = true)]
     pub pick_feed: String,
     /// The cusp `--pick-feed auto` keeps to, mm.
@@ -66,9 +67,9 @@ pub struct EngageArgs {
     /// Helix angle of the flutes, degrees (right hand), [0, 90).
     #[arg(long, value_name = "DEG", default_value_t = 30.0, allow_negative_numbers = true)]
     pub helix: f64,
-    /// Where the previous pass lies: the next pass is lower on the slope
-    /// (down) or higher (up); both computes each.
-    #[arg(long, value_enum, default_value = "down")]
+    /// Which way the passes go on the slope: each next pass lower (down: step-down, the previous
+    /// pass above it) or higher (up: step-up, the previous pass below); both computes each.
+    #[arg(long = "next-pass", alias = "step", value_enum, value_name = "down|up|both", default_value = "down")]
     pub step: StepChoice,
     /// Down-cut (climb) or up-cut (conventional), spindle turning M03; both computes each.
     #[arg(long, value_enum, default_value = "down")]
@@ -76,8 +77,8 @@ pub struct EngageArgs {
     /// Cutting force per chip area, N/mm², for the torque estimate T = kc·E_d.
     #[arg(long, value_name = "N/MM2", default_value_t = 3500.0, value_parser = crate::numbers::positive)]
     pub kc: f64,
-    /// Rotation angles over one revolution.
-    #[arg(long, value_name = "N", default_value_t = 360, value_parser = clap::value_parser!(u32).range(8..=100_000))]
+    /// Rotation angles computed over one revolution of the cutter.
+    #[arg(long = "rotation-steps", alias = "steps", value_name = "N", default_value_t = 360, value_parser = clap::value_parser!(u32).range(8..=100_000))]
     pub steps: u32,
     /// Write every angle of every case as CSV.
     #[arg(long, value_name = "FILE")]
@@ -95,7 +96,7 @@ pub struct EngageArgs {
     pub json: bool,
 }
 
-/// `--step`.
+/// `--next-pass`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum StepChoice {
     /// The next pass lower on the slope (the previous pass higher).

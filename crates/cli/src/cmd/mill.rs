@@ -14,16 +14,16 @@ use crate::surface::read_surface;
 /// Options of `kezuri mill`.
 #[derive(Args, Debug)]
 #[command(after_help = "\
-The cutter is placed on the surface with drop-cutter (exact contact for every shape), so the
-program never cuts into the surface by more than --gouge-tol: rows are sampled every --step,
-halved where the path bends more than --gouge-tol/2, and merged where it is straight within
---gouge-tol/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
+The cutter is placed on the surface with drop-cutter (lowered at each point until it touches:
+exact contact for every shape), so the program never cuts into the surface by more than
+--gouge-tol: rows are sampled every --sample-step, halved where the path bends more than
+--gouge-tol/2, and merged where it is straight within --gouge-tol/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
 it, so nothing outside the surface is cut; within a radius of the edges the cutter cannot
 reach down everywhere, and material is left there. Where no part of the surface is under
 the cutter the row is cut in pieces, with a retract between.
 
---cusp H is pick-feed control: each next row goes as far as the theoretical cusp
-between the rows, from the slope across them, stays within H (the pick feed in the inclined
+--cusp H sets the pick feed (the step from one row to the next) by the cusp it leaves: each
+next row goes as far as the theoretical cusp between the rows, from the slope across them, stays within H (the pick feed in the inclined
 plane from `kezuri scallop`, converted to the stepover in plan); --stepover is then the widest
 it may be.
 
@@ -43,7 +43,7 @@ Examples:
   kezuri mill plum.xyz --tool ball:6 --stepover 0.5 --tool-number 2 \\
       --post haas --machine samples/tools/mill.toml -o plum-haas.nc")]
 pub struct MillArgs {
-    /// The surface: an STL (binary or ASCII), or a height grid of `x y z`
+    /// The surface to finish, as designed: an STL (binary or ASCII), or a height grid of `x y z`
     /// lines; `-` reads stdin.
     #[arg(value_name = "SURFACE")]
     pub surface: std::path::PathBuf,
@@ -56,7 +56,8 @@ pub struct MillArgs {
     /// Distance between rows in plan, mm (the widest, with --cusp).
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub stepover: f64,
-    /// Pick-feed control: the largest cusp between rows, mm.
+    /// The largest cusp (the ridge left between two rows) to keep to, mm: each row as far from
+    /// the last as that allows, up to --stepover.
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
     pub cusp: Option<f64>,
     /// Row direction.
@@ -67,7 +68,7 @@ pub struct MillArgs {
     #[arg(long, value_enum, default_value = "zigzag")]
     pub pattern: RowPattern,
     /// Sampling step along a row, mm [default: a quarter of the cutter radius].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
+    #[arg(long = "sample-step", alias = "step", value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm: a gouge into the surface
     /// of up to this much is allowed.

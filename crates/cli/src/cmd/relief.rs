@@ -30,9 +30,9 @@ light. The picture's top row is the largest Y; --width (or --pixel) sets the siz
 puts a corner (corner or lower-left, lower-right, upper-left, upper-right) or the centre
 (centre) at X0 Y0, or the lower-left corner at X,Y.
 
-The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
-relief: rows are sampled every --step and refined until the path stays within 0.001 mm below
-and --leave-tol above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
+The cutter is placed on the height grid with drop-cutter (lowered at each point until it
+touches), so the carving never cuts into the relief: rows are sampled every --sample-step and
+refined until the path stays within 0.001 mm below and --leave-tol above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
 --to rml, hold it to about 0.003 mm). --rough SPEC first
 clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
 --surface-stl writes the relief surface for `kezuri sim --compare`. With --rough the roughing
@@ -115,7 +115,7 @@ pub struct ReliefArgs {
     pub pattern: RowPattern,
     /// Sampling step along a row, mm [default: the pixel size, or the
     /// program's increment where the pixel is finer].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
+    #[arg(long = "sample-step", alias = "step", value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How much material the path may leave above the exact cutter locations, mm (it never
     /// cuts more than 0.001 mm below them).
@@ -145,7 +145,8 @@ pub struct ReliefArgs {
     /// Spindle speed, rpm.
     #[arg(long, value_name = "RPM", default_value_t = 10000.0, value_parser = crate::numbers::positive)]
     pub speed: f64,
-    /// Also write the relief surface as a binary STL (for `kezuri sim --compare`).
+    /// Also write the relief as designed (the surface the finished carving should have) as a
+    /// binary STL: the target of `kezuri sim --compare` and `kezuri wear apply --surface`.
     #[arg(long, value_name = "FILE.stl")]
     pub surface_stl: Option<PathBuf>,
     #[command(flatten)]

@@ -81,13 +81,15 @@ pub struct SimArgs {
     pub run: RunOptions,
     #[command(flatten)]
     pub setup: SimSetup,
-    /// Cell size of the simulation grid, mm.
+    /// Cell size of the simulation grid, mm [default: a tenth of the smallest cutter's radius, at
+    /// most 0.1 mm; coarser where the stock would need more than 16 million cells].
     #[arg(long, value_name = "MM", allow_negative_numbers = true, value_parser = crate::numbers::length)]
-    pub res: f64,
+    pub res: Option<f64>,
     /// Shaded picture of the simulated surface (PNG; `-` for stdout).
     #[arg(short, long, value_name = "HEIGHT.png")]
     pub output: Option<PathBuf>,
-    /// The simulated surface as a binary STL (two triangles per four cell centres).
+    /// Also write the part as simulated (the stock after cutting: its top surface, two triangles
+    /// per four cell centres) as a binary STL.
     #[arg(long, value_name = "OUT.stl")]
     pub stl: Option<PathBuf>,
     /// Picture of the deviation from the target (with --compare) [default: HEIGHT-deviation.png

@@ -60,7 +60,7 @@ curve: the count is printed, and a program with more than a tenth of its points 
 refused unless --allow-extrapolation (O2007's approach and retract at Z0 are: 5 of 28).
 
 Examples:
-  kezuri demo --only thermal --out demo
+  kezuri demo --only thermal -o demo
   kezuri thermal apply samples/o2007-thermal.nc \\
       --model demo/thermal-model.json --machine samples/mill-turn.toml \\
       --allow-extrapolation -o o2007-warm.nc
@@ -102,7 +102,7 @@ that edge less the command along its axis; the sensors' own places cancel in war
 give both states.
 
 Examples:
-  kezuri demo --only thermal --out demo
+  kezuri demo --only thermal -o demo
   kezuri thermal measure demo/thermal/index.csv -o meas.csv
   kezuri thermal fit meas.csv --machine samples/mill-turn.toml -o model.json")]
 pub struct MeasureArgs {
@@ -154,7 +154,7 @@ tool was less where it was commanded. With a state column (cold/warm) the error 
 at the same axis, angle and command.
 
 Examples:
-  kezuri demo --only thermal --out demo
+  kezuri demo --only thermal -o demo
   kezuri thermal fit demo/thermal-meas.csv -o model.json
   kezuri thermal fit demo/thermal-meas.csv --machine samples/mill-turn.toml \\
       --degree 2 -o model.json --json")]
@@ -308,7 +308,7 @@ corner of the square reference tool. Points more than three robust
 standard deviations off their side's line are left out.
 
 Examples:
-  kezuri demo --only thermal --out demo
+  kezuri demo --only thermal -o demo
   kezuri thermal edge demo/thermal/x0-b0-cold-1.csv
   kezuri thermal edge demo/thermal/x0-b0-warm-1.csv --json
   kezuri thermal edge demo/thermal/x0-b0-cold-1.csv --split -21.7")]

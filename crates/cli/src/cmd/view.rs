@@ -15,7 +15,7 @@ use crate::simulation::{simulate, DeviationArgs, SimSetup};
 /// How the page is made: `view`'s options of [`PageOptions`].
 #[derive(Args, Debug, Clone)]
 pub struct PageArgs {
-    /// Largest sagitta of the chords arcs are drawn as, mm.
+    /// How far the chords arcs are drawn as may stray from the arc (their sagitta), mm.
     #[arg(long, value_name = "MM", default_value_t = PageOptions::default().arc_tol, value_parser = crate::numbers::length)]
     pub arc_tol: f64,
     /// Merge moves within this distance first (as `convert --shorten`): for a page that would
@@ -82,10 +82,12 @@ Exit code 1 for a program with errors or a page over --max-page-mb.")]
 pub struct ViewArgs {
     #[command(flatten)]
     pub run: RunOptions,
-    /// Cut the program out of the stock (needs --res) and draw the part.
-    #[arg(long, requires = "res")]
+    /// Cut the program out of the stock and draw the part.
+    #[arg(long)]
     pub sim: bool,
-    /// Cell size of the simulation grid, mm (with --sim).
+    /// Cell size of the simulation grid, mm (with --sim) [default: a tenth of the smallest
+    /// cutter's radius, at most 0.1 mm; coarser where the stock would need more than 16 million
+    /// cells].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length, requires = "sim")]
     pub res: Option<f64>,
     #[command(flatten)]
@@ -106,11 +108,12 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
     if !args.sim && (args.setup.compare.is_some() || args.setup.stock.is_some()) {
-        bail!("--compare and --stock are for the simulated part: give --sim --res MM too");
+        bail!("--compare and --stock are for the simulated part: give --sim too");
     }
-    let sim = match args.res {
-        Some(res) => Some(simulate(&ran.outcome.toolpath, &ran.machine, &args.setup, res, 10, &file)?),
-        None => None,
+    let sim = if args.sim {
+        Some(simulate(&ran.outcome.toolpath, &ran.machine, &args.setup, args.res, 10, &file)?)
+    } else {
+        None
     };
     let any: Option<Cutter> = args.setup.tool.as_deref().map(str::parse).transpose()?;
     let scale = sim.as_ref().and_then(|s| args.deviation.scale(s));

@@ -47,7 +47,7 @@ Examples:
   kezuri tool db add T7 t7-worn.csv
   kezuri wear apply plum.gcode --profile t7-worn.csv --nominal ball:0.5 \\
       --surface plum.stl -o plum-worn.gcode
-  kezuri wear apply plum.gcode --tool-id T7 --nominal ball:0.5 \\
+  kezuri wear apply plum.gcode --tool-name T7 --nominal ball:0.5 \\
       --surface plum.stl -o plum-T7.gcode --json")]
 pub struct ApplyArgs {
     #[command(flatten)]
@@ -57,17 +57,19 @@ pub struct ApplyArgs {
     /// The measured tool (from `kezuri tool profile`).
     #[arg(long, value_name = "PROFILE.csv", required_unless_present = "tool_id", conflicts_with = "tool_id")]
     pub profile: Option<PathBuf>,
-    /// The latest profile of this tool in the tool database.
-    #[arg(long, value_name = "TOOL-ID")]
+    /// The latest profile of this tool in the tool database: its name there (as on its holder:
+    /// T12, ball6-a, …; `kezuri tool db list` lists them).
+    #[arg(long = "tool-name", alias = "tool-id", value_name = "NAME")]
     pub tool_id: Option<String>,
-    /// The tool database (with --tool-id).
+    /// The tool database (with --tool-name).
     #[arg(long, value_name = "FILE", default_value = "kezuri-tools.sqlite")]
     pub db: PathBuf,
     /// The new tool the program was made for: ball:D (ball end mill of diameter D) or bull:D,R
     /// (bull-nose, corner radius R), mm.
     #[arg(long, value_name = "SPEC")]
     pub nominal: String,
-    /// The finished part (STL, program coordinates).
+    /// The part as designed, finished: the surface the program was made to cut (an STL in program
+    /// coordinates, such as relief's --surface-stl), where the new tool touches it.
     #[arg(long, value_name = "PART.stl")]
     pub surface: PathBuf,
     /// The unit the --surface STL is drawn in (STL files carry none): `inch` multiplies it by 25.4.
@@ -115,7 +117,7 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     let worn: ToolProfile = match (&a.profile, &a.tool_id) {
         (Some(p), _) => crate::tool_profile::read_profile(p)?,
         (None, Some(id)) => crate::tool_store::latest_profile(&a.db, id)?,
-        (None, None) => bail!("give --profile or --tool-id"),
+        (None, None) => bail!("give --profile or --tool-name"),
     };
     let stl = a.surface.display().to_string();
     let mesh = crate::surface::read_mesh(&a.surface, a.units)?;

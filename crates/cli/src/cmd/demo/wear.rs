@@ -234,7 +234,7 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
             max_cells: 250_000_000,
             ..SimSetup::default()
         };
-        let sim = simulate(&ran.outcome.toolpath, &ran.machine, &setup, 0.002, 10, program)?;
+        let sim = simulate(&ran.outcome.toolpath, &ran.machine, &setup, Some(0.002), 10, program)?;
         let Some((c, heights)) = &sim.comparison else { bail!("{program}: no comparison") };
         let caption = format!(
             "{program}, {what}: deepest gouge {:.2} µm, most left {:.2} µm",

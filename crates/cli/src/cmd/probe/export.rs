@@ -36,7 +36,7 @@ pub struct ExportArgs {
     /// Also a polyline per column in the DXF.
     #[arg(long)]
     pub columns: bool,
-    /// Binary STL of the surface.
+    /// Binary STL of the measured surface (through the points).
     #[arg(long, value_name = "F.stl")]
     pub stl: Option<PathBuf>,
     /// Shaded picture (PNG).

@@ -27,18 +27,18 @@ stays between its lowest and highest reading), and the model is that surface low
 stylus's shape (for a ball, offset inward by its radius). With the stylus's own ball as cutter
 the program passes through every reading (rounded to the nearest last digit) and between them
 follows the higher of that surface and the straight line from reading to reading, every quarter
-of the pitch; with --step the pitch it goes straight from reading to reading, as the original
-copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ (25 µm at
-1 mm round a sharp edge). Where the readings bend down so sharply that the copy may cut more
-than --gouge-tol below the model between them, a warning says so. Any other cutter is placed on
-the model, sampled every --res, with drop-cutter. Where the surface through the readings
-bends tighter than the stylus (a sharp edge, noise, a pitch too coarse) a warning says: no ball
-rolling on a model gives such readings.
+of the pitch; with --sample-step the pitch it goes straight from reading to reading, as the
+original copy system's programs did, which cuts up to p²/(8ρ) into a rim or crest of radius ρ
+(25 µm at 1 mm round a sharp edge). Where the readings bend down so sharply that the copy may
+cut more than --gouge-tol below the model between them, a warning says so. Any other cutter is
+placed on the model, sampled every --res, with drop-cutter (lowered at each point until it
+touches). Where the surface through the readings bends tighter than the stylus (a sharp edge,
+noise, a pitch too coarse) a warning says: no ball rolling on a model gives such readings.
 
 --between bound keeps the former behaviour: the highest surface the readings allow (the lowest
 of the stylus shapes over each point), which never cuts below any stylus position but leaves the
-cusps between readings (25 µm along the rows, 50 µm mid-cell, at 1 mm pitch with a 10 mm ball);
-heights are rounded up. See docs/probe-copy.md.
+cusps (the ridges left between readings: 25 µm along the rows, 50 µm mid-cell, at 1 mm pitch
+with a 10 mm ball); heights are rounded up. See docs/probe-copy.md.
 
 Rows run along X in zig-zag, over the data's XY box. Cuts that run along the flat top of the
 data (--floor-z: auto finds a flat margin at the top, held by 5% of the points or more) are
@@ -73,7 +73,7 @@ pub struct MillArgs {
     pub stepover: Option<f64>,
     /// Sampling step along a row, mm [default: a quarter of the pitch with the stylus's own
     /// ball, else the pitch].
-    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
+    #[arg(long = "sample-step", alias = "step", value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm: a gouge into the model
     /// of up to this much is allowed.

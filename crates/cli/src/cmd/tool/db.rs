@@ -24,8 +24,8 @@ const HEIGHTS: usize = 10;
 /// `kezuri tool db …`.
 #[derive(Subcommand, Debug)]
 #[command(after_help = "The database is one SQLite file (--db, default kezuri-tools.sqlite in this folder) that
-commands running at once on this computer may share; keep it on a local disk (SQLite's WAL
-mode does not work over a network file system).
+commands running at once on this computer may share; keep it on a local disk (the way SQLite
+lets them share it, its write-ahead log, does not work over a network file system).
 
 Examples:
   kezuri tool profile samples/tool-T7/new/*.png --pixel-um 2 --tip-row 260 \\
@@ -72,6 +72,7 @@ Examples:
       --at 2026-05-03T17:30:00+09:00")]
 pub struct AddArgs {
     /// The tool's name (as on its holder: T12, ball6-a, …).
+    #[arg(value_name = "TOOL_NAME")]
     pub tool_id: String,
     /// The profile CSV (`-` for standard input).
     #[arg(value_name = "PROFILE.csv")]
@@ -133,7 +134,8 @@ Examples:
   kezuri tool db show T7 --png t7-wear.png
   kezuri tool db show T7 --db kezuri-tools.sqlite --json")]
 pub struct ShowArgs {
-    /// The tool.
+    /// The tool's name in the database (as `add` stored it).
+    #[arg(value_name = "TOOL_NAME")]
     pub tool_id: String,
     #[command(flatten)]
     pub file: DbFile,
@@ -156,7 +158,7 @@ pub fn run(command: &DbCommand) -> Result<()> {
 
 fn check_tool_id(id: &str) -> Result<()> {
     if id.is_empty() || id.trim() != id || id.chars().any(char::is_control) || id.chars().count() > 100 {
-        bail!("tool id {id:?}: give 1 to 100 characters, no control characters nor spaces at either end");
+        bail!("tool name {id:?}: give 1 to 100 characters, no control characters nor spaces at either end");
     }
     Ok(())
 }

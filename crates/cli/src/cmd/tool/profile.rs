@@ -59,8 +59,8 @@ pub struct ProfileArgs {
     /// How far the pictures may be off their stage positions, micrometres.
     #[arg(long, value_name = "UM", default_value_t = 15.0, value_parser = crate::numbers::length)]
     pub search_um: f64,
-    /// Gray level at or below which a pixel is tool, 0-1 of full scale (Otsu's split of the
-    /// pictures if not given).
+    /// Gray level at or below which a pixel is tool, 0-1 of full scale [default: the level that
+    /// best splits the pictures' grays into tool and backlight, Otsu's method].
     #[arg(long, value_name = "LEVEL")]
     pub threshold: Option<f32>,
     /// The new tool, ball:D (ball end mill of diameter D) or bull:D,R (bull-nose, corner radius
