@@ -375,6 +375,8 @@ impl Machine {
         let mut settings = Settings {
             tool_lengths: lengths,
             tool_radii: radii,
+            // The warning of a length the table lacks names the tool's entry.
+            length_owners: tools.iter().filter(|(&n, e)| e.h != n).map(|(&n, e)| (e.h, n)).collect(),
             macro_variables: macro_variables(&file.macro_variables)?,
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
             cycles: cycle_settings(&file.cycles)?,
@@ -450,7 +452,10 @@ mod tests {
         assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
         assert_eq!(m.settings.tool_lengths[&21], 87.25);
         // Each tool's length and radius go to its registers.
-        assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_radii[&25], m.settings.tool_radii[&1]), (100.5, 3.0, 3.0));
+        assert_eq!(
+            (m.settings.tool_lengths[&1], m.settings.tool_radii[&25], m.settings.tool_radii[&1]),
+            (100.5, 3.0, 3.0)
+        );
         let t5 = &m.tools[&5];
         assert_eq!((t5.shape, t5.h, t5.d), (Some("ball:6".parse().unwrap()), 5, Some(25)));
         let h_is_not_t = parse("[tools]\nT3 = { shape = \"flat:10\", h = 13 }").unwrap();

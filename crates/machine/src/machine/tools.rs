@@ -80,8 +80,21 @@ pub(super) fn read(tools: &Tools, dir: &Path, files: &dyn Files) -> Result<Read>
     let imported = import_tools(tools, dir, files)?;
     let mut lengths = registers(imported.as_ref().map(|t| &t.lengths), "tools.lengths", &tools.lengths)?;
     let mut radii = registers(imported.as_ref().map(|t| &t.radii), "tools.radii", &tools.radii)?;
-    let (imported_tools, notes) = imported.map(|t| (t.tools, t.notes)).unwrap_or_default();
+    let (imported_tools, mut notes) = imported.map(|t| (t.tools, t.notes)).unwrap_or_default();
+    let from_import: Vec<u32> = imported_tools.keys().copied().collect();
     let table = tool_table(&tools.table, imported_tools)?;
+    // A tool.tbl's note that it gives no shapes becomes the tools this
+    // file leaves without one, each with the line to add.
+    if let Some(k) = notes.warnings.iter().position(|w| w.starts_with(tool_table::NO_SHAPES)) {
+        notes.warnings.remove(k);
+        for (n, e) in table.iter().filter(|(n, e)| e.shape.is_none() && from_import.contains(n)) {
+            let name = e.name.as_deref().map(|s| format!(" ({s})")).unwrap_or_default();
+            notes.warnings.push(format!(
+                "T{n}{name}: the tool.tbl gives no shape: add `shape = \"SPEC\"` under [tools.T{n}] \
+                 (flat:D, ball:D, bull:D,R, v:D,ANGLE) for sim and view to cut with it"
+            ));
+        }
+    }
     // Each tool's length and radius, into its registers.
     let mut set_by: BTreeMap<(char, u32), String> = BTreeMap::new();
     for (key, t) in &tools.table {
@@ -105,7 +118,10 @@ pub(super) fn read(tools: &Tools, dir: &Path, files: &dyn Files) -> Result<Read>
                 );
             }
             if let Some(other) = set_by.get(&(letter, register)).filter(|_| values.get(&register) != Some(&v)) {
-                fail!(Invalid, "tools.{key}.{what} and tools.{other}.{what} both set {letter}{register}, to different values");
+                fail!(
+                    Invalid,
+                    "tools.{key}.{what} and tools.{other}.{what} both set {letter}{register}, to different values"
+                );
             }
             set_by.insert((letter, register), key.clone());
             values.insert(register, v);
@@ -117,7 +133,10 @@ pub(super) fn read(tools: &Tools, dir: &Path, files: &dyn Files) -> Result<Read>
 /// The number a `[tools]` key names: `T5` or `5`.
 fn tool_number(key: &str) -> Result<u32> {
     key.trim().trim_start_matches(['T', 't']).parse().ok().filter(|&n| n > 0).ok_or_else(|| {
-        Error::new(ErrorKind::Invalid, format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths, radii, import or units"))
+        Error::new(
+            ErrorKind::Invalid,
+            format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths, radii, import or units"),
+        )
     })
 }
 
@@ -164,7 +183,11 @@ fn import_tools(tools: &Tools, dir: &Path, files: &dyn Files) -> Result<Option<t
 }
 
 /// The registers an import gives, with the machine file's on top.
-fn registers(imported: Option<&BTreeMap<u32, f64>>, name: &str, map: &BTreeMap<String, f64>) -> Result<BTreeMap<u32, f64>> {
+fn registers(
+    imported: Option<&BTreeMap<u32, f64>>,
+    name: &str,
+    map: &BTreeMap<String, f64>,
+) -> Result<BTreeMap<u32, f64>> {
     let mut all = imported.cloned().unwrap_or_default();
     for (k, &v) in map {
         let n: u32 = k
