@@ -12,7 +12,8 @@ use kezuri_machine::{Files, Machine};
 #[derive(clap::Args, Clone, Debug)]
 pub struct MachineArg {
     /// Machine file (TOML): its [post] (how the program is written for the
-    /// control) and tool table ([tools.T1] h = 1: the length register of G43 H).
+    /// control) and tool table ([tools.T1] h = 1, length = 127.0: the register
+    /// of G43 H and its value, mm); docs/machine.md has every key.
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
 }
