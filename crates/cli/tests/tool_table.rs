@@ -364,3 +364,46 @@ fn every_real_freecad_bit_and_library_reads() {
     assert_eq!(tool(&t, 5)["shape"], Value::Null); // 60degree_Vbit: TipDiameter 1 mm
     assert!(total >= 9);
 }
+
+/// A Fusion 360 program's start (its real tool lines; the Spanish
+/// "taladrar" is a drill) with the moves of T1 and of `second`.
+fn fusion(second: &str) -> String {
+    format!(
+        "%\nO08787\n(Maquina)\n(T1 D=6. CR=0. - ZMIN=-3. - flat end mill)\n{second}\nN10 G90 G17\nN15 G21\n\
+         N25 T1 M6\nN30 S5500 M3\nN35 G54\nN40 G0 X0. Y0.\nN45 G0 G43 Z15. H1\nN50 G1 Z-3. F300.\nN55 X20. F1000.\n\
+         N60 G0 Z15.\nN70 T2 M6\nN75 S5500 M3\nN80 G0 X-8.66 Y5.\nN85 G0 G43 Z15. H2\nN90 G1 Z-3. F300.\n\
+         N95 X0. Y10.\nN100 G0 Z15.\nN115 M30\n%\n"
+    )
+}
+
+#[test]
+fn a_cam_programs_tool_lines_are_its_tool_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "f.nc");
+    std::fs::write(&nc, fusion("(T2 D=3. CR=1.5 - ZMIN=-3. - ball end mill)")).unwrap();
+    let o = kezuri(&["check", &nc]);
+    let (out, err) = (ok(&o), String::from_utf8_lossy(&o.stderr).into_owned());
+    let said = "no machine file gives a tool table: tools from the program's comments: T1 flat:6 (line 4), \
+                T2 ball:3 (line 5)";
+    assert!(err.contains(said), "{err}");
+    assert!(out.contains("T1 flat:6 H1 (flat end mill)") && out.contains("T2 ball:3 H2 (ball end mill)"), "{out}");
+    // sim cuts with them, without --tool, and says where they came from.
+    let o = kezuri(&["sim", &nc, "--res", "0.5", "--json"]);
+    let v: Value = serde_json::from_str(&ok(&o)).unwrap();
+    assert_eq!((v["tool"].as_str(), v["tools_from"].as_str()), (Some("T1 flat:6, T2 ball:3"), Some("the program's comments")));
+    // A machine file's table is the table: the comments are not read.
+    let o = kezuri(&["check", &nc, "--machine", &sample("mill.toml")]);
+    let (out, err) = (ok(&o), String::from_utf8_lossy(&o.stderr).into_owned());
+    assert!(!err.contains("program's comments") && out.contains("T2 ball:3.175 H2"), "{err}{out}");
+}
+
+/// Needs the drill shape (`drill:D,ANGLE`) in the cutter SPECs.
+#[test]
+fn a_fusion_drill_line_is_a_drill() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "f.nc");
+    std::fs::write(&nc, fusion("(T2 D=2.5 CR=0. TAPER=118deg - ZMIN=-4.751 - taladrar)")).unwrap();
+    let o = kezuri(&["check", &nc]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("tools from the program's comments: T1 flat:6 (line 4), T2 drill:2.5,118 (line 5)"), "{err}");
+}

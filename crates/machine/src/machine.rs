@@ -313,6 +313,9 @@ pub struct Machine {
     pub kinematics: Kinematics,
     /// The tool table, by tool number.
     pub tools: BTreeMap<u32, ToolEntry>,
+    /// Where the tool table came from, in words: the machine file's, or a
+    /// program's comments where no machine file gave one.
+    pub tools_from: &'static str,
     /// How programs are written for this machine (`[post]`).
     pub post: PostFile,
 }
@@ -324,6 +327,7 @@ impl Default for Machine {
             settings: Settings::default(),
             kinematics: Kinematics::mill(),
             tools: BTreeMap::new(),
+            tools_from: Machine::TOOLS_FROM_FILE,
             post: PostFile::default(),
         }
     }
@@ -347,6 +351,9 @@ fn axes(name: &str, v: &[f64]) -> Result<Axes> {
 }
 
 impl Machine {
+    /// [`Machine::tools_from`] for the machine file's own table.
+    pub const TOOLS_FROM_FILE: &'static str = "the machine file's tool table";
+
     /// Reads a machine file's text, with what its imported tool table left
     /// out or lacks; `dir` is the folder the file is in, where `files`
     /// finds the tool table it imports.
@@ -423,7 +430,8 @@ impl Machine {
         };
         // Any mistake in [post] is found now, not when a program is written.
         crate::post::options(&file.post, None, &tools)?;
-        Ok((Machine { dynamics, settings, kinematics, tools, post: file.post }, notes))
+        let tools_from = Machine::TOOLS_FROM_FILE;
+        Ok((Machine { dynamics, settings, kinematics, tools, tools_from, post: file.post }, notes))
     }
 }
 
