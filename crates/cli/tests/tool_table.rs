@@ -390,7 +390,10 @@ fn a_cam_programs_tool_lines_are_its_tool_table() {
     // sim cuts with them, without --tool, and says where they came from.
     let o = kezuri(&["sim", &nc, "--res", "0.5", "--json"]);
     let v: Value = serde_json::from_str(&ok(&o)).unwrap();
-    assert_eq!((v["tool"].as_str(), v["tools_from"].as_str()), (Some("T1 flat:6, T2 ball:3"), Some("the program's comments")));
+    assert_eq!(
+        (v["tool"].as_str(), v["tools_from"].as_str()),
+        (Some("T1 flat:6, T2 ball:3"), Some("the program's comments"))
+    );
     // A machine file's table is the table: the comments are not read.
     let o = kezuri(&["check", &nc, "--machine", &sample("mill.toml")]);
     let (out, err) = (ok(&o), String::from_utf8_lossy(&o.stderr).into_owned());

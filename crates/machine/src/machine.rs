@@ -537,7 +537,10 @@ mod tests {
         assert_eq!((m.tools[&8].h, m.tools[&8].d), (8, None));
         assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_lengths[&2]), (31.75, 50.0));
         assert_eq!(m.settings.tool_radii[&7], 2.38125);
-        assert!(notes.warnings.iter().any(|w| w.contains("not shapes")), "{notes:?}");
+        // The tool.tbl's tools this file leaves without a shape, each named.
+        let unshaped: Vec<&str> = notes.warnings.iter().map(|w| &w[..3]).collect();
+        assert_eq!(unshaped, ["T2 ", "T3 ", "T7 "], "{notes:?}");
+        assert!(notes.warnings[2].contains("T7 (3/16 drill): the tool.tbl gives no shape: add `shape"), "{notes:?}");
         for (text, words) in [
             ("[tools]\nimport = \"tool.tbl\"", "no units"),
             ("[tools]\nunits = \"mm\"", "tools.import names none"),

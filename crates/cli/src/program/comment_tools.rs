@@ -38,5 +38,8 @@ pub fn from_comments(machine: &mut Machine, text: &str, inch: bool, file: &str) 
         machine.tools.insert(t.number, entry);
     }
     machine.tools_from = FROM_COMMENTS;
-    eprintln!("note: {file}: no machine file gives a tool table: tools from the program's comments: {}", said.join(", "));
+    eprintln!(
+        "note: {file}: no machine file gives a tool table: tools from the program's comments: {}",
+        said.join(", ")
+    );
 }
