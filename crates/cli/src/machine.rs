@@ -12,7 +12,8 @@ use kezuri_machine::{Files, Machine};
 #[derive(clap::Args, Clone, Debug)]
 pub struct MachineArg {
     /// Machine file (TOML): its [post] (how the program is written for the
-    /// control) and tool table ([tools.T1] h = 1: the length register of G43 H).
+    /// control) and tool table ([tools.T1] h = 1, length = 127.0: the register
+    /// of G43 H and its value, mm); docs/machine.md has every key.
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
 }
@@ -39,24 +40,44 @@ impl Files for Disk {
 }
 
 /// Reads a machine file; what its imported tool table left out or lacks
-/// is told in one line on stderr (`kezuri tool table --machine` lists it).
+/// is told on stderr, each on its line (the first few; `kezuri tool table
+/// --machine` lists them all).
 pub fn load(path: &Path) -> Result<Machine> {
     let (machine, notes) = read(path)?;
-    if !notes.is_empty() {
-        eprintln!(
-            "warning: {}: the imported tool table left out {} entries and has {} warnings \
-             (kezuri tool table --machine {0} lists them)",
-            path.display(),
-            notes.skipped.len(),
-            notes.warnings.len()
-        );
+    for line in note_lines(&path.display().to_string(), &notes) {
+        eprintln!("{line}");
     }
     Ok(machine)
+}
+
+/// The most notes of an import `load` tells one by one.
+const NOTES_TOLD: usize = 5;
+
+/// `warning: M.toml: imported table: …` for each note, the first
+/// [`NOTES_TOLD`], then how many more there are and where to see them.
+fn note_lines(file: &str, notes: &Notes) -> Vec<String> {
+    let all: Vec<String> = (notes.skipped.iter().map(|s| format!("left out {s}")))
+        .chain(notes.warnings.iter().cloned())
+        .map(|s| format!("warning: {file}: imported tool table: {s}"))
+        .collect();
+    let more = all.len().saturating_sub(NOTES_TOLD);
+    let mut out: Vec<String> = all.into_iter().take(NOTES_TOLD).collect();
+    if more > 0 {
+        out.push(format!(
+            "warning: {file}: imported tool table: {more} more {} (kezuri tool table --machine {file} lists them)",
+            if more == 1 { "note" } else { "notes" }
+        ));
+    }
+    out
 }
 
 /// Reads a machine file, with what its imported tool table left out or lacks.
 pub fn read(path: &Path) -> Result<(Machine, Notes)> {
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new(""));
-    Machine::parse(&text, dir, &Disk).with_context(|| format!("in machine file {}", path.display()))
+    let (mut machine, notes) =
+        Machine::parse(&text, dir, &Disk).with_context(|| format!("in machine file {}", path.display()))?;
+    // A length the table lacks is warned of with the file to add it to.
+    machine.settings.tool_file = Some(path.display().to_string());
+    Ok((machine, notes))
 }

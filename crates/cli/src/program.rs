@@ -1,6 +1,8 @@
 //! The plumbing the commands share: reading and running a program
-//! (`run.rs`), and writing a toolpath through a post (`emit.rs`).
+//! (`run.rs`; the tool table of its comments where no machine file gives
+//! one, `comment_tools.rs`), and writing a toolpath through a post (`emit.rs`).
 
+mod comment_tools;
 mod emit;
 mod run;
 

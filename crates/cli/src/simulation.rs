@@ -150,7 +150,7 @@ pub fn simulate(
     file: &str,
 ) -> Result<Simulated> {
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
-    let tools = tools::tool_set(setup, &machine.tools, path).with_context(|| file.to_string())?;
+    let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, path).with_context(|| file.to_string())?;
     let stock = match stock {
         Some(s) => s,
         None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.to_string())?),

@@ -88,14 +88,86 @@ fn a_machine_file_imports_a_table_under_its_own_entries() {
     let t3 = tool(&m, 3);
     assert_eq!((t3["shape"].clone(), t3["name"].clone()), ("v:12.7,90".into(), "1/2 V-bit, 90 degrees".into()));
     assert_eq!((t3["length_mm"].as_f64(), t3["radius_mm"].as_f64()), (Some(50.8), Some(6.35)));
-    assert_eq!(tool(&m, 7)["shape"], Value::Null);
-    // check reads the same machine file and tells of the notes in one line.
+    assert_eq!(tool(&m, 7)["shape"], "v:4.7625,118");
+    // check reads a machine file whose import lacks shapes, and says each
+    // note itself with the line to add (it said "has 1 warnings").
     let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(sample("tool.tbl"), dir.path().join("tool.tbl")).unwrap();
+    let machine = path(dir.path(), "m.toml");
+    std::fs::write(&machine, "[tools]\nimport = \"tool.tbl\"\nunits = \"inch\"\n[tools.T1]\nshape = \"flat:6.35\"\n")
+        .unwrap();
     std::fs::write(dir.path().join("a.nc"), "T1 M06\nG00 Z5\nM30\n").unwrap();
-    let o = kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &sample("mill.toml")]);
+    let o = kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &machine]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
-    assert!(err.contains("the imported tool table left out 0 entries and has 1 warnings"), "{err}");
+    assert!(!err.contains("warnings (kezuri"), "{err}");
+    for t in ["T2 (1/8 ball end mill)", "T3 (1/2 90 degree V-bit)", "T7 (3/16 drill)"] {
+        let n = &t[..2];
+        let line = format!(
+            "warning: {machine}: imported tool table: {t}: the tool.tbl gives no shape: \
+             add `shape = \"SPEC\"` under [tools.{n}]"
+        );
+        assert!(err.contains(&line), "{line}\n{err}");
+    }
+    assert!(!err.contains("T1 (1/4"), "{err}");
+}
+
+/// `check FILE --machine M`, which must succeed: its report after its stderr.
+fn checked(nc: &str, machine: &str) -> String {
+    let o = kezuri(&["check", nc, "--machine", machine]);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{err}");
+    err + &String::from_utf8_lossy(&o.stdout)
+}
+
+#[test]
+fn a_missing_length_says_the_line_to_add() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "a.nc");
+    std::fs::write(&nc, "%\nO0001\nG21 G90\nT1 M06\nG00 G43 H1 Z5.\nT5 M06\nG00 G43 H15 Z5.\nM30\n%\n").unwrap();
+    let machine = path(dir.path(), "m.toml");
+    let write = |text: &str| std::fs::write(&machine, text).unwrap();
+    // `h = 1` alone: the warning says what is missing and where it goes.
+    write("[tools.T1]\nh = 1\n[tools.T5]\nh = 15\n");
+    let err = checked(&nc, &machine);
+    for (h, t) in [(1, 1), (15, 5)] {
+        let want = format!(
+            "warning: tool length offset H{h} is not in the tool table: it reads 0; \
+             add `length = <mm>` under [tools.T{t}] in {machine}"
+        );
+        assert!(err.contains(&want), "{want}\n{err}");
+    }
+    // Without a machine file, it says to give one.
+    let o = kezuri(&["check", &nc]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("it reads 0; give it in a machine file (--machine M.toml): `length = <mm>` under [tools.T1]"),
+        "{err}"
+    );
+    // The lines added, nothing is warned of.
+    write("[tools.T1]\nh = 1\nlength = 127.0\n[tools.T5]\nh = 15\nlength = 80\n");
+    let err = checked(&nc, &machine);
+    assert!(!err.contains("warning:"), "{err}");
+    assert!(err.contains("0 errors, 0 warnings"), "{err}");
+}
+
+#[test]
+fn a_program_kezuri_wrote_checks_clean_on_its_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = path(dir.path(), "g.xyz");
+    std::fs::write(&grid, "0 0 0\n10 0 0\n0 10 0\n10 10 -1\n").unwrap();
+    let own = path(dir.path(), "own.toml");
+    std::fs::write(&own, "[post]\npreset = \"haas\"\n[tools.T5]\nshape = \"ball:3\"\nh = 15\nlength = 80.5\n").unwrap();
+    for (machine, n) in [(sample("mill.toml"), "1"), (sample("mill.toml"), "2"), (sample("mill.toml"), "7"), (own, "5")]
+    {
+        let nc = path(dir.path(), &format!("t{n}.nc"));
+        let args = ["mill", &grid, "--tool", "ball:3", "--stepover", "1", "--tool-number", n, "--machine", &machine];
+        let o = kezuri(&[&args[..], &["-o", &nc]].concat());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && !err.contains("warning"), "{err}");
+        let err = checked(&nc, &machine);
+        assert!(!err.contains("warning:") && err.contains("0 errors, 0 warnings"), "T{n} on {machine}: {err}");
+    }
 }
 
 #[test]
@@ -291,4 +363,50 @@ fn every_real_freecad_bit_and_library_reads() {
     assert_eq!(tool(&t, 4)["name"], "6 mm Bull Nose");
     assert_eq!(tool(&t, 5)["shape"], Value::Null); // 60degree_Vbit: TipDiameter 1 mm
     assert!(total >= 9);
+}
+
+/// A Fusion 360 program's start (its real tool lines; the Spanish
+/// "taladrar" is a drill) with the moves of T1 and of `second`.
+fn fusion(second: &str) -> String {
+    format!(
+        "%\nO08787\n(Maquina)\n(T1 D=6. CR=0. - ZMIN=-3. - flat end mill)\n{second}\nN10 G90 G17\nN15 G21\n\
+         N25 T1 M6\nN30 S5500 M3\nN35 G54\nN40 G0 X0. Y0.\nN45 G0 G43 Z15. H1\nN50 G1 Z-3. F300.\nN55 X20. F1000.\n\
+         N60 G0 Z15.\nN70 T2 M6\nN75 S5500 M3\nN80 G0 X-8.66 Y5.\nN85 G0 G43 Z15. H2\nN90 G1 Z-3. F300.\n\
+         N95 X0. Y10.\nN100 G0 Z15.\nN115 M30\n%\n"
+    )
+}
+
+#[test]
+fn a_cam_programs_tool_lines_are_its_tool_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "f.nc");
+    std::fs::write(&nc, fusion("(T2 D=3. CR=1.5 - ZMIN=-3. - ball end mill)")).unwrap();
+    let o = kezuri(&["check", &nc]);
+    let (out, err) = (ok(&o), String::from_utf8_lossy(&o.stderr).into_owned());
+    let said = "no machine file gives a tool table: tools from the program's comments: T1 flat:6 (line 4), \
+                T2 ball:3 (line 5)";
+    assert!(err.contains(said), "{err}");
+    assert!(out.contains("T1 flat:6 H1 (flat end mill)") && out.contains("T2 ball:3 H2 (ball end mill)"), "{out}");
+    // sim cuts with them, without --tool, and says where they came from.
+    let o = kezuri(&["sim", &nc, "--res", "0.5", "--json"]);
+    let v: Value = serde_json::from_str(&ok(&o)).unwrap();
+    assert_eq!(
+        (v["tool"].as_str(), v["tools_from"].as_str()),
+        (Some("T1 flat:6, T2 ball:3"), Some("the program's comments"))
+    );
+    // A machine file's table is the table: the comments are not read.
+    let o = kezuri(&["check", &nc, "--machine", &sample("mill.toml")]);
+    let (out, err) = (ok(&o), String::from_utf8_lossy(&o.stderr).into_owned());
+    assert!(!err.contains("program's comments") && out.contains("T2 ball:3.175 H2"), "{err}{out}");
+}
+
+/// Needs the drill shape (`drill:D,ANGLE`) in the cutter SPECs.
+#[test]
+fn a_fusion_drill_line_is_a_drill() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "f.nc");
+    std::fs::write(&nc, fusion("(T2 D=2.5 CR=0. TAPER=118deg - ZMIN=-4.751 - taladrar)")).unwrap();
+    let o = kezuri(&["check", &nc]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("tools from the program's comments: T1 flat:6 (line 4), T2 drill:2.5,118 (line 5)"), "{err}");
 }

@@ -10,19 +10,24 @@
 //! junction_deviation_mm = 0.01
 //!
 //! [tools]
-//! lengths = { 1 = 100.5, 21 = 87.25 }    # H registers, mm
-//! radii = { 1 = 3.0 }                    # D registers, mm
 //! # import = "tool.tbl"                  # a tool table, beside this file:
 //! # units = "inch"                       #   LinuxCNC .tbl (needs units),
 //!                                        #   FreeCAD .fctl/.fctb, Fusion 360
 //!                                        #   .json/.tools; what this file
 //!                                        #   says overrides what it gives
+//! lengths = { 21 = 87.25 }               # old form: H registers, mm
+//! radii = { 1 = 3.0 }                    # old form: D registers, mm
 //!
-//! [tools.T5]                             # the tool in pocket 5
-//! shape = "ball:6"                       # cutter SPEC (what sim cuts with)
+//! [tools.T1]                             # the tool in pocket 1
+//! shape = "flat:6"                       # cutter SPEC (what sim cuts with)
+//! length = 100.5                         # mm: the value of its H register
+//!
+//! [tools.T5]
+//! shape = "ball:6"
 //! h = 5                                  # its length register [default: 5]
-//! d = 25                                 # its radius register [default: none]
-//! name = "6 mm ball, 2 flutes"
+//! d = 25                                 # its radius register [default:
+//! radius = 3.0                           #   5 with a radius, else none]
+//! name = "6 mm ball, 2 flutes"           # mm: the value of its D register
 //!
 //! [post]                                 # how programs are written: a preset
 //! preset = "fanuc"                       # and what to change (`kezuri mill --help`)
@@ -64,15 +69,15 @@
 //! inputs = { 1000 = 1, 1005 = 0 }        # bits #1000-#1031, words #1033-#1035
 //! ```
 //!
-//! The rules for macro variables and signals, and where each comes from,
-//! are in `docs/macro-variables.md`.
+//! Every key, its unit, default and the commands that read it are in
+//! `docs/machine.md`; the rules for macro variables and signals, and
+//! where each comes from, in `docs/macro-variables.md`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use kezuri_cam::Cutter;
 use kezuri_correct::kinematics::{self, Axis, Kinematics, AXES};
-use kezuri_geom::{limits, Axes, Dynamics};
+use kezuri_geom::{Axes, Dynamics};
 use kezuri_nc::interp::comp::{Approach, Rules};
 use kezuri_nc::interp::{Control, CycleSettings, MacroVariables, Settings};
 use serde::Deserialize;
@@ -80,7 +85,11 @@ use serde::Deserialize;
 use crate::error::{fail, with_sources, Error, ErrorKind, Result};
 use crate::files::Files;
 use crate::post::PostFile;
-use crate::tool_table::{self, Notes, Units};
+use crate::tool_table::Notes;
+
+mod tools;
+
+pub use tools::ToolEntry;
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -88,7 +97,7 @@ struct File {
     #[serde(default)]
     motion: Motion,
     #[serde(default)]
-    tools: Tools,
+    tools: tools::Tools,
     #[serde(default)]
     offsets: BTreeMap<String, Vec<f64>>,
     #[serde(default)]
@@ -278,95 +287,6 @@ struct Motion {
     junction_deviation_mm: Option<f64>,
 }
 
-/// `[tools]`: no `deny_unknown_fields` (serde cannot have it with
-/// `flatten`): a key that is not `lengths`, `radii`, `import` or `units`
-/// must name a tool.
-#[derive(Deserialize, Default)]
-struct Tools {
-    #[serde(default)]
-    lengths: BTreeMap<String, f64>,
-    #[serde(default)]
-    radii: BTreeMap<String, f64>,
-    /// A tool table file to import (docs/tool-tables.md), relative to the
-    /// machine file.
-    import: Option<String>,
-    /// The units of an imported table that does not say them: mm or inch.
-    units: Option<String>,
-    /// `T5 = { shape, h, d, name }`: the tool table, one entry a tool.
-    #[serde(flatten)]
-    table: BTreeMap<String, ToolFile>,
-}
-
-/// `[tools.T5]`: one tool of the table.
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct ToolFile {
-    shape: Option<String>,
-    h: Option<u32>,
-    d: Option<u32>,
-    name: Option<String>,
-}
-
-/// One tool of the machine's tool table (`[tools.T5]`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct ToolEntry {
-    /// The cutter, where the table says its shape.
-    pub shape: Option<Cutter>,
-    /// The tool length offset register (`G43 H`): the tool number unless
-    /// the table says otherwise.
-    pub h: u32,
-    /// The cutter radius register (`G41 D`), where the table gives one.
-    pub d: Option<u32>,
-    /// What the shop calls it.
-    pub name: Option<String>,
-}
-
-/// The tool table of `[tools]`: keys `T1`, `T2`, … (or `1`, `2`, …), each
-/// on top of the imported entry of its number where there is one (what
-/// the machine file says overrides what the import gives).
-fn tool_table(
-    table: &BTreeMap<String, ToolFile>,
-    mut imported: BTreeMap<u32, ToolEntry>,
-) -> Result<BTreeMap<u32, ToolEntry>> {
-    for (key, t) in table {
-        let number: u32 =
-            key.trim().trim_start_matches(['T', 't']).parse().ok().filter(|&n| n > 0).ok_or_else(|| {
-                Error::new(
-                    ErrorKind::Invalid,
-                    format!("tools: '{key}' is not a tool (T1, T2, …) nor lengths, radii, import or units"),
-                )
-            })?;
-        let shape = match &t.shape {
-            Some(spec) => Some(
-                spec.parse::<Cutter>()
-                    .map_err(|e| Error::new(ErrorKind::Invalid, format!("tools.{key}.shape: {}", with_sources(&e))))?,
-            ),
-            None => None,
-        };
-        let base = imported.remove(&number);
-        let entry = ToolEntry {
-            shape: shape.or(base.as_ref().and_then(|b| b.shape)),
-            h: t.h.or(base.as_ref().map(|b| b.h)).unwrap_or(number),
-            d: t.d.or(base.as_ref().and_then(|b| b.d)),
-            name: t.name.clone().or(base.and_then(|b| b.name)),
-        };
-        imported.insert(number, entry);
-    }
-    Ok(imported)
-}
-
-/// The tool table `[tools] import` names, read from beside the machine file.
-fn import_tools(tools: &Tools, dir: &Path, files: &dyn Files) -> Result<Option<tool_table::Table>> {
-    let Some(file) = &tools.import else {
-        if tools.units.is_some() {
-            fail!(Invalid, "tools.units: the units of an imported table, but tools.import names none");
-        }
-        return Ok(None);
-    };
-    let units = tools.units.as_deref().map(Units::parse).transpose().map_err(|e| e.context("tools.units"))?;
-    tool_table::read(&dir.join(file), units, files).map_err(|e| e.context("tools.import")).map(Some)
-}
-
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct CompFile {
@@ -397,6 +317,9 @@ pub struct Machine {
     pub kinematics: Kinematics,
     /// The tool table, by tool number.
     pub tools: BTreeMap<u32, ToolEntry>,
+    /// Where the tool table came from, in words: the machine file's, or a
+    /// program's comments where no machine file gave one.
+    pub tools_from: &'static str,
     /// How programs are written for this machine (`[post]`).
     pub post: PostFile,
 }
@@ -408,6 +331,7 @@ impl Default for Machine {
             settings: Settings::default(),
             kinematics: Kinematics::mill(),
             tools: BTreeMap::new(),
+            tools_from: Machine::TOOLS_FROM_FILE,
             post: PostFile::default(),
         }
     }
@@ -430,33 +354,16 @@ fn axes(name: &str, v: &[f64]) -> Result<Axes> {
     Ok(Axes::from_array(a))
 }
 
-/// The registers an import gives, with the machine file's on top.
-fn imported_registers(
-    imported: Option<&BTreeMap<u32, f64>>,
-    name: &str,
-    map: &BTreeMap<String, f64>,
-) -> Result<BTreeMap<u32, f64>> {
-    let mut all = imported.cloned().unwrap_or_default();
-    for (k, &v) in map {
-        let n: u32 = k
-            .parse()
-            .map_err(|e| Error::new(ErrorKind::Invalid, format!("{name}: '{k}' is not a register number: {e}")))?;
-        all.insert(n, v);
-    }
-    // Lengths and radii in mm, imported or given.
-    for (n, &v) in &all {
-        limits::coordinate(v, &format!("{name}.{n}")).map_err(|e| Error::new(ErrorKind::Invalid, e.to_string()))?;
-    }
-    Ok(all)
-}
-
 impl Machine {
+    /// [`Machine::tools_from`] for the machine file's own table.
+    pub const TOOLS_FROM_FILE: &'static str = "the machine file's tool table";
+
     /// Reads a machine file's text, with what its imported tool table left
     /// out or lacks; `dir` is the folder the file is in, where `files`
     /// finds the tool table it imports.
     pub fn parse(text: &str, dir: &Path, files: &dyn Files) -> Result<(Machine, Notes)> {
         let file: File = toml::from_str(text).map_err(|e| Error::new(ErrorKind::Syntax, with_sources(&e)))?;
-        let imported = import_tools(&file.tools, dir, files)?;
+        let tools::Read { tools, lengths, radii, notes } = tools::read(&file.tools, dir, files)?;
         let d = Dynamics::default();
         let m = &file.motion;
         let rapid = match &m.rapid_mm_min {
@@ -477,12 +384,10 @@ impl Machine {
             junction_deviation_mm: positive("junction_deviation_mm", m.junction_deviation_mm, d.junction_deviation_mm)?,
         };
         let mut settings = Settings {
-            tool_lengths: imported_registers(
-                imported.as_ref().map(|t| &t.lengths),
-                "tools.lengths",
-                &file.tools.lengths,
-            )?,
-            tool_radii: imported_registers(imported.as_ref().map(|t| &t.radii), "tools.radii", &file.tools.radii)?,
+            tool_lengths: lengths,
+            tool_radii: radii,
+            // The warning of a length the table lacks names the tool's entry.
+            length_owners: tools.iter().filter(|(&n, e)| e.h != n).map(|(&n, e)| (e.h, n)).collect(),
             macro_variables: macro_variables(&file.macro_variables)?,
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
             cycles: cycle_settings(&file.cycles)?,
@@ -530,11 +435,10 @@ impl Machine {
             Some(c) => chains(c)?,
             None => Kinematics::mill(),
         };
-        let (imported_tools, notes) = imported.map(|t| (t.tools, t.notes)).unwrap_or_default();
-        let tools = tool_table(&file.tools.table, imported_tools)?;
         // Any mistake in [post] is found now, not when a program is written.
         crate::post::options(&file.post, None, &tools)?;
-        Ok((Machine { dynamics, settings, kinematics, tools, post: file.post }, notes))
+        let tools_from = Machine::TOOLS_FROM_FILE;
+        Ok((Machine { dynamics, settings, kinematics, tools, tools_from, post: file.post }, notes))
     }
 }
 
@@ -562,6 +466,11 @@ mod tests {
         let m = parse(&example).unwrap();
         assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
         assert_eq!(m.settings.tool_lengths[&21], 87.25);
+        // Each tool's length and radius go to its registers.
+        assert_eq!(
+            (m.settings.tool_lengths[&1], m.settings.tool_radii[&25], m.settings.tool_radii[&1]),
+            (100.5, 3.0, 3.0)
+        );
         let t5 = &m.tools[&5];
         assert_eq!((t5.shape, t5.h, t5.d), (Some("ball:6".parse().unwrap()), 5, Some(25)));
         let h_is_not_t = parse("[tools]\nT3 = { shape = \"flat:10\", h = 13 }").unwrap();
@@ -602,6 +511,26 @@ mod tests {
     }
 
     #[test]
+    fn a_tool_holds_its_registers_and_their_values() {
+        let m = parse("[tools.T1]\nh = 1\nlength = 127.0\n[tools.T5]\nh = 15\nlength = 80\nradius = 3\n").unwrap();
+        assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_lengths[&15]), (127.0, 80.0));
+        // A radius without d is the tool number's D register.
+        assert_eq!((m.tools[&5].h, m.tools[&5].d, m.settings.tool_radii[&5]), (15, Some(5), 3.0));
+        assert_eq!(m.tools[&1].d, None);
+        // The same value by both forms is no conflict.
+        let both = parse("[tools]\nlengths = { 1 = 50 }\n[tools.T1]\nlength = 50").unwrap();
+        assert_eq!(both.settings.tool_lengths[&1], 50.0);
+        // A tool's length is over the imported table's.
+        let dir = Path::new("samples/tools");
+        let files =
+            BTreeMap::from([(dir.join("tool.tbl"), include_bytes!("../../../samples/tools/tool.tbl").to_vec())]);
+        let text = "[tools]\nimport = \"tool.tbl\"\nunits = \"inch\"\n[tools.T1]\nlength = 30\nradius = 3\n";
+        let (m, _) = Machine::parse(text, dir, &files).unwrap();
+        assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_lengths[&2]), (30.0, 47.625));
+        assert_eq!(m.settings.tool_radii[&1], 3.0);
+    }
+
+    #[test]
     fn imports_a_tool_table_under_its_own_entries() {
         let dir = Path::new("samples/tools");
         let files =
@@ -617,7 +546,10 @@ mod tests {
         assert_eq!((m.tools[&8].h, m.tools[&8].d), (8, None));
         assert_eq!((m.settings.tool_lengths[&1], m.settings.tool_lengths[&2]), (31.75, 50.0));
         assert_eq!(m.settings.tool_radii[&7], 2.38125);
-        assert!(notes.warnings.iter().any(|w| w.contains("not shapes")), "{notes:?}");
+        // The tool.tbl's tools this file leaves without a shape, each named.
+        let unshaped: Vec<&str> = notes.warnings.iter().map(|w| &w[..3]).collect();
+        assert_eq!(unshaped, ["T2 ", "T3 ", "T7 "], "{notes:?}");
+        assert!(notes.warnings[2].contains("T7 (3/16 drill): the tool.tbl gives no shape: add `shape"), "{notes:?}");
         for (text, words) in [
             ("[tools]\nimport = \"tool.tbl\"", "no units"),
             ("[tools]\nunits = \"mm\"", "tools.import names none"),
@@ -648,7 +580,10 @@ mod tests {
             ("[macro]\nsharp = true", "unknown field `sharp`"),
             ("[tools]\nT0 = { shape = \"ball:6\" }", "'T0' is not a tool"),
             ("[tools]\nT1 = { shape = \"ball:-6\" }", "tools.T1.shape"),
-            ("[tools]\nT1 = { shape = \"ball:6\", length = 3 }", "unknown field `length`"),
+            ("[tools]\nT1 = { shape = \"ball:6\", lenght = 3 }", "unknown field `lenght`"),
+            ("[tools]\nlengths = { 1 = 50 }\n[tools.T1]\nlength = 127", "tools.lengths 1 = 50 both set H1"),
+            ("[tools.T1]\nlength = 127\n[tools.T2]\nh = 1\nlength = 12", "both set H1, to different values"),
+            ("[tools.T1]\nlength = inf", "tools.T1.length"),
             ("[signals]\ninputs = { 1000 = 3 }", "[signals]: input #1000 is one bit"),
             ("[signals]\ninputs = { door = 1 }", "signals.inputs: 'door' is not a variable number"),
         ] {

@@ -9,6 +9,8 @@
 mod freecad;
 mod fusion;
 mod linuxcnc;
+
+pub(crate) use linuxcnc::NO_SHAPES;
 pub mod listing;
 
 use std::collections::BTreeMap;

@@ -313,6 +313,8 @@ fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) 
         }
     }
     report_logs(&outcome);
+    let mut machine = machine;
+    super::comment_tools::from_comments(&mut machine, &text, outcome.inch, &sources.get(id).name);
     Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
 }
 

@@ -76,7 +76,12 @@ fn listed(numbers: &[u32]) -> String {
 /// the machine file's tool table, and `--tool` alone is refused for it
 /// (unless `--same-tool-for-all`); `--tool` for a tool the table gives
 /// another shape is refused too.
-pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpath) -> Result<ToolSet> {
+pub fn tool_set(
+    args: &SimSetup,
+    table: &BTreeMap<u32, ToolEntry>,
+    table_from: &'static str,
+    path: &Toolpath,
+) -> Result<ToolSet> {
     let given = match (&args.tool, &args.profile) {
         (Some(spec), None) => {
             let c: Cutter = spec.parse()?;
@@ -148,7 +153,7 @@ pub fn tool_set(args: &SimSetup, table: &BTreeMap<u32, ToolEntry>, path: &Toolpa
                 }
             }
             let names = table_out.iter().map(|(_, t)| t.to_string()).collect();
-            Ok(ToolSet { table: table_out, names, from: "the machine file's tool table" })
+            Ok(ToolSet { table: table_out, names, from: table_from })
         }
     }
 }

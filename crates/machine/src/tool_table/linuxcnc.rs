@@ -7,6 +7,10 @@
 //! does not say. A word LinuxCNC does not know, or a bad number, is an
 //! error here (LinuxCNC skips such a line with a message, losing the tool).
 
+/// The start of the note a tool.tbl leaves: the machine file that imports
+/// it names the tools its own entries leave without a shape instead.
+pub(crate) const NO_SHAPES: &str = "a tool.tbl gives diameters, not shapes";
+
 use std::path::Path;
 
 use super::{Table, Units};
@@ -61,11 +65,9 @@ fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
         }
     }
     if !table.tools.is_empty() {
-        table.notes.warnings.push(
-            "a tool.tbl gives diameters, not shapes: a tool's shape is written in the machine file \
-             ([tools.T1] shape = \"flat:6\")"
-                .into(),
-        );
+        table.notes.warnings.push(format!(
+            "{NO_SHAPES}: a tool's shape is written in the machine file ([tools.T1] shape = \"flat:6\")"
+        ));
     }
     Ok(table)
 }

@@ -402,7 +402,7 @@ impl State {
                 // H0 is no offset on every control: it always reads 0.
                 if h != 0 && self.tool_length(h).is_none() {
                     let at = if w.has(b'H') { w.span(b'H') } else { gspan };
-                    self.warn("offset", at, format!("tool length offset H{h} is not in the tool table: it reads 0"));
+                    self.warn("offset", at, self.missing_length(h));
                 }
                 self.last.h = f64::from(h);
                 self.modal.length_comp = Some((if positive { 1.0 } else { -1.0 }, h));

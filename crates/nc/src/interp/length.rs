@@ -78,7 +78,7 @@ impl State {
             ));
         }
         if h != 0 && self.tool_length(h).is_none() {
-            self.warn("offset", hspan, format!("tool length offset H{h} is not in the tool table: it reads 0"));
+            self.warn("offset", hspan, self.missing_length(h));
         }
         self.last.h = f64::from(h);
         if self.modal.length_comp.is_none() {
@@ -102,6 +102,24 @@ impl State {
         self.length_units = self.modal.units;
         self.length_changed(before);
         Ok(())
+    }
+
+    /// The warning of a G43/G43.2 `H{h}` the tool table lacks: what is
+    /// missing and the line that gives it, under the entry of the tool
+    /// that holds H`h` (`[tools.T5] h = 15`), else of tool `h`.
+    pub(super) fn missing_length(&self, h: u32) -> String {
+        let tool = self.settings.length_owners.get(&h).copied().unwrap_or(h);
+        let line = format!("`length = <mm>` under [tools.T{tool}]");
+        match &self.settings.tool_file {
+            Some(file) => format!(
+                "tool length offset H{h} is not in the tool table: it reads 0; add {line} in {file} \
+                 (the length the control's H{h} holds)"
+            ),
+            None => format!(
+                "tool length offset H{h} is not in the tool table: it reads 0; give it in a machine file \
+                 (--machine M.toml): {line}"
+            ),
+        }
     }
 
     /// What G43.1 and G43.2 share: LinuxCNC's (G43.2 not GRBL's), nor

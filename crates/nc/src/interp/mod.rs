@@ -81,6 +81,13 @@ pub struct Settings {
     /// Tool radius offsets by D number (mm); with LinuxCNC rules by tool
     /// number (`G41 D<tool>`, or the loaded tool's).
     pub tool_radii: BTreeMap<u32, f64>,
+    /// The machine file the tool table comes from, named where a tool
+    /// length it lacks is warned of (`add length = <mm> under [tools.T1]
+    /// in FILE`).
+    pub tool_file: Option<String>,
+    /// The tool whose entry holds each H register that is not its own
+    /// number (`[tools.T5] h = 15`: 15 → 5), for the same warning.
+    pub length_owners: BTreeMap<u32, u32>,
     /// Which control's cutter radius compensation (G41/G42) to reproduce.
     pub comp_rules: comp::Rules,
     /// `true` where the tool-centre path is needed (a simulation, a program
@@ -138,6 +145,8 @@ impl Default for Settings {
             block_delete: false,
             tool_lengths: BTreeMap::new(),
             tool_radii: BTreeMap::new(),
+            tool_file: None,
+            length_owners: BTreeMap::new(),
             comp_rules: comp::Rules::default(),
             radii_required: false,
             work_offsets: [Axes::ZERO; 6],
