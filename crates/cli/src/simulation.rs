@@ -129,7 +129,7 @@ fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f
     // The stock's area, from a grid of 1 mm cells.
     let mut coarse = SimOptions::new(1.0);
     coarse.max_cells = setup.max_cells;
-    let area = stock.grid(&coarse).map_or(0.0, |z| z.cells() as f64);
+    let area = stock.grid(&coarse, setup.units).map_or(0.0, |z| z.cells() as f64);
     let most = DEFAULT_CELLS.min(setup.max_cells as f64);
     if area / (fine * fine) > most {
         ((area / most).sqrt() * 100.0).ceil() / 100.0

@@ -411,7 +411,7 @@ impl State {
                 p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
             }
         }
-        let feed = self.feed_mm_min(span);
+        let feed = self.feed_mm_min(span)?;
         self.push_move(MoveKind::Probe, Axes::from_array(p), feed, w.axes(), line);
         let work = self.work_position();
         self.skip_position = Axes { z: work.z + self.length_offset(), ..work };

@@ -101,7 +101,7 @@ impl State {
                 self.push_move(MoveKind::Rapid, centre, 0.0, place.axes(), line);
             }
         }
-        let feed = self.feed_mm_min(gspan);
+        let feed = self.feed_mm_min(gspan)?;
         let c = self.tip;
         let xy = AxisSet::NONE.with(0).with(1);
         for _ in 0..loops {

@@ -112,7 +112,7 @@ impl State {
                 format!("{name} makes more than {MAX_SEGMENTS} straight moves within {SPLINE_TOLERANCE} mm: are I J (P Q) in the right units?"),
             ));
         }
-        let feed = self.feed_mm_min(span);
+        let feed = self.feed_mm_min(span)?;
         let steps = n as u32;
         for k in 1..=steps {
             let q = if k == steps { e } else { bezier(&points, f64::from(k) / n) };
