@@ -146,6 +146,7 @@ fn bad_input_is_a_clear_error() {
         (vec!["--tool", "ball:-6", "--stepover", "1"], "the diameter must be a length"),
         (vec!["--tool", "ball:6", "--stepover", "1", "--cusp", "-1"], "--cusp"),
         (vec!["--tool", "ball:6", "--stepover", "1", "--region", "50,50,60,60"], "nothing to cut"),
+        (vec!["--tool", "drill:6,118", "--stepover", "1"], "a drill cuts along its axis only"),
     ] {
         let mut all = vec!["mill", flat.as_str()];
         all.extend(args);

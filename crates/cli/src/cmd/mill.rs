@@ -106,7 +106,7 @@ pub struct MillArgs {
 
 /// Runs `kezuri mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
-    let cutter: Cutter = args.tool.parse()?;
+    let cutter: Cutter = crate::raster::row_cutter(&args.tool)?;
     let machine = args.machine.load()?;
     let surface = read_surface(&args.surface)?;
     let [x0, y0, x1, y1] = match &args.region {

@@ -161,9 +161,9 @@ pub struct ReliefArgs {
 
 /// Runs `kezuri relief`.
 pub fn run(args: &ReliefArgs) -> Result<()> {
-    let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let cutter: Cutter = crate::raster::row_cutter(&args.tool).context("--tool")?;
     let machine = args.machine.load()?;
-    let rough: Option<Cutter> = args.rough.as_deref().map(str::parse).transpose().context("--rough")?;
+    let rough: Option<Cutter> = args.rough.as_deref().map(crate::raster::row_cutter).transpose().context("--rough")?;
     let mapping = match (&args.levels, args.depth) {
         (Some(text), _) => Mapping::Levels(parse_levels(text)?),
         (None, Some(depth)) => Mapping::Depth { depth, invert: args.invert, gamma: args.gamma },

@@ -193,7 +193,7 @@ fn floor(text: &str) -> Result<Floor> {
 /// Runs `kezuri probe mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
     let stylus: Cutter = args.stylus.parse().context("--stylus")?;
-    let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let cutter: Cutter = crate::raster::row_cutter(&args.tool).context("--tool")?;
     let data = args.data.read()?;
     let name = args.data.data.display().to_string();
     let machine = match &args.machine {
