@@ -204,6 +204,10 @@ pub enum Cutter {
     Oval(Oval),
     /// `v:D,ANGLE`: V-bit (cone) with the included angle in degrees.
     Vee(Vee),
+    /// `drill:D,ANGLE`: a twist drill, its point's included angle in
+    /// degrees (118 for most): the solid of `v:D,ANGLE`, but it cuts along
+    /// its axis only, so the simulation flags it fed sideways in material.
+    Drill(Vee),
 }
 
 /// `$e` with `$s` bound to the cutter's shape, for code generic over
@@ -216,12 +220,18 @@ macro_rules! each_shape {
             Cutter::Bull($s) => $e,
             Cutter::Oval($s) => $e,
             Cutter::Vee($s) => $e,
+            Cutter::Drill($s) => $e,
         }
     };
 }
 pub(crate) use each_shape;
 
 impl Cutter {
+    /// A drill (`drill:D,ANGLE`): it cuts along its axis only.
+    pub fn is_drill(&self) -> bool {
+        matches!(self, Cutter::Drill(_))
+    }
+
     /// The cutter's profile.
     pub fn profile(&self) -> &dyn Profile {
         each_shape!(self, s => s)
@@ -286,7 +296,8 @@ const MAX_SIZE: f64 = 10_000.0;
 impl FromStr for Cutter {
     type Err = Error;
 
-    /// `flat:D`, `ball:D`, `bull:D,R`, `oval:D,RL`, `v:D,ANGLE` (mm, degrees).
+    /// `flat:D`, `ball:D`, `bull:D,R`, `oval:D,RL`, `v:D,ANGLE`,
+    /// `drill:D,ANGLE` (mm, degrees).
     fn from_str(spec: &str) -> Result<Cutter, Error> {
         let fail = |reason: String| Error::new(ErrorKind::Spec, format!("tool '{spec}': {reason}"));
         let (kind, numbers) = spec.trim().split_once(':').ok_or_else(|| {
@@ -335,16 +346,23 @@ impl FromStr for Cutter {
                 let d = positive(values[0], "diameter")?;
                 Ok(Cutter::Oval(Oval::new(d, positive(values[1], "axial semi-axis RL")?)))
             }
-            "v" => {
-                count(2, "the diameter and the included angle in degrees: v:D,ANGLE")?;
+            "v" | "drill" => {
+                let drill = kind.trim().eq_ignore_ascii_case("drill");
+                let form = if drill {
+                    "the diameter and the point angle in degrees: drill:D,ANGLE (118 for most drills)"
+                } else {
+                    "the diameter and the included angle in degrees: v:D,ANGLE"
+                };
+                count(2, form)?;
                 let d = positive(values[0], "diameter")?;
                 let angle = values[1];
                 if !(angle > 0.0 && angle < 180.0) {
                     return Err(fail(format!("the included angle must be between 0 and 180 degrees, got {angle}")));
                 }
-                Ok(Cutter::Vee(Vee::new(d, angle)))
+                let cone = Vee::new(d, angle);
+                Ok(if drill { Cutter::Drill(cone) } else { Cutter::Vee(cone) })
             }
-            other => Err(fail(format!("unknown shape '{other}': expected flat, ball, bull, oval or v"))),
+            other => Err(fail(format!("unknown shape '{other}': expected flat, ball, bull, oval, v or drill"))),
         }
     }
 }
@@ -359,6 +377,7 @@ impl fmt::Display for Cutter {
             Cutter::Bull(b) => write!(f, "bull:{d},{}", b.corner),
             Cutter::Oval(o) => write!(f, "oval:{d},{}", o.axial),
             Cutter::Vee(v) => write!(f, "v:{d},{}", v.angle_deg),
+            Cutter::Drill(v) => write!(f, "drill:{d},{}", v.angle_deg),
         }
     }
 }
@@ -368,10 +387,21 @@ mod tests {
     use super::*;
 
     fn all() -> Vec<Cutter> {
-        ["flat:6", "ball:6", "bull:10,2", "bull:10,0", "bull:10,5", "oval:16,24", "oval:16,4", "v:6,90", "v:10,30"]
-            .iter()
-            .map(|s| s.parse().unwrap())
-            .collect()
+        [
+            "flat:6",
+            "ball:6",
+            "bull:10,2",
+            "bull:10,0",
+            "bull:10,5",
+            "oval:16,24",
+            "oval:16,4",
+            "v:6,90",
+            "v:10,30",
+            "drill:6,118",
+        ]
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect()
     }
 
     #[test]
@@ -388,6 +418,8 @@ mod tests {
             ("ball", "SHAPE:NUMBERS"),
             ("ball:6,1", "takes"),
             ("cone:6", "unknown shape"),
+            ("drill:6", "point angle"),
+            ("drill:6,180", "angle"),
             ("ball:NaN", "not a list"),
             ("ball:1e308", "must be a length from"),
             ("ball:20000", "at most 10000 mm"),

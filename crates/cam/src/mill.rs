@@ -40,6 +40,7 @@
 //! is the stepover in plan. The row goes at the smallest of these over the
 //! row, and never beyond `stepover`.
 
+pub mod reach;
 mod refine;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -49,6 +50,36 @@ use kezuri_geom::{Axes, AxisSet, Move, MoveKind, Spindle, Toolpath};
 use crate::error::{Error, ErrorKind};
 
 use self::refine::{first_level, point_by_point, row_samples, sample_rows, Job, Quantum};
+
+/// The gouge allowance of every command that makes or checks a surface
+/// (`--gouge-tol` of mill, relief, probe mill, sim and view), mm: how far
+/// below the surface a finishing path may cut.
+pub const GOUGE_TOL: f64 = 0.01;
+
+/// The words of the header comment in which a program kezuri made carries
+/// its gouge allowance, read back by the simulation so that its own check
+/// agrees: `KEZURI GOUGE-TOL 0.010`.
+const GOUGE_NOTE: &str = "KEZURI GOUGE-TOL";
+
+/// The header comment's text for an allowance of `tol` mm: three decimals,
+/// more where `tol` has them.
+pub fn gouge_note(tol: f64) -> String {
+    let three = format!("{tol:.3}");
+    let value = if three.parse::<f64>() == Ok(tol) { three } else { tol.to_string() };
+    format!("{GOUGE_NOTE} {value}")
+}
+
+/// The allowance a comment's text gives, where it is a [`gouge_note`]
+/// (any case, spaces around): a length of 0 or more.
+pub fn read_gouge_note(comment: &str) -> Option<f64> {
+    let text = comment.trim();
+    let head = text.get(..GOUGE_NOTE.len())?;
+    if !head.eq_ignore_ascii_case(GOUGE_NOTE) {
+        return None;
+    }
+    let value: f64 = text[GOUGE_NOTE.len()..].trim().parse().ok()?;
+    (value.is_finite() && (0.0..=1000.0).contains(&value)).then_some(value)
+}
 
 /// Which way the rows run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -440,6 +471,18 @@ impl Path {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_gouge_note_reads_back() {
+        for tol in [GOUGE_TOL, 0.001, 0.0005, 0.25, 1.0] {
+            assert_eq!(read_gouge_note(&gouge_note(tol)), Some(tol), "{}", gouge_note(tol));
+        }
+        assert_eq!(gouge_note(0.01), "KEZURI GOUGE-TOL 0.010");
+        assert_eq!(read_gouge_note(" kezuri gouge-tol 0.02 "), Some(0.02));
+        for other in ["KEZURI GOUGE-TOL", "KEZURI GOUGE-TOL x", "KEZURI GOUGE-TOL -1", "GOUGE-TOL 0.01", "T1 D=6"] {
+            assert_eq!(read_gouge_note(other), None, "{other}");
+        }
+    }
 
     fn options() -> RasterOptions {
         RasterOptions {

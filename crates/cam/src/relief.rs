@@ -20,11 +20,10 @@
 //!
 //! # Carving
 //! [`carve`] makes the toolpath of a relief: roughing in levels, raster
-//! finishing with drop-cutter on it, and [`reach`]'s check of where the
+//! finishing with drop-cutter on it, and [`crate::mill::reach`]'s check of where the
 //! finishing cutter cannot reach.
 
 mod carve;
-pub mod reach;
 
 pub use carve::{carve, Carved, Event, Job, Roughing, Stage};
 

@@ -110,6 +110,11 @@ impl Tool {
         }
     }
 
+    /// A drill (`drill:D,ANGLE`): it cuts along its axis only.
+    pub fn is_drill(&self) -> bool {
+        matches!(self, Tool::Cutter(c) if c.is_drill())
+    }
+
     fn shape(&self) -> Shape<'_> {
         match self {
             Tool::Cutter(c) => Shape::of(c),
@@ -183,6 +188,11 @@ pub struct SimReport {
     pub rotary_moves: usize,
     /// Rapids (G00, G28, G53) that lowered the stock, in program order.
     pub rapid_hits: Vec<RapidHit>,
+    /// Feeds of a drill (`drill:D,ANGLE`) that move in X or Y and lowered
+    /// the stock by more than [`SimOptions::rapid_tolerance`]: a drill fed
+    /// sideways in material, in program order (the most a cell was lowered
+    /// as `depth`).
+    pub drill_side_moves: Vec<RapidHit>,
     /// Moves not simulated: returns to the reference point and moves in
     /// machine coordinates (G28, G30, G53: their ends are the machine's
     /// setup, not the model's), and moves that start where the tool's
@@ -317,8 +327,8 @@ pub fn simulate_tools(
     let done = AtomicU64::new(0);
     progress(0, total);
 
-    // Each band's rapid hits and what each tool removed from it.
-    type BandCut = (Vec<(u32, f64)>, Vec<f64>);
+    // Each band's rapid hits, drills fed sideways and what each tool removed from it.
+    type BandCut = (Vec<(u32, f64)>, Vec<(u32, f64)>, Vec<f64>);
     let bands: Vec<BandCut> = zmap
         .z
         .par_chunks_mut(band_rows * nx)
@@ -329,6 +339,7 @@ pub fn simulate_tools(
             let last = first + cells.len() / nx;
             let mut band = Band { cells, first, nx, xs: &xs, x0, y0, res };
             let mut hits: Vec<(u32, f64)> = Vec::new();
+            let mut sides: Vec<(u32, f64)> = Vec::new();
             let mut ledger = Ledger::new(slots.shapes.len());
             let list = &listed[counts[b] as usize..counts[b + 1] as usize];
             for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
@@ -357,30 +368,39 @@ pub fn simulate_tools(
                     if s.rapid && deepest > options.rapid_tolerance {
                         hits.push((s.index, deepest));
                     }
+                    if s.side && deepest > options.rapid_tolerance {
+                        sides.push((s.index, deepest));
+                    }
                 }
                 ledger.close(band.cells, cut_by, nx, &window, slot);
                 let n = (run.len() % PROGRESS_STEP) as u64;
                 progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
             }
-            (hits, ledger.removed)
+            (hits, sides, ledger.removed)
         })
         .collect();
 
     let area = res * res;
-    for (hits, removed) in bands {
+    let mut sides = Vec::new();
+    for (hits, side, removed) in bands {
         all.extend(hits);
+        sides.extend(side);
         for (cut, v) in report.tools.iter_mut().zip(removed) {
             cut.volume += v * area;
         }
     }
-    // Merge the bands' hits: one per move, the deepest.
+    report.rapid_hits = merged(all, path);
+    report.drill_side_moves = merged(sides, path);
+    Ok(report)
+}
+
+/// The bands' hits merged: one per move, the deepest, in program order.
+fn merged(mut all: Vec<(u32, f64)>, path: &Toolpath) -> Vec<RapidHit> {
     all.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
     all.dedup_by_key(|h| h.0);
-    report.rapid_hits = all
-        .into_iter()
+    all.into_iter()
         .map(|(index, depth)| RapidHit { index: index as usize, line: path.moves[index as usize].line, depth })
-        .collect();
-    Ok(report)
+        .collect()
 }
 
 /// The envelope of `cutter` swept in a straight line from tip position `a`

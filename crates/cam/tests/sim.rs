@@ -465,8 +465,12 @@ fn stock_around_a_program() {
         feed([2.0, 3.0, 5.0], [2.0, 3.0, -1.0]),
         feed([2.0, 3.0, -1.0], [12.0, 8.0, -1.0]),
     ];
-    let s = Stock::around(&Toolpath::from(moves), &tool("ball:6")).unwrap();
-    assert_eq!(s, stock(-1.0, 0.0, 15.0, 11.0, 5.0));
+    let s = Stock::around(&Toolpath::from(moves.clone()), &tool("ball:6")).unwrap();
+    // The top is the feed that moves in X or Y, not the plunge's start.
+    assert_eq!(s, stock(-1.0, 0.0, 15.0, 11.0, -1.0));
+    // Vertical feeds only (a drilling program): their highest point.
+    let s = Stock::around(&Toolpath::from(moves[..2].to_vec()), &tool("ball:6")).unwrap();
+    assert_eq!(s, stock(-1.0, 0.0, 5.0, 6.0, 5.0));
 }
 
 #[test]

@@ -12,7 +12,8 @@ macro_rules! tool_help {
             $lead,
             "\nTools: flat:D (flat end mill, diameter D), ball:D (ball end mill), bull:D,R (bull-nose, \
              corner radius R), oval:D,RL (oval end mill: a half-ellipsoid tip RL long), v:D,ANGLE (V-bit, \
-             included angle); mm and degrees."
+             included angle), drill:D,ANGLE (twist drill, point angle: 118 for most; sim flags it fed \
+             sideways in material); mm and degrees."
         )
     };
 }

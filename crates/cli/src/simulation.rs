@@ -10,11 +10,12 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use clap::{ArgGroup, Args};
+use kezuri_cam::mill::{read_gouge_note, GOUGE_TOL};
 use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::compare::{compare, target_heights};
-use kezuri_cam::sim::{simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
+use kezuri_cam::sim::{cutting_tools, simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
 use kezuri_geom::Toolpath;
-use kezuri_picture::sim::{DeviationScale, GOUGE_MM};
+use kezuri_picture::sim::DeviationScale;
 use kezuri_picture::Simulation;
 
 use crate::progress::LateBar;
@@ -29,17 +30,52 @@ pub struct DeviationArgs {
     /// gouge), the largest in the legend [default: the 99th percentile of |deviation|].
     #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
     pub deviation_scale: Option<f64>,
-    /// Deeper than this below the target is a gouge (magenta), mm: give the program's own
-    /// allowance, as mill's --gouge-tol.
-    #[arg(long, value_name = "MM", default_value_t = GOUGE_MM, value_parser = crate::numbers::length)]
-    pub gouge_tol: f64,
+    /// Deeper than this below the target is a gouge (magenta), mm [default: the allowance the
+    /// program's header gives, `(KEZURI GOUGE-TOL 0.010)` as mill and relief write it, else
+    /// 0.01 as mill's --gouge-tol].
+    #[arg(long, value_name = "MM", value_parser = crate::numbers::length)]
+    pub gouge_tol: Option<f64>,
+}
+
+/// The gouge allowance a comparison applies, and where it came from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Allowance {
+    /// Deeper than this below the target is a gouge, mm.
+    pub mm: f64,
+    /// `given` (--gouge-tol), `program` (its header comment) or `default`.
+    pub from: &'static str,
+}
+
+impl Allowance {
+    /// How the summaries say where it came from.
+    pub fn source(&self) -> &'static str {
+        match self.from {
+            "given" => "--gouge-tol",
+            "program" => "the program's header",
+            _ => "the default",
+        }
+    }
 }
 
 impl DeviationArgs {
-    /// The scale of `sim`'s deviation, where it has a target.
-    pub fn scale(&self, sim: &Simulated) -> Option<DeviationScale> {
+    /// The gouge allowance: --gouge-tol where given, else the one the
+    /// program's `text` carries in a comment (`KEZURI GOUGE-TOL 0.010`, as
+    /// kezuri writes it), else the default.
+    pub fn allowance(&self, text: &str) -> Allowance {
+        if let Some(mm) = self.gouge_tol {
+            return Allowance { mm, from: "given" };
+        }
+        match kezuri_nc::comments(text).find_map(|(_, c)| read_gouge_note(c)) {
+            Some(mm) => Allowance { mm, from: "program" },
+            None => Allowance { mm: GOUGE_TOL, from: "default" },
+        }
+    }
+
+    /// The scale of `sim`'s deviation, where it has a target, its gouges
+    /// deeper than `allowance`.
+    pub fn scale(&self, sim: &Simulated, allowance: &Allowance) -> Option<DeviationScale> {
         let (_, heights) = sim.comparison.as_ref()?;
-        Some(DeviationScale::new(&sim.zmap, heights, self.deviation_scale, self.gouge_tol))
+        Some(DeviationScale::new(&sim.zmap, heights, self.deviation_scale, allowance.mm))
     }
 }
 
@@ -48,8 +84,8 @@ impl DeviationArgs {
 #[derive(Args, Debug, Default)]
 #[command(group(ArgGroup::new("cutter").args(["tool", "profile"])))]
 pub struct SimSetup {
-    /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm,
-    /// degrees) [default: the machine file's tool table].
+    /// Cutter of a program with one tool: flat:D, ball:D, bull:D,R, oval:D,RL, v:D,ANGLE or
+    /// drill:D,ANGLE (mm, degrees) [default: the machine file's tool table].
     #[arg(
         long,
         value_name = "SPEC",
@@ -64,8 +100,8 @@ pub struct SimSetup {
     #[arg(long)]
     pub same_tool_for_all: bool,
     /// Stock: a box X0,Y0,X1,Y1,ZTOP, a cylinder cyl:D,H[,X,Y,ZTOP] or a solid's top FILE.stl, mm
-    /// [default: the cutting moves' XY box grown by the widest cutter's radius, top at their
-    /// highest Z].
+    /// [default: the cutting moves' XY box grown by the widest cutter's radius, its top the
+    /// target's top (--compare), else the highest feed move that moves in X or Y].
     #[arg(long, value_name = "X0,Y0,X1,Y1,ZTOP|cyl:D,H|FILE.stl", allow_hyphen_values = true)]
     pub stock: Option<String>,
     /// The part as designed, to compare the cut with: an STL (such as relief's --surface-stl), or a
@@ -90,6 +126,9 @@ pub struct Simulated {
     pub stock: StockSpec,
     /// The stock's highest point before cutting.
     pub top: f64,
+    /// Where the top came from: `given` (--stock), `target` (the top of
+    /// --compare's surface) or `cutting-moves` (the highest sideways feed).
+    pub top_from: &'static str,
     pub zmap: ZMap,
     pub report: SimReport,
     /// With --compare: the comparison and the target's height over each cell.
@@ -151,9 +190,32 @@ pub fn simulate(
 ) -> Result<Simulated> {
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
     let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, path).with_context(|| file.to_string())?;
-    let stock = match stock {
-        Some(s) => s,
-        None => StockSpec::Box(Stock::around_reach(path, tools.reach()).with_context(|| file.to_string())?),
+    // The target first: without --stock its top is the top of the material.
+    let target = match &setup.compare {
+        Some(target) => {
+            let surface = crate::surface::read_surface(target, setup.units)?;
+            Some((target, surface.top(), surface.triangles()))
+        }
+        None => None,
+    };
+    let (stock, top_from) = match stock {
+        Some(s) => (s, "given"),
+        None => {
+            // A drill's sideways feed is the mistake to find, not the top.
+            let drills: Vec<u32> = tools.table.iter().filter(|(_, t)| t.is_drill()).map(|(n, _)| *n).collect();
+            let moved_by: Vec<u32> = cutting_tools(path).collect();
+            let tells_top = |k: usize| !drills.contains(&moved_by[k]);
+            let mut implied =
+                Stock::around_cutting(path, tools.reach(), &tells_top).with_context(|| file.to_string())?;
+            let from = match &target {
+                Some((_, top, _)) => {
+                    implied.top = *top;
+                    "target"
+                }
+                None => "cutting-moves",
+            };
+            (StockSpec::Box(implied), from)
+        }
     };
     let res = res.unwrap_or_else(|| {
         let res = default_res(&stock, &tools, setup);
@@ -178,9 +240,8 @@ pub fn simulate(
     }
     let report = report.with_context(|| file.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
-    let comparison = match &setup.compare {
-        Some(target) => {
-            let triangles = crate::surface::read_surface(target, setup.units)?.triangles();
+    let comparison = match target {
+        Some((target, _, triangles)) => {
             let heights = target_heights(&zmap, triangles);
             let c = compare(&zmap, &heights, bins);
             if c.compared == 0 {
@@ -190,5 +251,5 @@ pub fn simulate(
         }
         None => None,
     };
-    Ok(Simulated { tools, stock, top, zmap, report, comparison, seconds })
+    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds })
 }

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
+use kezuri_cam::cutter::Flat;
 use kezuri_cam::dropcut::{drop_cutter, MeshSurface};
 use kezuri_cam::Cutter;
 use kezuri_geom::{read_stl, write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
@@ -26,6 +27,15 @@ impl Surface {
         match self {
             Surface::Mesh(m) => drop_cutter(cutter, m.as_ref(), x, y),
             Surface::Grid(g) => drop_cutter(cutter, g, x, y),
+        }
+    }
+
+    /// The surface's height at `(x, y)`, `None` off it: a grid's between
+    /// its nodes, a mesh's highest point within 0.05 µm (a needle dropped).
+    pub fn height_at(&self, x: f64, y: f64) -> Option<f64> {
+        match self {
+            Surface::Mesh(m) => drop_cutter(&Cutter::Flat(Flat::new(1e-4)), m.as_ref(), x, y),
+            Surface::Grid(g) => g.z_at(x, y),
         }
     }
 

@@ -48,6 +48,71 @@ fn a_dome_is_milled_within_the_tolerance() {
     }
 }
 
+/// kezuri's own finishing program, simulated against its surface, passes
+/// kezuri's own gouge check: the program carries mill's allowance in its
+/// header and sim reads it back (it painted the 0.007 mm dips between
+/// samples as gouges past 0.001 mm before); the deepest point stays the
+/// raw figure, and a --gouge-tol given wins.
+#[test]
+fn the_program_carries_its_gouge_allowance_and_sim_agrees() {
+    let dir = tempfile::tempdir().unwrap();
+    let bump = grid(dir.path(), "bump.xyz", 10.0, 0.5, |x, y| 4.0 * (-(x * x + y * y) / 30.0).exp());
+    let nc = dir.path().join("bump.nc").to_string_lossy().into_owned();
+    let o = kezuri(&["mill", &bump, "--tool", "ball:4", "--stepover", "0.5", "-o", &nc]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&nc).unwrap();
+    assert!(text.lines().take(4).any(|l| l == "(KEZURI GOUGE-TOL 0.010)"), "{text:.300}");
+    let own = sim(&nc, "ball:4", &bump, "0.05");
+    assert_eq!((own["gouge_tol_mm"].as_f64(), own["gouge_tol_from"].as_str()), (Some(0.01), Some("program")));
+    assert_eq!(own["gouge_cells"], 0, "{own}");
+    let raw = own["max_gouge_mm"].as_f64().unwrap();
+    assert!(raw > 0.001 && raw <= 0.01, "{raw}");
+    let o = kezuri(&["sim", &nc, "--tool", "ball:4", "--res", "0.05", "--compare", &bump]);
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(report.contains("allowance  0.0100 mm (the program's header): no cell deeper"), "{report}");
+    let strict = json(&kezuri(&[
+        "sim",
+        &nc,
+        "--tool",
+        "ball:4",
+        "--res",
+        "0.05",
+        "--compare",
+        &bump,
+        "--gouge-tol",
+        "0.001",
+        "--json",
+    ]));
+    assert_eq!(strict["gouge_tol_from"], "given");
+    assert!(strict["gouge_cells"].as_u64().unwrap() > 0, "{strict}");
+    assert_eq!(strict["max_gouge_mm"], own["max_gouge_mm"]);
+    // view --sim reads it back too, and says so.
+    let page = dir.path().join("bump.html").to_string_lossy().into_owned();
+    let o = kezuri(&["view", &nc, "--sim", "--res", "0.1", "--tool", "ball:4", "--compare", &bump, "-o", &page]);
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && said.contains("(gouges past 0.01 mm, the program's header)"), "{said}");
+}
+
+/// As relief does, mill says where its cutter cannot reach: a round groove
+/// 2 mm wide and 1 mm deep holds a ball:1 but not a ball:6, which rests on
+/// its edges 0.83 mm above its bottom.
+#[test]
+fn mill_warns_of_what_its_cutter_cannot_reach() {
+    let dir = tempfile::tempdir().unwrap();
+    let groove = grid(dir.path(), "groove.xyz", 8.0, 0.1, |x, _| -(1.0 - x * x).max(0.0).sqrt());
+    let nc = dir.path().join("groove.nc").to_string_lossy().into_owned();
+    let warned = |tool: &str| {
+        let o = kezuri(&["mill", &groove, "--tool", tool, "--stepover", "2", "-o", &nc]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let wide = warned("ball:6");
+    // Up to 0.828 mm at the bottom (an upper bound within the check's grid).
+    assert!(wide.contains("ball:6 cannot reach all of the surface: up to 0.8"), "{wide}");
+    let narrow = warned("ball:1");
+    assert!(!narrow.contains("cannot reach"), "{narrow}");
+}
+
 #[test]
 fn pick_feed_control_keeps_the_cusp_on_a_slope() {
     // A plane rising 30° across the rows: a ball's cusp of 0.02 mm square
@@ -81,6 +146,7 @@ fn bad_input_is_a_clear_error() {
         (vec!["--tool", "ball:-6", "--stepover", "1"], "the diameter must be a length"),
         (vec!["--tool", "ball:6", "--stepover", "1", "--cusp", "-1"], "--cusp"),
         (vec!["--tool", "ball:6", "--stepover", "1", "--region", "50,50,60,60"], "nothing to cut"),
+        (vec!["--tool", "drill:6,118", "--stepover", "1"], "a drill cuts along its axis only"),
     ] {
         let mut all = vec!["mill", flat.as_str()];
         all.extend(args);

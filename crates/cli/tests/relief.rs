@@ -34,6 +34,9 @@ fn the_carving_never_cuts_into_the_relief_and_stays_within_the_cusp() {
     let o = kezuri(&[
         "relief",
         &png,
+        // A band of 0.001 mm below the cutter locations (the default is 0.01).
+        "--gouge-tol",
+        "0.001",
         "--pixel",
         "0.5",
         "--depth",
@@ -70,6 +73,8 @@ fn the_carving_never_cuts_into_the_relief_and_stays_within_the_cusp() {
     ok(&kezuri(&[
         "relief",
         &png,
+        "--gouge-tol",
+        "0.001",
         "--pixel",
         "0.5",
         "--depth",
@@ -101,6 +106,8 @@ fn the_carving_never_cuts_into_the_relief_and_stays_within_the_cusp() {
     ok(&kezuri(&[
         "relief",
         &png,
+        "--gouge-tol",
+        "0.001",
         "--pixel",
         "0.5",
         "--depth",
@@ -126,6 +133,8 @@ fn the_carving_never_cuts_into_the_relief_and_stays_within_the_cusp() {
     ok(&kezuri(&[
         "relief",
         &png,
+        "--gouge-tol",
+        "0.001",
         "--pixel",
         "0.5",
         "--depth",
@@ -171,7 +180,7 @@ fn steep_steps_cut_both_ways_stay_within_the_cusp_of_what_the_ball_reaches() {
     sketch().save(&png).unwrap();
     let (coarse, fine) = (path(dir.path(), "coarse.nc"), path(dir.path(), "fine.nc"));
     let (stl, reach) = (path(dir.path(), "relief.stl"), path(dir.path(), "reach.stl"));
-    let common = ["--pixel", "0.5", "--depth", "4", "--tool", "ball:3", "--direction", "both"];
+    let common = ["--pixel", "0.5", "--depth", "4", "--tool", "ball:3", "--direction", "both", "--gouge-tol", "0.001"];
     ok(&kezuri(
         &[&["relief", png.as_str()][..], &common, &["--stepover", "0.4", "--surface-stl", &stl, "-o", &coarse]]
             .concat(),

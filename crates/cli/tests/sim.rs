@@ -148,7 +148,21 @@ fn a_height_grid_is_a_target_too() {
         }
     }
     let target = write(dir.path(), "grid.csv", grid.as_bytes());
-    let v = json(&kezuri(&["sim", &nc, "--tool", "ball:6", "--res", "0.05", "--compare", &target, "--json"]));
+    // The stock given: the program cuts above this target's top (which
+    // would otherwise be the stock's).
+    let v = json(&kezuri(&[
+        "sim",
+        &nc,
+        "--tool",
+        "ball:6",
+        "--res",
+        "0.05",
+        "--stock",
+        "-3,-3,13,9,0",
+        "--compare",
+        &target,
+        "--json",
+    ]));
     // Nowhere below −1: 0.02 mm left at least where the target is.
     assert_eq!(v["max_gouge_mm"].as_f64().unwrap(), 0.0);
     assert!(v["cells_without_target"].as_u64().unwrap() > 0);
@@ -177,13 +191,79 @@ fn a_rapid_into_the_stock_is_reported_with_its_line() {
     assert!(stderr(&o).contains("line 8"), "{}", stderr(&o));
     let o = kezuri(&[&args[..], &["--fail-on-rapid"]].concat());
     assert_eq!(o.status.code(), Some(1));
-    // Without --stock the top is the highest cutting point, Z5 (the plunge
-    // starts there) and the box is the cut's, Y −3 to 3: the move across
-    // at Z1 is inside that stock, the later ones are beyond it.
+    // Without --stock the top is the highest feed that moves in X or Y,
+    // Z−1 (not Z5, where the plunge starts), and the box is the cut's,
+    // Y −3 to 3: the move across at Z1 is above that stock, the later ones
+    // are beyond it.
     let v = json(&kezuri(&["sim", &nc, "--tool", "ball:6", "--res", "0.1", "--json"]));
-    assert_eq!(v["stock"], serde_json::json!({"x0": -3.0, "y0": -3.0, "x1": 13.0, "y1": 3.0, "top": 5.0}));
-    assert_eq!(v["rapids_into_stock"], 1);
-    assert_eq!(v["first_rapid_into_stock_line"], 7);
+    assert_eq!(v["stock"], serde_json::json!({"x0": -3.0, "y0": -3.0, "x1": 13.0, "y1": 3.0, "top": -1.0}));
+    assert_eq!(v["rapids_into_stock"], 0);
+}
+
+/// The issue's uncut corners: without --stock the stock stood up to the
+/// clearance height the program plunges from, posts in the pictures and
+/// air in the volume. Its top is the target's, else the highest feed that
+/// moves in X or Y; the report says which.
+#[test]
+fn without_stock_the_top_is_the_parts_not_the_clearance() {
+    let dir = tempfile::tempdir().unwrap();
+    // Plunges at the feed from Z5, rows at Z−1.
+    let nc = write(dir.path(), "raster.nc", raster(7).as_bytes());
+    let run = |extra: &[&str]| {
+        let args = [&["sim", nc.as_str(), "--tool", "ball:6", "--res", "0.1", "--json"][..], extra].concat();
+        json(&kezuri(&args))
+    };
+    let v = run(&[]);
+    assert_eq!(v["stock_top_mm"], -1.0, "{v}");
+    assert_eq!(v["stock_top_from"], "cutting-moves");
+    // No posts at the clearance height: nothing stands above the rows.
+    assert_eq!(v["max_z_mm"], -1.0, "{v}");
+    let text = stdout(&kezuri(&["sim", &nc, "--tool", "ball:6", "--res", "0.1"]));
+    assert!(text.contains("top -1 (from the feed moves)"), "{text}");
+    // With a target, the target's top: the plane at Z−0.8.
+    let stl = write(dir.path(), "plane.stl", &plane_stl(-10.0, -10.0, 20.0, 20.0, -0.8));
+    let v = run(&["--compare", &stl]);
+    assert!((v["stock_top_mm"].as_f64().unwrap() + 0.8).abs() < 1e-6, "{v}");
+    assert_eq!(v["stock_top_from"], "target");
+    assert!(v["max_z_mm"].as_f64().unwrap() < -0.79, "{v}");
+    // A stock given is the stock.
+    let v = run(&["--stock", "-5,-5,15,15,2"]);
+    assert_eq!((v["stock_top_mm"].as_f64(), v["stock_top_from"].as_str()), (Some(2.0), Some("given")));
+}
+
+/// A program like plum.nc drilled: holes by G81, then a feed sideways at
+/// Z−3 (line 9). The drill is the cone of v:6,118, but a drill cuts along
+/// its axis only: the sideways feed in material is flagged, with its line.
+#[test]
+fn a_drill_fed_sideways_in_the_material_is_flagged() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(
+        dir.path(),
+        "drill.nc",
+        b"G90 G21 G17\nT3 M06\nG00 X10. Y10. Z5.\nG81 X10. Y10. Z-5. R2. F200\nX20.\nG80\nG00 Z2.\n\
+          G01 Z-3. F100\nG01 X30. F100\nG00 Z5.\nM30\n",
+    );
+    let sim = |tool: &str| kezuri(&["sim", &nc, "--tool", tool, "--res", "0.2", "--stock", "0,0,40,20,0", "--json"]);
+    let o = sim("drill:6,118");
+    let drill = json(&o);
+    assert_eq!(drill["drill_side_moves"], 1, "{drill}");
+    assert_eq!(drill["first_drill_side_move_line"], 9);
+    assert_eq!(drill["tools"][0]["shape"], "drill:6,118");
+    let err = stderr(&o);
+    assert!(err.contains("take a drill sideways") && err.contains("line 9"), "{err}");
+    // The same solid as the V-bit, which may cut sideways.
+    let vee = json(&sim("v:6,118"));
+    assert_eq!(vee["drill_side_moves"], 0);
+    assert_eq!(vee["min_z_mm"], drill["min_z_mm"]);
+    assert_eq!(vee["volume_mm3"], drill["volume_mm3"]);
+    let text = stdout(&kezuri(&["sim", &nc, "--tool", "drill:6,118", "--res", "0.2", "--stock", "0,0,40,20,0"]));
+    assert!(text.contains("DRILL      1 feed(s) sideways in the material; first at line 9"), "{text}");
+    // Holes alone are no warning.
+    let holes =
+        write(dir.path(), "holes.nc", b"G90 G21\nG00 X10. Y10. Z5.\nG81 X10. Y10. Z-5. R2. F200\nX20.\nG80\nM30\n");
+    let o = kezuri(&["sim", &holes, "--tool", "drill:6,118", "--res", "0.2", "--stock", "0,0,40,20,0", "--json"]);
+    assert_eq!(json(&o)["drill_side_moves"], 0);
+    assert!(!stderr(&o).contains("sideways"), "{}", stderr(&o));
 }
 
 #[test]

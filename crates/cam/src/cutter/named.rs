@@ -214,7 +214,7 @@ fn cutter_in(comment: &str) -> Option<NamedCutter> {
         return Some(NamedCutter { diameter, shape, source: String::new(), tool: Some(tool) });
     }
     // A SPEC: SHAPE:NUMBERS.
-    for shape in ["FLAT:", "BALL:", "BULL:", "OVAL:", "V:"] {
+    for shape in ["FLAT:", "BALL:", "BULL:", "OVAL:", "V:", "DRILL:"] {
         let mut from = 0;
         while let Some(at) = upper[from..].find(shape).map(|p| p + from) {
             let word_start = at == 0 || !upper[..at].chars().next_back().is_some_and(char::is_alphanumeric);

@@ -5,23 +5,13 @@
 
 use kezuri_geom::{Heightfield, Toolpath};
 
-use super::reach::{unreached, Unreached};
 use super::{inside, Gray, Placement};
 use crate::dropcut::{drop_cutter, drop_cutter_rows, rows_at_once};
 use crate::error::Error;
+use crate::mill::reach::{self, unreached, Area, Unreached};
 use crate::mill::{raster_with, ClRowsFn, Direction, Pattern, RasterOptions, Region};
 use crate::rough::{levels, Levels};
 use crate::Cutter;
-
-/// Material the finishing cutter may leave where it cannot reach (normal
-/// to the relief, mm) before it is reported: five times the leave
-/// tolerance, and not less than this (plus the scallop of the check's own
-/// grid).
-const REACH_LEFT: f64 = 0.05;
-
-/// How far the finishing path may dip below the exact cutter locations,
-/// mm: the chord between samples is refined until it stays this close.
-const GOUGE: f64 = 0.001;
 
 /// Roughing before the finish: the stock cleared in levels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,8 +50,11 @@ pub struct Job<'a> {
     /// increment writes nothing finer).
     pub step: Option<f64>,
     /// How much material the path may leave above the exact cutter
-    /// locations (it never cuts more than 0.001 mm below them).
+    /// locations.
     pub leave_tol: f64,
+    /// How far the path may dip below the exact cutter locations: the
+    /// chord between samples is refined until it stays this close.
+    pub gouge_tol: f64,
     /// The program's output increment (0: none).
     pub quantum: f64,
     /// Height for rapids, above the stock top.
@@ -74,6 +67,14 @@ pub struct Job<'a> {
     pub speed: f64,
     /// Roughing first, where given.
     pub rough: Option<Roughing>,
+}
+
+impl Job<'_> {
+    /// How far the finishing path may dip below the exact cutter
+    /// locations: the gouge allowance, within the leave tolerance.
+    pub fn gouge(&self) -> f64 {
+        self.gouge_tol.min(self.leave_tol)
+    }
 }
 
 /// A stage of the carving.
@@ -135,7 +136,7 @@ pub fn carve(job: &Job, on: &(dyn Fn(Event) + Sync)) -> Result<Carved, Error> {
         // Sampling finer than the program's increment writes nothing finer.
         step: job.step.unwrap_or(placement.pixel.max(job.quantum)),
         tolerance: job.leave_tol,
-        gouge: GOUGE.min(job.leave_tol),
+        gouge: job.gouge(),
         quantum: job.quantum,
         safe_z: job.safe_z,
         feed: job.feed,
@@ -180,7 +181,8 @@ pub fn carve(job: &Job, on: &(dyn Fn(Event) + Sync)) -> Result<Carved, Error> {
     // tenth of the radius); the scallop that grid leaves on the flat,
     // step²/8R, is forgiven on top of the threshold.
     let step = placement.pixel.max(cutter.radius() / 5.0);
-    let threshold = (5.0 * job.leave_tol).max(REACH_LEFT) + step * step / (8.0 * cutter.radius());
-    let unreached = unreached(field, &cutter, step, threshold, cl_of(cutter));
+    let threshold = reach::threshold(job.leave_tol, step, cutter.radius());
+    let area = Area { bounds: field.xy_box(), inset: 0.0, step };
+    let unreached = unreached(area, &cutter, threshold, |x, y| field.z_at(x, y), cl_of(cutter));
     Ok(Carved { path, unreached, threshold })
 }

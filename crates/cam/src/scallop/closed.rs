@@ -90,7 +90,7 @@ pub fn closed_form_cusp(cutter: &Cutter, angle: f64, pf: f64) -> Option<(f64, Cl
             }
             circles(rc, pf, sin, cos, true).map(|c| (c, ClosedForm::Bull))
         }
-        Cutter::Vee(v) => {
+        Cutter::Vee(v) | Cutter::Drill(v) => {
             let k = 1.0 / (v.angle_deg.to_radians() / 2.0).tan();
             let m = angle.tan();
             let dy = pf * cos;

@@ -163,3 +163,10 @@ pub fn gouges_by_tool(sim: &ZMap, target: &[f64], cut_by: &[u8], tools: usize) -
     }
     out
 }
+
+/// Cells of `sim` deeper than `allowance` below `target` (from
+/// [`target_heights`] on the same grid): the gouges past the program's
+/// allowance, which the deviation picture paints magenta.
+pub fn gouged_cells(sim: &ZMap, target: &[f64], allowance: f64) -> usize {
+    sim.z.iter().zip(target).filter(|&(&z, &t)| t != f64::NEG_INFINITY && t - z > allowance).count()
+}

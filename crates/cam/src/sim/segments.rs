@@ -16,6 +16,9 @@ pub(super) struct Segment {
     /// The tool that cuts it: its index in [`Slots`].
     pub slot: u8,
     pub rapid: bool,
+    /// A drill's feed that moves in X or Y: judged on what it cuts, as a
+    /// rapid is.
+    pub side: bool,
     /// The slab `from ≤ s ≤ to` of along-track distances whose cells this
     /// segment evaluates (see [`continuations`]).
     pub from: f64,
@@ -42,13 +45,16 @@ pub(super) struct Segment {
 /// direction means "behind this one's start" is never "ahead of the
 /// previous one's end"), so the result is unchanged while a raster move
 /// of 0.1 mm with a 6 mm ball evaluates a slab of about 0.7 mm instead of
-/// its whole 6.1 mm footprint. Rapids are never narrowed, so each rapid is
-/// judged on everything it cuts, and segments of two tools never joined.
+/// its whole 6.1 mm footprint. Rapids and a drill's sideways feeds are never
+/// narrowed, so each is judged on everything it cuts, and segments of two
+/// tools never joined.
 fn continuations(segs: &mut [Segment], shapes: &[Shape<'_>]) {
     let joined = |p: &Segment, q: &Segment| {
         p.slot == q.slot
             && !p.rapid
             && !q.rapid
+            && !p.side
+            && !q.side
             && p.b == q.a
             && p.prep.len > 0.0
             && q.prep.len > 0.0
@@ -147,11 +153,13 @@ pub(super) fn segments<'a>(
         let index32 = u32::try_from(index).map_err(|_| too_many_segments(index))?;
         let rapid = m.is_rapid();
         let shape = &slots.shapes[slot as usize];
+        let drill = slots.drills[slot as usize];
         let r = shape.radius();
         let before = out.len();
         let mut push = |a: [f64; 3], b: [f64; 3]| {
             let prep = Prep::new(a, b, shape);
-            out.push(Segment { prep, index: index32, slot, rapid, from: -r, to: prep.len + r, a, b })
+            let side = drill && !rapid && (a[0] != b[0] || a[1] != b[1]);
+            out.push(Segment { prep, index: index32, slot, rapid, side, from: -r, to: prep.len + r, a, b })
         };
         match m.kind {
             MoveKind::Arc(arc) => {

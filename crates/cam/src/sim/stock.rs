@@ -29,10 +29,11 @@ pub struct Stock {
 
 impl Stock {
     /// The stock a program implies: the XY bounds of its cutting moves
-    /// (feeds, arcs, probes) grown by the cutter radius, the top at their
-    /// highest point. Rapids are left out: a return to a far home position
-    /// must not grow the grid, and a rapid approach to just above the
-    /// work must not count as cutting. Without cutting moves, all moves.
+    /// (feeds, arcs, probes) grown by the cutter radius, the top at the
+    /// highest point of the moves that cut sideways ([`cutting_top`]).
+    /// Rapids are left out: a return to a far home position must not grow
+    /// the grid, and a rapid approach to just above the work must not
+    /// count as cutting. Without cutting moves, all moves.
     pub fn around(path: &Toolpath, cutter: &Cutter) -> Result<Stock, Error> {
         Stock::around_tool(path, &Tool::Cutter(*cutter))
     }
@@ -45,6 +46,13 @@ impl Stock {
 
     /// [`Stock::around`] grown by `radius` (the widest of a program's tools).
     pub fn around_reach(path: &Toolpath, radius: f64) -> Result<Stock, Error> {
+        Stock::around_cutting(path, radius, &|_| true)
+    }
+
+    /// [`Stock::around_reach`] with the top taken from the moves
+    /// `tells_top(k)` keeps (by index): a drill's sideways feed is no cut
+    /// at the top of the material, but a mistake to find.
+    pub fn around_cutting(path: &Toolpath, radius: f64, tells_top: &dyn Fn(usize) -> bool) -> Result<Stock, Error> {
         let cutting: Vec<_> =
             path.moves.iter().filter(|m| !m.is_rapid() && !matches!(m.kind, MoveKind::Dwell(_))).copied().collect();
         let bounds = if cutting.is_empty() { path.bounds() } else { Toolpath::from(cutting).bounds() };
@@ -53,7 +61,8 @@ impl Stock {
             return Err(bad_stock("the program's bounds are not finite"));
         }
         let r = radius;
-        Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top: hi[2] })
+        let top = cutting_top(path, tells_top).unwrap_or(hi[2]);
+        Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top })
     }
 
     fn check(&self) -> Result<(), Error> {
@@ -69,6 +78,25 @@ impl Stock {
         }
         Ok(())
     }
+}
+
+/// The top of the material a program cuts, as far as its moves tell: the
+/// highest Z of its feed moves that move sideways (G01 with X or Y
+/// changing, every G02/G03). A plunge, a retract at feed and a probing move
+/// are left out: a program that feeds down from its clearance height does
+/// not cut there. Only the moves `tells_top(k)` keeps (by index) count.
+/// `None` for a program with no such move (a drilling program: its feeds
+/// are all vertical).
+pub fn cutting_top(path: &Toolpath, tells_top: &dyn Fn(usize) -> bool) -> Option<f64> {
+    let sideways = |m: &kezuri_geom::Move| match m.kind {
+        MoveKind::Arc(_) => true,
+        MoveKind::Feed => m.start.x != m.end.x || m.start.y != m.end.y,
+        _ => false,
+    };
+    let moves: Vec<_> =
+        path.moves.iter().enumerate().filter(|&(k, m)| sideways(m) && tells_top(k)).map(|(_, m)| *m).collect();
+    let (_, hi) = Toolpath::from(moves).bounds()?;
+    hi[2].is_finite().then_some(hi[2])
 }
 
 /// A height per cell: cell `(i, j)` is centred at

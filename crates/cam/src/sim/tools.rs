@@ -71,11 +71,13 @@ pub(super) struct Slots<'a> {
     tooling: Tooling<'a>,
     numbers: Vec<u32>,
     pub shapes: Vec<Shape<'a>>,
+    /// Whether each is a drill (`drill:D,ANGLE`): it cuts along its axis only.
+    pub drills: Vec<bool>,
 }
 
 impl<'a> Slots<'a> {
     pub fn new(tooling: Tooling<'a>) -> Slots<'a> {
-        Slots { tooling, numbers: Vec::new(), shapes: Vec::new() }
+        Slots { tooling, numbers: Vec::new(), shapes: Vec::new(), drills: Vec::new() }
     }
 
     /// The slot of tool `number` (met at source line `line`), added at the
@@ -104,6 +106,7 @@ impl<'a> Slots<'a> {
         }
         self.numbers.push(number);
         self.shapes.push(tool.shape());
+        self.drills.push(tool.is_drill());
         Ok((self.numbers.len() - 1) as u8)
     }
 }

@@ -2,12 +2,13 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::mill::{raster, RasterOptions, Region};
+use kezuri_cam::mill::reach::{self, unreached, Area};
+use kezuri_cam::mill::{gouge_note, raster, RasterOptions, Region, GOUGE_TOL};
 use kezuri_cam::{scallop, Cutter};
 
 use crate::files::Outputs;
 use crate::machine::MachineArg;
-use crate::program::{stage_toolpath, Origin, WriteArgs};
+use crate::program::{write_program, Origin, WriteArgs};
 use crate::raster::{RowDirection, RowPattern};
 use crate::surface::read_surface;
 
@@ -20,7 +21,13 @@ exact contact for every shape), so the program never cuts into the surface by mo
 --gouge-tol/2, and merged where it is straight within --gouge-tol/2. Rows run over the surface's XY box (or --region), the cutter's centre inside
 it, so nothing outside the surface is cut; within a radius of the edges the cutter cannot
 reach down everywhere, and material is left there. Where no part of the surface is under
-the cutter the row is cut in pieces, with a retract between.
+the cutter the row is cut in pieces, with a retract between. The program carries its
+allowance in a header comment, (KEZURI GOUGE-TOL 0.010), which `kezuri sim` and `kezuri view`
+read back as theirs.
+
+Where the surface has valleys narrower than the cutter (or corners sharper than it), no
+stepover reaches them: a warning says how much is left (normal to the surface), where, and
+over what share of it, as relief does; the edges within a radius, above, are not judged.
 
 --cusp H sets the pick feed (the step from one row to the next) by the cusp it leaves: each
 next row goes as far as the theoretical cusp between the rows, from the slope across them, stays within H (the pick feed in the inclined
@@ -71,8 +78,9 @@ pub struct MillArgs {
     #[arg(long = "sample-step", alias = "step", value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm: a gouge into the surface
-    /// of up to this much is allowed.
-    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    /// of up to this much is allowed (the program carries it in its header, which `kezuri sim`
+    /// reads back).
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = GOUGE_TOL, value_parser = crate::numbers::length)]
     pub gouge_tol: f64,
     /// Area the cutter's centre covers in plan [default: the surface's XY box;
     /// a larger one finishes the edges, with the cutter resting on the
@@ -102,7 +110,7 @@ pub struct MillArgs {
 
 /// Runs `kezuri mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
-    let cutter: Cutter = args.tool.parse()?;
+    let cutter: Cutter = crate::raster::row_cutter(&args.tool)?;
     let machine = args.machine.load()?;
     let surface = read_surface(&args.surface, args.units)?;
     let [x0, y0, x1, y1] = match &args.region {
@@ -169,13 +177,32 @@ pub fn run(args: &MillArgs) -> Result<()> {
     if let Some(Some(bar)) = bar.get() {
         bar.finish_and_clear();
     }
+    // What the cutter cannot reach, at any stepover (as relief says it).
+    let r = cutter.radius();
+    let nodes = |step: f64| ((x1 - x0) / step + 1.0) * ((y1 - y0) / step + 1.0);
+    let mut step = r / 5.0;
+    if nodes(step) > REACH_NODES {
+        step *= (nodes(step) / REACH_NODES).sqrt();
+    }
+    let threshold = reach::threshold(args.gouge_tol, step, r);
+    let area = Area { bounds: [x0, y0, x1, y1], inset: r, step };
+    if let Some(u) = unreached(area, &cutter, threshold, |x, y| surface.height_at(x, y), cl) {
+        eprintln!("warning: {}: {}", args.surface.display(), u.message(&cutter, "the surface", threshold));
+    }
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
     let mut out = Outputs::new();
-    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made, &[(args.tool_number, cutter)])?;
+    let notes = [gouge_note(args.gouge_tol)];
+    let cutters = [(args.tool_number, cutter)];
+    write_program(&mut out, &path, &path, &title, &notes, &args.write, &machine, Origin::Made, &cutters)?;
     out.commit()?;
     crate::say::wrote_program(args.write.output(), "", &path, &machine);
     Ok(())
 }
+
+/// Most points of the grid `mill` checks the cutter's reach on: a coarser
+/// grid than a fifth of the cutter's radius for a large surface (some
+/// seconds of drop-cutter).
+const REACH_NODES: f64 = 1e6;
 
 /// Pick feeds in the inclined plane for a cusp of `cusp` at every tenth of
 /// a degree from 0 to 89.9°.

@@ -6,6 +6,7 @@ use std::sync::OnceLock;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use indicatif::ProgressBar;
+use kezuri_cam::mill::{gouge_note, GOUGE_TOL};
 use kezuri_cam::relief::{
     carve, check_smoothing, parse_levels, surface, Carved, Event, Job, Mapping, Placement, Roughing, Stage,
 };
@@ -14,7 +15,7 @@ use kezuri_cam::Cutter;
 use crate::files::Outputs;
 use crate::gray::{dimensions, read_gray};
 use crate::machine::MachineArg;
-use crate::program::{stage_toolpath, Origin, WriteArgs};
+use crate::program::{write_program, Origin, WriteArgs};
 use crate::raster::{RowDirection, RowPattern};
 use crate::surface::stage_surface_stl;
 
@@ -30,10 +31,11 @@ light. The picture's top row is the largest Y; --width (or --pixel) sets the siz
 puts a corner (corner or lower-left, lower-right, upper-left, upper-right) or the centre
 (centre) at X0 Y0, or the lower-left corner at X,Y.
 
-The cutter is placed on the height grid with drop-cutter (lowered at each point until it
-touches), so the carving never cuts into the relief: rows are sampled every --sample-step and
-refined until the path stays within 0.001 mm below and --leave-tol above the exact cutter locations (steep steps included; RML-1's 0.01 mm steps,
---to rml, hold it to about 0.003 mm). --rough SPEC first
+The cutter is placed on the height grid with drop-cutter, so the carving never cuts into the
+relief: rows are sampled every --sample-step and refined until the path stays within --gouge-tol
+(0.01 mm) below and --leave-tol above the exact cutter locations (steep steps included).
+The program carries its allowance in a header comment, (KEZURI GOUGE-TOL 0.010), which
+`kezuri sim` and `kezuri view` read back as theirs. --rough SPEC first
 clears the stock in levels --step-down apart, leaving --allowance for the finishing cutter.
 --surface-stl writes the relief surface for `kezuri sim --compare`. With --rough the roughing
 cutter is T1 and the finishing one T2: give both shapes in a machine file's tool table to
@@ -117,10 +119,13 @@ pub struct ReliefArgs {
     /// program's increment where the pixel is finer].
     #[arg(long = "sample-step", alias = "step", value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
-    /// How much material the path may leave above the exact cutter locations, mm (it never
-    /// cuts more than 0.001 mm below them).
+    /// How much material the path may leave above the exact cutter locations, mm.
     #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
     pub leave_tol: f64,
+    /// How far the path may cut below the exact cutter locations, mm (at most --leave-tol): the
+    /// program carries it in its header, which `kezuri sim` and `kezuri view` read back.
+    #[arg(long, value_name = "MM", default_value_t = GOUGE_TOL, value_parser = crate::numbers::length)]
+    pub gouge_tol: f64,
     /// Roughing cutter (a tool as --tool): clear the stock in levels first.
     #[arg(long, value_name = "SPEC")]
     pub rough: Option<String>,
@@ -157,9 +162,9 @@ pub struct ReliefArgs {
 
 /// Runs `kezuri relief`.
 pub fn run(args: &ReliefArgs) -> Result<()> {
-    let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let cutter: Cutter = crate::raster::row_cutter(&args.tool).context("--tool")?;
     let machine = args.machine.load()?;
-    let rough: Option<Cutter> = args.rough.as_deref().map(str::parse).transpose().context("--rough")?;
+    let rough: Option<Cutter> = args.rough.as_deref().map(crate::raster::row_cutter).transpose().context("--rough")?;
     let mapping = match (&args.levels, args.depth) {
         (Some(text), _) => Mapping::Levels(parse_levels(text)?),
         (None, Some(depth)) => Mapping::Depth { depth, invert: args.invert, gamma: args.gamma },
@@ -196,6 +201,7 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         stepover: args.stepover,
         step: args.step,
         leave_tol: args.leave_tol,
+        gouge_tol: args.gouge_tol,
         quantum: args.write.quantum(&machine)?,
         safe_z: args.safe_z,
         feed: args.feed,
@@ -211,14 +217,7 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let Carved { path, unreached, threshold } = with_bars(|on| carve(&job, on))?;
     if let Some(u) = unreached {
-        eprintln!(
-            "warning: {name}: {cutter} cannot reach all of the relief: up to {:.3} mm is left on it at X{:.3} Y{:.3} \
-             ({:.1} % of its area more than {threshold:.3} mm): valleys narrower than the cutter; a smaller one reaches them",
-            u.left,
-            u.at[0],
-            u.at[1],
-            u.share * 100.0
-        );
+        eprintln!("warning: {name}: {}", u.message(&cutter, "the relief", threshold));
     }
     let what = format!(
         "{name}, {} × {} pixels of {pixel:.4} mm, {:.1} × {:.1} mm, computed in {:.2} s; ",
@@ -234,7 +233,8 @@ pub fn run(args: &ReliefArgs) -> Result<()> {
         Some(r) => vec![(1, r), (2, cutter)],
         None => vec![(1, cutter)],
     };
-    stage_toolpath(&mut out, &path, &title, &args.write, &machine, Origin::Made, &cutters)?;
+    let notes = [gouge_note(job.gouge())];
+    write_program(&mut out, &path, &path, &title, &notes, &args.write, &machine, Origin::Made, &cutters)?;
     if let Some(stl) = &args.surface_stl {
         stage_surface_stl(&mut out, stl, &field)?;
     }

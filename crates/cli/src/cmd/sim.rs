@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 use clap::Args;
-use kezuri_cam::sim::compare::gouges_by_tool;
+use kezuri_cam::sim::compare::{gouged_cells, gouges_by_tool};
 use kezuri_geom::write_binary_stl_to;
 use kezuri_picture::sim as picture;
 
@@ -41,8 +41,14 @@ H, its axis on X0 Y0 and its top at Z0 (cyl:D,H,X,Y,ZTOP to place it); FILE.stl 
 surface of a solid, no stock outside its outline. A Z-map holds one height per cell, so it has
 no undercuts: a stock is what is seen of it from above, and where a cylinder or solid does not
 reach the cells start at its bottom. Without --stock the stock is the XY box of the cutting
-moves grown by the widest cutter's radius, its top at their highest point; give --stock for a
-real check of the rapids.
+moves grown by the widest cutter's radius, its top the target's top with --compare, else the
+highest feed move that moves in X or Y (a plunge from the clearance height is not cutting
+there); the report says which (--json: stock_top_mm, stock_top_from). Give --stock for a real
+check of the rapids.
+
+Drills: --tool drill:D,ANGLE (or the table's shape) cuts as the cone v:D,ANGLE, but a drill cuts
+along its axis only: a feed move that takes it sideways (in X or Y) through material is
+reported with its line and a warning (--json: drill_side_moves).
 
 --profile PROFILE.csv cuts with a measured tool instead of --tool SPEC: the CSV of
 `kezuri tool` (`z_mm,radius_mm`: z up from the nominal tip, the radius of the swept envelope,
@@ -54,7 +60,10 @@ the tool the program loads even where the table gives that tool's nominal shape.
 
 --compare TARGET reads the intended surface: an STL (binary or ASCII; the highest surface over
 each cell centre) or a height grid (`x y z` or `x,y,z` lines on a regular grid). Deviation is
-simulated − target: below the target is a gouge, above is material left.
+simulated − target: below the target is a gouge, above is material left. A gouge within the
+allowance is no gouge: --gouge-tol, else the allowance a program kezuri wrote carries in its
+header, `(KEZURI GOUGE-TOL 0.010)`, else 0.01 mm, mill's own; the report says which applied
+(max_gouge_mm stays the deepest point, whatever the allowance).
 
 A progress bar shows on a terminal when the cutting runs over a second.
 
@@ -108,9 +117,11 @@ pub struct SimArgs {
     /// Exit with code 1 when a rapid cuts into the stock.
     #[arg(long)]
     pub fail_on_rapid: bool,
-    /// Print one JSON object: cells, moves, min_z_mm, rapids_into_stock, volume_mm3, tools (number,
-    /// shape, moves, time_s, volume_mm3), …, and with --compare max_gouge_mm (and
-    /// max_gouge_tool, each tool's max_gouge_mm), max_left_mm, mean_abs_dev_mm and the histogram.
+    /// Print one JSON object: cells, moves, min_z_mm, stock_top_mm, stock_top_from (given, target
+    /// or cutting-moves), rapids_into_stock, drill_side_moves, volume_mm3, tools (number, shape,
+    /// moves, time_s, volume_mm3), …, and with --compare max_gouge_mm (and max_gouge_tool, each
+    /// tool's max_gouge_mm), gouge_tol_mm, gouge_tol_from (given, program or default),
+    /// gouge_cells, max_left_mm, mean_abs_dev_mm and the histogram.
     #[arg(long)]
     pub json: bool,
 }
@@ -143,7 +154,8 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let file = args.run.file.display().to_string();
     let path = &ran.outcome.toolpath;
     let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), &file)?;
-    let Simulated { tools, stock, top, zmap, report, comparison, seconds } = &sim;
+    let Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds } = &sim;
+    let allowance = args.deviation.allowance(&ran.sources.get(0).text);
 
     let title = picture_title(&args.run.file, tools);
     if let Some(png) = &args.output {
@@ -153,7 +165,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         out.add_with(Some(stl), |w| write_binary_stl_to(w, picture::surface_triangles(zmap)))?;
     }
     let mut deviation_note = None;
-    let scale = args.deviation.scale(&sim);
+    let scale = args.deviation.scale(&sim, &allowance);
     if let (Some((_, heights)), Some(scale)) = (&comparison, &scale) {
         let deviation = args.deviation_png.clone().or_else(|| {
             args.output.as_ref().filter(|o| o.as_path() != Path::new("-")).map(|o| {
@@ -175,11 +187,12 @@ pub fn run(args: &SimArgs) -> Result<()> {
             }
             deviation_note = Some(format!(
                 "{}: red = below the target, blue = above (material left), white = on it; \
-                 full colour at ±{:.4} mm ({}); magenta = a gouge over {} µm deep{beyond}; grey = no target",
+                 full colour at ±{:.4} mm ({}); magenta = a gouge over {} µm deep ({}){beyond}; grey = no target",
                 png.display(),
                 scale.mm,
                 scale.basis,
-                scale.gouge * 1000.0
+                scale.gouge * 1000.0,
+                allowance.source()
             ));
         }
     }
@@ -199,12 +212,24 @@ pub fn run(args: &SimArgs) -> Result<()> {
             report.rapid_hits.iter().map(|h| h.depth).fold(0.0, f64::max)
         );
     }
+    if let Some(first) = report.drill_side_moves.first() {
+        eprintln!(
+            "warning: {file}: {} feed move(s) take a drill sideways in the material; the first at line {} ({:.3} mm \
+             deep): a drill cuts along its axis only",
+            report.drill_side_moves.len(),
+            first.line,
+            first.depth
+        );
+    }
     let done = Done {
         args,
         file: &file,
         tools,
         stock,
         top: *top,
+        top_from,
+        allowance,
+        gouged: comparison.as_ref().map(|(_, heights)| gouged_cells(zmap, heights, allowance.mm)).unwrap_or(0),
         zmap,
         report,
         times: tools::times(path, &tools.table, &ran.machine.dynamics),

@@ -65,8 +65,10 @@ axes are drawn by their X Y Z only, which the page says.
 With --sim the program is cut out of the stock as `kezuri sim` cuts it (the same --tool,
 --machine, --stock and --res) and the part is drawn; with --compare the part is coloured by its
 deviation from the target on a fixed scale (--deviation-scale, else the 99th percentile of
-|deviation|): red below the target, blue above, gouges deeper than --gouge-tol (1 µm) in
-magenta; the worst gouge and the first rapid into the stock are marked and listed.
+|deviation|): red below the target, blue above, gouges deeper than --gouge-tol in magenta
+(default: the allowance a program kezuri wrote carries in its header, `(KEZURI GOUGE-TOL
+0.010)`, else 0.01 mm, said in the summary); the worst gouge and the first rapid into the stock
+are marked and listed.
 
 A program of a million moves makes a page of some 8 MB; above --max-page-mb (32) the page is
 refused: --shorten TOL merges moves first and says so on the page, --no-text leaves the program
@@ -116,15 +118,20 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         None
     };
     let any: Option<Cutter> = args.setup.tool.as_deref().map(str::parse).transpose()?;
-    let scale = sim.as_ref().and_then(|s| args.deviation.scale(s));
+    let allowance = args.deviation.allowance(&ran.sources.get(0).text);
+    let scale = sim.as_ref().and_then(|s| args.deviation.scale(s, &allowance));
     let shown = sim.as_ref().map(|s| s.on_page(scale.as_ref()));
     let job = Job { any, ..crate::page::job(&ran, &file, &[]) };
     let page = kezuri_picture::page(&job, shown.as_ref(), &args.page.options())?;
     out.add(args.output.as_deref(), &page)?;
     out.commit()?;
     let moves = ran.outcome.toolpath.moves.len();
+    let gouges = match &scale {
+        Some(_) => format!(" (gouges past {} mm, {})", allowance.mm, allowance.source()),
+        None => String::new(),
+    };
     crate::say::note!(
-        "{file}: {moves} moves{}; page {:.1} MB{}",
+        "{file}: {moves} moves{}{gouges}; page {:.1} MB{}",
         if sim.is_some() { " and the simulated part" } else { "" },
         page.len() as f64 / 1e6,
         args.output.as_ref().map(|p| format!(" in {}", p.display())).unwrap_or_default()

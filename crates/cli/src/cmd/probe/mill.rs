@@ -76,8 +76,8 @@ pub struct MillArgs {
     #[arg(long = "sample-step", alias = "step", value_name = "MM", value_parser = crate::numbers::length)]
     pub step: Option<f64>,
     /// How far the path may stray from the exact cutter locations, mm: a gouge into the model
-    /// of up to this much is allowed.
-    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = 0.01, value_parser = crate::numbers::length)]
+    /// of up to this much is allowed (the program carries it in its header for `kezuri sim`).
+    #[arg(long, alias = "tolerance", value_name = "MM", default_value_t = kezuri_cam::mill::GOUGE_TOL, value_parser = crate::numbers::length)]
     pub gouge_tol: f64,
     /// Between the readings: smooth (a surface through them) or bound (the highest
     /// surface they allow, the former default).
@@ -193,7 +193,7 @@ fn floor(text: &str) -> Result<Floor> {
 /// Runs `kezuri probe mill`.
 pub fn run(args: &MillArgs) -> Result<()> {
     let stylus: Cutter = args.stylus.parse().context("--stylus")?;
-    let cutter: Cutter = args.tool.parse().context("--tool")?;
+    let cutter: Cutter = crate::raster::row_cutter(&args.tool).context("--tool")?;
     let data = args.data.read()?;
     let name = args.data.data.display().to_string();
     let machine = match &args.machine {
@@ -239,6 +239,7 @@ pub fn run(args: &MillArgs) -> Result<()> {
         program_number: args.program_number.unwrap_or(post.program_number),
         loaded_tool: None,
         title: Some(title.clone()),
+        notes: vec![kezuri_cam::mill::gouge_note(args.gouge_tol)],
         incremental: args.incremental,
         ..post
     };

@@ -11,6 +11,7 @@ use serde_json::json;
 use super::SimArgs;
 use crate::simulation::stock::StockSpec;
 use crate::simulation::tools::ToolSet;
+use crate::simulation::Allowance;
 
 /// A simulation done, all its report needs.
 pub struct Done<'a> {
@@ -20,6 +21,12 @@ pub struct Done<'a> {
     pub stock: &'a StockSpec,
     /// The stock's highest point before cutting.
     pub top: f64,
+    /// Where it came from: given, target or cutting-moves.
+    pub top_from: &'a str,
+    /// The gouge allowance of the comparison.
+    pub allowance: Allowance,
+    /// With --compare, the cells deeper than the allowance below the target.
+    pub gouged: usize,
     pub zmap: &'a ZMap,
     pub report: &'a SimReport,
     /// Seconds of each tool of `tools.table`.
@@ -84,6 +91,8 @@ impl Done<'_> {
             "ny": zmap.ny,
             "cells": zmap.cells(),
             "stock": self.stock.json(zmap, self.top),
+            "stock_top_mm": self.top,
+            "stock_top_from": self.top_from,
             "moves": report.moves,
             "segments": report.segments,
             "rotary_moves": report.rotary_moves,
@@ -93,6 +102,8 @@ impl Done<'_> {
             "max_z_mm": hi,
             "rapids_into_stock": report.rapid_hits.len(),
             "first_rapid_into_stock_line": report.rapid_hits.first().map(|h| h.line),
+            "drill_side_moves": report.drill_side_moves.len(),
+            "first_drill_side_move_line": report.drill_side_moves.first().map(|h| h.line),
             "rapid_hits": report.rapid_hits.iter().take(100)
                 .map(|h| json!({"line": h.line, "move": h.index, "depth_mm": h.depth})).collect::<Vec<_>>(),
             "seconds": self.seconds,
@@ -108,6 +119,9 @@ impl Done<'_> {
         if let Some(c) = self.comparison {
             let extra = json!({
                 "max_gouge_mm": c.max_gouge,
+                "gouge_tol_mm": self.allowance.mm,
+                "gouge_tol_from": self.allowance.from,
+                "gouge_cells": self.gouged,
                 "max_left_mm": c.max_left,
                 "mean_abs_dev_mm": c.mean_abs_dev,
                 "max_gouge_at": c.gouge_at,
@@ -138,9 +152,14 @@ impl Done<'_> {
             ),
             None => self.tools.summary(),
         };
+        let top_note = match self.top_from {
+            "target" => " (the target's top)",
+            "cutting-moves" => " (from the feed moves)",
+            _ => "",
+        };
         let _ = writeln!(
             t,
-            "{}: {name} over {} at {} mm: {} × {} = {} cells",
+            "{}: {name} over {}{top_note} at {} mm: {} × {} = {} cells",
             self.file,
             self.stock.describe(zmap),
             zmap.res,
@@ -157,6 +176,9 @@ impl Done<'_> {
             let (name, time) = self.tool(cut);
             let label = if cut.number == 0 { name.to_string() } else { format!("T{} {name}", cut.number) };
             let gouge = match self.gouges.get(k).copied().flatten() {
+                Some(g) if g.depth <= self.allowance.mm => {
+                    format!(", gouge {:.4} mm at ({:.3}, {:.3}), within the allowance", g.depth, g.at[0], g.at[1])
+                }
                 Some(g) => format!(", gouge {:.4} mm at ({:.3}, {:.3})", g.depth, g.at[0], g.at[1]),
                 None if self.comparison.is_some() => ", no gouge".to_string(),
                 None => String::new(),
@@ -186,12 +208,25 @@ impl Done<'_> {
                 );
             }
         }
+        if let Some(h) = report.drill_side_moves.first() {
+            let _ = writeln!(
+                t,
+                "  DRILL      {} feed(s) sideways in the material; first at line {} ({:.4} mm deep)",
+                report.drill_side_moves.len(),
+                h.line,
+                h.depth
+            );
+        }
         if let Some(c) = self.comparison {
             let target = self.args.setup.compare.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
             let _ = writeln!(t, "compare with {target}: {} cells ({} outside the target)", c.compared, c.missing);
             let at = |p: Option<[f64; 2]>| p.map(|[x, y]| format!(" at ({x:.3}, {y:.3})")).unwrap_or_default();
             let by = self.gouge_tool().filter(|&n| n != 0).map(|n| format!(", cut last by T{n}")).unwrap_or_default();
             let _ = writeln!(t, "  max gouge  {:.4} mm{}{by}", c.max_gouge, at(c.gouge_at));
+            let (a, deeper) = (self.allowance, self.gouged);
+            let verdict =
+                if deeper == 0 { "no cell deeper".to_string() } else { format!("{deeper} cells deeper: GOUGES") };
+            let _ = writeln!(t, "  allowance  {:.4} mm ({}): {verdict}", a.mm, a.source());
             let _ = writeln!(t, "  max left   {:.4} mm{}", c.max_left, at(c.left_at));
             let _ = writeln!(t, "  mean |dev| {:.4} mm", c.mean_abs_dev);
             t.push_str("  deviation (simulated − target), mm:\n");

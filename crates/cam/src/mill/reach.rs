@@ -1,18 +1,17 @@
-//! Where a cutter cannot reach a relief: valleys narrower than its end.
+//! Where a cutter cannot reach a surface: valleys narrower than its end,
+//! walls steeper than it can follow (`mill`'s and `relief`'s warning).
 //!
 //! The surface a cutter can leave at best — every position allowed, not
 //! only the rows of a path — is the upper envelope's lower bound
 //! `S(p) = min_q CL(q) + h(|p − q|)` over the cutter locations `q` within
 //! its radius (`h` the cutter's height above its tip at a distance). What
-//! stays above the relief there, `S(p) − z(p)`, no stepover removes; it
-//! is measured normal to the relief (times the cosine of its slope), as a
+//! stays above the surface there, `S(p) − z(p)`, no stepover removes; it
+//! is measured normal to the surface (times the cosine of its slope), as a
 //! machinist measures material left on a wall. It is sampled on a grid of
 //! cutter locations `step` apart: with fewer positions the envelope can
 //! only be higher, by the scallop the grid leaves (`step²/8R` for a ball on
 //! the flat, more on a steep wall where the contact points lie further
 //! apart), so the figures are upper bounds within that.
-
-use kezuri_geom::Heightfield;
 
 use crate::Cutter;
 
@@ -27,18 +26,60 @@ pub struct Unreached {
     pub share: f64,
 }
 
-/// Samples a relief every `step` mm with the cutter locations `cl` (the
-/// cutter's tip height at a point, `None` outside what is carved) and
-/// finds where the cutter leaves more than `threshold` above it; `None`
-/// where it reaches everywhere within that.
+impl Unreached {
+    /// What a machinist reads: `{cutter} cannot reach all of {what}: up
+    /// to … mm is left on it at X… Y… (… % of its area more than
+    /// {threshold} mm): …`.
+    pub fn message(&self, cutter: &Cutter, what: &str, threshold: f64) -> String {
+        format!(
+            "{cutter} cannot reach all of {what}: up to {:.3} mm is left on it at X{:.3} Y{:.3} ({:.1} % of its area \
+             more than {threshold:.3} mm): valleys narrower than the cutter; a smaller one reaches them",
+            self.left,
+            self.at[0],
+            self.at[1],
+            self.share * 100.0
+        )
+    }
+}
+
+/// Material left that counts as unreached, mm, for a cutter of `radius`
+/// checked on a grid `step` apart: five times the path's tolerance `tol`,
+/// and not less than 0.05 mm, plus the scallop of the check's own grid on
+/// the flat (`step²/8R`).
+pub fn threshold(tol: f64, step: f64, radius: f64) -> f64 {
+    (5.0 * tol).max(REACH_LEFT) + step * step / (8.0 * radius)
+}
+
+/// The least material left that is reported, mm.
+const REACH_LEFT: f64 = 0.05;
+
+/// Where the check is made and with what.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Area {
+    /// The box `[x0, y0, x1, y1]` of the grid of cutter locations.
+    pub bounds: [f64; 4],
+    /// Points of the surface closer than this to the box's edge are not
+    /// judged (a cutter kept inside the box leaves its edge's slopes: not
+    /// a narrow feature).
+    pub inset: f64,
+    /// Distance between the grid's points, mm.
+    pub step: f64,
+}
+
+/// Samples a surface (its height `z`, `None` where there is none) on the
+/// grid of `area` with the cutter locations `cl` (the cutter's tip height
+/// at a point, `None` outside what is cut) and finds where the cutter
+/// leaves more than `threshold` above it; `None` where it reaches
+/// everywhere within that. A point found over the threshold is tried once
+/// more with the cutter placed to touch the surface's tangent plane there.
 pub fn unreached(
-    field: &Heightfield,
+    area: Area,
     cutter: &Cutter,
-    step: f64,
     threshold: f64,
+    z_at: impl Fn(f64, f64) -> Option<f64>,
     cl: impl Fn(f64, f64) -> Option<f64>,
 ) -> Option<Unreached> {
-    let [x0, y0, x1, y1] = field.xy_box();
+    let Area { bounds: [x0, y0, x1, y1], inset, step } = area;
     let (nx, ny) = (((x1 - x0) / step).floor() as usize + 1, ((y1 - y0) / step).floor() as usize + 1);
     let at = |i: usize, j: usize| (x0 + i as f64 * step, y0 + j as f64 * step);
     let locations: Vec<Option<f64>> = (0..nx * ny)
@@ -63,7 +104,10 @@ pub fn unreached(
                 continue;
             }
             let (x, y) = at(i, j);
-            let Some(z) = field.z_at(x, y) else { continue };
+            if inset > 0.0 && (x - x0 < inset || x1 - x < inset || y - y0 < inset || y1 - y < inset) {
+                continue;
+            }
+            let Some(z) = z_at(x, y) else { continue };
             let best = offsets
                 .iter()
                 .filter_map(|&(di, dj, h)| {
@@ -77,9 +121,22 @@ pub fn unreached(
             // The slope's cosine, from the relief half a step either side.
             let d = step / 2.0;
             let slope = |a: Option<f64>, b: Option<f64>| a.zip(b).map_or(0.0, |(a, b)| (b - a) / (2.0 * d));
-            let (gx, gy) =
-                (slope(field.z_at(x - d, y), field.z_at(x + d, y)), slope(field.z_at(x, y - d), field.z_at(x, y + d)));
-            let left = (best - z) / (1.0 + gx * gx + gy * gy).sqrt();
+            let (gx, gy) = (slope(z_at(x - d, y), z_at(x + d, y)), slope(z_at(x, y - d), z_at(x, y + d)));
+            let cos = 1.0 / (1.0 + gx * gx + gy * gy).sqrt();
+            let mut left = (best - z) * cos;
+            if left > threshold {
+                // Before it is called unreached: the cutter placed where it
+                // would touch the tangent plane at this very point (its axis
+                // downhill of it by the radius a plane of this slope touches),
+                // which no grid of locations need hold: a flat end on a wall
+                // leaves the grid's steps, not the wall.
+                let g = gx.hypot(gy);
+                let rho = if g > 0.0 { cutter.facet_radius(g) } else { 0.0 };
+                let (ux, uy) = if g > 0.0 { (gx / g, gy / g) } else { (0.0, 0.0) };
+                if let Some(c) = cl(x - rho * ux, y - rho * uy) {
+                    left = left.min((c + cutter.height(rho) - z) * cos);
+                }
+            }
             sampled += 1;
             if left > threshold {
                 over += 1;
@@ -96,6 +153,7 @@ pub fn unreached(
 mod tests {
     use super::*;
     use crate::dropcut::drop_cutter;
+    use kezuri_geom::Heightfield;
 
     /// A flat relief with a round groove along Y, 2 mm wide and 1 mm deep
     /// (a half cylinder of radius 1): a 1 mm ball reaches its bottom; a
@@ -109,7 +167,8 @@ mod tests {
             Heightfield::from_fn(0.0, 0.0, pixel, 201, 101, |x, _| -(1.0 - (x - 5.0).powi(2)).max(0.0).sqrt()).unwrap();
         let find = |spec: &str| {
             let c: Cutter = spec.parse().unwrap();
-            unreached(&field, &c, 0.05, 0.05, |x, y| drop_cutter(&c, &field, x, y))
+            let area = Area { bounds: field.xy_box(), inset: 0.0, step: 0.05 };
+            unreached(area, &c, 0.05, |x, y| field.z_at(x, y), |x, y| drop_cutter(&c, &field, x, y))
         };
         assert_eq!(find("ball:1"), None);
         let u = find("ball:6").unwrap();
@@ -120,7 +179,8 @@ mod tests {
         assert!(u.share > 0.05 && u.share < 0.2, "{u:?}");
         let v = Heightfield::from_fn(0.0, 0.0, pixel, 201, 101, |x, _| -(1.0 - (x - 5.0).abs()).max(0.0)).unwrap();
         let c: Cutter = "ball:1".parse().unwrap();
-        let u = unreached(&v, &c, 0.05, 0.05, |x, y| drop_cutter(&c, &v, x, y)).unwrap();
+        let area = Area { bounds: v.xy_box(), inset: 0.0, step: 0.05 };
+        let u = unreached(area, &c, 0.05, |x, y| v.z_at(x, y), |x, y| drop_cutter(&c, &v, x, y)).unwrap();
         assert!((u.left - 0.5 * (2f64.sqrt() - 1.0)).abs() < 1e-3, "{u:?}");
         assert!((u.at[0] - 5.0).abs() < 0.06, "{u:?}");
     }
