@@ -20,6 +20,7 @@ mod modal;
 mod motion;
 mod offsets;
 mod params;
+mod placed;
 mod radius;
 mod signals;
 mod threads;
@@ -91,6 +92,12 @@ pub struct Settings {
     pub extra_work_offsets: BTreeMap<u32, Axes>,
     /// Machine position of the reference point that G28 returns to.
     pub home: Axes,
+    /// Whether the machine file gives G28's reference point (`home`) and
+    /// G30's 2nd to 4th: a return there ends at a known place, and a `G53`
+    /// move too where G28's is given (the machine described, its work
+    /// offsets taken as given). Otherwise such a move ends at a machine
+    /// position kezuri does not know ([`kezuri_geom::Move::unknown`]).
+    pub reference_given: [bool; 4],
     /// Canned cycle parameters (peck retract and clearance, boring shift).
     pub cycles: CycleSettings,
     /// Rules of coordinate systems that depend on the control, and the
@@ -134,6 +141,7 @@ impl Default for Settings {
             work_offsets: [Axes::ZERO; 6],
             extra_work_offsets: BTreeMap::new(),
             home: Axes::ZERO,
+            reference_given: [false; 4],
             cycles: CycleSettings::default(),
             coords: CoordSettings::default(),
             macro_variables: MacroVariables::default(),
@@ -312,6 +320,11 @@ struct State {
     /// run started, a reference point, a work offset), not from a position
     /// the program named since.
     guessed: AxisSet,
+    /// Axes no move has named since the start ([`kezuri_geom::Move::unknown`]).
+    unplaced: AxisSet,
+    /// Axes at a machine position the machine file does not place, until an
+    /// absolute move names them ([`kezuri_geom::Move::unknown`]).
+    at_machine: AxisSet,
     feed_word: f64,
     feed_set: bool,
     speed: f64,
@@ -408,6 +421,8 @@ impl State {
             set_by_program: BTreeSet::new(),
             panel: BTreeMap::new(),
             guessed: AxisSet::ALL,
+            unplaced: AxisSet::ALL,
+            at_machine: AxisSet::NONE,
             feed_word: 0.0,
             feed_set: false,
             speed: 0.0,
