@@ -337,7 +337,8 @@ pub struct Move {
     /// happened to be at the start of an NC program (until a move names
     /// the axis), and a reference point (G28, G30) or `G53` position the
     /// machine file does not place in work coordinates (until a move names
-    /// the axis in absolute). Empty for generated moves (the default).
+    /// the axis in absolute, or a `G92` names the place where this move
+    /// left it). Empty for generated moves (the default).
     pub unknown: AxisSet,
 }
 

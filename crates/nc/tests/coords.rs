@@ -414,9 +414,9 @@ fn machine_positions_are_said_not_known() {
     // X Y placed, Z not yet; all three; G28 Z; X20 still at Z home; an
     // increment from there; Z5 absolute; G53 Z; G30 X: through X0 (the
     // intermediate point, absolute), then X (and Z still) at the 2nd
-    // reference point; X1 Z2; G28 Y; X3 after G92 Y0 (which says where Y
-    // is).
-    assert_eq!(unknown, [0b100, 0, 0, 0b100, 0b100, 0b100, 0, 0b100, 0b100, 0b101, 0, 0b010, 0]);
+    // reference point; X1 Z2; G28 Y, where G92 Y0 then names the place it
+    // left Y; X3.
+    assert_eq!(unknown, [0b100, 0, 0, 0b100, 0b100, 0b100, 0, 0b100, 0b100, 0b101, 0, 0, 0]);
     assert_eq!(t.moves[3].kind, MoveKind::Home);
     // The reference point and the machine's position given: known.
     let given = Settings { reference_given: [true, true, false, false], ..settings };

@@ -12,11 +12,13 @@ impl Toolpath {
     /// The tool tip's extent over the positions the program gave: in
     /// program coordinates (each point less its frame's
     /// [`zero`](super::Frame::zero)) where `program`, else in machine
-    /// coordinates. A return to the reference point and a `G53` move are
-    /// left out whatever the machine file says of them (they are the
-    /// machine's, see [`Toolpath::machine_moves`]), and so is each axis of a
-    /// point that is not known ([`Move::unknown`](super::Move::unknown));
-    /// arcs count at their quadrant points.
+    /// coordinates. The end of a return to the reference point or of a
+    /// `G53` move is left out whatever the machine file says of it (they
+    /// are the machine's, see [`Toolpath::machine_moves`]), and so is each
+    /// axis of a point that is not known
+    /// ([`Move::unknown`](super::Move::unknown)): a move's start counts
+    /// where the move before left it known; arcs count at their quadrant
+    /// points.
     pub fn known_bounds(&self, program: bool) -> AxisRanges {
         let mut out: AxisRanges = [None; 3];
         let mut add = |p: [f64; 3], unknown: AxisSet, zero: [f64; 3]| {
@@ -26,11 +28,12 @@ impl Toolpath {
             }
         };
         let mut before = if self.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
-        for (i, m) in self.moves.iter().enumerate() {
+        for m in &self.moves {
             let zero = if program { self.frame(m).zero().xyz() } else { [0.0; 3] };
-            if i == 0 {
-                add(m.start.xyz(), before, zero);
-            }
+            // A start counts where known: a move leaving a return's end
+            // counts it only where that place is known (the machine file
+            // gives it, or a G92 there names it).
+            add(m.start.xyz(), before, zero);
             let was = std::mem::replace(&mut before, m.unknown);
             if matches!(m.kind, MoveKind::Home | MoveKind::Machine) {
                 continue;
@@ -66,12 +69,13 @@ mod tests {
     fn returns_and_unknown_axes_are_left_out_and_frames_taken_off() {
         let z_unknown = AxisSet(0b100);
         let moves = vec![
-            // From the unknown start to the reference point: neither counts.
+            // From the unknown start to the reference point: neither counts
+            // (X and Y not named yet, Z at the reference point).
             Move {
                 kind: MoveKind::Home,
                 start: at(0.0, 0.0, 0.0),
                 end: at(0.0, 0.0, -31.75),
-                unknown: z_unknown,
+                unknown: AxisSet(0b111),
                 ..Move::default()
             },
             // X Y given, Z still at the reference point.

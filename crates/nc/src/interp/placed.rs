@@ -41,11 +41,15 @@ impl State {
         }
     }
 
-    /// `G92`: the named axes are where the program says they are.
+    /// `G92`: the named axes are where the program says they are, and so
+    /// is the end of the move that brought the tool there.
     pub(super) fn placed_by_g92(&mut self, w: &Words) {
         let named = w.axes();
         self.at_machine = AxisSet(self.at_machine.0 & !named.0);
         self.unplaced = AxisSet(self.unplaced.0 & !named.0);
+        if let Some(m) = self.toolpath.moves.last_mut() {
+            m.unknown = AxisSet(m.unknown.0 & !named.0);
+        }
     }
 
     /// Whether the machine file gives the reference point of `G28` or of
