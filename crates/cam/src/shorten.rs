@@ -150,6 +150,7 @@ fn same_run(a: &Move, b: &Move) -> bool {
         && a.tool == b.tool
         && a.frame == b.frame
         && a.named == b.named
+        && a.unknown == b.unknown
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

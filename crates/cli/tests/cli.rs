@@ -55,6 +55,49 @@ fn check_json_on_the_digitizing_program() {
     assert!(v["blocks"].as_u64().unwrap() > 8925 * 6);
 }
 
+/// The relief of the README's tour, checked with the sample router's
+/// machine file (T1 31.75 mm long): the bounds are the tool tip's over the
+/// program's own moves, not the reference point's Z less the tool length
+/// (-31.75 before); the three `G91 G28` returns are counted apart.
+#[test]
+fn check_bounds_are_the_tip_s_in_program_coordinates() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = dir.path().join("plum.nc").to_string_lossy().into_owned();
+    let o = kezuri(&[
+        "relief",
+        &sample("plum-sketch.png"),
+        "--width",
+        "40",
+        "--depth",
+        "3",
+        "--tool",
+        "ball:3",
+        "--stepover",
+        "1",
+        "-o",
+        &nc,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let machine = sample("tools/mill.toml");
+    let o = kezuri(&["check", &nc, "--machine", &machine, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["bounds"]["min"], serde_json::json!([0.078, 0.078, -3.0]), "{}", v["bounds"]);
+    assert_eq!(v["bounds"]["max"], serde_json::json!([39.922, 29.922, 5.0]), "{}", v["bounds"]);
+    assert_eq!(v["machine_moves"], 3);
+    let o = kezuri(&["check", &nc, "--machine", &machine]);
+    let text = stdout(&o);
+    assert!(text.contains("  Z     -3.000 …      5.000\n"), "{text}");
+    assert!(text.contains("  3 moves in machine coordinates (G28/G30/G53), not in the bounds\n"), "{text}");
+    // A work offset from the machine file: still program coordinates.
+    let shifted = dir.path().join("shifted.toml");
+    std::fs::write(&shifted, "[offsets]\nG54 = [-300, -200, -400]\n").unwrap();
+    let o = kezuri(&["check", &nc, "--machine", &shifted.to_string_lossy(), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let min: Vec<f64> = v["bounds"]["min"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert!(min.iter().zip([0.078, 0.078, -3.0]).all(|(a, b)| (a - b).abs() < 1e-9), "{min:?}");
+}
+
 #[test]
 fn check_reports_a_located_error_with_exit_code_1() {
     let o = kezuri_stdin(&["check", "-"], "G01 X10. F100.\nG01 X[1+] Y2.\nM30\n");

@@ -215,6 +215,39 @@ fn the_page_holds_the_program_as_run() {
     assert!(c.seconds.iter().any(|&s| (s - 0.5).abs() < 1e-6));
 }
 
+/// A program that returns to the reference point (`G91 G28`, the relief's
+/// own start and end) with tool lengths from the machine file: the returns,
+/// and the move made before Z is named again, are kind 6 with no vertex
+/// (not drawn, nor the tool there), and the page's box is the job's, not
+/// the reference point's Z less the tool length (-31.75 mm).
+#[test]
+fn returns_to_the_reference_point_are_not_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = path(dir.path(), "returns.nc");
+    let program = "%\nO0001\nG21\nG90 G17 G94 G40 G49 G80\nG54\nG91 G28 Z0.\nG90\nT1 M06\nS10000 M03\n\
+                   G00 X5. Y5.\nG00 G43 H1 Z5.\nG01 Z-3. F300.\nX20. F1500.\nG00 Z5.\nG91 G28 Z0.\nG90\n\
+                   G91 G28 X0. Y0.\nG90\nG53 Z0.\nM30\n%\n";
+    std::fs::write(&nc, program).unwrap();
+    let html = path(dir.path(), "returns.html");
+    let machine = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/tools/mill.toml");
+    ok(&kezuri(&["view", &nc, "--machine", machine, "-o", &html]));
+    let page = read_page(&html);
+    let c = columns(&page);
+    // G28 Z; X5 Y5 with Z at the reference point; G43 Z5 (its end alone);
+    // the cut; Z5; G28 Z; G28 X Y; G53 Z.
+    assert_eq!(c.kind, [6, 6, 0, 3, 1, 0, 6, 6, 6]);
+    assert_eq!(c.counts, [0, 0, 1, 1, 1, 1, 0, 0, 0]);
+    assert_eq!(c.breaks[0], 1);
+    assert_eq!(page.meta["bbox_mm"], serde_json::json!([[5.0, 5.0, -3.0], [20.0, 5.0, 5.0]]));
+    assert!(c.vertices.iter().all(|v| v[2] >= -3.0 - 1e-9), "{:?}", c.vertices);
+    // With the reference point given, returns are known places, drawn; the
+    // first still ends where the machine started in X and Y.
+    let given = path(dir.path(), "given.toml");
+    std::fs::write(&given, "[offsets]\nhome = [0, 0, 0]\n").unwrap();
+    ok(&kezuri(&["view", &nc, "--machine", &given, "-o", &html]));
+    assert_eq!(columns(&read_page(&html)).kind, [6, 0, 0, 3, 1, 0, 0, 0, 0]);
+}
+
 /// A comment holding `</script>` and HTML, and a file name holding `<`,
 /// stay data: the page has exactly its own four script elements, and the
 /// text comes back unchanged.

@@ -87,6 +87,17 @@ fn the_pages_work_in_chromium() {
         "--view",
         &page("plum.html"),
     ]));
+    // The relief's program read back, with the sample router's tool
+    // lengths: it starts and ends with G91 G28 returns, which the page does
+    // not place (the tool was drawn at X0 Y0 Z0 in the part before).
+    ok(&kezuri(&[
+        "view",
+        &page("plum.nc"),
+        "--machine",
+        &format!("{samples}/tools/mill.toml"),
+        "-o",
+        &page("returns.html"),
+    ]));
     ok(&kezuri(&["view", &format!("{samples}/o2007-thermal.nc"), "-o", &page("o2007.html")]));
     let arcs = page("arcs.nc");
     std::fs::write(
@@ -99,7 +110,7 @@ fn the_pages_work_in_chromium() {
 
     let shots = std::env::var("KEZURI_VIEW_SHOTS").unwrap_or_else(|_| path(dir.path(), "shots"));
     let pages: Vec<String> =
-        ["plate", "groove", "plum", "o2007", "arcs"].iter().map(|p| page(&format!("{p}.html"))).collect();
+        ["plate", "groove", "plum", "returns", "o2007", "arcs"].iter().map(|p| page(&format!("{p}.html"))).collect();
     let o = Command::new("node")
         .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser"))
         .arg("check.mjs")

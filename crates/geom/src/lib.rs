@@ -55,6 +55,6 @@ pub use stl::{parse_stl, read_stl, write_ascii_stl, write_binary_stl, write_bina
 pub use time::{cycle_time, move_times, Dynamics};
 pub use tool_profile::{Support, ToolProfile};
 pub use toolpath::{
-    Arc, Axes, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle, ToolState,
-    Toolpath,
+    Arc, Axes, AxisRanges, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle,
+    ToolState, Toolpath,
 };

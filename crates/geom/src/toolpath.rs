@@ -1,5 +1,7 @@
 //! The machine-neutral toolpath: a list of self-contained moves.
 
+mod bounds;
+pub use bounds::AxisRanges;
 mod transform;
 
 use std::f64::consts::TAU;
@@ -330,6 +332,14 @@ pub struct Move {
     /// that position is somewhere else. Empty for generated moves (the
     /// default).
     pub relative: AxisSet,
+    /// The axes whose end is not a position the program gave, so that no
+    /// picture or figure may place the tool there: where the machine
+    /// happened to be at the start of an NC program (until a move names
+    /// the axis), and a reference point (G28, G30) or `G53` position the
+    /// machine file does not place in work coordinates (until a move names
+    /// the axis in absolute, or a `G92` names the place where this move
+    /// left it). Empty for generated moves (the default).
+    pub unknown: AxisSet,
 }
 
 impl Default for Move {
@@ -347,6 +357,7 @@ impl Default for Move {
             frame: 0,
             named: AxisSet::ALL,
             relative: AxisSet::NONE,
+            unknown: AxisSet::NONE,
         }
     }
 }

@@ -37,7 +37,9 @@
 //!
 //! [offsets]
 //! G54 = [0, 0, 0]                        # machine position of each work zero
-//! home = [0, 0, 0]                       # G28 reference point (machine)
+//! home = [0, 0, 0]                       # G28 reference point (machine); given,
+//!                                        #   returns and G53 moves are drawn and
+//!                                        #   counted (docs/coordinates.md)
 //! "G54.1 P1" = [10, 0, -50]              # additional offsets (G154 P1 on Haas)
 //! ref2 = [0, 0, -10]                     # G30 P2 … P4 reference points
 //!
@@ -408,9 +410,10 @@ impl Machine {
                 continue;
             }
             match upper.as_str() {
-                "HOME" => settings.home = a,
+                "HOME" => (settings.home, settings.reference_given[0]) = (a, true),
                 "REF2" | "REF3" | "REF4" => {
-                    settings.coords.reference_points[usize::from(upper.as_bytes()[3] - b'2')] = a
+                    let k = usize::from(upper.as_bytes()[3] - b'2');
+                    (settings.coords.reference_points[k], settings.reference_given[k + 1]) = (a, true)
                 }
                 g => match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
                     Some(n @ 54..=59) => settings.work_offsets[n - 54] = a,

@@ -397,3 +397,33 @@ M30
         }
     }
 }
+
+/// The interpreter says which ends are where the program put them
+/// (`Move::unknown`, X Y Z A B C bits): not an axis never named since the
+/// start, not a return to the reference point (G28, G30) or a G53 position
+/// the machine file does not give, until an absolute move names the axis;
+/// an increment from such a place is still not known. Where the machine
+/// file gives the point, the return ends at a known place.
+#[test]
+fn machine_positions_are_said_not_known() {
+    let text = "G21 G90 G54\nG0 X10. Y5.\nG43 H1 Z5.\nG1 Z-3. F100.\nG91 G28 Z0.\nG90 G0 X20.\nG91 G1 Z-1.\n\
+                G90 G0 Z5.\nG53 Z0.\nG30 X0.\nG0 X1. Z2.\nG91 G28 Y0.\nG90 G92 Y0.\nG0 X3.\nM30\n";
+    let settings = Settings { tool_lengths: [(1, 31.75)].into(), ..Settings::default() };
+    let t = path_with(text, &settings);
+    let unknown: Vec<u8> = t.moves.iter().map(|m| m.unknown.0 & 0b111).collect();
+    // X Y placed, Z not yet; all three; G28 Z; X20 still at Z home; an
+    // increment from there; Z5 absolute; G53 Z; G30 X: through X0 (the
+    // intermediate point, absolute), then X (and Z still) at the 2nd
+    // reference point; X1 Z2; G28 Y, where G92 Y0 then names the place it
+    // left Y; X3.
+    assert_eq!(unknown, [0b100, 0, 0, 0b100, 0b100, 0b100, 0, 0b100, 0b100, 0b101, 0, 0, 0]);
+    assert_eq!(t.moves[3].kind, MoveKind::Home);
+    // The reference point and the machine's position given: known.
+    let given = Settings { reference_given: [true, true, false, false], ..settings };
+    let t = path_with(text, &given);
+    let unknown: Vec<u8> = t.moves.iter().map(|m| m.unknown.0 & 0b111).collect();
+    assert_eq!(unknown, [0b100, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+    // G30 P3: the 3rd reference point, not given.
+    let t = path_with("G90 G0 X0 Y0 Z0\nG30 P3 Z0.\nM30\n", &given);
+    assert_eq!(t.moves.last().unwrap().unknown.0 & 0b111, 0b100);
+}

@@ -16,7 +16,11 @@
 //! # kz-data
 //!
 //! Little-endian arrays, each from a multiple of four bytes: per move (N)
-//! `kind: u8` (0 rapid, 1 feed, 2 arc, 3 plunge, 4 probe, 5 dwell),
+//! `kind: u8` (0 rapid, 1 feed, 2 arc, 3 plunge, 4 probe, 5 dwell, 6 to a
+//! place the program does not give — a reference point or `G53` position
+//! the machine file does not place, or an axis not yet named since the
+//! start: no vertex, the tool not shown; a move from such a place to a
+//! known one is its end alone, one vertex after a break),
 //! `tool: u16` (index into meta.tools; number 0 there is the tool of a
 //! program that loads none), `frame: u16` (index into
 //! meta.frames, the work zeros), `line_delta: i32`, `feed: f32` (mm/min),

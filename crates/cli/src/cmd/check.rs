@@ -123,7 +123,9 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         missing
     };
     if as_json {
-        let (lo, hi) = report.bounds.unwrap_or(([0.0; 3], [0.0; 3]));
+        // An axis no position of the program gives: null.
+        let lo: Vec<Option<f64>> = report.bounds.iter().map(|r| r.map(|r| r.0)).collect();
+        let hi: Vec<Option<f64>> = report.bounds.iter().map(|r| r.map(|r| r.1)).collect();
         let headlines = |errors: bool| -> Vec<String> {
             all.iter().filter(|d| d.is_error() == errors).map(|d| d.headline(&ran.sources)).collect()
         };
@@ -140,6 +142,7 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             "rapid_length_mm": report.rapid_length_mm,
             "time_s": report.time_s,
             "bounds": {"min": lo, "max": hi},
+            "machine_moves": report.machine_moves,
             "tools": report.tools.iter().map(|(t, e)| json!({
                 "number": t,
                 "shape": e.as_ref().and_then(|e| e.shape).map(|c| c.to_string()),
@@ -172,10 +175,18 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         for (t, e) in &report.tools {
             text += &format!("  tool  {}\n", tool_line(*t, e));
         }
-        if let Some((lo, hi)) = report.bounds {
-            for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
-                text += &format!("  {axis} {:>10.3} … {:>10.3}\n", lo[k], hi[k]);
+        if report.motions > 0 {
+            for (axis, range) in ["X", "Y", "Z"].iter().zip(report.bounds) {
+                text += &match range {
+                    Some((lo, hi)) => format!("  {axis} {lo:>10.3} … {hi:>10.3}\n"),
+                    None => format!("  {axis}     not placed by the program\n"),
+                };
             }
+        }
+        if report.machine_moves > 0 {
+            let n = report.machine_moves;
+            let s = if n == 1 { "move" } else { "moves" };
+            text += &format!("  {n} {s} in machine coordinates (G28/G30/G53), not in the bounds\n");
         }
         for m in &missing {
             eprintln!("warning: {m}");

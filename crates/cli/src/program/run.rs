@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_correct::kinematics::{Kinematics, AXES};
-use kezuri_geom::{cycle_time, MoveKind, Toolpath};
+use kezuri_geom::{cycle_time, AxisRanges, MoveKind, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
@@ -351,7 +351,11 @@ pub struct Report {
     pub feed_length_mm: f64,
     pub rapid_length_mm: f64,
     pub time_s: f64,
-    pub bounds: Option<([f64; 3], [f64; 3])>,
+    /// The tool tip's extent in program coordinates over the positions the
+    /// program gave ([`Toolpath::known_bounds`]).
+    pub bounds: AxisRanges,
+    /// Returns to a reference point and `G53` moves: not in `bounds`.
+    pub machine_moves: usize,
     /// The tools that make moves, in the order they first do (0: none
     /// loaded), each with what the machine file's tool table says of it.
     pub tools: Vec<(u32, Option<ToolEntry>)>,
@@ -368,7 +372,8 @@ impl Report {
             feed_length_mm: path.feed_length(),
             rapid_length_mm: path.rapid_length(),
             time_s: cycle_time(path, &ran.machine.dynamics).0,
-            bounds: path.bounds(),
+            bounds: path.known_bounds(true),
+            machine_moves: path.machine_moves(),
             tools: tools_used(path).into_iter().map(|t| (t, ran.machine.tools.get(&t).cloned())).collect(),
         }
     }

@@ -98,6 +98,20 @@ async function checkPage(file, label, hostile) {
       const cb = await page.evaluate(() => { const e = document.getElementById('kz-colorbar'); return e.hidden ? '' : e.textContent; });
       ok('colour bar', cb.includes(meta.sim.deviation.scale_basis) && cb.includes('µm'), cb);
     }
+    // opens framed on the whole job: its box on the canvas, filling a good part of it
+    if (meta.bbox_mm) {
+      const f = await page.evaluate((bb) => {
+        const v = window.kezuriView, c = v.canvas;
+        let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+        for (let m = 0; m < 8; m++) {
+          const [x, y] = v.project([bb[m & 1][0], bb[(m >> 1) & 1][1], bb[(m >> 2) & 1][2]]);
+          x0 = Math.min(x0, x); y0 = Math.min(y0, y); x1 = Math.max(x1, x); y1 = Math.max(y1, y);
+        }
+        return { box: [x0, y0, x1, y1].map((q) => Math.round(q)), w: c.clientWidth, h: c.clientHeight };
+      }, meta.bbox_mm);
+      const [x0, y0, x1, y1] = f.box;
+      ok('opens framed on the job', x0 >= -2 && y0 >= -2 && x1 <= f.w + 2 && y1 <= f.h + 2 && (x1 - x0 > 0.4 * f.w || y1 - y0 > 0.4 * f.h), f);
+    }
     const nan = async () => page.evaluate(() => /NaN|undefined|Infinity/.test(document.getElementById('kz-side').innerText + document.getElementById('kz-play').innerText + document.getElementById('kz-scale').innerText));
     ok('no NaN at the end', !(await nan()));
 
@@ -204,6 +218,39 @@ async function checkPage(file, label, hostile) {
         ok('scale bar', /^[125]0*(\.0*)? (mm|in)$|^0\.0*[125] (mm|in)$/.test(scale0) && /(mm|in)$/.test(scale1), [scale0, scale1]);
       }
       if (hasPart) await page.click('#kz-show-part');
+      // the tool only where the program put it: never at a reference point or G53 position the
+      // page does not know (drawn there, it would stand in the part); such moves said in the legend
+      const unplaced = await page.evaluate(() => {
+        const v = window.kezuriView, out = [];
+        for (let m = 0; m < v.moves; m++) if (v.kindOf(m) === 'position not known') out.push(m);
+        return out;
+      });
+      if (unplaced.length) {
+        const legendText = await page.evaluate(() => document.getElementById('kz-legend').textContent);
+        ok('legend says what is not drawn', legendText.includes('not drawn: ' + unplaced.length.toLocaleString('en-US') + ' move'), legendText);
+        const hidden = [];
+        for (const m of unplaced.slice(0, 20)) {
+          const st = await page.evaluate((n) => { window.kezuriView.setMove(n); return window.kezuriView.state(); }, m + 1);
+          if (st.toolShown !== false || st.posMm !== null) hidden.push({ move: m + 1, state: st });
+        }
+        ok('no tool at a place not known', hidden.length === 0, hidden.slice(0, 3));
+        // in pixels: the path hidden, the last move (a return) shows nothing but the axes, as
+        // another unplaced move does; a placed move shows the tool
+        await page.click('#kz-show-path');
+        await page.evaluate(() => window.kezuriView.setMove(window.kezuriView.moves));
+        const atEnd = await canvasShot('end-no-path');
+        await page.evaluate((n) => window.kezuriView.setMove(n), unplaced[0] + 1);
+        const atOther = await canvasShot('unplaced-no-path');
+        const placedMove = await page.evaluate(() => { const v = window.kezuriView; for (let m = Math.floor(v.moves / 2); m < v.moves; m++) if (v.kindOf(m) !== 'position not known') return m; return -1; });
+        await page.evaluate((n) => window.kezuriView.setMove(n), placedMove + 1);
+        const atPlaced = await canvasShot('placed-no-path');
+        await page.click('#kz-show-path');
+        const last = await page.evaluate(() => window.kezuriView.kindOf(window.kezuriView.moves - 1));
+        const same = differing(atEnd, atOther), shown = differing(atEnd, atPlaced);
+        ok('tool not drawn at the end (a return)', last !== 'position not known' || same === 0, same + ' pixels differ');
+        ok('tool drawn where placed', placedMove >= 0 && shown > 50, shown + ' pixels differ');
+        await page.evaluate(() => window.kezuriView.setMove(window.kezuriView.moves));
+      }
       // the slider (as a user moves it) changes the picture and the readout
       const half = Math.floor(info.moves / 2);
       await page.evaluate((n) => { const s = document.getElementById('kz-slider'); s.value = String(n); s.dispatchEvent(new Event('input', { bubbles: true })); }, half);

@@ -21,6 +21,7 @@ mod modal;
 mod motion;
 mod offsets;
 mod params;
+mod placed;
 mod pocket;
 mod radius;
 mod signals;
@@ -101,6 +102,12 @@ pub struct Settings {
     pub extra_work_offsets: BTreeMap<u32, Axes>,
     /// Machine position of the reference point that G28 returns to.
     pub home: Axes,
+    /// Whether the machine file gives G28's reference point (`home`) and
+    /// G30's 2nd to 4th: a return there ends at a known place, and a `G53`
+    /// move too where G28's is given (the machine described, its work
+    /// offsets taken as given). Otherwise such a move ends at a machine
+    /// position kezuri does not know ([`kezuri_geom::Move::unknown`]).
+    pub reference_given: [bool; 4],
     /// Canned cycle parameters (peck retract and clearance, boring shift).
     pub cycles: CycleSettings,
     /// Rules of coordinate systems that depend on the control, and the
@@ -152,6 +159,7 @@ impl Default for Settings {
             work_offsets: [Axes::ZERO; 6],
             extra_work_offsets: BTreeMap::new(),
             home: Axes::ZERO,
+            reference_given: [false; 4],
             cycles: CycleSettings::default(),
             coords: CoordSettings::default(),
             macro_variables: MacroVariables::default(),
@@ -343,6 +351,11 @@ struct State {
     /// The first axis word without a decimal point read as least
     /// increments: where, its letter and its value as written.
     first_integer: Option<(Span, u8, f64)>,
+    /// Axes no move has named since the start ([`kezuri_geom::Move::unknown`]).
+    unplaced: AxisSet,
+    /// Axes at a machine position the machine file does not place, until an
+    /// absolute move names them ([`kezuri_geom::Move::unknown`]).
+    at_machine: AxisSet,
     feed_word: f64,
     feed_set: bool,
     /// Where the F word in force was written (a zero feed's error names it).
@@ -446,6 +459,8 @@ impl State {
             panel: BTreeMap::new(),
             guessed: AxisSet::ALL,
             first_integer: None,
+            unplaced: AxisSet::ALL,
+            at_machine: AxisSet::NONE,
             feed_word: 0.0,
             feed_set: false,
             feed_span: Span::default(),

@@ -136,6 +136,7 @@ impl State {
             _ if self.modal.distance == Distance::Absolute => self.guessed = AxisSet(self.guessed.0 & !named.0),
             _ => {}
         }
+        self.place(kind, named);
         let frame = self.frame();
         if self.toolpath.frames.last() != Some(&frame) {
             self.toolpath.frames.push(frame);
@@ -153,6 +154,7 @@ impl State {
             frame: (self.toolpath.frames.len() - 1) as u32,
             named,
             relative,
+            unknown: AxisSet(self.unplaced.0 | self.at_machine.0),
         };
         self.comp_tag();
         self.toolpath.push(m);
@@ -309,6 +311,7 @@ impl State {
                 self.keep(format!("G91 G30{p}{words}"), 1, false, line);
             }
             self.push_move(MoveKind::Home, home, 0.0, axes, line);
+            self.placed_if(self.reference_given(code, w), axes);
             return Ok(true);
         }
         let via = self.target(w);
@@ -330,6 +333,7 @@ impl State {
             self.keep_other_return(w, line);
         }
         self.push_move(MoveKind::Home, home, 0.0, w.axes(), line);
+        self.placed_if(self.reference_given(code, w), w.axes());
         Ok(true)
     }
 
@@ -348,7 +352,10 @@ impl State {
                 }
                 self.g92_shift = Axes::from_array(g);
             }
-            GCode::SetPosition => self.set_position(w),
+            GCode::SetPosition => {
+                self.set_position(w);
+                self.placed_by_g92(w);
+            }
             _ => self.local_offset(w),
         }
         self.guessed = AxisSet::ALL;
@@ -368,6 +375,7 @@ impl State {
         // G53 positions at rapid traverse whatever the group 1 mode.
         if w.any_axis() {
             self.push_move(MoveKind::Machine, Axes::from_array(p), 0.0, w.axes(), line);
+            self.placed_if(self.settings.reference_given[0], w.axes());
         }
         w.any_axis()
     }

@@ -2,11 +2,17 @@
 //! tool, frame, line, feed, time, vertices) and one per vertex (position
 //! deltas in quanta, breaks). See [`super`] for the layout.
 
-use kezuri_geom::{Move, MoveKind, Toolpath};
+use kezuri_geom::{AxisSet, Move, MoveKind, Toolpath};
 use serde_json::{json, Value};
 
 use super::blob::Blob;
 use crate::{Error, ErrorKind};
+
+/// The kind of a move that ends where the program does not say (see
+/// [`Move::unknown`]): not drawn, nor the tool there. A move from such a
+/// place to a known one keeps its kind and is drawn as its end alone (one
+/// vertex after a break): the tool is shown there, no line to it.
+pub const UNPLACED: u8 = 6;
 
 /// Position step of the packed coordinates, mm.
 pub const QUANTUM_MM: f64 = 1e-4;
@@ -36,7 +42,8 @@ pub struct Packed {
     pub vertices: usize,
     /// Where the vertex deltas start, mm.
     pub origin: [f64; 3],
-    /// The path's box, mm, where it has moves.
+    /// The box of the path as drawn (positions the program gives), mm,
+    /// where it draws any.
     pub bounds: Option<([f64; 3], [f64; 3])>,
     /// Whether a move turns a rotary axis.
     pub rotary: bool,
@@ -67,8 +74,11 @@ impl Packed {
 }
 
 /// The page's kind of a move: 0 rapid, 1 feed, 2 arc, 3 plunge, 4 probe,
-/// 5 dwell.
+/// 5 dwell, 6 [`UNPLACED`].
 fn kind(m: &Move) -> u8 {
+    if m.unknown.0 & 0b111 != 0 {
+        return UNPLACED;
+    }
     match m.kind {
         MoveKind::Rapid | MoveKind::Home | MoveKind::Machine => 0,
         MoveKind::Feed if m.start.x == m.end.x && m.start.y == m.end.y && m.end.z < m.start.z => 3,
@@ -80,11 +90,14 @@ fn kind(m: &Move) -> u8 {
 }
 
 /// The points a move is drawn through after its start: the end, or an
-/// arc's chords within `tol`.
-fn points(m: &Move, tol: f64, out: &mut Vec<[f64; 3]>) {
+/// arc's chords within `tol`; none for a move of kind [`UNPLACED`], and
+/// only the end for one whose start is not known (`from_unknown`).
+fn points(m: &Move, kind: u8, from_unknown: bool, tol: f64, out: &mut Vec<[f64; 3]>) {
     out.clear();
     match m.kind {
+        _ if kind == UNPLACED => {}
         MoveKind::Dwell(_) => {}
+        _ if from_unknown => out.push(m.end.xyz()),
         MoveKind::Arc(arc) => {
             let n = arc.chords(m.start, m.end, tol);
             out.extend((1..n).map(|k| arc.point_at(m.start, m.end, k as f64 / n as f64).xyz()));
@@ -104,7 +117,25 @@ pub fn pack(
     blob: &mut Blob,
 ) -> Result<Packed, Error> {
     let moves = &path.moves;
-    let bounds = path.bounds();
+    let kinds: Vec<u8> = moves.iter().map(kind).collect();
+    // Whether each move starts where the program does not say.
+    let first = if path.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
+    let from_unknown: Vec<bool> =
+        std::iter::once(first).chain(moves.iter().map(|m| m.unknown)).map(|u| u.0 & 0b111 != 0).collect();
+    // The box of what is drawn: every point below.
+    let mut through = Vec::new();
+    let mut bounds: Option<([f64; 3], [f64; 3])> = None;
+    for ((m, &k), &unknown) in moves.iter().zip(&kinds).zip(&from_unknown) {
+        points(m, k, unknown, tol, &mut through);
+        let start = (!unknown && !through.is_empty()).then(|| m.start.xyz());
+        for p in start.iter().chain(&through) {
+            let (lo, hi) = bounds.get_or_insert((*p, *p));
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
     let origin = match bounds {
         Some((lo, hi)) => std::array::from_fn(|k| ((lo[k] + hi[k]) / 2.0 / QUANTUM_MM).round() * QUANTUM_MM),
         None => [0.0; 3],
@@ -179,7 +210,6 @@ pub fn pack(
     let mut deltas: [Vec<i32>; 3] = Default::default();
     let mut breaks: Vec<u8> = Vec::new();
     let mut last: Option<[i64; 3]> = None;
-    let mut through = Vec::new();
     let mut rotary = false;
     let mut push = |q: [i64; 3], brk: bool, last: &mut Option<[i64; 3]>| {
         let before = last.unwrap_or([0; 3]);
@@ -189,11 +219,15 @@ pub fn pack(
         breaks.push(u8::from(brk));
         *last = Some(q);
     };
-    for m in moves {
+    for ((m, &k), &unknown) in moves.iter().zip(&kinds).zip(&from_unknown) {
         rotary |= m.start.a != m.end.a || m.start.b != m.end.b || m.start.c != m.end.c;
-        points(m, tol, &mut through);
+        points(m, k, unknown, tol, &mut through);
         let mut count = 0u32;
-        if !through.is_empty() {
+        if unknown && !through.is_empty() {
+            // Arrived at a known place from an unknown one: no segment.
+            push(quantize(through[0])?, true, &mut last);
+            count += 1;
+        } else if !through.is_empty() {
             let start = quantize(m.start.xyz())?;
             if last != Some(start) {
                 push(start, true, &mut last);
@@ -207,7 +241,6 @@ pub fn pack(
         counts.push(count);
     }
 
-    let kinds: Vec<u8> = moves.iter().map(kind).collect();
     blob.bytes(kinds.iter().copied());
     blob.u16s(tool_column);
     blob.u16s(frame_column);

@@ -1,6 +1,6 @@
 'use strict';
 // kezuri view: the page's viewer (WebGL2, no library). The data format is described in the
-// Rust module that writes the page (crates/cli/src/view.rs). Sections:
+// Rust module that writes the page (crates/picture/src/view.rs). Sections:
 //   1 page helpers and formatting   2 unpacking   3 geometry   4 WebGL
 //   5 camera   6 drawing   7 panels (readout, legend, text, marks)   8 input   9 start
 (async () => {
@@ -44,7 +44,8 @@
   const hex = (c) => [1, 3, 5].map((i) => parseInt(c.slice(i, i + 2), 16) / 255);
   const css = (rgb) => 'rgb(' + rgb.map((v) => Math.round(v * 255)).join(',') + ')';
 
-  const KINDS = ['rapid', 'feed', 'arc', 'plunge', 'probe', 'dwell'];
+  const KINDS = ['rapid', 'feed', 'arc', 'plunge', 'probe', 'dwell', 'position not known'];
+  const UNPLACED = 6;                // to a place the program does not give: not drawn, nor the tool
   const KIND_COLOURS = ['#ff5b4f', '#4ea6ff', '#3fd07f', '#ffc53d', '#c77dff', '#ffffff'].map(hex);
   const TOOL_COLOURS = ['#4ea6ff', '#ffa23d', '#45d483', '#ff5f8f', '#b38cff', '#3fd6d0',
     '#e8dc55', '#ff7d4f', '#8fb0ff', '#b9e36a', '#f38fdc', '#c8c8c8'].map(hex);
@@ -623,9 +624,15 @@ void main() { o = vec4(vCol, 1.0); }`;
   }
   function currentVertex() { return V === 0 ? -1 : Math.max(0, vstart[cur] - 1); }
   function currentMove() { return cur > 0 ? cur - 1 : (N > 0 ? 0 : -1); }
+  // the tool is where the program put it, or nowhere: not at a reference point or G53 position
+  // the page does not know, nor where the machine happened to start
+  function toolPlaced() {
+    const m = currentMove();
+    return currentVertex() >= 0 && !(m >= 0 && D.kind[m] === UNPLACED);
+  }
   function drawTool() {
     const k = currentVertex(), m = currentMove();
-    if (k < 0) return;
+    if (!toolPlaced()) return;
     const p = [pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]];
     const t = m >= 0 ? D.tool[m] : 0xffff;
     const mesh = t < meta.tools.length ? toolMesh(t) : null;
@@ -710,14 +717,14 @@ void main() { o = vec4(vCol, 1.0); }`;
     const line = m >= 0 ? lineOf[m] : NaN;
     txt('kz-r-line', line > 0 ? fmtInt(line) : line === 0 ? 'generated' : '—');
     let p = [NaN, NaN, NaN];
-    if (k >= 0) {
+    if (toolPlaced()) {
       const mm = vertexMm(k), f = (meta.frames || [])[m >= 0 ? D.frame[m] : 0] || [0, 0, 0];
       p = mm.map((v, a) => (v - (Number.isFinite(f[a]) ? f[a] : 0)) / unitMm);
     }
     ['x', 'y', 'z'].forEach((a, i) => txt('kz-r-' + a, fmtNum(p[i], digits) + ' ' + unitName));
     const kind = m >= 0 ? D.kind[m] : -1;
     const feed = m >= 0 ? D.feed[m] / unitMm : NaN;
-    txt('kz-r-feed', kind === 0 ? 'rapid' : kind === 5 ? 'dwell' : Number.isFinite(feed) && m >= 0 ? fmtNum(feed, unitMm > 1 ? 2 : 0) + ' ' + unitName + '/min' : '—');
+    txt('kz-r-feed', kind === 0 ? 'rapid' : kind === 5 ? 'dwell' : kind === UNPLACED ? '—' : Number.isFinite(feed) && m >= 0 ? fmtNum(feed, unitMm > 1 ? 2 : 0) + ' ' + unitName + '/min' : '—');
     txt('kz-r-kind', KINDS[kind] || '—');
     const t = m >= 0 ? D.tool[m] : 0xffff;
     txt('kz-r-tool', t === 0xffff ? (m >= 0 ? 'none' : '—') : (meta.tools[t] && meta.tools[t].label) || 'T?');
@@ -743,12 +750,21 @@ void main() { o = vec4(vCol, 1.0); }`;
     } else {
       for (const t of usedTools) add(toolColour(t), t === 0xffff ? 'no tool' : (meta.tools[t] && meta.tools[t].label) || 'tool ' + t);
     }
+    let unplaced = 0;
+    for (let i = 0; i < N; i++) if (D.kind[i] === UNPLACED) unplaced++;
+    if (unplaced) {
+      const row = document.createElement('div');
+      row.id = 'kz-unplaced';
+      row.textContent = 'not drawn: ' + fmtInt(unplaced) + (unplaced === 1 ? ' move' : ' moves') +
+        ' to a place the program does not give (G28, G30, G53, or an axis not yet named), nor the tool there';
+      el.append(row);
+    }
     el.hidden = !el.childElementCount;
   }
   let usedTools = [];
   function findTools() {
     const seen = new Uint8Array(65536);
-    for (let i = 0; i < N; i++) seen[D.tool[i]] = 1;
+    for (let i = 0; i < N; i++) if (D.kind[i] !== UNPLACED) seen[D.tool[i]] = 1;   // the tools drawn
     usedTools = [];
     for (let t = 0; t < 65536; t++) if (seen[t]) usedTools.push(t);
   }
@@ -1125,6 +1141,7 @@ void main() { o = vec4(vCol, 1.0); }`;
 
     const moving = box && (box[1][0] - box[0][0] > 0 || box[1][1] - box[0][1] > 0 || box[1][2] - box[0][2] > 0);
     if (N === 0) message('This program has no moves: there is no toolpath to show.');
+    else if (!V && D.kind.some((k) => k === UNPLACED)) message('Nothing to draw: every move goes to or from a place the program does not give (G28, G30, G53, or an axis not yet named).');
     else if (!V || !moving && !part) message('No motion: the ' + fmtInt(N) + ' moves of this program do not move the tool.');
     else message('');
 
@@ -1135,12 +1152,14 @@ void main() { o = vec4(vCol, 1.0); }`;
       const k = currentVertex(), m = currentMove();
       const mm = k >= 0 ? vertexMm(k) : null;
       const f = (meta.frames || [])[m >= 0 ? D.frame[m] : 0] || [0, 0, 0];
-      return { move: cur, line: m >= 0 ? lineOf[m] : null, pos: mm ? mm.map((v, a) => (v - f[a]) / unitMm) : null, posMm: mm, elapsedS: elapsed[cur] };
+      const placed = toolPlaced();
+      return { move: cur, line: m >= 0 ? lineOf[m] : null, pos: mm && placed ? mm.map((v, a) => (v - f[a]) / unitMm) : null, posMm: placed ? mm : null, toolShown: placed, elapsedS: elapsed[cur] };
     };
     api.palette = { kind: KIND_COLOURS.map((c) => c.map((v) => Math.round(v * 255))), tool: TOOL_COLOURS.map((c) => c.map((v) => Math.round(v * 255))), background: BG.map((v) => Math.round(v * 255)) };
     api.colourBy = () => (colourBy ? 'tool' : 'kind');
     api.pick = (x, y) => pick(x, y);
     api.vertices = V;
+    api.kindOf = (m) => (m >= 0 && m < N ? KINDS[D.kind[m]] || null : null);
     api.vertex = (k) => (k >= 0 && k < V ? vertexMm(k) : null);
     api.vertexOfMove = (m) => (m >= 0 && m < N && vstart[m + 1] > 0 ? vertexMm(vstart[m + 1] - 1) : null);
 

@@ -1,0 +1,122 @@
+//! The extent of what a toolpath says of the tool tip: only the positions
+//! the program gave ([`Move::unknown`]), never a reference point or a
+//! `G53` position.
+
+use super::{arc_extremes, AxisSet, MoveKind, Toolpath};
+
+/// Per axis X Y Z, the smallest and largest value; `None` for an axis no
+/// known position gives.
+pub type AxisRanges = [Option<(f64, f64)>; 3];
+
+impl Toolpath {
+    /// The tool tip's extent over the positions the program gave: in
+    /// program coordinates (each point less its frame's
+    /// [`zero`](super::Frame::zero)) where `program`, else in machine
+    /// coordinates. The end of a return to the reference point or of a
+    /// `G53` move is left out whatever the machine file says of it (they
+    /// are the machine's, see [`Toolpath::machine_moves`]), and so is each
+    /// axis of a point that is not known
+    /// ([`Move::unknown`](super::Move::unknown)): a move's start counts
+    /// where the move before left it known; arcs count at their quadrant
+    /// points.
+    pub fn known_bounds(&self, program: bool) -> AxisRanges {
+        let mut out: AxisRanges = [None; 3];
+        let mut add = |p: [f64; 3], unknown: AxisSet, zero: [f64; 3]| {
+            for k in (0..3).filter(|&k| !unknown.contains(k)) {
+                let v = p[k] - zero[k];
+                out[k] = Some(out[k].map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+            }
+        };
+        let mut before = if self.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
+        for m in &self.moves {
+            let zero = if program { self.frame(m).zero().xyz() } else { [0.0; 3] };
+            // A start counts where known: a move leaving a return's end
+            // counts it only where that place is known (the machine file
+            // gives it, or a G92 there names it).
+            add(m.start.xyz(), before, zero);
+            let was = std::mem::replace(&mut before, m.unknown);
+            if matches!(m.kind, MoveKind::Home | MoveKind::Machine) {
+                continue;
+            }
+            add(m.end.xyz(), m.unknown, zero);
+            if let MoveKind::Arc(arc) = m.kind {
+                for p in arc_extremes(&arc, m.start, m.end) {
+                    add(p, AxisSet(m.unknown.0 | was.0), zero);
+                }
+            }
+        }
+        out
+    }
+
+    /// The moves in machine coordinates: returns to a reference point
+    /// (G28, G30) and `G53` moves, which [`Toolpath::known_bounds`] leaves
+    /// out.
+    pub fn machine_moves(&self) -> usize {
+        self.moves.iter().filter(|m| matches!(m.kind, MoveKind::Home | MoveKind::Machine)).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Axes, Frame, Move};
+    use super::*;
+
+    fn at(x: f64, y: f64, z: f64) -> Axes {
+        Axes { x, y, z, ..Axes::ZERO }
+    }
+
+    #[test]
+    fn returns_and_unknown_axes_are_left_out_and_frames_taken_off() {
+        let z_unknown = AxisSet(0b100);
+        let moves = vec![
+            // From the unknown start to the reference point: neither counts
+            // (X and Y not named yet, Z at the reference point).
+            Move {
+                kind: MoveKind::Home,
+                start: at(0.0, 0.0, 0.0),
+                end: at(0.0, 0.0, -31.75),
+                unknown: AxisSet(0b111),
+                ..Move::default()
+            },
+            // X Y given, Z still at the reference point.
+            Move {
+                kind: MoveKind::Rapid,
+                start: at(0.0, 0.0, -31.75),
+                end: at(110.0, 20.0, -31.75),
+                unknown: z_unknown,
+                frame: 1,
+                ..Move::default()
+            },
+            Move {
+                kind: MoveKind::Rapid,
+                start: at(110.0, 20.0, -31.75),
+                end: at(110.0, 20.0, 5.0),
+                frame: 1,
+                ..Move::default()
+            },
+            Move {
+                kind: MoveKind::Feed,
+                start: at(110.0, 20.0, 5.0),
+                end: at(140.0, 20.0, -3.0),
+                frame: 1,
+                ..Move::default()
+            },
+            Move {
+                kind: MoveKind::Machine,
+                start: at(140.0, 20.0, -3.0),
+                end: at(140.0, 20.0, -60.0),
+                unknown: z_unknown,
+                frame: 1,
+                ..Move::default()
+            },
+        ];
+        let frames = vec![Frame::default(), Frame { origin: at(100.0, 0.0, 0.0), ..Frame::default() }];
+        let path = Toolpath { moves, frames, unknown_start: true, ..Toolpath::default() };
+        assert_eq!(path.known_bounds(true), [Some((10.0, 40.0)), Some((20.0, 20.0)), Some((-3.0, 5.0))]);
+        assert_eq!(path.known_bounds(false)[0], Some((110.0, 140.0)));
+        assert_eq!(path.machine_moves(), 2);
+        // The old box: the reference point's Z and the assumed start.
+        let (lo, hi) = path.bounds().unwrap();
+        assert_eq!((lo[2], hi[2], lo[0]), (-60.0, 5.0, 0.0));
+    }
+}
