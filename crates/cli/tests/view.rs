@@ -337,6 +337,10 @@ fn the_simulated_part_and_its_deviation() {
     let dev = &sim["deviation"];
     assert_eq!(dev["scale_basis"], "the 99th percentile of |deviation|");
     assert!((dev["scale_um"].as_f64().unwrap() - 500.0).abs() < 1.0, "{dev}");
+    // The largest of each side, for the colours beyond the scale: 0.5 mm of
+    // stock left over the flat target, the groove 0.5 mm below it.
+    assert!((dev["left_max_um"].as_f64().unwrap() - 500.0).abs() < 1.0, "{dev}");
+    assert!((dev["gouge_max_um"].as_f64().unwrap() - 500.0).abs() < 5.0, "{dev}");
     let kinds: Vec<&str> = page.meta["marks"].as_array().unwrap().iter().map(|m| m["kind"].as_str().unwrap()).collect();
     assert_eq!(kinds, ["rapid", "gouge"]);
     // The heights: delta coded after the path's columns; their sum's range

@@ -96,6 +96,8 @@ impl Part<'_> {
                 "scale_um": scale.mm * 1000.0,
                 "scale_basis": scale.basis,
                 "gouge_um": scale.gouge * 1000.0,
+                "left_max_um": scale.extremes[1] * 1000.0,
+                "gouge_max_um": scale.extremes[0] * 1000.0,
                 "quantum_um": DEVIATION_QUANTUM_UM,
             })
         });

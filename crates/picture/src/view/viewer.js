@@ -55,6 +55,9 @@
   // diverging map for the deviation, −1 … +1: below the target red (as sim's picture), above blue
   const CMAP = ['#b2182b', '#ef8a62', '#ececec', '#67a9cf', '#2166ac'].map(hex);
   const GOUGE = hex('#ff3fd8');
+  // beyond the full-colour scale, as the deviation PNG: more left amber, a deeper gouge dark purple
+  const OVER_LEFT = hex('#f5a000');
+  const OVER_GOUGE = hex('#5a0032');
   const NOT_COMPARED = [0.45, 0.45, 0.47];
 
   // ---------------------------------------------------------------- 2 unpacking
@@ -267,7 +270,7 @@ uniform int uMode;
 uniform vec3 uColour;
 uniform float uScaleUm, uGougeUm;
 uniform vec3 uMap[5];
-uniform vec3 uGouge, uNone;
+uniform vec3 uGouge, uNone, uOverLeft, uOverGouge;
 out vec4 o;
 vec3 cmap(float t) {
   float u = (clamp(t, -1.0, 1.0) + 1.0) * 2.0;
@@ -285,6 +288,8 @@ void main() {
   vec3 base = uColour;
   if (uMode == 1) {
     if (vDev.y < 0.5) base = uNone;
+    else if (vDev.x > uScaleUm) base = uOverLeft;
+    else if (vDev.x < -uScaleUm && uScaleUm > uGougeUm) base = uOverGouge;
     else if (vDev.x < -uGougeUm) base = uGouge;
     else base = cmap(vDev.x / uScaleUm);
   }
@@ -418,6 +423,8 @@ void main() { o = vec4(vCol, 1.0); }`;
     gl.uniform3fv(progMesh.u.uMap, CMAP.flat());
     gl.uniform3fv(progMesh.u.uGouge, GOUGE);
     gl.uniform3fv(progMesh.u.uNone, NOT_COMPARED);
+    gl.uniform3fv(progMesh.u.uOverLeft, OVER_LEFT);
+    gl.uniform3fv(progMesh.u.uOverGouge, OVER_GOUGE);
     const upload = (target, b, data) => { gl.bindBuffer(target, b); gl.bufferData(target, data, gl.STATIC_DRAW); };
     upload(gl.ARRAY_BUFFER, vaoPath.bufs[0], pos);
     upload(gl.ARRAY_BUFFER, vaoPath.bufs[1], attr);
@@ -796,6 +803,9 @@ void main() { o = vec4(vCol, 1.0); }`;
       extra.append(wrap);
     };
     sw(GOUGE, 'gouge < −' + fmtNum(dv.gouge_um, 1) + ' µm');
+    const mm = (um) => fmtNum(um / 1000, 3) + ' mm';
+    if (dv.left_max_um > s) sw(OVER_LEFT, 'left over +' + fmtNum(s, sd) + ' µm: up to ' + mm(dv.left_max_um));
+    if (dv.gouge_max_um > s && s > dv.gouge_um) sw(OVER_GOUGE, 'gouge deeper than ' + fmtNum(s, sd) + ' µm: down to ' + mm(dv.gouge_max_um));
     sw(NOT_COMPARED, 'not compared');
     el.append(title, grad, ticks, extra);
     el.hidden = false;
