@@ -250,14 +250,14 @@ fn a_drill_fed_sideways_in_the_material_is_flagged() {
     assert_eq!(drill["first_drill_side_move_line"], 9);
     assert_eq!(drill["tools"][0]["shape"], "drill:6,118");
     let err = stderr(&o);
-    assert!(err.contains("take a drill sideways") && err.contains("line 9"), "{err}");
+    assert!(err.contains("1 feed move takes a drill sideways") && err.contains("line 9"), "{err}");
     // The same solid as the V-bit, which may cut sideways.
     let vee = json(&sim("v:6,118"));
     assert_eq!(vee["drill_side_moves"], 0);
     assert_eq!(vee["min_z_mm"], drill["min_z_mm"]);
     assert_eq!(vee["volume_mm3"], drill["volume_mm3"]);
     let text = stdout(&kezuri(&["sim", &nc, "--tool", "drill:6,118", "--res", "0.2", "--stock", "0,0,40,20,0"]));
-    assert!(text.contains("DRILL      1 feed(s) sideways in the material; first at line 9"), "{text}");
+    assert!(text.contains("DRILL      1 feed sideways in the material; first at line 9"), "{text}");
     // Holes alone are no warning.
     let holes =
         write(dir.path(), "holes.nc", b"G90 G21\nG00 X10. Y10. Z5.\nG81 X10. Y10. Z-5. R2. F200\nX20.\nG80\nM30\n");

@@ -78,7 +78,8 @@ fn trapezoid(length: f64, v0: f64, v1: f64, vmax: f64, a: f64) -> f64 {
 /// take no time and are counted in the second value.
 pub fn cycle_time(path: &Toolpath, machine: &Dynamics) -> (f64, usize) {
     let (times, unknown) = move_times(path, machine);
-    (times.iter().sum(), unknown)
+    // Summed from +0: an empty sum of f64 is −0, printed "-0.0 s".
+    (times.iter().fold(0.0, |total, t| total + t), unknown)
 }
 
 /// Estimated seconds of each move of the toolpath, in order; moves without
@@ -139,6 +140,12 @@ pub fn move_times(path: &Toolpath, machine: &Dynamics) -> (Vec<f64>, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_empty_program_takes_no_time_not_minus_zero() {
+        let (t, unknown) = cycle_time(&Toolpath::default(), &Dynamics::default());
+        assert!(t == 0.0 && t.is_sign_positive() && unknown == 0, "{t}");
+    }
 
     fn feed(from: [f64; 3], to: [f64; 3], f: f64) -> Move {
         let at = |p: [f64; 3]| Axes { x: p[0], y: p[1], z: p[2], ..Axes::ZERO };

@@ -318,7 +318,7 @@ fn read_rml(a: &ConvertArgs, sources: &Sources, id: u32) -> Result<Toolpath> {
     let read = rml::read_rml(id, &file.text, &options);
     let errors = print_diagnostics(sources, &read.diagnostics);
     if errors > 0 {
-        bail!("{}: {errors} error(s); nothing written", file.name);
+        bail!("{}: {}; nothing written", file.name, crate::say::count(errors as u64, "error"));
     }
     Ok(read.toolpath)
 }
@@ -346,7 +346,7 @@ fn run_gcode(a: &ConvertArgs, dialect: Dialect, sources: &mut Sources, id: u32) 
     crate::program::report_logs(&outcome);
     let errors = print_diagnostics(sources, &outcome.diagnostics);
     if errors > 0 {
-        bail!("{name}: {errors} error(s); nothing written");
+        bail!("{name}: {}; nothing written", crate::say::count(errors as u64, "error"));
     }
     Ok(outcome.toolpath)
 }

@@ -107,8 +107,13 @@ fn programs(out: &Path, samples: &Path) -> Result<()> {
         let warnings = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).filter(|d| !d.is_error()).count();
         println!("\n{name}  ({what})");
         println!(
-            "  {} blocks, {} motions, feed {:.1} mm, rapid {:.1} mm, cycle time {:.0} s, {} warnings",
-            r.blocks, r.motions, r.feed_length_mm, r.rapid_length_mm, r.time_s, warnings
+            "  {} blocks, {} motions, feed {:.1} mm, rapid {:.1} mm, cycle time {:.0} s, {}",
+            r.blocks,
+            r.motions,
+            r.feed_length_mm,
+            r.rapid_length_mm,
+            r.time_s,
+            crate::say::count(warnings as u64, "warning")
         );
         println!("  wrote {stem}-expanded.nc (Fanuc, macros expanded), {stem}.csv (motions), {stem}.svg (picture)");
     }

@@ -205,8 +205,8 @@ pub fn run(args: &SimArgs) -> Result<()> {
     if !report.rapid_hits.is_empty() {
         let first = report.rapid_hits[0];
         eprintln!(
-            "warning: {file}: {} rapid move(s) cut into the stock; the first at line {} ({:.3} mm deep), deepest {:.3} mm",
-            report.rapid_hits.len(),
+            "warning: {file}: {} cut into the stock; the first at line {} ({:.3} mm deep), deepest {:.3} mm",
+            crate::say::count(report.rapid_hits.len() as u64, "rapid move"),
             first.line,
             first.depth,
             report.rapid_hits.iter().map(|h| h.depth).fold(0.0, f64::max)
@@ -214,9 +214,12 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     if let Some(first) = report.drill_side_moves.first() {
         eprintln!(
-            "warning: {file}: {} feed move(s) take a drill sideways in the material; the first at line {} ({:.3} mm \
-             deep): a drill cuts along its axis only",
-            report.drill_side_moves.len(),
+            "warning: {file}: {} a drill sideways in the material; the first at line {} ({:.3} mm deep): a drill \
+             cuts along its axis only",
+            match report.drill_side_moves.len() {
+                1 => "1 feed move takes".to_string(),
+                n => format!("{n} feed moves take"),
+            },
             first.line,
             first.depth
         );
@@ -251,7 +254,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         }
     }
     if args.fail_on_rapid && !report.rapid_hits.is_empty() {
-        bail!("{file}: {} rapid move(s) into the stock", report.rapid_hits.len());
+        bail!("{file}: {} into the stock", crate::say::count(report.rapid_hits.len() as u64, "rapid move"));
     }
     Ok(())
 }

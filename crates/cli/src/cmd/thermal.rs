@@ -292,11 +292,11 @@ fn plan(a: &PlanArgs) -> Result<()> {
     let text = p.program()?;
     write_output(a.output.as_deref(), text.as_bytes())?;
     crate::say::note!(
-        "wrote {}: {}{} stops at {} B angle(s)",
+        "wrote {}: {}{} stops at {}",
         crate::say::shown(a.output.as_deref()),
         if p.post.dialect == kezuri_nc::write::Dialect::Fanuc { format!("O{:04}, ", p.number) } else { String::new() },
         p.stops().len(),
-        p.stations.len()
+        crate::say::count(p.stations.len() as u64, "B angle")
     );
     Ok(())
 }

@@ -257,9 +257,10 @@ impl WriteArgs {
 pub fn warn_rml_drops(name: &str, path: &Toolpath) {
     if let Some(k) = path.kept.first() {
         eprintln!(
-            "warning: {name}: RML-1 has no M codes, offsets or the like: {} block(s) the program keeps are not \
+            "warning: {name}: RML-1 has no M codes, offsets or the like: {} the program keeps {} not \
              written (the first at line {}: '{}')",
-            path.kept.len(),
+            crate::say::count(path.kept.len() as u64, "block"),
+            if path.kept.len() == 1 { "is" } else { "are" },
             k.line,
             k.text.lines().next().unwrap_or("")
         );

@@ -285,14 +285,18 @@ pub fn run(args: &MillArgs) -> Result<()> {
     let bytes: usize = parts.iter().map(|p| p.len()).sum();
     let lines: usize = parts.iter().map(|p| p.lines().count()).sum();
     let flat_top = flat.map_or_else(String::new, |(z, margins)| {
-        format!("; flat top z = {z:.3}: {} run(s), {:.1} mm of cuts crossed at rapid", margins.runs, margins.length)
+        format!(
+            "; flat top z = {z:.3}: {}, {:.1} mm of cuts crossed at rapid",
+            crate::say::count(margins.runs as u64, "run"),
+            margins.length
+        )
     });
     let g = data.grid.grid;
     crate::say::note!(
-        "wrote {}: {bytes} bytes, {lines} lines, {} part(s); {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {}; \
+        "wrote {}: {bytes} bytes, {lines} lines, {}; {} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {}; \
          from {}, {} × {} points at pitch {} mm, surface {surface}{flat_top}; computed in {seconds_cam:.2} s",
         crate::say::shown(file),
-        parts.len(),
+        crate::say::count(parts.len() as u64, "part"),
         path.moves.len(),
         path.feed_length(),
         path.rapid_length(),

@@ -211,8 +211,8 @@ impl Done<'_> {
         if let Some(h) = report.drill_side_moves.first() {
             let _ = writeln!(
                 t,
-                "  DRILL      {} feed(s) sideways in the material; first at line {} ({:.4} mm deep)",
-                report.drill_side_moves.len(),
+                "  DRILL      {} sideways in the material; first at line {} ({:.4} mm deep)",
+                crate::say::count(report.drill_side_moves.len() as u64, "feed"),
                 h.line,
                 h.depth
             );
