@@ -8,10 +8,11 @@ use super::{IntegerInput, State};
 use crate::ast::{Program, WordValue};
 use crate::source::{Diagnostic, Span};
 
-/// Farthest a linear axis may go from machine zero, mm: 50 m, beyond the
+/// Farthest a linear axis may go from machine zero, mm: 1 km, the largest
+/// coordinate kezuri takes anywhere (`kezuri_geom::limits`), beyond the
 /// travel of any machine; a position past it is a misread number (inches
 /// read as mm, whole units as increments), and no page or program holds it.
-const REACH_MM: f64 = 50_000.0;
+const REACH_MM: f64 = kezuri_geom::limits::LONGEST_MM;
 
 /// Farthest a rotary axis may turn from zero, degrees (what a program can hold).
 const REACH_DEG: f64 = 1e9;
@@ -75,7 +76,7 @@ impl State {
                 }
                 let letter = b"XYZABC"[k];
                 let at = if w.has(letter) { w.span(letter) } else { span };
-                let (unit, limit) = if k < 3 { ("mm", "50 m") } else { ("deg", "10^9 deg") };
+                let (unit, limit) = if k < 3 { ("mm", "1 km") } else { ("deg", "10^9 deg") };
                 return Err(Diagnostic::error(
                     at,
                     format!(
