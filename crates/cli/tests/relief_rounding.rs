@@ -1,7 +1,7 @@
 //! `kezuri relief` rounds to the output's last digit on the safe side: for
 //! every cutter, at 2 and 3 decimals and in RML-1's 0.01 mm steps, the
 //! carving `kezuri sim` makes of the written program cuts no deeper into
-//! the relief than the path band (0.001 mm). The plum sketch at 20 mm has
+//! the relief than the path band (`--gouge-tol 0.001`). The plum sketch at 20 mm has
 //! flanks as steep as a 2 mm flat cutter's rim can meet: written at 0.01
 //! mm, the straight moves between neighbouring positions cut up to 0.035 mm
 //! into them before the heights there were lifted.
@@ -16,7 +16,21 @@ fn deepest_cut(tool: &str) {
     let dir = tempfile::tempdir().unwrap();
     let sketch = concat!(env!("CARGO_MANIFEST_DIR"), "/../../samples/plum-sketch.png");
     let stl = path(dir.path(), "plum.stl");
-    let relief = ["relief", sketch, "--width", "20", "--depth", "3", "--tool", tool, "--stepover", "0.5"];
+    // The tightest allowance relief takes, so that rounding is what is tried.
+    let relief = [
+        "relief",
+        sketch,
+        "--width",
+        "20",
+        "--depth",
+        "3",
+        "--tool",
+        tool,
+        "--stepover",
+        "0.5",
+        "--gouge-tol",
+        "0.001",
+    ];
     let mut found = Vec::new();
     for output in [&["--digits", "2"][..], &["--digits", "3"], &["--to", "rml"]] {
         let written = path(dir.path(), "plum.out");
