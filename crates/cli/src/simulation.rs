@@ -109,8 +109,9 @@ pub struct SimSetup {
     #[arg(long, value_name = "TARGET")]
     pub compare: Option<PathBuf>,
     /// The unit the --compare and --stock files are drawn in (STL files carry none).
-    #[arg(long, value_enum, default_value = "mm")]
-    pub units: crate::surface::Units,
+    /// [default: mm, with a note where the model is under 13 mm in every direction]
+    #[arg(long, value_enum, value_name = "mm|inch")]
+    pub units: Option<crate::surface::Units>,
     /// How far the chords arcs are cut as may stray from the arc (their sagitta), mm.
     #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
     pub chord_tol: f64,

@@ -93,12 +93,13 @@ impl Units {
 const INCH_SUSPECT_MM: f64 = 13.0;
 
 /// Says a model's size (`model: 120.0 × 80.0 × 30.0 mm`), with a note
-/// where it is so small that it may be in inches.
-fn say_size(name: &str, units: Units, lo: [f64; 3], hi: [f64; 3]) {
+/// where no unit was given and it is so small that it may be in inches.
+fn say_size(name: &str, given: Option<Units>, lo: [f64; 3], hi: [f64; 3]) {
+    let units = given.unwrap_or_default();
     let d: [f64; 3] = std::array::from_fn(|k| hi[k] - lo[k]);
     let from = if units == Units::Inch { " (from inches)" } else { "" };
     note!("{name}: model: {:.1} × {:.1} × {:.1} mm{from}", d[0], d[1], d[2]);
-    if units == Units::Mm && d.iter().all(|d| *d < INCH_SUSPECT_MM) {
+    if given.is_none() && d.iter().all(|d| *d < INCH_SUSPECT_MM) {
         note!(
             "note: {name}: the model is under {INCH_SUSPECT_MM} mm in every direction: if it was drawn in inches, \
              give --units inch"
@@ -108,12 +109,13 @@ fn say_size(name: &str, units: Units, lo: [f64; 3], hi: [f64; 3]) {
 
 /// Reads an STL mesh (binary or ASCII) in `units`: says its size, and
 /// warns of degenerate triangles skipped and of an ASCII file cut short.
-pub fn read_mesh(path: &Path, units: Units) -> Result<Mesh> {
+pub fn read_mesh(path: &Path, units: Option<Units>) -> Result<Mesh> {
     let bytes = read_bytes(path)?;
     mesh_of(&path.display().to_string(), &bytes, units)
 }
 
-fn mesh_of(name: &str, bytes: &[u8], units: Units) -> Result<Mesh> {
+fn mesh_of(name: &str, bytes: &[u8], given: Option<Units>) -> Result<Mesh> {
+    let units = given.unwrap_or_default();
     let file = read_stl(bytes).map_err(|e| match e.at {
         Some((line, column)) => anyhow::anyhow!("{name}:{line}:{column}: {} (ASCII STL)", e.message),
         None => anyhow::Error::new(e).context(name.to_string()),
@@ -135,7 +137,7 @@ fn mesh_of(name: &str, bytes: &[u8], units: Units) -> Result<Mesh> {
         eprintln!("warning: {name}: skipped {} degenerate (zero-area) triangles", mesh.skipped());
     }
     if let Some((lo, hi)) = mesh.bounds() {
-        say_size(name, units, [lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]);
+        say_size(name, given, [lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]);
     }
     Ok(mesh)
 }
@@ -143,8 +145,8 @@ fn mesh_of(name: &str, bytes: &[u8], units: Units) -> Result<Mesh> {
 /// Reads an STL (binary or ASCII) or a height grid (`x y z` or `x,y,z`
 /// lines on a regular grid; lines that do not start with a number, headers
 /// and comments, are skipped; a line that starts with one must be `x y z`),
-/// in `units`, and says its size.
-pub fn read_surface(path: &Path, units: Units) -> Result<Surface> {
+/// in `units` (none: mm), and says its size.
+pub fn read_surface(path: &Path, units: Option<Units>) -> Result<Surface> {
     let bytes = read_bytes(path)?;
     let name = path.display().to_string();
     let is_stl = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
@@ -155,7 +157,8 @@ pub fn read_surface(path: &Path, units: Units) -> Result<Surface> {
     if is_stl {
         return Ok(Surface::Mesh(Box::new(MeshSurface::new(mesh_of(&name, &bytes, units)?))));
     }
-    let surface = grid(&String::from_utf8_lossy(&bytes), units.scale()).with_context(|| name.clone())?;
+    let surface =
+        grid(&String::from_utf8_lossy(&bytes), units.unwrap_or_default().scale()).with_context(|| name.clone())?;
     let [x0, y0, x1, y1] = surface.xy_box();
     let (z0, z1) = match &surface {
         Surface::Grid(g) => {

@@ -62,6 +62,11 @@ fn every_stl_reader_takes_units_and_says_the_model_size() {
         assert!(err.contains("model: 4.0 × 3.0 × 0.5 mm"), "{args:?}: {err}");
         assert!(err.contains("under 13 mm in every direction") && err.contains("--units inch"), "{args:?}: {err}");
     }
+    // A unit given is a unit known: no note that it may be inches.
+    for args in commands(dir.path(), &stl, Some("mm")) {
+        let err = stderr(&kezuri(&args.iter().map(String::as_str).collect::<Vec<_>>()));
+        assert!(err.contains("model: 4.0 × 3.0 × 0.5 mm") && !err.contains("under 13 mm"), "{args:?}: {err}");
+    }
     for args in commands(dir.path(), &stl, Some("inch")) {
         let o = kezuri(&args.iter().map(String::as_str).collect::<Vec<_>>());
         let err = stderr(&o);

@@ -55,8 +55,9 @@ pub struct MillArgs {
     #[arg(value_name = "SURFACE")]
     pub surface: std::path::PathBuf,
     /// The unit the surface is drawn in (STL files carry none): `inch` multiplies it by 25.4.
-    #[arg(long, value_enum, default_value = "mm")]
-    pub units: crate::surface::Units,
+    /// [default: mm, with a note where the model is under 13 mm in every direction]
+    #[arg(long, value_enum, value_name = "mm|inch")]
+    pub units: Option<crate::surface::Units>,
     /// Cutter: flat:D, ball:D, bull:D,R, oval:D,RL or v:D,ANGLE (mm, degrees).
     #[arg(long, value_name = "SPEC", long_help = tool_help!("The cutter."))]
     pub tool: String,

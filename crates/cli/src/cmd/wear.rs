@@ -73,8 +73,9 @@ pub struct ApplyArgs {
     #[arg(long, value_name = "PART.stl")]
     pub surface: PathBuf,
     /// The unit the --surface STL is drawn in (STL files carry none): `inch` multiplies it by 25.4.
-    #[arg(long, value_enum, default_value = "mm")]
-    pub units: crate::surface::Units,
+    /// [default: mm, with a note where the model is under 13 mm in every direction]
+    #[arg(long, value_enum, value_name = "mm|inch")]
+    pub units: Option<crate::surface::Units>,
     /// Points whose new tool is farther than this from the surface are kept (mm).
     #[arg(long, value_name = "MM", default_value_t = 0.05, value_parser = crate::numbers::length)]
     pub reach: f64,

@@ -58,7 +58,7 @@ pub fn parse(text: &str) -> Result<StockSpec> {
 
 impl StockSpec {
     /// The grid the simulation starts from.
-    pub fn grid(&self, options: &SimOptions, units: crate::surface::Units) -> Result<ZMap> {
+    pub fn grid(&self, options: &SimOptions, units: Option<crate::surface::Units>) -> Result<ZMap> {
         Ok(match self {
             StockSpec::Box(s) => ZMap::new(s, options)?,
             StockSpec::Cylinder(c) => ZMap::cylinder(c, options)?,

@@ -152,7 +152,7 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
         "wear",
         "apply",
         &at("groove.nc"),
-        "--tool-id",
+        "--tool-name",
         "T7",
         "--db",
         &at("tools.sqlite"),
@@ -160,6 +160,9 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
         "ball:0.5",
         "--surface",
         &at("groove-target.stl"),
+        // A groove 8 mm long, drawn in mm: no note that it may be inches.
+        "--units",
+        "mm",
         "-o",
         &at("groove-T7.nc"),
     ]));
@@ -175,6 +178,8 @@ pub fn tool_wear(out: &Path, all_frames: bool) -> Result<()> {
             STOCK,
             "--compare",
             &at("groove-target.stl"),
+            "--units",
+            "mm",
         ]));
     }
     // A fresh database each run.
@@ -230,6 +235,7 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
             profile: Some(out.join("tool-T7-worn.csv")),
             stock: Some(STOCK.into()),
             compare: Some(out.join("groove-target.stl")),
+            units: Some(crate::surface::Units::Mm),
             chord_tol: 0.001,
             max_cells: 250_000_000,
             ..SimSetup::default()

@@ -36,8 +36,9 @@ pub struct SimulateArgs {
     #[arg(value_name = "MODEL")]
     pub model: PathBuf,
     /// The unit the model is drawn in (STL files carry none): `inch` multiplies it by 25.4.
-    #[arg(long, value_enum, default_value = "mm")]
-    pub units: crate::surface::Units,
+    /// [default: mm, with a note where the model is under 13 mm in every direction]
+    #[arg(long, value_enum, value_name = "mm|inch")]
+    pub units: Option<crate::surface::Units>,
     /// Points along X and Y.
     #[arg(long, value_name = "NX,NY")]
     pub count: String,
