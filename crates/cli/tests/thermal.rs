@@ -461,6 +461,18 @@ fn fitted(dir: &std::path::Path) -> (String, String) {
     (model, turn)
 }
 
+/// `thermal fit -q -o MODEL` says nothing: its table is a summary.
+#[test]
+fn a_quiet_fit_prints_no_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let meas = path(dir.path(), "meas.csv");
+    std::fs::write(&meas, measurements()).unwrap();
+    let model = path(dir.path(), "model.json");
+    let o = kezuri(&["thermal", "fit", &meas, "-q", "-o", &model]);
+    assert!(o.status.success() && o.stdout.is_empty() && o.stderr.is_empty(), "{o:?}");
+    assert!(std::fs::read_to_string(&model).unwrap().contains("functions"));
+}
+
 #[test]
 fn the_grid_search_agrees_with_newton_within_its_spacing() {
     let dir = tempfile::tempdir().unwrap();

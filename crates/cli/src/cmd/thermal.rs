@@ -429,9 +429,11 @@ fn fit_model(a: &FitArgs) -> Result<()> {
         crate::say::shown(a.output.as_deref()),
         model.table()
     );
-    if !model_to_stdout {
+    // A summary: --quiet leaves it out wherever the model went.
+    if crate::say::quiet() {
+    } else if !model_to_stdout {
         write_output(None, table.as_bytes())?;
-    } else if !crate::say::quiet() {
+    } else {
         eprint!("{table}");
     }
     Ok(())
