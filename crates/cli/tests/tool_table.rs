@@ -155,19 +155,44 @@ fn a_missing_length_says_the_line_to_add() {
 fn a_program_kezuri_wrote_checks_clean_on_its_machine() {
     let dir = tempfile::tempdir().unwrap();
     let grid = path(dir.path(), "g.xyz");
-    std::fs::write(&grid, "0 0 0\n10 0 0\n0 10 0\n10 10 -1\n").unwrap();
+    // Flat, so that every cutter reaches all of it.
+    std::fs::write(&grid, "0 0 0\n10 0 0\n0 10 0\n10 10 0\n").unwrap();
     let own = path(dir.path(), "own.toml");
     std::fs::write(&own, "[post]\npreset = \"haas\"\n[tools.T5]\nshape = \"ball:3\"\nh = 15\nlength = 80.5\n").unwrap();
-    for (machine, n) in [(sample("mill.toml"), "1"), (sample("mill.toml"), "2"), (sample("mill.toml"), "7"), (own, "5")]
+    let mill = sample("mill.toml");
+    for (machine, n, tool) in
+        [(&mill, "1", "flat:6.35"), (&mill, "2", "ball:3.175"), (&mill, "7", "v:4.7625,118"), (&own, "5", "ball:3")]
     {
         let nc = path(dir.path(), &format!("t{n}.nc"));
-        let args = ["mill", &grid, "--tool", "ball:3", "--stepover", "1", "--tool-number", n, "--machine", &machine];
+        let args = ["mill", &grid, "--tool", tool, "--stepover", "1", "--tool-number", n, "--machine", machine];
         let o = kezuri(&[&args[..], &["-o", &nc]].concat());
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success() && !err.contains("warning"), "{err}");
         let err = checked(&nc, &machine);
         assert!(!err.contains("warning:") && err.contains("0 errors, 0 warnings"), "T{n} on {machine}: {err}");
     }
+}
+
+/// A program made for another shape than the machine file gives its tool
+/// number is warned of: its check with the machine file would cut with the
+/// machine's.
+#[test]
+fn a_program_made_for_another_shape_than_the_tool_table_is_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = path(dir.path(), "g.xyz");
+    std::fs::write(&grid, "0 0 0\n10 0 0\n0 10 0\n10 10 -1\n").unwrap();
+    let nc = path(dir.path(), "t2.nc");
+    let machine = sample("mill.toml");
+    let args = ["mill", &grid, "--tool", "ball:3", "--stepover", "1", "--tool-number", "2", "--machine", &machine];
+    let o = kezuri(&[&args[..], &["-o", &nc]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success()
+            && err.contains(
+                "the machine file's T2 is ball:3.175 (1/8 ball end mill), but this program is made for ball:3"
+            ),
+        "{err}"
+    );
 }
 
 #[test]

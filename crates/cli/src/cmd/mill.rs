@@ -47,7 +47,7 @@ Examples:
       --direction both -o plum-oval.nc
   kezuri mill plum.xyz --tool ball:3 --stepover 0.3 --pattern oneway \\
       --post grbl -o plum.gcode
-  kezuri mill plum.xyz --tool ball:6 --stepover 0.5 --tool-number 2 \\
+  kezuri mill plum.xyz --tool ball:3.175 --stepover 0.5 --tool-number 2 \\
       --post haas --machine samples/tools/mill.toml -o plum-haas.nc")]
 pub struct MillArgs {
     /// The surface to finish, as designed: an STL (binary or ASCII), or a height grid of `x y z`

@@ -177,6 +177,22 @@ pub fn stage_toolpath(
     write_program(out, path, path, title, &[], w, machine, origin, cutters)
 }
 
+/// Warns where the machine file gives a tool number another shape than the
+/// one the program is made for: the check of the program (`sim`, `view`
+/// with the machine file) cuts with the machine file's.
+fn warn_other_shapes(machine: &Machine, cutters: &[(u32, Cutter)]) {
+    for (n, cutter) in cutters {
+        let Some(shape) = machine.tools.get(n).and_then(|t| t.shape) else { continue };
+        if shape.to_string() != cutter.to_string() {
+            let name = machine.tools[n].name.as_deref().map(|s| format!(" ({s})")).unwrap_or_default();
+            eprintln!(
+                "warning: the machine file's T{n} is {shape}{name}, but this program is made for {cutter}: \
+                 sim and view with the machine file cut with {shape}; give --tool {shape} or another tool number"
+            );
+        }
+    }
+}
+
 /// [`stage_toolpath`] with the SVG drawing `drawn`; `cutters` are the
 /// shapes of the tools (by number) the `--view` page draws.
 #[allow(clippy::too_many_arguments)]
@@ -191,6 +207,7 @@ pub fn write_program(
     origin: Origin,
     cutters: &[(u32, Cutter)],
 ) -> Result<()> {
+    warn_other_shapes(machine, cutters);
     let text = match w.emit {
         Some(Emit::Csv) => kezuri_nc::write::csv(path),
         Some(Emit::Rml) => {
