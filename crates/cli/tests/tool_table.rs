@@ -168,7 +168,7 @@ fn a_program_kezuri_wrote_checks_clean_on_its_machine() {
         let o = kezuri(&[&args[..], &["-o", &nc]].concat());
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success() && !err.contains("warning"), "{err}");
-        let err = checked(&nc, &machine);
+        let err = checked(&nc, machine);
         assert!(!err.contains("warning:") && err.contains("0 errors, 0 warnings"), "T{n} on {machine}: {err}");
     }
 }

@@ -66,12 +66,23 @@ fn docs_view_opens_a_page_headless() {
     // (left of the program text, below the toolbar), not the tool alone.
     let shot = commands.iter().find(|c| c.contains("--screenshot")).expect("a --screenshot picture");
     let shot = shot.replacen("chromium ", &format!("{chromium} "), 1);
-    let o = std::process::Command::new("sh").arg("-c").arg(&shot).current_dir(dir.path()).output().unwrap();
-    let png = dir.path().join("plate.png");
-    let picture =
-        image::open(&png).unwrap_or_else(|e| panic!("{shot}: {e}\n{}", String::from_utf8_lossy(&o.stderr))).to_luma8();
-    assert_eq!(picture.dimensions(), (1280, 800));
-    let view = (0..900u32).flat_map(|x| (50..750u32).map(move |y| (x, y)));
-    let light = view.filter(|&(x, y)| picture.get_pixel(x, y).0[0] > 100).count();
-    assert!(light > 900 * 700 / 20, "{shot}: {light} light pixels in the view");
+    // The shot is taken at the page's load, the drawing just after: on a
+    // busy machine (the whole suite running) it may come first, and the doc
+    // says to take it again. Three tries.
+    let light_pixels = || {
+        let o = std::process::Command::new("sh").arg("-c").arg(&shot).current_dir(dir.path()).output().unwrap();
+        let png = dir.path().join("plate.png");
+        let picture = image::open(&png)
+            .unwrap_or_else(|e| panic!("{shot}: {e}\n{}", String::from_utf8_lossy(&o.stderr)))
+            .to_luma8();
+        assert_eq!(picture.dimensions(), (1280, 800));
+        let view = (0..900u32).flat_map(|x| (50..750u32).map(move |y| (x, y)));
+        view.filter(|&(x, y)| picture.get_pixel(x, y).0[0] > 100).count()
+    };
+    let drawn = 900 * 700 / 20;
+    let mut tries = Vec::new();
+    while tries.len() < 3 && tries.last().is_none_or(|&n| n <= drawn) {
+        tries.push(light_pixels());
+    }
+    assert!(tries.iter().any(|&n| n > drawn), "{shot}: light pixels in the view, try by try: {tries:?}");
 }
