@@ -236,11 +236,20 @@ const O_KEYWORDS: [&str; 15] = [
     "CONTINUE",
 ];
 
+/// The characters a line must hold to carry a marker (upper or lower case).
+const MARKER_BYTES: &[u8] = b"OoGg#[*@^$";
+
 /// The first marker of each dialect in `text` (at most one per dialect,
 /// in the order of the lines).
 pub fn markers(text: &str) -> Vec<Marker> {
     let mut out: Vec<Marker> = Vec::new();
     for (n, raw) in text.lines().enumerate() {
+        // Every marker has one of these characters (an O word, #<…>, **,
+        // a G code, @ ^, IF[ DPRNT[ …, GOTO, a $ command): a line of axis
+        // words and numbers alone, most of a program, is passed at once.
+        if !raw.bytes().any(|b| MARKER_BYTES.contains(&b)) {
+            continue;
+        }
         let line = n as u32 + 1;
         for (dialect, what) in line_markers(raw) {
             if !out.iter().any(|m| m.dialect == dialect) {
@@ -388,6 +397,22 @@ mod tests {
         assert_eq!(extension("-"), "");
         assert_eq!(extension(".hidden"), "");
         assert_eq!(extension("dir.x/file"), "");
+    }
+
+    #[test]
+    fn lines_of_axis_words_alone_are_passed_and_markers_in_lower_case_still_found() {
+        let text = "x10 y20 z-1.5\nX1 Y2\no100 sub\ng64 p0.01\nif [#1 gt 2] goto 5\n$H\n";
+        let found: Vec<(Dialect, u32)> = markers(text).iter().map(|m| (m.dialect, m.line)).collect();
+        assert_eq!(found, [(Dialect::LinuxCnc, 3), (Dialect::Fanuc, 5), (Dialect::Grbl, 6)]);
+        let mut with_every_line = Vec::new();
+        for (n, raw) in text.lines().enumerate() {
+            for (d, _) in line_markers(raw) {
+                if !with_every_line.iter().any(|&(e, _)| e == d) {
+                    with_every_line.push((d, n as u32 + 1));
+                }
+            }
+        }
+        assert_eq!(found, with_every_line);
     }
 
     #[test]
