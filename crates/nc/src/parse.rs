@@ -367,9 +367,9 @@ impl LineParser<'_> {
                 let value = self.expr(0)?;
                 Ok(Statement::Assign { var, value })
             }
-            b'$' if matches!(self.dialect, Dialect::Fanuc | Dialect::Haas) => Ok(self.unsupported(&format!(
+            b'$' if self.dialect.is_fanuc() => Ok(self.unsupported(&format!(
                 "a '$' line is not an NC block of a {} control: kezuri does not run it",
-                if self.dialect == Dialect::Haas { "Haas" } else { "Fanuc" }
+                if self.dialect.is_haas() { "Haas" } else { "Fanuc" }
             ))),
             b'$' => Ok(self.unsupported("GRBL '$' system commands are not run by kezuri")),
             b'O' => {

@@ -185,8 +185,8 @@ fn input_format(given: Option<Format>, input: &Path, text: &str) -> Result<(Form
     };
     let detected = choose_dialect(dialect, input, text)?;
     let format = match detected.dialect {
-        Dialect::Fanuc => Format::Fanuc,
-        Dialect::Haas => Format::Haas,
+        Dialect::Fanuc | Dialect::FanucLathe => Format::Fanuc,
+        Dialect::Haas | Dialect::HaasLathe => Format::Haas,
         Dialect::LinuxCnc => Format::Linuxcnc,
         Dialect::Grbl => Format::Grbl,
     };

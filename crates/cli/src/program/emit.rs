@@ -94,7 +94,10 @@ impl WriteArgs {
         let own = match dialect {
             kezuri_nc::Dialect::LinuxCnc => Some(Emit::Linuxcnc),
             kezuri_nc::Dialect::Grbl => Some(Emit::Grbl),
-            kezuri_nc::Dialect::Fanuc | kezuri_nc::Dialect::Haas => None,
+            kezuri_nc::Dialect::Fanuc
+            | kezuri_nc::Dialect::Haas
+            | kezuri_nc::Dialect::FanucLathe
+            | kezuri_nc::Dialect::HaasLathe => None,
         };
         WriteArgs { emit: if named { self.emit } else { own }, ..self.clone() }
     }

@@ -85,6 +85,11 @@ pub enum DialectArg {
     Linuxcnc,
     /// GRBL 1.1: `X100` is 100 mm.
     Grbl,
+    /// A Fanuc lathe (T series): X a diameter, U W incremental X Z (G code
+    /// system A unless the machine file says B or C), the turning cycles.
+    FanucLathe,
+    /// A Haas lathe: the Fanuc lathe with Haas's codes and one-block cycles.
+    HaasLathe,
 }
 
 impl From<DialectArg> for Dialect {
@@ -94,6 +99,8 @@ impl From<DialectArg> for Dialect {
             DialectArg::Haas => Dialect::Haas,
             DialectArg::Linuxcnc => Dialect::LinuxCnc,
             DialectArg::Grbl => Dialect::Grbl,
+            DialectArg::FanucLathe => Dialect::FanucLathe,
+            DialectArg::HaasLathe => Dialect::HaasLathe,
         }
     }
 }
@@ -199,8 +206,8 @@ pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine
     };
     let control = match dialect {
         Dialect::LinuxCnc | Dialect::Grbl => Control::LinuxCnc,
-        Dialect::Haas => Control::Haas,
-        Dialect::Fanuc => machine.settings.coords.control,
+        Dialect::Haas | Dialect::HaasLathe => Control::Haas,
+        Dialect::Fanuc | Dialect::FanucLathe => machine.settings.coords.control,
     };
     Settings {
         dialect,

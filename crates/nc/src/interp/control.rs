@@ -168,6 +168,7 @@ impl<'a> Interp<'a> {
             inch: self.st.modal.units == super::modal::Units::Inch,
             model_reads: self.st.model_reads,
             warnings,
+            threads: self.st.threads,
         }
     }
 

@@ -16,6 +16,7 @@ mod control;
 mod coords;
 mod cycle;
 mod hint;
+mod lathe;
 mod length;
 mod modal;
 mod motion;
@@ -40,6 +41,7 @@ use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
+pub use lathe::{GCodeSystem, Lathe, Nose, Thread, XMode};
 pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
 use signals::Outputs;
@@ -130,9 +132,25 @@ pub struct Settings {
     /// `CENTER_ARC_RADIUS_TOLERANCE_MM` (its absolute part; the 0.1 % of the
     /// radius stays). `None`: the control's default (`docs/gcode-support.md`).
     pub arc_tolerance: Option<f64>,
+    /// A lathe's conventions (the machine file's `[machine] kind = "lathe"`
+    /// or `"mill-turn"`). `None`: a mill, unless the dialect is a lathe's
+    /// ([`Settings::lathe_conventions`]).
+    pub lathe: Option<Lathe>,
+    /// The spindle's top speed (rpm): where constant surface speed (`G96`)
+    /// with no clamp runs to.
+    pub max_rpm: Option<f64>,
+    /// Turning tools' noses by tool number (nose radius compensation, the
+    /// simulation).
+    pub noses: BTreeMap<u32, Nose>,
 }
 
 impl Settings {
+    /// The lathe's conventions the run starts with: the machine file's, else
+    /// a lathe dialect's defaults (X a diameter, system A); `None` for a mill.
+    pub fn lathe_conventions(&self) -> Option<Lathe> {
+        self.lathe.or_else(|| self.dialect.is_lathe().then(Lathe::default))
+    }
+
     /// Checks what a machine file can get wrong: the macro variable ranges
     /// and the input signal values.
     pub fn check(&self) -> Result<(), String> {
@@ -166,6 +184,9 @@ impl Default for Settings {
             input_signals: BTreeMap::new(),
             parameters: BTreeMap::new(),
             arc_tolerance: None,
+            lathe: None,
+            max_rpm: None,
+            noses: BTreeMap::new(),
         }
     }
 }
@@ -236,6 +257,8 @@ pub struct Outcome {
     /// of it past the first few of a kind (said there in one line, `… and
     /// 10 more warnings like these`, which this does not count).
     pub warnings: u64,
+    /// The threads cut, in order.
+    pub threads: Vec<Thread>,
 }
 
 /// A log file a LinuxCNC program opened, with the lines it wrote to it.
@@ -323,6 +346,8 @@ struct State {
     spline_pq: [f64; 2],
     /// Holes drilled by canned cycles.
     holes: u64,
+    /// The threads cut ([`Outcome::threads`]).
+    threads: Vec<Thread>,
     /// Tool length wear by H number (G10 L11, #10001…), added to the
     /// geometry in `settings.tool_lengths`.
     length_wear: BTreeMap<u32, f64>,
@@ -448,6 +473,7 @@ impl State {
             spline: None,
             spline_pq: [0.0; 2],
             holes: 0,
+            threads: Vec::new(),
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
             length_loaded: None,
