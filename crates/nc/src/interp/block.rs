@@ -110,6 +110,7 @@ impl State {
             self.apply_modal(code, &w, gspan)?;
             self.path_code(code, &w, gspan, line)?;
         }
+        self.diameter_words(&mut w);
 
         // G66.1 mode: every block calls the macro instead of moving.
         let in_modal_macro = self.modal_depth > 0;
@@ -235,8 +236,11 @@ impl State {
     #[inline(always)]
     fn path_code(&mut self, code: GCode, w: &Words, gspan: Span, line: u32) -> Result<(), Diagnostic> {
         match (code, self.settings.coords.control) {
-            // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
-            (GCode::Smoothing(80), Control::LinuxCnc) => return Ok(()),
+            // LinuxCNC's G8 is lathe radius mode, its default.
+            (GCode::Smoothing(80), Control::LinuxCnc) => {
+                self.radius_mode();
+                return Ok(());
+            }
             // LinuxCNC's G5 and G5.1 are splines, of their block only:
             // rs274 2.9 leaves the motion mode as it was.
             (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {
@@ -360,6 +364,7 @@ impl State {
                 self.modal.motion = m;
                 self.rigid_tap = false;
                 self.threading = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
             GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
@@ -371,8 +376,10 @@ impl State {
             GCode::RigidTap => {
                 self.rigid_tap = true;
                 self.threading = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
+            GCode::SpindleSync | GCode::LatheDiameter => self.linuxcnc_lathe_code(code, gspan)?,
             GCode::Plane(p) => self.modal.plane = p,
             GCode::Distance(d) => self.modal.distance = d,
             GCode::FeedMode(f) => self.modal.feed_mode = f,
@@ -447,6 +454,7 @@ impl State {
             GCode::CycleOff => {
                 self.rigid_tap = false;
                 self.threading = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
@@ -462,11 +470,13 @@ impl State {
             GCode::CannedCycle(Cycle::FineBore) if self.settings.coords.control == Control::LinuxCnc => {
                 self.threading = true;
                 self.rigid_tap = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
             GCode::CannedCycle(cycle) => {
                 self.rigid_tap = false;
                 self.threading = false;
+                self.spindle_sync = false;
                 if self.modal.cycle.is_none() {
                     self.begin_cycle();
                 }

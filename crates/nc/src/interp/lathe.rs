@@ -69,3 +69,5 @@ pub struct Thread {
     /// The source line of the block.
     pub line: u32,
 }
+
+mod linuxcnc;

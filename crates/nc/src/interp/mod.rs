@@ -339,6 +339,11 @@ struct State {
     rigid_tap: bool,
     /// LinuxCNC's G76 threading cycle is the motion mode (group 1).
     threading: bool,
+    /// LinuxCNC's G33 spindle-synchronised motion is the motion mode
+    /// (group 1).
+    spindle_sync: bool,
+    /// LinuxCNC's G7: X words are diameters (G8, the default: radii).
+    diameter: bool,
     /// LinuxCNC's spline (G5: 50, G5.1: 51) is this block's motion; the
     /// motion mode stays as it was (rs274 2.9).
     spline: Option<u32>,
@@ -470,6 +475,8 @@ impl State {
             hole: cycle::HoleData::default(),
             rigid_tap: false,
             threading: false,
+            spindle_sync: false,
+            diameter: false,
             spline: None,
             spline_pq: [0.0; 2],
             holes: 0,

@@ -160,6 +160,13 @@ pub enum GCode {
     /// G33.1 (LinuxCNC): rigid tapping to the end point and back, the
     /// feed synchronised with the spindle (K, the pitch). Group 1.
     RigidTap,
+    /// G33 (LinuxCNC): spindle-synchronised motion, K the distance a turn
+    /// along the move (threading). Group 1.
+    SpindleSync,
+    /// G7 (LinuxCNC): lathe diameter mode, X words read as diameters (G8,
+    /// radius mode, is decoded as [`GCode::Smoothing`]`(80)`, Fanuc's G08,
+    /// and read by dialect).
+    LatheDiameter,
     /// G10 (offsets by program)
     SetOffsets,
     /// G17 G18 G19
@@ -256,6 +263,8 @@ impl GCode {
             30 => Motion(self::Motion::Ccw),
             40 => Dwell,
             331 => RigidTap,
+            330 => SpindleSync,
+            70 => LatheDiameter,
             100 => SetOffsets,
             170 => Plane(kezuri_geom::Plane::Xy),
             180 => Plane(kezuri_geom::Plane::Zx),
@@ -323,7 +332,7 @@ impl GCode {
     pub fn group(self) -> u32 {
         use GCode::*;
         match self {
-            Motion(_) | RigidTap => 1,
+            Motion(_) | RigidTap | SpindleSync => 1,
             Plane(_) => 2,
             Distance(_) => 3,
             FeedMode(_) => 5,
@@ -346,6 +355,8 @@ impl GCode {
             Smoothing(tenths) => 1000 + tenths,
             ExactStop => 100,
             ConstantSpeedOff => 13,
+            // LinuxCNC's group 15 (G7/G8); not a Fanuc group.
+            LatheDiameter => 102,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
             | ResetShift | Pocket(_) => 0,
         }

@@ -238,6 +238,9 @@ impl State {
         if self.threading {
             return self.thread_block(w, span, line);
         }
+        if self.spindle_sync {
+            return self.spindle_sync_block(w, span, line);
+        }
         self.modal_motion(w, span, line)
     }
 

@@ -160,6 +160,14 @@ impl<'a> Words<'a> {
         out.join(" ")
     }
 
+    /// The word of `letter`, if the block has it, multiplied by `factor`
+    /// (a diameter read as the radius).
+    pub(super) fn scale(&mut self, letter: u8, factor: f64) {
+        if self.has(letter) {
+            self.value[slot(letter)] *= factor;
+        }
+    }
+
     /// The words with only the one of `letter`.
     pub(super) fn only(&self, letter: u8) -> Words<'a> {
         Words { present: self.present & bit(letter), ..*self }

@@ -1,0 +1,244 @@
+//! kezuri against LinuxCNC's own interpreter (`rs274`, Debian package
+//! `linuxcnc-uspace`) on every lathe program LinuxCNC ships, read where the
+//! package installed them (GPL: read at test time, never copied here).
+//!
+//! Each program runs on both sides with the lathe's start-up codes `G18 G7`
+//! (the ZX plane, X a diameter) written before its first block: rs274 alone
+//! does not run an INI file's `RS274NGC_STARTUP_CODE`. The lathe macros and
+//! ngcgui's lathe subroutines are libraries: each is called as its user
+//! interface calls it, with its own default arguments (`MACRODEFAULTS=`,
+//! `#<name> = #n (=default …)`). Both interpreters get LinuxCNC's lathe
+//! simulator's tool table (`sim/axis/lathe.tbl`, inches).
+//!
+//! End points must agree within 1e-3 mm plus half the step rs274 prints;
+//! where rs274 stops with an error, kezuri must stop too, its motions up to
+//! there the same. Disagreements known today are listed in
+//! [`EXPECTED_FAILURES`] with their cause; one that agrees fails the test so
+//! the list stays true. Without rs274 the test skips, saying so, unless
+//! `KEZURI_REQUIRE_RS274` is set (CI), where it fails. `cargo test -p kezuri
+//! --test linuxcnc_lathe -- --nocapture` prints the table.
+
+mod rs274;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use rs274::{first_difference, kezuri_done, read_canon, rs274_here, run_limited, Motion};
+
+/// Where the package puts its example programs.
+const NCFILES: &str = "/usr/share/linuxcnc/ncfiles";
+
+/// The lathe programs, relative to [`NCFILES`]; the macro and ngcgui
+/// folders are read whole.
+const PROGRAMS: &[&str] = &[
+    "lathe-g76.ngc",
+    "lathe_g70_71_demo.ngc",
+    "lathe_g7x_face_boring.ngc",
+    "lathe_g7x_quadrants.ngc",
+    "lathe_pawn.ngc",
+    "lathecomp.ngc",
+    "g76.ngc",
+    "threading.ngc",
+];
+
+/// Subroutine folders: each file is called with its defaults.
+const LIBRARIES: &[&str] = &["macros/lathe", "ngcgui_lib/lathe"];
+
+/// Programs that disagree today, each with its cause. A file named here
+/// that agrees fails the test.
+const EXPECTED_FAILURES: &[(&str, &str)] = &[];
+
+/// The lathe simulator's tool table, where the package puts it.
+const TOOL_TABLE: &str = "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/lathe.tbl";
+
+/// One program to run: its name for the table, the text both interpreters
+/// run and the folder its subroutines are found in.
+struct Case {
+    name: String,
+    text: String,
+    dir: PathBuf,
+}
+
+/// `text` with the start-up codes before its first block (after a leading
+/// `%` line).
+fn with_startup(text: &str) -> String {
+    const STARTUP: &str = "G18 G7\n";
+    match text.split_once('\n') {
+        Some((first, rest)) if first.trim() == "%" => format!("{first}\n{STARTUP}{rest}"),
+        _ => format!("{STARTUP}{text}"),
+    }
+}
+
+/// The defaults a library file gives its arguments: the macro's
+/// `MACRODEFAULTS=` list (true 1, false 0), or ngcgui's `#<name> = #n
+/// (=default …)` comments in the order of n. `None`: not a subroutine for
+/// a user interface.
+fn defaults(text: &str) -> Option<Vec<String>> {
+    if let Some(list) = text.lines().find_map(|l| l.trim().strip_prefix("; MACRODEFAULTS=")) {
+        let value = |v: &str| match v.trim().to_ascii_lowercase().as_str() {
+            "true" => "1".to_string(),
+            "false" => "0".to_string(),
+            v => v.to_string(),
+        };
+        return Some(list.split(',').map(value).collect());
+    }
+    let mut found: Vec<(u32, String)> = Vec::new();
+    for line in text.lines() {
+        // `#<name> = #3 (=0.010 Depth of Cut)`
+        let Some((_, rest)) = line.split_once('=') else { continue };
+        let rest = rest.trim_start();
+        let Some(rest) = rest.strip_prefix('#') else { continue };
+        let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        let Ok(n) = digits.parse::<u32>() else { continue };
+        let Some((_, comment)) = rest.split_once("(=") else { continue };
+        let value = comment.split_whitespace().next().map(|v| v.trim_end_matches(')').to_string());
+        if let Some(v) = value.filter(|v| v.parse::<f64>().is_ok()) {
+            found.push((n, v));
+        }
+    }
+    found.sort_by_key(|(n, _)| *n);
+    (!found.is_empty()).then(|| found.into_iter().map(|(_, v)| v).collect())
+}
+
+/// The subroutine's name: `o<name> sub`.
+fn sub_name(text: &str) -> Option<String> {
+    text.lines().find_map(|l| {
+        let l = l.trim().to_ascii_lowercase();
+        let rest = l.strip_prefix("o<")?;
+        let (name, after) = rest.split_once('>')?;
+        (after.trim() == "sub").then(|| name.to_string())
+    })
+}
+
+/// Every lathe program of the package, as it is run.
+fn cases() -> Vec<Case> {
+    let root = Path::new(NCFILES);
+    let mut cases = Vec::new();
+    for p in PROGRAMS {
+        let file = root.join(p);
+        let Ok(text) = std::fs::read_to_string(&file) else { continue };
+        cases.push(Case { name: p.to_string(), text: with_startup(&text), dir: root.to_path_buf() });
+    }
+    for lib in LIBRARIES {
+        let dir = root.join(lib);
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        let mut files: Vec<PathBuf> =
+            entries.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "ngc")).collect();
+        files.sort();
+        for file in files {
+            let text = String::from_utf8_lossy(&std::fs::read(&file).unwrap()).into_owned();
+            let name = format!("{lib}/{}", file.file_name().unwrap().to_string_lossy());
+            let Some(sub) = sub_name(&text) else {
+                // A preamble, not a subroutine: run as a program.
+                cases.push(Case { name, text: with_startup(&text), dir: dir.clone() });
+                continue;
+            };
+            let args: String = defaults(&text).unwrap_or_default().iter().map(|v| format!(" [{v}]")).collect();
+            let call = format!("G18 G7\no<{sub}> call{args}\nM2\n");
+            cases.push(Case { name, text: call, dir: dir.clone() });
+        }
+    }
+    cases
+}
+
+/// rs274's run of `program` (subroutines from `dir`): its motions and the
+/// error it stopped with.
+fn rs274_run(program: &Path, dir: &Path, scratch: &Path) -> (Vec<Motion>, Option<String>) {
+    let ini = scratch.join("lathe.ini");
+    std::fs::write(&ini, format!("[RS274NGC]\nSUBROUTINE_PATH = {}\n", dir.display())).unwrap();
+    let canon = scratch.join("rs274.canon");
+    let _ = std::fs::remove_file(&canon);
+    let mut cmd = Command::new("rs274");
+    // Its own HOME: rs274 shares its tool table through $HOME/.tool.mmap.
+    cmd.env("HOME", scratch).arg("-i").arg(&ini).arg("-g").arg("-t").arg(TOOL_TABLE);
+    cmd.arg(program).arg(&canon);
+    let done = run_limited(cmd, dir, scratch, "rs274");
+    let text = String::from_utf8_lossy(&std::fs::read(&canon).unwrap_or_default()).into_owned();
+    let error = match done.status {
+        Some(0) => None,
+        None => Some("rs274 ran past its time".to_string()),
+        Some(code) => Some(
+            done.stdout
+                .lines()
+                .chain(done.stderr.lines())
+                .map(str::trim)
+                .filter(|l| !l.is_empty() && *l != "executing" && !l.starts_with("Oops"))
+                .last()
+                .map_or_else(|| format!("exit status {code}"), str::to_string),
+        ),
+    };
+    (read_canon(&text), error)
+}
+
+/// kezuri's run of `program` in the `linuxcnc` dialect, subroutines from
+/// `dir`, the tool table imported in inches.
+fn kezuri_run(program: &Path, dir: &Path, scratch: &Path) -> Result<Vec<Motion>, String> {
+    let machine = scratch.join("machine.toml");
+    std::fs::write(&machine, format!("[tools]\nimport = \"{TOOL_TABLE}\"\nunits = \"inch\"\n")).unwrap();
+    let csv = scratch.join("kezuri.csv");
+    let _ = std::fs::remove_file(&csv);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_kezuri"));
+    cmd.arg("run").arg(program).args(["--dialect", "linuxcnc", "--lib"]).arg(dir);
+    cmd.arg("--machine").arg(&machine).args(["--emit", "csv", "-o"]).arg(&csv);
+    kezuri_done(run_limited(cmd, dir, scratch, "kezuri"), &csv)
+}
+
+/// How one program compares: `None` when kezuri agrees with rs274.
+fn compare(case: &Case, scratch: &Path) -> Option<String> {
+    let program = scratch.join("program.ngc");
+    std::fs::write(&program, &case.text).unwrap();
+    let (theirs, error) = rs274_run(&program, &case.dir, scratch);
+    let ours = kezuri_run(&program, &case.dir, scratch);
+    match (ours, error) {
+        (Ok(ours), None) => first_difference(&ours, &theirs),
+        (Err(e), None) => Some(format!("kezuri stops: {e}; rs274 runs it ({} motions)", theirs.len())),
+        (Ok(ours), Some(e)) => Some(format!(
+            "rs274 stops ({e}) after {} motions; kezuri runs it ({} motions)",
+            theirs.len(),
+            ours.len()
+        )),
+        // Both stop: the motions before must be the same.
+        (Err(_), Some(_)) => None,
+    }
+}
+
+#[test]
+fn linuxcnc_lathe_programs_agree_with_rs274() {
+    if !rs274_here() {
+        return;
+    }
+    let cases = cases();
+    if cases.is_empty() || !Path::new(TOOL_TABLE).is_file() {
+        assert!(
+            std::env::var_os("KEZURI_REQUIRE_RS274").is_none(),
+            "rs274 is required and the package's lathe programs or lathe.tbl are missing"
+        );
+        eprintln!("rs274 is here but not LinuxCNC's lathe programs: skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut failures = Vec::new();
+    let mut agree = 0;
+    let width = cases.iter().map(|c| c.name.len()).max().unwrap_or(10);
+    for case in &cases {
+        let expected = EXPECTED_FAILURES.iter().find(|(f, _)| *f == case.name).map(|(_, c)| *c);
+        let verdict = match (compare(case, dir.path()), expected) {
+            (None, None) => {
+                agree += 1;
+                "agrees".to_string()
+            }
+            (None, Some(_)) => {
+                failures.push(format!("{}: agrees now: take it out of EXPECTED_FAILURES", case.name));
+                "AGREES (listed as an expected failure)".to_string()
+            }
+            (Some(d), Some(cause)) => format!("differs (expected: {cause})\n      {d}"),
+            (Some(d), None) => {
+                failures.push(format!("{}: {d}", case.name));
+                format!("DIFFERS\n      {d}")
+            }
+        };
+        println!("{:width$}  {verdict}", case.name);
+    }
+    println!("{agree} of {} lathe programs agree with rs274", cases.len());
+    assert!(failures.is_empty(), "{} lathe programs differ from rs274:\n{}", failures.len(), failures.join("\n"));
+}

@@ -1,0 +1,118 @@
+//! LinuxCNC's lathe codes: `G7` diameter mode and `G8` radius mode (how
+//! X words are read) and `G33` spindle-synchronised motion, as LinuxCNC's
+//! G-code reference describes them and its interpreter rs274 runs them.
+//!
+//! Under `G7` every X word is a diameter: the tool goes to half of it from
+//! the spindle axis, whatever the block does with it (a move, `G92`, `G10`,
+//! `G28`'s point). Arc centres `I` `K` stay radii; `G76`'s `I` `J` `K` are
+//! diameters too (halved where `G76` reads them).
+
+use kezuri_geom::{Axes, MoveKind, Spindle};
+
+use super::super::modal::{GCode, Units};
+use super::super::words::Words;
+use super::super::State;
+use super::Thread;
+use crate::number::number;
+use crate::source::{Diagnostic, Span};
+
+impl State {
+    /// `G7` and `G33`: LinuxCNC's codes only.
+    pub(in crate::interp) fn linuxcnc_lathe_code(&mut self, code: GCode, gspan: Span) -> Result<(), Diagnostic> {
+        if self.settings.dialect != crate::Dialect::LinuxCnc {
+            let what = match code {
+                GCode::LatheDiameter => "G07 (lathe diameter mode)",
+                _ => "G33 (spindle-synchronised motion)",
+            };
+            return Err(Diagnostic::error(gspan, format!("{what} is LinuxCNC's: not a code of this dialect")));
+        }
+        match code {
+            GCode::LatheDiameter => self.diameter = true,
+            _ => {
+                self.spindle_sync = true;
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+            }
+        }
+        Ok(())
+    }
+
+    /// `G8` (LinuxCNC): radius mode, X read as it is written.
+    pub(in crate::interp) fn radius_mode(&mut self) {
+        self.diameter = false;
+    }
+
+    /// The block's X word read as a radius under `G7` (the mode after the
+    /// block's own `G7`/`G8`, as rs274 has it).
+    pub(in crate::interp) fn diameter_words(&self, w: &mut Words) {
+        if self.diameter {
+            w.scale(b'X', 0.5);
+        }
+    }
+
+    /// A thread cut from `start` to `end`, `lead` mm a turn, for the report.
+    pub(in crate::interp) fn push_thread(&mut self, lead: f64, start: Axes, end: Axes, line: u32) {
+        self.threads.push(Thread { lead: lead.abs(), start, end, line });
+    }
+
+    /// A block in `G33` mode: a feed from where the tool is to the end
+    /// point, synchronised with the spindle so that the tool advances K
+    /// along the move each turn (the feed K × rpm), one thread pass. Kept
+    /// as its `G33` block for a written program. Returns whether the tool
+    /// moved.
+    pub(in crate::interp) fn spindle_sync_block(
+        &mut self,
+        w: &Words,
+        span: Span,
+        line: u32,
+    ) -> Result<bool, Diagnostic> {
+        if !w.any_axis() {
+            return Ok(false);
+        }
+        // rs274's refusals, in its order.
+        if w.has(b'F') {
+            return Err(Diagnostic::error(
+                w.span(b'F'),
+                "F word used with G33: the feed follows from K and the spindle speed",
+            ));
+        }
+        let Some(k) = w.get(b'K') else {
+            return Err(Diagnostic::error(span, "K word missing with G33: give the distance a turn (the lead)"));
+        };
+        if self.spindle == Spindle::Off {
+            return Err(Diagnostic::error(span, "Spindle not turning in G33: give M3 or M4 first"));
+        }
+        let rpm = self.spindle_rpm();
+        if rpm <= 0.0 {
+            return Err(Diagnostic::error(
+                span,
+                "G33 with spindle speed 0: the feed is 0 and the thread never ends; give S greater than 0",
+            ));
+        }
+        let (start, first) = (self.tip, self.toolpath.moves.len());
+        let end = self.target(w);
+        let lead = self.mm(k);
+        self.push_move(MoveKind::Feed, end, (lead * rpm).abs(), w.axes(), line);
+        self.push_thread(lead, start, end, line);
+        // The block in absolute program coordinates (X a radius), its units
+        // with it.
+        let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
+        let (e, o) = (end.to_array(), self.frame_offset().to_array());
+        let mut text = String::from(if unit == 1.0 { "G21 G90 G33" } else { "G20 G90 G33" });
+        for (i, &letter) in b"XYZABC".iter().enumerate().filter(|&(i, _)| w.axes().contains(i)) {
+            let v = if i < 3 { (e[i] - o[i]) / unit } else { e[i] - o[i] };
+            text.push_str(&format!(" {}{}", letter as char, number(v, 6)));
+        }
+        text.push_str(&format!(" K{}", number(k, 6)));
+        let mut kept = self.kept(first, 1, text, false, line);
+        kept.state = kezuri_geom::ToolState::of(&self.toolpath.moves[first]);
+        self.toolpath.kept.push(kept);
+        Ok(true)
+    }
+
+    /// The spindle's turns a minute for a synchronised move.
+    fn spindle_rpm(&self) -> f64 {
+        self.speed
+    }
+}
