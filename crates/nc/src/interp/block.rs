@@ -97,6 +97,11 @@ impl State {
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         self.g_codes(&w, &mut codes)?;
+        // A Fanuc or Haas lathe's words (LinuxCNC's X: `diameter_words`).
+        if self.turning.as_ref().is_some_and(|t| t.fanuc) {
+            let n = w.g_count;
+            self.lathe_block(&mut w, &mut codes[..n])?;
+        }
         let codes = &codes[..w.g_count];
         let has = |f: fn(&GCode) -> bool| codes.iter().flatten().find(|(c, _)| f(c)).map(|&(c, s)| (c, s));
 
@@ -138,7 +143,7 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
-        if has(|c| *c == GCode::SetOffsets).is_none() {
+        if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
@@ -152,11 +157,18 @@ impl State {
         }
 
         self.feed_speed_tool(&w);
+        if self.turning.is_some() {
+            self.lathe_speed_tool(&w, codes)?;
+        }
         self.comp_register(w.get(b'D'), w.span(b'D'))?;
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
+        let x_known = !self.unplaced.contains(0) && !self.at_machine.contains(0);
         let moved = self.motion(codes, &w, span, line)?;
+        if self.turning.is_some() {
+            self.lathe_moves(first_move, x_known, &w, span)?;
+        }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
             self.keep_m_code(&w, m, line);
@@ -186,7 +198,7 @@ impl State {
     #[inline(always)]
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
-            let Some(code) = GCode::decode(tenths) else {
+            let Some(code) = self.decode_g(tenths) else {
                 return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
             };
             let group = code.group();
@@ -366,7 +378,25 @@ impl State {
                 self.threading = false;
                 self.spindle_sync = false;
                 self.end_cycle();
+                self.lathe_motion(None);
             }
+            GCode::SingleCycle(cycle) => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+                self.lathe_motion(Some(super::lathe::LatheMotion::Single(cycle)));
+            }
+            GCode::Threading => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+                self.lathe_motion(Some(super::lathe::LatheMotion::Threading));
+            }
+            GCode::ConstantSpeed | GCode::ConstantSpeedOff if self.settings.dialect == crate::Dialect::LinuxCnc => {
+                self.linuxcnc_lathe_code(code, w, gspan)?
+            }
+            GCode::ConstantSpeed => self.constant_speed(true, gspan)?,
+            GCode::ConstantSpeedOff if self.turning.is_some() => self.constant_speed(false, gspan)?,
             GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
                 return Err(Diagnostic::error(
                     gspan,
@@ -374,12 +404,13 @@ impl State {
                 ));
             }
             GCode::RigidTap => {
+                self.lathe_motion(None);
                 self.rigid_tap = true;
                 self.threading = false;
                 self.spindle_sync = false;
                 self.end_cycle();
             }
-            GCode::SpindleSync | GCode::LatheDiameter => self.linuxcnc_lathe_code(code, gspan)?,
+            GCode::SpindleSync | GCode::LatheDiameter => self.linuxcnc_lathe_code(code, w, gspan)?,
             GCode::Plane(p) => self.modal.plane = p,
             GCode::Distance(d) => self.modal.distance = d,
             GCode::FeedMode(f) => self.modal.feed_mode = f,
@@ -513,6 +544,7 @@ impl State {
             | GCode::Smoothing(_)
             | GCode::ExactStop
             | GCode::Pocket(_)
+            | GCode::LatheSetPosition
             | GCode::ConstantSpeedOff => {}
         }
         Ok(())

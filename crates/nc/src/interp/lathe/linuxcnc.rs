@@ -12,13 +12,21 @@ use kezuri_geom::{Axes, MoveKind, Spindle};
 use super::super::modal::{GCode, Units};
 use super::super::words::Words;
 use super::super::State;
-use super::Thread;
+use super::{Lathe, Thread, Turning, XMode};
 use crate::number::number;
 use crate::source::{Diagnostic, Span};
 
 impl State {
-    /// `G7` and `G33`: LinuxCNC's codes only.
-    pub(in crate::interp) fn linuxcnc_lathe_code(&mut self, code: GCode, gspan: Span) -> Result<(), Diagnostic> {
+    /// `G7`, `G33`, `G96`, `G97`: LinuxCNC's codes, read here in the
+    /// `linuxcnc` dialect (`G96`/`G97` elsewhere are the Fanuc lathe's).
+    /// `G7` and `G96` make the control a lathe if the machine file did not:
+    /// rs274 reads them on any machine.
+    pub(in crate::interp) fn linuxcnc_lathe_code(
+        &mut self,
+        code: GCode,
+        w: &Words,
+        gspan: Span,
+    ) -> Result<(), Diagnostic> {
         if self.settings.dialect != crate::Dialect::LinuxCnc {
             let what = match code {
                 GCode::LatheDiameter => "G07 (lathe diameter mode)",
@@ -27,7 +35,27 @@ impl State {
             return Err(Diagnostic::error(gspan, format!("{what} is LinuxCNC's: not a code of this dialect")));
         }
         match code {
-            GCode::LatheDiameter => self.diameter = true,
+            GCode::LatheDiameter => self.linuxcnc_turning().x = XMode::Diameter,
+            GCode::ConstantSpeed => {
+                // D: the spindle's top speed under constant surface speed
+                // (rpm), in force until another G96 D.
+                if let Some(d) = w.get(b'D') {
+                    if d.is_nan() || d <= 0.0 {
+                        return Err(Diagnostic::error(
+                            w.span(b'D'),
+                            format!("G96 D{d}: D is the top spindle speed in rpm, greater than 0"),
+                        ));
+                    }
+                    self.linuxcnc_turning().clamp = Some(d);
+                }
+                self.linuxcnc_turning();
+                self.constant_speed(true, gspan)?;
+            }
+            GCode::ConstantSpeedOff => {
+                if self.turning.is_some() {
+                    self.constant_speed(false, gspan)?;
+                }
+            }
             _ => {
                 self.spindle_sync = true;
                 self.rigid_tap = false;
@@ -38,15 +66,29 @@ impl State {
         Ok(())
     }
 
-    /// `G8` (LinuxCNC): radius mode, X read as it is written.
-    pub(in crate::interp) fn radius_mode(&mut self) {
-        self.diameter = false;
+    /// The lathe state of a LinuxCNC control, made at its first lathe
+    /// code: radius mode (`G8`, LinuxCNC's power-on mode).
+    fn linuxcnc_turning(&mut self) -> &mut Turning {
+        self.turning.get_or_insert_with(|| Turning::new(Lathe { x: XMode::Radius, ..Lathe::default() }, false))
     }
 
-    /// The block's X word read as a radius under `G7` (the mode after the
-    /// block's own `G7`/`G8`, as rs274 has it).
+    /// `G8` (LinuxCNC): radius mode, X read as it is written.
+    pub(in crate::interp) fn radius_mode(&mut self) {
+        if let Some(t) = &mut self.turning {
+            t.x = XMode::Radius;
+        }
+    }
+
+    /// Whether LinuxCNC's X words are diameters now (`G7`).
+    pub(in crate::interp) fn linuxcnc_diameter(&self) -> bool {
+        self.turning.as_ref().is_some_and(|t| !t.fanuc && t.x == XMode::Diameter)
+    }
+
+    /// The block's X word read as a radius under `G7`, in the mode after
+    /// the block's own `G7`/`G8` (rs274 reads X in the mode in force and
+    /// rescales it where the block changes the mode).
     pub(in crate::interp) fn diameter_words(&self, w: &mut Words) {
-        if self.diameter {
+        if self.linuxcnc_diameter() {
             w.scale(b'X', 0.5);
         }
     }
