@@ -160,7 +160,11 @@ impl State {
         if self.turning.is_some() {
             self.lathe_speed_tool(&w, codes)?;
         }
-        self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        // LinuxCNC's G96 D is the spindle's top speed, not an offset number.
+        let top_speed = self.settings.dialect == crate::Dialect::LinuxCnc && has(|c| *c == GCode::ConstantSpeed).is_some();
+        if !top_speed {
+            self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        }
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
