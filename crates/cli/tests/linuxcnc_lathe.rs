@@ -49,9 +49,49 @@ const PROGRAMS: &[&str] = &[
 /// Subroutine folders: each file is called with its defaults.
 const LIBRARIES: &[&str] = &["macros/lathe", "ngcgui_lib/lathe"];
 
+/// ngcgui's own subroutines (`o<loadtool>`), found by its lathe files as
+/// ngcgui's configurations put them on the subroutine path.
+const UTILITIES: &str = "ngcgui_lib/utilitysubs";
+
 /// Programs that disagree today, each with its cause. A file named here
 /// that agrees fails the test.
-const EXPECTED_FAILURES: &[(&str, &str)] = &[];
+const EXPECTED_FAILURES: &[(&str, &str)] = &[
+    (
+        "lathe-g76.ngc",
+        "written for radius mode: under G7 its arc `g3 x3.05 z-3.05 i0 k-3.05` ends off its circle, where kezuri \
+         stops; rs274 stops a block earlier, at the compensation entry `g0z1` (1 mm, under the tool's 1.27 mm \
+         radius), which kezuri checks when it plans the compensated path",
+    ),
+    ("g76.ngc", "the same program as lathe-g76.ngc"),
+    (
+        "lathe_g70_71_demo.ngc",
+        "G71.1, G71.2 and G70 (roughing and finishing along the Q subroutine's profile) are not built; rs274 \
+         itself stops in the profile under G7 (written for radius mode)",
+    ),
+    (
+        "lathe_g7x_face_boring.ngc",
+        "G72 and G70 (roughing and finishing along the Q subroutine's profile) are not built",
+    ),
+    (
+        "lathe_g7x_quadrants.ngc",
+        "G70, G71 and G72 are not built; rs274 itself stops in the first profile under G7 (written for radius mode)",
+    ),
+    (
+        "lathecomp.ngc",
+        "G41/G42 with the lathe table's tools (D0.1 in, orientations Q2 and Q7): from the first compensated move \
+         kezuri's nose centre is 1.27 mm (the nose radius) from rs274's; LinuxCNC's lathe compensation by tool \
+         orientation is not modelled in the linuxcnc dialect",
+    ),
+    (
+        "macros/lathe/probe-hole.ngc",
+        "probing (G38.2/G38.3): where the probe trips is the machine's; rs274's canon and kezuri place the \
+         tripped probe differently",
+    ),
+    (
+        "ngcgui_lib/lathe/lathe_std.ngc",
+        "ngcgui's preamble, not a program: it ends without M2 or %, which rs274 refuses and kezuri runs to its end",
+    ),
+];
 
 /// The lathe simulator's tool table, where the package puts it.
 const TOOL_TABLE: &str = "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/lathe.tbl";
@@ -213,21 +253,43 @@ fn kezuri_run(program: &Path, dir: &Path, scratch: &Path) -> Result<Vec<Motion>,
     kezuri_done(run_limited(cmd, dir, scratch, "kezuri"), &csv)
 }
 
-/// How one program compares: `None` when kezuri agrees with rs274.
-fn compare(case: &Case, scratch: &Path) -> Option<String> {
+/// How one program compares: `Ok` with how they agree, or what differs.
+fn compare(case: &Case, scratch: &Path) -> Result<&'static str, String> {
+    // One folder of subroutines: the program's own and ngcgui's utilities,
+    // linked.
+    let lib = scratch.join("lib");
+    let _ = std::fs::remove_dir_all(&lib);
+    std::fs::create_dir_all(&lib).unwrap();
+    for dir in [Path::new(NCFILES).join(UTILITIES), case.dir.clone()] {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let p = entry.path();
+            if p.extension().is_some_and(|e| e == "ngc") {
+                let link = lib.join(p.file_name().unwrap());
+                let _ = std::fs::remove_file(&link);
+                std::os::unix::fs::symlink(&p, link).unwrap();
+            }
+        }
+    }
     let program = scratch.join("program.ngc");
     std::fs::write(&program, &case.text).unwrap();
-    let (theirs, error) = rs274_run(&program, &case.dir, scratch);
-    let ours = kezuri_run(&program, &case.dir, scratch);
+    let (theirs, error) = rs274_run(&program, &lib, scratch);
+    let ours = kezuri_run(&program, &lib, scratch);
     match (ours, error) {
-        (Ok(ours), None) => first_difference(&ours, &theirs),
-        (Err(e), None) => Some(format!("kezuri stops: {e}; rs274 runs it ({} motions)", theirs.len())),
-        (Ok(ours), Some(e)) => Some(format!(
-            "rs274 stops ({e}) after {} motions; kezuri runs it ({} motions)",
-            theirs.len(),
-            ours.len()
-        )),
-        (Err(ours), Some(theirs)) => Some(format!("both stop: rs274 {theirs}; kezuri {ours}")),
+        (Ok(ours), None) => first_difference(&ours, &theirs).map_or(Ok("agrees"), Err),
+        (Err(e), None) => Err(format!("kezuri stops: {e}; rs274 runs it ({} motions)", theirs.len())),
+        (Ok(ours), Some(e)) => {
+            Err(format!("rs274 stops ({e}) after {} motions; kezuri runs it ({} motions)", theirs.len(), ours.len()))
+        }
+        // Both refuse the program: agreement where kezuri gives rs274's
+        // reason.
+        (Err(ours), Some(theirs)) => {
+            let reason = theirs.split(", at `").next().unwrap_or(&theirs);
+            if ours.contains(reason) {
+                Ok("agrees: both stop, for the same reason")
+            } else {
+                Err(format!("both stop: rs274 {theirs}; kezuri {ours}"))
+            }
+        }
     }
 }
 
@@ -252,16 +314,16 @@ fn linuxcnc_lathe_programs_agree_with_rs274() {
     for case in &cases {
         let expected = EXPECTED_FAILURES.iter().find(|(f, _)| *f == case.name).map(|(_, c)| *c);
         let verdict = match (compare(case, dir.path()), expected) {
-            (None, None) => {
+            (Ok(how), None) => {
                 agree += 1;
-                "agrees".to_string()
+                how.to_string()
             }
-            (None, Some(_)) => {
+            (Ok(_), Some(_)) => {
                 failures.push(format!("{}: agrees now: take it out of EXPECTED_FAILURES", case.name));
                 "AGREES (listed as an expected failure)".to_string()
             }
-            (Some(d), Some(cause)) => format!("differs (expected: {cause})\n      {d}"),
-            (Some(d), None) => {
+            (Err(d), Some(cause)) => format!("differs (expected: {cause})\n      {d}"),
+            (Err(d), None) => {
                 failures.push(format!("{}: {d}", case.name));
                 format!("DIFFERS\n      {d}")
             }

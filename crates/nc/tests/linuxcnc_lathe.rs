@@ -48,7 +48,11 @@ fn g33_is_one_synchronised_feed_and_one_thread() {
 
 #[test]
 fn g33_refusals_are_rs274s() {
-    assert!(error("G18 G21 S500 M3\nG33 Z-10 K1.5 F100\nM2\n").contains("F word used with G33"), "{}", error("G18 G21 S500 M3\nG33 Z-10 K1.5 F100\nM2\n"));
+    assert!(
+        error("G18 G21 S500 M3\nG33 Z-10 K1.5 F100\nM2\n").contains("F word used with G33"),
+        "{}",
+        error("G18 G21 S500 M3\nG33 Z-10 K1.5 F100\nM2\n")
+    );
     assert!(error("G18 G21 S500 M3\nG33 Z-10\nM2\n").contains("K word missing with G33"));
     assert!(error("G18 G21\nG33 Z-10 K1.5\nM2\n").contains("Spindle not turning in G33"));
 }

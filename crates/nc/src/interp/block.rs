@@ -156,12 +156,14 @@ impl State {
             }
         }
 
+        self.linuxcnc_tool_word(&w)?;
         self.feed_speed_tool(&w);
         if self.turning.is_some() {
             self.lathe_speed_tool(&w, codes)?;
         }
         // LinuxCNC's G96 D is the spindle's top speed, not an offset number.
-        let top_speed = self.settings.dialect == crate::Dialect::LinuxCnc && has(|c| *c == GCode::ConstantSpeed).is_some();
+        let top_speed =
+            self.settings.dialect == crate::Dialect::LinuxCnc && has(|c| *c == GCode::ConstantSpeed).is_some();
         if !top_speed {
             self.comp_register(w.get(b'D'), w.span(b'D'))?;
         }

@@ -93,6 +93,20 @@ impl State {
         }
     }
 
+    /// LinuxCNC's T word: a tool number, a whole number (within 0.0001 as
+    /// rs274 reads one).
+    pub(in crate::interp) fn linuxcnc_tool_word(&self, w: &Words) -> Result<(), Diagnostic> {
+        match w.get(b'T') {
+            Some(t) if self.settings.dialect == crate::Dialect::LinuxCnc && (t - t.round()).abs() > 0.0001 => {
+                Err(Diagnostic::error(
+                    w.span(b'T'),
+                    format!("Non integer value for integer: T{t} is no tool number (LinuxCNC stops here)"),
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// A thread cut from `start` to `end`, `lead` mm a turn, for the report.
     pub(in crate::interp) fn push_thread(&mut self, lead: f64, start: Axes, end: Axes, line: u32) {
         self.threads.push(Thread { lead: lead.abs(), start, end, line });
