@@ -46,6 +46,11 @@ const PROGRAMS: &[&str] = &[
     "threading.ngc",
 ];
 
+/// Programs written for radius mode (their arcs meet their ends only with X
+/// a radius): run a second time with `G18 G8`, LinuxCNC's power-on mode
+/// and the start-up of its gmoccapy lathe configurations.
+const RADIUS_MODE: &[&str] = &["lathe_g70_71_demo.ngc", "lathe_g7x_quadrants.ngc", "g76.ngc"];
+
 /// Subroutine folders: each file is called with its defaults.
 const LIBRARIES: &[&str] = &["macros/lathe", "ngcgui_lib/lathe"];
 
@@ -64,17 +69,10 @@ const EXPECTED_FAILURES: &[(&str, &str)] = &[
     ),
     ("g76.ngc", "the same program as lathe-g76.ngc"),
     (
-        "lathe_g70_71_demo.ngc",
-        "G71.1, G71.2 and G70 (roughing and finishing along the Q subroutine's profile) are not built; rs274 \
-         itself stops in the profile under G7 (written for radius mode)",
-    ),
-    (
-        "lathe_g7x_face_boring.ngc",
-        "G72 and G70 (roughing and finishing along the Q subroutine's profile) are not built",
-    ),
-    (
-        "lathe_g7x_quadrants.ngc",
-        "G70, G71 and G72 are not built; rs274 itself stops in the first profile under G7 (written for radius mode)",
+        "lathe_g70_71_demo.ngc (G8)",
+        "its G71.1 and G71.2 agree (175 motions); its G70 runs under `G42.1 D0.3 L2`, compensation with the \
+         tool orientation L, and parts at the first compensated rapid by 0.15 mm (the cutter's radius), as \
+         lathecomp.ngc does",
     ),
     (
         "lathecomp.ngc",
@@ -107,10 +105,14 @@ struct Case {
 /// `text` with the start-up codes before its first block (after a leading
 /// `%` line).
 fn with_startup(text: &str) -> String {
-    const STARTUP: &str = "G18 G7\n";
+    startup(text, "G18 G7\n")
+}
+
+/// `text` with `codes` before its first block (after a leading `%` line).
+fn startup(text: &str, codes: &str) -> String {
     match text.split_once('\n') {
-        Some((first, rest)) if first.trim() == "%" => format!("{first}\n{STARTUP}{rest}"),
-        _ => format!("{STARTUP}{text}"),
+        Some((first, rest)) if first.trim() == "%" => format!("{first}\n{codes}{rest}"),
+        _ => format!("{codes}{text}"),
     }
 }
 
@@ -163,6 +165,10 @@ fn cases() -> Vec<Case> {
         let file = root.join(p);
         let Ok(text) = std::fs::read_to_string(&file) else { continue };
         cases.push(Case { name: p.to_string(), text: with_startup(&text), dir: root.to_path_buf() });
+        if RADIUS_MODE.contains(p) {
+            let name = format!("{p} (G8)");
+            cases.push(Case { name, text: startup(&text, "G18 G8\n"), dir: root.to_path_buf() });
+        }
     }
     for lib in LIBRARIES {
         let dir = root.join(lib);
@@ -283,7 +289,8 @@ fn compare(case: &Case, scratch: &Path) -> Result<&'static str, String> {
         // Both refuse the program: agreement where kezuri gives rs274's
         // reason.
         (Err(ours), Some(theirs)) => {
-            let reason = theirs.split(", at `").next().unwrap_or(&theirs);
+            // rs274's reason, without its figures or the block.
+            let reason = theirs.split([':', ',']).next().unwrap_or(&theirs);
             if ours.contains(reason) {
                 Ok("agrees: both stop, for the same reason")
             } else {

@@ -22,6 +22,12 @@ pub(super) enum Action {
         span: Span,
     },
     Return(Option<u32>),
+    /// A LinuxCNC O-word subroutine called by number (a lathe cycle's
+    /// profile, `G71 Q100`).
+    OCall {
+        number: u32,
+        span: Span,
+    },
     End,
 }
 
@@ -97,6 +103,12 @@ impl State {
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         self.g_codes(&w, &mut codes)?;
+        // A LinuxCNC lathe cycle's profile: the block is read, not run.
+        if self.reading_profile() {
+            let n = w.g_count;
+            self.profile_block(&w, &codes[..n], span)?;
+            return Ok(Action::Next);
+        }
         // A Fanuc or Haas lathe's words (LinuxCNC's X: `diameter_words`).
         if self.turning.as_ref().is_some_and(|t| t.fanuc) {
             let n = w.g_count;
@@ -116,6 +128,10 @@ impl State {
             self.path_code(code, &w, gspan, line)?;
         }
         self.diameter_words(&mut w);
+        if let Some((GCode::LatheProfile(tenths), gspan)) = has(|c| matches!(c, GCode::LatheProfile(_))) {
+            self.feed_speed_tool(&w);
+            return self.profile_cycle(tenths, &w, gspan, line);
+        }
 
         // G66.1 mode: every block calls the macro instead of moving.
         let in_modal_macro = self.modal_depth > 0;
@@ -417,6 +433,12 @@ impl State {
                 self.end_cycle();
             }
             GCode::SpindleSync | GCode::LatheDiameter => self.linuxcnc_lathe_code(code, w, gspan)?,
+            GCode::LatheProfile(_) => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.spindle_sync = false;
+                self.end_cycle();
+            }
             GCode::Plane(p) => self.modal.plane = p,
             GCode::Distance(d) => self.modal.distance = d,
             GCode::FeedMode(f) => self.modal.feed_mode = f,

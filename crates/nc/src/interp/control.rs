@@ -437,6 +437,11 @@ impl<'a> Interp<'a> {
                 Ok(true)
             }
             Action::Return(target) => self.return_from(target, span),
+            Action::OCall { number, span } => {
+                let pc = self.frame().pc.saturating_sub(1);
+                self.o_call(&crate::ast::OName::Number(i64::from(number)), &[], pc, span)?;
+                Ok(true)
+            }
         }
     }
 
@@ -556,6 +561,8 @@ impl<'a> Interp<'a> {
         }
         if done.kind == FrameKind::OSub {
             self.st.call_level -= 1;
+            let level = self.st.call_level;
+            self.st.profile_returned(level)?;
         }
         if let Some(n) = target {
             let caller = self.frames.last().map_or(0, |f| f.unit);

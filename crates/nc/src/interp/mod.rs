@@ -342,6 +342,9 @@ struct State {
     /// LinuxCNC's G33 spindle-synchronised motion is the motion mode
     /// (group 1).
     spindle_sync: bool,
+    /// A LinuxCNC lathe cycle (G70, G71, G72) reading its profile from
+    /// its subroutine.
+    profile: Option<Box<lathe::Capture>>,
     /// LinuxCNC's spline (G5: 50, G5.1: 51) is this block's motion; the
     /// motion mode stays as it was (rs274 2.9).
     spline: Option<u32>,
@@ -485,6 +488,7 @@ impl State {
             rigid_tap: false,
             threading: false,
             spindle_sync: false,
+            profile: None,
             spline: None,
             spline_pq: [0.0; 2],
             holes: 0,

@@ -194,6 +194,10 @@ pub enum GCode {
     /// G33 (LinuxCNC): spindle-synchronised motion, K the distance a turn
     /// along the move (threading). Group 1.
     SpindleSync,
+    /// G70, G71, G72 and their .1 .2 (LinuxCNC): the lathe's finishing and
+    /// roughing cycles along the profile of the subroutine Q, as ten times
+    /// the number (711: G71.1). Group 1.
+    LatheProfile(u32),
     /// G7 (LinuxCNC): lathe diameter mode, X words read as diameters (G8,
     /// radius mode, is decoded as [`GCode::Smoothing`]`(80)`, Fanuc's G08,
     /// and read by dialect).
@@ -307,6 +311,7 @@ impl GCode {
             331 => RigidTap,
             330 => SpindleSync,
             70 => LatheDiameter,
+            700 | 710..=712 | 720..=722 => LatheProfile(tenths),
             100 => SetOffsets,
             170 => Plane(kezuri_geom::Plane::Xy),
             180 => Plane(kezuri_geom::Plane::Zx),
@@ -377,7 +382,7 @@ impl GCode {
     pub fn group(self) -> u32 {
         use GCode::*;
         match self {
-            Motion(_) | RigidTap | SpindleSync | SingleCycle(_) | Threading => 1,
+            Motion(_) | RigidTap | SpindleSync | LatheProfile(_) | SingleCycle(_) | Threading => 1,
             Plane(_) => 2,
             Distance(_) => 3,
             FeedMode(_) => 5,

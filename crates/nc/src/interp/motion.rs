@@ -606,7 +606,7 @@ impl State {
     /// 0.1 % of the larger radius, both, or past 100 times the absolute
     /// tolerance. GRBL: past 0.005 mm and 0.1 %,
     /// both, or past 0.5 mm.
-    fn arc_radius_refused(&self, r0: f64, r1: f64) -> Option<String> {
+    pub(super) fn arc_radius_refused(&self, r0: f64, r1: f64) -> Option<String> {
         let off = (r1 - r0).abs();
         let given = self.settings.arc_tolerance;
         match self.settings.dialect {

@@ -426,7 +426,7 @@ impl Interp<'_> {
 
     /// `o<name> call [a] [b] …`: finds the subroutine and runs it with the
     /// arguments in #1, #2, ….
-    fn o_call(&mut self, name: &OName, args: &[ExprId], pc: u32, span: Span) -> Result<(), Diagnostic> {
+    pub(super) fn o_call(&mut self, name: &OName, args: &[ExprId], pc: u32, span: Span) -> Result<(), Diagnostic> {
         let mut locals = [Value::Vacant; 33];
         for (slot, &arg) in locals.iter_mut().zip(args) {
             *slot = Value::Num(self.st.eval(self.program, arg).map_err(|m| Diagnostic::error(span, m))?.num());

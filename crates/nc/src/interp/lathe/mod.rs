@@ -7,12 +7,16 @@
 //! diameter mode, as LinuxCNC's rs274 prints it.
 
 mod linuxcnc;
+mod linuxcnc_cycles;
+mod profile;
 mod single;
 mod speed;
 mod thread;
 mod words;
 
 use kezuri_geom::{Axes, AxisSet};
+
+pub(super) use linuxcnc_cycles::Capture;
 
 use super::modal::{GCode, SingleCycle};
 use super::State;
