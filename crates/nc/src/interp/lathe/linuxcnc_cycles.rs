@@ -196,7 +196,7 @@ impl State {
                     }
                     let chord = end - start;
                     let n = chord.z * chord.z + chord.x * chord.x;
-                    if !(r * r >= n / 4.0) {
+                    if r * r < n / 4.0 || r.is_nan() {
                         return fault(w.span(b'R'), &format!("the arc's radius R{r} is less than half its chord"));
                     }
                     let k = ((r * r - n / 4.0) / n).sqrt();
