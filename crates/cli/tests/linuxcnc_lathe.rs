@@ -60,6 +60,81 @@ const LIBRARIES: &[&str] = &["macros/lathe", "ngcgui_lib/lathe"];
 /// ngcgui's configurations put them on the subroutine path.
 const UTILITIES: &str = "ngcgui_lib/utilitysubs";
 
+/// Programs of this test's own for what the package's programs leave out:
+/// corners (`A` fillets, `C` chamfers), `U` `W` under `G7` and an R arc in
+/// the profile, `G70` in passes with `E`; `G71.1`/`G71.2` and pockets in
+/// radius mode; `G72.1`/`G72.2` in inches with a G3 and corners; a profile
+/// read in `G91`. Each sets its own modes.
+const OWN: &[(&str, &str)] = &[
+    ("own: corners, U W under G7, G70 passes", "G18 G7 G21 G90\n\
+F200\n\
+o200 sub\n\
+  G0 X10 Z2\n\
+  G1 Z0 C1\n\
+  X20 A2\n\
+  W-15\n\
+  U10 Z-20 A1\n\
+  G2 X40 Z-30 R10\n\
+  G1 Z-40\n\
+  X50\n\
+o200 endsub\n\
+G0 X60 Z5\n\
+G71 Q200 X60 Z5 D0.4 I1.5 R0.5\n\
+G70 Q200 X60 Z5 D0.5 E0.1 P3\n\
+G0 X60 Z5\n\
+M2\n"),
+    ("own: G71.1 G71.2 G71 with pockets, G8", "G18 G8 G21 G90\n\
+F150\n\
+o300 sub\n\
+  G0 X5 Z1\n\
+  G1 Z-5\n\
+  X8 Z-8\n\
+  Z-12\n\
+  X4 Z-16\n\
+  Z-20\n\
+  X12\n\
+o300 endsub\n\
+G0 X14 Z3\n\
+G71.1 Q300 X14 Z3 D0.2 I0.7 R0.3\n\
+G71.2 Q300 X14 Z3 D0.1 I0.7 R0.3\n\
+G71 Q300 X14 Z3 D0 I0.5 R0.2\n\
+G0 X14 Z3\n\
+M2\n"),
+    ("own: G72.1 G72.2 G70 in inches, corners", "G18 G7 G20 G90\n\
+F5\n\
+o400 sub\n\
+  G1 X0.2 Z0.05\n\
+  G1 Z0\n\
+  G3 X0.6 Z-0.2 K-0.2 I0\n\
+  G1 Z-0.6 A0.05\n\
+  X1.0 C0.03\n\
+  Z-1.0\n\
+o400 endsub\n\
+G0 X1.2 Z0.2\n\
+G72.1 Q400 X1.2 Z0.2 D0.01 I0.05 R0.02\n\
+G72.2 Q400 X1.2 Z0.2 D0.005 I0.05 R0.02\n\
+G70 Q400 X1.2 Z0.2\n\
+M2\n"),
+    ("own: profile read in G91", "G18 G7 G21 G91\n\
+F100\n\
+o500 sub\n\
+  G0 X-10 Z-1\n\
+  G1 Z-10\n\
+  X4 Z-4\n\
+  G3 X6 Z-3 R3\n\
+  G1 Z-8\n\
+  X6\n\
+o500 endsub\n\
+G90 G0 X40 Z2\n\
+G91\n\
+G71 Q500 X0 Z0 D0.3 I1 R0.5\n\
+G90 G0 X40 Z2\n\
+G72 Q500 D0.3 I0.8 R0.5\n\
+G90 G0 X40 Z2\n\
+G70 Q500 D1 P2\n\
+M2\n"),
+];
+
 /// Programs that disagree today, each with its cause. A file named here
 /// that agrees fails the test.
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
@@ -171,6 +246,9 @@ fn cases() -> Vec<Case> {
             let name = format!("{p} (G8)");
             cases.push(Case { name, text: startup(&text, "G18 G8\n"), dir: root.to_path_buf() });
         }
+    }
+    for (name, text) in OWN {
+        cases.push(Case { name: name.to_string(), text: text.to_string(), dir: root.to_path_buf() });
     }
     for lib in LIBRARIES {
         let dir = root.join(lib);

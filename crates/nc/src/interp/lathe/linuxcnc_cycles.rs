@@ -103,8 +103,15 @@ impl State {
             }
         }
         if w.any_axis() {
-            let end = self.target(w);
-            self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line);
+            // rs274 reads the cycle's rapid in absolute distance mode, G91
+            // or not (the cycle's X Z above are incremental under G91).
+            let (o, mut end) = (self.frame_offset().to_array(), self.tip.to_array());
+            for (k, letter) in b"XYZABC".iter().enumerate() {
+                if let Some(v) = w.get(*letter) {
+                    end[k] = if k < 3 { self.mm(v) } else { v } + o[k];
+                }
+            }
+            self.push_move(MoveKind::Rapid, Axes::from_array(end), 0.0, w.axes(), line);
         }
         let get = |letter: u8, default: f64| w.get(letter).unwrap_or(default);
         self.profile = Some(Box::new(Capture {
