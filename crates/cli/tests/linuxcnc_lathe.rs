@@ -66,7 +66,9 @@ const UTILITIES: &str = "ngcgui_lib/utilitysubs";
 /// radius mode; `G72.1`/`G72.2` in inches with a G3 and corners; a profile
 /// read in `G91`. Each sets its own modes.
 const OWN: &[(&str, &str)] = &[
-    ("own: corners, U W under G7, G70 passes", "G18 G7 G21 G90\n\
+    (
+        "own: corners, U W under G7, G70 passes",
+        "G18 G7 G21 G90\n\
 F200\n\
 o200 sub\n\
   G0 X10 Z2\n\
@@ -82,8 +84,11 @@ G0 X60 Z5\n\
 G71 Q200 X60 Z5 D0.4 I1.5 R0.5\n\
 G70 Q200 X60 Z5 D0.5 E0.1 P3\n\
 G0 X60 Z5\n\
-M2\n"),
-    ("own: G71.1 G71.2 G71 with pockets, G8", "G18 G8 G21 G90\n\
+M2\n",
+    ),
+    (
+        "own: G71.1 G71.2 G71 with pockets, G8",
+        "G18 G8 G21 G90\n\
 F150\n\
 o300 sub\n\
   G0 X5 Z1\n\
@@ -99,8 +104,11 @@ G71.1 Q300 X14 Z3 D0.2 I0.7 R0.3\n\
 G71.2 Q300 X14 Z3 D0.1 I0.7 R0.3\n\
 G71 Q300 X14 Z3 D0 I0.5 R0.2\n\
 G0 X14 Z3\n\
-M2\n"),
-    ("own: G72.1 G72.2 G70 in inches, corners", "G18 G7 G20 G90\n\
+M2\n",
+    ),
+    (
+        "own: G72.1 G72.2 G70 in inches, corners",
+        "G18 G7 G20 G90\n\
 F5\n\
 o400 sub\n\
   G1 X0.2 Z0.05\n\
@@ -114,8 +122,11 @@ G0 X1.2 Z0.2\n\
 G72.1 Q400 X1.2 Z0.2 D0.01 I0.05 R0.02\n\
 G72.2 Q400 X1.2 Z0.2 D0.005 I0.05 R0.02\n\
 G70 Q400 X1.2 Z0.2\n\
-M2\n"),
-    ("own: profile read in G91", "G18 G7 G21 G91\n\
+M2\n",
+    ),
+    (
+        "own: profile read in G91",
+        "G18 G7 G21 G91\n\
 F100\n\
 o500 sub\n\
   G0 X-10 Z-1\n\
@@ -132,7 +143,8 @@ G90 G0 X40 Z2\n\
 G72 Q500 D0.3 I0.8 R0.5\n\
 G90 G0 X40 Z2\n\
 G70 Q500 D1 P2\n\
-M2\n"),
+M2\n",
+    ),
 ];
 
 /// Programs that disagree today, each with its cause. A file named here

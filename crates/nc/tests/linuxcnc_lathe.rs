@@ -101,3 +101,71 @@ fn g7_is_linuxcncs() {
     let e = outcome.diagnostics.iter().find(|d| d.is_error()).expect("an error");
     assert!(e.headline(&sources).contains("G07 (lathe diameter mode) is LinuxCNC's"), "{}", e.headline(&sources));
 }
+
+// ---- G70, G71, G72 along the Q subroutine's profile ----
+
+/// A step: the profile from the cycle's start (X5 Z1, radius mode) down to
+/// X2 at Z0, along Z to Z-10, up to X5.
+const STEP: &str = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0\nG1 Z-10\nX5\no1 endsub\nG0 X5 Z1\n";
+
+#[test]
+fn g71_cuts_layers_i_apart_and_leaves_each_by_r() {
+    // LinuxCNC's reference: G71 removes layers while traversing Z, I the
+    // cutting increment, R the retract. Layer by layer from the start's X
+    // (5) down by I1: each a rapid down the lead-in (the line from (Z1 X5)
+    // to (Z0 X2): at X4 Z = 1 − 1/3, at X3 Z = 1 − 2/3), a feed along Z to
+    // the profile (its wall at Z-10), a rapid R0.5 away at 45°, a rapid
+    // back over the layer to R before the layer's start, a rapid onto it.
+    // At X2 the layer is the profile's floor: fed along, then up the wall.
+    // (Confirmed with rs274 -g, move for move.)
+    let t = path(&format!("{STEP}G71 Q1 X5 Z1 D0 I1 R0.5\nM2\n"));
+    let third = 1.0 / 3.0;
+    let r = |v: f64| (v * 1e4).round() / 1e4;
+    // The program's G0, the cycle's rapid to its X Z and the roughing's
+    // first rapid to its start: three rapids to where the tool is (both
+    // interpreters make them).
+    let mut want = vec![('r', 5.0, 0.0, 1.0); 3];
+    for (x, z) in [(5.0, 1.0), (4.0, 1.0 - third), (3.0, 1.0 - 2.0 * third)] {
+        want.extend([
+            ('r', x, 0.0, r(z)),
+            ('f', x, 0.0, -10.0),
+            ('r', x + 0.5, 0.0, -9.5),
+            ('r', x + 0.5, 0.0, r(z - 0.5)),
+            ('r', x, 0.0, r(z)),
+        ]);
+    }
+    want.extend([('r', 2.0, 0.0, 0.0), ('f', 2.0, 0.0, -10.0), ('f', 5.0, 0.0, -10.0)]);
+    assert_eq!(moves(&t)[..], want[..]);
+}
+
+#[test]
+fn g70_follows_the_profile_and_u_is_a_diameter_under_g7() {
+    // G70 P1 D0 (after the program's G0 and the cycle's rapid to its X Z):
+    // a rapid to the cycle's start, one to the profile's, then its pieces. The same
+    // step written under G7 with U and W (incremental X, Z; U a diameter:
+    // U6 is 3 of radius) makes the same moves.
+    let radius = path(&format!("{STEP}G70 Q1 X5 Z1\nM2\n"));
+    let want = [
+        ('r', 5.0, 0.0, 1.0),
+        ('r', 5.0, 0.0, 1.0),
+        ('r', 5.0, 0.0, 1.0),
+        ('r', 2.0, 0.0, 0.0),
+        ('f', 2.0, 0.0, -10.0),
+        ('f', 5.0, 0.0, -10.0),
+    ];
+    assert_eq!(moves(&radius)[..], want[..]);
+    let diameter = path("G18 G7 G21 F100\no1 sub\nG1 X4 Z0\nG1 W-10\nU6\no1 endsub\nG0 X10 Z1\nG70 Q1 X10 Z1\nM2\n");
+    assert_eq!(moves(&diameter), moves(&radius));
+}
+
+#[test]
+fn lathe_cycle_refusals_are_rs274s() {
+    assert!(error(&format!("{STEP}G71 X5 Z1\nM2\n")).contains("G71 requires a Q word"));
+    assert!(error(&format!("{STEP}G17\nG71 Q1 X5 Z1\nM2\n")).contains("G71 can only be used in XZ plane (G18)"));
+    assert!(error(&format!("{STEP}G72 Q1 X5 Z1 I0\nM2\n")).contains("G7X error: I must be greater than zero"));
+    let both = "G18 G8 G21 F100\no1 sub\nG1 X2 U1 Z0\no1 endsub\nG0 X5 Z1\nG71 Q1\nM2\n";
+    assert!(error(both).contains("G7x error: Cannot use U and X in the same block"), "{}", error(both));
+    // A profile that turns back in Z cannot be roughed along it.
+    let back = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0\nG1 Z-10\nG1 X4 Z-5\nX5\no1 endsub\nG0 X5 Z1\nG71 Q1\nM2\n";
+    assert!(error(back).contains("Not monotonic"), "{}", error(back));
+}

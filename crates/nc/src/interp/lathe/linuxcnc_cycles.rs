@@ -264,6 +264,13 @@ impl State {
 
     /// The cycle's moves, from program coordinates to the machine's.
     fn cut_profile(&mut self, moves: &[Out], span: Span, line: u32) -> Result<(), Diagnostic> {
+        let finite = |p: &P| p.z.is_finite() && p.x.is_finite();
+        if !moves.iter().all(|m| match m {
+            Out::Rapid(p) | Out::Feed(p) => finite(p),
+            Out::Arc(p, c, _) => finite(p) && finite(c),
+        }) {
+            return Err(Diagnostic::error(span, "G7X error: the profile's pieces do not meet where they are moved"));
+        }
         let xz = AxisSet::NONE.with(0).with(2);
         let o = self.frame_offset();
         let place = |s: &State, p: P| Axes { x: s.mm(p.x) + o.x, z: s.mm(p.z) + o.z, ..s.tip };

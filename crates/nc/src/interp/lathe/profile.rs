@@ -398,6 +398,9 @@ impl Seg {
     fn meet(&mut self, prev: &mut Seg) -> Result<(), Fault> {
         let point = match (prev.arc, self.arc) {
             (None, None) => {
+                if self.start == self.end {
+                    return Err("Cannot intersect a line of no length".into());
+                }
                 let rot = (self.start - self.end).conj().scale(1.0 / (self.start - self.end).abs());
                 let (ps, pe) = ((prev.start - self.end) * rot, (prev.end - self.end) * rot);
                 if ps.x - pe.x == 0.0 {
@@ -426,6 +429,9 @@ impl Seg {
                 let a = (self.start - c).abs();
                 let b = (prev.start - pc).abs();
                 let d = (c - pc).abs();
+                if a == 0.0 || d == 0.0 {
+                    return Err("Cannot intersect arcs about one centre".into());
+                }
                 let cos = (d * d + a * a - b * b) / 2.0 / a / d;
                 let rot = P::new(cos, (1.0 - (cos * cos).min(1.0)).sqrt());
                 (rot * (pc - c)).scale(a / d) + c

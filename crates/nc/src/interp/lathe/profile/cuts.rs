@@ -81,7 +81,9 @@ impl Profile {
         if self.segs.iter().all(Seg::monotonic) {
             Ok(())
         } else {
-            Err("Not monotonic".into())
+            Err("Not monotonic: the profile must run one way along Z for G71 (along X for G72), each arc on \
+                 one side of its centre"
+                .into())
         }
     }
 
@@ -256,6 +258,7 @@ impl Profile {
             starts: VecDeque::from([start]),
             out: vec![Out::Rapid(start)],
             steps: 0,
+            depth: 0,
         };
         rough.pocket(kind, start, 0)?;
         let planned = std::mem::take(&mut rough.out);
@@ -276,6 +279,8 @@ struct Rough<'a> {
     /// Layers and pieces gone through: a bound on a profile the cutting
     /// never gets down.
     steps: u64,
+    /// Pockets open, one inside the other.
+    depth: u32,
 }
 
 impl Rough<'_> {
@@ -317,6 +322,10 @@ impl Rough<'_> {
                             if self.starts.len() == 1 {
                                 self.starts.push_back(at);
                             }
+                        }
+                        self.depth += 1;
+                        if self.depth > 10_000 {
+                            return Err("the profile has more than 10,000 pockets".into());
                         }
                         return self.pocket(kind, at, p);
                     }
