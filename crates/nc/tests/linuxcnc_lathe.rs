@@ -169,3 +169,21 @@ fn lathe_cycle_refusals_are_rs274s() {
     let back = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0\nG1 Z-10\nG1 X4 Z-5\nX5\no1 endsub\nG0 X5 Z1\nG71 Q1\nM2\n";
     assert!(error(back).contains("Not monotonic"), "{}", error(back));
 }
+
+#[test]
+fn lathe_cycles_turn_at_constant_surface_speed() {
+    // G96 S100 (100 m/min) D1000: at radius r mm the spindle turns
+    // 100 000 / (2π·r) rpm, at most 1000 (the reference's G96 D). Every
+    // move of the roughing ends at that speed: 318.3 rpm at X50, 795.8 at
+    // X20.
+    let t = path(
+        "G18 G8 G21 G95 F0.2\no1 sub\nG1 X20 Z0\nG1 Z-10\nX50\no1 endsub\nG0 X50 Z1\nG96 S100 D1000 M3\n\
+         G71 Q1 X50 Z1 D0 I10 R1\nM2\n",
+    );
+    let cut: Vec<_> = t.moves.iter().filter(|m| m.line == 9).collect();
+    assert!(cut.len() > 8, "{}", cut.len());
+    for m in cut {
+        let want = (100_000.0 / (std::f64::consts::TAU * m.end.x)).min(1000.0);
+        assert!((m.speed - want).abs() < 1e-6, "{m:?}: {want}");
+    }
+}

@@ -272,6 +272,7 @@ impl State {
             return Err(Diagnostic::error(span, "G7X error: the profile's pieces do not meet where they are moved"));
         }
         let xz = AxisSet::NONE.with(0).with(2);
+        let first = self.toolpath.moves.len();
         let o = self.frame_offset();
         let place = |s: &State, p: P| Axes { x: s.mm(p.x) + o.x, z: s.mm(p.z) + o.z, ..s.tip };
         for m in moves {
@@ -311,6 +312,7 @@ impl State {
                 }
             }
         }
-        Ok(())
+        // Under constant surface speed: each move's speed and time.
+        self.lathe_moves(first, true, &Words::new(&[], span.file), span)
     }
 }
