@@ -187,3 +187,24 @@ fn lathe_cycles_turn_at_constant_surface_speed() {
         assert!((m.speed - want).abs() < 1e-6, "{m:?}: {want}");
     }
 }
+
+#[test]
+fn g7_or_g8_in_a_g76_block_scales_its_depths_again_as_rs274_does() {
+    // rs274 2.9 scales I J K when G7/G8 in the block changes the mode, and
+    // G76 halves them under G7: G8 then `G7 G76` reads I-2 J0.2 as -0.5 and
+    // 0.05, the first pass at 22 − 0.5 − 0.05 = 21.45 (X22 read in G8);
+    // G7 then `G8 G76` as -4 and 0.4, at 11 − 4 − 0.4 = 6.6. A warning says
+    // so. (rs274 -g: the same first feeds.)
+    let first_feed = |pre: &str, block: &str| {
+        let text = format!("G18 G21 {pre}\nS300 M3\nG0 X22 Z3\n{block} P1.5 Z-20 I-2 J0.2 K1.8 Q29.5\nM2\n");
+        let (outcome, _) = run_with(&text, &settings()).unwrap();
+        let warned = outcome.diagnostics.iter().any(|d| d.message.contains("in a block of its own"));
+        let x = outcome.toolpath.moves.iter().find(|m| m.kind == kezuri_geom::MoveKind::Feed).unwrap().end.x;
+        ((x * 1e4).round() / 1e4, warned)
+    };
+    assert_eq!(first_feed("G8", "G7 G76"), (21.45, true));
+    assert_eq!(first_feed("G7", "G8 G76"), (6.6, true));
+    assert_eq!(first_feed("G7", "G76"), (9.9, false));
+    assert_eq!(first_feed("G8", "G76"), (19.8, false));
+    assert_eq!(first_feed("G7", "G7 G76"), (9.9, false));
+}

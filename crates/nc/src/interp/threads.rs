@@ -117,7 +117,7 @@ impl State {
             return Err(Diagnostic::error(span, "I J or K words missing with G76"));
         };
         // Under G7 (diameter mode) the depths are diameters, as X is.
-        let half = if self.linuxcnc_diameter() { 0.5 } else { 1.0 };
+        let half = self.g76_depth_scale(span);
         let (i, j, k) = (i * half, j * half, k * half);
         if i == 0.0 {
             return Err(Diagnostic::error(w.span(b'I'), "In G76, I must not be 0"));

@@ -35,7 +35,12 @@ impl State {
             return Err(Diagnostic::error(gspan, format!("{what} is LinuxCNC's: not a code of this dialect")));
         }
         match code {
-            GCode::LatheDiameter => self.linuxcnc_turning().x = XMode::Diameter,
+            GCode::LatheDiameter => {
+                if !self.linuxcnc_diameter() {
+                    self.ijk_rescaled = Some((self.blocks, 0.5));
+                }
+                self.linuxcnc_turning().x = XMode::Diameter;
+            }
             GCode::ConstantSpeed => {
                 // D: the spindle's top speed under constant surface speed
                 // (rpm), in force until another G96 D.
@@ -74,6 +79,9 @@ impl State {
 
     /// `G8` (LinuxCNC): radius mode, X read as it is written.
     pub(in crate::interp) fn radius_mode(&mut self) {
+        if self.linuxcnc_diameter() {
+            self.ijk_rescaled = Some((self.blocks, 2.0));
+        }
         if let Some(t) = &mut self.turning {
             t.x = XMode::Radius;
         }
@@ -104,6 +112,29 @@ impl State {
                 ))
             }
             _ => Ok(()),
+        }
+    }
+
+    /// What G76's I J K are multiplied by in this block: ½ under G7, and,
+    /// as rs274 (LinuxCNC 2.9) does where G7 or G8 in the block changes the
+    /// mode, ½ again (G7) or 2 (G8), with a warning.
+    pub(in crate::interp) fn g76_depth_scale(&mut self, span: Span) -> f64 {
+        let half = if self.linuxcnc_diameter() { 0.5 } else { 1.0 };
+        match self.ijk_rescaled {
+            Some((block, k)) if block == self.blocks => {
+                let code = if k < 1.0 { "G7" } else { "G8" };
+                self.warn(
+                    "g76-mode",
+                    span,
+                    format!(
+                        "{code} in a G76 block: LinuxCNC (rs274 2.9) scales I J K for the mode change and again for \
+                         the mode, so they are read {} of what is written; give {code} in a block of its own",
+                        if k < 1.0 { "a quarter" } else { "twice" }
+                    ),
+                );
+                half * k
+            }
+            _ => half,
         }
     }
 
