@@ -444,3 +444,40 @@ fn t0101_selects_the_tool_and_its_offset() {
     assert_eq!(t.moves[2].tool, 2);
     assert!(t.frames[t.moves[2].frame as usize].length.is_none(), "offset 02 is not in the table");
 }
+
+// The code tables ("G code list"): in system A G91 is no code; in system C
+// G20 is the cutting cycle, not inch input (G70 is).
+#[test]
+fn codes_that_differ_between_systems() {
+    let (message, at) = error("G91 G00 X10.\nM30\n", &fanuc());
+    assert_eq!(at, "G91");
+    assert!(message.contains("U, W and H are the incremental"), "{message}");
+    // System B's G98 is the drilling return level: no feed mode change,
+    // so F0.1 stays per revolution: 0.1 × 1000.
+    let t = path("S1000\nG90 G00 X20. Z0.\nG98 G01 Z-5. F0.1\nM30\n", &lathe(GCodeSystem::B));
+    assert!(close(t.moves[1].feed, 100.0, 1e-9));
+}
+
+// Under G96 the first cut may start where the program never put X (after a
+// tool change): its speed is reckoned at its end, no error.
+#[test]
+fn css_from_an_x_never_named() {
+    let t = path("G50 S2000\nG96 S100 M03\nG01 X40. Z0. F0.2\nM30\n", &fanuc());
+    // 1000·100 / (π·40) = 795.77 rpm at the end.
+    assert!(close(t.moves[0].speed, 795.7747, 1e-4), "{}", t.moves[0].speed);
+}
+
+// An arc under constant surface speed: G03 X40. Z-10. R10. from (r 10,
+// Z0), centre (10, -10): the point at angle a (from +Z toward +X) is
+// X = 10 + 10·sin a, ds = 10·da, a from 0 to π/2. With n = V/(2πX)
+// (the clamp of 5000 rpm is reached only below r 6.37):
+// T = ∫ ds/(f·n) = (2π/(f·V))·10·∫₀^{π/2} (10 + 10 sin a) da
+//   = (2π/(f·V))·100·(π/2 + 1); L = 5π; feed = L/T = f·V/(40·(π/2 + 1))
+//   = 0.2 × 200000 / (40 × 2.5707963) = 388.9845 mm/min.
+#[test]
+fn css_feed_over_an_arc_is_its_exact_time() {
+    let t = path("G50 S5000\nG96 S200 M03\nG00 X20. Z0.\nG03 X40. Z-10. R10. F0.2\nM30\n", &fanuc());
+    let expected = 0.2 * 200_000.0 / (40.0 * (std::f64::consts::FRAC_PI_2 + 1.0));
+    assert!(close(t.moves[1].feed, expected, 1e-9 * expected), "{} vs {expected}", t.moves[1].feed);
+    assert!(close(t.moves[1].feed, 388.9845, 1e-4));
+}

@@ -210,7 +210,7 @@ impl State {
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
             let Some(code) = self.decode_g(tenths) else {
-                return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
+                return Err(Diagnostic::error(gspan, self.unknown_code(tenths)));
             };
             let group = code.group();
             if let Some(j) = codes[..k].iter().position(|c| c.is_some_and(|(c, _)| c.group() == group)) {

@@ -154,6 +154,33 @@ impl State {
         }
     }
 
+    /// What is said of a G code the control does not read: in a lathe's
+    /// system A, G91 is no code (U W H are the increments).
+    pub(super) fn unknown_code(&self, tenths: u32) -> String {
+        let name = super::modal::g_name(tenths);
+        match &self.turning {
+            Some(t) if t.fanuc && t.system == GCodeSystem::A && tenths == 910 => format!(
+                "{name} is no code of a lathe's G code system A: U, W and H are the incremental X, Z and C (G91 is \
+                 in systems B and C)"
+            ),
+            _ => format!("{name} is not supported"),
+        }
+    }
+
+    /// Whether constant surface speed (G96) is in force.
+    pub(super) fn surface_speed_on(&self) -> bool {
+        self.turning.as_ref().is_some_and(|t| t.surface.is_some())
+    }
+
+    /// The code of feed per revolution as the program writes it: G99 on a
+    /// Fanuc or Haas lathe in system A, G95 elsewhere.
+    pub(super) fn per_rev_code(&self) -> &'static str {
+        match &self.turning {
+            Some(t) if t.fanuc && t.system == GCodeSystem::A => "G99",
+            _ => "G95",
+        }
+    }
+
     /// Sets the lathe's group 1 mode (`None`: G00–G03, a mill's mode).
     pub(super) fn lathe_motion(&mut self, motion: Option<LatheMotion>) {
         if let Some(t) = &mut self.turning {
