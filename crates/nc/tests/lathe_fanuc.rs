@@ -481,3 +481,25 @@ fn css_feed_over_an_arc_is_its_exact_time() {
     assert!(close(t.moves[1].feed, expected, 1e-9 * expected), "{} vs {expected}", t.moves[1].feed);
     assert!(close(t.moves[1].feed, 388.9845, 1e-4));
 }
+
+// The chamfer's other addresses ("Chamfering and corner R": I after a move
+// along Z, K after one along X; parameter 3405 CCR chooses C or I K): the
+// same path as C. A Haas lathe's C is its C axis, so there I K R only.
+#[test]
+fn a_chamfer_by_i_or_k() {
+    let t = path("S500\nG00 X20. Z1.\nG01 Z-10. I1. F0.1\nX40.\nM30\n", &fanuc());
+    assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (20.0, -10.0)]);
+    let t = path("S500\nG00 X20. Z0.\nG01 X30. K-2. F0.1\nZ-20.\nM30\n", &fanuc());
+    assert_eq!(xz(&t), vec![(10.0, 0.0), (13.0, 0.0), (15.0, -2.0), (15.0, -20.0)]);
+    let haas = Settings {
+        dialect: Dialect::HaasLathe,
+        coords: CoordSettings { control: Control::Haas, ..CoordSettings::default() },
+        ..fanuc()
+    };
+    let t = path("S500\nG00 X20. Z1.\nG01 Z-10. I1. F0.1\nX40.\nM30\n", &haas);
+    assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (20.0, -10.0)]);
+    // G01 Z-10. C90. on a Haas turns C as Z moves.
+    let t = path("S500\nG00 X20. Z1. C0.\nG01 Z-10. C90. F0.1\nM30\n", &haas);
+    assert_eq!(t.moves.len(), 2);
+    assert_eq!(t.moves[1].end.c, 90.0);
+}

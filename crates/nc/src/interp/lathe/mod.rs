@@ -188,3 +188,54 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::modal::{CycleReturn, Distance, FeedMode, GCode, SingleCycle, Units};
+    use super::GCodeSystem::{self, A, B, C};
+
+    fn code(g: u32, system: GCodeSystem) -> Option<GCode> {
+        GCode::decode_lathe(g * 10, system)
+    }
+
+    // FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe system,
+    // "G code list": the single cycles, threading, the coordinate setting
+    // and the feed modes in each system.
+    #[test]
+    fn the_code_tables_of_systems_a_b_c() {
+        use SingleCycle::*;
+        for (system, numbers) in [(A, [90, 92, 94]), (B, [77, 78, 79]), (C, [20, 21, 24])] {
+            for (g, cycle) in numbers.into_iter().zip([Cutting, Threading, Facing]) {
+                assert_eq!(code(g, system), Some(GCode::SingleCycle(cycle)), "G{g} in {system:?}");
+                assert_eq!(cycle.number(system), g);
+            }
+        }
+        assert_eq!(code(32, A), Some(GCode::Threading));
+        assert_eq!(code(33, B), Some(GCode::Threading));
+        assert_eq!(code(33, C), Some(GCode::Threading));
+        assert_eq!(code(50, A), Some(GCode::LatheSetPosition));
+        assert_eq!(code(92, B), Some(GCode::LatheSetPosition));
+        assert_eq!(code(92, C), Some(GCode::LatheSetPosition));
+        assert_eq!(code(98, A), Some(GCode::FeedMode(FeedMode::PerMinute)));
+        assert_eq!(code(99, A), Some(GCode::FeedMode(FeedMode::PerRev)));
+        for s in [B, C] {
+            assert_eq!(code(94, s), Some(GCode::FeedMode(FeedMode::PerMinute)));
+            assert_eq!(code(95, s), Some(GCode::FeedMode(FeedMode::PerRev)));
+            assert_eq!(code(90, s), Some(GCode::Distance(Distance::Absolute)));
+            assert_eq!(code(91, s), Some(GCode::Distance(Distance::Incremental)));
+            assert_eq!(code(98, s), Some(GCode::CycleReturn(CycleReturn::Initial)));
+            assert_eq!(code(99, s), Some(GCode::CycleReturn(CycleReturn::R)));
+        }
+        assert_eq!(code(91, A), None);
+        assert_eq!(code(20, A), Some(GCode::Units(Units::Inch)));
+        assert_eq!(code(70, C), Some(GCode::Units(Units::Inch)));
+        assert_eq!(code(71, C), Some(GCode::Units(Units::Mm)));
+        for s in [A, B, C] {
+            assert_eq!(code(96, s), Some(GCode::ConstantSpeed));
+            assert_eq!(code(97, s), Some(GCode::ConstantSpeedOff));
+            // A mill's drilling cycles are never run in a lathe's.
+            assert_eq!(code(73, s), None);
+            assert_eq!(code(81, s), None);
+        }
+    }
+}
