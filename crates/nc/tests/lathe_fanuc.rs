@@ -503,3 +503,13 @@ fn a_chamfer_by_i_or_k() {
     assert_eq!(t.moves.len(), 2);
     assert_eq!(t.moves[1].end.c, 90.0);
 }
+
+// Two corners in a row: the second block both ends the first chamfer and
+// asks for its own. G01 Z-10. C1. then X40. C-1. (along +X, toward -Z)
+// then Z-20.: (10, -9), chamfer to (11, -10), along X to 1 short of the
+// corner (20, -10): (19, -10), chamfer to (20, -11), on to (20, -20).
+#[test]
+fn chamfers_in_a_row() {
+    let t = path("S500\nG00 X20. Z1.\nG01 Z-10. C1. F0.1\nX40. C-1.\nZ-20.\nM30\n", &fanuc());
+    assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (19.0, -10.0), (20.0, -11.0), (20.0, -20.0)]);
+}

@@ -259,8 +259,11 @@ impl State {
     #[inline(always)]
     fn path_code(&mut self, code: GCode, w: &Words, gspan: Span, line: u32) -> Result<(), Diagnostic> {
         match (code, self.settings.coords.control) {
-            // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
-            (GCode::Smoothing(80), Control::LinuxCnc) => return Ok(()),
+            // LinuxCNC's G8 is lathe radius mode, its default.
+            (GCode::Smoothing(80), Control::LinuxCnc) => {
+                self.set_x_mode(super::XMode::Radius);
+                return Ok(());
+            }
             // LinuxCNC's G5 and G5.1 are splines, of their block only:
             // rs274 2.9 leaves the motion mode as it was.
             (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {

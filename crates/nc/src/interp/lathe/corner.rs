@@ -142,22 +142,25 @@ impl State {
         let pending = turning.corner;
         let made = self.toolpath.moves.len() > first;
         let mut changed = first;
+        // This block's own move: after a corner made, the one after it.
+        let mut own = first;
         if let Some(corner) = pending.filter(|_| made) {
             if let Some(t) = &mut self.turning {
                 t.corner = None;
             }
             self.make_corner(corner, first, span)?;
             changed = corner.at.unwrap_or(first).min(first);
+            own = first + 1;
         }
         if let Some(mut corner) = asked {
             let n = self.toolpath.moves.len();
-            if n != first + 1 || self.toolpath.moves[first].kind != MoveKind::Feed {
+            if n != own + 1 || self.toolpath.moves[own].kind != MoveKind::Feed {
                 return Err(Diagnostic::error(
                     corner.span,
                     "a chamfer or corner R needs its block to make one G01 move",
                 ));
             }
-            corner.at = Some(first);
+            corner.at = Some(own);
             if let Some(t) = &mut self.turning {
                 t.corner = Some(corner);
             }

@@ -167,6 +167,13 @@ impl State {
         }
     }
 
+    /// Sets how X words are read from now on (LinuxCNC's G7 and G8).
+    pub(super) fn set_x_mode(&mut self, x: XMode) {
+        if let Some(t) = &mut self.turning {
+            t.x = x;
+        }
+    }
+
     /// Whether constant surface speed (G96) is in force.
     pub(super) fn surface_speed_on(&self) -> bool {
         self.turning.as_ref().is_some_and(|t| t.surface.is_some())
