@@ -425,6 +425,18 @@ fn a_chamfer_the_next_block_cannot_take_is_a_located_error() {
     let (message, at) = error("S500\nG00 X20. Z1.\nG01 Z-10. C15. F0.1\nX60.\nM30\n", &fanuc());
     assert_eq!(at, "C15.");
     assert!(message.contains("longer than a move"), "{message}");
+    // The program ends with the chamfer waiting.
+    let (message, at) = error("S500\nG00 X20. Z1.\nG01 Z-10. ,R1. F0.1\nM30\n", &fanuc());
+    assert_eq!(at, ",R1.");
+    assert!(message.contains("program ends before"), "{message}");
+    // ,C on a mill: not run in silence.
+    let mill = Settings {
+        coords: CoordSettings { control: Control::Fanuc, ..CoordSettings::default() },
+        ..Settings::default()
+    };
+    let (message, at) = error("G00 X0. Y0.\nG01 X10. ,C1. F100.\nY10.\nM30\n", &mill);
+    assert_eq!(at, ",C1.");
+    assert!(message.contains("read on a lathe only"), "{message}");
 }
 
 // "T code": T0101 is tool 01 with offset 01; its length (the tool

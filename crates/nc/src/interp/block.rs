@@ -179,6 +179,9 @@ impl State {
         if self.turning.is_some() {
             let changed = self.corner_moves(first_move, span)?;
             self.lathe_moves(changed, x_known || changed < first_move, &w, span)?;
+            if matches!(end, Some(Action::End)) {
+                self.corner_left()?;
+            }
         }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {

@@ -168,6 +168,22 @@ impl State {
         Ok(changed)
     }
 
+    /// At the end of the program: a chamfer or corner R still waiting for
+    /// its next move is an error (the control stops: no move after it).
+    pub(in super::super) fn corner_left(&self) -> Result<(), Diagnostic> {
+        match self.turning.as_ref().and_then(|t| t.corner) {
+            Some(corner) => Err(Diagnostic::error(
+                corner.span,
+                format!(
+                    "the program ends before the move after this {}: a chamfer or corner R needs the next block's \
+                     G01 move (the control stops with an alarm)",
+                    if corner.round { "corner R" } else { "chamfer" }
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Cuts move `corner.at` back, adds the chamfer or arc, and starts move
     /// `next` (the next block's first) at its end.
     fn make_corner(&mut self, corner: Corner, next: usize, span: Span) -> Result<(), Diagnostic> {
