@@ -82,9 +82,7 @@ impl State {
         if self.linuxcnc_diameter() {
             self.ijk_rescaled = Some((self.blocks, 2.0));
         }
-        if let Some(t) = &mut self.turning {
-            t.x = XMode::Radius;
-        }
+        self.set_x_mode(XMode::Radius);
     }
 
     /// Whether LinuxCNC's X words are diameters now (`G7`).
