@@ -208,3 +208,18 @@ fn g7_or_g8_in_a_g76_block_scales_its_depths_again_as_rs274_does() {
     assert_eq!(first_feed("G8", "G76"), (19.8, false));
     assert_eq!(first_feed("G7", "G7 G76"), (9.9, false));
 }
+
+#[test]
+fn the_modes_read_back_as_rs274_reads_them() {
+    // #<_lathe_diameter_mode> is 1 under G7, #<_spindle_css_mode> under
+    // G96: each read is written into X (radius mode) as a move.
+    let t = path(
+        "G18 G21\nG0 X#<_lathe_diameter_mode> Z0\nG7\nG8 G0 X[#<_lathe_radius_mode> * 0 + 2]\nG7\nG8 G0 X[3 + #<_lathe_diameter_mode>]\n\
+         G96 D500 S50 M3\nG0 X#<_spindle_css_mode>\nG97 S100\nG0 X[4 + #<_spindle_css_mode>]\nM2\n",
+    );
+    // X0 (G8 at the start), 2, then 3 + 1 (the parameter read while the
+    // line before left G7 in force; the line's own G8 leaves X a radius),
+    // 1 (G96), 4 + 0 (G97). rs274 -g: the same five traverses.
+    let xs: Vec<f64> = t.moves.iter().map(|m| m.end.x).collect();
+    assert_eq!(xs, [0.0, 2.0, 4.0, 1.0, 4.0]);
+}
