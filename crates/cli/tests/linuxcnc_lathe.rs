@@ -125,6 +125,10 @@ G70 Q400 X1.2 Z0.2\n\
 M2\n",
     ),
     (
+        "own: profile without motion codes after a G2, the mode after the cycle",
+        "G18 G8 G21 F100\no1 sub\nX2 Z0\nZ-10\nX5\no1 endsub\nG2 X5 Z1 R3\nG71 Q1 X5 Z1 D0 I1 R0.5\nX8\nG0 X9 Z3\nM2\n",
+    ),
+    (
         "own: profile read in G91",
         "G18 G7 G21 G91\n\
 F100\n\

@@ -113,6 +113,7 @@ impl State {
             }
             self.push_move(MoveKind::Rapid, Axes::from_array(end), 0.0, w.axes(), line);
         }
+        self.modal.motion = Motion::Rapid;
         let get = |letter: u8, default: f64| w.get(letter).unwrap_or(default);
         self.profile = Some(Box::new(Capture {
             cycle,
@@ -129,12 +130,9 @@ impl State {
             w: get(b'W', 0.0),
             at: P::new(z, x),
             segs: Vec::new(),
-            motion: Some(match self.modal.motion {
-                Motion::Rapid => 0,
-                Motion::Linear => 1,
-                Motion::Cw => 2,
-                Motion::Ccw => 3,
-            }),
+            // The cycle's rapid leaves G0 in force: the profile's first
+            // block without a motion code is a line.
+            motion: Some(0),
             incremental,
             ijk_incremental: !self.coords.arc_absolute,
             tool: self.tip,
