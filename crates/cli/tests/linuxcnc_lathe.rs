@@ -169,9 +169,10 @@ const EXPECTED_FAILURES: &[(&str, &str)] = &[
     ),
     (
         "lathecomp.ngc",
-        "G41/G42 with the lathe table's tools (D0.1 in, orientations Q2 and Q7): from the first compensated move \
-         kezuri's nose centre is 1.27 mm (the nose radius) from rs274's; LinuxCNC's lathe compensation by tool \
-         orientation is not modelled in the linuxcnc dialect",
+        "G41/G42 with the lathe table's tools (D0.1 in, orientations Q2 and Q7): rs274 moves the tool's \
+         imaginary tip, the nose centre shifted by the nose radius along X and Z as the orientation says (the \
+         first compensated move ends at X0 Z-2.54 where the nose centre is at X1.27 Z-1.27); kezuri's \
+         linuxcnc dialect moves the nose centre, a mill's compensation, without the orientation's shift",
     ),
     (
         "macros/lathe/probe-hole.ngc",
