@@ -168,6 +168,13 @@ fn lathe_cycle_refusals_are_rs274s() {
     // A profile that turns back in Z cannot be roughed along it.
     let back = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0\nG1 Z-10\nG1 X4 Z-5\nX5\no1 endsub\nG0 X5 Z1\nG71 Q1\nM2\n";
     assert!(error(back).contains("Not monotonic"), "{}", error(back));
+    // Fillets larger than the pieces they join: rs274 "Not monotonic".
+    let fillets = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0 A50\nG1 Z-10 A50\nX5\no1 endsub\nG0 X5 Z1\nG71 Q1 X5 Z1\nM2\n";
+    assert!(error(fillets).contains("Not monotonic"), "{}", error(fillets));
+    // A profile whose only piece is under 0.001 long: rs274 2.9 crashes
+    // (a segmentation fault); refused, located at the cycle.
+    let short = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0\nG1 Z-0.0005\no1 endsub\nG0 X5 Z1\nG71 Q1 X5 Z1\nM2\n";
+    assert!(error(short).contains("t.ngc:7:1: error: G7X error: the profile has no piece left"), "{}", error(short));
 }
 
 #[test]

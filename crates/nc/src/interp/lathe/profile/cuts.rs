@@ -6,6 +6,10 @@ use std::collections::VecDeque;
 
 use super::{make_corner, Corner, Fault, Out, Seg, P, TOL};
 
+/// A profile that has no piece to cut along (its pieces too short, or
+/// taken by its corners).
+const NO_PIECES: &str = "the profile has no piece left to cut along (pieces under 0.001, or taken by corners)";
+
 /// A profile and how it was turned and mirrored into the normal form.
 #[derive(Clone, Debug)]
 pub(in crate::interp) struct Profile {
@@ -29,7 +33,8 @@ impl Profile {
     /// Mirrors the profile so that X and Z decrease from its first
     /// piece's end to its last's.
     fn normalise(&mut self) {
-        let (first, last) = (self.segs[0].end, self.segs[self.segs.len() - 1].end);
+        let (Some(first), Some(last)) = (self.segs.first(), self.segs.last()) else { return };
+        let (first, last) = (first.end, last.end);
         if first.x - last.x > 0.0 {
             for s in &mut self.segs {
                 s.map(P::conj, true);
@@ -75,8 +80,9 @@ impl Profile {
     }
 
     fn check_monotonic(&mut self) -> Result<(), Fault> {
-        if self.segs[0].end.z - self.segs[0].start.z > 0.0 {
-            self.segs[0].start.z = self.segs[0].end.z;
+        let Some(first) = self.segs.first_mut() else { return Err(NO_PIECES.into()) };
+        if first.end.z - first.start.z > 0.0 {
+            first.start.z = first.end.z;
         }
         if self.segs.iter().all(Seg::monotonic) {
             Ok(())
@@ -115,6 +121,9 @@ impl Profile {
     /// start, in steps no larger than half the smallest piece; pieces that
     /// part are joined by arcs, those that vanish or turn back dropped.
     fn add_distance(&mut self, distance: f64) -> Result<(), Fault> {
+        if self.segs.len() < 2 {
+            return Err(NO_PIECES.into());
+        }
         let first = self.segs.remove(0);
         let last = self.segs[self.segs.len() - 1];
         let (v1, v2) = (first.end - first.start, last.start - first.start);
