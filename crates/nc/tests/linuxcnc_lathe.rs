@@ -230,3 +230,42 @@ fn the_modes_read_back_as_rs274_reads_them() {
     let xs: Vec<f64> = t.moves.iter().map(|m| m.end.x).collect();
     assert_eq!(xs, [0.0, 2.0, 4.0, 1.0, 4.0]);
 }
+
+/// 2,000 drawn profiles of any words (motion codes, X Z U W I K R A C of
+/// odd values, G91, G20, every cycle with any of its words): each run
+/// ends, with moves of finite numbers or an error, never a panic.
+#[test]
+fn any_profile_ends_without_a_panic_or_a_nan() {
+    let mut seed = 7u64;
+    let mut next = |n: usize| {
+        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        ((seed >> 33) as usize) % n
+    };
+    let values = ["0", "-0", "1", "-1", "0.001", "1e3", "-5", "2.5", "100", "-100", "0.5"];
+    let codes = ["G0", "G1", "G2", "G3", "G91", "G90", "G91.1", "G90.1", "G7", "G8", "G20", "G21", "G80"];
+    let cycles = ["G70", "G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2"];
+    let starts = ["G18 G7", "G18 G8", "G18 G7 G91", "G18 G8 G20"];
+    for _ in 0..2000 {
+        let mut text = format!("{} F100 S500 M3\no1 sub\n", starts[next(starts.len())]);
+        for _ in 0..1 + next(8) {
+            if next(10) < 6 {
+                text.push_str(codes[next(codes.len())]);
+            }
+            for _ in 0..1 + next(4) {
+                text.push_str(&format!(" {}{}", b"XZUWIKRAC"[next(9)] as char, values[next(values.len())]));
+            }
+            text.push('\n');
+        }
+        text.push_str(&format!("o1 endsub\nG0 X{} Z{}\n{} Q1", values[next(11)], values[next(11)], cycles[next(7)]));
+        for _ in 0..next(6) {
+            text.push_str(&format!(" {}{}", b"XZDEIPRUW"[next(9)] as char, values[next(values.len())]));
+        }
+        text.push_str("\nG0 X1\nM2\n");
+        // A block naming a word twice is a parse error: also an end.
+        let Ok((outcome, _)) = run_with(&text, &settings()) else { continue };
+        for m in &outcome.toolpath.moves {
+            let finite = m.end.to_array().iter().all(|v| v.is_finite()) && m.feed.is_finite();
+            assert!(finite, "{text}\n{m:?}");
+        }
+    }
+}
