@@ -175,6 +175,12 @@ fn lathe_cycle_refusals_are_rs274s() {
     // (a segmentation fault); refused, located at the cycle.
     let short = "G18 G8 G21 F100\no1 sub\nG1 X2 Z0\nG1 Z-0.0005\no1 endsub\nG0 X5 Z1\nG71 Q1 X5 Z1\nM2\n";
     assert!(error(short).contains("t.ngc:7:1: error: G7X error: the profile has no piece left"), "{}", error(short));
+    // A G72.2 whose layers never get past a pocket's wall: rs274 2.9 loops
+    // without end (its time limit in the rs274 comparison); refused.
+    let endless = "G18 G8 G21 F100\no1 sub\nG1 X10 Z-0.835\nG1 X8.487 Z1.047\nG1 X6.261 Z2.885 C0.18\n\
+                   G3 X3.306 Z4.545 R6.82\nG1 X1.441 Z5.312 A0.2\nG1 Z2.312\no1 endsub\nG0 X12 Z3\n\
+                   G72.2 Q1 X12 Z3 D0 I0.8 R0.2\nM2\n";
+    assert!(error(endless).contains("the roughing does not get down the profile"), "{}", error(endless));
 }
 
 #[test]

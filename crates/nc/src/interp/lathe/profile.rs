@@ -75,10 +75,38 @@ impl Mul for P {
         P::new(self.z * o.z - self.x * o.x, self.z * o.x + self.x * o.z)
     }
 }
+/// Division as C's complex division does it (Smith's method, as GCC's
+/// runtime computes it for numbers of ordinary size): the profile's
+/// geometry meets rs274's to the last bit, where a near tie between two
+/// intersections is decided.
 impl Div for P {
     type Output = P;
     fn div(self, o: P) -> P {
-        self * o.conj().scale(1.0 / o.norm())
+        let (a, b, c, d) = (self.z, self.x, o.z, o.x);
+        if c.abs() < d.abs() {
+            let ratio = c / d;
+            let denom = c * ratio + d;
+            if ratio.abs() > f64::MIN_POSITIVE {
+                P::new((a * ratio + b) / denom, (b * ratio - a) / denom)
+            } else {
+                P::new((c * (a / d) + b) / denom, (c * (b / d) - a) / denom)
+            }
+        } else {
+            let ratio = d / c;
+            let denom = d * ratio + c;
+            if ratio.abs() > f64::MIN_POSITIVE {
+                P::new((b * ratio + a) / denom, (b - a * ratio) / denom)
+            } else {
+                P::new((a + d * (b / c)) / denom, (b - d * (a / c)) / denom)
+            }
+        }
+    }
+}
+
+impl P {
+    /// Each coordinate divided by `k`.
+    fn over(self, k: f64) -> P {
+        P::new(self.z / k, self.x / k)
     }
 }
 
@@ -344,7 +372,9 @@ impl Seg {
     fn offset(&mut self, d: f64) {
         match self.arc {
             None => {
-                let v = (self.start - self.end).i().scale(d / (self.start - self.end).abs());
+                // i·d·(start − end) / |start − end|, in that order.
+                let v = self.start - self.end;
+                let v = P::new(-(d * v.x), d * v.z).over(v.abs());
                 self.start = self.start + v;
                 self.end = self.end + v;
             }
@@ -401,7 +431,7 @@ impl Seg {
                 if self.start == self.end {
                     return Err("Cannot intersect a line of no length".into());
                 }
-                let rot = (self.start - self.end).conj().scale(1.0 / (self.start - self.end).abs());
+                let rot = (self.start - self.end).conj().over((self.start - self.end).abs());
                 let (ps, pe) = ((prev.start - self.end) * rot, (prev.end - self.end) * rot);
                 if ps.x - pe.x == 0.0 {
                     return Err("Cannot intersect parallel lines".into());
@@ -413,7 +443,7 @@ impl Seg {
                 if (self.start - prev.end).abs() < TOL {
                     return Ok(());
                 }
-                let rot = (self.start - self.end).conj().scale(1.0 / (self.start - self.end).abs());
+                let rot = (self.start - self.end).conj().over((self.start - self.end).abs());
                 let (pe, pc) = ((prev.end - self.end) * rot, (c - self.end) * rot);
                 self.nearer_on_line(pe, pc, rot, self.end)
             }
@@ -421,7 +451,7 @@ impl Seg {
                 if (self.start - prev.end).abs() < TOL {
                     return Ok(());
                 }
-                let rot = (prev.start - prev.end).conj().scale(1.0 / (prev.start - prev.end).abs());
+                let rot = (prev.start - prev.end).conj().over((prev.start - prev.end).abs());
                 let (pe, pc) = ((self.end - prev.end) * rot, (c - prev.end) * rot);
                 self.nearer_on_line(pe, pc, rot, prev.end)
             }
@@ -434,7 +464,7 @@ impl Seg {
                 }
                 let cos = (d * d + a * a - b * b) / 2.0 / a / d;
                 let rot = P::new(cos, (1.0 - (cos * cos).min(1.0)).sqrt());
-                (rot * (pc - c)).scale(a / d) + c
+                (rot * (pc - c)).over(d).scale(a) + c
             }
         };
         prev.end = point;
