@@ -69,3 +69,7 @@ pub struct Thread {
     /// The source line of the block.
     pub line: u32,
 }
+
+pub(crate) mod grooving;
+pub(crate) mod single;
+pub(crate) mod threading;

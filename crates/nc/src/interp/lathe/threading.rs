@@ -1,0 +1,199 @@
+//! `G76`, the multiple threading cycle (`G78` in G code system C). Fanuc's
+//! two-block form (FANUC Series 0i-TF Plus Operator's Manual (B-64604EN),
+//! lathe system, "Multiple repetitive cycle", "Multiple threading cycle
+//! (G76)"):
+//!
+//! ```text
+//! G76 P(m)(r)(a) Q(Δdmin) R(d);
+//! G76 X(U) Z(W) R(i) P(k) Q(Δd) F(L);
+//! ```
+//!
+//! m the finishing passes (two digits), r the chamfer at the thread's end
+//! in tenths of the lead (two digits), a the tool's angle (80, 60, 55, 30,
+//! 29 or 0); Δdmin the least depth of a cut, d the finishing allowance; X Z
+//! the end of the thread at its root, i the taper (radius at the start less
+//! that at the end), k the thread's height and Δd the first cut's depth
+//! (Δdmin, k and Δd radius, in least increments without a decimal point), L
+//! the lead. The cut n goes Δd·√n deep (each cut of the same area), no
+//! deeper than k − d and at least Δdmin deeper than the last; then the
+//! finishing cut at k, m times. One edge cuts: each cut starts along the
+//! flank of angle a/2, the last at the start point. Haas's one-block form
+//! (Haas Lathe Operator's Manual, G-codes, "G76 Threading Cycle, Multiple
+//! Pass") is `G76 X(U) Z(W) K(height) D(first depth) F(lead) I(taper)
+//! A(angle) P(method)`.
+
+use super::single::{Refusal, Step};
+
+/// Most cuts one G76 makes.
+pub(crate) const MOST_CUTS: usize = 10_000;
+
+/// The tool angles Fanuc's G76 takes (its P word's last two digits).
+pub(crate) const FANUC_ANGLES: [u32; 6] = [80, 60, 55, 30, 29, 0];
+
+/// How the depth of each roughing cut grows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Depths {
+    /// The cut n at first·√n: each cut removes the same area (Fanuc;
+    /// Haas P1, P2).
+    SameArea,
+    /// The cut n at n·first (Haas P3, P4).
+    SameDepth,
+}
+
+/// The depths (mm, from the thread's crest) of the cuts of a thread of
+/// `height`: roughing cuts from `first` as `rule` grows them, each at
+/// least `least` deeper than the one before, to `height − allowance`;
+/// then `finishing` cuts at `height` (with no allowance, the last roughing
+/// cut is at `height` and the finishing cuts repeat it).
+pub(crate) fn depths(
+    height: f64,
+    first: f64,
+    least: f64,
+    allowance: f64,
+    finishing: u32,
+    rule: Depths,
+) -> Result<Vec<f64>, Refusal> {
+    if height <= 0.0 {
+        return Err(Refusal::at(b'P', "the thread's height is 0: there is no thread to cut; give it greater than 0"));
+    }
+    if first <= 0.0 {
+        return Err(Refusal::at(b'Q', "the first cut's depth is 0: the cycle would never reach the thread's root; give it greater than 0"));
+    }
+    if allowance < 0.0 || allowance >= height {
+        return Err(Refusal::at(
+            b'R',
+            format!("the finishing allowance {allowance} mm is not between 0 and the thread's height ({height} mm)"),
+        ));
+    }
+    let rough = height - allowance;
+    let mut cuts = Vec::new();
+    let mut last = 0.0_f64;
+    for n in 1.. {
+        let mut d = match rule {
+            Depths::SameArea => first * f64::from(n).sqrt(),
+            Depths::SameDepth => first * f64::from(n),
+        };
+        if n > 1 && d - last < least {
+            d = last + least;
+        }
+        if d >= rough - 1e-9 {
+            cuts.push(rough);
+            break;
+        }
+        cuts.push(d);
+        last = d;
+        if cuts.len() > MOST_CUTS {
+            return Err(Refusal::at(
+                b'Q',
+                format!(
+                    "more than {MOST_CUTS} cuts reach the thread's height {height} mm from a first cut of {first} mm: \
+                     check the words' least increments"
+                ),
+            ));
+        }
+    }
+    cuts.extend(std::iter::repeat_n(height, finishing as usize));
+    Ok(cuts)
+}
+
+/// A thread's figures, mm (X a radius).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ThreadCut {
+    /// The cycle's start point A (x, z): outside the thread.
+    pub(crate) start: (f64, f64),
+    /// The thread's end at its root (X, Z).
+    pub(crate) end: (f64, f64),
+    /// The radius at the thread's start less that at its end.
+    pub(crate) taper: f64,
+    /// The thread's height.
+    pub(crate) height: f64,
+    /// The tool's angle, degrees: the cuts start along its half (0: each
+    /// cut straight in).
+    pub(crate) angle: f64,
+    /// The chamfer at the thread's end: the last `chamfer` of Z pulls out
+    /// at 45°.
+    pub(crate) chamfer: f64,
+}
+
+/// The moves of the cut at `depth` (from the crest): rapid along Z to the
+/// cut's flank position, rapid in X to the depth, the threaded cut (the
+/// chamfer pulling out at its end), rapid out in X to the start's, rapid
+/// back along Z to the start point.
+pub(crate) fn cut(t: &ThreadCut, depth: f64) -> Vec<Step> {
+    let ((x0, z0), (x, z)) = (t.start, t.end);
+    let out = if x0 >= x { 1.0 } else { -1.0 };
+    let along = if z >= z0 { 1.0 } else { -1.0 };
+    let above = t.height - depth;
+    // The shallower the cut, the further back along the flank.
+    let shift = -along * above * (t.angle.to_radians() / 2.0).tan();
+    let (xs, zs) = (x + t.taper + out * above, z0 + shift);
+    let (xe, ze) = (x + out * above, z + shift);
+    let mut steps = Vec::with_capacity(6);
+    if shift != 0.0 {
+        steps.push(Step::rapid(x0, zs));
+    }
+    steps.push(Step::rapid(xs, zs));
+    let length = (ze - zs).abs();
+    if t.chamfer > 0.0 && length > 0.0 {
+        let c = t.chamfer.min(length);
+        let zc = ze - along * c;
+        let xc = xe + t.taper * c / length;
+        steps.push(Step::thread(xc, zc));
+        steps.push(Step::thread(xe + out * c, ze));
+    } else {
+        steps.push(Step::thread(xe, ze));
+    }
+    steps.push(Step::rapid(x0, ze));
+    steps.push(Step::rapid(x0, z0));
+    steps
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn same_area_depths_with_the_least_cut() {
+        // k 1.0, Δd 0.4, Δdmin 0.1, d 0.05, m 2: 0.4, 0.566 (√2·0.4), 0.693
+        // (√3·0.4), 0.8 (√4·0.4); √5·0.4 = 0.894 is only 0.094 deeper: 0.9;
+        // √6·0.4 = 0.980 is 0.08 deeper: 1.0, past k − d: 0.95; then m = 2
+        // finishing cuts at k.
+        let d = depths(1.0, 0.4, 0.1, 0.05, 2, Depths::SameArea).unwrap();
+        let want = [0.4, 0.4 * 2f64.sqrt(), 0.4 * 3f64.sqrt(), 0.8, 0.9, 0.95, 1.0, 1.0];
+        assert_eq!(d.len(), want.len());
+        for (a, b) in d.iter().zip(want) {
+            assert!((a - b).abs() < 1e-12, "{d:?}");
+        }
+        // Δdmin 0.15: 0.4, 0.566, then 0.693 is only 0.127 deeper: 0.716.
+        let d = depths(1.0, 0.4, 0.15, 0.0, 1, Depths::SameArea).unwrap();
+        assert!((d[2] - (0.4 * 2f64.sqrt() + 0.15)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn straight_in_cut() {
+        let t = ThreadCut { start: (12.0, 5.0), end: (9.0, -20.0), taper: 0.0, height: 1.0, angle: 0.0, chamfer: 0.0 };
+        let s = cut(&t, 0.5);
+        assert_eq!(s, vec![Step::rapid(9.5, 5.0), Step::thread(9.5, -20.0), Step::rapid(12.0, -20.0), Step::rapid(12.0, 5.0)]);
+    }
+
+    #[test]
+    fn flank_cut_with_chamfer() {
+        // a 60°: a cut 0.6 above the root starts 0.6·tan 30° = 0.3464 back
+        // (toward +Z, the thread runs to -Z); the last 1 mm pulls out at 45°.
+        let t = ThreadCut { start: (12.0, 5.0), end: (9.0, -20.0), taper: 0.0, height: 1.0, angle: 60.0, chamfer: 1.0 };
+        let b = 0.6 * 30f64.to_radians().tan();
+        let want = [
+            Step::rapid(12.0, 5.0 + b),
+            Step::rapid(9.6, 5.0 + b),
+            Step::thread(9.6, -19.0 + b),
+            Step::thread(10.6, -20.0 + b),
+            Step::rapid(12.0, -20.0 + b),
+            Step::rapid(12.0, 5.0),
+        ];
+        let s = cut(&t, 0.4);
+        assert_eq!(s.len(), want.len());
+        for (a, w) in s.iter().zip(want) {
+            assert!(a.kind == w.kind && (a.x - w.x).abs() < 1e-12 && (a.z - w.z).abs() < 1e-12, "{s:?}");
+        }
+    }
+}
