@@ -18,7 +18,15 @@
 //! G-codes: "G74 End Face Grooving Cycle", "G75 O.D./I.D. Grooving Cycle")
 //! gives `I` the X step, `K` the Z step and `D` the clearance.
 
+use super::super::modal::g_name;
+use super::super::words::Words;
+use super::super::State;
 use super::single::{Refusal, Step};
+use crate::source::{Diagnostic, Span};
+
+/// Haas's return after each peck: Setting 22 (Can Cycle Delta Z), which
+/// kezuri does not read from the machine; taken at 0.050 inch.
+const HAAS_PECK_RETURN: f64 = 1.27;
 
 /// Most moves one grooving block makes.
 const MOST_STEPS: usize = 1_000_000;
@@ -148,6 +156,101 @@ pub(crate) fn grooving(g: &Grooving, peck_letter: u8, step_letter: u8) -> Result
         steps.push(step_at(g.face, true, p0, q0));
     }
     Ok(steps)
+}
+
+impl State {
+    /// `G74` (`face`) or `G75` (G76, G77 in system C): the first block
+    /// `G74 R(e);` sets the return after each peck; the second, with the
+    /// end point, cuts (Haas: the one block `G74 X(U) Z(W) I K D F`).
+    /// Returns whether the tool moved.
+    pub(in super::super) fn grooving_block(
+        &mut self,
+        face: bool,
+        tenths: u32,
+        w: &Words,
+        gspan: Span,
+        line: u32,
+    ) -> Result<bool, Diagnostic> {
+        let name = g_name(tenths);
+        let haas = self.settings.dialect == crate::Dialect::HaasLathe;
+        let axes = w.has(b'X') || w.has(b'Z') || w.has(b'U') || w.has(b'W');
+        if !axes && !haas {
+            let Some(e) = w.get(b'R') else {
+                return Err(Diagnostic::error(
+                    gspan,
+                    format!(
+                        "{name} needs R(e), the return after each peck (its first block, {name} R(e);), or the end \
+                         point X(U) Z(W) with P Q R F (its second block)"
+                    ),
+                ));
+            };
+            if e < 0.0 {
+                return Err(Diagnostic::error(w.span(b'R'), format!("{name} R{e}: the return after each peck must not be negative")));
+            }
+            self.cycles.groove_return = Some(self.mm(e));
+            return Ok(false);
+        }
+        if !axes {
+            return Err(Diagnostic::error(gspan, format!("{name} needs its end point: X(U) and/or Z(W)")));
+        }
+        let mut e = *w;
+        for l in *b"PQRIKDA" {
+            e = e.without(l);
+        }
+        self.lathe_axes(&mut e)?;
+        let end = self.target(&e);
+        let start = (self.tip.x, self.tip.z);
+        // The peck's axis and the step's: Z and X for G74, X and Z for G75.
+        let (peck_moves, step_moves) = if face {
+            (end.z != self.tip.z, end.x != self.tip.x)
+        } else {
+            (end.x != self.tip.x, end.z != self.tip.z)
+        };
+        let (peck_letter, step_letter, retract, relief) = if haas {
+            let (p, s) = if face { (b'K', b'I') } else { (b'I', b'K') };
+            let d = w.get(b'D').map_or(0.0, |d| self.mm(d));
+            (p, s, HAAS_PECK_RETURN, d)
+        } else {
+            let (p, s) = if face { (b'Q', b'P') } else { (b'P', b'Q') };
+            let retract = match self.cycles.groove_return {
+                Some(e) => e,
+                None => {
+                    self.warn(
+                        "groove-return",
+                        gspan,
+                        format!(
+                            "{name} without its first block ({name} R(e);): the return after each peck is the \
+                             control's parameter 5139, which kezuri takes as 0 (no return between pecks)"
+                        ),
+                    );
+                    0.0
+                }
+            };
+            (p, s, retract, w.get(b'R').map_or(0.0, |r| self.mm(r)))
+        };
+        let (peck_axis, step_axis) = if face { ("Z", "X") } else { ("X", "Z") };
+        let word = |l: u8, what: &str| format!("{name} needs {}, {what}", l as char);
+        if peck_moves && !w.has(peck_letter) {
+            return Err(Diagnostic::error(gspan, word(peck_letter, &format!("the depth of each peck in {peck_axis}"))));
+        }
+        if step_moves && !w.has(step_letter) {
+            return Err(Diagnostic::error(gspan, word(step_letter, &format!("the step between grooves in {step_axis}"))));
+        }
+        let read = |st: &mut State, l: u8| -> Option<f64> {
+            if haas {
+                w.get(l).map(|v| st.mm(v))
+            } else {
+                st.count_word(w, l, &name)
+            }
+        };
+        let peck = read(self, peck_letter).unwrap_or(0.0);
+        let step = read(self, step_letter).unwrap_or(0.0);
+        let feed = self.feed_mm_min(gspan)?;
+        let g = Grooving { face, start, end: (end.x, end.z), peck, step, retract, relief };
+        let steps = grooving(&g, peck_letter, step_letter).map_err(|r| self.refused(r, w, gspan))?;
+        self.run_steps(&steps, feed, 0.0, line);
+        Ok(true)
+    }
 }
 
 #[cfg(test)]

@@ -22,7 +22,35 @@
 //! Pass") is `G76 X(U) Z(W) K(height) D(first depth) F(lead) I(taper)
 //! A(angle) P(method)`.
 
+use super::super::modal::g_name;
+use super::super::words::Words;
+use super::super::State;
 use super::single::{Refusal, Step};
+use crate::source::{Diagnostic, Span};
+
+/// Haas's least depth of a cut: Setting 99 (Thread Minimum Cut), which
+/// kezuri does not read from the machine; taken at 0.001 inch.
+const HAAS_LEAST_CUT: f64 = 0.0254;
+
+/// What G76's first block sets (on the control, parameters 5140 to 5143
+/// and 5130), kept until the next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(in super::super) struct ThreadSettings {
+    /// m: the finishing cuts.
+    pub(super) finishing: u32,
+    /// r: the chamfer at the thread's end, in tenths of the lead.
+    pub(super) chamfer: u32,
+    /// a: the tool's angle, degrees.
+    pub(super) angle: u32,
+    /// Δdmin: the least depth a cut adds, mm.
+    pub(super) least: f64,
+    /// d: the finishing allowance, mm.
+    pub(super) allowance: f64,
+}
+
+/// What kezuri takes where a program gives no G76 first block: one
+/// finishing cut, no chamfer, a 60° tool, no least cut, no allowance.
+const THREAD_DEFAULTS: ThreadSettings = ThreadSettings { finishing: 1, chamfer: 0, angle: 60, least: 0.0, allowance: 0.0 };
 
 /// Most cuts one G76 makes.
 pub(crate) const MOST_CUTS: usize = 10_000;
@@ -146,6 +174,169 @@ pub(crate) fn cut(t: &ThreadCut, depth: f64) -> Vec<Step> {
     steps.push(Step::rapid(x0, ze));
     steps.push(Step::rapid(x0, z0));
     steps
+}
+
+impl State {
+    /// `G76` (`G78` in system C): Fanuc's first block `G76 P(m)(r)(a)
+    /// Q(Δdmin) R(d);` sets the cycle's figures, the second (with the end
+    /// point) cuts the thread; Haas's one block `G76 X(U) Z(W) K D F I A
+    /// P`. Returns whether the tool moved.
+    pub(in super::super) fn threading_block(
+        &mut self,
+        tenths: u32,
+        w: &Words,
+        gspan: Span,
+        line: u32,
+    ) -> Result<bool, Diagnostic> {
+        let name = g_name(tenths);
+        let haas = self.settings.dialect == crate::Dialect::HaasLathe;
+        let axes = w.has(b'X') || w.has(b'Z') || w.has(b'U') || w.has(b'W');
+        if !axes && !haas {
+            let mut t = self.cycles.thread.unwrap_or(THREAD_DEFAULTS);
+            if w.has(b'P') {
+                let (m, r, a) = self.thread_p_word(w, &name)?;
+                (t.finishing, t.chamfer, t.angle) = (m, r, a);
+            }
+            if let Some(least) = self.count_word(w, b'Q', &name) {
+                t.least = least;
+            }
+            if let Some(d) = w.get(b'R') {
+                if d < 0.0 {
+                    return Err(Diagnostic::error(w.span(b'R'), format!("{name} R{d}: the finishing allowance must not be negative")));
+                }
+                t.allowance = self.mm(d);
+            }
+            self.cycles.thread = Some(t);
+            return Ok(false);
+        }
+        if !axes {
+            return Err(Diagnostic::error(gspan, format!("{name} needs the thread's end: X(U) and/or Z(W)")));
+        }
+        let mut e = *w;
+        for l in *b"PQRIKDA" {
+            e = e.without(l);
+        }
+        self.lathe_axes(&mut e)?;
+        let end = self.target(&e);
+        let lead = self.thread_lead(w, gspan)?;
+        let (height_letter, first_letter, taper_letter) = if haas { (b'K', b'D', b'I') } else { (b'P', b'Q', b'R') };
+        let what = |l: u8, x: &str| format!("{name} needs {}, {x}", l as char);
+        let height = if haas { w.get(b'K').map(|k| self.mm(k)) } else { self.count_word(w, b'P', &name) };
+        let Some(height) = height else {
+            return Err(Diagnostic::error(gspan, what(height_letter, "the thread's height (radius)")));
+        };
+        let first = if haas { w.get(b'D').map(|d| self.mm(d)) } else { self.count_word(w, b'Q', &name) };
+        let Some(first) = first else {
+            return Err(Diagnostic::error(gspan, what(first_letter, "the first cut's depth (radius)")));
+        };
+        let taper = w.get(taper_letter).map_or(0.0, |i| self.mm(i));
+        let (t, rule, flank) = if haas { self.haas_thread(w, &name)? } else { (self.fanuc_thread(gspan, &name), Depths::SameArea, true) };
+        let blame = |r: Refusal| {
+            let letter = match r.letter {
+                Some(b'P') => Some(height_letter),
+                Some(b'Q') => Some(first_letter),
+                l => l,
+            };
+            Refusal { letter, ..r }
+        };
+        let cuts = depths(height, first, t.least, t.allowance, t.finishing, rule).map_err(|r| self.refused(blame(r), w, gspan))?;
+        let (x0, z0) = (self.tip.x, self.tip.z);
+        // The start point must lie outside the thread's crest (OD: above it).
+        let crest = end.x + taper + (x0 - end.x).signum() * height;
+        if x0 == end.x || (x0 - end.x).signum() != (x0 - crest).signum() && x0 != crest {
+            let at = if e.has(b'X') { e.span(b'X') } else { gspan };
+            return Err(Diagnostic::error(
+                at,
+                format!(
+                    "{name}: the start point (X radius {x0}) is not outside the thread, whose crest is at radius \
+                     {crest} where it starts: the tool would cut into it on its way in"
+                ),
+            ));
+        }
+        let cut_at = ThreadCut {
+            start: (x0, z0),
+            end: (end.x, end.z),
+            taper,
+            height,
+            angle: if flank { f64::from(t.angle) } else { 0.0 },
+            chamfer: f64::from(t.chamfer) / 10.0 * lead,
+        };
+        for d in cuts {
+            self.run_steps(&cut(&cut_at, d), 0.0, lead, line);
+        }
+        Ok(true)
+    }
+
+    /// The figures of Fanuc's first block, or the defaults with a warning.
+    fn fanuc_thread(&mut self, gspan: Span, name: &str) -> ThreadSettings {
+        if let Some(t) = self.cycles.thread {
+            return t;
+        }
+        self.warn(
+            "thread-first-block",
+            gspan,
+            format!(
+                "{name} without its first block ({name} P(m)(r)(a) Q(Δdmin) R(d);): the control takes its parameters \
+                 5140 to 5143; kezuri takes one finishing cut, no chamfer, a 60° tool, no least cut and no allowance"
+            ),
+        );
+        THREAD_DEFAULTS
+    }
+
+    /// Haas's A (the tool's angle, 0–120, no decimal point) and P (the
+    /// way of cutting: P1 one edge, the same area each cut; P2 both edges
+    /// (straight in), the same area; P3 one edge, the same depth; P4 both
+    /// edges, the same depth).
+    fn haas_thread(&mut self, w: &Words, name: &str) -> Result<(ThreadSettings, Depths, bool), Diagnostic> {
+        let angle = match w.get(b'A') {
+            None => 0,
+            Some(a) if a.fract() == 0.0 && (0.0..=120.0).contains(&a) && !w.decimal(b'A') => a as u32,
+            Some(a) => {
+                return Err(Diagnostic::error(
+                    w.span(b'A'),
+                    format!("{name} A{a}: the tool's angle is a whole number of degrees from 0 to 120, without a decimal point"),
+                ))
+            }
+        };
+        let method = match w.get(b'P') {
+            None => 1,
+            Some(p) if [1.0, 2.0, 3.0, 4.0].contains(&p) => p as u32,
+            Some(p) => {
+                return Err(Diagnostic::error(
+                    w.span(b'P'),
+                    format!("{name} P{p}: the way of cutting is P1 to P4 (one or both edges, the same area or depth each cut)"),
+                ))
+            }
+        };
+        let rule = if method <= 2 { Depths::SameArea } else { Depths::SameDepth };
+        let t = ThreadSettings { finishing: 0, chamfer: 0, angle, least: HAAS_LEAST_CUT, allowance: 0.0 };
+        Ok((t, rule, method % 2 == 1))
+    }
+
+    /// G76's P(m)(r)(a): six digits, m the finishing cuts 01–99, r the
+    /// chamfer 00–99 (tenths of the lead), a the tool's angle.
+    fn thread_p_word(&self, w: &Words, name: &str) -> Result<(u32, u32, u32), Diagnostic> {
+        let span = w.span(b'P');
+        let v = w.get(b'P').unwrap_or(0.0);
+        let literal = !w.decimal(b'P');
+        let digits = span.end.saturating_sub(span.start).saturating_sub(1);
+        let form = format!(
+            "{name} P is six digits without a decimal point, P(m)(r)(a): m the finishing cuts 01–99, r the chamfer \
+             in tenths of the lead 00–99, a the tool's angle 80, 60, 55, 30, 29 or 00 (P021060)"
+        );
+        if !literal || v.fract() != 0.0 || !(0.0..1_000_000.0).contains(&v) || digits != 6 {
+            return Err(Diagnostic::error(span, format!("{form}; the control stops with an alarm at P{}", crate::number::number(v, 6))));
+        }
+        let p = v as u32;
+        let (m, r, a) = (p / 10_000, p / 100 % 100, p % 100);
+        if m == 0 {
+            return Err(Diagnostic::error(span, format!("{form}; P{p:06} asks for no finishing cut (m = 00)")));
+        }
+        if !FANUC_ANGLES.contains(&a) {
+            return Err(Diagnostic::error(span, format!("{form}; P{p:06} asks for a tool angle of {a}°, which the control refuses")));
+        }
+        Ok((m, r, a))
+    }
 }
 
 #[cfg(test)]
