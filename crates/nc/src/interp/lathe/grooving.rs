@@ -18,7 +18,7 @@
 //! G-codes: "G74 End Face Grooving Cycle", "G75 O.D./I.D. Grooving Cycle")
 //! gives `I` the X step, `K` the Z step and `D` the clearance.
 
-use super::super::modal::g_name;
+use super::super::modal::{g_name, GCode};
 use super::super::words::Words;
 use super::super::State;
 use super::single::{Refusal, Step};
@@ -166,12 +166,11 @@ impl State {
     pub(in super::super) fn grooving_block(
         &mut self,
         face: bool,
-        tenths: u32,
         w: &Words,
         gspan: Span,
         line: u32,
     ) -> Result<bool, Diagnostic> {
-        let name = g_name(tenths);
+        let name = g_name(self.lathe_cycle_number(if face { 74 } else { 75 }) * 10);
         let haas = self.settings.dialect == crate::Dialect::HaasLathe;
         let axes = w.has(b'X') || w.has(b'Z') || w.has(b'U') || w.has(b'W');
         if !axes && !haas {
@@ -185,7 +184,10 @@ impl State {
                 ));
             };
             if e < 0.0 {
-                return Err(Diagnostic::error(w.span(b'R'), format!("{name} R{e}: the return after each peck must not be negative")));
+                return Err(Diagnostic::error(
+                    w.span(b'R'),
+                    format!("{name} R{e}: the return after each peck must not be negative"),
+                ));
             }
             self.cycles.groove_return = Some(self.mm(e));
             return Ok(false);
@@ -201,11 +203,8 @@ impl State {
         let end = self.target(&e);
         let start = (self.tip.x, self.tip.z);
         // The peck's axis and the step's: Z and X for G74, X and Z for G75.
-        let (peck_moves, step_moves) = if face {
-            (end.z != self.tip.z, end.x != self.tip.x)
-        } else {
-            (end.x != self.tip.x, end.z != self.tip.z)
-        };
+        let (peck_moves, step_moves) =
+            if face { (end.z != self.tip.z, end.x != self.tip.x) } else { (end.x != self.tip.x, end.z != self.tip.z) };
         let (peck_letter, step_letter, retract, relief) = if haas {
             let (p, s) = if face { (b'K', b'I') } else { (b'I', b'K') };
             let d = w.get(b'D').map_or(0.0, |d| self.mm(d));
@@ -234,7 +233,10 @@ impl State {
             return Err(Diagnostic::error(gspan, word(peck_letter, &format!("the depth of each peck in {peck_axis}"))));
         }
         if step_moves && !w.has(step_letter) {
-            return Err(Diagnostic::error(gspan, word(step_letter, &format!("the step between grooves in {step_axis}"))));
+            return Err(Diagnostic::error(
+                gspan,
+                word(step_letter, &format!("the step between grooves in {step_axis}")),
+            ));
         }
         let read = |st: &mut State, l: u8| -> Option<f64> {
             if haas {
@@ -250,6 +252,28 @@ impl State {
         let steps = grooving(&g, peck_letter, step_letter).map_err(|r| self.refused(r, w, gspan))?;
         self.run_steps(&steps, feed, 0.0, line);
         Ok(true)
+    }
+}
+
+impl State {
+    /// Whether `letter` of the block of `words` is a count its cycle reads
+    /// itself ([`State::count_word`]), not an axis word in least
+    /// increments: Q (and G76's P) of Fanuc's G74 G75 G76, Haas G76's A
+    /// (the tool's angle) and Q (the start angle).
+    pub(in super::super) fn lathe_cycle_count(&self, letter: u8, words: &[crate::ast::Word]) -> bool {
+        if !matches!(letter, b'Q' | b'A') || !self.turning.as_ref().is_some_and(|t| t.fanuc) {
+            return false;
+        }
+        let haas = self.settings.dialect == crate::Dialect::HaasLathe;
+        words.iter().any(|w| {
+            w.letter == b'G'
+                && matches!(w.value(), crate::ast::WordValue::Number { value, .. }
+                if match self.decode_g((value * 10.0).round() as u32) {
+                    Some(GCode::Grooving(_)) => letter == b'Q',
+                    Some(GCode::MultipleThreading) => letter == b'Q' || haas,
+                    _ => false,
+                })
+        })
     }
 }
 

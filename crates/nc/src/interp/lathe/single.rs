@@ -63,9 +63,6 @@ impl Refusal {
     pub(crate) fn at(letter: u8, message: impl Into<String>) -> Refusal {
         Refusal { letter: Some(letter), message: message.into() }
     }
-    pub(crate) fn block(message: impl Into<String>) -> Refusal {
-        Refusal { letter: None, message: message.into() }
-    }
 }
 
 /// The moves of one single cycle from the start point (`x0`, `z0`) to the
@@ -105,15 +102,11 @@ pub(crate) fn single_pass(
         ));
     }
     Ok(match cycle {
-        SingleCycle::Cutting => {
-            [Step::rapid(x + taper, z0), Step::feed(x, z), Step::feed(x0, z), Step::rapid(x0, z0)]
-        }
+        SingleCycle::Cutting => [Step::rapid(x + taper, z0), Step::feed(x, z), Step::feed(x0, z), Step::rapid(x0, z0)],
         SingleCycle::Threading => {
             [Step::rapid(x + taper, z0), Step::thread(x, z), Step::rapid(x0, z), Step::rapid(x0, z0)]
         }
-        SingleCycle::Facing => {
-            [Step::rapid(x0, z + taper), Step::feed(x, z), Step::feed(x, z0), Step::rapid(x0, z0)]
-        }
+        SingleCycle::Facing => [Step::rapid(x0, z + taper), Step::feed(x, z), Step::feed(x, z0), Step::rapid(x0, z0)],
     })
 }
 
@@ -179,6 +172,15 @@ impl State {
         self.run_steps(&steps, feed, lead, line);
         self.cycles.single = Some((cycle, end, taper, self.toolpath.moves.len()));
         Ok(true)
+    }
+
+    /// The G number of the multiple repetitive cycle that is `number` in G
+    /// code system A: two more in system C (G74 is G76 there).
+    pub(super) fn lathe_cycle_number(&self, number: u32) -> u32 {
+        match self.turning.as_ref().map(|t| t.system) {
+            Some(super::GCodeSystem::C) => number + 2,
+            _ => number,
+        }
     }
 
     /// A cycle's refusal, located at its word where the block has it.
@@ -295,7 +297,10 @@ mod tests {
     fn straight_turning_is_four_moves_back_to_the_start() {
         // From (30, 2) to X radius 20, Z -40: in, along, out, back.
         let s = single_pass(SingleCycle::Cutting, (30.0, 2.0), (20.0, -40.0), 0.0, b'R').unwrap();
-        assert_eq!(s, [Step::rapid(20.0, 2.0), Step::feed(20.0, -40.0), Step::feed(30.0, -40.0), Step::rapid(30.0, 2.0)]);
+        assert_eq!(
+            s,
+            [Step::rapid(20.0, 2.0), Step::feed(20.0, -40.0), Step::feed(30.0, -40.0), Step::rapid(30.0, 2.0)]
+        );
     }
 
     #[test]

@@ -50,7 +50,8 @@ pub(in super::super) struct ThreadSettings {
 
 /// What kezuri takes where a program gives no G76 first block: one
 /// finishing cut, no chamfer, a 60° tool, no least cut, no allowance.
-const THREAD_DEFAULTS: ThreadSettings = ThreadSettings { finishing: 1, chamfer: 0, angle: 60, least: 0.0, allowance: 0.0 };
+const THREAD_DEFAULTS: ThreadSettings =
+    ThreadSettings { finishing: 1, chamfer: 0, angle: 60, least: 0.0, allowance: 0.0 };
 
 /// Most cuts one G76 makes.
 pub(crate) const MOST_CUTS: usize = 10_000;
@@ -85,7 +86,10 @@ pub(crate) fn depths(
         return Err(Refusal::at(b'P', "the thread's height is 0: there is no thread to cut; give it greater than 0"));
     }
     if first <= 0.0 {
-        return Err(Refusal::at(b'Q', "the first cut's depth is 0: the cycle would never reach the thread's root; give it greater than 0"));
+        return Err(Refusal::at(
+            b'Q',
+            "the first cut's depth is 0: the cycle would never reach the thread's root; give it greater than 0",
+        ));
     }
     if allowance < 0.0 || allowance >= height {
         return Err(Refusal::at(
@@ -181,14 +185,8 @@ impl State {
     /// Q(Δdmin) R(d);` sets the cycle's figures, the second (with the end
     /// point) cuts the thread; Haas's one block `G76 X(U) Z(W) K D F I A
     /// P`. Returns whether the tool moved.
-    pub(in super::super) fn threading_block(
-        &mut self,
-        tenths: u32,
-        w: &Words,
-        gspan: Span,
-        line: u32,
-    ) -> Result<bool, Diagnostic> {
-        let name = g_name(tenths);
+    pub(in super::super) fn threading_block(&mut self, w: &Words, gspan: Span, line: u32) -> Result<bool, Diagnostic> {
+        let name = g_name(self.lathe_cycle_number(76) * 10);
         let haas = self.settings.dialect == crate::Dialect::HaasLathe;
         let axes = w.has(b'X') || w.has(b'Z') || w.has(b'U') || w.has(b'W');
         if !axes && !haas {
@@ -202,7 +200,10 @@ impl State {
             }
             if let Some(d) = w.get(b'R') {
                 if d < 0.0 {
-                    return Err(Diagnostic::error(w.span(b'R'), format!("{name} R{d}: the finishing allowance must not be negative")));
+                    return Err(Diagnostic::error(
+                        w.span(b'R'),
+                        format!("{name} R{d}: the finishing allowance must not be negative"),
+                    ));
                 }
                 t.allowance = self.mm(d);
             }
@@ -230,7 +231,8 @@ impl State {
             return Err(Diagnostic::error(gspan, what(first_letter, "the first cut's depth (radius)")));
         };
         let taper = w.get(taper_letter).map_or(0.0, |i| self.mm(i));
-        let (t, rule, flank) = if haas { self.haas_thread(w, &name)? } else { (self.fanuc_thread(gspan, &name), Depths::SameArea, true) };
+        let (t, rule, flank) =
+            if haas { self.haas_thread(w, &name)? } else { (self.fanuc_thread(gspan, &name), Depths::SameArea, true) };
         let blame = |r: Refusal| {
             let letter = match r.letter {
                 Some(b'P') => Some(height_letter),
@@ -239,7 +241,8 @@ impl State {
             };
             Refusal { letter, ..r }
         };
-        let cuts = depths(height, first, t.least, t.allowance, t.finishing, rule).map_err(|r| self.refused(blame(r), w, gspan))?;
+        let cuts = depths(height, first, t.least, t.allowance, t.finishing, rule)
+            .map_err(|r| self.refused(blame(r), w, gspan))?;
         let (x0, z0) = (self.tip.x, self.tip.z);
         // The start point must lie outside the thread's crest (OD: above it).
         let crest = end.x + taper + (x0 - end.x).signum() * height;
@@ -290,23 +293,23 @@ impl State {
     fn haas_thread(&mut self, w: &Words, name: &str) -> Result<(ThreadSettings, Depths, bool), Diagnostic> {
         let angle = match w.get(b'A') {
             None => 0,
-            Some(a) if a.fract() == 0.0 && (0.0..=120.0).contains(&a) && !w.decimal(b'A') => a as u32,
-            Some(a) => {
-                return Err(Diagnostic::error(
-                    w.span(b'A'),
-                    format!("{name} A{a}: the tool's angle is a whole number of degrees from 0 to 120, without a decimal point"),
-                ))
-            }
+            Some(a) if a.fract() == 0.0 && (0.0..=120.0).contains(&a) => a as u32,
+            Some(a) => return Err(Diagnostic::error(
+                w.span(b'A'),
+                format!(
+                    "{name} A{a}: the tool's angle is a whole number of degrees from 0 to 120, without a decimal point"
+                ),
+            )),
         };
         let method = match w.get(b'P') {
             None => 1,
             Some(p) if [1.0, 2.0, 3.0, 4.0].contains(&p) => p as u32,
-            Some(p) => {
-                return Err(Diagnostic::error(
-                    w.span(b'P'),
-                    format!("{name} P{p}: the way of cutting is P1 to P4 (one or both edges, the same area or depth each cut)"),
-                ))
-            }
+            Some(p) => return Err(Diagnostic::error(
+                w.span(b'P'),
+                format!(
+                    "{name} P{p}: the way of cutting is P1 to P4 (one or both edges, the same area or depth each cut)"
+                ),
+            )),
         };
         let rule = if method <= 2 { Depths::SameArea } else { Depths::SameDepth };
         let t = ThreadSettings { finishing: 0, chamfer: 0, angle, least: HAAS_LEAST_CUT, allowance: 0.0 };
@@ -325,7 +328,10 @@ impl State {
              in tenths of the lead 00–99, a the tool's angle 80, 60, 55, 30, 29 or 00 (P021060)"
         );
         if !literal || v.fract() != 0.0 || !(0.0..1_000_000.0).contains(&v) || digits != 6 {
-            return Err(Diagnostic::error(span, format!("{form}; the control stops with an alarm at P{}", crate::number::number(v, 6))));
+            return Err(Diagnostic::error(
+                span,
+                format!("{form}; the control stops with an alarm at P{}", crate::number::number(v, 6)),
+            ));
         }
         let p = v as u32;
         let (m, r, a) = (p / 10_000, p / 100 % 100, p % 100);
@@ -333,7 +339,10 @@ impl State {
             return Err(Diagnostic::error(span, format!("{form}; P{p:06} asks for no finishing cut (m = 00)")));
         }
         if !FANUC_ANGLES.contains(&a) {
-            return Err(Diagnostic::error(span, format!("{form}; P{p:06} asks for a tool angle of {a}°, which the control refuses")));
+            return Err(Diagnostic::error(
+                span,
+                format!("{form}; P{p:06} asks for a tool angle of {a}°, which the control refuses"),
+            ));
         }
         Ok((m, r, a))
     }
@@ -364,7 +373,10 @@ mod tests {
     fn straight_in_cut() {
         let t = ThreadCut { start: (12.0, 5.0), end: (9.0, -20.0), taper: 0.0, height: 1.0, angle: 0.0, chamfer: 0.0 };
         let s = cut(&t, 0.5);
-        assert_eq!(s, vec![Step::rapid(9.5, 5.0), Step::thread(9.5, -20.0), Step::rapid(12.0, -20.0), Step::rapid(12.0, 5.0)]);
+        assert_eq!(
+            s,
+            vec![Step::rapid(9.5, 5.0), Step::thread(9.5, -20.0), Step::rapid(12.0, -20.0), Step::rapid(12.0, 5.0)]
+        );
     }
 
     #[test]
