@@ -120,25 +120,27 @@ pub(crate) fn grooving(g: &Grooving, peck_letter: u8, step_letter: u8) -> Result
     let mut steps = Vec::new();
     let mut q = q0;
     loop {
-        if steps.is_empty() {
-            // The first groove is at the start point.
-        } else {
+        // The first groove is at the start point; the next ones are reached
+        // at the start level.
+        if q != q0 {
             steps.push(step_at(g.face, true, p0, q));
         }
         let mut p = p0;
-        while sp != 0.0 {
-            let mut next = p + sp * g.peck;
-            if sp * (next - pe) >= -1e-9 {
-                next = pe;
+        if sp != 0.0 {
+            loop {
+                let mut next = p + sp * g.peck;
+                if sp * (next - pe) >= -1e-9 {
+                    next = pe;
+                }
+                steps.push(step_at(g.face, false, next, q));
+                if next == pe {
+                    break;
+                }
+                if g.retract > 0.0 {
+                    steps.push(step_at(g.face, true, next - sp * g.retract, q));
+                }
+                p = next;
             }
-            steps.push(step_at(g.face, false, next, q));
-            if next == pe {
-                break;
-            }
-            if g.retract > 0.0 {
-                steps.push(step_at(g.face, true, next - sp * g.retract, q));
-            }
-            p = next;
         }
         if relief != 0.0 {
             steps.push(step_at(g.face, true, pe, q + relief));

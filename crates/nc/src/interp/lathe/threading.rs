@@ -294,22 +294,26 @@ impl State {
         let angle = match w.get(b'A') {
             None => 0,
             Some(a) if a.fract() == 0.0 && (0.0..=120.0).contains(&a) => a as u32,
-            Some(a) => return Err(Diagnostic::error(
-                w.span(b'A'),
-                format!(
+            Some(a) => {
+                return Err(Diagnostic::error(
+                    w.span(b'A'),
+                    format!(
                     "{name} A{a}: the tool's angle is a whole number of degrees from 0 to 120, without a decimal point"
                 ),
-            )),
+                ))
+            }
         };
         let method = match w.get(b'P') {
             None => 1,
             Some(p) if [1.0, 2.0, 3.0, 4.0].contains(&p) => p as u32,
-            Some(p) => return Err(Diagnostic::error(
-                w.span(b'P'),
-                format!(
+            Some(p) => {
+                return Err(Diagnostic::error(
+                    w.span(b'P'),
+                    format!(
                     "{name} P{p}: the way of cutting is P1 to P4 (one or both edges, the same area or depth each cut)"
                 ),
-            )),
+                ))
+            }
         };
         let rule = if method <= 2 { Depths::SameArea } else { Depths::SameDepth };
         let t = ThreadSettings { finishing: 0, chamfer: 0, angle, least: HAAS_LEAST_CUT, allowance: 0.0 };
