@@ -447,3 +447,24 @@ fn decimal_point_in_q_is_warned_of() {
     assert!(o.diagnostics.iter().any(|d| d.message.contains("least increments")), "{:?}", o.diagnostics);
     expect(&o.toolpath, 1, &[(K::F, 0.0, -2.0)]);
 }
+
+// G76 from a start point inside the thread (X22. is radius 11, the crest
+// at the start 10.7 + 1.3 = 12): the tool would cut in on its way.
+#[test]
+fn g76_from_inside_the_thread() {
+    let (m, at) =
+        error("S600 M03\nG00 X22. Z5.\nG76 P010560 Q100 R0.05\nG76 X21.4 Z-25. P1300 Q450 F2.\nM30\n", &fanuc());
+    assert_eq!(at, "X21.4");
+    assert!(m.contains("not outside the thread"), "{m}");
+}
+
+// G92's Q (the start angle, 0.001°) has no decimal point by the manual:
+// no warning; Haas's E is the lead where no F is given.
+#[test]
+fn g92_start_angle_and_haas_e() {
+    let o = outcome("S500 M03\nG00 X25. Z5.\nG92 X19.2 Z-20. F1.5 Q180000\nM30\n", &fanuc());
+    assert!(o.diagnostics.is_empty(), "{:?}", o.diagnostics);
+    let o = outcome("S500 M03\nG00 X25. Z5.\nG92 X19.2 Z-20. E1.25\nM30\n", &haas());
+    assert_eq!(o.threads[0].lead, 1.25);
+    assert!((o.toolpath.moves[2].feed - 625.0).abs() < 1e-9);
+}

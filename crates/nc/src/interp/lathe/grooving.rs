@@ -18,10 +18,11 @@
 //! G-codes: "G74 End Face Grooving Cycle", "G75 O.D./I.D. Grooving Cycle")
 //! gives `I` the X step, `K` the Z step and `D` the clearance.
 
-use super::super::modal::{g_name, GCode};
+use super::super::modal::{g_name, GCode, SingleCycle};
 use super::super::words::Words;
 use super::super::State;
 use super::single::{Refusal, Step};
+use super::LatheMotion;
 use crate::source::{Diagnostic, Span};
 
 /// Haas's return after each peck: Setting 22 (Can Cycle Delta Z), which
@@ -260,22 +261,27 @@ impl State {
 impl State {
     /// Whether `letter` of the block of `words` is a count its cycle reads
     /// itself ([`State::count_word`]), not an axis word in least
-    /// increments: Q (and G76's P) of Fanuc's G74 G75 G76, Haas G76's A
-    /// (the tool's angle) and Q (the start angle).
+    /// increments: Q of Fanuc's G74 G75 G76 and of the threading cycle
+    /// G92 (its start angle, 0.001°, also in the blocks that repeat it),
+    /// Haas G76's A (the tool's angle) and Q (the start angle).
     pub(in super::super) fn lathe_cycle_count(&self, letter: u8, words: &[crate::ast::Word]) -> bool {
-        if !matches!(letter, b'Q' | b'A') || !self.turning.as_ref().is_some_and(|t| t.fanuc) {
+        let Some(turning) = self.turning.as_ref().filter(|t| t.fanuc) else { return false };
+        if !matches!(letter, b'Q' | b'A') {
             return false;
         }
         let haas = self.settings.dialect == crate::Dialect::HaasLathe;
-        words.iter().any(|w| {
-            w.letter == b'G'
-                && matches!(w.value(), crate::ast::WordValue::Number { value, .. }
-                if match self.decode_g((value * 10.0).round() as u32) {
-                    Some(GCode::Grooving(_)) => letter == b'Q',
-                    Some(GCode::MultipleThreading) => letter == b'Q' || haas,
-                    _ => false,
-                })
-        })
+        let mut motion = turning.motion;
+        for w in words.iter().filter(|w| w.letter == b'G') {
+            let crate::ast::WordValue::Number { value, .. } = w.value() else { continue };
+            match self.decode_g((value * 10.0).round() as u32) {
+                Some(GCode::Grooving(_)) => return letter == b'Q',
+                Some(GCode::MultipleThreading) => return letter == b'Q' || haas,
+                Some(GCode::SingleCycle(c)) => motion = Some(LatheMotion::Single(c)),
+                Some(c) if c.group() == 1 => motion = None,
+                _ => {}
+            }
+        }
+        letter == b'Q' && motion == Some(LatheMotion::Single(SingleCycle::Threading))
     }
 }
 

@@ -192,9 +192,15 @@ impl State {
         Diagnostic::error(at, r.message)
     }
 
-    /// The lead of a threading cycle (F, mm a turn), refused where the tool
-    /// would never move: F0, or S0 without constant surface speed.
+    /// The lead of a threading cycle (F, mm a turn; Haas's E where the
+    /// block has no F), refused where the tool would never move: F0, or S0
+    /// without constant surface speed.
     pub(super) fn thread_lead(&mut self, w: &Words, span: Span) -> Result<f64, Diagnostic> {
+        if let (Some(e), false, crate::Dialect::HaasLathe) = (w.get(b'E'), w.has(b'F'), self.settings.dialect) {
+            if e > 0.0 {
+                return Ok(self.mm(e));
+            }
+        }
         let lead = self.mm(self.feed_word);
         if !self.feed_set || lead.is_nan() || lead <= 0.0 {
             let at = if w.has(b'F') { w.span(b'F') } else { span };
