@@ -401,7 +401,7 @@ fn haas_single_cycles_taper_with_i_and_k() {
 #[test]
 fn g76_p_with_wrong_digits() {
     let text = |p: &str| format!("S600 M03\nG00 X26. Z5.\nG76 {p} Q100 R0.05\nG76 X21.4 Z-25. P1300 Q450 F2.\nM30\n");
-    for p in ["P01060", "P0110600", "P011062", "P000560", "P0105.6"] {
+    for p in ["P01060", "P0110600", "P011062", "P0105.6", "P-10560"] {
         let (m, at) = error(&text(p), &fanuc());
         assert_eq!(at, p);
         assert!(m.contains("P(m)(r)(a)"), "{m}");
@@ -449,13 +449,19 @@ fn decimal_point_in_q_is_warned_of() {
 }
 
 // G76 from a start point inside the thread (X22. is radius 11, the crest
-// at the start 10.7 + 1.3 = 12): the tool would cut in on its way.
+// at the start 10.7 + 1.3 = 12): the first cut (0.85 above the root, at
+// 11.55) begins beyond the start point, which is warned of; a start at
+// the root's X (U0) cannot tell an outer thread from an inner one.
 #[test]
 fn g76_from_inside_the_thread() {
+    let o = outcome("S600 M03\nG00 X22. Z5.\nG76 P010560 Q100 R0.05\nG76 X21.4 Z-25. P1300 Q450 F2.\nM30\n", &fanuc());
+    assert!(o.diagnostics.iter().any(|d| d.message.contains("inside the thread")), "{:?}", o.diagnostics);
+    let b = 0.85 * 30f64.to_radians().tan();
+    expect(&o.toolpath, 1, &[(K::R, 11.0, 5.0 + b), (K::R, 11.55, 5.0 + b)]);
     let (m, at) =
-        error("S600 M03\nG00 X22. Z5.\nG76 P010560 Q100 R0.05\nG76 X21.4 Z-25. P1300 Q450 F2.\nM30\n", &fanuc());
+        error("S600 M03\nG00 X21.4 Z5.\nG76 P010560 Q100 R0.05\nG76 X21.4 Z-25. P1300 Q450 F2.\nM30\n", &fanuc());
     assert_eq!(at, "X21.4");
-    assert!(m.contains("not outside the thread"), "{m}");
+    assert!(m.contains("root"), "{m}");
 }
 
 // G92's Q (the start angle, 0.001°) has no decimal point by the manual:

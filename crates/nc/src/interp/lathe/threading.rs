@@ -244,17 +244,30 @@ impl State {
         let cuts = depths(height, first, t.least, t.allowance, t.finishing, rule)
             .map_err(|r| self.refused(blame(r), w, gspan))?;
         let (x0, z0) = (self.tip.x, self.tip.z);
-        // The start point must lie outside the thread's crest (OD: above it).
-        let crest = end.x + taper + (x0 - end.x).signum() * height;
-        if x0 == end.x || (x0 - end.x).signum() != (x0 - crest).signum() && x0 != crest {
-            let at = if e.has(b'X') { e.span(b'X') } else { gspan };
+        // The start point's side of the root tells an outer thread from an
+        // inner one; inside the crest, the first cuts begin beyond it.
+        let at = if e.has(b'X') { e.span(b'X') } else { gspan };
+        if x0 == end.x {
             return Err(Diagnostic::error(
                 at,
                 format!(
-                    "{name}: the start point (X radius {x0}) is not outside the thread, whose crest is at radius \
-                     {crest} where it starts: the tool would cut into it on its way in"
+                    "{name}: the start point is at the thread's root X (U0): the cycle cannot tell an outer thread \
+                     from an inner one; start the cycle outside the thread"
                 ),
             ));
+        }
+        let crest = end.x + taper + (x0 - end.x).signum() * height;
+        if (x0 - end.x).signum() != (x0 - crest).signum() && x0 != crest {
+            self.warn(
+                "thread-inside",
+                at,
+                format!(
+                    "{name}: the start point (X radius {} mm) is inside the thread, whose crest is at radius {} mm where it \
+                     starts: the first cuts begin beyond the start point",
+                    crate::number::number(x0, 4),
+                    crate::number::number(crest, 4)
+                ),
+            );
         }
         let cut_at = ThreadCut {
             start: (x0, z0),
@@ -322,7 +335,7 @@ impl State {
 
     /// G76's P(m)(r)(a): six digits, m the finishing cuts 01–99, r the
     /// chamfer 00–99 (tenths of the lead), a the tool's angle.
-    fn thread_p_word(&self, w: &Words, name: &str) -> Result<(u32, u32, u32), Diagnostic> {
+    fn thread_p_word(&mut self, w: &Words, name: &str) -> Result<(u32, u32, u32), Diagnostic> {
         let span = w.span(b'P');
         let v = w.get(b'P').unwrap_or(0.0);
         let literal = !w.decimal(b'P');
@@ -340,7 +353,14 @@ impl State {
         let p = v as u32;
         let (m, r, a) = (p / 10_000, p / 100 % 100, p % 100);
         if m == 0 {
-            return Err(Diagnostic::error(span, format!("{form}; P{p:06} asks for no finishing cut (m = 00)")));
+            self.warn(
+                "thread-no-finish",
+                span,
+                format!(
+                    "{name} P{p:06}: m = 00 finishing cuts, where the manual gives 01 to 99; kezuri cuts none, so the \
+                     thread ends at the roughing depth (its height less the finishing allowance)"
+                ),
+            );
         }
         if !FANUC_ANGLES.contains(&a) {
             return Err(Diagnostic::error(
