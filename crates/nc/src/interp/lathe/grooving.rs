@@ -92,17 +92,18 @@ pub(crate) fn grooving(g: &Grooving, peck_letter: u8, step_letter: u8) -> Result
     let (pe, qe) = split(g.face, g.end);
     let (sp, sq) = (sign(pe - p0), sign(qe - q0));
     let (peck_axis, step_axis) = if g.face { ("Z", "X") } else { ("X", "Z") };
+    let figures = [g.start.0, g.start.1, g.end.0, g.end.1, g.peck, g.step, g.retract, g.relief];
+    if figures.iter().any(|v| !v.is_finite()) {
+        return Err(Refusal { letter: None, message: "a figure of the cycle is not a number".into() });
+    }
+    let never = "the cycle would never reach the end; give it greater than 0";
     if sp != 0.0 && g.peck <= 0.0 {
-        return Err(Refusal::at(
-            peck_letter,
-            format!("the depth of each peck in {peck_axis} is 0: the cycle would never reach the end; give it greater than 0"),
-        ));
+        let p = crate::number::number(g.peck, 6);
+        return Err(Refusal::at(peck_letter, format!("the depth of each peck in {peck_axis} is {p} mm: {never}")));
     }
     if sq != 0.0 && g.step <= 0.0 {
-        return Err(Refusal::at(
-            step_letter,
-            format!("the step between grooves in {step_axis} is 0: the cycle would never reach the end; give it greater than 0"),
-        ));
+        let s = crate::number::number(g.step, 6);
+        return Err(Refusal::at(step_letter, format!("the step between grooves in {step_axis} is {s} mm: {never}")));
     }
     if g.retract < 0.0 {
         return Err(Refusal::at(b'R', "the return after each peck must not be negative"));

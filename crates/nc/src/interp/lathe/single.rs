@@ -87,11 +87,15 @@ pub(crate) fn single_pass(
     taper: f64,
     taper_letter: u8,
 ) -> Result<[Step; 4], Refusal> {
+    if !taper.is_finite() {
+        return Err(Refusal::at(taper_letter, "the taper is not a number"));
+    }
     // The move the taper is measured along: X for G90/G92, Z for G94.
     let along = if cycle == SingleCycle::Facing { z - z0 } else { x - x0 };
     if taper * along < 0.0 && taper.abs() > along.abs() + 1e-9 {
         let (letter, half) = if cycle == SingleCycle::Facing { ('W', "W") } else { ('U', "U/2") };
         let t = taper_letter as char;
+        let (taper, along) = (crate::number::number(taper, 4), crate::number::number(along, 4));
         return Err(Refusal::at(
             taper_letter,
             format!(

@@ -82,13 +82,21 @@ pub(crate) fn depths(
     finishing: u32,
     rule: Depths,
 ) -> Result<Vec<f64>, Refusal> {
+    if [height, first, least, allowance].iter().any(|v| !v.is_finite()) {
+        return Err(Refusal { letter: None, message: "a figure of the thread is not a number".into() });
+    }
     if height <= 0.0 {
-        return Err(Refusal::at(b'P', "the thread's height is 0: there is no thread to cut; give it greater than 0"));
+        let h = crate::number::number(height, 6);
+        return Err(Refusal::at(
+            b'P',
+            format!("the thread's height is {h} mm: there is no thread to cut; give it greater than 0"),
+        ));
     }
     if first <= 0.0 {
+        let f = crate::number::number(first, 6);
         return Err(Refusal::at(
             b'Q',
-            "the first cut's depth is 0: the cycle would never reach the thread's root; give it greater than 0",
+            format!("the first cut's depth is {f} mm: the cycle would never reach the thread's root; give it greater than 0"),
         ));
     }
     if allowance < 0.0 || allowance >= height {
