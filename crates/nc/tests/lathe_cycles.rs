@@ -474,3 +474,43 @@ fn g92_start_angle_and_haas_e() {
     assert_eq!(o.threads[0].lead, 1.25);
     assert!((o.toolpath.moves[2].feed - 625.0).abs() < 1e-9);
 }
+
+// G92 in the U W form: U-5.8 (a diameter: -2.9) from A's radius 12.5 is
+// 9.6, W-25. from Z5. is -20: the same pass as X19.2 Z-20.
+#[test]
+fn g92_in_u_w() {
+    let o = outcome("S500 M03\nG00 X25. Z5.\nG92 U-5.8 W-25. F1.5\nM30\n", &fanuc());
+    expect(&o.toolpath, 1, &[(K::R, 9.6, 5.0), (K::F, 9.6, -20.0), (K::R, 12.5, -20.0), (K::R, 12.5, 5.0)]);
+    assert_eq!(o.threads.len(), 1);
+}
+
+// Under G20 Q counts 0.0001 inch: Q2000 is 0.2 inch (5.08 mm). From Z0.1
+// (2.54 mm), e = R0.02 (0.508 mm): to Z-0.1 (-2.54), back to -0.08
+// (-2.032), to Z-0.3 (-7.62), back to 2.54.
+#[test]
+fn g74_in_inches() {
+    let t = path("G20\nS800 M03\nG00 X0. Z0.1\nG74 R0.02\nG74 Z-0.3 Q2000 F0.004\nM30\n", &fanuc());
+    expect(&t, 1, &[(K::F, 0.0, -2.54), (K::R, 0.0, -2.032), (K::F, 0.0, -7.62), (K::R, 0.0, 2.54)]);
+}
+
+// System C renumbers the multiple repetitive cycles by two: G76 is the end
+// face peck drilling cycle there, G78 the multiple threading cycle.
+#[test]
+fn system_c_peck_drilling_and_threading() {
+    let c = lathe(GCodeSystem::C);
+    let t = path("G95 S800 M03\nG00 X0. Z2.\nG76 R1.\nG76 Z-10. Q4000 F0.1\nM30\n", &c);
+    expect(
+        &t,
+        1,
+        &[
+            (K::F, 0.0, -2.0),
+            (K::R, 0.0, -1.0),
+            (K::F, 0.0, -6.0),
+            (K::R, 0.0, -5.0),
+            (K::F, 0.0, -10.0),
+            (K::R, 0.0, 2.0),
+        ],
+    );
+    let o = outcome("G95 S600 M03\nG00 X26. Z5.\nG78 P010560 Q100 R0.05\nG78 X21.4 Z-25. P1300 Q450 F2.\nM30\n", &c);
+    assert_eq!(o.threads.len(), 9);
+}
