@@ -141,6 +141,18 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
+        if self.turning.is_none() {
+            if let Some(letter) = [b'c', b'r'].into_iter().find(|&l| w.has(l)) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!(
+                        ",{} (a {}) between two moves is read on a lathe only: kezuri does not run it on a mill",
+                        letter.to_ascii_uppercase() as char,
+                        if letter == b'c' { "chamfer" } else { "corner R" }
+                    ),
+                ));
+            }
+        }
         if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
@@ -168,7 +180,8 @@ impl State {
         let x_known = !self.unplaced.contains(0) && !self.at_machine.contains(0);
         let moved = self.motion(codes, &w, span, line)?;
         if self.turning.is_some() {
-            self.lathe_moves(first_move, x_known, &w, span)?;
+            let changed = self.corner_moves(first_move, span)?;
+            self.lathe_moves(changed, x_known || changed < first_move, &w, span)?;
         }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {

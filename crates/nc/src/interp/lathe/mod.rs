@@ -6,6 +6,7 @@
 //! tool's distance from the spindle axis (a radius), whatever the program's
 //! diameter mode, as LinuxCNC's rs274 prints it.
 
+mod corner;
 mod grooving;
 pub(super) mod single;
 mod speed;
@@ -17,6 +18,7 @@ use kezuri_geom::{Axes, AxisSet};
 
 use super::modal::{GCode, SingleCycle};
 use super::State;
+pub(super) use corner::Corner;
 
 /// How the program's X words are read.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -115,6 +117,10 @@ pub(super) struct Turning {
     pub increments: AxisSet,
     /// The block in progress reads its own words (a cycle, the dwell).
     pub own_words: bool,
+    /// The chamfer or corner R this block asks for (read before its motion).
+    pub asked: Option<Corner>,
+    /// A chamfer or corner R waiting for the next block's move.
+    pub corner: Option<Corner>,
     /// The tool's geometry and wear offset number (`T0101`: 1), 0 for none.
     pub offset: u32,
 }
@@ -132,6 +138,8 @@ impl Turning {
             motion: None,
             increments: AxisSet::NONE,
             own_words: false,
+            asked: None,
+            corner: None,
             offset: 0,
         }
     }
