@@ -514,3 +514,12 @@ fn system_c_peck_drilling_and_threading() {
     let o = outcome("G95 S600 M03\nG00 X26. Z5.\nG78 P010560 Q100 R0.05\nG78 X21.4 Z-25. P1300 Q450 F2.\nM30\n", &c);
     assert_eq!(o.threads.len(), 9);
 }
+
+// Haas's K without a decimal point is read as any length word is (least
+// increments: K4000 is 4 mm), not as the mill's repeat count of G74
+// (left-hand tapping there).
+#[test]
+fn haas_k_is_a_length() {
+    let t = path("S800 M03\nG00 X0. Z2.\nG74 Z-10. K4000 F0.1\nM30\n", &haas());
+    expect(&t, 1, &[(K::F, 0.0, -2.0), (K::R, 0.0, -0.73), (K::F, 0.0, -6.0)]);
+}

@@ -255,7 +255,10 @@ impl State {
                     }
                     let mut v = v;
                     // In a canned cycle K is a repeat count, not an arc centre.
-                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
+                    // (A lathe's G74 G75 G76 are no drilling cycles: their K is a length.)
+                    let count = letter == b'K'
+                        && (self.modal.cycle.is_some() || names_cycle(w.words))
+                        && !self.lathe_names_cycle(w.words);
                     if !decimal
                         && !count
                         && AXIS_LETTERS.contains(&letter)

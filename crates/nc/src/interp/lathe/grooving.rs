@@ -260,6 +260,18 @@ impl State {
 }
 
 impl State {
+    /// Whether the block of `words` names a lathe's G74 G75 or G76 (in
+    /// its G code system), whose K (Haas) is a length, not the repeat count
+    /// of the mill's drilling cycles of the same numbers.
+    pub(in super::super) fn lathe_names_cycle(&self, words: &[crate::ast::Word]) -> bool {
+        self.turning.as_ref().is_some_and(|t| t.fanuc)
+            && words.iter().filter(|w| w.letter == b'G').any(|w| {
+                matches!(w.value(), crate::ast::WordValue::Number { value, .. }
+                    if matches!(self.decode_g((value * 10.0).round() as u32),
+                        Some(GCode::Grooving(_) | GCode::MultipleThreading)))
+            })
+    }
+
     /// Whether `letter` of the block of `words` is a count its cycle reads
     /// itself ([`State::count_word`]), not an axis word in least
     /// increments: Q of Fanuc's G74 G75 G76 and of the threading cycle
