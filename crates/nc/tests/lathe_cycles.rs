@@ -523,3 +523,16 @@ fn haas_k_is_a_length() {
     let t = path("S800 M03\nG00 X0. Z2.\nG74 Z-10. K4000 F0.1\nM30\n", &haas());
     expect(&t, 1, &[(K::F, 0.0, -2.0), (K::R, 0.0, -0.73), (K::F, 0.0, -6.0)]);
 }
+
+// Under constant surface speed ("Constant surface speed control (G96)")
+// each move of a cycle ends at the speed of its end radius: V = 200 m/min
+// is 200000 / (2π r) rpm, clamped by G50 S3000. G94 from (26, 2) to X10.
+// Z-2.: the rapid to (26, -2) ends at 200000 / (2π·26) = 1224.28 rpm; the
+// cut to radius 5 would need 6366 rpm: 3000, the clamp.
+#[test]
+fn cycle_moves_under_constant_surface_speed() {
+    let t = path("G50 S3000\nG96 S200 M03\nG00 X52. Z2.\nG94 X10. Z-2. F0.2\nM30\n", &fanuc());
+    let rpm = 200_000.0 / (2.0 * std::f64::consts::PI * 26.0);
+    assert!((t.moves[1].speed - rpm).abs() < 0.01, "{}", t.moves[1].speed);
+    assert!((t.moves[2].speed - 3000.0).abs() < 1e-9, "{}", t.moves[2].speed);
+}
