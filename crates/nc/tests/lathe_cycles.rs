@@ -4,7 +4,7 @@
 //!
 //! Every expected number is worked out by hand in the comments from the
 //! definitions of FANUC Series 0i-TF Plus Operator's Manual (B-64604EN),
-//! lathe system ("Single repetitive cycle": G90, G92, G94; "Multiple
+//! lathe system ("Canned cycle (G90, G92, G94)"; "Multiple
 //! repetitive cycle": G74, G75, G76) and the Haas Lathe Operator's Manual
 //! (G-codes chapter), before the output was looked at. Positions are the
 //! tool's: X a radius (a diameter X50. is 25 from the axis).

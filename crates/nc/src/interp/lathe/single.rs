@@ -2,7 +2,7 @@
 //! in G code system A, `G77` in B, `G20` in C), threading (`G92`, `G78`,
 //! `G21`) and end face cutting (`G94`, `G79`, `G24`), straight or with the
 //! taper `R` (FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe
-//! system, "Canned cycle" / "Single cycle": G90, G92, G94). Haas writes the
+//! system, "Canned cycle (G90, G92, G94)"). Haas writes the
 //! taper as `I` (G90, G92) and `K` (G94) (Haas Lathe Operator's Manual,
 //! G-codes chapter).
 //!
