@@ -232,11 +232,21 @@ impl State {
         let what = |l: u8, x: &str| format!("{name} needs {}, {x}", l as char);
         let height = if haas { w.get(b'K').map(|k| self.mm(k)) } else { self.count_word(w, b'P', &name) };
         let Some(height) = height else {
-            return Err(Diagnostic::error(gspan, what(height_letter, "the thread's height (radius)")));
+            let form = if haas {
+                "the thread's height (radius)"
+            } else {
+                "the thread's height (radius, least increments: P1300 is 1.3 mm)"
+            };
+            return Err(Diagnostic::error(gspan, what(height_letter, form)));
         };
         let first = if haas { w.get(b'D').map(|d| self.mm(d)) } else { self.count_word(w, b'Q', &name) };
         let Some(first) = first else {
-            return Err(Diagnostic::error(gspan, what(first_letter, "the first cut's depth (radius)")));
+            let form = if haas {
+                "the first cut's depth (radius)"
+            } else {
+                "the first cut's depth (radius, least increments: Q450 is 0.45 mm)"
+            };
+            return Err(Diagnostic::error(gspan, what(first_letter, form)));
         };
         let taper = w.get(taper_letter).map_or(0.0, |i| self.mm(i));
         let (t, rule, flank) =
@@ -245,6 +255,8 @@ impl State {
             let letter = match r.letter {
                 Some(b'P') => Some(height_letter),
                 Some(b'Q') => Some(first_letter),
+                // The allowance is the first block's: the second's R is the taper.
+                Some(b'R') => None,
                 l => l,
             };
             Refusal { letter, ..r }
