@@ -232,7 +232,11 @@ impl State {
             (p, s, retract, w.get(b'R').map_or(0.0, |r| self.mm(r)))
         };
         let (peck_axis, step_axis) = if face { ("Z", "X") } else { ("X", "Z") };
-        let word = |l: u8, what: &str| format!("{name} needs {}, {what}", l as char);
+        let word = |l: u8, what: &str| {
+            let c = l as char;
+            let counts = if haas { String::new() } else { format!(" (radius, least increments: {c}2000 is 2 mm)") };
+            format!("{name} needs {c}, {what}{counts}")
+        };
         if peck_moves && !w.has(peck_letter) {
             return Err(Diagnostic::error(gspan, word(peck_letter, &format!("the depth of each peck in {peck_axis}"))));
         }
