@@ -425,6 +425,18 @@ fn a_chamfer_the_next_block_cannot_take_is_a_located_error() {
     let (message, at) = error("S500\nG00 X20. Z1.\nG01 Z-10. C15. F0.1\nX60.\nM30\n", &fanuc());
     assert_eq!(at, "C15.");
     assert!(message.contains("longer than a move"), "{message}");
+    // The program ends with the chamfer waiting.
+    let (message, at) = error("S500\nG00 X20. Z1.\nG01 Z-10. ,R1. F0.1\nM30\n", &fanuc());
+    assert_eq!(at, ",R1.");
+    assert!(message.contains("program ends before"), "{message}");
+    // ,C on a mill: not run in silence.
+    let mill = Settings {
+        coords: CoordSettings { control: Control::Fanuc, ..CoordSettings::default() },
+        ..Settings::default()
+    };
+    let (message, at) = error("G00 X0. Y0.\nG01 X10. ,C1. F100.\nY10.\nM30\n", &mill);
+    assert_eq!(at, ",C1.");
+    assert!(message.contains("read on a lathe only"), "{message}");
 }
 
 // "T code": T0101 is tool 01 with offset 01; its length (the tool
@@ -443,4 +455,83 @@ fn t0101_selects_the_tool_and_its_offset() {
     assert!(t.frames[t.moves[1].frame as usize].length.is_none());
     assert_eq!(t.moves[2].tool, 2);
     assert!(t.frames[t.moves[2].frame as usize].length.is_none(), "offset 02 is not in the table");
+}
+
+// The code tables ("G code list"): in system A G91 is no code; in system C
+// G20 is the cutting cycle, not inch input (G70 is).
+#[test]
+fn codes_that_differ_between_systems() {
+    let (message, at) = error("G91 G00 X10.\nM30\n", &fanuc());
+    assert_eq!(at, "G91");
+    assert!(message.contains("U, W and H are the incremental"), "{message}");
+    // System B's G98 is the drilling return level: no feed mode change,
+    // so F0.1 stays per revolution: 0.1 × 1000.
+    let t = path("S1000\nG90 G00 X20. Z0.\nG98 G01 Z-5. F0.1\nM30\n", &lathe(GCodeSystem::B));
+    assert!(close(t.moves[1].feed, 100.0, 1e-9));
+}
+
+// Under G96 the first cut may start where the program never put X (after a
+// tool change): its speed is reckoned at its end, no error.
+#[test]
+fn css_from_an_x_never_named() {
+    let t = path("G50 S2000\nG96 S100 M03\nG01 X40. Z0. F0.2\nM30\n", &fanuc());
+    // 1000·100 / (π·40) = 795.77 rpm at the end.
+    assert!(close(t.moves[0].speed, 795.7747, 1e-4), "{}", t.moves[0].speed);
+}
+
+// An arc under constant surface speed: G03 X40. Z-10. R10. from (r 10,
+// Z0), centre (10, -10): the point at angle a (from +Z toward +X) is
+// X = 10 + 10·sin a, ds = 10·da, a from 0 to π/2. With n = V/(2πX)
+// (the clamp of 5000 rpm is reached only below r 6.37):
+// T = ∫ ds/(f·n) = (2π/(f·V))·10·∫₀^{π/2} (10 + 10 sin a) da
+//   = (2π/(f·V))·100·(π/2 + 1); L = 5π; feed = L/T = f·V/(40·(π/2 + 1))
+//   = 0.2 × 200000 / (40 × 2.5707963) = 388.9845 mm/min.
+#[test]
+fn css_feed_over_an_arc_is_its_exact_time() {
+    let t = path("G50 S5000\nG96 S200 M03\nG00 X20. Z0.\nG03 X40. Z-10. R10. F0.2\nM30\n", &fanuc());
+    let expected = 0.2 * 200_000.0 / (40.0 * (std::f64::consts::FRAC_PI_2 + 1.0));
+    assert!(close(t.moves[1].feed, expected, 1e-9 * expected), "{} vs {expected}", t.moves[1].feed);
+    assert!(close(t.moves[1].feed, 388.9845, 1e-4));
+}
+
+// The chamfer's other addresses ("Chamfering and corner R": I after a move
+// along Z, K after one along X; parameter 3405 CCR chooses C or I K): the
+// same path as C. A Haas lathe's C is its C axis, so there I K R only.
+#[test]
+fn a_chamfer_by_i_or_k() {
+    let t = path("S500\nG00 X20. Z1.\nG01 Z-10. I1. F0.1\nX40.\nM30\n", &fanuc());
+    assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (20.0, -10.0)]);
+    let t = path("S500\nG00 X20. Z0.\nG01 X30. K-2. F0.1\nZ-20.\nM30\n", &fanuc());
+    assert_eq!(xz(&t), vec![(10.0, 0.0), (13.0, 0.0), (15.0, -2.0), (15.0, -20.0)]);
+    let haas = Settings {
+        dialect: Dialect::HaasLathe,
+        coords: CoordSettings { control: Control::Haas, ..CoordSettings::default() },
+        ..fanuc()
+    };
+    let t = path("S500\nG00 X20. Z1.\nG01 Z-10. I1. F0.1\nX40.\nM30\n", &haas);
+    assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (20.0, -10.0)]);
+    // G01 Z-10. C90. on a Haas turns C as Z moves.
+    let t = path("S500\nG00 X20. Z1. C0.\nG01 Z-10. C90. F0.1\nM30\n", &haas);
+    assert_eq!(t.moves.len(), 2);
+    assert_eq!(t.moves[1].end.c, 90.0);
+}
+
+// Two corners in a row: the second block both ends the first chamfer and
+// asks for its own. G01 Z-10. C1. then X40. C-1. (along +X, toward -Z)
+// then Z-20.: (10, -9), chamfer to (11, -10), along X to 1 short of the
+// corner (20, -10): (19, -10), chamfer to (20, -11), on to (20, -20).
+#[test]
+fn chamfers_in_a_row() {
+    let t = path("S500\nG00 X20. Z1.\nG01 Z-10. C1. F0.1\nX40. C-1.\nZ-20.\nM30\n", &fanuc());
+    assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (19.0, -10.0), (20.0, -11.0), (20.0, -20.0)]);
+}
+
+// #4001… read the lathe's groups ("G code list", lathe system): 01 the
+// threading mode (G32), 02 G96, 05 G99 (system A), 16 the plane G18.
+#[test]
+fn modal_reads_follow_the_lathe_groups() {
+    let prog = "G50 S2000\nG96 S100 M03\nG00 X20. Z5.\nG32 Z-5. F1.\n#101=#4001\n#102=#4002\n#105=#4005\n#116=#4016\n\
+                DPRNT[A#101[2]B#102[2]C#105[2]D#116[2]]\nM30\n";
+    let o = outcome(prog, &fanuc());
+    assert_eq!(o.prints, vec!["A32B96C99D18".to_string()], "{:?}", o.prints);
 }

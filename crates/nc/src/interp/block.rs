@@ -182,6 +182,9 @@ impl State {
         if self.turning.is_some() {
             let changed = self.corner_moves(first_move, span)?;
             self.lathe_moves(changed, x_known || changed < first_move, &w, span)?;
+            if matches!(end, Some(Action::End)) {
+                self.corner_left()?;
+            }
         }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
@@ -213,7 +216,7 @@ impl State {
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
             let Some(code) = self.decode_g(tenths) else {
-                return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
+                return Err(Diagnostic::error(gspan, self.unknown_code(tenths)));
             };
             let group = code.group();
             if let Some(j) = codes[..k].iter().position(|c| c.is_some_and(|(c, _)| c.group() == group)) {
@@ -262,8 +265,11 @@ impl State {
     #[inline(always)]
     fn path_code(&mut self, code: GCode, w: &Words, gspan: Span, line: u32) -> Result<(), Diagnostic> {
         match (code, self.settings.coords.control) {
-            // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
-            (GCode::Smoothing(80), Control::LinuxCnc) => return Ok(()),
+            // LinuxCNC's G8 is lathe radius mode, its default.
+            (GCode::Smoothing(80), Control::LinuxCnc) => {
+                self.set_x_mode(super::XMode::Radius);
+                return Ok(());
+            }
             // LinuxCNC's G5 and G5.1 are splines, of their block only:
             // rs274 2.9 leaves the motion mode as it was.
             (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {

@@ -2,11 +2,14 @@
 //! FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe system,
 //! "Chamfering and corner R".
 //!
-//! - System A (and Haas), a move along one axis: `G01 X(U)_ C±k` chamfers
-//!   toward ±Z by k, `G01 Z(W)_ C±i` toward ±X by i (a radius); `R±r`
+//! - System A (and Haas), a move along one axis: `G01 X(U)_ C±k` (or
+//!   `K±k`) chamfers toward ±Z by k, `G01 Z(W)_ C±i` (or `I±i`) toward ±X
+//!   by i (a radius); `R±r`
 //!   rounds the corner with radius r the same way. The next block must be
 //!   a G01 along the other axis, in that direction, by at least the size.
-//!   (On a machine with a C axis such a `C` is the chamfer, not the axis.)
+//!   (A Fanuc reads C there as the chamfer, not the C axis, as with
+//!   parameter 3405 bit 4 CCR set; a Haas lathe's C is always its axis, and
+//!   its chamfer is I or K.)
 //! - Any system, any two straight moves: `,C` is the chamfer's distance
 //!   from the corner along both moves, `,R` the radius of an arc tangent to
 //!   both.
@@ -86,13 +89,18 @@ impl State {
             }
         }
         if system_a && linear && !one_shot && one_axis && found.is_none() {
-            for (letter, round) in [(b'C', false), (b'R', true)] {
+            // I (after a move along Z) and K (along X) are the chamfer's
+            // other addresses (parameter 3405 bit 4, CCR, chooses C or I K).
+            // A Haas lathe's C is always its C axis: I K R only there.
+            let other = if x { b'K' } else { b'I' };
+            let c = if self.settings.dialect.is_haas() { None } else { Some((b'C', false)) };
+            for (letter, round) in [(b'R', true), (other, false)].into_iter().chain(c) {
                 if let Some(v) = w.get(letter) {
                     if found.is_some() {
                         return Err(Diagnostic::error(
                             w.span(letter),
-                            "C and R in one block: a corner is chamfered or rounded, not both (the control stops \
-                             with an alarm)",
+                            "two chamfer or corner R words in one block (C, R, I or K): a corner is chamfered or \
+                             rounded once (the control stops with an alarm)",
                         ));
                     }
                     // Along X the next move goes along Z, and the other way.
@@ -108,6 +116,8 @@ impl State {
             b'c' => ",C",
             b'r' => ",R",
             b'C' => "C",
+            b'I' => "I",
+            b'K' => "K",
             _ => "R",
         };
         if !linear || one_shot {
@@ -132,27 +142,46 @@ impl State {
         let pending = turning.corner;
         let made = self.toolpath.moves.len() > first;
         let mut changed = first;
+        // This block's own move: after a corner made, the one after it.
+        let mut own = first;
         if let Some(corner) = pending.filter(|_| made) {
             if let Some(t) = &mut self.turning {
                 t.corner = None;
             }
             self.make_corner(corner, first, span)?;
             changed = corner.at.unwrap_or(first).min(first);
+            own = first + 1;
         }
         if let Some(mut corner) = asked {
             let n = self.toolpath.moves.len();
-            if n != first + 1 || self.toolpath.moves[first].kind != MoveKind::Feed {
+            if n != own + 1 || self.toolpath.moves[own].kind != MoveKind::Feed {
                 return Err(Diagnostic::error(
                     corner.span,
                     "a chamfer or corner R needs its block to make one G01 move",
                 ));
             }
-            corner.at = Some(first);
+            corner.at = Some(own);
             if let Some(t) = &mut self.turning {
                 t.corner = Some(corner);
             }
         }
         Ok(changed)
+    }
+
+    /// At the end of the program: a chamfer or corner R still waiting for
+    /// its next move is an error (the control stops: no move after it).
+    pub(in super::super) fn corner_left(&self) -> Result<(), Diagnostic> {
+        match self.turning.as_ref().and_then(|t| t.corner) {
+            Some(corner) => Err(Diagnostic::error(
+                corner.span,
+                format!(
+                    "the program ends before the move after this {}: a chamfer or corner R needs the next block's \
+                     G01 move (the control stops with an alarm)",
+                    if corner.round { "corner R" } else { "chamfer" }
+                ),
+            )),
+            None => Ok(()),
+        }
     }
 
     /// Cuts move `corner.at` back, adds the chamfer or arc, and starts move

@@ -156,10 +156,127 @@ impl State {
         }
     }
 
+    /// What is said of a G code the control does not read: in a lathe's
+    /// system A, G91 is no code (U W H are the increments).
+    pub(super) fn unknown_code(&self, tenths: u32) -> String {
+        let name = super::modal::g_name(tenths);
+        match &self.turning {
+            Some(t) if t.fanuc && t.system == GCodeSystem::A && tenths == 910 => format!(
+                "{name} is no code of a lathe's G code system A: U, W and H are the incremental X, Z and C (G91 is \
+                 in systems B and C)"
+            ),
+            _ => format!("{name} is not supported"),
+        }
+    }
+
+    /// What `#4000+group` reads on a Fanuc or Haas lathe where its G code
+    /// list numbers the groups otherwise than a mill's ("G code list",
+    /// lathe system): 01 the lathe's cycles and threading too, 02 G96/G97,
+    /// 05 G98/G99 in system A (G94/G95 in B, C), 16 the plane. `None`: the
+    /// mill's reading.
+    pub(super) fn lathe_group(&self, group: u32) -> Option<f64> {
+        let t = self.turning.as_ref().filter(|t| t.fanuc)?;
+        let per_rev = self.modal.feed_mode == super::FeedMode::PerRev;
+        Some(match group {
+            1 => match t.motion? {
+                LatheMotion::Single(cycle) => f64::from(cycle.number(t.system)),
+                LatheMotion::Threading if t.system == GCodeSystem::A => 32.0,
+                LatheMotion::Threading => 33.0,
+            },
+            2 if t.surface.is_some() => 96.0,
+            2 => 97.0,
+            5 if t.system == GCodeSystem::A => {
+                if per_rev {
+                    99.0
+                } else {
+                    98.0
+                }
+            }
+            16 => match self.modal.plane {
+                kezuri_geom::Plane::Xy => 17.0,
+                kezuri_geom::Plane::Zx => 18.0,
+                kezuri_geom::Plane::Yz => 19.0,
+            },
+            _ => return None,
+        })
+    }
+
+    /// Sets how X words are read from now on (LinuxCNC's G7 and G8).
+    pub(super) fn set_x_mode(&mut self, x: XMode) {
+        if let Some(t) = &mut self.turning {
+            t.x = x;
+        }
+    }
+
+    /// Whether constant surface speed (G96) is in force.
+    pub(super) fn surface_speed_on(&self) -> bool {
+        self.turning.as_ref().is_some_and(|t| t.surface.is_some())
+    }
+
+    /// The code of feed per revolution as the program writes it: G99 on a
+    /// Fanuc or Haas lathe in system A, G95 elsewhere.
+    pub(super) fn per_rev_code(&self) -> &'static str {
+        match &self.turning {
+            Some(t) if t.fanuc && t.system == GCodeSystem::A => "G99",
+            _ => "G95",
+        }
+    }
+
     /// Sets the lathe's group 1 mode (`None`: G00–G03, a mill's mode).
     pub(super) fn lathe_motion(&mut self, motion: Option<LatheMotion>) {
         if let Some(t) = &mut self.turning {
             t.motion = motion;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::modal::{CycleReturn, Distance, FeedMode, GCode, SingleCycle, Units};
+    use super::GCodeSystem::{self, A, B, C};
+
+    fn code(g: u32, system: GCodeSystem) -> Option<GCode> {
+        GCode::decode_lathe(g * 10, system)
+    }
+
+    // FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe system,
+    // "G code list": the single cycles, threading, the coordinate setting
+    // and the feed modes in each system.
+    #[test]
+    fn the_code_tables_of_systems_a_b_c() {
+        use SingleCycle::*;
+        for (system, numbers) in [(A, [90, 92, 94]), (B, [77, 78, 79]), (C, [20, 21, 24])] {
+            for (g, cycle) in numbers.into_iter().zip([Cutting, Threading, Facing]) {
+                assert_eq!(code(g, system), Some(GCode::SingleCycle(cycle)), "G{g} in {system:?}");
+                assert_eq!(cycle.number(system), g);
+            }
+        }
+        assert_eq!(code(32, A), Some(GCode::Threading));
+        assert_eq!(code(33, B), Some(GCode::Threading));
+        assert_eq!(code(33, C), Some(GCode::Threading));
+        assert_eq!(code(50, A), Some(GCode::LatheSetPosition));
+        assert_eq!(code(92, B), Some(GCode::LatheSetPosition));
+        assert_eq!(code(92, C), Some(GCode::LatheSetPosition));
+        assert_eq!(code(98, A), Some(GCode::FeedMode(FeedMode::PerMinute)));
+        assert_eq!(code(99, A), Some(GCode::FeedMode(FeedMode::PerRev)));
+        for s in [B, C] {
+            assert_eq!(code(94, s), Some(GCode::FeedMode(FeedMode::PerMinute)));
+            assert_eq!(code(95, s), Some(GCode::FeedMode(FeedMode::PerRev)));
+            assert_eq!(code(90, s), Some(GCode::Distance(Distance::Absolute)));
+            assert_eq!(code(91, s), Some(GCode::Distance(Distance::Incremental)));
+            assert_eq!(code(98, s), Some(GCode::CycleReturn(CycleReturn::Initial)));
+            assert_eq!(code(99, s), Some(GCode::CycleReturn(CycleReturn::R)));
+        }
+        assert_eq!(code(91, A), None);
+        assert_eq!(code(20, A), Some(GCode::Units(Units::Inch)));
+        assert_eq!(code(70, C), Some(GCode::Units(Units::Inch)));
+        assert_eq!(code(71, C), Some(GCode::Units(Units::Mm)));
+        for s in [A, B, C] {
+            assert_eq!(code(96, s), Some(GCode::ConstantSpeed));
+            assert_eq!(code(97, s), Some(GCode::ConstantSpeedOff));
+            // A mill's drilling cycles are never run in a lathe's.
+            assert_eq!(code(73, s), None);
+            assert_eq!(code(81, s), None);
         }
     }
 }
