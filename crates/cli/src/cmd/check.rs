@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use anyhow::{bail, Result};
 use kezuri_geom::{LengthOffset, MoveKind, Toolpath};
-use kezuri_nc::interp::Control;
+use kezuri_nc::interp::{Control, Thread};
 use kezuri_nc::{Diagnostic, Dialect};
 use serde_json::json;
 
@@ -92,6 +92,33 @@ fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
     }
 }
 
+/// The threads as the text report says them: one line for each run of
+/// passes with the same lead, the same Z from and to and the same block (a
+/// cycle's passes), their X (a radius) from the first pass's to the last's.
+fn thread_lines(threads: &[Thread]) -> Vec<String> {
+    let same =
+        |a: &Thread, b: &Thread| a.lead == b.lead && a.start.z == b.start.z && a.end.z == b.end.z && a.line == b.line;
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < threads.len() {
+        let first = &threads[k];
+        let n = threads[k..].iter().take_while(|t| same(first, t)).count();
+        let last = &threads[k + n - 1];
+        let passes = if n == 1 { "1 pass".to_string() } else { format!("{n} passes") };
+        let x = if n == 1 || first.start.x == last.start.x {
+            format!("X {:.3}", first.start.x)
+        } else {
+            format!("X {:.3} → {:.3}", first.start.x, last.start.x)
+        };
+        out.push(format!(
+            "thread lead {:.4} mm, Z {:.3} → {:.3}, {passes}, {x} (radius; line {})",
+            first.lead, first.start.z, first.end.z, first.line
+        ));
+        k += n;
+    }
+    out
+}
+
 /// Runs `kezuri check`.
 pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
     let (mut ran, parse_diagnostics) = read_and_run(o)?;
@@ -143,6 +170,13 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             "time_s": report.time_s,
             "bounds": {"min": lo, "max": hi},
             "machine_moves": report.machine_moves,
+            "spindle_rpm": report.spindle_rpm.map(|(lo, hi)| [lo, hi]),
+            "threads": report.threads.iter().map(|t| json!({
+                "lead": t.lead,
+                "start": [t.start.x, t.start.y, t.start.z],
+                "end": [t.end.x, t.end.y, t.end.z],
+                "line": t.line,
+            })).collect::<Vec<_>>(),
             "tools": report.tools.iter().map(|(t, e)| json!({
                 "number": t,
                 "shape": e.as_ref().and_then(|e| e.shape).map(|c| c.to_string()),
@@ -171,6 +205,12 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         text += &format!("  {}\n", ran.dialect);
         if report.holes > 0 {
             text += &format!("  holes {} (canned cycles)\n", report.holes);
+        }
+        if let Some((lo, hi)) = report.spindle_rpm {
+            text += &format!("  spindle {lo:.0} … {hi:.0} rpm (cutting)\n");
+        }
+        for line in thread_lines(&report.threads) {
+            text += &format!("  {line}\n");
         }
         for (t, e) in &report.tools {
             text += &format!("  tool  {}\n", tool_line(*t, e));

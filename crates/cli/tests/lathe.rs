@@ -1,0 +1,176 @@
+//! Turning programs on the command line: the machine file's lathe keys, the
+//! dialect its kind chooses, and what `check --json` and `run --emit csv`
+//! say of a lathe program (docs/lathe.md).
+
+mod common;
+
+use common::{kezuri, ok, path};
+use serde_json::Value;
+
+/// Writes `files` into a new folder.
+fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    dir
+}
+
+/// `check --json` of `nc` on `machine` (when given): its object.
+fn check(dir: &tempfile::TempDir, nc: &str, machine: Option<&str>) -> Value {
+    let (nc, m) = (path(dir.path(), nc), machine.map(|m| path(dir.path(), m)));
+    let mut args = vec!["check", nc.as_str(), "--json"];
+    if let Some(m) = &m {
+        args.extend(["--machine", m.as_str()]);
+    }
+    serde_json::from_str(&ok(&kezuri(&args))).unwrap()
+}
+
+const LATHE: &str = "[machine]\nkind = \"lathe\"\n";
+const MILL_TURN: &str = "[machine]\nkind = \"mill-turn\"\nmax_rpm = 4000\n";
+const MILL: &str = "[machine]\nkind = \"mill\"\n";
+/// A lathe in G code system B with X a radius: G95 is feed per revolution
+/// there, and X words are the tool's distance from the spindle axis.
+const LATHE_B_RADIUS: &str = "[machine]\nkind = \"lathe\"\nx = \"radius\"\ngcode_system = \"B\"\nmax_rpm = 3000\n";
+
+#[test]
+fn the_machine_files_kind_reads_fanuc_and_haas_as_a_lathes() {
+    let dir = folder(&[
+        ("lathe.toml", LATHE),
+        ("mill-turn.toml", MILL_TURN),
+        ("mill.toml", MILL),
+        ("o1.nc", "%\nO0001\nG21\nG00 X40. Z2.\nM30\n%\n"),
+        ("plain.nc", "G21\nG00 X40. Z2.\nM30\n"),
+        ("haas.nc", "G21\nG154 P1\nG00 X40. Z2.\nM30\n"),
+        ("lcnc.ngc", "G21 G18\nG0 X40 Z2\nM2\n"),
+    ]);
+    let said = |nc: &str, m: Option<&str>| {
+        let v = check(&dir, nc, m);
+        (v["dialect"].as_str().unwrap().to_string(), v["dialect_reason"].as_str().unwrap().to_string())
+    };
+    let on_lathe = "; a lathe's, by the machine file's kind = \"lathe\"";
+    assert_eq!(said("o1.nc", Some("lathe.toml")), ("fanuc-lathe".into(), format!("O0001 on line 2{on_lathe}")));
+    assert_eq!(
+        said("plain.nc", Some("lathe.toml")),
+        ("fanuc-lathe".into(), format!("the default (no extension or marker of another dialect){on_lathe}"))
+    );
+    assert_eq!(said("haas.nc", Some("lathe.toml")), ("haas-lathe".into(), format!("G154 on line 2{on_lathe}")));
+    assert_eq!(
+        said("o1.nc", Some("mill-turn.toml")),
+        ("fanuc-lathe".into(), "O0001 on line 2; a lathe's, by the machine file's kind = \"mill-turn\"".into())
+    );
+    // A mill's file, or none, leaves the mill's reading; LinuxCNC turns in
+    // its own dialect (G7, G18).
+    assert_eq!(said("o1.nc", Some("mill.toml")), ("fanuc".into(), "O0001 on line 2".into()));
+    assert_eq!(said("o1.nc", None), ("fanuc".into(), "O0001 on line 2".into()));
+    assert_eq!(said("lcnc.ngc", Some("lathe.toml")), ("linuxcnc".into(), "the extension .ngc".into()));
+    // --dialect names the family; the machine says it turns.
+    let nc = path(dir.path(), "plain.nc");
+    let m = path(dir.path(), "lathe.toml");
+    let v: Value =
+        serde_json::from_str(&ok(&kezuri(&["check", &nc, "--json", "--machine", &m, "--dialect", "haas"]))).unwrap();
+    assert_eq!(v["dialect"], "haas-lathe");
+    assert_eq!(v["dialect_reason"], format!("given with --dialect{on_lathe}"));
+    let v: Value = serde_json::from_str(&ok(&kezuri(&["check", &nc, "--json", "--dialect", "fanuc-lathe"]))).unwrap();
+    assert_eq!(
+        (v["dialect"].as_str(), v["dialect_reason"].as_str()),
+        (Some("fanuc-lathe"), Some("given with --dialect"))
+    );
+    // The text report says it too.
+    let text = ok(&kezuri(&["check", &nc, "--machine", &m]));
+    assert!(
+        text.contains(&format!(
+            "dialect fanuc-lathe: the default (no extension or marker of another dialect){on_lathe}"
+        )),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_bad_lathe_key_is_refused_naming_it() {
+    let dir = folder(&[
+        ("kind.toml", "[machine]\nkind = \"turret\"\n"),
+        ("tip.toml", "[machine]\nkind = \"lathe\"\n[tools.T1]\ntip = 3\n"),
+        ("x.toml", "[machine]\nx = \"diameter\"\n"),
+        ("a.nc", "G21\nG00 X40. Z2.\nM30\n"),
+    ]);
+    let nc = path(dir.path(), "a.nc");
+    for (file, words) in [
+        ("kind.toml", "machine.kind: 'turret' is not a kind of machine: \"mill\", \"lathe\" or \"mill-turn\""),
+        ("tip.toml", "tools.T1.tip = 3 with no tools.T1.nose_radius"),
+        ("x.toml", "machine.x is a lathe's: the machine is a mill"),
+    ] {
+        let o = kezuri(&["check", &nc, "--machine", &path(dir.path(), file)]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(words), "{file}: {err}");
+        assert!(err.contains(file), "the error names the file: {err}");
+    }
+}
+
+/// A turning program in G18 with feed per revolution (G95, system B) and
+/// two spindle speeds, X a radius on this machine.
+///
+/// By hand: G95 makes F the feed per revolution (FANUC Series 0i-TF Plus
+/// Operator's Manual (B-64604EN), lathe system, "Feed per revolution"): the
+/// feed along the path is F × S mm/min.
+/// - N30 Z2 → Z-40 at S800, F0.25: 0.25 × 800 = 200 mm/min over 42 mm:
+///   12.6 s.
+/// - N50 X30 Z-40 → X40 Z-50 at S1200, F0.2: 240 mm/min over √200 =
+///   14.1421 mm: 3.5355 s.
+/// - Cutting speeds 800 and 1200 rpm: spindle_rpm [800, 1200].
+const FEED_PER_REV: &str = "%\nO0002\nN10 G18 G21 G40\nN20 G97 S800 M03\nN25 G00 X30. Z2.\n\
+                            N30 G95 G01 Z-40. F0.25\nN40 S1200\nN50 X40. Z-50. F0.2\nN60 G00 X60. Z10.\nN70 M05\nN80 M30\n%\n";
+
+#[test]
+fn check_reports_the_spindle_speeds_and_the_time_per_revolution() {
+    let dir = folder(&[
+        ("m.toml", LATHE_B_RADIUS),
+        ("a.nc", FEED_PER_REV),
+        ("still.nc", "G18 G21\nG00 X40. Z2.\nG01 Z-10. F100.\nM30\n"),
+    ]);
+    let v = check(&dir, "a.nc", Some("m.toml"));
+    assert_eq!(v["dialect"], "fanuc-lathe");
+    assert_eq!(v["spindle_rpm"], serde_json::json!([800.0, 1200.0]));
+    let feed_s = 42.0 / 200.0 * 60.0 + 200f64.sqrt() / 240.0 * 60.0;
+    assert!((feed_s - 16.1355).abs() < 1e-3, "{feed_s}");
+    // The same moves at the same feeds per minute (G94 F200, F240) take
+    // the same time to the microsecond; the rapids (from X0 Z0 to X30 Z2,
+    // X40 Z-50 to X60 Z10: 93 mm at 10 m/min, 0.56 s) and the acceleration
+    // add about a second.
+    let per_minute = FEED_PER_REV.replace("G95 G01 Z-40. F0.25", "G94 G01 Z-40. F200.").replace("F0.2\n", "F240.\n");
+    std::fs::write(dir.path().join("per-minute.nc"), per_minute).unwrap();
+    let same = check(&dir, "per-minute.nc", Some("m.toml"))["time_s"].as_f64().unwrap();
+    let time = v["time_s"].as_f64().unwrap();
+    assert!((time - same).abs() < 1e-6, "per revolution {time} s, per minute {same} s");
+    assert!(time > feed_s + 0.56 && time < feed_s + 1.5, "time {time} s, feeds alone {feed_s} s");
+    assert!((v["feed_length_mm"].as_f64().unwrap() - (42.0 + 200f64.sqrt())).abs() < 1e-9, "{v}");
+    // X is a radius: the bounds are the tool's distances from the axis.
+    assert_eq!(v["bounds"]["max"][0], 60.0);
+    assert_eq!(v["threads"], serde_json::json!([]));
+    // No spindle speed anywhere: null, as an axis without a position is.
+    let v = check(&dir, "still.nc", Some("m.toml"));
+    assert_eq!(v["spindle_rpm"], Value::Null);
+    // The text report's line.
+    let text = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
+    assert!(text.contains("  spindle 800 … 1200 rpm (cutting)\n"), "{text}");
+}
+
+#[test]
+fn run_csv_gives_x_as_the_tools_radius() {
+    let dir = folder(&[("m.toml", LATHE_B_RADIUS), ("a.nc", FEED_PER_REV)]);
+    let csv =
+        ok(&kezuri(&["run", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml"), "--emit", "csv"]));
+    let rows: Vec<(String, f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[1].to_string(), f[2].parse().unwrap(), f[4].parse().unwrap())
+        })
+        .collect();
+    let want = [("rapid", 30.0, 2.0), ("feed", 30.0, -40.0), ("feed", 40.0, -50.0), ("rapid", 60.0, 10.0)];
+    assert_eq!(rows.len(), want.len(), "{csv}");
+    for ((kind, x, z), (k, wx, wz)) in rows.iter().zip(want) {
+        assert_eq!((kind.as_str(), *x, *z), (k, wx, wz), "{csv}");
+    }
+}
