@@ -3,6 +3,8 @@
 //! say of a lathe program (docs/lathe.md).
 
 mod common;
+#[allow(dead_code)]
+mod rs274;
 
 use common::{kezuri, ok, path};
 use serde_json::Value;
@@ -172,5 +174,95 @@ fn run_csv_gives_x_as_the_tools_radius() {
     assert_eq!(rows.len(), want.len(), "{csv}");
     for ((kind, x, z), (k, wx, wz)) in rows.iter().zip(want) {
         assert_eq!((kind.as_str(), *x, *z), (k, wx, wz), "{csv}");
+    }
+}
+
+#[test]
+fn a_linuxcnc_lathe_table_gives_each_tools_nose() {
+    // Lines of LinuxCNC's sim lathe tool table (sample-configs/sim/axis/
+    // lathe.tbl), in mm here: D the nose diameter, Q the orientation.
+    let tbl = "T1 P1 D0.8 Z+0.1 I+95 J+155 Q1 ;\nT2 P2 D0.8 I+85 J+25 Q2 ;\nT3 P3 D0.4 I+275 J+335 Q3 ;\n\
+               T9 P9 D0.1 Q9 ;\nT10 P10 D0. ; demo zero diameter\n";
+    let machine = "[machine]\nkind = \"lathe\"\n[tools]\nimport = \"lathe.tbl\"\nunits = \"mm\"\n[tools.T3]\ntip = 2\nnose_radius = 0.2\n";
+    let dir = folder(&[("lathe.tbl", tbl), ("m.toml", machine)]);
+    let v: Value =
+        serde_json::from_str(&ok(&kezuri(&["tool", "table", "--machine", &path(dir.path(), "m.toml"), "--json"])))
+            .unwrap();
+    let noses: Vec<(u64, Value, Value)> = v["tables"][0]["tools"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| (t["number"].as_u64().unwrap(), t["nose_radius_mm"].clone(), t["tip"].clone()))
+        .collect();
+    // Q1 (−X, +Z) is Fanuc's tip 4, Q2 (the outside turning tool) tip 3; T3's
+    // own entry is over the table's; Q9 the nose centre; T10 no lathe tool.
+    let n = |r: f64, tip: u64| (Value::from(r), Value::from(tip));
+    let want = [(1, n(0.4, 4)), (2, n(0.4, 3)), (3, n(0.2, 2)), (9, n(0.05, 9)), (10, (Value::Null, Value::Null))];
+    assert_eq!(noses.len(), want.len(), "{v}");
+    for ((t, r, tip), (wt, (wr, wtip))) in noses.into_iter().zip(want) {
+        assert_eq!((t, r, tip), (wt, wr, wtip));
+    }
+    // The text shows them after the name.
+    let text = ok(&kezuri(&["tool", "table", "--machine", &path(dir.path(), "m.toml")]));
+    assert!(text.contains("nose 0.4 mm, tip 3"), "{text}");
+}
+
+/// Where the point a tool is set to lies from its nose centre, in units of
+/// the nose radius (X, Z), for each of Fanuc's imaginary tool tip
+/// directions 1–9 (FANUC Series 0i-TF Plus Operator's Manual (B-64604EN),
+/// lathe system, "Imaginary tool nose": seen with X up and Z to the right,
+/// 1 upper right, 2 upper left, 3 lower left (the outside turning tool),
+/// 4 lower right, 5 right, 6 up, 7 left, 8 down, 9 the centre).
+fn fanuc_corner(tip: u64) -> (i32, i32) {
+    match tip {
+        1 => (1, 1),
+        2 => (1, -1),
+        3 => (-1, -1),
+        4 => (-1, 1),
+        5 => (0, 1),
+        6 => (1, 0),
+        7 => (0, -1),
+        8 => (-1, 0),
+        _ => (0, 0),
+    }
+}
+
+#[test]
+fn each_linuxcnc_orientation_is_the_fanuc_tip_of_the_same_corner() {
+    if !rs274::rs274_here() {
+        return;
+    }
+    // Tools of orientation Q1 … Q9, nose diameter 0.04 inch (radius
+    // 0.508 mm); rs274 reads the table in inches.
+    let tbl: String = (1..=9).map(|q| format!("T{q} P{q} D0.04 Q{q}\n")).collect();
+    let machine = "[machine]\nkind = \"lathe\"\n[tools]\nimport = \"t.tbl\"\nunits = \"inch\"\n";
+    let dir = folder(&[("t.tbl", &tbl), ("m.toml", machine)]);
+    let v: Value =
+        serde_json::from_str(&ok(&kezuri(&["tool", "table", "--machine", &path(dir.path(), "m.toml"), "--json"])))
+            .unwrap();
+    let tools = v["tables"][0]["tools"].as_array().unwrap().clone();
+    // Where rs274 puts the set point at the end of a G42 cut along -Z at X10
+    // (the nose centre 0.508 mm off the contour): that end for each Q.
+    let end_of_cut = |q: u64| -> (f64, f64) {
+        let nc = format!(
+            "G18 G21 G90 G40\nT{q} M6 G43\nG0 X20 Z10\nG42 G1 X10 Z5 F100\nG1 Z-20\nG1 X20\nG40 G0 X30 Z10\nM2\n"
+        );
+        std::fs::write(dir.path().join(format!("q{q}.ngc")), nc).unwrap();
+        let mut cmd = std::process::Command::new("rs274");
+        cmd.args(["-t", "t.tbl", &format!("q{q}.ngc")]);
+        let done = rs274::run_limited(cmd, dir.path(), dir.path(), &format!("q{q}"));
+        let feeds: Vec<&str> =
+            done.stdout.lines().filter_map(|l| l.split_once("STRAIGHT_FEED(").map(|(_, r)| r)).collect();
+        let f: Vec<f64> = feeds[1].trim_end_matches(')').split(',').map(|v| v.trim().parse().unwrap()).collect();
+        (f[0], f[2])
+    };
+    let centre = end_of_cut(9);
+    let r = 0.04 * 25.4 / 2.0;
+    for q in 1..=8u64 {
+        let (x, z) = end_of_cut(q);
+        let corner = (((x - centre.0) / r).round() as i32, ((z - centre.1) / r).round() as i32);
+        let tip = tools[q as usize - 1]["tip"].as_u64().unwrap();
+        assert_eq!(fanuc_corner(tip), corner, "Q{q} read as tip {tip}: rs274 sets it to {corner:?} of the nose");
+        assert!((tools[q as usize - 1]["nose_radius_mm"].as_f64().unwrap() - r).abs() < 1e-9);
     }
 }
