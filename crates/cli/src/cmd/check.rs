@@ -14,14 +14,16 @@ use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
 
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
-/// or Haas control (length offsets are how their tools are set), unless
-/// the machine file's `[post]` says otherwise (its `length_offset`, or its
-/// preset's: GRBL has none).
+/// or Haas mill (length offsets are how their tools are set), unless the
+/// machine file's `[post]` says otherwise (its `length_offset`, or its
+/// preset's: GRBL has none). A lathe's tool offsets come with its `T` word
+/// (`T0101`), not with `G43`.
 fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
-    machine
-        .post
-        .length_offset()
-        .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
+    !dialect.is_lathe()
+        && machine
+            .post
+            .length_offset()
+            .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
 }
 
 /// The first move that changes Z after each tool change with no tool
@@ -247,4 +249,39 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         bail!("{}: {}", o.file.display(), say::count(errors as u64, "error"));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::Axes;
+
+    use super::*;
+
+    fn pass(lead: f64, x: f64, z: [f64; 2], line: u32) -> Thread {
+        let at = |z| Axes { x, z, ..Axes::ZERO };
+        Thread { lead, start: at(z[0]), end: at(z[1]), line }
+    }
+
+    #[test]
+    fn a_cycles_passes_are_one_line() {
+        // Four passes of one cycle going deeper, then a finishing pass of
+        // another block, then a thread of another lead.
+        let threads = [
+            pass(1.5, 9.7, [2.0, -30.0], 14),
+            pass(1.5, 9.5, [2.0, -30.0], 14),
+            pass(1.5, 9.3, [2.0, -30.0], 14),
+            pass(1.5, 9.08, [2.0, -30.0], 14),
+            pass(1.5, 9.08, [2.0, -30.0], 15),
+            pass(2.0, 15.0, [-40.0, -60.0], 20),
+        ];
+        assert_eq!(
+            thread_lines(&threads),
+            [
+                "thread lead 1.5000 mm, Z 2.000 → -30.000, 4 passes, X 9.700 → 9.080 (radius; line 14)",
+                "thread lead 1.5000 mm, Z 2.000 → -30.000, 1 pass, X 9.080 (radius; line 15)",
+                "thread lead 2.0000 mm, Z -40.000 → -60.000, 1 pass, X 15.000 (radius; line 20)",
+            ]
+        );
+        assert!(thread_lines(&[]).is_empty());
+    }
 }
