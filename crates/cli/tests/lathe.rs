@@ -128,7 +128,7 @@ fn check_reports_the_spindle_speeds_and_the_time_per_revolution() {
     let dir = folder(&[
         ("m.toml", LATHE_B_RADIUS),
         ("a.nc", FEED_PER_REV),
-        ("still.nc", "G18 G21\nG00 X40. Z2.\nG01 Z-10. F100.\nM30\n"),
+        ("still.nc", "G18 G21 G94\nG00 X40. Z2.\nG01 Z-10. F100.\nM30\n"),
     ]);
     let v = check(&dir, "a.nc", Some("m.toml"));
     assert_eq!(v["dialect"], "fanuc-lathe");
