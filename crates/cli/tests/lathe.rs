@@ -89,6 +89,23 @@ fn the_machine_files_kind_reads_fanuc_and_haas_as_a_lathes() {
 }
 
 #[test]
+fn linuxcnc_on_a_lathe_starts_as_linuxcnc_does() {
+    // rs274 powers on in G8, X a radius, whatever the machine: the machine
+    // file's lathe conventions are a Fanuc or Haas lathe's.
+    let dir = folder(&[("lathe.toml", LATHE), ("a.ngc", "G18 G21\nG0 X40 Z2\nG1 Z-10 F100\nM2\n")]);
+    let csv = ok(&kezuri(&[
+        "run",
+        &path(dir.path(), "a.ngc"),
+        "--machine",
+        &path(dir.path(), "lathe.toml"),
+        "--emit",
+        "csv",
+    ]));
+    let xs: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap().parse().unwrap()).collect();
+    assert_eq!(xs, [40.0, 40.0], "{csv}");
+}
+
+#[test]
 fn a_bad_lathe_key_is_refused_naming_it() {
     let dir = folder(&[
         ("kind.toml", "[machine]\nkind = \"turret\"\n"),

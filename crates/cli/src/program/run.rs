@@ -223,8 +223,9 @@ pub fn whole_units(dialect: Dialect) -> bool {
 /// cutter compensation and coordinate rules for LinuxCNC and GRBL, Haas's
 /// coordinate rules for Haas, the machine file's otherwise. A lathe's
 /// dialects read like their mills' (`X100` is 0.1 mm on a Fanuc or Haas
-/// lathe too), with the machine file's lathe conventions, top speed and
-/// noses.
+/// lathe too), with the machine file's lathe conventions (X mode, G code
+/// system), top speed and noses; LinuxCNC and GRBL take the top speed and
+/// noses, and start as their controls do.
 pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine: &Machine) -> Settings {
     let units = match no_decimal {
         Some(n) => n == NoDecimal::Units,
@@ -242,6 +243,9 @@ pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine
         // the machine file's start-up type.
         comp_rules: if whole_units(dialect) { Rules::LinuxCnc } else { machine.settings.comp_rules },
         coords: CoordSettings { control, ..machine.settings.coords.clone() },
+        // LinuxCNC turns by its own codes (G7, G8, G18) from its own
+        // power-on state, whatever the machine file's lathe says.
+        lathe: if whole_units(dialect) { None } else { machine.settings.lathe },
         ..machine.settings.clone()
     }
 }
