@@ -169,6 +169,14 @@ fn check_reports_the_spindle_speeds_and_the_time_per_revolution() {
     // No spindle speed anywhere: null, as an axis without a position is.
     let v = check(&dir, "still.nc", Some("m.toml"));
     assert_eq!(v["spindle_rpm"], Value::Null);
+    let text = ok(&kezuri(&["check", &path(dir.path(), "still.nc"), "--machine", &path(dir.path(), "m.toml")]));
+    assert!(!text.contains("spindle"), "{text}");
+    // One speed is said once.
+    let one = FEED_PER_REV.replace("N40 S1200\n", "");
+    std::fs::write(dir.path().join("one.nc"), one).unwrap();
+    assert_eq!(check(&dir, "one.nc", Some("m.toml"))["spindle_rpm"], serde_json::json!([800.0, 800.0]));
+    let text = ok(&kezuri(&["check", &path(dir.path(), "one.nc"), "--machine", &path(dir.path(), "m.toml")]));
+    assert!(text.contains("  spindle 800 rpm (cutting)\n"), "{text}");
     // The text report's line.
     let text = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
     assert!(text.contains("  spindle 800 … 1200 rpm (cutting)\n"), "{text}");

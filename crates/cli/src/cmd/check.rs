@@ -208,8 +208,12 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         if report.holes > 0 {
             text += &format!("  holes {} (canned cycles)\n", report.holes);
         }
-        if let Some((lo, hi)) = report.spindle_rpm {
-            text += &format!("  spindle {lo:.0} … {hi:.0} rpm (cutting)\n");
+        match report.spindle_rpm {
+            Some((lo, hi)) if format!("{lo:.0}") == format!("{hi:.0}") => {
+                text += &format!("  spindle {hi:.0} rpm (cutting)\n")
+            }
+            Some((lo, hi)) => text += &format!("  spindle {lo:.0} … {hi:.0} rpm (cutting)\n"),
+            None => {}
         }
         for line in thread_lines(&report.threads) {
             text += &format!("  {line}\n");
