@@ -221,6 +221,24 @@ mod tests {
     }
 
     #[test]
+    fn reads_the_example_of_docs_lathe_md() {
+        let doc = include_str!("../../../../docs/lathe.md");
+        let example: String = doc
+            .lines()
+            .skip_while(|l| !l.starts_with("```toml"))
+            .skip(1)
+            .take_while(|l| !l.starts_with("```"))
+            .map(|l| l.to_string() + "\n")
+            .collect();
+        let m = parse(&example).unwrap();
+        assert_eq!(m.kind, MachineKind::Lathe);
+        assert_eq!(m.settings.lathe, Some(Lathe { x: XMode::Diameter, system: GCodeSystem::A }));
+        assert_eq!(m.settings.max_rpm, Some(4000.0));
+        let noses: Vec<(u32, f64, u8)> = m.settings.noses.iter().map(|(&t, n)| (t, n.radius, n.tip)).collect();
+        assert_eq!(noses, [(1, 0.8, 3), (2, 0.4, 2)]);
+    }
+
+    #[test]
     fn bad_values_name_the_key_and_what_it_takes() {
         for (text, words) in [
             (
