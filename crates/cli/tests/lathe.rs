@@ -180,6 +180,9 @@ fn check_reports_the_spindle_speeds_and_the_time_per_revolution() {
     // The text report's line.
     let text = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
     assert!(text.contains("  spindle 800 … 1200 rpm (cutting)\n"), "{text}");
+    // X is said to be a radius; the Y the program never places is not said.
+    assert!(text.contains("  X     30.000 …     60.000 (radius)\n"), "{text}");
+    assert!(!text.contains("  Y "), "{text}");
 }
 
 #[test]

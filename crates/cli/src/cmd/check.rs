@@ -222,9 +222,14 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             text += &format!("  tool  {}\n", tool_line(*t, e));
         }
         if report.motions > 0 {
+            // On a lathe X is the tool's radius, and Y is said only where
+            // the program places it (a mill-turn's).
+            let lathe = ran.dialect.dialect.is_lathe();
             for (axis, range) in ["X", "Y", "Z"].iter().zip(report.bounds) {
+                let radius = if lathe && *axis == "X" { " (radius)" } else { "" };
                 text += &match range {
-                    Some((lo, hi)) => format!("  {axis} {lo:>10.3} … {hi:>10.3}\n"),
+                    Some((lo, hi)) => format!("  {axis} {lo:>10.3} … {hi:>10.3}{radius}\n"),
+                    None if lathe && *axis == "Y" => String::new(),
                     None => format!("  {axis}     not placed by the program\n"),
                 };
             }
