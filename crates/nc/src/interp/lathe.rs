@@ -69,3 +69,6 @@ pub struct Thread {
     /// The source line of the block.
     pub line: u32,
 }
+
+mod profile;
+mod roughing;

@@ -321,6 +321,7 @@ struct ModalCall {
 }
 
 /// Everything the control remembers, apart from the program itself.
+#[derive(Clone)]
 struct State {
     settings: Settings,
     modal: Modal,
