@@ -21,6 +21,9 @@ pub(super) enum Action {
         repeats: u32,
         span: Span,
     },
+    /// Go on at this block (of the same program): after a lathe cycle's
+    /// shape that follows the cycle block.
+    Resume(u32),
     Return(Option<u32>),
     End,
 }
@@ -135,6 +138,11 @@ impl State {
         if has(|c| matches!(c, GCode::ModalCall(_))).is_some() {
             return Ok(Action::Next);
         }
+        // A lathe's G70–G73: the whole cycle, the shape read from its blocks.
+        if let Some((GCode::Contour(cycle), gspan)) = has(|c| matches!(c, GCode::Contour(_))) {
+            self.feed_speed_tool(&w);
+            return self.contour_cycle(program, pc, cycle, &w, gspan, line);
+        }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
         if has(|c| *c == GCode::SetOffsets).is_none() {
@@ -185,7 +193,7 @@ impl State {
     #[inline(always)]
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
-            let Some(code) = GCode::decode(tenths) else {
+            let Some(code) = self.contour_code(tenths).or_else(|| GCode::decode(tenths)) else {
                 return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
             };
             let group = code.group();
@@ -503,6 +511,7 @@ impl State {
             | GCode::Smoothing(_)
             | GCode::ExactStop
             | GCode::Pocket(_)
+            | GCode::Contour(_)
             | GCode::ConstantSpeedOff => {}
         }
         Ok(())

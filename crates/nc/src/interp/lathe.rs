@@ -70,5 +70,6 @@ pub struct Thread {
     pub line: u32,
 }
 
+pub(super) mod contour;
 mod profile;
 mod roughing;

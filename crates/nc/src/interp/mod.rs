@@ -349,6 +349,8 @@ struct State {
     holes: u64,
     /// The threads cut ([`Outcome::threads`]).
     threads: Vec<Thread>,
+    /// What the first blocks of the lathe's G71/G72/G73 left for the next.
+    contour: lathe::contour::Memory,
     /// Tool length wear by H number (G10 L11, #10001…), added to the
     /// geometry in `settings.tool_lengths`.
     length_wear: BTreeMap<u32, f64>,
@@ -475,6 +477,7 @@ impl State {
             spline_pq: [0.0; 2],
             holes: 0,
             threads: Vec::new(),
+            contour: Default::default(),
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
             length_loaded: None,

@@ -141,6 +141,20 @@ impl Cycle {
     }
 }
 
+/// The lathe's multiple repetitive cycles that work from a finishing shape
+/// (Fanuc G70–G73 in G code systems A and B, G72–G75 in C; Haas G70–G73).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourCycle {
+    /// G70: the shape itself, once.
+    Finishing,
+    /// G71: stock removal in turning (cuts along Z).
+    Turning,
+    /// G72: stock removal in facing (cuts along X).
+    Facing,
+    /// G73: pattern repeating (the shape again, each time nearer).
+    Pattern,
+}
+
 /// Group 10: where a canned cycle returns after each hole.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CycleReturn {
@@ -225,6 +239,8 @@ pub enum GCode {
     FeedMode(FeedMode),
     /// G73 … G89 canned cycles
     CannedCycle(Cycle),
+    /// A lathe's G70–G73: the cycles of a finishing shape (one-shot).
+    Contour(ContourCycle),
     /// How the control smooths or looks ahead, not where it goes: Fanuc
     /// G05 P (high-speed machining), G05.1 Q (AI contour control), G08 P
     /// (look-ahead), Haas G103 P (look-ahead limit) and G187 (smoothness). Kept in written programs. The
@@ -347,7 +363,7 @@ impl GCode {
             ExactStop => 100,
             ConstantSpeedOff => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
-            | ResetShift | Pocket(_) => 0,
+            | ResetShift | Pocket(_) | Contour(_) => 0,
         }
     }
 }

@@ -238,7 +238,8 @@ impl State {
                     }
                     let mut v = v;
                     // In a canned cycle K is a repeat count, not an arc centre.
-                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
+                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words))
+                        || self.contour_count(letter, w.words);
                     if !decimal
                         && !count
                         && AXIS_LETTERS.contains(&letter)

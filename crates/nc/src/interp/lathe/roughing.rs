@@ -56,8 +56,6 @@ pub(super) struct Rough {
     /// The shape's first block is a rapid (G00): cuts are approached at
     /// rapid, else at the feed.
     pub rapid_approach: bool,
-    /// Whether a cut along the whole shape follows the cuts by depth.
-    pub along_shape: bool,
 }
 
 /// How many cuts by depth the cycle makes before the cut along the shape:
@@ -119,10 +117,12 @@ impl Path<'_> {
     }
 }
 
-/// The stock removal passes (G71, G72; Haas's one-block forms too) for the
-/// shape `contour` (already moved by the finishing allowance), from the
-/// start point (0, 0).
-pub(super) fn rough(shape: &Contour, rough: &Rough) -> Vec<Step> {
+/// The stock removal passes (G71, G72; Haas's one-block forms too): the
+/// cuts by depth down to `shape` (the finishing shape moved by the
+/// allowance the cuts leave), then the cut along `along` where there is
+/// one (the shape moved by the finishing allowance), from the start point
+/// (0, 0) and back.
+pub(super) fn rough(shape: &Contour, along: Option<&Contour>, rough: &Rough) -> Vec<Step> {
     let mut contour = shape.clone();
     // Before the shape's start (along `a`) the cuts begin at the start
     // point: the stock there is the shape's first depth.
@@ -141,12 +141,13 @@ pub(super) fn rough(shape: &Contour, rough: &Rough) -> Vec<Step> {
             plain_level(&mut path, &contour, level);
         }
     }
-    if rough.along_shape && !shape.pieces.is_empty() {
-        path.travel(&contour, [0.0, shape.start()[1]]);
-        path.approach(shape.start());
-        for p in &shape.pieces {
+    if let Some(along) = along.filter(|c| !c.pieces.is_empty()) {
+        path.travel(&contour, [0.0, along.start()[1]]);
+        path.approach(along.start());
+        for p in &along.pieces {
             path.push(step(p));
         }
+        contour = along.clone();
     }
     let end = path.at;
     if end[1] > 0.0 {
@@ -249,7 +250,7 @@ fn pocket_level(path: &mut Path, contour: &Contour, level: f64, above: f64) {
 /// the start point moved by it, back to the next at rapid, then to the
 /// start point.
 pub(super) fn pattern(shape: &Contour, offsets: &[P], rapid_approach: bool) -> Vec<Step> {
-    let rough = Rough { depth: 1.0, escape: 0.0, pockets: false, rapid_approach, along_shape: true };
+    let rough = Rough { depth: 1.0, escape: 0.0, pockets: false, rapid_approach };
     let mut path = Path { steps: Vec::new(), at: [0.0, 0.0], rough: &rough };
     for o in offsets {
         let moved = |p: P| [p[0] + o[0], p[1] + o[1]];
@@ -273,7 +274,7 @@ mod tests {
     }
 
     fn r(depth: f64, escape: f64, pockets: bool) -> Rough {
-        Rough { depth, escape, pockets, rapid_approach: true, along_shape: true }
+        Rough { depth, escape, pockets, rapid_approach: true }
     }
 
     #[test]
@@ -281,7 +282,7 @@ mod tests {
         // Depth 5 from a 0 to 10, up to 0 at a = 10 (a shoulder). Cuts of 2:
         // depths 2 and 4 (6 is past 5); each to a = 10, out 45° by 0.5.
         let c = Contour { pieces: vec![line([0.0, 5.0], [10.0, 5.0]), line([10.0, 5.0], [10.0, 0.0])] };
-        let s = rough(&c, &r(2.0, 0.5, false));
+        let s = rough(&c, Some(&c), &r(2.0, 0.5, false));
         use Step::*;
         assert_eq!(
             s,
@@ -317,7 +318,7 @@ mod tests {
                 line([8.0, 4.0], [8.0, 0.0]),
             ],
         };
-        let s = rough(&c, &r(2.0, 0.5, true));
+        let s = rough(&c, Some(&c), &r(2.0, 0.5, true));
         use Step::*;
         // Depth 2: from a 0 to where the wall 4 → 1 is at depth 2 (a = 2 + 2/3),
         // along the wall up to the last depth 0? The shape comes no higher
