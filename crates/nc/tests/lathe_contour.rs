@@ -22,7 +22,7 @@
 //!
 //! Positions are the tool's: X a radius (the program's X a diameter).
 
-use kezuri_geom::{Axes, Move, MoveKind};
+use kezuri_geom::{Move, MoveKind};
 use kezuri_nc::interp::{Control, CoordSettings, Outcome, Settings};
 use kezuri_nc::Dialect;
 
@@ -40,8 +40,14 @@ fn haas() -> Settings {
     }
 }
 
+/// The spindle at 1000 rpm (feed per revolution, G99, is the lathe's power-on
+/// state) on the program's first line, so that its lines stay as numbered.
+fn spindle(text: &str) -> String {
+    format!("S1000 M03 {text}")
+}
+
 fn run(text: &str, settings: &Settings) -> Outcome {
-    common::run("t.nc", text, settings).completed()
+    common::run("t.nc", &spindle(text), settings).completed()
 }
 
 /// `R` for a rapid, `F` for a feed, `A` for an arc; X (radius) and Z.
@@ -324,7 +330,7 @@ M30
 }
 
 fn stop(text: &str, settings: &Settings) -> (String, String) {
-    let ran = common::run("t.nc", text, settings);
+    let ran = common::run("t.nc", &spindle(text), settings);
     (ran.headline(), ran.message())
 }
 

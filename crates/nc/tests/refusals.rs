@@ -16,8 +16,8 @@ fn stopped(dialect: Dialect, text: &str) -> Option<String> {
         coords: CoordSettings {
             control: match dialect {
                 Dialect::LinuxCnc | Dialect::Grbl => Control::LinuxCnc,
-                Dialect::Haas => Control::Haas,
-                Dialect::Fanuc => Control::Fanuc,
+                Dialect::Haas | Dialect::HaasLathe => Control::Haas,
+                Dialect::Fanuc | Dialect::FanucLathe => Control::Fanuc,
             },
             ..CoordSettings::default()
         },

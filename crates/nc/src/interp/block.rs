@@ -100,6 +100,10 @@ impl State {
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         self.g_codes(&w, &mut codes)?;
+        if self.turning.is_some() {
+            let n = w.g_count;
+            self.lathe_block(&mut w, &mut codes[..n])?;
+        }
         let codes = &codes[..w.g_count];
         let has = |f: fn(&GCode) -> bool| codes.iter().flatten().find(|(c, _)| f(c)).map(|&(c, s)| (c, s));
 
@@ -145,7 +149,7 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
-        if has(|c| *c == GCode::SetOffsets).is_none() {
+        if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
@@ -159,11 +163,18 @@ impl State {
         }
 
         self.feed_speed_tool(&w);
+        if self.turning.is_some() {
+            self.lathe_speed_tool(&w, codes)?;
+        }
         self.comp_register(w.get(b'D'), w.span(b'D'))?;
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
+        let x_known = !self.unplaced.contains(0) && !self.at_machine.contains(0);
         let moved = self.motion(codes, &w, span, line)?;
+        if self.turning.is_some() {
+            self.lathe_moves(first_move, x_known, &w, span)?;
+        }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
             self.keep_m_code(&w, m, line);
@@ -193,7 +204,7 @@ impl State {
     #[inline(always)]
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
-            let Some(code) = self.contour_code(tenths).or_else(|| GCode::decode(tenths)) else {
+            let Some(code) = self.decode_g(tenths) else {
                 return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
             };
             let group = code.group();
@@ -369,7 +380,22 @@ impl State {
                 self.rigid_tap = false;
                 self.threading = false;
                 self.end_cycle();
+                self.lathe_motion(None);
             }
+            GCode::SingleCycle(cycle) => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+                self.lathe_motion(Some(super::lathe::LatheMotion::Single(cycle)));
+            }
+            GCode::Threading => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+                self.lathe_motion(Some(super::lathe::LatheMotion::Threading));
+            }
+            GCode::ConstantSpeed => self.constant_speed(true, gspan)?,
+            GCode::ConstantSpeedOff if self.turning.is_some() => self.constant_speed(false, gspan)?,
             GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
                 return Err(Diagnostic::error(
                     gspan,
@@ -377,6 +403,7 @@ impl State {
                 ));
             }
             GCode::RigidTap => {
+                self.lathe_motion(None);
                 self.rigid_tap = true;
                 self.threading = false;
                 self.end_cycle();
@@ -512,6 +539,7 @@ impl State {
             | GCode::ExactStop
             | GCode::Pocket(_)
             | GCode::Contour(_)
+            | GCode::LatheSetPosition
             | GCode::ConstantSpeedOff => {}
         }
         Ok(())

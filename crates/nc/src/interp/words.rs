@@ -160,6 +160,20 @@ impl<'a> Words<'a> {
         out.join(" ")
     }
 
+    /// Gives address `letter` the value `value`, as if written where the
+    /// word of `from` is (for the spans of diagnostics); the word of `from`
+    /// is taken out where it is another address. A lathe's `U` read as an
+    /// incremental X becomes the X it reaches.
+    pub(super) fn put(&mut self, letter: u8, value: f64, from: u8) {
+        let (i, f) = (slot(letter), slot(from));
+        self.value[i] = value;
+        self.index[i] = self.index[f];
+        if letter != from {
+            self.present &= !bit(from);
+        }
+        self.present |= bit(letter);
+    }
+
     /// The words with only the one of `letter`.
     pub(super) fn only(&self, letter: u8) -> Words<'a> {
         Words { present: self.present & bit(letter), ..*self }

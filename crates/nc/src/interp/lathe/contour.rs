@@ -26,8 +26,7 @@ use super::super::words::Words;
 use super::super::State;
 use super::profile::{Contour, Piece, P};
 use super::roughing::{self, cut_count, Rough, Step};
-use super::GCodeSystem;
-use super::XMode;
+use super::{GCodeSystem, XMode};
 use crate::ast::{Program, Statement, Word, WordValue};
 use crate::source::{Diagnostic, Span};
 
@@ -94,21 +93,13 @@ impl Frame {
 }
 
 impl State {
-    /// The contour cycle a lathe's G code names, by the G code system
+    /// The contour cycle a lathe's G code names in its G code system
     /// (`None`: not one of them, or not a Fanuc or Haas lathe).
-    pub(in crate::interp) fn contour_code(&self, tenths: u32) -> Option<GCode> {
-        if !self.settings.dialect.is_fanuc() {
-            return None;
+    fn contour_code(&self, tenths: u32) -> Option<ContourCycle> {
+        match self.decode_g(tenths)? {
+            GCode::Contour(c) => Some(c),
+            _ => None,
         }
-        let lathe = self.settings.lathe_conventions()?;
-        let first = if lathe.system == GCodeSystem::C { 720 } else { 700 };
-        Some(GCode::Contour(match tenths.checked_sub(first)? {
-            0 => ContourCycle::Finishing,
-            10 => ContourCycle::Turning,
-            20 => ContourCycle::Facing,
-            30 => ContourCycle::Pattern,
-            _ => return None,
-        }))
     }
 
     /// Whether `letter` is a count or a sequence number, not a length, in
@@ -119,10 +110,7 @@ impl State {
             return false;
         }
         let cycle = words.iter().find_map(|w| match (w.letter, w.value()) {
-            (b'G', WordValue::Number { value, .. }) => match self.contour_code((value * 10.0).round() as u32) {
-                Some(GCode::Contour(c)) => Some(c),
-                _ => None,
-            },
+            (b'G', WordValue::Number { value, .. }) => self.contour_code((value * 10.0).round() as u32),
             _ => None,
         });
         match cycle {
@@ -180,7 +168,7 @@ impl State {
     }
 
     fn contour_name(&self, cycle: ContourCycle) -> &'static str {
-        let c = self.settings.lathe_conventions().is_some_and(|l| l.system == GCodeSystem::C);
+        let c = self.turning.as_ref().is_some_and(|t| t.system == GCodeSystem::C);
         match (cycle, c) {
             (ContourCycle::Finishing, false) => "G70",
             (ContourCycle::Turning, false) => "G71",
@@ -364,7 +352,7 @@ impl State {
 
     /// The finishing allowance: U (X, a diameter where X is) and W.
     fn allowance(&self, w: &Words) -> (f64, f64) {
-        let diameter = self.settings.lathe_conventions().is_none_or(|l| l.x == XMode::Diameter);
+        let diameter = self.turning.as_ref().is_some_and(|t| t.x == XMode::Diameter);
         let u = w.get(b'U').map_or(0.0, |u| self.mm(u));
         (if diameter { u / 2.0 } else { u }, w.get(b'W').map_or(0.0, |v| self.mm(v)))
     }

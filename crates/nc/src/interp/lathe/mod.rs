@@ -1,0 +1,158 @@
+//! What a lathe is to the interpreter: how X is read (a diameter or a
+//! radius), which of Fanuc's G code systems its codes follow, the spindle's
+//! top speed, each tool's nose; and the threads a run cuts, for the report.
+//!
+//! Positions stay the tool's: X in a [`kezuri_geom::Move`] is always the
+//! tool's distance from the spindle axis (a radius), whatever the program's
+//! diameter mode, as LinuxCNC's rs274 prints it.
+
+pub(super) mod contour;
+mod profile;
+mod roughing;
+mod single;
+mod speed;
+mod thread;
+mod words;
+
+use kezuri_geom::{Axes, AxisSet};
+
+use super::modal::{GCode, SingleCycle};
+use super::State;
+
+/// How the program's X words are read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum XMode {
+    /// X is a diameter (Fanuc lathes; LinuxCNC after `G7`): the tool is at
+    /// half of it from the spindle axis.
+    #[default]
+    Diameter,
+    /// X is the radius.
+    Radius,
+}
+
+/// Fanuc's lathe G code systems (Fanuc Series 0i-TF / 30i lathe operator's
+/// manual, "G code list"): A is the default; B and C renumber the single
+/// cycles and add `G90`/`G91` absolute/incremental.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GCodeSystem {
+    /// `U W H` incremental, `G90 G92 G94` single cycles, `G50` coordinate
+    /// set, `G98 G99` feed per minute / per revolution.
+    #[default]
+    A,
+    /// `G90 G91`, `G92` coordinate set, `G94 G95` feed modes, `G77 G78 G79`
+    /// single cycles, `G98 G99` drilling return levels.
+    B,
+    /// System B with `G20 G21 G24` the single cycles and `G70 G71` inch/mm.
+    C,
+}
+
+/// A lathe's conventions, from the machine file (`[machine] kind = "lathe"`
+/// or `"mill-turn"`) or from a lathe dialect's defaults.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lathe {
+    /// How X is read at power-on.
+    pub x: XMode,
+    /// The G code system (Fanuc lathes).
+    pub system: GCodeSystem,
+}
+
+/// A turning tool's nose: what tool nose radius compensation (`G41`/`G42`)
+/// and the simulation need.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nose {
+    /// The nose radius, mm.
+    pub radius: f64,
+    /// The imaginary tool tip direction, 0–9 (0 and 9: the nose centre is
+    /// the programmed point).
+    pub tip: u8,
+}
+
+/// A thread the program cuts: one threading pass (`G32`, `G33`, `G76`, a
+/// `G92` threading cycle) from its start to its end.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Thread {
+    /// Lead, mm per revolution along the thread.
+    pub lead: f64,
+    /// Where the pass starts (the tool's position, X a radius).
+    pub start: Axes,
+    /// Where it ends.
+    pub end: Axes,
+    /// The source line of the block.
+    pub line: u32,
+}
+
+/// The lathe motion mode in force besides G00–G03 (group 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum LatheMotion {
+    /// A single cycle (G90 G92 G94 in system A).
+    Single(SingleCycle),
+    /// Threading (G32 in system A, G33 in B and C).
+    Threading,
+}
+
+/// What a Fanuc or Haas lathe remembers besides a mill's state: how X is
+/// read, the G code system, constant surface speed and its clamp, the
+/// lathe's group 1 modes, a chamfer or corner waiting for its next block.
+#[derive(Clone, Debug)]
+pub(super) struct Turning {
+    /// How X words are read now.
+    pub x: XMode,
+    /// The G code system.
+    pub system: GCodeSystem,
+    /// Whether the Fanuc lathe's addresses are read (U W H incremental in
+    /// system A, the G code tables): Fanuc and Haas, not LinuxCNC.
+    pub fanuc: bool,
+    /// Constant surface speed (G96) in force: the surface speed in mm/min
+    /// (the S word in m/min, or ft/min under G20).
+    pub surface: Option<f64>,
+    /// The last S word as written (the control's S register).
+    pub s_word: f64,
+    /// The spindle speed clamp of `G50 S` (`G92 S` in B, C), rpm.
+    pub clamp: Option<f64>,
+    /// A lathe group 1 mode in force (`None`: G00–G03's `Modal::motion`).
+    pub motion: Option<LatheMotion>,
+    /// The axes this block gave as increments (U W H), for the writer and
+    /// the placing of axes.
+    pub increments: AxisSet,
+    /// The block in progress reads its own words (a cycle, the dwell).
+    pub own_words: bool,
+    /// The tool's geometry and wear offset number (`T0101`: 1), 0 for none.
+    pub offset: u32,
+}
+
+impl Turning {
+    /// A lathe's power-on state with `conventions`.
+    pub(super) fn new(conventions: Lathe, fanuc: bool) -> Turning {
+        Turning {
+            x: conventions.x,
+            system: conventions.system,
+            fanuc,
+            surface: None,
+            s_word: 0.0,
+            clamp: None,
+            motion: None,
+            increments: AxisSet::NONE,
+            own_words: false,
+            offset: 0,
+        }
+    }
+}
+
+impl State {
+    /// Decodes a G number as this control reads it: a Fanuc or Haas
+    /// lathe's table in its G code system ([`GCode::decode_lathe`]), else
+    /// the mill's.
+    pub(super) fn decode_g(&self, tenths: u32) -> Option<GCode> {
+        match &self.turning {
+            Some(t) if t.fanuc => GCode::decode_lathe(tenths, t.system),
+            _ => GCode::decode(tenths),
+        }
+    }
+
+    /// Sets the lathe's group 1 mode (`None`: G00–G03, a mill's mode).
+    pub(super) fn lathe_motion(&mut self, motion: Option<LatheMotion>) {
+        if let Some(t) = &mut self.turning {
+            t.motion = motion;
+        }
+    }
+}
