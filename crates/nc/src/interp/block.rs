@@ -142,11 +142,6 @@ impl State {
         if has(|c| matches!(c, GCode::ModalCall(_))).is_some() {
             return Ok(Action::Next);
         }
-        // A lathe's G70–G73: the whole cycle, the shape read from its blocks.
-        if let Some((GCode::Contour(cycle), gspan)) = has(|c| matches!(c, GCode::Contour(_))) {
-            self.feed_speed_tool(&w);
-            return self.contour_cycle(program, pc, cycle, &w, gspan, line);
-        }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
         if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
@@ -171,9 +166,19 @@ impl State {
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
         let x_known = !self.unplaced.contains(0) && !self.at_machine.contains(0);
-        let moved = self.motion(codes, &w, span, line)?;
+        // A lathe's G70–G73: the whole cycle, the shape read from its blocks;
+        // the program may go on after the shape.
+        let mut resume = None;
+        let (moved, own_moves) = match has(|c| matches!(c, GCode::Contour(_))) {
+            Some((GCode::Contour(cycle), gspan)) => {
+                let (action, own) = self.contour_cycle(program, pc, cycle, &w, gspan, line)?;
+                resume = Some(action);
+                (true, own)
+            }
+            _ => (self.motion(codes, &w, span, line)?, first_move),
+        };
         if self.turning.is_some() {
-            self.lathe_moves(first_move, x_known, &w, span)?;
+            self.lathe_moves(own_moves, x_known, &w, span)?;
         }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
@@ -191,7 +196,7 @@ impl State {
                 }));
             }
         }
-        Ok(end.unwrap_or(Action::Next))
+        Ok(end.or(resume).unwrap_or(Action::Next))
     }
 
     /// The block's G codes, decoded, a code overridden by a later one of its

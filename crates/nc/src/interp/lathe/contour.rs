@@ -121,7 +121,8 @@ impl State {
     }
 
     /// A block with `G70`–`G73` (lathe): the whole cycle. Returns where the
-    /// program goes on.
+    /// program goes on, and the first of the moves that are the cycle's own
+    /// (not those of the shape's blocks that `G70` runs as they stand).
     pub(in crate::interp) fn contour_cycle(
         &mut self,
         program: &Program,
@@ -130,7 +131,7 @@ impl State {
         w: &Words,
         gspan: Span,
         line: u32,
-    ) -> Result<Action, Diagnostic> {
+    ) -> Result<(Action, usize), Diagnostic> {
         let name = self.contour_name(cycle);
         let haas = self.settings.dialect.is_haas();
         let at = |l: u8| if w.has(l) { w.span(l) } else { gspan };
@@ -147,14 +148,15 @@ impl State {
                     format!("{name} needs P and Q, the sequence numbers of the shape's first and last blocks: {name} {form} (alarm PS0061: P or Q not given)"),
                 ));
             }
-            return self.first_block(cycle, w, name).map(|()| Action::Next);
+            return self.first_block(cycle, w, name).map(|()| (Action::Next, self.toolpath.moves.len()));
         }
         let shape = self.read_shape(program, pc, w, name)?;
         let start = self.tip;
+        let mut own = self.toolpath.moves.len();
         if cycle == ContourCycle::Finishing {
             self.finish(program, &shape)?;
-            let feed = 0.0;
-            self.push_move(MoveKind::Rapid, start, feed, AxisSet::NONE.with(0).with(2), line);
+            own = self.toolpath.moves.len();
+            self.push_move(MoveKind::Rapid, start, 0.0, AxisSet::NONE.with(0).with(2), line);
         } else {
             let steps = match cycle {
                 ContourCycle::Pattern => self.pattern_steps(program, &shape, w, gspan, name, haas)?,
@@ -164,7 +166,7 @@ impl State {
         }
         // The shape's blocks right after the cycle are its, not the program's.
         let next = (pc + 1..shape.first + 1).find(|&k| !matches!(program.blocks[k as usize].statement, Statement::Empty));
-        Ok(if next == Some(shape.first) { Action::Resume(shape.last + 1) } else { Action::Next })
+        Ok((if next == Some(shape.first) { Action::Resume(shape.last + 1) } else { Action::Next }, own))
     }
 
     fn contour_name(&self, cycle: ContourCycle) -> &'static str {
