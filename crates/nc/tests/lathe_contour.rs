@@ -23,7 +23,7 @@
 //! Positions are the tool's: X a radius (the program's X a diameter).
 
 use kezuri_geom::{Move, MoveKind};
-use kezuri_nc::interp::{Control, CoordSettings, Outcome, Settings};
+use kezuri_nc::interp::{Control, CoordSettings, GCodeSystem, Lathe, Outcome, Settings};
 use kezuri_nc::Dialect;
 
 mod common;
@@ -396,4 +396,69 @@ fn a_depth_of_cut_of_zero_is_refused() {
     let text = "G00 X60. Z2.\nG71 P10 Q20 D0 U0.4 W0.1 F0.25\nN10 G00 X20.\nN20 X62.\nM30\n";
     let (head, _) = stop(text, &haas());
     assert!(head.starts_with("t.nc:2:13: error"), "{head}");
+}
+
+#[test]
+fn the_shape_may_use_u_and_w_and_system_c_numbers_the_cycles_from_g72() {
+    // The same shape with increments: from N10's (radius 10, Z2), W-22. is
+    // Z-20, U20. W-10. is Ø40 Z-30, W-15. Z-45, U22. Ø62: the same moves.
+    let incremental = OUTSIDE.replace("G01 Z-20.", "G01 W-22.").replace("X40. Z-30.", "U20. W-10.").replace(
+        "Z-45.\nN20 X62.",
+        "W-15.\nN20 U22.",
+    );
+    let want = moves(&run(OUTSIDE, &fanuc()));
+    same(&moves(&run(&incremental, &fanuc())), &want);
+    // G code system C (B-64604EN, "G code list"): G72 is finishing, G73
+    // stock removal in turning; X and Z are absolute (G90 at power-on).
+    let system_c = Settings { lathe: Some(Lathe { system: GCodeSystem::C, ..Lathe::default() }), ..fanuc() };
+    let text = OUTSIDE.replace("G71", "G73").replace("G70", "G72");
+    same(&moves(&run(&text, &system_c)), &want);
+}
+
+#[test]
+fn g71_follows_an_arc_of_the_shape() {
+    // A at X50 (radius 25) Z2. The shape: (10, 2) → (10, -10), then G02 R10
+    // to (20, -20): in the ZX plane (Z across, X up, seen from +Y) G02 turns
+    // clockwise, so the centre is (radius 20, Z-10) — a fillet into the
+    // shoulder — then out to Ø52. In the cut's frame (d = 25 - radius,
+    // a = 2 - Z): (0, 15) → (12, 15), the arc about (12, 5) to (22, 5), then
+    // (22, -1). Depths 2 … 14 (15 is the bottom). Depths 2 and 4 meet the
+    // shoulder at a 22 (Z-20); a depth d from 6 to 14 meets the arc where
+    // (a - 12)² + (d - 5)² = 100: a = 12 + √(100 - (d - 5)²).
+    let text = "G00 X50. Z2.
+G71 U2. R0.5
+G71 P10 Q20 U0 W0 F0.2
+N10 G00 X20.
+G01 Z-10.
+G02 X40. Z-20. R10.
+N20 G01 X52.
+M30
+";
+    let o = run(text, &fanuc());
+    // The cuts: feeds along Z from Z2 (the cut along the shape's first
+    // block, at radius 10, is not one of them).
+    let cuts: Vec<(f64, f64)> = o
+        .toolpath
+        .moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Feed && m.start.x == m.end.x && m.start.z == 2.0 && m.end.x > 10.5)
+        .map(|m| (m.end.x, m.end.z))
+        .collect();
+    let want: Vec<(f64, f64)> = (1..=7)
+        .map(|k| {
+            let d = 2.0 * k as f64;
+            let a = if d <= 5.0 { 22.0 } else { 12.0 + (100.0 - (d - 5.0) * (d - 5.0)).sqrt() };
+            (25.0 - d, 2.0 - a)
+        })
+        .collect();
+    assert_eq!(cuts.len(), want.len(), "{cuts:?}");
+    for (g, w) in cuts.iter().zip(&want) {
+        assert!((g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9, "{cuts:?} vs {want:?}");
+    }
+    // The cut along the shape turns the arc as the program does.
+    let arc = o.toolpath.moves.iter().find(|m| matches!(m.kind, MoveKind::Arc(_))).expect("the arc");
+    let MoveKind::Arc(a) = arc.kind else { unreachable!() };
+    assert!(!a.ccw);
+    assert!((a.center[0] - 20.0).abs() < 1e-9 && (a.center[2] + 10.0).abs() < 1e-9, "{a:?}");
+    assert!((arc.end.x - 20.0).abs() < 1e-9 && (arc.end.z + 20.0).abs() < 1e-9);
 }
