@@ -67,7 +67,10 @@ fn kind(m: &Move) -> char {
 fn same(got: &[(char, f64, f64)], want: &[(char, f64, f64)]) {
     assert_eq!(got.len(), want.len(), "got {got:?}");
     for (k, (g, w)) in got.iter().zip(want).enumerate() {
-        assert!(g.0 == w.0 && (g.1 - w.1).abs() < 1e-9 && (g.2 - w.2).abs() < 1e-9, "move {k}: got {g:?}, want {w:?}\n{got:?}");
+        assert!(
+            g.0 == w.0 && (g.1 - w.1).abs() < 1e-9 && (g.2 - w.2).abs() < 1e-9,
+            "move {k}: got {g:?}, want {w:?}\n{got:?}"
+        );
     }
 }
 
@@ -326,7 +329,17 @@ M30
     assert_eq!(m.len(), 1 + 9 * 4 + 6, "{m:?}");
     // The fifth cut (radius 20): in, along, out by 1 at 45°, back.
     same(&m[17..21], &[('R', 20.0, 2.0), ('F', 20.0, -29.2), ('R', 21.0, -28.2), ('R', 21.0, 2.0)]);
-    same(&m[37..], &[('R', 10.2, 2.1), ('F', 10.2, -19.9), ('F', 20.2, -29.9), ('F', 20.2, -44.9), ('F', 31.2, -44.9), ('R', 30.0, 2.0)]);
+    same(
+        &m[37..],
+        &[
+            ('R', 10.2, 2.1),
+            ('F', 10.2, -19.9),
+            ('F', 20.2, -29.9),
+            ('F', 20.2, -44.9),
+            ('F', 31.2, -44.9),
+            ('R', 30.0, 2.0),
+        ],
+    );
 }
 
 fn stop(text: &str, settings: &Settings) -> (String, String) {
@@ -402,10 +415,10 @@ fn a_depth_of_cut_of_zero_is_refused() {
 fn the_shape_may_use_u_and_w_and_system_c_numbers_the_cycles_from_g72() {
     // The same shape with increments: from N10's (radius 10, Z2), W-22. is
     // Z-20, U20. W-10. is Ø40 Z-30, W-15. Z-45, U22. Ø62: the same moves.
-    let incremental = OUTSIDE.replace("G01 Z-20.", "G01 W-22.").replace("X40. Z-30.", "U20. W-10.").replace(
-        "Z-45.\nN20 X62.",
-        "W-15.\nN20 U22.",
-    );
+    let incremental = OUTSIDE
+        .replace("G01 Z-20.", "G01 W-22.")
+        .replace("X40. Z-30.", "U20. W-10.")
+        .replace("Z-45.\nN20 X62.", "W-15.\nN20 U22.");
     let want = moves(&run(OUTSIDE, &fanuc()));
     same(&moves(&run(&incremental, &fanuc())), &want);
     // G code system C (B-64604EN, "G code list"): G72 is finishing, G73

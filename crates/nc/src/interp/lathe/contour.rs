@@ -165,7 +165,8 @@ impl State {
             self.put_steps(&steps.0, &steps.1, gspan, line)?;
         }
         // The shape's blocks right after the cycle are its, not the program's.
-        let next = (pc + 1..shape.first + 1).find(|&k| !matches!(program.blocks[k as usize].statement, Statement::Empty));
+        let next =
+            (pc + 1..shape.first + 1).find(|&k| !matches!(program.blocks[k as usize].statement, Statement::Empty));
         Ok((if next == Some(shape.first) { Action::Resume(shape.last + 1) } else { Action::Next }, own))
     }
 
@@ -275,7 +276,11 @@ impl State {
             if !why.is_empty() {
                 return Err(Diagnostic::error(
                     block.span,
-                    format!("the shape N{}–N{} of {name} holds {why} (alarm PS0066: a command not allowed in the shape)", first_block.number.unwrap_or(0), program.blocks[last as usize].number.unwrap_or(0)),
+                    format!(
+                        "the shape N{}–N{} of {name} holds {why} (alarm PS0066: a command not allowed in the shape)",
+                        first_block.number.unwrap_or(0),
+                        program.blocks[last as usize].number.unwrap_or(0)
+                    ),
                 ));
             }
             blocks.resize(scratch.toolpath.moves.len(), k);
@@ -312,7 +317,9 @@ impl State {
         let mut pieces = Vec::new();
         for (k, m) in shape.moves.iter().enumerate() {
             let span = program.blocks[shape.blocks[k] as usize].span;
-            let other = (m.start.y - m.end.y).abs() + (m.start.a - m.end.a).abs() + (m.start.b - m.end.b).abs()
+            let other = (m.start.y - m.end.y).abs()
+                + (m.start.a - m.end.a).abs()
+                + (m.start.b - m.end.b).abs()
                 + (m.start.c - m.end.c).abs();
             let arc = match m.kind {
                 MoveKind::Rapid | MoveKind::Feed => None,
@@ -401,7 +408,13 @@ impl State {
         let first_words = program.words(&program.blocks[shape.first as usize]);
         let names = |l: &[u8]| first_words.iter().any(|word| l.contains(&word.letter));
         // Type II: the first block names the cut's axis too (Fanuc); R1 (Haas).
-        let pockets = if haas { w.get(b'R') == Some(1.0) } else if turning { names(b"ZW") } else { names(b"XU") };
+        let pockets = if haas {
+            w.get(b'R') == Some(1.0)
+        } else if turning {
+            names(b"ZW")
+        } else {
+            names(b"XU")
+        };
         let (a1, b) = self.shape_ends(shape);
         let start = self.tip;
         let ns = &program.blocks[shape.first as usize];
@@ -409,7 +422,10 @@ impl State {
         if across.abs() < 1e-9 || along.abs() < 1e-9 {
             let (axis, other) = if turning { ("X", "Z") } else { ("Z", "X") };
             let what = if across.abs() < 1e-9 {
-                format!("its first block N{} does not move the tool in {axis} towards the shape", ns.number.unwrap_or(0))
+                format!(
+                    "its first block N{} does not move the tool in {axis} towards the shape",
+                    ns.number.unwrap_or(0)
+                )
             } else {
                 format!("the shape ends where it starts in {other}")
             };
@@ -423,7 +439,11 @@ impl State {
         // Haas: I and K, the rough cuts' own allowance; the cut along the
         // shape only with them.
         let (ux, wz) = self.allowance(w);
-        let rough_extra = if haas { (w.get(b'I').map_or(0.0, |i| self.mm(i)), w.get(b'K').map_or(0.0, |k| self.mm(k))) } else { (0.0, 0.0) };
+        let rough_extra = if haas {
+            (w.get(b'I').map_or(0.0, |i| self.mm(i)), w.get(b'K').map_or(0.0, |k| self.mm(k)))
+        } else {
+            (0.0, 0.0)
+        };
         let along_shape = !haas || w.has(b'I') || w.has(b'K');
         let moved = |frame: &Frame, x: f64, z: f64| {
             let p0 = frame.to(start.x, start.z);
@@ -444,12 +464,20 @@ impl State {
         };
         let blame = |k: usize| program.blocks[shape.blocks[contour.pieces[k].block] as usize].span;
         if let Some(k) = contour.first_backwards() {
-            let (axis, alarm) = if turning { ("Z", "PS0329: the finishing shape is not a monotonous change (second axis)") } else { ("X", "PS0064: the finishing shape is not a monotonous change (first axis)") };
+            let (axis, alarm) = if turning {
+                ("Z", "PS0329: the finishing shape is not a monotonous change (second axis)")
+            } else {
+                ("X", "PS0064: the finishing shape is not a monotonous change (first axis)")
+            };
             return Err(Diagnostic::error(blame(k), format!("{name}'s shape must run one way in {axis}, the way it cuts, and this block turns back (alarm {alarm})")));
         }
         if !pockets {
             if let Some(k) = contour.first_deeper() {
-                let (axis, alarm, other) = if turning { ("X", "PS0064: the finishing shape is not a monotonous change (first axis)", "Z (W)") } else { ("Z", "PS0329: the finishing shape is not a monotonous change (second axis)", "X (U)") };
+                let (axis, alarm, other) = if turning {
+                    ("X", "PS0064: the finishing shape is not a monotonous change (first axis)", "Z (W)")
+                } else {
+                    ("Z", "PS0329: the finishing shape is not a monotonous change (second axis)", "X (U)")
+                };
                 return Err(Diagnostic::error(
                     blame(k),
                     format!("{name} type I needs a shape that rises steadily in {axis} from its first block, and this block goes deeper (alarm {alarm}); a shape with pockets needs type II: name {other} in the first block N{} too", ns.number.unwrap_or(0)),
@@ -461,7 +489,9 @@ impl State {
         if cuts > MAX_CUTS {
             return Err(Diagnostic::error(
                 self.contour.depth.filter(|_| !haas).map_or(at(b'D'), |(_, s)| s),
-                format!("{name} would make {cuts} cuts of {depth} mm: more than {MAX_CUTS}; is the depth of cut mistyped?"),
+                format!(
+                    "{name} would make {cuts} cuts of {depth} mm: more than {MAX_CUTS}; is the depth of cut mistyped?"
+                ),
             ));
         }
         let rough = Rough { depth, escape, pockets, rapid_approach: shape.rapid };
@@ -527,7 +557,8 @@ impl State {
                 Step::Feed(_) => self.push_move(MoveKind::Feed, end, feed, named, line),
                 Step::Arc { center, ccw, .. } => {
                     let (cx, cz) = frame.from(center);
-                    let arc = Arc { center: [cx, self.tip.y, cz], plane: Plane::Zx, ccw: ccw != frame.flips(), turns: 0 };
+                    let arc =
+                        Arc { center: [cx, self.tip.y, cz], plane: Plane::Zx, ccw: ccw != frame.flips(), turns: 0 };
                     self.push_move(MoveKind::Arc(arc), end, feed, named, line);
                 }
             }

@@ -224,9 +224,7 @@ impl Contour {
     /// The first piece that goes deeper along the cut (against a contour
     /// that rises from its start to its end), if any.
     pub fn first_deeper(&self) -> Option<usize> {
-        self.pieces.iter().position(|p| {
-            p.to[1] > p.from[1] + EPS || p.passes(PI / 2.0) || p.passes(-PI / 2.0)
-        })
+        self.pieces.iter().position(|p| p.to[1] > p.from[1] + EPS || p.passes(PI / 2.0) || p.passes(-PI / 2.0))
     }
 }
 
