@@ -475,3 +475,49 @@ M30
     assert!((a.center[0] - 20.0).abs() < 1e-9 && (a.center[2] + 10.0).abs() < 1e-9, "{a:?}");
     assert!((arc.end.x - 20.0).abs() < 1e-9 && (arc.end.z + 20.0).abs() < 1e-9);
 }
+
+#[test]
+fn haas_g73_and_g70_in_one_block_are_fanucs_two() {
+    // Haas's G73: I and K the first pass's distance from the last (radius,
+    // Z), D the passes (Haas Lathe Operator's Manual, G73): the Fanuc case's
+    // U3. W1. R3 written so, the same moves; then G70 P Q.
+    let fanuc_text = "G00 X60. Z5.
+G73 U3. W1. R3
+G73 P70 Q80 U0.4 W0.2 F0.2
+N70 G01 X20. Z0.
+Z-10.
+N80 X40.
+G70 P70 Q80
+M30
+";
+    let haas_text =
+        fanuc_text.replace("G73 U3. W1. R3\nG73 P70 Q80 U0.4 W0.2 F0.2", "G73 P70 Q80 I3. K1. D3 U0.4 W0.2 F0.2");
+    let want = moves(&run(fanuc_text, &fanuc()));
+    // 1 + 3 passes of 4 + back to A; G70: the shape's 3 moves and back.
+    assert_eq!(want.len(), 1 + 12 + 1 + 4, "{want:?}");
+    same(&want[14..], &[('F', 10.0, 0.0), ('F', 10.0, -10.0), ('F', 20.0, -10.0), ('R', 30.0, 5.0)]);
+    same(&moves(&run(&haas_text, &haas())), &want);
+}
+
+#[test]
+fn haas_r1_is_type_two() {
+    // The pocket of `g71_type_two_cuts_a_pocket` in Haas's one block with
+    // R1: its cuts (the feeds) are type II's, the escape (Haas's setting,
+    // kezuri's 1 mm) aside; with R0 the shape's pocket is refused as type I.
+    let body = "N30 G01 X30. Z0
+Z-10.
+X20. Z-15.
+Z-20.
+X30. Z-25.
+Z-35.
+N40 X42.
+M30
+";
+    let fanuc_text = format!("G00 X42. Z2.\nG71 U2. R1.\nG71 P30 Q40 U0 W0 F0.2\n{body}");
+    let haas_text = format!("G00 X42. Z2.\nG71 P30 Q40 D2. U0 W0 I0 K0 R1 F0.2\n{body}");
+    let feeds = |o: &Outcome| moves(o).into_iter().filter(|m| m.0 == 'F').collect::<Vec<_>>();
+    same(&feeds(&run(&haas_text, &haas())), &feeds(&run(&fanuc_text, &fanuc())));
+    let (head, message) = stop(&haas_text.replace(" R1", ""), &haas());
+    assert!(head.starts_with("t.nc:5:1: error"), "{head}");
+    assert!(message.contains("type II"), "{message}");
+}

@@ -103,19 +103,21 @@ impl State {
     }
 
     /// Whether `letter` is a count or a sequence number, not a length, in
-    /// the block of `words`: P and Q of a contour cycle, and G73's R (the
-    /// divisions).
+    /// the block of `words`: P and Q of a contour cycle, G73's R (the
+    /// divisions) and Haas's R1 (type II) of G71 and G72.
     pub(in crate::interp) fn contour_count(&self, letter: u8, words: &[Word]) -> bool {
-        if !matches!(letter, b'P' | b'Q' | b'R') {
+        if !matches!(letter, b'P' | b'Q' | b'R') || self.turning.is_none() {
             return false;
         }
         let cycle = words.iter().find_map(|w| match (w.letter, w.value()) {
             (b'G', WordValue::Number { value, .. }) => self.contour_code((value * 10.0).round() as u32),
             _ => None,
         });
+        let haas = self.settings.dialect.is_haas();
         match cycle {
             None => false,
             Some(ContourCycle::Pattern) if letter == b'R' => !words.iter().any(|w| w.letter == b'P'),
+            Some(ContourCycle::Turning | ContourCycle::Facing) if letter == b'R' => haas,
             Some(_) => letter != b'R',
         }
     }
@@ -266,6 +268,7 @@ impl State {
             let block = &program.blocks[k as usize];
             let why = match &block.statement {
                 Statement::Empty => continue,
+                _ if block.delete && self.settings.block_delete => continue,
                 Statement::Words { .. } if self.names_contour_cycle(program.words(block)) => "another repetitive cycle",
                 Statement::Words { .. } => match scratch.exec_block(program, k)? {
                     Action::Next => "",
@@ -304,7 +307,8 @@ impl State {
     /// `G70`: the shape's blocks run as they stand.
     fn finish(&mut self, program: &Program, shape: &Shape) -> Result<(), Diagnostic> {
         for k in shape.first..=shape.last {
-            if matches!(program.blocks[k as usize].statement, Statement::Words { .. }) {
+            let block = &program.blocks[k as usize];
+            if matches!(block.statement, Statement::Words { .. }) && !(block.delete && self.settings.block_delete) {
                 self.exec_block(program, k)?;
             }
         }
