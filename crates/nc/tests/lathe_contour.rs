@@ -521,3 +521,36 @@ M30
     assert!(head.starts_with("t.nc:5:1: error"), "{head}");
     assert!(message.contains("type II"), "{message}");
 }
+
+#[test]
+fn odd_shapes_stop_with_the_controls_alarm_never_a_panic() {
+    let cases: [(&str, &str); 7] = [
+        // A call in the shape: not allowed in it.
+        ("N10 G00 X20.\nM98 P1000\nN20 X62.\n", "PS0066"),
+        // Another cycle inside the shape.
+        ("N10 G00 X20.\nG71 P10 Q20\nN20 X62.\n", "PS0066"),
+        // A macro statement inside the shape.
+        ("N10 G00 X20.\n#1=5\nN20 X62.\n", "PS0066"),
+        // A shape of one block: it ends where it starts in Z.
+        ("N10 G00 X20.\nN20 G00 X20.\n", "which way to cut"),
+        // A first block that does not move towards the stock.
+        ("N10 G00 X60.\nG01 Z-20.\nN20 X62.\n", "which way to cut"),
+        // A shape that turns back in Z.
+        ("N10 G00 X20.\nG01 Z-20.\nZ-10.\nN20 X62.\n", "PS0329"),
+        // A dwell in the shape.
+        ("N10 G00 X20.\nG04 U1.\nG01 Z-20.\nN20 X62.\n", "PS0066"),
+    ];
+    for (shape, alarm) in cases {
+        let text = format!("G00 X60. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\n{shape}M30\n");
+        let (_, message) = stop(&text, &fanuc());
+        assert!(message.contains(alarm), "{shape}: {message}");
+    }
+    // 100,000,001 cuts: refused before any is made, at the depth word.
+    let text = OUTSIDE.replace("G71 U2. R0.5", "G71 U0.0000002 R0.5");
+    let (head, message) = stop(&text, &fanuc());
+    assert!(head.starts_with("t.nc:2:5: error") && message.contains("cuts"), "{head} {message}");
+    // G73 with no passes.
+    let (_, message) =
+        stop("G00 X60. Z5.\nG73 U3. W1. R0\nG73 P70 Q80 F0.2\nN70 G01 X20. Z0.\nN80 X40.\nM30\n", &fanuc());
+    assert!(message.contains("PS0062"), "{message}");
+}
