@@ -554,3 +554,20 @@ fn odd_shapes_stop_with_the_controls_alarm_never_a_panic() {
         stop("G00 X60. Z5.\nG73 U3. W1. R0\nG73 P70 Q80 F0.2\nN70 G01 X20. Z0.\nN80 X40.\nM30\n", &fanuc());
     assert!(message.contains("PS0062"), "{message}");
 }
+
+#[test]
+fn under_constant_surface_speed_each_cut_turns_at_its_own_speed() {
+    // G96 S100: 100 m/min at the tool, so at radius r (mm) the spindle turns
+    // 100,000 / (2π r) rpm (clamped by G50 S3000, not reached here). The
+    // first cut of OUTSIDE runs along Z at radius 28: 568.4 rpm, and at
+    // F0.25 a turn the feed is 0.25 × that in mm/min; the fifth, at radius
+    // 20, 795.8 rpm.
+    let text = OUTSIDE.replace("G00 X60. Z2.", "G50 S3000\nG96 S100\nG00 X60. Z2.");
+    let o = common::run("t.nc", &text, &fanuc()).completed();
+    let cuts: Vec<&Move> = o.toolpath.moves.iter().filter(|m| m.kind == MoveKind::Feed && m.start.z == 2.0).collect();
+    for (k, r) in [(0, 28.0), (4, 20.0)] {
+        let rpm = 100_000.0 / (std::f64::consts::TAU * r);
+        assert!((cuts[k].speed - rpm).abs() < 1e-6, "{k}: {} rpm", cuts[k].speed);
+        assert!((cuts[k].feed - 0.25 * rpm).abs() < 1e-6, "{k}: {} mm/min", cuts[k].feed);
+    }
+}
