@@ -571,3 +571,34 @@ fn under_constant_surface_speed_each_cut_turns_at_its_own_speed() {
         assert!((cuts[k].feed - 0.25 * rpm).abs() < 1e-6, "{k}: {} mm/min", cuts[k].feed);
     }
 }
+
+#[test]
+fn g71_bores_with_a_negative_allowance() {
+    // Boring: A at X20 (radius 10) Z2; N10 goes out to Ø50, so the cuts go
+    // outwards from the axis. U-0.4 leaves 0.2 on the bore (towards the
+    // axis), W0.1 towards +Z. The shape moved: (24.8, 2.1) (24.8, -19.9)
+    // (14.8, -29.9) (8.8, -29.9). Depths from radius 10 outwards by 2:
+    // radius 12 … 24 (7 cuts; 26 is past the deepest, 24.8). Radius 12 and
+    // 14 meet the shape at its last block's Z-29.9; radius r from 16 on
+    // meets the taper at Z = -29.9 + (r - 14.8): 16 → -28.7, 18 → -26.7,
+    // 20 → -24.7, 22 → -22.7, 24 → -20.7. Out at 45° towards the axis and
+    // +Z by 0.5, back to Z2; then along the moved shape, back to A.
+    let text = "G00 X20. Z2.
+G71 U2. R0.5
+G71 P10 Q20 U-0.4 W0.1 F0.2
+N10 G00 X50.
+G01 Z-20.
+X30. Z-30.
+N20 X18.
+M30
+";
+    let o = run(text, &fanuc());
+    let mut want = vec![('R', 10.0, 2.0)];
+    for (x, z) in
+        [(12.0, -29.9), (14.0, -29.9), (16.0, -28.7), (18.0, -26.7), (20.0, -24.7), (22.0, -22.7), (24.0, -20.7)]
+    {
+        want.extend([('R', x, 2.0), ('F', x, z), ('R', x - 0.5, z + 0.5), ('R', x - 0.5, 2.0)]);
+    }
+    want.extend([('R', 24.8, 2.1), ('F', 24.8, -19.9), ('F', 14.8, -29.9), ('F', 8.8, -29.9), ('R', 10.0, 2.0)]);
+    same(&moves(&o), &want);
+}
