@@ -602,3 +602,37 @@ M30
     want.extend([('R', 24.8, 2.1), ('F', 24.8, -19.9), ('F', 14.8, -29.9), ('F', 8.8, -29.9), ('R', 10.0, 2.0)]);
     same(&moves(&o), &want);
 }
+
+#[test]
+fn a_chamfer_in_the_shape_is_cut_and_may_not_end_it() {
+    // `X40. C-2.`: from Ø20 up to Ø40 at Z-20 with a 2 mm chamfer towards
+    // -Z at the corner (B-64604EN, "Chamfering and corner R"): the shape is
+    // (10, 2) (10, -20) (18, -20) (20, -22) (20, -45) (31, -45). From
+    // radius 30 by 2: radius 28 … 22 meet the last block (Z-45); radius 20
+    // lies on the Ø40 face, below it only up to the chamfer's end, Z-22;
+    // radius 18 … 12 meet the shoulder at Z-20.
+    let text =
+        OUTSIDE.replace("X40. Z-30.", "X40. C-2.").replace("G71 P10 Q20 U0.4 W0.1 F0.25", "G71 P10 Q20 U0 W0 F0.25");
+    let o = run(&text, &fanuc());
+    let m = moves(&o);
+    let cuts: Vec<(char, f64, f64)> = m[..37].iter().copied().filter(|c| c.0 == 'F').collect();
+    let ends = [-45.0, -45.0, -45.0, -45.0, -22.0, -20.0, -20.0, -20.0, -20.0];
+    let want: Vec<_> = ends.iter().enumerate().map(|(k, &z)| ('F', 28.0 - 2.0 * k as f64, z)).collect();
+    same(&cuts, &want);
+    same(
+        &m[37..43],
+        &[
+            ('R', 10.0, 2.0),
+            ('F', 10.0, -20.0),
+            ('F', 18.0, -20.0),
+            ('F', 20.0, -22.0),
+            ('F', 20.0, -45.0),
+            ('F', 31.0, -45.0),
+        ],
+    );
+    // The shape's last block with a chamfer: nothing follows it in the shape.
+    let text = "G00 X60. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0 W0 F0.25\nN10 G00 X20.\nN20 G01 Z-20. C1.\nX62.\nM30\n";
+    let (head, message) = stop(text, &fanuc());
+    assert!(head.starts_with("t.nc:5:15: error"), "{head}");
+    assert!(message.contains("PS0069"), "{message}");
+}

@@ -144,6 +144,18 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
+        if self.turning.is_none() {
+            if let Some(letter) = [b'c', b'r'].into_iter().find(|&l| w.has(l)) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!(
+                        ",{} (a {}) between two moves is read on a lathe only: kezuri does not run it on a mill",
+                        letter.to_ascii_uppercase() as char,
+                        if letter == b'c' { "chamfer" } else { "corner R" }
+                    ),
+                ));
+            }
+        }
         if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
@@ -178,7 +190,11 @@ impl State {
             _ => (self.motion(codes, &w, span, line)?, first_move),
         };
         if self.turning.is_some() {
-            self.lathe_moves(own_moves, x_known, &w, span)?;
+            let changed = self.corner_moves(own_moves, span)?;
+            self.lathe_moves(changed, x_known || changed < own_moves, &w, span)?;
+            if matches!(end, Some(Action::End)) {
+                self.corner_left()?;
+            }
         }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
@@ -210,7 +226,7 @@ impl State {
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
             let Some(code) = self.decode_g(tenths) else {
-                return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
+                return Err(Diagnostic::error(gspan, self.unknown_code(tenths)));
             };
             let group = code.group();
             if let Some(j) = codes[..k].iter().position(|c| c.is_some_and(|(c, _)| c.group() == group)) {
@@ -259,8 +275,11 @@ impl State {
     #[inline(always)]
     fn path_code(&mut self, code: GCode, w: &Words, gspan: Span, line: u32) -> Result<(), Diagnostic> {
         match (code, self.settings.coords.control) {
-            // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
-            (GCode::Smoothing(80), Control::LinuxCnc) => return Ok(()),
+            // LinuxCNC's G8 is lathe radius mode, its default.
+            (GCode::Smoothing(80), Control::LinuxCnc) => {
+                self.set_x_mode(super::XMode::Radius);
+                return Ok(());
+            }
             // LinuxCNC's G5 and G5.1 are splines, of their block only:
             // rs274 2.9 leaves the motion mode as it was.
             (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {

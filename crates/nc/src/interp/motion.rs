@@ -60,14 +60,16 @@ impl State {
             FeedMode::PerMinute => Ok(f),
             // Set per move from its length (see `motion`).
             FeedMode::InverseTime => Ok(0.0),
-            FeedMode::PerRev if self.feed_set && self.speed <= 0.0 => {
+            // Under constant surface speed the speed is reckoned along the
+            // move (lathe/speed.rs): 0 here only where X is not known yet.
+            FeedMode::PerRev if self.feed_set && self.speed <= 0.0 && !self.surface_speed_on() => {
                 let (place, what) = match self.speed_span {
                     Some(s) => (at(s), format!("spindle speed S{}{}", self.speed, earlier(s))),
                     None => (span, "no spindle speed (S) given".to_string()),
                 };
                 Err(Diagnostic::error(
                     place,
-                    format!("feed per revolution (G95) with {what}: the feed is 0 and the move never ends; give S greater than 0"),
+                    format!("feed per revolution ({}) with {what}: the feed is 0 and the move never ends; give S greater than 0", self.per_rev_code()),
                 ))
             }
             FeedMode::PerRev if self.feed_set && f <= 0.0 => Err(Diagnostic::error(

@@ -180,6 +180,18 @@ impl State {
         self.radius.spans.push(self.radius.block.0);
     }
 
+    /// Hook: a move is added after the last with the compensation of the
+    /// last (a lathe's corner splits a block's move in two).
+    pub(super) fn comp_repeat_tag(&mut self) {
+        if self.radius.since.is_none() {
+            return;
+        }
+        if let (Some(&tag), Some(&span)) = (self.radius.tags.last(), self.radius.spans.last()) {
+            self.radius.tags.push(tag);
+            self.radius.spans.push(span);
+        }
+    }
+
     /// At the end of the run: replaces the toolpath by the tool-centre path
     /// and returns the programmed contour, or `None` when no move was made
     /// with compensation on. An alarm cuts both paths before its move.

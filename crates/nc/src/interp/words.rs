@@ -31,14 +31,17 @@ pub(super) struct Words<'a> {
     pub(super) m_argument: Option<f64>,
 }
 
-/// A–Z, `@` (the polar radius) and `^` (the polar angle).
-const SLOTS: usize = 28;
+/// A–Z, `@` (the polar radius), `^` (the polar angle), and Fanuc's `,C`
+/// and `,R` (kept as `c` and `r`).
+const SLOTS: usize = 30;
 
-/// Where an address is kept: A–Z in order, then `@` and `^`.
+/// Where an address is kept: A–Z in order, then `@`, `^`, `,C` and `,R`.
 fn slot(letter: u8) -> usize {
     match letter {
         b'@' => 26,
         b'^' => 27,
+        b'c' => 28,
+        b'r' => 29,
         _ => (letter - b'A') as usize,
     }
 }
@@ -197,7 +200,7 @@ impl<'a> Words<'a> {
 }
 
 /// Addresses whose integer values count least input increments.
-pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@";
+pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@cr";
 
 impl State {
     /// Evaluates the words of `w` (made by [`Words::new`]) into it.

@@ -291,6 +291,13 @@ impl State {
                 approach = blocks.len();
             }
         }
+        // A chamfer or corner R needs a next block of the shape (alarm PS0069).
+        if let Some(corner) = scratch.turning.as_ref().and_then(|t| t.corner) {
+            return Err(Diagnostic::error(
+                corner.span,
+                format!("the shape's last block N{} of {name} cannot end in a chamfer or corner R: no block of the shape follows it (alarm PS0069: the last block of the shape is illegal)", program.blocks[last as usize].number.unwrap_or(0)),
+            ));
+        }
         self.diagnostics.append(&mut scratch.diagnostics);
         self.warned = scratch.warned;
         Ok(Shape { moves: scratch.toolpath.moves, approach, blocks, rapid, first, last })

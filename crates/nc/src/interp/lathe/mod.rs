@@ -7,6 +7,7 @@
 //! diameter mode, as LinuxCNC's rs274 prints it.
 
 pub(super) mod contour;
+mod corner;
 mod profile;
 mod roughing;
 mod single;
@@ -18,6 +19,7 @@ use kezuri_geom::{Axes, AxisSet};
 
 use super::modal::{GCode, SingleCycle};
 use super::State;
+pub(super) use corner::Corner;
 
 /// How the program's X words are read.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -116,6 +118,10 @@ pub(super) struct Turning {
     pub increments: AxisSet,
     /// The block in progress reads its own words (a cycle, the dwell).
     pub own_words: bool,
+    /// The chamfer or corner R this block asks for (read before its motion).
+    pub asked: Option<Corner>,
+    /// A chamfer or corner R waiting for the next block's move.
+    pub corner: Option<Corner>,
     /// The tool's geometry and wear offset number (`T0101`: 1), 0 for none.
     pub offset: u32,
 }
@@ -133,6 +139,8 @@ impl Turning {
             motion: None,
             increments: AxisSet::NONE,
             own_words: false,
+            asked: None,
+            corner: None,
             offset: 0,
         }
     }
@@ -149,10 +157,95 @@ impl State {
         }
     }
 
+    /// What is said of a G code the control does not read: in a lathe's
+    /// system A, G91 is no code (U W H are the increments).
+    pub(super) fn unknown_code(&self, tenths: u32) -> String {
+        let name = super::modal::g_name(tenths);
+        match &self.turning {
+            Some(t) if t.fanuc && t.system == GCodeSystem::A && tenths == 910 => format!(
+                "{name} is no code of a lathe's G code system A: U, W and H are the incremental X, Z and C (G91 is \
+                 in systems B and C)"
+            ),
+            _ => format!("{name} is not supported"),
+        }
+    }
+
+    /// Sets how X words are read from now on (LinuxCNC's G7 and G8).
+    pub(super) fn set_x_mode(&mut self, x: XMode) {
+        if let Some(t) = &mut self.turning {
+            t.x = x;
+        }
+    }
+
+    /// Whether constant surface speed (G96) is in force.
+    pub(super) fn surface_speed_on(&self) -> bool {
+        self.turning.as_ref().is_some_and(|t| t.surface.is_some())
+    }
+
+    /// The code of feed per revolution as the program writes it: G99 on a
+    /// Fanuc or Haas lathe in system A, G95 elsewhere.
+    pub(super) fn per_rev_code(&self) -> &'static str {
+        match &self.turning {
+            Some(t) if t.fanuc && t.system == GCodeSystem::A => "G99",
+            _ => "G95",
+        }
+    }
+
     /// Sets the lathe's group 1 mode (`None`: G00–G03, a mill's mode).
     pub(super) fn lathe_motion(&mut self, motion: Option<LatheMotion>) {
         if let Some(t) = &mut self.turning {
             t.motion = motion;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::modal::{CycleReturn, Distance, FeedMode, GCode, SingleCycle, Units};
+    use super::GCodeSystem::{self, A, B, C};
+
+    fn code(g: u32, system: GCodeSystem) -> Option<GCode> {
+        GCode::decode_lathe(g * 10, system)
+    }
+
+    // FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe system,
+    // "G code list": the single cycles, threading, the coordinate setting
+    // and the feed modes in each system.
+    #[test]
+    fn the_code_tables_of_systems_a_b_c() {
+        use SingleCycle::*;
+        for (system, numbers) in [(A, [90, 92, 94]), (B, [77, 78, 79]), (C, [20, 21, 24])] {
+            for (g, cycle) in numbers.into_iter().zip([Cutting, Threading, Facing]) {
+                assert_eq!(code(g, system), Some(GCode::SingleCycle(cycle)), "G{g} in {system:?}");
+                assert_eq!(cycle.number(system), g);
+            }
+        }
+        assert_eq!(code(32, A), Some(GCode::Threading));
+        assert_eq!(code(33, B), Some(GCode::Threading));
+        assert_eq!(code(33, C), Some(GCode::Threading));
+        assert_eq!(code(50, A), Some(GCode::LatheSetPosition));
+        assert_eq!(code(92, B), Some(GCode::LatheSetPosition));
+        assert_eq!(code(92, C), Some(GCode::LatheSetPosition));
+        assert_eq!(code(98, A), Some(GCode::FeedMode(FeedMode::PerMinute)));
+        assert_eq!(code(99, A), Some(GCode::FeedMode(FeedMode::PerRev)));
+        for s in [B, C] {
+            assert_eq!(code(94, s), Some(GCode::FeedMode(FeedMode::PerMinute)));
+            assert_eq!(code(95, s), Some(GCode::FeedMode(FeedMode::PerRev)));
+            assert_eq!(code(90, s), Some(GCode::Distance(Distance::Absolute)));
+            assert_eq!(code(91, s), Some(GCode::Distance(Distance::Incremental)));
+            assert_eq!(code(98, s), Some(GCode::CycleReturn(CycleReturn::Initial)));
+            assert_eq!(code(99, s), Some(GCode::CycleReturn(CycleReturn::R)));
+        }
+        assert_eq!(code(91, A), None);
+        assert_eq!(code(20, A), Some(GCode::Units(Units::Inch)));
+        assert_eq!(code(70, C), Some(GCode::Units(Units::Inch)));
+        assert_eq!(code(71, C), Some(GCode::Units(Units::Mm)));
+        for s in [A, B, C] {
+            assert_eq!(code(96, s), Some(GCode::ConstantSpeed));
+            assert_eq!(code(97, s), Some(GCode::ConstantSpeedOff));
+            // A mill's drilling cycles are never run in a lathe's.
+            assert_eq!(code(73, s), None);
+            assert_eq!(code(81, s), None);
         }
     }
 }

@@ -440,3 +440,77 @@ pub(super) fn thread_stretch(m: &Move) -> f64 {
         1.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::{Arc, Axes, Move, MoveKind, Plane};
+
+    use super::*;
+
+    /// `∫₀¹ dt/n(x(t))` by composite Simpson over `steps` intervals.
+    fn simpson(x: impl Fn(f64) -> f64, surface: f64, limit: Option<f64>, steps: usize) -> f64 {
+        let g = |t: f64| {
+            let free = TAU * x(t).abs() / surface;
+            limit.map_or(free, |l| free.max(1.0 / l))
+        };
+        let h = 1.0 / steps as f64;
+        let mut sum = g(0.0) + g(1.0);
+        for k in 1..steps {
+            sum += g(k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 };
+        }
+        sum * h / 3.0
+    }
+
+    fn arc_move(start: (f64, f64), end: (f64, f64), center: (f64, f64), ccw: bool) -> Move {
+        // (X, Z) pairs in the ZX plane.
+        Move {
+            kind: MoveKind::Arc(Arc { center: [center.0, 0.0, center.1], plane: Plane::Zx, ccw, turns: 0 }),
+            start: Axes { x: start.0, z: start.1, ..Axes::ZERO },
+            end: Axes { x: end.0, z: end.1, ..Axes::ZERO },
+            ..Move::default()
+        }
+    }
+
+    // Half circles of radius 10 about (X 12, Z 0) from X 2 to X 22, one
+    // each way: X passes the clamp radius r_c = V/(2π·2000) = 15.9155 on
+    // the way; one across the spindle axis; a quarter circle with the axis
+    // at machine X 3.
+    #[test]
+    fn an_arcs_time_matches_simpson_to_1e_9() {
+        let (v, limit) = (200_000.0, Some(2000.0));
+        for (m, axis) in [
+            (arc_move((2.0, 0.0), (22.0, 0.0), (12.0, 0.0), true), 0.0),
+            (arc_move((2.0, 0.0), (22.0, 0.0), (12.0, 0.0), false), 0.0),
+            // Across the spindle axis: X from 5 to -5 about (0, 0).
+            (arc_move((5.0, 0.0), (-5.0, 0.0), (0.0, 0.0), true), 0.0),
+            // A quarter circle, the spindle axis at machine X 3.
+            (arc_move((23.0, 0.0), (13.0, -10.0), (13.0, 0.0), false), 3.0),
+        ] {
+            let MoveKind::Arc(arc) = m.kind else { unreachable!() };
+            let x = |t: f64| arc.point_at(m.start, m.end, t).x - axis;
+            let (exact, _) = move_time(&m, axis, v, limit).expect("bounded");
+            let numeric = simpson(x, v, limit, 2_000_000);
+            assert!((exact - numeric).abs() <= 1e-9 * numeric, "{exact} vs {numeric}");
+        }
+    }
+
+    // A line through the clamp radius and across the axis.
+    #[test]
+    fn a_lines_time_matches_simpson() {
+        let (v, limit) = (150_000.0, Some(3000.0));
+        for (a, b) in [(20.0, -30.0), (4.0, 30.0), (-10.0, 5.0), (20.0, 0.0)] {
+            let m = Move {
+                kind: MoveKind::Feed,
+                start: Axes { x: a, ..Axes::ZERO },
+                end: Axes { x: a + b, z: -7.0, ..Axes::ZERO },
+                ..Move::default()
+            };
+            let (exact, _) = move_time(&m, 0.0, v, limit).expect("bounded");
+            let numeric = simpson(|t| a + b * t, v, limit, 2_000_000);
+            assert!((exact - numeric).abs() <= 1e-9 * numeric, "{exact} vs {numeric}");
+        }
+        // With no limit the axis is unbounded.
+        let m = Move { kind: MoveKind::Feed, end: Axes { x: 5.0, ..Axes::ZERO }, ..Move::default() };
+        assert!(move_time(&m, 0.0, v, None).is_none());
+    }
+}

@@ -35,10 +35,8 @@ impl State {
         }
         let css = self.turning.as_ref().is_some_and(|t| t.surface.is_some());
         if !css && (self.speed.is_nan() || self.speed <= 0.0) {
-            let at = match self.speed_span {
-                Some(s) if w.has(b'S') => s,
-                _ => span,
-            };
+            // The S word that set the speed, where one did.
+            let at = self.speed_span.unwrap_or(span);
             return Err(Diagnostic::error(
                 at,
                 format!(

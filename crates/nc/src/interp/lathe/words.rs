@@ -68,7 +68,7 @@ impl State {
         if let Some(t) = &mut self.turning {
             t.increments = increments;
         }
-        Ok(())
+        self.corner_words(w, codes)
     }
 
     /// Reads the end point words of a lathe block into the words the mill's
