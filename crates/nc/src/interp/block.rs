@@ -181,13 +181,13 @@ impl State {
         // A lathe's G70–G73: the whole cycle, the shape read from its blocks;
         // the program may go on after the shape.
         let mut resume = None;
-        let (moved, own_moves) = match has(|c| matches!(c, GCode::Contour(_))) {
+        let mut own_moves = first_move;
+        let moved = match if self.turning.is_some() { has(|c| matches!(c, GCode::Contour(_))) } else { None } {
             Some((GCode::Contour(cycle), gspan)) => {
-                let (action, own) = self.contour_cycle(program, pc, cycle, &w, gspan, line)?;
-                resume = Some(action);
-                (true, own)
+                (resume, own_moves) = self.contour_cycle(program, pc, cycle, &w, gspan, line)?;
+                true
             }
-            _ => (self.motion(codes, &w, span, line)?, first_move),
+            _ => self.motion(codes, &w, span, line)?,
         };
         if self.turning.is_some() {
             let changed = self.corner_moves(own_moves, span)?;
@@ -212,7 +212,11 @@ impl State {
                 }));
             }
         }
-        Ok(end.or(resume).unwrap_or(Action::Next))
+        match (end, resume) {
+            (Some(end), _) => Ok(end),
+            (None, Some(pc)) => Ok(Action::Resume(pc)),
+            (None, None) => Ok(Action::Next),
+        }
     }
 
     /// The block's G codes, decoded, a code overridden by a later one of its

@@ -122,9 +122,11 @@ impl State {
         }
     }
 
-    /// A block with `G70`–`G73` (lathe): the whole cycle. Returns where the
-    /// program goes on, and the first of the moves that are the cycle's own
-    /// (not those of the shape's blocks that `G70` runs as they stand).
+    /// A block with `G70`–`G73` (lathe): the whole cycle. Returns the block
+    /// the program goes on at where it is not the next (after the shape),
+    /// and the first of the moves that are the cycle's own (not those of
+    /// the shape's blocks that `G70` runs as they stand).
+    #[inline(never)]
     pub(in crate::interp) fn contour_cycle(
         &mut self,
         program: &Program,
@@ -133,7 +135,7 @@ impl State {
         w: &Words,
         gspan: Span,
         line: u32,
-    ) -> Result<(Action, usize), Diagnostic> {
+    ) -> Result<(Option<u32>, usize), Diagnostic> {
         let name = self.contour_name(cycle);
         let haas = self.settings.dialect.is_haas();
         let at = |l: u8| if w.has(l) { w.span(l) } else { gspan };
@@ -150,7 +152,7 @@ impl State {
                     format!("{name} needs P and Q, the sequence numbers of the shape's first and last blocks: {name} {form} (alarm PS0061: P or Q not given)"),
                 ));
             }
-            return self.first_block(cycle, w, name).map(|()| (Action::Next, self.toolpath.moves.len()));
+            return self.first_block(cycle, w, name).map(|()| (None, self.toolpath.moves.len()));
         }
         let shape = self.read_shape(program, pc, w, name)?;
         let start = self.tip;
@@ -169,7 +171,7 @@ impl State {
         // The shape's blocks right after the cycle are its, not the program's.
         let next =
             (pc + 1..shape.first + 1).find(|&k| !matches!(program.blocks[k as usize].statement, Statement::Empty));
-        Ok((if next == Some(shape.first) { Action::Resume(shape.last + 1) } else { Action::Next }, own))
+        Ok(((next == Some(shape.first)).then_some(shape.last + 1), own))
     }
 
     fn contour_name(&self, cycle: ContourCycle) -> &'static str {
