@@ -525,3 +525,13 @@ fn chamfers_in_a_row() {
     let t = path("S500\nG00 X20. Z1.\nG01 Z-10. C1. F0.1\nX40. C-1.\nZ-20.\nM30\n", &fanuc());
     assert_eq!(xz(&t), vec![(10.0, 1.0), (10.0, -9.0), (11.0, -10.0), (19.0, -10.0), (20.0, -11.0), (20.0, -20.0)]);
 }
+
+// #4001… read the lathe's groups ("G code list", lathe system): 01 the
+// threading mode (G32), 02 G96, 05 G99 (system A), 16 the plane G18.
+#[test]
+fn modal_reads_follow_the_lathe_groups() {
+    let prog = "G50 S2000\nG96 S100 M03\nG00 X20. Z5.\nG32 Z-5. F1.\n#101=#4001\n#102=#4002\n#105=#4005\n#116=#4016\n\
+                DPRNT[A#101[2]B#102[2]C#105[2]D#116[2]]\nM30\n";
+    let o = outcome(prog, &fanuc());
+    assert_eq!(o.prints, vec!["A32B96C99D18".to_string()], "{:?}", o.prints);
+}

@@ -170,6 +170,38 @@ impl State {
         }
     }
 
+    /// What `#4000+group` reads on a Fanuc or Haas lathe where its G code
+    /// list numbers the groups otherwise than a mill's ("G code list",
+    /// lathe system): 01 the lathe's cycles and threading too, 02 G96/G97,
+    /// 05 G98/G99 in system A (G94/G95 in B, C), 16 the plane. `None`: the
+    /// mill's reading.
+    pub(super) fn lathe_group(&self, group: u32) -> Option<f64> {
+        let t = self.turning.as_ref().filter(|t| t.fanuc)?;
+        let per_rev = self.modal.feed_mode == super::FeedMode::PerRev;
+        Some(match group {
+            1 => match t.motion? {
+                LatheMotion::Single(cycle) => f64::from(cycle.number(t.system)),
+                LatheMotion::Threading if t.system == GCodeSystem::A => 32.0,
+                LatheMotion::Threading => 33.0,
+            },
+            2 if t.surface.is_some() => 96.0,
+            2 => 97.0,
+            5 if t.system == GCodeSystem::A => {
+                if per_rev {
+                    99.0
+                } else {
+                    98.0
+                }
+            }
+            16 => match self.modal.plane {
+                kezuri_geom::Plane::Xy => 17.0,
+                kezuri_geom::Plane::Zx => 18.0,
+                kezuri_geom::Plane::Yz => 19.0,
+            },
+            _ => return None,
+        })
+    }
+
     /// Sets how X words are read from now on (LinuxCNC's G7 and G8).
     pub(super) fn set_x_mode(&mut self, x: XMode) {
         if let Some(t) = &mut self.turning {
