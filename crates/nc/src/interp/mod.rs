@@ -321,6 +321,7 @@ struct ModalCall {
 }
 
 /// Everything the control remembers, apart from the program itself.
+#[derive(Clone)]
 struct State {
     settings: Settings,
     modal: Modal,
@@ -348,6 +349,8 @@ struct State {
     holes: u64,
     /// The threads cut ([`Outcome::threads`]).
     threads: Vec<Thread>,
+    /// What the first blocks of the lathe's G71/G72/G73 left for the next.
+    contour: lathe::contour::Memory,
     /// A lathe's state (`None` on a mill): how X is read, constant surface
     /// speed, the lathe's motion modes.
     turning: Option<lathe::Turning>,
@@ -485,6 +488,7 @@ impl State {
             spline_pq: [0.0; 2],
             holes: 0,
             threads: Vec::new(),
+            contour: Default::default(),
             turning,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),

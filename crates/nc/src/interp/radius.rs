@@ -20,7 +20,7 @@ use crate::number::number;
 use crate::source::{Diagnostic, Span};
 
 /// What the interpreter records for cutter compensation.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct Radius {
     /// The block being executed: its span and 1-based line.
     block: (Span, u32),
