@@ -294,3 +294,70 @@ fn each_linuxcnc_orientation_is_the_fanuc_tip_of_the_same_corner() {
         assert!((tools[q as usize - 1]["nose_radius_mm"].as_f64().unwrap() - r).abs() < 1e-9);
     }
 }
+
+/// A Fanuc lathe program as a shop writes it: system A, X a diameter, the
+/// power-on feed per revolution (G99), constant surface speed under a G50
+/// clamp, then a G32 thread at a constant speed.
+///
+/// By hand (FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe
+/// system: "Constant surface speed control", "Feed per revolution",
+/// "Thread cutting (G32)"): under G96 the spindle turns at
+/// n = 1000 V / (π D) rpm, V in m/min, D the diameter in mm.
+/// - N40 puts the tool at Ø50 (X 25 from the axis): n = 150000 / (50 π) =
+///   954.930 rpm. N50 turns Ø50 to Z-30 there: 32 mm at 0.2 × 954.930 =
+///   190.986 mm/min.
+/// - N60 faces out to Ø80: n falls to 150000 / (80 π) = 596.831 rpm. The
+///   tool moves out at dr/dt = f n(r) = f V / (2 π r), so the move takes
+///   t = π (r1² − r0²) / (f V) = π (40² − 25²) / (0.2 × 150000) min =
+///   6.1261 s; at F0.1 twice that.
+/// - N100 cuts a thread of lead 1.5 at G97 S600 from X 9.5 (Ø19), Z5 to
+///   Z-20 (line 12 of the file).
+/// - The cutting speeds run from 596.831 (N60's end) to 954.930 rpm
+///   (N50); the thread's 600 is between.
+const CSS: &str = "%\nO0003\nN10 G50 S2000\nN20 T0101\nN30 G96 S150 M03\nN40 G00 X50. Z2.\nN50 G01 Z-30. F0.2\n\
+                   N60 X80.\nN70 G00 X100. Z5.\nN80 G97 S600\nN90 G00 X19. Z5.\nN100 G32 Z-20. F1.5\nN110 G00 X30.\n\
+                   N120 M30\n%\n";
+
+#[test]
+fn a_diameter_program_reports_its_speeds_threads_and_time() {
+    let slower = CSS.replace("N60 X80.", "N60 X80. F0.1");
+    let dir = folder(&[("m.toml", "[machine]\nkind = \"lathe\"\nmax_rpm = 3000\n"), ("a.nc", CSS), ("b.nc", &slower)]);
+    let v = check(&dir, "a.nc", Some("m.toml"));
+    assert_eq!(v["dialect"], "fanuc-lathe");
+    let rpm: Vec<f64> = v["spindle_rpm"].as_array().unwrap().iter().map(|r| r.as_f64().unwrap()).collect();
+    assert!((rpm[0] - 596.831).abs() < 1e-3 && (rpm[1] - 954.930).abs() < 1e-3, "{rpm:?}");
+    assert_eq!(
+        v["threads"],
+        serde_json::json!([{"lead": 1.5, "start": [9.5, 0.0, 5.0], "end": [9.5, 0.0, -20.0], "line": 12}])
+    );
+    // X is a radius everywhere: the bounds reach X 50 (Ø100 at N70).
+    assert_eq!((v["bounds"]["min"][0].as_f64(), v["bounds"]["max"][0].as_f64()), (Some(9.5), Some(50.0)));
+    // A lathe's tool is offset by T0101, not G43: no warning of Z moves.
+    assert_eq!(v["warnings"], serde_json::json!([]));
+    // N60 at half the feed per revolution takes its 6.1261 s again.
+    let t = |nc: &str| check(&dir, nc, Some("m.toml"))["time_s"].as_f64().unwrap();
+    let more = t("b.nc") - t("a.nc");
+    assert!((more - 6.1261).abs() < 2e-3, "N60 at F0.1 took {more} s more");
+    // The text report.
+    let text = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
+    assert!(text.contains("  spindle 597 … 955 rpm (cutting)\n"), "{text}");
+    assert!(text.contains("  thread lead 1.5000 mm, Z 5.000 → -20.000, 1 pass, X 9.500 (radius; line 12)\n"), "{text}");
+    // run --emit csv: x is the tool's radius, half of each X word.
+    let csv =
+        ok(&kezuri(&["run", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml"), "--emit", "csv"]));
+    let xs: Vec<f64> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap().parse().unwrap()).collect();
+    assert_eq!(xs, [25.0, 25.0, 40.0, 50.0, 9.5, 9.5, 15.0], "{csv}");
+}
+
+#[test]
+fn constant_surface_speed_without_a_clamp_runs_to_max_rpm() {
+    // Facing from Ø50 to Ø2 at 150 m/min asks for 150000 / (2 π) = 23873
+    // rpm at the end; with no G50 S the spindle stops at the machine's 3000.
+    let nc = "%\nO0004\nN10 T0101\nN20 G96 S150 M03\nN30 G00 X50. Z0.\nN40 G01 X2. F0.1\nN50 G00 Z5.\nN60 M30\n%\n";
+    let dir = folder(&[("m.toml", "[machine]\nkind = \"lathe\"\nmax_rpm = 3000\n"), ("a.nc", nc)]);
+    let v = check(&dir, "a.nc", Some("m.toml"));
+    let rpm: Vec<f64> = v["spindle_rpm"].as_array().unwrap().iter().map(|r| r.as_f64().unwrap()).collect();
+    assert!((rpm[0] - 954.930).abs() < 1e-3 && rpm[1] == 3000.0, "{rpm:?}");
+    let warnings = v["warnings"].to_string();
+    assert!(warnings.contains("3000 rpm"), "{warnings}");
+}
