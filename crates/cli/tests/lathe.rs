@@ -361,3 +361,38 @@ fn constant_surface_speed_without_a_clamp_runs_to_max_rpm() {
     let warnings = v["warnings"].to_string();
     assert!(warnings.contains("3000 rpm"), "{warnings}");
 }
+
+#[test]
+fn a_haas_lathes_u_is_an_incremental_diameter() {
+    // By hand (Haas Lathe Operator's Manual, "U and W incremental"; FANUC
+    // Series 0i-TF Plus Operator's Manual (B-64604EN), lathe system, G code
+    // system A): X40. puts the tool 20 mm from the axis; U-10. takes 10 mm
+    // off the diameter, 5 off the radius (X 15), W-21. goes Z 1 → -20;
+    // W-10. to Z-30; U20. W31. back out to X 25, Z1. The feed per
+    // revolution F0.1 at S1000 is 100 mm/min.
+    let nc = "%\nO00010\nT101\nG50 S2500\nG97 S1000 M03\nG00 X40. Z1.\nG01 U-10. W-21. F0.1\nG01 W-10.\n\
+              G00 U20. W31.\nM30\n%\n";
+    let dir = folder(&[("h.nc", nc)]);
+    let csv = ok(&kezuri(&["run", &path(dir.path(), "h.nc"), "--dialect", "haas-lathe", "--emit", "csv"]));
+    let rows: Vec<Vec<String>> = csv.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect();
+    let got: Vec<(&str, &str, &str, &str)> =
+        rows.iter().map(|r| (r[1].as_str(), r[2].as_str(), r[4].as_str(), r[8].as_str())).collect();
+    assert_eq!(
+        got,
+        [
+            ("rapid", "20", "1", ""),
+            ("feed", "15", "-20", "100"),
+            ("feed", "15", "-30", "100"),
+            ("rapid", "25", "1", "")
+        ],
+        "{csv}"
+    );
+    let v: Value =
+        serde_json::from_str(&ok(&kezuri(&["check", &path(dir.path(), "h.nc"), "--dialect", "haas-lathe", "--json"])))
+            .unwrap();
+    assert_eq!(
+        (v["dialect"].as_str(), v["spindle_rpm"].clone()),
+        (Some("haas-lathe"), serde_json::json!([1000.0, 1000.0]))
+    );
+    assert_eq!(v["warnings"], serde_json::json!([]));
+}
