@@ -16,10 +16,12 @@ use kezuri_machine::{Machine, ToolEntry};
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
 /// or Haas mill (length offsets are how their tools are set), unless the
 /// machine file's `[post]` says otherwise (its `length_offset`, or its
-/// preset's: GRBL has none). A lathe's tool offsets come with its `T` word
-/// (`T0101`), not with `G43`.
+/// preset's: GRBL has none). Never on a lathe (the dialect's or the
+/// machine file's), whose `T` word holds the offset (`T0101`): there is no
+/// `G43`.
 fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
     !dialect.is_lathe()
+        && !machine.kind.turns()
         && machine
             .post
             .length_offset()
