@@ -14,18 +14,19 @@ use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
 
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
-/// or Haas mill (length offsets are how their tools are set), unless the
-/// machine file's `[post]` says otherwise (its `length_offset`, or its
-/// preset's: GRBL has none). Never on a lathe (the dialect's or the
-/// machine file's), whose `T` word holds the offset (`T0101`): there is no
-/// `G43`.
+/// or Haas control (length offsets are how their tools are set), unless
+/// the machine file's `[post]` says otherwise (its `length_offset`, or its
+/// preset's: GRBL has none). Never on a lathe, whose T word holds the
+/// offset.
 fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
-    !dialect.is_lathe()
-        && !machine.kind.turns()
-        && machine
-            .post
-            .length_offset()
-            .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
+    // A lathe's T word carries its own offset (T0101): there is no G43.
+    if dialect.is_lathe() || machine.settings.lathe.is_some() {
+        return false;
+    }
+    machine
+        .post
+        .length_offset()
+        .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
 }
 
 /// The first move that changes Z after each tool change with no tool
