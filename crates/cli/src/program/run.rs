@@ -423,8 +423,8 @@ impl Report {
     }
 }
 
-/// The spindle speed's range over the cutting moves (straight, arc and
-/// probing feeds) of `path`, rpm: at each one's start (the move before's
+/// The spindle speed's range over the cutting moves (straight and arc
+/// feeds) of `path`, rpm: at each one's start (the move before's
 /// end) and end ([`kezuri_geom::Move::speed`] is the speed at a move's end;
 /// under constant surface speed it changes along the move). Speeds with the
 /// spindle stopped, or on with no speed given, are not counted; `None`
@@ -438,7 +438,7 @@ pub fn spindle_range(path: &Toolpath) -> Option<(f64, f64)> {
     };
     let mut before: Option<&Move> = None;
     for m in &path.moves {
-        let cuts = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_) | MoveKind::Probe);
+        let cuts = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
         if cuts && m.spindle != Spindle::Off {
             // The speed the move starts at, where the spindle was on before it.
             if let Some(b) = before.filter(|b| b.spindle != Spindle::Off) {
