@@ -321,7 +321,8 @@ const CSS: &str = "%\nO0003\nN10 G50 S2000\nN20 T0101\nN30 G96 S150 M03\nN40 G00
 #[test]
 fn a_diameter_program_reports_its_speeds_threads_and_time() {
     let slower = CSS.replace("N60 X80.", "N60 X80. F0.1");
-    let dir = folder(&[("m.toml", "[machine]\nkind = \"lathe\"\nmax_rpm = 3000\n"), ("a.nc", CSS), ("b.nc", &slower)]);
+    let machine = "[machine]\nkind = \"lathe\"\nmax_rpm = 3000\n[tools.T1]\nnose_radius = 0.8\ntip = 3\n";
+    let dir = folder(&[("m.toml", machine), ("a.nc", CSS), ("b.nc", &slower)]);
     let v = check(&dir, "a.nc", Some("m.toml"));
     assert_eq!(v["dialect"], "fanuc-lathe");
     let rpm: Vec<f64> = v["spindle_rpm"].as_array().unwrap().iter().map(|r| r.as_f64().unwrap()).collect();
@@ -332,6 +333,12 @@ fn a_diameter_program_reports_its_speeds_threads_and_time() {
     );
     // X is a radius everywhere: the bounds reach X 50 (Ø100 at N70).
     assert_eq!((v["bounds"]["min"][0].as_f64(), v["bounds"]["max"][0].as_f64()), (Some(9.5), Some(50.0)));
+    // T0101 is tool 1, with its nose.
+    let t1 = &v["tools"][0];
+    assert_eq!(
+        (t1["number"].as_u64(), t1["nose_radius_mm"].as_f64(), t1["tip"].as_u64()),
+        (Some(1), Some(0.8), Some(3))
+    );
     // A lathe's tool is offset by T0101, not G43: no warning of Z moves.
     assert_eq!(v["warnings"], serde_json::json!([]));
     // N60 at half the feed per revolution takes its 6.1261 s again.
@@ -341,6 +348,7 @@ fn a_diameter_program_reports_its_speeds_threads_and_time() {
     // The text report.
     let text = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
     assert!(text.contains("  spindle 597 … 955 rpm (cutting)\n"), "{text}");
+    assert!(text.contains("  tool  T1 H1 nose 0.8 mm tip 3\n"), "{text}");
     assert!(text.contains("  thread lead 1.5000 mm, Z 5.000 → -20.000, 1 pass, X 9.500 (radius; line 12)\n"), "{text}");
     // run --emit csv: x is the tool's radius, half of each X word.
     let csv =

@@ -74,8 +74,9 @@ pub fn unoffset_z_moves(path: &Toolpath, tools: &BTreeMap<u32, ToolEntry>) -> Ve
     out
 }
 
-/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, `T5 (not in the
-/// tool table)`, or `no tool (T0)`.
+/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, a turning tool
+/// `T1 H1 nose 0.8 mm tip 3 (name)`, `T5 (not in the tool table)`, or `no
+/// tool (T0)`.
 fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
     match entry {
         _ if t == 0 => "no tool (T0)".to_string(),
@@ -88,6 +89,9 @@ fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
             s += &format!(" H{}", e.h);
             if let Some(d) = e.d {
                 s += &format!(" D{d}");
+            }
+            if let Some(n) = e.nose {
+                s += &format!(" nose {} mm tip {}", n.radius, n.tip);
             }
             if let Some(n) = &e.name {
                 s += &format!(" ({n})");
@@ -188,6 +192,8 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
                 "h": e.as_ref().map(|e| e.h),
                 "d": e.as_ref().and_then(|e| e.d),
                 "name": e.as_ref().and_then(|e| e.name.clone()),
+                "nose_radius_mm": e.as_ref().and_then(|e| e.nose).map(|n| n.radius),
+                "tip": e.as_ref().and_then(|e| e.nose).map(|n| n.tip),
             })).collect::<Vec<_>>(),
             "errors": headlines(true).into_iter().chain(refusal.iter().cloned()).collect::<Vec<_>>(),
             "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
