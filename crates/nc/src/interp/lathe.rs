@@ -6,6 +6,8 @@
 //! tool's distance from the spindle axis (a radius), whatever the program's
 //! diameter mode, as LinuxCNC's rs274 prints it.
 
+pub mod nose;
+
 use kezuri_geom::Axes;
 
 /// How the program's X words are read.

@@ -42,6 +42,7 @@ use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
 pub use lathe::{GCodeSystem, Lathe, Nose, Thread, XMode};
+pub use lathe::nose::{nose_centre_path, TipNumbers};
 pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
 use signals::Outputs;
