@@ -12,9 +12,11 @@
 
 use std::collections::BTreeMap;
 
-use kezuri_geom::{Axes, MoveKind, Toolpath};
+use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
 
 use super::Nose;
+use crate::interp::comp::{compensate_traced, Comp, Rules};
+use crate::{Error, ErrorKind, Place};
 
 /// Whose numbering a tip direction follows: the same picture, drawn with X
 /// up (Fanuc and Haas) or X down (LinuxCNC's front tool post lathe).
@@ -127,6 +129,55 @@ pub fn nose_centre_path(path: &Toolpath, noses: &BTreeMap<u32, Nose>, numbers: T
         }
     }
     out
+}
+
+/// Tool nose radius compensation: [`compensate_traced`] puts the nose
+/// centre on the programmed contour offset by the nose radius; each move
+/// made with compensation on then ends at that centre plus its tip vector
+/// `tips[i]` (X, Z), where the machine puts the imaginary tip. Moves made
+/// with compensation off stay on the programmed points, as the program is
+/// written to the imaginary tip: the start-up move runs from the
+/// programmed point to the first tip point, the cancel move back.
+///
+/// Returns the moves and, for each, the input move it comes from.
+///
+/// # Errors
+/// As [`compensate_traced`]; and an arc as the start-up move of a tool
+/// whose tip is off its centre (LinuxCNC's entry arc): its start is the
+/// tip, its end and centre the centre's, which no arc joins.
+pub(in crate::interp) fn compensate_nose(
+    moves: &[Move],
+    tags: &[Option<Comp>],
+    tips: &[(f64, f64)],
+    rules: Rules,
+) -> Result<(Vec<Move>, Vec<usize>), Error> {
+    let (mut out, origin) = compensate_traced(moves, tags, rules)?;
+    if tips.iter().all(|&v| v == (0.0, 0.0)) {
+        return Ok((out, origin));
+    }
+    let mut before: Option<Axes> = None;
+    for (m, &o) in out.iter_mut().zip(&origin) {
+        let on = tags.get(o).copied().flatten().is_some();
+        let v = if on { tips.get(o).copied().unwrap_or_default() } else { (0.0, 0.0) };
+        m.end = shifted(m.end, v, 1.0);
+        if let MoveKind::Arc(arc) = &mut m.kind {
+            arc.center[0] += v.0;
+            arc.center[2] += v.1;
+        }
+        if let Some(p) = before {
+            // An arc keeps its radius only where its start moves as its
+            // centre does.
+            let own = shifted(m.start, v, 1.0);
+            if matches!(m.kind, MoveKind::Arc(_)) && (p.x - own.x).hypot(p.z - own.z) > 1e-9 {
+                let message = "an arc cannot start tool nose radius compensation with a tip direction off the nose \
+                               centre: make the start-up move G00 or G01";
+                return Err(Error::new(ErrorKind::Compensation, message).at(Place::Compensated(o)));
+            }
+            m.start = p;
+        }
+        before = Some(m.end);
+    }
+    Ok((out, origin))
 }
 
 #[cfg(test)]
