@@ -510,3 +510,63 @@ M30
     assert!(e.message.starts_with("tool nose radius compensation:") && e.message.contains("nose radius"), "{}", e.message);
     assert!(e.message.contains("PS0041"), "{}", e.message);
 }
+
+#[test]
+fn lathe_nose_linuxcnc_numbers_the_tip_with_x_mirrored_and_agrees_with_rs274() {
+    // The OD profile in LinuxCNC's words, its OD tool being orientation 2
+    // (its figure is drawn with X down, a front tool post): the imaginary
+    // tip (−R, −R) from the centre, Fanuc's 3. LinuxCNC's own corners: the
+    // entry ends perpendicular and is moved to the inside corner's
+    // intersection (X0.8 Z0.8, tip X0 Z0); convex corners get an arc of
+    // the nose centre round the programmed corner (from the face's offset
+    // end X4 Z0.8 to the chamfer's offset start X4 + 0.8/√2 Z0.8/√2, then
+    // from its end X6 + 0.8/√2 Z−2 + 0.8/√2 round X6 Z−2 to X6.8 Z−2);
+    // G40 leaves no vector: the last OD ends at its offset end X14.8 Z−20.
+    // Tips are those less (0.8, 0.8). rs274 (tool table `T1 P1 D0.062992126
+    // Q2`, its 1.6 mm diameter in inches) prints the same to 4 decimals:
+    // 0/−0, 3.2/0, arc to 3.7657/−0.2343, 5.7657/−2.2343, arc to 6/−2.8,
+    // 6/−10.8, arc to 8.2/−13, 11.2/−13, arc to 14/−15.8, 14/−20.8, 18/−20.
+    let text = "G18 G21 G40 G90
+T1 M6
+G0 X20 Z10
+G0 X0 Z3
+G42 G1 Z0 F100
+X4
+X6 Z-2
+Z-10
+G2 X9 Z-13 I3 K0
+G1 X12
+G3 X14 Z-15 I0 K-2
+G1 Z-20
+G40 G0 X18
+M2
+";
+    let h = 0.8 / S2;
+    let want = [
+        (20.0, 10.0),
+        (0.0, 3.0),
+        (0.0, 0.0),
+        (3.2, 0.0),
+        (4.0 + h - 0.8, h - 0.8),
+        (6.0 + h - 0.8, -2.0 + h - 0.8),
+        (6.0, -2.8),
+        (6.0, -10.8),
+        (8.2, -13.0),
+        (11.2, -13.0),
+        (14.0, -15.8),
+        (14.0, -20.8),
+        (18.0, -20.0),
+    ];
+    let settings = Settings {
+        lathe: Some(Lathe { x: XMode::Radius, system: GCodeSystem::A }),
+        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 2 })]),
+        comp_rules: kezuri_nc::interp::comp::Rules::LinuxCnc,
+        ..common::linuxcnc::settings()
+    };
+    let path = common::linuxcnc::path_with(text, &settings);
+    assert_ends("LinuxCNC tip path", &path, &want);
+    let rs274 = [(3.7657, -0.2343), (5.7657, -2.2343)];
+    for (k, (x, z)) in [(4, rs274[0]), (5, rs274[1])] {
+        assert!((want[k].0 - x).abs() < 1e-4 && (want[k].1 - z).abs() < 1e-4);
+    }
+}
