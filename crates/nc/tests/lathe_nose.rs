@@ -153,7 +153,7 @@ fn lathe_nose_tip_3_od_with_g42_keeps_the_tip_on_the_diameters_and_faces() {
     assert_ends("centre path", &centre, &want);
     // The arcs keep their radii round centres moved with them: the fillet
     // 2.2 round X9 Z−10 (the tip's round X8.2 Z−10.8), the round 2.8.
-    let arcs: Vec<_> = centre.moves.iter().filter_map(|m| arc_of(m)).collect();
+    let arcs: Vec<_> = centre.moves.iter().filter_map(arc_of).collect();
     assert_eq!(arcs.len(), 2);
     for ((c, r), (wc, wr)) in arcs.iter().zip([((9.0, -10.0), 2.2), ((12.0, -15.0), 2.8)]) {
         assert!((c.0 - wc.0).abs() < 1e-9 && (c.1 - wc.1).abs() < 1e-9 && (r - wr).abs() < 1e-9, "{c:?} {r}");
@@ -359,7 +359,9 @@ fn lathe_nose_uncompensated_error_on_a_taper_and_an_arc_is_its_geometry() {
     let w = (r, r);
     let tol = 2e-6;
     // The ODs and faces, away from their ends.
-    for (p, n) in [((6.0, -6.0), (1.0, 0.0)), ((14.0, -17.5), (1.0, 0.0)), ((2.0, 0.0), (0.0, 1.0)), ((10.5, -13.0), (0.0, 1.0))] {
+    for (p, n) in
+        [((6.0, -6.0), (1.0, 0.0)), ((14.0, -17.5), (1.0, 0.0)), ((2.0, 0.0), (0.0, 1.0)), ((10.5, -13.0), (0.0, 1.0))]
+    {
         let e = cut_surface(&c, r, p, n);
         assert!(e.abs() < tol, "{p:?}: {e}");
     }
@@ -507,7 +509,11 @@ M30
     let settings = lathe(1, Nose { radius: 0.8, tip: 3 });
     let ran = common::run("t.nc", text, &settings);
     let e = ran.error().expect("alarm");
-    assert!(e.message.starts_with("tool nose radius compensation:") && e.message.contains("nose radius"), "{}", e.message);
+    assert!(
+        e.message.starts_with("tool nose radius compensation:") && e.message.contains("nose radius"),
+        "{}",
+        e.message
+    );
     assert!(e.message.contains("PS0041"), "{}", e.message);
 }
 
@@ -569,4 +575,32 @@ M2
     for (k, (x, z)) in [(4, rs274[0]), (5, rs274[1])] {
         assert!((want[k].0 - x).abs() < 1e-4 && (want[k].1 - z).abs() < 1e-4);
     }
+}
+
+#[test]
+fn lathe_nose_entry_arc_with_the_tip_off_the_centre_is_refused() {
+    // LinuxCNC's rules allow an arc as the entry move; with the tip off
+    // the nose centre its start is the tip and its end the compensated
+    // tip, which no arc round one centre joins: refused at that block.
+    let text = "G18 G21 G40 G90
+T1 M6
+G0 X10 Z3
+G42 G2 X13 Z0 I3 K0 F100
+G1 Z-10
+G40 G0 X18
+M2
+";
+    let settings = Settings {
+        lathe: Some(Lathe { x: XMode::Radius, system: GCodeSystem::A }),
+        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 2 })]),
+        comp_rules: kezuri_nc::interp::comp::Rules::LinuxCnc,
+        ..common::linuxcnc::settings()
+    };
+    let (out, sources) = common::linuxcnc::run_with(text, &settings).expect("parses");
+    let e = out.diagnostics.iter().find(|d| d.is_error()).expect("refused");
+    let headline = e.headline(&sources);
+    assert!(headline.starts_with("t.ngc:4:") && headline.contains("start-up move"), "{headline}");
+    // With the tip on the centre (0) the same program runs.
+    let settings = Settings { noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 0 })]), ..settings };
+    common::linuxcnc::path_with(text, &settings);
 }

@@ -116,8 +116,10 @@ impl State {
         }
         let at = if d.is_some() { dspan } else { gspan };
         if !diameter && self.settings.lathe_conventions().is_some() {
-            if let Some((radius, tip)) = self.nose_in_use(&name, d, gspan)? {
-                self.radius.on = Some(On { side, radius, register: None, tip });
+            if let Some(nose) = self.nose_in_use(&name, d, gspan)? {
+                let numbers = if linuxcnc { TipNumbers::LinuxCnc } else { TipNumbers::Fanuc };
+                let tip = nose.tip_vector(numbers);
+                self.radius.on = Some(On { side, radius: nose.radius, register: None, tip });
                 self.modal.radius_comp = code;
                 self.comp_mark(name);
                 return Ok(());
@@ -303,21 +305,24 @@ impl State {
         }
         let start = tags[..end].iter().rposition(Option::is_none).map_or(0, |k| k + 1);
         let tips = &self.radius.tips[start..end];
-        let (centre, _) = compensate_nose(&moves[start..end], &tags[start..end], tips, self.settings.comp_rules).ok()?;
+        let (centre, _) =
+            compensate_nose(&moves[start..end], &tags[start..end], tips, self.settings.comp_rules).ok()?;
         centre.last().map(|m| m.end)
     }
 
     /// A compensation alarm's text: a lathe's G41/G42 compensate the nose.
     fn comp_alarm(&self, message: &str) -> String {
         if self.settings.lathe_conventions().is_some() {
-            let message = message.replace("cutter compensation", "nose radius compensation").replace("cutter radius", "nose radius");
+            let message = message
+                .replace("cutter compensation", "nose radius compensation")
+                .replace("cutter radius", "nose radius");
             format!("tool nose radius compensation: {message}")
         } else {
             format!("cutter compensation: {message}")
         }
     }
 
-    /// The nose radius and tip vector of the tool a lathe's G41/G42
+    /// The nose of the tool a lathe's G41/G42
     /// (`name`, the G word at `gspan`) compensates: the tool in use, or
     /// with LinuxCNC's rules the tool its D word names. `None` where
     /// LinuxCNC's tool has no nose but may have a radius in the tool table
@@ -325,20 +330,19 @@ impl State {
     /// a radius that is no length is an error; a tool with no nose a
     /// warning and radius 0, or an error where the nose centre path is
     /// needed.
-    fn nose_in_use(&mut self, name: &str, d: Option<f64>, gspan: Span) -> Result<Option<(f64, (f64, f64))>, Diagnostic> {
+    fn nose_in_use(&mut self, name: &str, d: Option<f64>, gspan: Span) -> Result<Option<Nose>, Diagnostic> {
         let linuxcnc = self.settings.comp_rules == Rules::LinuxCnc;
         let tool = match d {
             Some(d) if linuxcnc && d >= 0.0 && d.fract() == 0.0 => d as u32,
             _ => self.tool,
         };
-        let numbers = if linuxcnc { TipNumbers::LinuxCnc } else { TipNumbers::Fanuc };
-        let nose: Option<Nose> = self.settings.noses.get(&tool).copied();
+        let nose = self.settings.noses.get(&tool).copied();
         match nose {
             Some(nose) => {
                 nose.check().map_err(|why| {
                     Diagnostic::error(gspan, format!("{name}: tool {tool}'s {why}: the nose centre path cannot be made"))
                 })?;
-                Ok(Some((nose.radius, nose.tip_vector(numbers))))
+                Ok(Some(nose))
             }
             None if linuxcnc => Ok(None),
             None if self.settings.radii_required => Err(Diagnostic::error(
@@ -357,7 +361,7 @@ impl State {
                          nose_radius and tip): compensation with radius 0, the programmed path"
                     ),
                 );
-                Ok(Some((0.0, (0.0, 0.0))))
+                Ok(Some(Nose { radius: 0.0, tip: 0 }))
             }
         }
     }

@@ -155,7 +155,9 @@ pub(in crate::interp) fn compensate_nose(
     if tips.iter().all(|&v| v == (0.0, 0.0)) {
         return Ok((out, origin));
     }
-    let mut before: Option<Axes> = None;
+    // Each move starts where the one before it ends; the first where it
+    // starts, the tip before compensation.
+    let mut before = out.first().map(|m| m.start);
     for (m, &o) in out.iter_mut().zip(&origin) {
         let on = tags.get(o).copied().flatten().is_some();
         let v = if on { tips.get(o).copied().unwrap_or_default() } else { (0.0, 0.0) };
@@ -169,8 +171,8 @@ pub(in crate::interp) fn compensate_nose(
             // centre does.
             let own = shifted(m.start, v, 1.0);
             if matches!(m.kind, MoveKind::Arc(_)) && (p.x - own.x).hypot(p.z - own.z) > 1e-9 {
-                let message = "an arc cannot start tool nose radius compensation with a tip direction off the nose \
-                               centre: make the start-up move G00 or G01";
+                let message = "kezuri does not model an arc as the start-up move of tool nose radius compensation \
+                               with a tip direction off the nose centre: make the start-up move G0 or G1";
                 return Err(Error::new(ErrorKind::Compensation, message).at(Place::Compensated(o)));
             }
             m.start = p;
