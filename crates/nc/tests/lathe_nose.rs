@@ -25,14 +25,16 @@ use std::collections::BTreeMap;
 
 use kezuri_geom::{MoveKind, Toolpath};
 use kezuri_nc::interp::{nose_centre_path, GCodeSystem, Lathe, Nose, Outcome, Settings, TipNumbers, XMode};
+use kezuri_nc::Dialect;
 
 mod common;
 
 /// √2.
 const S2: f64 = std::f64::consts::SQRT_2;
 
-/// A lathe with X read as a radius, the plain Fanuc dialect, `nose` as
-/// tool `tool`'s.
+/// A lathe with X read as a radius, the plain Fanuc dialect (a lathe's
+/// codes, system A: `G98` feed per minute, `T0101` tool 1 with offset 1),
+/// `nose` as tool `tool`'s.
 fn lathe(tool: u32, nose: Nose) -> Settings {
     Settings {
         lathe: Some(Lathe { x: XMode::Radius, system: GCodeSystem::A }),
@@ -65,8 +67,8 @@ fn assert_ends(what: &str, path: &Toolpath, want: &[(f64, f64)]) {
 /// Z−15) onto the OD X14, the OD to Z−20, cancel up to X18.
 fn od(comp: &str, cancel: &str, tool: u32) -> String {
     format!(
-        "G18 G21 G40
-T{tool} M06
+        "G18 G21 G40 G98
+T{tool:02}{tool:02}
 G00 X20. Z10.
 G00 X0. Z3.
 {comp} G01 Z0. F100.
@@ -187,8 +189,8 @@ fn lathe_nose_tip_8_od_with_g42_is_the_centre_less_r_in_x() {
 /// X2, the bore to Z−20, cancel down to X0.5.
 fn bore(comp: &str) -> String {
     format!(
-        "G18 G21 G40
-T2 M06
+        "G18 G21 G40 G98
+T0202
 G00 X14. Z3.
 {comp} G01 Z0. F100.
 X10.
@@ -495,8 +497,8 @@ fn lathe_nose_missing_is_warned_of_or_refused_where_the_centre_path_is_needed() 
 fn lathe_nose_interference_is_the_nose_s_alarm() {
     // A concave fillet of radius 0.5 with a nose of 0.8: the nose cannot
     // get in (Fanuc alarm PS0041), said of the nose.
-    let text = "G18 G21 G40
-T1 M06
+    let text = "G18 G21 G40 G98
+T0101
 G00 X10. Z3.
 G42 G01 Z0. F100.
 G01 X6.
@@ -603,4 +605,77 @@ M2
     // With the tip on the centre (0) the same program runs.
     let settings = Settings { noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 0 })]), ..settings };
     common::linuxcnc::path_with(text, &settings);
+}
+
+/// The OD profile as a Fanuc lathe program: X a diameter (every X above
+/// doubled; I and K stay radii), power-on G18, T0101 selecting tool 1 with
+/// offset 1 at once, G98 feed per minute (system A).
+const OD_DIAMETER: &str = "G21 G40 G98
+T0101
+G00 X40. Z10.
+G00 X0. Z3.
+G42 G01 Z0. F100.
+X8.
+X12. Z-2.
+Z-10.
+G02 X18. Z-13. I3. K0.
+G01 X24.
+G03 X28. Z-15. I0. K-2.
+G01 Z-20.
+G40 G00 X36.
+M30
+";
+
+#[test]
+fn lathe_nose_fanuc_lathe_program_in_diameters_gives_the_same_tip_path() {
+    // X halved where it is read: the moves are those of the radius
+    // program, the tip path the same hand-derived points (tip 3, R 0.8).
+    for dialect in [Dialect::FanucLathe, Dialect::HaasLathe] {
+        let settings =
+            Settings { dialect, noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 3 })]), ..Settings::default() };
+        let text =
+            if dialect == Dialect::HaasLathe { OD_DIAMETER.replace("T0101", "T101") } else { OD_DIAMETER.to_string() };
+        let out = run(&text, &settings);
+        let mut want = OD_APPROACH.to_vec();
+        want.extend(tips(&OD_CENTRE, (-0.8, -0.8)));
+        assert_ends(&format!("{dialect:?} tip path"), &out.toolpath, &want);
+        let centre = nose_centre_path(&out.toolpath, &settings.noses, TipNumbers::Fanuc);
+        assert_ends(
+            &format!("{dialect:?} centre"),
+            &centre,
+            &[&[(20.8, 10.8), (0.8, 3.8)][..], &OD_CENTRE[..8], &[(18.8, -19.2)]].concat(),
+        );
+    }
+}
+
+#[test]
+fn lathe_nose_chamfer_and_corner_words_are_compensated_as_the_moves_they_make() {
+    // The same OD profile with its chamfer and rounds given as chamfer and
+    // corner R words (system A; the sign is the way the next move goes):
+    // the face X12. C-2. ends 2 short of the corner X6 Z0 (radius) and
+    // chamfers to X6 Z−2; Z-13. R3. rounds the OD into the shoulder face
+    // (the concave R3 round X9 Z−10); X28. R-2. rounds the shoulder into
+    // the OD X14 (the convex R2 round X12 Z−15).
+    // Those are the moves of the written-out program: the same tip path.
+    let text = "G21 G40 G98
+T0101
+G00 X40. Z10.
+G00 X0. Z3.
+G42 G01 Z0. F100.
+X12. C-2.
+Z-13. R3.
+X28. R-2.
+Z-20.
+G40 G00 X36.
+M30
+";
+    let settings = Settings {
+        dialect: Dialect::FanucLathe,
+        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 3 })]),
+        ..Settings::default()
+    };
+    let out = run(text, &settings);
+    let mut want = OD_APPROACH.to_vec();
+    want.extend(tips(&OD_CENTRE, (-0.8, -0.8)));
+    assert_ends("tip path", &out.toolpath, &want);
 }
