@@ -679,3 +679,111 @@ M30
     want.extend(tips(&OD_CENTRE, (-0.8, -0.8)));
     assert_ends("tip path", &out.toolpath, &want);
 }
+
+/// The finishing pass of a real program that leaves the nose to the
+/// control (a Fusion 360 Fanuc lathe post: `G42` on the first profile
+/// move, `G40` on the retract); MaestroFusion360/easy_gcode_plot,
+/// tests/fixtures/turning/compensation_control_on.nc (MIT), its lines 64–94.
+const FUSION_FINISH: &str = "G21
+N4 T0202
+G99 G18
+G54
+M8
+G97 S227 M3
+G0 X128.27 Z25.4
+G50 S5000
+G96 S91 M3
+G0 Z-1.267
+X14.616
+G1 X13.883 F0.127
+G42 X14. Z-3.24
+X16. Z-4.24
+Z-8.44
+X18.
+X20. Z-9.44
+Z-28.393
+X30. Z-36.94
+X30.046 Z-40.963
+X36. Z-43.94
+Z-65.94
+X41.
+Z-85.94
+X56. Z-93.44
+X98.
+X100. Z-94.44
+Z-111.06
+G40 X102.874 Z-112.697
+X103.316
+G0 X128.27
+Z25.4
+M30
+";
+
+#[test]
+fn lathe_nose_a_cam_finishing_pass_with_g42_cuts_its_contour() {
+    // Tool 2 with a 0.4 nose, tip 3 (an OD finishing tool). Every
+    // programmed move between the G42 and the G40 block is cut exactly:
+    // the swept nose touches its middle (tool side: right of travel,
+    // (X, Z) = (−dZ, dX)) and cuts nothing beyond it.
+    let settings = Settings {
+        dialect: Dialect::FanucLathe,
+        noses: BTreeMap::from([(2, Nose { radius: 0.4, tip: 3 })]),
+        ..Settings::default()
+    };
+    let out = run(FUSION_FINISH, &settings);
+    let programmed = out.programmed.as_ref().expect("compensated");
+    let line = |word: &str| FUSION_FINISH.lines().position(|l| l.starts_with(word)).expect("in the program") as u32 + 1;
+    let (on, off) = (line("G42"), line("G40"));
+    let c = centres(&nose_centre_path(&out.toolpath, &settings.noses, TipNumbers::Fanuc), 0.0005);
+    let mut checked = 0;
+    for m in programmed.moves.iter().filter(|m| m.line > on && m.line < off) {
+        let (dx, dz) = (m.end.x - m.start.x, m.end.z - m.start.z);
+        let len = dx.hypot(dz);
+        let p = ((m.start.x + m.end.x) / 2.0, (m.start.z + m.end.z) / 2.0);
+        let e = cut_surface(&c, 0.4, p, (-dz / len, dx / len));
+        assert!(e.abs() < 2e-6, "line {}: {e}", m.line);
+        checked += 1;
+    }
+    assert_eq!(checked, 15);
+}
+
+#[test]
+fn lathe_nose_the_cam_pass_without_g42_is_off_by_each_line_s_geometry() {
+    // The same pass with G42 and G40 taken out: the imaginary tip (tip 3,
+    // R 0.4) follows the contour, the nose centre is (0.4, 0.4) off it,
+    // and each line (1 mm or longer: its neighbours' noses do not reach
+    // its middle) is cut (0.4, 0.4)·n − 0.4 beyond itself: 0 on the
+    // diameters and faces, 0.4·(√2 − 1) = 0.165685 on the five 45° lines
+    // (the chamfers X14 to X16, X18 to X20, X98 to X100, and X30.046 to
+    // X36, X41 to X56), 0.4·(sin a + cos a − 1) on a taper at a to the
+    // axis.
+    let r = 0.4;
+    let text = FUSION_FINISH.replace("G42 ", "").replace("G40 ", "");
+    let settings = Settings {
+        dialect: Dialect::FanucLathe,
+        noses: BTreeMap::from([(2, Nose { radius: r, tip: 3 })]),
+        ..Settings::default()
+    };
+    let out = run(&text, &settings);
+    let c = centres(&nose_centre_path(&out.toolpath, &settings.noses, TipNumbers::Fanuc), 0.0005);
+    let line = |word: &str| FUSION_FINISH.lines().position(|l| l.starts_with(word)).expect("in the program") as u32 + 1;
+    let (on, off) = (line("G42"), line("G40"));
+    let mut chamfers = 0;
+    for m in out.toolpath.moves.iter().filter(|m| m.line > on && m.line < off) {
+        let (dx, dz) = (m.end.x - m.start.x, m.end.z - m.start.z);
+        let len = dx.hypot(dz);
+        if len < 1.0 {
+            continue;
+        }
+        let n = (-dz / len, dx / len);
+        let want = r * (n.0 + n.1) - r;
+        let p = ((m.start.x + m.end.x) / 2.0, (m.start.z + m.end.z) / 2.0);
+        let e = cut_surface(&c, r, p, n);
+        assert!((e - want).abs() < 2e-6, "line {}: {e}, want {want}", m.line);
+        if (dx.abs() - dz.abs()).abs() < 1e-9 {
+            assert!((e - r * (S2 - 1.0)).abs() < 2e-6);
+            chamfers += 1;
+        }
+    }
+    assert_eq!(chamfers, 5);
+}
