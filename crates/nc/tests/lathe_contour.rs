@@ -636,3 +636,17 @@ fn a_chamfer_in_the_shape_is_cut_and_may_not_end_it() {
     assert!(head.starts_with("t.nc:5:15: error"), "{head}");
     assert!(message.contains("PS0069"), "{message}");
 }
+
+#[test]
+fn a_haas_depth_with_a_fraction_is_the_cycles_not_a_compensation_register() {
+    // Haas G71's D is the depth of cut (radius), D0.5 as real programs give
+    // it; it is no cutter compensation register (which must be whole). From
+    // X42. (radius 21) the cuts along Z to the shape's Z-10. are every 0.5 mm
+    // of radius: 20.5, 20.0, ... down to 10.5, above the shape's X20.
+    // (radius 10) with nothing left (U0 W0): 21 cuts.
+    let text = "G00 X42. Z2.\nG71 P30 Q40 D0.5 U0 W0 F0.2\nN30 G00 X20.\nG01 Z-10.\nN40 X42.\nM30\n";
+    let cuts: Vec<f64> =
+        moves(&run(text, &haas())).iter().filter(|m| m.0 == 'F' && m.2 == -10.0).map(|m| m.1).collect();
+    let want: Vec<f64> = (0..21).map(|k| 20.5 - 0.5 * f64::from(k)).collect();
+    assert_eq!(cuts, want);
+}

@@ -173,7 +173,10 @@ impl State {
         if self.turning.is_some() {
             self.lathe_speed_tool(&w, codes)?;
         }
-        self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        // In a lathe cycle's block D is the cycle's (Haas: a depth of cut).
+        if !self.lathe_own_words() {
+            self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        }
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
