@@ -41,6 +41,7 @@ use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
+pub use lathe::nose::{nose_centre_path, TipNumbers};
 pub use lathe::{GCodeSystem, Lathe, Nose, Thread, XMode};
 pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;

@@ -8,6 +8,7 @@
 
 pub(super) mod contour;
 mod corner;
+pub mod nose;
 mod profile;
 mod roughing;
 mod single;
