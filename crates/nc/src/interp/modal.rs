@@ -141,6 +141,20 @@ impl Cycle {
     }
 }
 
+/// The lathe's multiple repetitive cycles that work from a finishing shape
+/// (Fanuc G70–G73 in G code systems A and B, G72–G75 in C; Haas G70–G73).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourCycle {
+    /// G70: the shape itself, once.
+    Finishing,
+    /// G71: stock removal in turning (cuts along Z).
+    Turning,
+    /// G72: stock removal in facing (cuts along X).
+    Facing,
+    /// G73: pattern repeating (the shape again, each time nearer).
+    Pattern,
+}
+
 /// Group 10: where a canned cycle returns after each hole.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CycleReturn {
@@ -256,6 +270,8 @@ pub enum GCode {
     FeedMode(FeedMode),
     /// G73 … G89 canned cycles
     CannedCycle(Cycle),
+    /// A lathe's G70–G73: the cycles of a finishing shape (one-shot).
+    Contour(ContourCycle),
     /// How the control smooths or looks ahead, not where it goes: Fanuc
     /// G05 P (high-speed machining), G05.1 Q (AI contour control), G08 P
     /// (look-ahead), Haas G103 P (look-ahead limit) and G187 (smoothness). Kept in written programs. The
@@ -395,7 +411,7 @@ impl GCode {
             ExactStop => 100,
             ConstantSpeedOff | ConstantSpeed => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
-            | ResetShift | Pocket(_) | LatheSetPosition | Grooving(_) | MultipleThreading => 0,
+            | ResetShift | Pocket(_) | Contour(_) | LatheSetPosition | Grooving(_) | MultipleThreading => 0,
         }
     }
 }
@@ -459,6 +475,11 @@ impl GCode {
             (960, _) => ConstantSpeed,
             // G93 (inverse time) is no lathe code.
             (930, _) => return None,
+            // The cycles of a finishing shape (lathe/contour.rs).
+            (700, A | B) | (720, C) => Contour(ContourCycle::Finishing),
+            (710, A | B) | (730, C) => Contour(ContourCycle::Turning),
+            (720, A | B) | (740, C) => Contour(ContourCycle::Facing),
+            (730, A | B) | (750, C) => Contour(ContourCycle::Pattern),
             // The multiple repetitive cycles (G70–G76, system C G72–G78)
             // and the lathe's drilling cycles: their readers add them.
             (740, A | B) | (760, C) => Grooving(true),
@@ -477,7 +498,10 @@ impl GCode {
     /// end point with [`crate::interp`]'s lathe point reading where its
     /// X(U) Z(W) are one. Each cycle reader adds its codes here.
     pub fn takes_cycle_words(self) -> bool {
-        matches!(self, GCode::Dwell | GCode::SingleCycle(_) | GCode::Grooving(_) | GCode::MultipleThreading)
+        matches!(
+            self,
+            GCode::Dwell | GCode::SingleCycle(_) | GCode::Contour(_) | GCode::Grooving(_) | GCode::MultipleThreading
+        )
     }
 }
 

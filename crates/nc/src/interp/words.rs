@@ -259,10 +259,12 @@ impl State {
                     let count = letter == b'K'
                         && (self.modal.cycle.is_some() || names_cycle(w.words))
                         && !self.lathe_names_cycle(w.words);
+                    // A lathe cycle's sequence numbers and counts (Q, R) are no lengths.
                     if !decimal
                         && !count
                         && AXIS_LETTERS.contains(&letter)
                         && self.settings.integer_input == IntegerInput::Increments
+                        && !self.contour_count(letter, w.words)
                         && !self.lathe_cycle_count(letter, w.words)
                     {
                         // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by

@@ -6,8 +6,12 @@
 //! tool's distance from the spindle axis (a radius), whatever the program's
 //! diameter mode, as LinuxCNC's rs274 prints it.
 
+pub(super) mod contour;
 mod corner;
 mod grooving;
+pub mod nose;
+mod profile;
+mod roughing;
 pub(super) mod single;
 mod speed;
 mod thread;
@@ -274,8 +278,10 @@ mod tests {
         for s in [A, B, C] {
             assert_eq!(code(96, s), Some(GCode::ConstantSpeed));
             assert_eq!(code(97, s), Some(GCode::ConstantSpeedOff));
-            // A mill's drilling cycles are never run in a lathe's.
-            assert_eq!(code(73, s), None);
+            // A mill's drilling cycles are never run in a lathe's: its G73 is
+            // a cycle of a finishing shape (pattern repeating; system C's
+            // stock removal in turning).
+            assert!(matches!(code(73, s), Some(GCode::Contour(_))), "G73 in {s:?}");
             assert_eq!(code(81, s), None);
         }
     }
