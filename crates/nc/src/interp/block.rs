@@ -21,6 +21,9 @@ pub(super) enum Action {
         repeats: u32,
         span: Span,
     },
+    /// Go on at this block (of the same program): after a lathe cycle's
+    /// shape that follows the cycle block.
+    Resume(u32),
     Return(Option<u32>),
     /// A LinuxCNC O-word subroutine called by number (a lathe cycle's
     /// profile, `G71 Q100`).
@@ -189,20 +192,31 @@ impl State {
         if self.turning.is_some() {
             self.lathe_speed_tool(&w, codes)?;
         }
-        // LinuxCNC's G96 D is the spindle's top speed, not an offset number.
+        // LinuxCNC's G96 D is the spindle's top speed, not an offset number;
+        // in a lathe cycle's block D is the cycle's (Haas: a depth of cut).
         let top_speed =
             self.settings.dialect == crate::Dialect::LinuxCnc && has(|c| *c == GCode::ConstantSpeed).is_some();
-        if !top_speed {
+        if !top_speed && !self.lathe_own_words() {
             self.comp_register(w.get(b'D'), w.span(b'D'))?;
         }
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
         let x_known = !self.unplaced.contains(0) && !self.at_machine.contains(0);
-        let moved = self.motion(codes, &w, span, line)?;
+        // A lathe's G70–G73: the whole cycle, the shape read from its blocks;
+        // the program may go on after the shape.
+        let mut resume = None;
+        let mut own_moves = first_move;
+        let moved = match if self.turning.is_some() { has(|c| matches!(c, GCode::Contour(_))) } else { None } {
+            Some((GCode::Contour(cycle), gspan)) => {
+                (resume, own_moves) = self.contour_cycle(program, pc, cycle, &w, gspan, line)?;
+                true
+            }
+            _ => self.motion(codes, &w, span, line)?,
+        };
         if self.turning.is_some() {
-            let changed = self.corner_moves(first_move, span)?;
-            self.lathe_moves(changed, x_known || changed < first_move, &w, span)?;
+            let changed = self.corner_moves(own_moves, span)?;
+            self.lathe_moves(changed, x_known || changed < own_moves, &w, span)?;
             if matches!(end, Some(Action::End)) {
                 self.corner_left()?;
             }
@@ -223,7 +237,11 @@ impl State {
                 }));
             }
         }
-        Ok(end.unwrap_or(Action::Next))
+        match (end, resume) {
+            (Some(end), _) => Ok(end),
+            (None, Some(pc)) => Ok(Action::Resume(pc)),
+            (None, None) => Ok(Action::Next),
+        }
     }
 
     /// The block's G codes, decoded, a code overridden by a later one of its
@@ -588,6 +606,9 @@ impl State {
             | GCode::Smoothing(_)
             | GCode::ExactStop
             | GCode::Pocket(_)
+            | GCode::Grooving(_)
+            | GCode::MultipleThreading
+            | GCode::Contour(_)
             | GCode::LatheSetPosition
             | GCode::ConstantSpeedOff => {}
         }

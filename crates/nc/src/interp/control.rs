@@ -442,6 +442,10 @@ impl<'a> Interp<'a> {
                 self.o_call(&crate::ast::OName::Number(i64::from(number)), &[], pc, span)?;
                 Ok(true)
             }
+            Action::Resume(pc) => {
+                self.frame().pc = pc;
+                Ok(true)
+            }
         }
     }
 

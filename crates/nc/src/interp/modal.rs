@@ -141,6 +141,20 @@ impl Cycle {
     }
 }
 
+/// The lathe's multiple repetitive cycles that work from a finishing shape
+/// (Fanuc G70–G73 in G code systems A and B, G72–G75 in C; Haas G70–G73).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourCycle {
+    /// G70: the shape itself, once.
+    Finishing,
+    /// G71: stock removal in turning (cuts along Z).
+    Turning,
+    /// G72: stock removal in facing (cuts along X).
+    Facing,
+    /// G73: pattern repeating (the shape again, each time nearer).
+    Pattern,
+}
+
 /// Group 10: where a canned cycle returns after each hole.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CycleReturn {
@@ -267,6 +281,8 @@ pub enum GCode {
     FeedMode(FeedMode),
     /// G73 … G89 canned cycles
     CannedCycle(Cycle),
+    /// A lathe's G70–G73: the cycles of a finishing shape (one-shot).
+    Contour(ContourCycle),
     /// How the control smooths or looks ahead, not where it goes: Fanuc
     /// G05 P (high-speed machining), G05.1 Q (AI contour control), G08 P
     /// (look-ahead), Haas G103 P (look-ahead limit) and G187 (smoothness). Kept in written programs. The
@@ -283,6 +299,12 @@ pub enum GCode {
     /// A lathe's single cycle: G90 G92 G94 (system A), G77 G78 G79 (B),
     /// G20 G21 G24 (C).
     SingleCycle(SingleCycle),
+    /// A lathe's grooving cycle (`true`: G74 end face peck drilling and
+    /// grooving; `false`: G75 outer/inner diameter grooving; G76, G77 in
+    /// system C). One-shot.
+    Grooving(bool),
+    /// A lathe's multiple threading cycle: G76 (G78 in system C). One-shot.
+    MultipleThreading,
     /// A lathe's threading move: G32 (system A), G33 (B, C). Group 1.
     Threading,
     /// A lathe's coordinate system setting and spindle speed clamp: G50
@@ -408,7 +430,7 @@ impl GCode {
             // LinuxCNC's group 15 (G7/G8); not a Fanuc group.
             LatheDiameter => 102,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
-            | ResetShift | Pocket(_) | LatheSetPosition => 0,
+            | ResetShift | Pocket(_) | Contour(_) | LatheSetPosition | Grooving(_) | MultipleThreading => 0,
         }
     }
 }
@@ -472,8 +494,16 @@ impl GCode {
             (960, _) => ConstantSpeed,
             // G93 (inverse time) is no lathe code.
             (930, _) => return None,
+            // The cycles of a finishing shape (lathe/contour.rs).
+            (700, A | B) | (720, C) => Contour(ContourCycle::Finishing),
+            (710, A | B) | (730, C) => Contour(ContourCycle::Turning),
+            (720, A | B) | (740, C) => Contour(ContourCycle::Facing),
+            (730, A | B) | (750, C) => Contour(ContourCycle::Pattern),
             // The multiple repetitive cycles (G70–G76, system C G72–G78)
             // and the lathe's drilling cycles: their readers add them.
+            (740, A | B) | (760, C) => Grooving(true),
+            (750, A | B) | (770, C) => Grooving(false),
+            (760, A | B) | (780, C) => MultipleThreading,
             (700..=790, _) | (810..=890, _) if tenths.is_multiple_of(10) => return None,
             _ => return GCode::decode(tenths),
         })
@@ -487,7 +517,10 @@ impl GCode {
     /// end point with [`crate::interp`]'s lathe point reading where its
     /// X(U) Z(W) are one. Each cycle reader adds its codes here.
     pub fn takes_cycle_words(self) -> bool {
-        matches!(self, GCode::Dwell | GCode::SingleCycle(_))
+        matches!(
+            self,
+            GCode::Dwell | GCode::SingleCycle(_) | GCode::Contour(_) | GCode::Grooving(_) | GCode::MultipleThreading
+        )
     }
 }
 

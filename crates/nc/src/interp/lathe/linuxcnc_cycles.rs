@@ -16,7 +16,7 @@ use super::super::block::Action;
 use super::super::modal::{Distance, GCode, Motion, Units};
 use super::super::words::Words;
 use super::super::State;
-use super::profile::{Corner, Out, Profile, Seg, P};
+use super::linuxcnc_profile::{Corner, Out, Profile, Seg, P};
 use crate::source::{Diagnostic, Span};
 
 /// A cycle waiting for its subroutine's profile.

@@ -6,13 +6,19 @@
 //! tool's distance from the spindle axis (a radius), whatever the program's
 //! diameter mode, as LinuxCNC's rs274 prints it.
 
+pub(super) mod contour;
 mod corner;
+mod grooving;
 mod linuxcnc;
 mod linuxcnc_cycles;
+mod linuxcnc_profile;
+pub mod nose;
 mod profile;
-mod single;
+mod roughing;
+pub(super) mod single;
 mod speed;
 mod thread;
+mod threading;
 mod words;
 
 use kezuri_geom::{Axes, AxisSet};
@@ -277,8 +283,10 @@ mod tests {
         for s in [A, B, C] {
             assert_eq!(code(96, s), Some(GCode::ConstantSpeed));
             assert_eq!(code(97, s), Some(GCode::ConstantSpeedOff));
-            // A mill's drilling cycles are never run in a lathe's.
-            assert_eq!(code(73, s), None);
+            // A mill's drilling cycles are never run in a lathe's: its G73 is
+            // a cycle of a finishing shape (pattern repeating; system C's
+            // stock removal in turning).
+            assert!(matches!(code(73, s), Some(GCode::Contour(_))), "G73 in {s:?}");
             assert_eq!(code(81, s), None);
         }
     }
