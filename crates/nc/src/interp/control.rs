@@ -437,11 +437,7 @@ impl<'a> Interp<'a> {
                 Ok(true)
             }
             Action::Return(target) => self.return_from(target, span),
-            Action::OCall { number, span } => {
-                let pc = self.frame().pc.saturating_sub(1);
-                self.o_call(&crate::ast::OName::Number(i64::from(number)), &[], pc, span)?;
-                Ok(true)
-            }
+            Action::OCall { number, span } => self.call_by_number(number, span),
             Action::Resume(pc) => {
                 self.frame().pc = pc;
                 Ok(true)
@@ -565,8 +561,7 @@ impl<'a> Interp<'a> {
         }
         if done.kind == FrameKind::OSub {
             self.st.call_level -= 1;
-            let level = self.st.call_level;
-            self.st.profile_returned(level)?;
+            self.st.profile_returned(self.st.call_level)?;
         }
         if let Some(n) = target {
             let caller = self.frames.last().map_or(0, |f| f.unit);
