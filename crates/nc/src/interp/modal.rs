@@ -504,6 +504,10 @@ impl GCode {
             (740, A | B) | (760, C) => Grooving(true),
             (750, A | B) | (770, C) => Grooving(false),
             (760, A | B) | (780, C) => MultipleThreading,
+            // Face drilling, tapping and boring along Z (G83 G84 G85): the
+            // mill's cycles with the hole along Z (`cycle.rs`); side drilling
+            // (G87 G88 G89) is not read.
+            (830 | 840 | 850, _) => return GCode::decode(tenths),
             (700..=790, _) | (810..=890, _) if tenths.is_multiple_of(10) => return None,
             _ => return GCode::decode(tenths),
         })
