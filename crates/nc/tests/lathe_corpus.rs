@@ -17,7 +17,8 @@
 //! Manual, B-64604EN, lathe system) or the Haas Lathe Operator's Manual, not
 //! what kezuri happens to do: the `why` column says why a program stops.
 //!
-//! Every program runs on its own thread: a panic or a run that does not end
+//! Every program runs on its own thread: a panic, a move holding a value that
+//! is not a finite number, or a run that does not end
 //! within [`TIME_LIMIT`] is reported as a mismatch, and the step limit
 //! bounds runaway loops. The test fails when any outcome differs from its
 //! row, and prints every mismatch.
@@ -184,6 +185,13 @@ fn run(case: &Case, text: &str, folder: PathBuf) -> Outcome {
         ..Settings::default()
     };
     let outcome = interp::run(&mut program, &mut sources, 0, &mut Folder(folder), &settings);
+    // Whatever the outcome, no move may hold a value that is not a finite number.
+    if let Some(m) = outcome.toolpath.moves.iter().find(|m| {
+        let (s, e) = (m.start.to_array(), m.end.to_array());
+        s.iter().chain(&e).any(|v| !v.is_finite()) || !m.feed.is_finite() || !m.speed.is_finite()
+    }) {
+        return Err(no_error(&format!("line {}: a move holds a value that is not a finite number", m.line)));
+    }
     if let Some(d) = outcome.diagnostics.iter().find(|d| d.is_error()) {
         return Err(first_error(d, &sources));
     }
