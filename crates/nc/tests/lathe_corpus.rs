@@ -39,6 +39,11 @@ const TIME_LIMIT: Duration = Duration::from_secs(60);
 /// Statements one run may execute (the settings' step limit).
 const STEP_LIMIT: u64 = 2_000_000;
 
+/// The machine's top spindle speed, rpm: every lathe has one, and a control
+/// clamps constant surface speed to it where the program gives no G50 S
+/// (the Haas ST-10's 6000 rpm).
+const TOP_SPEED: f64 = 6000.0;
+
 /// The least number of programs: pinned so that the test cannot pass by
 /// finding none.
 const AT_LEAST: usize = 20;
@@ -182,6 +187,7 @@ fn run(case: &Case, text: &str, folder: PathBuf) -> Outcome {
         dialect: case.dialect,
         integer_input: case.integer_input,
         step_limit: STEP_LIMIT,
+        max_rpm: Some(TOP_SPEED),
         ..Settings::default()
     };
     let outcome = interp::run(&mut program, &mut sources, 0, &mut Folder(folder), &settings);
