@@ -15,7 +15,8 @@
 //! The statuses say what the control does, decided by reading each program
 //! against the Fanuc lathe manual (FANUC Series 0i-TF Plus Operator's
 //! Manual, B-64604EN, lathe system) or the Haas Lathe Operator's Manual, not
-//! what kezuri happens to do: the `why` column says why a program stops.
+//! what kezuri happens to do: the `why` column says why a program stops (and,
+//! for some that run, the reading a reviewer might doubt).
 //!
 //! Every program runs on its own thread: a panic, a move holding a value that
 //! is not a finite number, or a run that does not end
