@@ -93,6 +93,9 @@ mod tests {
             assert_eq!(d.name().parse::<Dialect>(), Ok(d));
         }
         assert_eq!("LinuxCNC".parse::<Dialect>(), Ok(Dialect::LinuxCnc));
-        assert!("okuma".parse::<Dialect>().unwrap_err().contains("fanuc, haas, linuxcnc, grbl, fanuc-lathe or haas-lathe"));
+        assert!("okuma"
+            .parse::<Dialect>()
+            .unwrap_err()
+            .contains("fanuc, haas, linuxcnc, grbl, fanuc-lathe or haas-lathe"));
     }
 }

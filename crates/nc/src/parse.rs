@@ -541,6 +541,24 @@ impl LineParser<'_> {
                      its own",
                 ));
             }
+            // `,C` and `,R` (Fanuc): the chamfer and the corner radius
+            // between this block's move and the next's, kept as the
+            // addresses `c` and `r`.
+            if c == b',' && self.dialect.is_fanuc() && self.pos + 1 < self.end {
+                if let l @ (b'C' | b'R') = self.b[self.pos + 1].to_ascii_uppercase() {
+                    self.pos += 2;
+                    let value = match self.plain_number() {
+                        Some(value) => value,
+                        None => {
+                            self.skip_blanks();
+                            self.word_value(l)?
+                        }
+                    };
+                    self.program.words.push(Word::new(l.to_ascii_lowercase(), value, self.span(word_start)));
+                    self.skip_blanks();
+                    continue;
+                }
+            }
             let polar = matches!(c, b'@' | b'^');
             if polar && self.dialect != Dialect::LinuxCnc {
                 let what = if c == b'@' { "radius" } else { "angle" };

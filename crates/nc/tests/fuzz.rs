@@ -272,3 +272,28 @@ fn random_bytes_end_without_a_panic() {
         })
         .unwrap();
 }
+
+/// A word of a lathe program: the codes and addresses a Fanuc or Haas
+/// lathe reads (U W H, G32, G50 S, G96, C R I K chamfers, ,C ,R, T0101).
+fn lathe_word() -> impl Strategy<Value = String> {
+    let letter = prop::sample::select(b"XZUWCHIKRFSTPQ".to_vec());
+    let code = prop::sample::select(vec![
+        "G00", "G01", "G02", "G03", "G04", "G18", "G20", "G21", "G28", "G32", "G33", "G50", "G90", "G92", "G94", "G96",
+        "G97", "G98", "G99", "G40", "G41", "G42", "M03", "M05", "M30", ",C1.", ",R2.", ",C-1", "T0101", "T0100", "T1",
+    ]);
+    prop_oneof![code.prop_map(str::to_string), (letter, number()).prop_map(|(l, n)| format!("{}{n}", l as char)),]
+}
+
+#[test]
+fn lathe_programs_end_without_a_panic() {
+    let Some(cases) = cases() else { return };
+    let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
+    let program = prop::collection::vec(prop::collection::vec(lathe_word(), 1..6).prop_map(|w| w.join(" ")), 0..30)
+        .prop_map(|lines| lines.join("\n"));
+    runner
+        .run(&program, |text| {
+            parse_and_run_as(&text, Dialect::FanucLathe)?;
+            parse_and_run_as(&text, Dialect::HaasLathe)
+        })
+        .unwrap();
+}

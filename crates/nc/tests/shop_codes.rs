@@ -14,8 +14,8 @@ fn settings(dialect: Dialect) -> Settings {
     let units = matches!(dialect, Dialect::LinuxCnc | Dialect::Grbl);
     let control = match dialect {
         Dialect::LinuxCnc | Dialect::Grbl => Control::LinuxCnc,
-        Dialect::Haas => Control::Haas,
-        Dialect::Fanuc => Control::Fanuc,
+        Dialect::Haas | Dialect::HaasLathe => Control::Haas,
+        Dialect::Fanuc | Dialect::FanucLathe => Control::Fanuc,
     };
     Settings {
         dialect,

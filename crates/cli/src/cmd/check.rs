@@ -16,8 +16,13 @@ use kezuri_machine::{Machine, ToolEntry};
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
 /// or Haas control (length offsets are how their tools are set), unless
 /// the machine file's `[post]` says otherwise (its `length_offset`, or its
-/// preset's: GRBL has none).
+/// preset's: GRBL has none). Never on a lathe, whose T word holds the
+/// offset.
 fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
+    // A lathe's T word carries its own offset (T0101): there is no G43.
+    if dialect.is_lathe() || machine.settings.lathe.is_some() {
+        return false;
+    }
     machine
         .post
         .length_offset()

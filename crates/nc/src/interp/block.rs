@@ -21,6 +21,9 @@ pub(super) enum Action {
         repeats: u32,
         span: Span,
     },
+    /// Go on at this block (of the same program): after a lathe cycle's
+    /// shape that follows the cycle block.
+    Resume(u32),
     Return(Option<u32>),
     End,
 }
@@ -97,6 +100,10 @@ impl State {
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         self.g_codes(&w, &mut codes)?;
+        if self.turning.is_some() {
+            let n = w.g_count;
+            self.lathe_block(&mut w, &mut codes[..n])?;
+        }
         let codes = &codes[..w.g_count];
         let has = |f: fn(&GCode) -> bool| codes.iter().flatten().find(|(c, _)| f(c)).map(|&(c, s)| (c, s));
 
@@ -137,7 +144,19 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
-        if has(|c| *c == GCode::SetOffsets).is_none() {
+        if self.turning.is_none() {
+            if let Some(letter) = [b'c', b'r'].into_iter().find(|&l| w.has(l)) {
+                return Err(Diagnostic::error(
+                    w.span(letter),
+                    format!(
+                        ",{} (a {}) between two moves is read on a lathe only: kezuri does not run it on a mill",
+                        letter.to_ascii_uppercase() as char,
+                        if letter == b'c' { "chamfer" } else { "corner R" }
+                    ),
+                ));
+            }
+        }
+        if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
@@ -151,11 +170,35 @@ impl State {
         }
 
         self.feed_speed_tool(&w);
-        self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        if self.turning.is_some() {
+            self.lathe_speed_tool(&w, codes)?;
+        }
+        // In a lathe cycle's block D is the cycle's (Haas: a depth of cut).
+        if !self.lathe_own_words() {
+            self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        }
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
         let first_move = self.toolpath.moves.len();
-        let moved = self.motion(codes, &w, span, line)?;
+        let x_known = !self.unplaced.contains(0) && !self.at_machine.contains(0);
+        // A lathe's G70–G73: the whole cycle, the shape read from its blocks;
+        // the program may go on after the shape.
+        let mut resume = None;
+        let mut own_moves = first_move;
+        let moved = match if self.turning.is_some() { has(|c| matches!(c, GCode::Contour(_))) } else { None } {
+            Some((GCode::Contour(cycle), gspan)) => {
+                (resume, own_moves) = self.contour_cycle(program, pc, cycle, &w, gspan, line)?;
+                true
+            }
+            _ => self.motion(codes, &w, span, line)?,
+        };
+        if self.turning.is_some() {
+            let changed = self.corner_moves(own_moves, span)?;
+            self.lathe_moves(changed, x_known || changed < own_moves, &w, span)?;
+            if matches!(end, Some(Action::End)) {
+                self.corner_left()?;
+            }
+        }
         self.within_reach(first_move, &w, span)?;
         for m in stops.into_iter().flatten() {
             self.keep_m_code(&w, m, line);
@@ -172,7 +215,11 @@ impl State {
                 }));
             }
         }
-        Ok(end.unwrap_or(Action::Next))
+        match (end, resume) {
+            (Some(end), _) => Ok(end),
+            (None, Some(pc)) => Ok(Action::Resume(pc)),
+            (None, None) => Ok(Action::Next),
+        }
     }
 
     /// The block's G codes, decoded, a code overridden by a later one of its
@@ -185,8 +232,8 @@ impl State {
     #[inline(always)]
     fn g_codes(&mut self, w: &Words, codes: &mut [Option<(GCode, Span)>; 8]) -> Result<(), Diagnostic> {
         for (k, &(tenths, gspan)) in w.g[..w.g_count].iter().enumerate() {
-            let Some(code) = GCode::decode(tenths) else {
-                return Err(Diagnostic::error(gspan, format!("{} is not supported", g_name(tenths))));
+            let Some(code) = self.decode_g(tenths) else {
+                return Err(Diagnostic::error(gspan, self.unknown_code(tenths)));
             };
             let group = code.group();
             if let Some(j) = codes[..k].iter().position(|c| c.is_some_and(|(c, _)| c.group() == group)) {
@@ -235,8 +282,11 @@ impl State {
     #[inline(always)]
     fn path_code(&mut self, code: GCode, w: &Words, gspan: Span, line: u32) -> Result<(), Diagnostic> {
         match (code, self.settings.coords.control) {
-            // LinuxCNC's G8 is lathe radius mode, its default: nothing to do.
-            (GCode::Smoothing(80), Control::LinuxCnc) => return Ok(()),
+            // LinuxCNC's G8 is lathe radius mode, its default.
+            (GCode::Smoothing(80), Control::LinuxCnc) => {
+                self.set_x_mode(super::XMode::Radius);
+                return Ok(());
+            }
             // LinuxCNC's G5 and G5.1 are splines, of their block only:
             // rs274 2.9 leaves the motion mode as it was.
             (GCode::Smoothing(tenths @ (50 | 51)), Control::LinuxCnc) => {
@@ -361,7 +411,22 @@ impl State {
                 self.rigid_tap = false;
                 self.threading = false;
                 self.end_cycle();
+                self.lathe_motion(None);
             }
+            GCode::SingleCycle(cycle) => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+                self.lathe_motion(Some(super::lathe::LatheMotion::Single(cycle)));
+            }
+            GCode::Threading => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.end_cycle();
+                self.lathe_motion(Some(super::lathe::LatheMotion::Threading));
+            }
+            GCode::ConstantSpeed => self.constant_speed(true, gspan)?,
+            GCode::ConstantSpeedOff if self.turning.is_some() => self.constant_speed(false, gspan)?,
             GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
                 return Err(Diagnostic::error(
                     gspan,
@@ -369,6 +434,7 @@ impl State {
                 ));
             }
             GCode::RigidTap => {
+                self.lathe_motion(None);
                 self.rigid_tap = true;
                 self.threading = false;
                 self.end_cycle();
@@ -503,6 +569,8 @@ impl State {
             | GCode::Smoothing(_)
             | GCode::ExactStop
             | GCode::Pocket(_)
+            | GCode::Contour(_)
+            | GCode::LatheSetPosition
             | GCode::ConstantSpeedOff => {}
         }
         Ok(())

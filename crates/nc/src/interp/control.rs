@@ -437,6 +437,10 @@ impl<'a> Interp<'a> {
                 Ok(true)
             }
             Action::Return(target) => self.return_from(target, span),
+            Action::Resume(pc) => {
+                self.frame().pc = pc;
+                Ok(true)
+            }
         }
     }
 

@@ -321,6 +321,7 @@ struct ModalCall {
 }
 
 /// Everything the control remembers, apart from the program itself.
+#[derive(Clone)]
 struct State {
     settings: Settings,
     modal: Modal,
@@ -348,6 +349,11 @@ struct State {
     holes: u64,
     /// The threads cut ([`Outcome::threads`]).
     threads: Vec<Thread>,
+    /// What the first blocks of the lathe's G71/G72/G73 left for the next.
+    contour: lathe::contour::Memory,
+    /// A lathe's state (`None` on a mill): how X is read, constant surface
+    /// speed, the lathe's motion modes.
+    turning: Option<lathe::Turning>,
     /// Tool length wear by H number (G10 L11, #10001…), added to the
     /// geometry in `settings.tool_lengths`.
     length_wear: BTreeMap<u32, f64>,
@@ -446,10 +452,18 @@ const WARNINGS_PER_KIND: u32 = 5;
 impl State {
     fn new(settings: Settings) -> State {
         // LinuxCNC's interpreter starts in G99 (canned cycles return to R).
-        let modal = match settings.coords.control {
+        let mut modal = match settings.coords.control {
             Control::LinuxCnc => Modal { cycle_return: CycleReturn::R, ..Modal::default() },
             _ => Modal::default(),
         };
+        let fanuc = settings.coords.control != Control::LinuxCnc;
+        let turning = settings.lathe_conventions().map(|lathe| lathe::Turning::new(lathe, fanuc));
+        if turning.is_some() && fanuc {
+            // A Fanuc or Haas lathe powers on in G18, G99 (feed per
+            // revolution) and G97.
+            modal.plane = kezuri_geom::Plane::Zx;
+            modal.feed_mode = FeedMode::PerRev;
+        }
         State {
             work_offsets: (0..EXTRA_OFFSETS + EXTRA_OFFSET_COUNT)
                 .map(|k| match k {
@@ -474,6 +488,8 @@ impl State {
             spline_pq: [0.0; 2],
             holes: 0,
             threads: Vec::new(),
+            contour: Default::default(),
+            turning,
             length_wear: BTreeMap::new(),
             radius_wear: BTreeMap::new(),
             length_loaded: None,

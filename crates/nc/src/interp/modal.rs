@@ -141,6 +141,20 @@ impl Cycle {
     }
 }
 
+/// The lathe's multiple repetitive cycles that work from a finishing shape
+/// (Fanuc G70–G73 in G code systems A and B, G72–G75 in C; Haas G70–G73).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourCycle {
+    /// G70: the shape itself, once.
+    Finishing,
+    /// G71: stock removal in turning (cuts along Z).
+    Turning,
+    /// G72: stock removal in facing (cuts along X).
+    Facing,
+    /// G73: pattern repeating (the shape again, each time nearer).
+    Pattern,
+}
+
 /// Group 10: where a canned cycle returns after each hole.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CycleReturn {
@@ -148,6 +162,37 @@ pub enum CycleReturn {
     Initial,
     /// G99: to the R level.
     R,
+}
+
+/// A lathe's single cycle (group 1, modal: a block of axis words alone
+/// repeats it). FANUC Series 0i-TF Plus Operator's Manual (B-64604EN),
+/// lathe system, "G code list" and "Single repetitive cycle".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SingleCycle {
+    /// Outer or inner diameter cutting: G90 (system A), G77 (B), G20 (C).
+    Cutting,
+    /// Threading: G92 (A), G78 (B), G21 (C).
+    Threading,
+    /// End face turning: G94 (A), G79 (B), G24 (C).
+    Facing,
+}
+
+impl SingleCycle {
+    /// The G number in the given G code system.
+    pub fn number(self, system: crate::interp::GCodeSystem) -> u32 {
+        use crate::interp::GCodeSystem::*;
+        match (self, system) {
+            (SingleCycle::Cutting, A) => 90,
+            (SingleCycle::Threading, A) => 92,
+            (SingleCycle::Facing, A) => 94,
+            (SingleCycle::Cutting, B) => 77,
+            (SingleCycle::Threading, B) => 78,
+            (SingleCycle::Facing, B) => 79,
+            (SingleCycle::Cutting, C) => 20,
+            (SingleCycle::Threading, C) => 21,
+            (SingleCycle::Facing, C) => 24,
+        }
+    }
 }
 
 /// A G code, decoded from its number (`G66.1` is `Code(66, 1)`).
@@ -225,6 +270,8 @@ pub enum GCode {
     FeedMode(FeedMode),
     /// G73 … G89 canned cycles
     CannedCycle(Cycle),
+    /// A lathe's G70–G73: the cycles of a finishing shape (one-shot).
+    Contour(ContourCycle),
     /// How the control smooths or looks ahead, not where it goes: Fanuc
     /// G05 P (high-speed machining), G05.1 Q (AI contour control), G08 P
     /// (look-ahead), Haas G103 P (look-ahead limit) and G187 (smoothness). Kept in written programs. The
@@ -233,9 +280,20 @@ pub enum GCode {
     /// G09: exact stop at the end of this block's move (how the control
     /// ends the move, not where it goes).
     ExactStop,
-    /// G97: spindle speed in rpm, the mill's usual state (G96, constant
-    /// surface speed, is not supported).
+    /// G97: spindle speed in rpm, the mill's usual state.
     ConstantSpeedOff,
+    /// G96 (lathes): constant surface speed, S in m/min (ft/min under
+    /// inch input); the spindle speed follows the tool's radius.
+    ConstantSpeed,
+    /// A lathe's single cycle: G90 G92 G94 (system A), G77 G78 G79 (B),
+    /// G20 G21 G24 (C).
+    SingleCycle(SingleCycle),
+    /// A lathe's threading move: G32 (system A), G33 (B, C). Group 1.
+    Threading,
+    /// A lathe's coordinate system setting and spindle speed clamp: G50
+    /// (system A), G92 (B, C). X Z set the program position (X a
+    /// diameter where X is one), S the top spindle speed.
+    LatheSetPosition,
     /// G92.1 (Fanuc: preset of the work coordinates; LinuxCNC: G92 offsets
     /// reset) and LinuxCNC's G92.2: the G92 shift cancelled.
     ResetShift,
@@ -323,7 +381,7 @@ impl GCode {
     pub fn group(self) -> u32 {
         use GCode::*;
         match self {
-            Motion(_) | RigidTap => 1,
+            Motion(_) | RigidTap | SingleCycle(_) | Threading => 1,
             Plane(_) => 2,
             Distance(_) => 3,
             FeedMode(_) => 5,
@@ -345,10 +403,93 @@ impl GCode {
             // Each its own group: they do not exclude each other.
             Smoothing(tenths) => 1000 + tenths,
             ExactStop => 100,
-            ConstantSpeedOff => 13,
+            ConstantSpeedOff | ConstantSpeed => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
-            | ResetShift | Pocket(_) => 0,
+            | ResetShift | Pocket(_) | Contour(_) | LatheSetPosition => 0,
         }
+    }
+}
+
+impl GCode {
+    /// Decodes a G number (ten times its value) as a Fanuc or Haas lathe
+    /// reads it in G code system `system`. FANUC Series 0i-TF Plus
+    /// Operator's Manual (B-64604EN), lathe system, "G code list" (table of
+    /// systems A, B and C):
+    ///
+    /// | A    | B    | C    | function                                   |
+    /// |------|------|------|--------------------------------------------|
+    /// | G20  | G20  | G70  | inch input                                 |
+    /// | G21  | G21  | G71  | mm input                                   |
+    /// | G32  | G33  | G33  | threading                                  |
+    /// | G50  | G92  | G92  | coordinate system setting, spindle clamp   |
+    /// | G50.3| G92.1| G92.1| workpiece coordinate system preset         |
+    /// | G70–G76 | G70–G76 | G72–G78 | multiple repetitive cycles      |
+    /// | G90  | G77  | G20  | outer/inner diameter cutting cycle         |
+    /// | G92  | G78  | G21  | threading cycle                            |
+    /// | G94  | G79  | G24  | end face turning cycle                     |
+    /// | G96  | G96  | G96  | constant surface speed                     |
+    /// | G97  | G97  | G97  | constant surface speed cancel              |
+    /// | G98  | G94  | G94  | feed per minute                            |
+    /// | G99  | G95  | G95  | feed per revolution                        |
+    /// | –    | G90  | G90  | absolute programming                       |
+    /// | –    | G91  | G91  | incremental programming                    |
+    /// | –    | G98  | G98  | canned cycle return to the initial level   |
+    /// | –    | G99  | G99  | canned cycle return to the R point level   |
+    ///
+    /// In system A absolute and incremental are told apart by the address
+    /// (X Z C absolute, U W H incremental), so G90 G91 are no distance
+    /// modes there. Haas lathes read system A's codes (Haas Lathe Operator's
+    /// Manual, "G-codes"). The other codes are the mill's ([`GCode::decode`]).
+    /// The multiple repetitive cycles and the lathe drilling cycles
+    /// (G80–G89) are added by their own readers; until then they decode to
+    /// nothing, so that a mill's drilling cycle is never run in their place.
+    pub fn decode_lathe(tenths: u32, system: crate::interp::GCodeSystem) -> Option<GCode> {
+        use crate::interp::GCodeSystem::{A, B, C};
+        use GCode::*;
+        Some(match (tenths, system) {
+            (200, C) => SingleCycle(self::SingleCycle::Cutting),
+            (210, C) => SingleCycle(self::SingleCycle::Threading),
+            (240, C) => SingleCycle(self::SingleCycle::Facing),
+            (700, C) => Units(self::Units::Inch),
+            (710, C) => Units(self::Units::Mm),
+            (320, A) => Threading,
+            (330, B | C) => Threading,
+            (500, A) => LatheSetPosition,
+            (503, A) => ResetShift,
+            (920, B | C) => LatheSetPosition,
+            (900, A) => SingleCycle(self::SingleCycle::Cutting),
+            (920, A) => SingleCycle(self::SingleCycle::Threading),
+            (940, A) => SingleCycle(self::SingleCycle::Facing),
+            (770, B) => SingleCycle(self::SingleCycle::Cutting),
+            (780, B) => SingleCycle(self::SingleCycle::Threading),
+            (790, B) => SingleCycle(self::SingleCycle::Facing),
+            (910, A) => return None,
+            (980, A) => FeedMode(self::FeedMode::PerMinute),
+            (990, A) => FeedMode(self::FeedMode::PerRev),
+            (960, _) => ConstantSpeed,
+            // G93 (inverse time) is no lathe code.
+            (930, _) => return None,
+            // The cycles of a finishing shape (lathe/contour.rs).
+            (700, A | B) | (720, C) => Contour(ContourCycle::Finishing),
+            (710, A | B) | (730, C) => Contour(ContourCycle::Turning),
+            (720, A | B) | (740, C) => Contour(ContourCycle::Facing),
+            (730, A | B) | (750, C) => Contour(ContourCycle::Pattern),
+            // The multiple repetitive cycles (G70–G76, system C G72–G78)
+            // and the lathe's drilling cycles: their readers add them.
+            (700..=790, _) | (810..=890, _) if tenths.is_multiple_of(10) => return None,
+            _ => return GCode::decode(tenths),
+        })
+    }
+
+    /// Whether a block with this code reads its own U W P Q R words:
+    /// the lathe's cycles (single cycles, the multiple repetitive cycles)
+    /// and the dwell (`G04 U1.5`, `G04 X1.5`: seconds). In such a block
+    /// U and W are not the incremental X and Z of system A and X is not
+    /// halved: the code's reader takes the words as written, and reads an
+    /// end point with [`crate::interp`]'s lathe point reading where its
+    /// X(U) Z(W) are one. Each cycle reader adds its codes here.
+    pub fn takes_cycle_words(self) -> bool {
+        matches!(self, GCode::Dwell | GCode::SingleCycle(_) | GCode::Contour(_))
     }
 }
 

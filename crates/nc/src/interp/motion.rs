@@ -60,14 +60,16 @@ impl State {
             FeedMode::PerMinute => Ok(f),
             // Set per move from its length (see `motion`).
             FeedMode::InverseTime => Ok(0.0),
-            FeedMode::PerRev if self.feed_set && self.speed <= 0.0 => {
+            // Under constant surface speed the speed is reckoned along the
+            // move (lathe/speed.rs): 0 here only where X is not known yet.
+            FeedMode::PerRev if self.feed_set && self.speed <= 0.0 && !self.surface_speed_on() => {
                 let (place, what) = match self.speed_span {
                     Some(s) => (at(s), format!("spindle speed S{}{}", self.speed, earlier(s))),
                     None => (span, "no spindle speed (S) given".to_string()),
                 };
                 Err(Diagnostic::error(
                     place,
-                    format!("feed per revolution (G95) with {what}: the feed is 0 and the move never ends; give S greater than 0"),
+                    format!("feed per revolution ({}) with {what}: the feed is 0 and the move never ends; give S greater than 0", self.per_rev_code()),
                 ))
             }
             FeedMode::PerRev if self.feed_set && f <= 0.0 => Err(Diagnostic::error(
@@ -122,19 +124,23 @@ impl State {
         let start = self.tip;
         // An increment from a position the program never named is reckoned
         // from the machine model: the writer must keep it an increment.
+        // A lathe's U W H (system A) are increments in an absolute block.
+        let stepped = match self.modal.distance {
+            Distance::Incremental => named,
+            Distance::Absolute => AxisSet(named.0 & self.lathe_increments().0),
+        };
         let relative = match kind {
             MoveKind::Rapid | MoveKind::Feed | MoveKind::Arc(_) | MoveKind::Probe
-                if self.modal.distance == Distance::Incremental && named.0 & self.guessed.0 != 0 =>
+                if stepped.0 & self.guessed.0 != 0 =>
             {
-                named
+                stepped
             }
             _ => AxisSet::NONE,
         };
         match kind {
             MoveKind::Home | MoveKind::Machine => self.guessed = AxisSet(self.guessed.0 | named.0),
             MoveKind::Dwell(_) => {}
-            _ if self.modal.distance == Distance::Absolute => self.guessed = AxisSet(self.guessed.0 & !named.0),
-            _ => {}
+            _ => self.guessed = AxisSet(self.guessed.0 & !(named.0 & !stepped.0)),
         }
         self.place(kind, named);
         let frame = self.frame();
@@ -202,6 +208,12 @@ impl State {
                 self.shift(code, w, line);
                 return Ok(false);
             }
+            // A lathe's G50 (G92 in systems B and C) with axis words: the
+            // coordinate setting (its S, the clamp, is read apart).
+            Some((GCode::LatheSetPosition, _)) => {
+                self.shift(GCode::SetPosition, w, line);
+                return Ok(false);
+            }
             Some((GCode::MachineCoords, gspan)) if self.modal.distance == Distance::Incremental => {
                 // Fanuc: G53 ignored, an ordinary incremental move follows.
                 self.g53_incremental(gspan)?;
@@ -229,6 +241,12 @@ impl State {
         if let Some(code) = spline {
             return self.spline_block(code, w, span, line);
         }
+        if let Some(motion) = self.turning.as_ref().and_then(|t| t.motion) {
+            return match motion {
+                super::lathe::LatheMotion::Single(cycle) => self.single_cycle(cycle, w, span, line),
+                super::lathe::LatheMotion::Threading => self.lathe_thread(w, span, line),
+            };
+        }
         if let Some(cycle) = self.modal.cycle {
             return self.cycle_block(cycle, w, span, line);
         }
@@ -253,11 +271,16 @@ impl State {
         if lcnc && !w.has(b'P') {
             return Err(Diagnostic::error(gspan, "G4 needs P, the dwell in seconds (LinuxCNC reads no X dwell)"));
         }
-        let seconds = match (w.get(b'P'), w.get(b'X')) {
+        // A lathe's G04 U is seconds as X is (Fanuc lathe system A).
+        let u = if self.turning.is_some() && !lcnc { w.get(b'U') } else { None };
+        let seconds = match (w.get(b'P'), w.get(b'X').or(u)) {
             // P is milliseconds on a Fanuc control, seconds on LinuxCNC and GRBL.
             (Some(p), _) if self.settings.integer_input == IntegerInput::Units => p,
             (Some(p), _) => p / 1000.0,
             (None, Some(x)) => x,
+            (None, None) if u.is_none() && self.turning.is_some() && !lcnc => {
+                return Err(Diagnostic::error(gspan, "G04 needs the dwell time: X or U (seconds) or P (milliseconds)"))
+            }
             (None, None) => {
                 return Err(Diagnostic::error(gspan, "G04 needs the dwell time: X (seconds) or P (milliseconds)"))
             }

@@ -21,7 +21,11 @@ impl State {
             MoveKind::Dwell(_) => return,
             MoveKind::Home | MoveKind::Machine => self.at_machine = AxisSet(self.at_machine.0 | named.0),
             // An increment from a machine position is still one.
-            _ if self.modal.distance == Distance::Absolute => self.at_machine = AxisSet(self.at_machine.0 & !named.0),
+            _ if self.modal.distance == Distance::Absolute => {
+                // A lathe's U W H are increments even in an absolute block.
+                let absolute = named.0 & !self.lathe_increments().0;
+                self.at_machine = AxisSet(self.at_machine.0 & !absolute)
+            }
             _ => {}
         }
         // From the start, any move that names an axis places it: the

@@ -20,7 +20,7 @@ use crate::number::number;
 use crate::source::{Diagnostic, Span};
 
 /// What the interpreter records for cutter compensation.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct Radius {
     /// The block being executed: its span and 1-based line.
     block: (Span, u32),
@@ -178,6 +178,18 @@ impl State {
         }
         self.radius.tags.push(tag);
         self.radius.spans.push(self.radius.block.0);
+    }
+
+    /// Hook: a move is added after the last with the compensation of the
+    /// last (a lathe's corner splits a block's move in two).
+    pub(super) fn comp_repeat_tag(&mut self) {
+        if self.radius.since.is_none() {
+            return;
+        }
+        if let (Some(&tag), Some(&span)) = (self.radius.tags.last(), self.radius.spans.last()) {
+            self.radius.tags.push(tag);
+            self.radius.spans.push(span);
+        }
     }
 
     /// At the end of the run: replaces the toolpath by the tool-centre path

@@ -414,7 +414,11 @@ impl State {
             }
             // Single block and feed hold switches, parts counts: kept, no effect.
             3003 | 3004 | 3901 | 3902 => self.panel.get(&n).copied().unwrap_or(0.0),
-            4001..=4022 => self.coords_group(n - 4000).or_else(|| self.modal.group_value(n - 4000)).unwrap_or(0.0),
+            4001..=4022 => self
+                .lathe_group(n - 4000)
+                .or_else(|| self.coords_group(n - 4000))
+                .or_else(|| self.modal.group_value(n - 4000))
+                .unwrap_or(0.0),
             4102 => self.last.b,
             4107 => self.last.d,
             4108 => self.last.e,

@@ -31,14 +31,17 @@ pub(super) struct Words<'a> {
     pub(super) m_argument: Option<f64>,
 }
 
-/// A–Z, `@` (the polar radius) and `^` (the polar angle).
-const SLOTS: usize = 28;
+/// A–Z, `@` (the polar radius), `^` (the polar angle), and Fanuc's `,C`
+/// and `,R` (kept as `c` and `r`).
+const SLOTS: usize = 30;
 
-/// Where an address is kept: A–Z in order, then `@` and `^`.
+/// Where an address is kept: A–Z in order, then `@`, `^`, `,C` and `,R`.
 fn slot(letter: u8) -> usize {
     match letter {
         b'@' => 26,
         b'^' => 27,
+        b'c' => 28,
+        b'r' => 29,
         _ => (letter - b'A') as usize,
     }
 }
@@ -160,6 +163,20 @@ impl<'a> Words<'a> {
         out.join(" ")
     }
 
+    /// Gives address `letter` the value `value`, as if written where the
+    /// word of `from` is (for the spans of diagnostics); the word of `from`
+    /// is taken out where it is another address. A lathe's `U` read as an
+    /// incremental X becomes the X it reaches.
+    pub(super) fn put(&mut self, letter: u8, value: f64, from: u8) {
+        let (i, f) = (slot(letter), slot(from));
+        self.value[i] = value;
+        self.index[i] = self.index[f];
+        if letter != from {
+            self.present &= !bit(from);
+        }
+        self.present |= bit(letter);
+    }
+
     /// The words with only the one of `letter`.
     pub(super) fn only(&self, letter: u8) -> Words<'a> {
         Words { present: self.present & bit(letter), ..*self }
@@ -183,7 +200,7 @@ impl<'a> Words<'a> {
 }
 
 /// Addresses whose integer values count least input increments.
-pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@";
+pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@cr";
 
 impl State {
     /// Evaluates the words of `w` (made by [`Words::new`]) into it.
@@ -239,10 +256,12 @@ impl State {
                     let mut v = v;
                     // In a canned cycle K is a repeat count, not an arc centre.
                     let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
+                    // A lathe cycle's sequence numbers and counts (Q, R) are no lengths.
                     if !decimal
                         && !count
                         && AXIS_LETTERS.contains(&letter)
                         && self.settings.integer_input == IntegerInput::Increments
+                        && !self.contour_count(letter, w.words)
                     {
                         // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by
                         // the exact power of ten gives the nearest double (X-26 is -0.026).
