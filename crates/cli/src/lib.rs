@@ -95,6 +95,10 @@ program expanded from them holds this machine's values.\n\n\
 The bounds are the tool tip's, in program coordinates, over the positions the program gives: returns \
 to a reference point (G28, G30) and G53 moves are machine positions, counted apart (machine_moves) \
 and never in the bounds (docs/coordinates.md).\n\n\
+On a lathe (a machine file's kind = \"lathe\" or \"mill-turn\", or --dialect fanuc-lathe|haas-lathe) X is \
+the tool's radius, whatever the program's diameter mode; the report gives the spindle speeds over the \
+cutting moves (spindle_rpm: under constant surface speed, the range the spindle turns through) and each \
+thread cut, with its lead (docs/lathe.md).\n\n\
 A program `kezuri run` refuses to write (with no option of how to write it: a block the post has no \
 words for, G41/G42 for GRBL) is an error here too, said as run says it. Where a word without a decimal \
 point may be behind an error, the error says how it was read and the option that reads it otherwise: \
@@ -105,8 +109,9 @@ Exit code 1 when the program has errors (each shown with file:line:column).")]
         #[command(flatten)]
         run: RunOptions,
         /// Print one JSON object: blocks, motions, holes, feed_length_mm,
-        /// rapid_length_mm, time_s, bounds, machine_moves, errors, warnings,
-        /// machine_values.
+        /// rapid_length_mm, time_s, bounds, machine_moves, spindle_rpm
+        /// ([min, max] or null), threads (lead, start, end, line), errors,
+        /// warnings, machine_values.
         #[arg(long)]
         json: bool,
     },

@@ -2,6 +2,12 @@
 //! work offsets and reference point, macro variables and input signals.
 //!
 //! ```toml
+//! [machine]
+//! kind = "mill"                          # or "lathe", "mill-turn"
+//! max_rpm = 12000                        # the spindle's top speed
+//! # x = "diameter"                       # lathes: X a diameter or "radius"
+//! # gcode_system = "A"                   # lathes: Fanuc's G code system A, B, C
+//!
 //! [motion]
 //! rapid_mm_min = [15000, 15000, 10000]   # X Y Z
 //! rapid_deg_min = 3600                   # A B C
@@ -28,6 +34,10 @@
 //! d = 25                                 # its radius register [default:
 //! radius = 3.0                           #   5 with a radius, else none]
 //! name = "6 mm ball, 2 flutes"           # mm: the value of its D register
+//!
+//! [tools.T2]                             # a turning tool (lathes)
+//! nose_radius = 0.4                      # mm
+//! tip = 3                                # imaginary tool tip direction 0-9
 //!
 //! [post]                                 # how programs are written: a preset
 //! preset = "fanuc"                       # and what to change (`kezuri mill --help`)
@@ -89,13 +99,17 @@ use crate::files::Files;
 use crate::post::PostFile;
 use crate::tool_table::Notes;
 
+mod lathe;
 mod tools;
 
+pub use lathe::MachineKind;
 pub use tools::ToolEntry;
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct File {
+    #[serde(default)]
+    machine: lathe::MachineFile,
     #[serde(default)]
     motion: Motion,
     #[serde(default)]
@@ -311,6 +325,9 @@ fn comp_rules(c: &CompFile) -> Result<Rules> {
 /// A machine: its dynamics, what it tells the interpreter, its axes.
 #[derive(Clone)]
 pub struct Machine {
+    /// What kind of machine it is (`[machine] kind`): a lathe or a
+    /// mill-turn reads Fanuc and Haas programs as a lathe's.
+    pub kind: MachineKind,
     /// For the cycle time.
     pub dynamics: Dynamics,
     /// Tool table, offsets and reference point, on top of the defaults.
@@ -329,6 +346,7 @@ pub struct Machine {
 impl Default for Machine {
     fn default() -> Machine {
         Machine {
+            kind: MachineKind::Mill,
             dynamics: Dynamics::default(),
             settings: Settings::default(),
             kinematics: Kinematics::mill(),
@@ -366,6 +384,7 @@ impl Machine {
     pub fn parse(text: &str, dir: &Path, files: &dyn Files) -> Result<(Machine, Notes)> {
         let file: File = toml::from_str(text).map_err(|e| Error::new(ErrorKind::Syntax, with_sources(&e)))?;
         let tools::Read { tools, lengths, radii, notes } = tools::read(&file.tools, dir, files)?;
+        let lathe::Read { kind, lathe, max_rpm } = lathe::read(&file.machine)?;
         let d = Dynamics::default();
         let m = &file.motion;
         let rapid = match &m.rapid_mm_min {
@@ -394,6 +413,9 @@ impl Machine {
             input_signals: variables("signals.inputs", &file.signals.inputs)?,
             cycles: cycle_settings(&file.cycles)?,
             comp_rules: comp_rules(&file.comp)?,
+            lathe,
+            max_rpm,
+            noses: tools.iter().filter_map(|(&n, e)| e.nose.map(|nose| (n, nose))).collect(),
             ..Settings::default()
         };
         settings.check().map_err(|e| Error::new(ErrorKind::Invalid, e.to_string()))?;
@@ -441,13 +463,15 @@ impl Machine {
         // Any mistake in [post] is found now, not when a program is written.
         crate::post::options(&file.post, None, &tools)?;
         let tools_from = Machine::TOOLS_FROM_FILE;
-        Ok((Machine { dynamics, settings, kinematics, tools, tools_from, post: file.post }, notes))
+        Ok((Machine { kind, dynamics, settings, kinematics, tools, tools_from, post: file.post }, notes))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use std::path::PathBuf;
+
+    use kezuri_nc::interp::Nose;
 
     use super::*;
 
@@ -468,6 +492,8 @@ mod tests {
             .collect();
         let m = parse(&example).unwrap();
         assert_eq!(m.dynamics.rapid_mm_min, [15000.0, 15000.0, 10000.0]);
+        assert_eq!((m.kind, m.settings.lathe, m.settings.max_rpm), (MachineKind::Mill, None, Some(12000.0)));
+        assert_eq!(m.settings.noses.get(&2), Some(&Nose { radius: 0.4, tip: 3 }));
         assert_eq!(m.settings.tool_lengths[&21], 87.25);
         // Each tool's length and radius go to its registers.
         assert_eq!(

@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use anyhow::{bail, Result};
 use kezuri_geom::{LengthOffset, MoveKind, Toolpath};
-use kezuri_nc::interp::Control;
+use kezuri_nc::interp::{Control, Thread};
 use kezuri_nc::{Diagnostic, Dialect};
 use serde_json::json;
 
@@ -74,8 +74,9 @@ pub fn unoffset_z_moves(path: &Toolpath, tools: &BTreeMap<u32, ToolEntry>) -> Ve
     out
 }
 
-/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, `T5 (not in the
-/// tool table)`, or `no tool (T0)`.
+/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, a turning tool
+/// `T1 H1 nose 0.8 mm tip 3 (name)`, `T5 (not in the tool table)`, or `no
+/// tool (T0)`.
 fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
     match entry {
         _ if t == 0 => "no tool (T0)".to_string(),
@@ -89,12 +90,42 @@ fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
             if let Some(d) = e.d {
                 s += &format!(" D{d}");
             }
+            if let Some(n) = e.nose {
+                s += &format!(" nose {} mm tip {}", n.radius, n.tip);
+            }
             if let Some(n) = &e.name {
                 s += &format!(" ({n})");
             }
             s
         }
     }
+}
+
+/// The threads as the text report says them: one line for each run of
+/// passes with the same lead, the same Z from and to and the same block (a
+/// cycle's passes), their X (a radius) from the first pass's to the last's.
+fn thread_lines(threads: &[Thread]) -> Vec<String> {
+    let same =
+        |a: &Thread, b: &Thread| a.lead == b.lead && a.start.z == b.start.z && a.end.z == b.end.z && a.line == b.line;
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < threads.len() {
+        let first = &threads[k];
+        let n = threads[k..].iter().take_while(|t| same(first, t)).count();
+        let last = &threads[k + n - 1];
+        let passes = if n == 1 { "1 pass".to_string() } else { format!("{n} passes") };
+        let x = if n == 1 || first.start.x == last.start.x {
+            format!("X {:.3}", first.start.x)
+        } else {
+            format!("X {:.3} → {:.3}", first.start.x, last.start.x)
+        };
+        out.push(format!(
+            "thread lead {:.4} mm, Z {:.3} → {:.3}, {passes}, {x} (radius; line {})",
+            first.lead, first.start.z, first.end.z, first.line
+        ));
+        k += n;
+    }
+    out
 }
 
 /// Runs `kezuri check`.
@@ -148,12 +179,21 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             "time_s": report.time_s,
             "bounds": {"min": lo, "max": hi},
             "machine_moves": report.machine_moves,
+            "spindle_rpm": report.spindle_rpm.map(|(lo, hi)| [lo, hi]),
+            "threads": report.threads.iter().map(|t| json!({
+                "lead": t.lead,
+                "start": [t.start.x, t.start.y, t.start.z],
+                "end": [t.end.x, t.end.y, t.end.z],
+                "line": t.line,
+            })).collect::<Vec<_>>(),
             "tools": report.tools.iter().map(|(t, e)| json!({
                 "number": t,
                 "shape": e.as_ref().and_then(|e| e.shape).map(|c| c.to_string()),
                 "h": e.as_ref().map(|e| e.h),
                 "d": e.as_ref().and_then(|e| e.d),
                 "name": e.as_ref().and_then(|e| e.name.clone()),
+                "nose_radius_mm": e.as_ref().and_then(|e| e.nose).map(|n| n.radius),
+                "tip": e.as_ref().and_then(|e| e.nose).map(|n| n.tip),
             })).collect::<Vec<_>>(),
             "errors": headlines(true).into_iter().chain(refusal.iter().cloned()).collect::<Vec<_>>(),
             "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
@@ -177,13 +217,28 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         if report.holes > 0 {
             text += &format!("  holes {} (canned cycles)\n", report.holes);
         }
+        match report.spindle_rpm {
+            Some((lo, hi)) if format!("{lo:.0}") == format!("{hi:.0}") => {
+                text += &format!("  spindle {hi:.0} rpm (cutting)\n")
+            }
+            Some((lo, hi)) => text += &format!("  spindle {lo:.0} … {hi:.0} rpm (cutting)\n"),
+            None => {}
+        }
+        for line in thread_lines(&report.threads) {
+            text += &format!("  {line}\n");
+        }
         for (t, e) in &report.tools {
             text += &format!("  tool  {}\n", tool_line(*t, e));
         }
         if report.motions > 0 {
+            // On a lathe X is the tool's radius, and Y is said only where
+            // the program places it (a mill-turn's).
+            let lathe = ran.dialect.dialect.is_lathe();
             for (axis, range) in ["X", "Y", "Z"].iter().zip(report.bounds) {
+                let radius = if lathe && *axis == "X" { " (radius)" } else { "" };
                 text += &match range {
-                    Some((lo, hi)) => format!("  {axis} {lo:>10.3} … {hi:>10.3}\n"),
+                    Some((lo, hi)) => format!("  {axis} {lo:>10.3} … {hi:>10.3}{radius}\n"),
+                    None if lathe && *axis == "Y" => String::new(),
                     None => format!("  {axis}     not placed by the program\n"),
                 };
             }
@@ -212,4 +267,39 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
         bail!("{}: {}", o.file.display(), say::count(errors as u64, "error"));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::Axes;
+
+    use super::*;
+
+    fn pass(lead: f64, x: f64, z: [f64; 2], line: u32) -> Thread {
+        let at = |z| Axes { x, z, ..Axes::ZERO };
+        Thread { lead, start: at(z[0]), end: at(z[1]), line }
+    }
+
+    #[test]
+    fn a_cycles_passes_are_one_line() {
+        // Four passes of one cycle going deeper, then a finishing pass of
+        // another block, then a thread of another lead.
+        let threads = [
+            pass(1.5, 9.7, [2.0, -30.0], 14),
+            pass(1.5, 9.5, [2.0, -30.0], 14),
+            pass(1.5, 9.3, [2.0, -30.0], 14),
+            pass(1.5, 9.08, [2.0, -30.0], 14),
+            pass(1.5, 9.08, [2.0, -30.0], 15),
+            pass(2.0, 15.0, [-40.0, -60.0], 20),
+        ];
+        assert_eq!(
+            thread_lines(&threads),
+            [
+                "thread lead 1.5000 mm, Z 2.000 → -30.000, 4 passes, X 9.700 → 9.080 (radius; line 14)",
+                "thread lead 1.5000 mm, Z 2.000 → -30.000, 1 pass, X 9.080 (radius; line 15)",
+                "thread lead 2.0000 mm, Z -40.000 → -60.000, 1 pass, X 15.000 (radius; line 20)",
+            ]
+        );
+        assert!(thread_lines(&[]).is_empty());
+    }
 }

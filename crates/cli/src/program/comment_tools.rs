@@ -34,6 +34,7 @@ pub fn from_comments(machine: &mut Machine, text: &str, inch: bool, file: &str) 
             h: t.h.unwrap_or(t.number),
             d: t.d,
             name: (!t.kind.is_empty()).then_some(t.kind),
+            nose: None,
         };
         machine.tools.insert(t.number, entry);
     }

@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_correct::kinematics::{Kinematics, AXES};
-use kezuri_geom::{cycle_time, AxisRanges, MoveKind, Toolpath};
+use kezuri_geom::{cycle_time, AxisRanges, Move, MoveKind, Spindle, Toolpath};
 use kezuri_nc::interp::comp::Rules;
-use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
+use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings, Thread};
 use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
 use crate::files::{read_text, Folder, Outputs};
@@ -33,15 +33,19 @@ pub struct RunOptions {
     /// Folder of subprogram files `O1234.nc` [default: the program's folder].
     #[arg(long, value_name = "DIR")]
     pub lib: Option<PathBuf>,
-    /// Machine file (TOML): rapids, acceleration, tool table ([tools] H and D
-    /// registers), offsets (G54…, G54.1 P, reference points), the control
-    /// ([coordinates] fanuc, haas, linuxcnc), [cycles], [comp], [macro],
-    /// [signals].
+    /// Machine file (TOML): what the machine is ([machine] kind mill, lathe
+    /// or mill-turn; a lathe's x and gcode_system; max_rpm), rapids,
+    /// acceleration, tool table ([tools] H and D registers, a turning tool's
+    /// nose_radius and tip), offsets (G54…, G54.1 P, reference points), the
+    /// control ([coordinates] fanuc, haas, linuxcnc), [cycles], [comp],
+    /// [macro], [signals].
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
-    /// The language the program is written in: fanuc, haas, linuxcnc or
-    /// grbl [default: from the file's extension and content; see
-    /// docs/linuxcnc.md, "Choosing the dialect"].
+    /// The language the program is written in: fanuc, haas, linuxcnc,
+    /// grbl, fanuc-lathe or haas-lathe [default: from the file's extension
+    /// and content; see docs/linuxcnc.md, "Choosing the dialect"]. On a
+    /// machine file's lathe or mill-turn, fanuc and haas are read as
+    /// fanuc-lathe and haas-lathe.
     #[arg(long, value_enum, value_name = "DIALECT")]
     pub dialect: Option<DialectArg>,
     /// LinuxCNC's parameter file (`NUMBER VALUE` lines, as `rs274 -v` reads
@@ -85,10 +89,13 @@ pub enum DialectArg {
     Linuxcnc,
     /// GRBL 1.1: `X100` is 100 mm.
     Grbl,
-    /// A Fanuc lathe (T series): X a diameter, U W incremental X Z (G code
-    /// system A unless the machine file says B or C), the turning cycles.
+    /// A Fanuc lathe (T series): from the start G18, feed per revolution,
+    /// X a diameter (the machine file's x = "radius" says otherwise);
+    /// G code system A (U W incremental X Z) unless the machine file's
+    /// gcode_system says B or C; `X100` is 0.1 mm, as on the mill.
     FanucLathe,
-    /// A Haas lathe: the Fanuc lathe with Haas's codes and one-block cycles.
+    /// A Haas lathe: the Fanuc lathe with Haas's codes and one-block
+    /// cycles; `X100` is 0.1 mm.
     HaasLathe,
 }
 
@@ -110,6 +117,22 @@ impl From<DialectArg> for Dialect {
 pub fn choose_dialect(given: Option<Dialect>, file: &Path, text: &str) -> Result<Detected> {
     let name = if file == Path::new("-") { String::new() } else { file.display().to_string() };
     detect(given, &name, text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
+}
+
+/// The dialect `detected` on `machine`: a lathe or a mill-turn (the machine
+/// file's `[machine] kind`) reads a Fanuc program as a Fanuc lathe's and a
+/// Haas program as a Haas lathe's, and the reason says so.
+pub fn on_machine(detected: Detected, machine: &Machine) -> Detected {
+    let lathe = match detected.dialect {
+        Dialect::Fanuc => Dialect::FanucLathe,
+        Dialect::Haas => Dialect::HaasLathe,
+        _ => return detected,
+    };
+    if !machine.kind.turns() {
+        return detected;
+    }
+    let reason = format!("{}; a lathe's, by the machine file's kind = \"{}\"", detected.reason, machine.kind);
+    Detected { dialect: lathe, reason }
 }
 
 /// A program read and run.
@@ -198,7 +221,11 @@ pub fn whole_units(dialect: Dialect) -> bool {
 /// The settings of a run of a program in `dialect` on `machine`: axis words
 /// without a decimal point by `no_decimal`, else by the dialect; LinuxCNC's
 /// cutter compensation and coordinate rules for LinuxCNC and GRBL, Haas's
-/// coordinate rules for Haas, the machine file's otherwise.
+/// coordinate rules for Haas, the machine file's otherwise. A lathe's
+/// dialects read like their mills' (`X100` is 0.1 mm on a Fanuc or Haas
+/// lathe too), with the machine file's lathe conventions (X mode, G code
+/// system), top speed and noses; LinuxCNC and GRBL take the top speed and
+/// noses, and start as their controls do.
 pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine: &Machine) -> Settings {
     let units = match no_decimal {
         Some(n) => n == NoDecimal::Units,
@@ -216,6 +243,9 @@ pub fn dialect_settings(dialect: Dialect, no_decimal: Option<NoDecimal>, machine
         // the machine file's start-up type.
         comp_rules: if whole_units(dialect) { Rules::LinuxCnc } else { machine.settings.comp_rules },
         coords: CoordSettings { control, ..machine.settings.coords.clone() },
+        // LinuxCNC turns by its own codes (G7, G8, G18) from its own
+        // power-on state, whatever the machine file's lathe says.
+        lathe: if whole_units(dialect) { None } else { machine.settings.lathe },
         ..machine.settings.clone()
     }
 }
@@ -278,7 +308,7 @@ pub(super) fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr
 
 /// [`run_program`] on a machine loaded already.
 fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
-    let detected = choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?;
+    let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?, &machine);
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
     let parameters = match &o.var {
         Some(_) if !whole_units(detected.dialect) => bail!(
@@ -366,6 +396,11 @@ pub struct Report {
     /// The tools that make moves, in the order they first do (0: none
     /// loaded), each with what the machine file's tool table says of it.
     pub tools: Vec<(u32, Option<ToolEntry>)>,
+    /// The spindle speed's range over the cutting moves, rpm
+    /// ([`spindle_range`]); `None` where none turns at a known speed.
+    pub spindle_rpm: Option<(f64, f64)>,
+    /// The threads cut, one a pass, in order (X a radius).
+    pub threads: Vec<Thread>,
 }
 
 impl Report {
@@ -382,8 +417,38 @@ impl Report {
             bounds: path.known_bounds(true),
             machine_moves: path.machine_moves(),
             tools: tools_used(path).into_iter().map(|t| (t, ran.machine.tools.get(&t).cloned())).collect(),
+            spindle_rpm: spindle_range(path),
+            threads: ran.outcome.threads.clone(),
         }
     }
+}
+
+/// The spindle speed's range over the cutting moves (straight and arc
+/// feeds) of `path`, rpm: at each one's start (the move before's
+/// end) and end ([`kezuri_geom::Move::speed`] is the speed at a move's end;
+/// under constant surface speed it changes along the move). Speeds with the
+/// spindle stopped, or on with no speed given, are not counted; `None`
+/// where nothing is left.
+pub fn spindle_range(path: &Toolpath) -> Option<(f64, f64)> {
+    let mut range: Option<(f64, f64)> = None;
+    let mut add = |rpm: f64| {
+        if rpm > 0.0 && rpm.is_finite() {
+            range = Some(range.map_or((rpm, rpm), |(lo, hi)| (lo.min(rpm), hi.max(rpm))));
+        }
+    };
+    let mut before: Option<&Move> = None;
+    for m in &path.moves {
+        let cuts = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
+        if cuts && m.spindle != Spindle::Off {
+            // The speed the move starts at, where the spindle was on before it.
+            if let Some(b) = before.filter(|b| b.spindle != Spindle::Off) {
+                add(b.speed);
+            }
+            add(m.speed);
+        }
+        before = Some(m);
+    }
+    range
 }
 
 /// The tool numbers that make moves in `path`, in the order they first do.

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use kezuri_cam::Cutter;
 use kezuri_geom::limits;
+use kezuri_nc::interp::Nose;
 use serde::Deserialize;
 
 use crate::error::{fail, with_sources, Error, ErrorKind, Result};
@@ -48,6 +49,10 @@ struct ToolFile {
     /// register (the tool number's when `d` is not given).
     radius: Option<f64>,
     name: Option<String>,
+    /// A turning tool's nose radius, mm.
+    nose_radius: Option<f64>,
+    /// Its imaginary tool tip direction, 0–9.
+    tip: Option<i64>,
 }
 
 /// One tool of the machine's tool table (`[tools.T5]`).
@@ -62,6 +67,9 @@ pub struct ToolEntry {
     pub d: Option<u32>,
     /// What the shop calls it.
     pub name: Option<String>,
+    /// A turning tool's nose: its radius and imaginary tool tip direction
+    /// (`nose_radius`, `tip`), for nose radius compensation.
+    pub nose: Option<Nose>,
 }
 
 /// What `[tools]` gives: the tool table, the H and D register values, and
@@ -163,11 +171,44 @@ fn tool_table(
             shape: shape.or(base.as_ref().and_then(|b| b.shape)),
             h: t.h.or(base.as_ref().map(|b| b.h)).unwrap_or(number),
             d,
+            nose: nose(key, t, base.as_ref().and_then(|b| b.nose))?,
             name: t.name.clone().or(base.and_then(|b| b.name)),
         };
         imported.insert(number, entry);
     }
     Ok(imported)
+}
+
+/// The nose of tool `key`: its `nose_radius` and `tip`, each over the
+/// imported entry's. A tip with no nose radius is the nose centre's (0, 9)
+/// or an error (1–8: the tip is a corner of the nose); a nose radius with
+/// no tip is measured to the nose centre (tip 0), as a Fanuc offset page
+/// holds it.
+fn nose(key: &str, t: &ToolFile, base: Option<Nose>) -> Result<Option<Nose>> {
+    if let Some(r) = t.nose_radius {
+        limits::length_or_zero(r, &format!("tools.{key}.nose_radius"))
+            .map_err(|e| Error::new(ErrorKind::Invalid, e.to_string()))?;
+    }
+    let tip = match t.tip {
+        None => base.map(|b| b.tip),
+        Some(tip @ 0..=9) => Some(tip as u8),
+        Some(tip) => fail!(
+            Invalid,
+            "tools.{key}.tip = {tip}: the imaginary tool tip direction is 0 to 9 \
+             (1-8 a corner of the nose, 0 and 9 its centre)"
+        ),
+    };
+    let radius = t.nose_radius.or(base.map(|b| b.radius));
+    Ok(match (radius, tip) {
+        (None, None) => None,
+        (Some(radius), tip) => Some(Nose { radius, tip: tip.unwrap_or(0) }),
+        (None, Some(tip @ (0 | 9))) => Some(Nose { radius: 0.0, tip }),
+        (None, Some(tip)) => fail!(
+            Invalid,
+            "tools.{key}.tip = {tip} with no tools.{key}.nose_radius: tip {tip} is a point on the nose, \
+             which needs its radius (mm); tips 0 and 9 are the nose centre"
+        ),
+    })
 }
 
 /// The tool table `[tools] import` names, read from beside the machine file.

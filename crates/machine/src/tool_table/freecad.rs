@@ -106,7 +106,7 @@ pub fn read_bit_file(path: &Path, files: &dyn Files) -> Result<Table> {
     let mut table = Table::new("FreeCAD tool bit");
     let (name, shape) = read_bit(path, files, "T1", &mut table.notes.warnings)?;
     table.notes.warnings.push("a tool bit has no number: shown as T1 (a library .fctl numbers its bits)".into());
-    table.add(1, ToolEntry { shape, h: 1, d: None, name }, "");
+    table.add(1, ToolEntry { shape, h: 1, d: None, name, nose: None }, "");
     Ok(table)
 }
 
@@ -132,7 +132,7 @@ pub fn read_library(path: &Path, files: &dyn Files) -> Result<Table> {
         };
         let what = format!("T{number} ({})", t.path);
         let (name, shape) = read_bit(bit, files, &what, &mut table.notes.warnings)?;
-        table.add(number, ToolEntry { shape, h: number, d: None, name }, &t.path);
+        table.add(number, ToolEntry { shape, h: number, d: None, name, nose: None }, &t.path);
     }
     Ok(table)
 }

@@ -107,7 +107,7 @@ fn parse(file: &str, text: &str) -> Result<Table> {
         };
         let h = post("length-offset")?.filter(|&h| h > 0).unwrap_or(number);
         let d = post("diameter-offset")?.filter(|&d| d > 0);
-        table.add(number, ToolEntry { shape, h, d, name }, &what);
+        table.add(number, ToolEntry { shape, h, d, name, nose: None }, &what);
     }
     Ok(table)
 }

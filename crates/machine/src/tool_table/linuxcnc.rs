@@ -6,6 +6,10 @@
 //! orientation (lathe). Numbers in the machine's units, which the file
 //! does not say. A word LinuxCNC does not know, or a bad number, is an
 //! error here (LinuxCNC skips such a line with a message, losing the tool).
+//!
+//! A lathe tool's line (an orientation Q 1–9) gives its nose: the radius is
+//! half of D (LinuxCNC's tool nose diameter), the tip direction Q turned
+//! into Fanuc's numbering ([`fanuc_tip`]).
 
 /// The start of the note a tool.tbl leaves: the machine file that imports
 /// it names the tools its own entries leave without a shape instead.
@@ -17,6 +21,7 @@ use super::{Table, Units};
 use crate::error::{fail, Result};
 use crate::files::{read_text, Files};
 use crate::machine::ToolEntry;
+use kezuri_nc::interp::Nose;
 
 /// Reads a `tool.tbl`.
 pub fn read(path: &Path, units: Units, files: &dyn Files) -> Result<Table> {
@@ -29,8 +34,31 @@ struct Words {
     tool: Option<i64>,
     diameter: Option<f64>,
     z: Option<f64>,
-    /// A lathe's or a rotary offset, an angle or an orientation not zero.
+    /// The lathe tool's orientation (Q), 0–9.
+    orientation: Option<u8>,
+    /// A lathe's X or a rotary offset, or a front or back angle, not zero.
     unused: bool,
+}
+
+/// Fanuc's imaginary tool tip direction for LinuxCNC's lathe tool
+/// orientation `q` (0–9). Each names the corner of the nose the tool is
+/// set to, seen from the nose centre, in the machine's +X and +Z; the two
+/// number those corners mirrored in X. LinuxCNC (what `rs274` does with
+/// a tool of each orientation under `G41`/`G42`): 1 (−X, +Z), 2 (−X, −Z),
+/// 3 (+X, −Z), 4 (+X, +Z), 5 +Z, 6 −X, 7 −Z, 8 +X. Fanuc (the turning
+/// tool for outside diameters is tip 3, the boring bar tip 2): 1 (+X, +Z),
+/// 2 (+X, −Z), 3 (−X, −Z), 4 (−X, +Z), 5 +Z, 6 +X, 7 −Z, 8 −X. 0 and 9:
+/// the nose centre in both.
+pub(crate) fn fanuc_tip(q: u8) -> u8 {
+    match q {
+        1 => 4,
+        2 => 3,
+        3 => 2,
+        4 => 1,
+        6 => 8,
+        8 => 6,
+        other => other,
+    }
 }
 
 fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
@@ -49,7 +77,18 @@ fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
         }
         let Ok(number) = u32::try_from(t) else { fail!(Invalid, "{name}:{n}: T{t} is not a tool number") };
         let comment = line.split_once(';').map(|(_, c)| c.trim()).filter(|c| !c.is_empty());
-        let entry = ToolEntry { shape: None, h: number, d: Some(number), name: comment.map(String::from) };
+        // A lathe tool's nose: its orientation, and half its D.
+        let nose = match (w.orientation, w.diameter) {
+            (None | Some(0), _) => None,
+            (Some(q), Some(d)) => Some(Nose { radius: units.mm(d) / 2.0, tip: fanuc_tip(q) }),
+            (Some(q), None) => {
+                table.notes.warnings.push(format!(
+                    "line {n}: T{number}: orientation Q{q} with no diameter D: no nose (add D, the nose diameter)"
+                ));
+                None
+            }
+        };
+        let entry = ToolEntry { shape: None, h: number, d: Some(number), name: comment.map(String::from), nose };
         if table.add(number, entry, &format!("line {n}")) {
             if let Some(z) = w.z {
                 table.lengths.insert(number, units.mm(z));
@@ -59,7 +98,7 @@ fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
             }
             if w.unused {
                 table.notes.warnings.push(format!(
-                    "line {n}: T{number}: its X, Y or rotary offsets, angles (I J) or orientation (Q) are not used"
+                    "line {n}: T{number}: its X, Y or rotary offsets and front and back angles (I J) are not used"
                 ));
             }
         }
@@ -106,7 +145,10 @@ fn words(name: &str, n: usize, line: &str, part: &str) -> Result<Words> {
             'P' => {
                 whole()?;
             }
-            'Q' => w.unused |= whole()? != 0,
+            'Q' => match whole()? {
+                q @ 0..=9 => w.orientation = Some(q as u8),
+                _ => fail!(Invalid, "{at}: '{token}': a lathe tool's orientation Q is 0 to 9"),
+            },
             'D' => {
                 let d = number()?;
                 if d < 0.0 {

@@ -20,7 +20,8 @@ fn values(t: &Table, e: &ToolEntry) -> (Option<f64>, Option<f64>) {
 }
 
 /// The tables as one JSON object: `tables`, each with file, format, tools
-/// (number, shape, h, d, length_mm, radius_mm, name), skipped and warnings.
+/// (number, shape, h, d, length_mm, radius_mm, name, and a turning tool's
+/// nose_radius_mm and tip), skipped and warnings.
 pub fn json(shown: &[Shown]) -> String {
     let tables: Vec<_> = shown
         .iter()
@@ -32,7 +33,8 @@ pub fn json(shown: &[Shown]) -> String {
                 .map(|(n, e)| {
                     let (length, radius) = values(&s.table, e);
                     json!({"number": n, "shape": e.shape.map(|c| c.to_string()), "h": e.h, "d": e.d,
-                           "length_mm": length, "radius_mm": radius, "name": e.name})
+                           "length_mm": length, "radius_mm": radius, "name": e.name,
+                           "nose_radius_mm": e.nose.map(|n| n.radius), "tip": e.nose.map(|n| n.tip)})
                 })
                 .collect();
             json!({"file": s.file, "format": s.table.format, "tools": tools,
@@ -63,6 +65,12 @@ fn table_text(s: &Shown) -> String {
             or_dash(radius.map(|v| v.to_string())),
             e.name.clone().unwrap_or_default(),
         ]);
+    }
+    // A turning tool's nose, after its name.
+    for (r, e) in rows[1..].iter_mut().zip(t.tools.values()) {
+        if let Some(n) = e.nose {
+            r[6] = format!("{}{}nose {} mm, tip {}", r[6], if r[6].is_empty() { "" } else { "; " }, n.radius, n.tip);
+        }
     }
     let widths: Vec<usize> = (0..7).map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0)).collect();
     let n = t.tools.len();

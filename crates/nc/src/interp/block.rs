@@ -569,6 +569,8 @@ impl State {
             | GCode::Smoothing(_)
             | GCode::ExactStop
             | GCode::Pocket(_)
+            | GCode::Grooving(_)
+            | GCode::MultipleThreading
             | GCode::Contour(_)
             | GCode::LatheSetPosition
             | GCode::ConstantSpeedOff => {}

@@ -41,6 +41,7 @@ use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
 use crate::source::{Diagnostic, SourceFile, Sources, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
+pub use lathe::nose::{nose_centre_path, TipNumbers};
 pub use lathe::{GCodeSystem, Lathe, Nose, Thread, XMode};
 pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
 pub use signals::check_inputs;
@@ -349,6 +350,8 @@ struct State {
     holes: u64,
     /// The threads cut ([`Outcome::threads`]).
     threads: Vec<Thread>,
+    /// What a lathe's cycles remember between blocks.
+    cycles: lathe::single::CycleMemory,
     /// What the first blocks of the lathe's G71/G72/G73 left for the next.
     contour: lathe::contour::Memory,
     /// A lathe's state (`None` on a mill): how X is read, constant surface
@@ -488,6 +491,7 @@ impl State {
             spline_pq: [0.0; 2],
             holes: 0,
             threads: Vec::new(),
+            cycles: lathe::single::CycleMemory::default(),
             contour: Default::default(),
             turning,
             length_wear: BTreeMap::new(),

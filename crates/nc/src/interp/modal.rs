@@ -288,6 +288,12 @@ pub enum GCode {
     /// A lathe's single cycle: G90 G92 G94 (system A), G77 G78 G79 (B),
     /// G20 G21 G24 (C).
     SingleCycle(SingleCycle),
+    /// A lathe's grooving cycle (`true`: G74 end face peck drilling and
+    /// grooving; `false`: G75 outer/inner diameter grooving; G76, G77 in
+    /// system C). One-shot.
+    Grooving(bool),
+    /// A lathe's multiple threading cycle: G76 (G78 in system C). One-shot.
+    MultipleThreading,
     /// A lathe's threading move: G32 (system A), G33 (B, C). Group 1.
     Threading,
     /// A lathe's coordinate system setting and spindle speed clamp: G50
@@ -405,7 +411,7 @@ impl GCode {
             ExactStop => 100,
             ConstantSpeedOff | ConstantSpeed => 13,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
-            | ResetShift | Pocket(_) | Contour(_) | LatheSetPosition => 0,
+            | ResetShift | Pocket(_) | Contour(_) | LatheSetPosition | Grooving(_) | MultipleThreading => 0,
         }
     }
 }
@@ -476,6 +482,9 @@ impl GCode {
             (730, A | B) | (750, C) => Contour(ContourCycle::Pattern),
             // The multiple repetitive cycles (G70–G76, system C G72–G78)
             // and the lathe's drilling cycles: their readers add them.
+            (740, A | B) | (760, C) => Grooving(true),
+            (750, A | B) | (770, C) => Grooving(false),
+            (760, A | B) | (780, C) => MultipleThreading,
             (700..=790, _) | (810..=890, _) if tenths.is_multiple_of(10) => return None,
             _ => return GCode::decode(tenths),
         })
@@ -489,7 +498,10 @@ impl GCode {
     /// end point with [`crate::interp`]'s lathe point reading where its
     /// X(U) Z(W) are one. Each cycle reader adds its codes here.
     pub fn takes_cycle_words(self) -> bool {
-        matches!(self, GCode::Dwell | GCode::SingleCycle(_) | GCode::Contour(_))
+        matches!(
+            self,
+            GCode::Dwell | GCode::SingleCycle(_) | GCode::Contour(_) | GCode::Grooving(_) | GCode::MultipleThreading
+        )
     }
 }
 

@@ -221,6 +221,8 @@ impl State {
             Some((GCode::MachineCoords, _)) => return Ok(self.machine_move(w, line)),
             Some((GCode::Skip, gspan)) => return self.skip(w, gspan, span, line),
             Some((GCode::Pocket(cw), gspan)) => return self.circular_pocket(cw, w, gspan, line),
+            Some((GCode::Grooving(face), gspan)) => return self.grooving_block(face, w, gspan, line),
+            Some((GCode::MultipleThreading, gspan)) => return self.threading_block(w, gspan, line),
             Some((GCode::SetOffsets, gspan)) => {
                 self.set_offsets(w, gspan)?;
                 // LinuxCNC's G10 ignores G91: kept as absolute for any control.

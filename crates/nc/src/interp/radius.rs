@@ -10,10 +10,18 @@
 //! contour with the G41/G42 D and G40 blocks as [`Kept`] blocks for a
 //! G-code writer, so that the control applies its own D register (which
 //! holds the wear). `docs/cutter-compensation.md` has the rules.
+//!
+//! On a lathe ([`Settings::lathe_conventions`](super::Settings::lathe_conventions))
+//! G41/G42 are tool nose radius compensation: the radius and the imaginary
+//! tip direction are the nose of the tool in use ([`Settings::noses`](super::Settings::noses)),
+//! no D word; the toolpath is the imaginary tip's
+//! ([`compensate_nose`]; `docs/lathe.md`, "Nose radius compensation").
 
 use kezuri_geom::{Axes, Kept, MoveKind, Toolpath};
 
-use super::comp::{compensate_traced, Comp, Rules, Side};
+use super::comp::{Comp, Rules, Side};
+use super::lathe::nose::{compensate_nose, TipNumbers};
+use super::lathe::Nose;
 use super::modal::{RadiusComp, Units};
 use super::State;
 use crate::number::number;
@@ -34,6 +42,9 @@ pub(super) struct Radius {
     since: Option<usize>,
     /// The compensation in force for each move from `since` on.
     tags: Vec<Option<Comp>>,
+    /// The lathe tool's tip vector (X, Z) for each move from `since` on:
+    /// (0, 0) for a mill, and while compensation is off.
+    tips: Vec<(f64, f64)>,
     /// The block that made each move from `since` on, for located alarms.
     spans: Vec<Span>,
     /// The G41/G42 D and G40 blocks for the writer of the programmed
@@ -48,8 +59,12 @@ struct On {
     /// The signed radius in mm.
     radius: f64,
     /// Fanuc: the D register whose value `radius` is; a new D word changes
-    /// it. `None` where the radius does not follow the D word (LinuxCNC).
+    /// it. `None` where the radius does not follow the D word (LinuxCNC,
+    /// a lathe's nose).
     register: Option<u32>,
+    /// A lathe tool's tip vector (X, Z): where the machine puts the
+    /// imaginary tip from the nose centre. (0, 0) for a mill.
+    tip: (f64, f64),
 }
 
 /// What the end of a run makes of the recorded moves.
@@ -100,6 +115,16 @@ impl State {
             return Err(Diagnostic::error(gspan, "Cannot turn cutter radius comp on when on"));
         }
         let at = if d.is_some() { dspan } else { gspan };
+        if !diameter && self.settings.lathe_conventions().is_some() {
+            if let Some(nose) = self.nose_in_use(&name, d, gspan)? {
+                let numbers = if linuxcnc { TipNumbers::LinuxCnc } else { TipNumbers::Fanuc };
+                let tip = nose.tip_vector(numbers);
+                self.radius.on = Some(On { side, radius: nose.radius, register: None, tip });
+                self.modal.radius_comp = code;
+                self.comp_mark(name);
+                return Ok(());
+            }
+        }
         let (radius, register, text) = if diameter {
             let Some(d) = d else {
                 return Err(Diagnostic::error(gspan, format!("{name} needs D, the cutter diameter")));
@@ -133,7 +158,7 @@ impl State {
             };
             (radius, (!linuxcnc).then_some(register), text)
         };
-        self.radius.on = Some(On { side, radius, register });
+        self.radius.on = Some(On { side, radius, register, tip: (0.0, 0.0) });
         self.modal.radius_comp = code;
         self.comp_mark(text);
         Ok(())
@@ -143,7 +168,9 @@ impl State {
     /// offset number, and while compensation is on the radius.
     pub(super) fn comp_register(&mut self, d: Option<f64>, dspan: Span) -> Result<(), Diagnostic> {
         let Some(d) = d else { return Ok(()) };
-        if self.settings.comp_rules == Rules::LinuxCnc {
+        // LinuxCNC's D names a tool, read at G41/G42; a lathe's radius is
+        // its tool's nose.
+        if self.settings.comp_rules == Rules::LinuxCnc || self.settings.lathe_conventions().is_some() {
             return Ok(());
         }
         let n = register_number(d, dspan, false)?;
@@ -170,6 +197,11 @@ impl State {
             };
             Comp { side, radius: on.radius, plane: self.modal.plane }
         });
+        // The tip is off the centre in the ZX plane only (G18, a lathe's).
+        let tip = match self.radius.on {
+            Some(on) if self.modal.plane == kezuri_geom::Plane::Zx => on.tip,
+            _ => (0.0, 0.0),
+        };
         if self.radius.since.is_none() {
             if tag.is_none() {
                 return;
@@ -177,6 +209,7 @@ impl State {
             self.radius.since = Some(self.toolpath.moves.len());
         }
         self.radius.tags.push(tag);
+        self.radius.tips.push(tip);
         self.radius.spans.push(self.radius.block.0);
     }
 
@@ -186,8 +219,11 @@ impl State {
         if self.radius.since.is_none() {
             return;
         }
-        if let (Some(&tag), Some(&span)) = (self.radius.tags.last(), self.radius.spans.last()) {
+        if let (Some(&tag), Some(&tip), Some(&span)) =
+            (self.radius.tags.last(), self.radius.tips.last(), self.radius.spans.last())
+        {
             self.radius.tags.push(tag);
+            self.radius.tips.push(tip);
             self.radius.spans.push(span);
         }
     }
@@ -203,14 +239,14 @@ impl State {
         let mut end = self.toolpath.moves.len();
         let mut alarm = None;
         let centre = loop {
-            let tags = &self.radius.tags[..end - since];
-            match compensate_traced(&self.toolpath.moves[since..end], tags, rules) {
+            let (tags, tips) = (&self.radius.tags[..end - since], &self.radius.tips[..end - since]);
+            match compensate_nose(&self.toolpath.moves[since..end], tags, tips, rules) {
                 Ok(done) => break Some(done),
                 // A control stops at the alarm: nothing from its move on is made.
                 Err(e) if alarm.is_none() => {
                     let k = e.move_index().unwrap_or_default();
                     let span = self.radius.spans.get(k).copied().unwrap_or(self.radius.block.0);
-                    alarm = Some(Diagnostic::error(span, format!("cutter compensation: {}", e.message)));
+                    alarm = Some(Diagnostic::error(span, self.comp_alarm(&e.message)));
                     end = since + k;
                 }
                 // The moves before the alarm fail in turn: stop before theirs too.
@@ -283,8 +319,66 @@ impl State {
             return None;
         }
         let start = tags[..end].iter().rposition(Option::is_none).map_or(0, |k| k + 1);
-        let (centre, _) = compensate_traced(&moves[start..end], &tags[start..end], self.settings.comp_rules).ok()?;
+        let tips = &self.radius.tips[start..end];
+        let (centre, _) =
+            compensate_nose(&moves[start..end], &tags[start..end], tips, self.settings.comp_rules).ok()?;
         centre.last().map(|m| m.end)
+    }
+
+    /// A compensation alarm's text: a lathe's G41/G42 compensate the nose.
+    fn comp_alarm(&self, message: &str) -> String {
+        if self.settings.lathe_conventions().is_some() {
+            let message = message
+                .replace("cutter compensation", "nose radius compensation")
+                .replace("cutter radius", "nose radius");
+            format!("tool nose radius compensation: {message}")
+        } else {
+            format!("cutter compensation: {message}")
+        }
+    }
+
+    /// The nose of the tool a lathe's G41/G42
+    /// (`name`, the G word at `gspan`) compensates: the tool in use, or
+    /// with LinuxCNC's rules the tool its D word names. `None` where
+    /// LinuxCNC's tool has no nose but may have a radius in the tool table
+    /// (its mill rule then applies, tip 0). A tip direction outside 0–9 or
+    /// a radius that is no length is an error; a tool with no nose a
+    /// warning and radius 0, or an error where the nose centre path is
+    /// needed.
+    fn nose_in_use(&mut self, name: &str, d: Option<f64>, gspan: Span) -> Result<Option<Nose>, Diagnostic> {
+        let linuxcnc = self.settings.comp_rules == Rules::LinuxCnc;
+        let tool = match d {
+            Some(d) if linuxcnc && d >= 0.0 && d.fract() == 0.0 => d as u32,
+            _ => self.tool,
+        };
+        let nose = self.settings.noses.get(&tool).copied();
+        match nose {
+            Some(nose) => {
+                nose.check().map_err(|why| {
+                    Diagnostic::error(gspan, format!("{name}: tool {tool}'s {why}: the nose centre path cannot be made"))
+                })?;
+                Ok(Some(nose))
+            }
+            None if linuxcnc => Ok(None),
+            None if self.settings.radii_required => Err(Diagnostic::error(
+                gspan,
+                format!(
+                    "{name}: tool {tool} has no nose radius and tip direction (machine file [tools.T{tool}] nose_radius \
+                     and tip): the nose centre path cannot be made"
+                ),
+            )),
+            None => {
+                self.warn(
+                    "radius",
+                    gspan,
+                    format!(
+                        "{name}: tool {tool} has no nose radius and tip direction (machine file [tools.T{tool}] \
+                         nose_radius and tip): compensation with radius 0, the programmed path"
+                    ),
+                );
+                Ok(Some(Nose { radius: 0.0, tip: 0 }))
+            }
+        }
     }
 
     /// Whether cutter compensation is on.

@@ -255,13 +255,17 @@ impl State {
                     }
                     let mut v = v;
                     // In a canned cycle K is a repeat count, not an arc centre.
-                    let count = letter == b'K' && (self.modal.cycle.is_some() || names_cycle(w.words));
+                    // (A lathe's G74 G75 G76 are no drilling cycles: their K is a length.)
+                    let count = letter == b'K'
+                        && (self.modal.cycle.is_some() || names_cycle(w.words))
+                        && !self.lathe_names_cycle(w.words);
                     // A lathe cycle's sequence numbers and counts (Q, R) are no lengths.
                     if !decimal
                         && !count
                         && AXIS_LETTERS.contains(&letter)
                         && self.settings.integer_input == IntegerInput::Increments
                         && !self.contour_count(letter, w.words)
+                        && !self.lathe_cycle_count(letter, w.words)
                     {
                         // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by
                         // the exact power of ten gives the nearest double (X-26 is -0.026).

@@ -12,6 +12,7 @@ use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 
 pub mod linuxcnc;
 pub mod ngc;
+pub mod nose;
 pub mod writer;
 
 /// A program run: its parse diagnostics, the outcome, the sources to

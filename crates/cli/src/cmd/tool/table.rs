@@ -16,7 +16,8 @@ use crate::machine::Disk;
 #[derive(Args, Debug)]
 #[command(after_help = "What each file gives (docs/tool-tables.md has the rules):
   LinuxCNC tool.tbl   T, diameter (D), length (Z); no units (--units is required), no shape:
-                      H = D = the tool number; the length goes to H, half the diameter to D
+                      H = D = the tool number; the length goes to H, half the diameter to D;
+                      a lathe tool (orientation Q 1-9) has a nose: radius D/2, Q as Fanuc's tip
   FreeCAD .fctb/.fctl the shape and its sizes; a library numbers its bits, found in the Bit folder
                       beside its Library folder (FreeCAD's layout) or beside the library
   Fusion 360 .json    type, sizes, number, length and diameter offset numbers (not their values);
@@ -43,7 +44,8 @@ pub struct TableArgs {
     #[arg(long, value_name = "M.toml")]
     pub machine: Option<PathBuf>,
     /// Print one JSON object: tables, each with file, format, tools (number, shape, h, d,
-    /// length_mm, radius_mm, name), skipped and warnings.
+    /// length_mm, radius_mm, name; a turning tool's nose_radius_mm, tip),
+    /// skipped and warnings.
     #[arg(long)]
     pub json: bool,
 }

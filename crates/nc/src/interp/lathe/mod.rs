@@ -8,11 +8,14 @@
 
 pub(super) mod contour;
 mod corner;
+mod grooving;
+pub mod nose;
 mod profile;
 mod roughing;
-mod single;
+pub(super) mod single;
 mod speed;
 mod thread;
+mod threading;
 mod words;
 
 use kezuri_geom::{Axes, AxisSet};
