@@ -61,7 +61,11 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
             let at = Span::new(file, p.pos, p.pos + 1);
-            if percent_seen == 0 && program.blocks.len() > blocks_before && !after_end {
+            // Blank lines before the tape's leader are not a program.
+            let blank = |b: &Block| {
+                b.number.is_none() && matches!(b.statement, Statement::Empty | Statement::Words { len: 0, .. })
+            };
+            if percent_seen == 0 && program.blocks[blocks_before..].iter().any(|b| !blank(b)) && !after_end {
                 // Not the tape's leader: the file did not open with '%'.
                 diagnostics.push(Diagnostic::error(
                     at,

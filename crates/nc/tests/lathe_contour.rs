@@ -503,7 +503,9 @@ M30
 fn haas_r1_is_type_two() {
     // The pocket of `g71_type_two_cuts_a_pocket` in Haas's one block with
     // R1: its cuts (the feeds) are type II's, the escape (Haas's setting,
-    // kezuri's 1 mm) aside; with R0 the shape's pocket is refused as type I.
+    // kezuri's 1 mm) aside. Without R1 a first block naming X alone makes
+    // it type I, and the pocket is refused; one naming X and Z (Fanuc's
+    // type II, which real Haas programs rely on) is type II again.
     let body = "N30 G01 X30. Z0
 Z-10.
 X20. Z-15.
@@ -517,7 +519,9 @@ M30
     let haas_text = format!("G00 X42. Z2.\nG71 P30 Q40 D2. U0 W0 I0 K0 R1 F0.2\n{body}");
     let feeds = |o: &Outcome| moves(o).into_iter().filter(|m| m.0 == 'F').collect::<Vec<_>>();
     same(&feeds(&run(&haas_text, &haas())), &feeds(&run(&fanuc_text, &fanuc())));
-    let (head, message) = stop(&haas_text.replace(" R1", ""), &haas());
+    let fanuc_reading = haas_text.replace(" R1", "");
+    same(&feeds(&run(&fanuc_reading, &haas())), &feeds(&run(&fanuc_text, &fanuc())));
+    let (head, message) = stop(&fanuc_reading.replace("N30 G01 X30. Z0\n", "N30 G01 X30.\n"), &haas());
     assert!(head.starts_with("t.nc:5:1: error"), "{head}");
     assert!(message.contains("type II"), "{message}");
 }

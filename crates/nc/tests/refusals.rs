@@ -161,6 +161,8 @@ fn a_percent_sign_is_reported_where_it_stands() {
         // The closing '%' with a program after it: the warning at the '%'.
         let got = parsed(d, "%\nG90 G21 F100\n%\nG00 X0. Y0. Z1.\nG01 X10.\nM30\n%\n");
         assert_eq!(got, ["t.nc:3:1: warning: this '%' ends the tape: the 4 lines after it are not read"], "{d}");
+        // Blank lines before the opening '%' (a Haas lathe program as saved): nothing to say.
+        assert_eq!(parsed(d, "\n \n%\nG90 G21 F100\nG01 X1.\nM30\n%\n"), Vec::<String>::new(), "{d}");
         // After the end of the program (LinuxCNC's lathe_pawn.ngc ends `M2` `%`): nothing to say.
         assert_eq!(parsed(d, "G90 G21 F100\nG01 X1.\nM2\n%\n"), Vec::<String>::new(), "{d}");
         // A '%' inside a line: one error where it stands, none at the end.

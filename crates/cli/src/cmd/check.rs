@@ -102,11 +102,11 @@ fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
 }
 
 /// The threads as the text report says them: one line for each run of
-/// passes with the same lead, the same Z from and to and the same block (a
-/// cycle's passes), their X (a radius) from the first pass's to the last's.
+/// passes with the same lead and block (a cycle's passes, whose starts may
+/// step along the flank as G76's do), the Z of the last pass (the thread's
+/// length), their X (a radius) from the first pass's to the last's.
 fn thread_lines(threads: &[Thread]) -> Vec<String> {
-    let same =
-        |a: &Thread, b: &Thread| a.lead == b.lead && a.start.z == b.start.z && a.end.z == b.end.z && a.line == b.line;
+    let same = |a: &Thread, b: &Thread| a.lead == b.lead && a.line == b.line;
     let mut out = Vec::new();
     let mut k = 0;
     while k < threads.len() {
@@ -121,7 +121,7 @@ fn thread_lines(threads: &[Thread]) -> Vec<String> {
         };
         out.push(format!(
             "thread lead {:.4} mm, Z {:.3} → {:.3}, {passes}, {x} (radius; line {})",
-            first.lead, first.start.z, first.end.z, first.line
+            first.lead, last.start.z, last.end.z, first.line
         ));
         k += n;
     }
@@ -282,12 +282,13 @@ mod tests {
 
     #[test]
     fn a_cycles_passes_are_one_line() {
-        // Four passes of one cycle going deeper, then a finishing pass of
-        // another block, then a thread of another lead.
+        // Four passes of one cycle going deeper, starting along the flank
+        // (G76), then a finishing pass of another block, then a thread of
+        // another lead.
         let threads = [
-            pass(1.5, 9.7, [2.0, -30.0], 14),
-            pass(1.5, 9.5, [2.0, -30.0], 14),
-            pass(1.5, 9.3, [2.0, -30.0], 14),
+            pass(1.5, 9.7, [2.3, -30.0], 14),
+            pass(1.5, 9.5, [2.2, -30.0], 14),
+            pass(1.5, 9.3, [2.1, -30.0], 14),
             pass(1.5, 9.08, [2.0, -30.0], 14),
             pass(1.5, 9.08, [2.0, -30.0], 15),
             pass(2.0, 15.0, [-40.0, -60.0], 20),

@@ -420,14 +420,10 @@ impl State {
         let escape = self.contour.escape.unwrap_or(DEFAULT_ESCAPE);
         let first_words = program.words(&program.blocks[shape.first as usize]);
         let names = |l: &[u8]| first_words.iter().any(|word| l.contains(&word.letter));
-        // Type II: the first block names the cut's axis too (Fanuc); R1 (Haas).
-        let pockets = if haas {
-            w.get(b'R') == Some(1.0)
-        } else if turning {
-            names(b"ZW")
-        } else {
-            names(b"XU")
-        };
+        // Type II: the first block names the cut's axis too (Fanuc, and Haas
+        // in its Fanuc-compatible reading: real Haas programs rely on it), or
+        // Haas's R1.
+        let pockets = (haas && w.get(b'R') == Some(1.0)) || if turning { names(b"ZW") } else { names(b"XU") };
         let (a1, b) = self.shape_ends(shape);
         let start = self.tip;
         let ns = &program.blocks[shape.first as usize];

@@ -196,45 +196,6 @@ impl State {
         Diagnostic::error(at, r.message)
     }
 
-    /// The lead of a threading cycle (F, mm a turn; Haas's E where the
-    /// block has no F), refused where the tool would never move: F0, or S0
-    /// without constant surface speed.
-    pub(super) fn thread_lead(&mut self, w: &Words, span: Span) -> Result<f64, Diagnostic> {
-        if let (Some(e), false, crate::Dialect::HaasLathe) = (w.get(b'E'), w.has(b'F'), self.settings.dialect) {
-            if e > 0.0 {
-                return Ok(self.mm(e));
-            }
-        }
-        let lead = self.mm(self.feed_word);
-        if !self.feed_set || lead.is_nan() || lead <= 0.0 {
-            let at = if w.has(b'F') { w.span(b'F') } else { span };
-            return Err(Diagnostic::error(
-                at,
-                format!(
-                    "threading with lead F{}: the lead is how far the tool goes each revolution, and at 0 it never \
-                     moves; give F, the thread's lead, greater than 0",
-                    if self.feed_set { self.feed_word } else { 0.0 }
-                ),
-            ));
-        }
-        let css = self.turning.as_ref().is_some_and(|t| t.surface.is_some());
-        if !css && (self.speed.is_nan() || self.speed <= 0.0) {
-            let at = match self.speed_span {
-                Some(s) if w.has(b'S') => s,
-                _ => span,
-            };
-            return Err(Diagnostic::error(
-                at,
-                format!(
-                    "threading with spindle speed S{}: the feed follows the spindle, so at 0 rpm the tool never moves \
-                     (the control waits for the spindle's revolution signal); give S greater than 0",
-                    self.speed
-                ),
-            ));
-        }
-        Ok(lead)
-    }
-
     /// The moves of a cycle, X a radius, in machine coordinates: feeds at
     /// `feed` (mm/min), threading at `lead` a turn. The first threading
     /// move is the thread this call cuts (a chamfer's pull-out belongs to

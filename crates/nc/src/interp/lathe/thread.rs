@@ -14,12 +14,34 @@ use crate::source::{Diagnostic, Span};
 
 impl State {
     /// A block in threading mode: a feed move at lead × rpm (along the lead
-    /// axis), and the thread it cuts. S0 or F0: a located error (the tool
-    /// would never advance; the control's threading waits for the spindle's
-    /// one-revolution signal).
+    /// axis), and the thread it cuts. S0 or F0: a located error
+    /// ([`State::thread_lead`]).
     pub(in super::super) fn lathe_thread(&mut self, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
         if !w.any_axis() {
             return Ok(false);
+        }
+        let lead = self.thread_lead(w, span)?;
+        let start = self.tip;
+        let end = self.target(w);
+        let axes = w.axes();
+        self.push_move(MoveKind::Feed, end, 0.0, axes, line);
+        let Some(m) = self.toolpath.moves.last_mut() else { return Ok(true) };
+        // Under constant surface speed the feed is set after the block
+        // (its time integrated with the speed along the move).
+        m.feed = lead * self.speed * thread_stretch(m);
+        self.threads.push(Thread { lead, start, end, line });
+        Ok(true)
+    }
+
+    /// The lead of a threading block or cycle (F, mm a turn; Haas's E
+    /// where the block has no F), refused where the tool would never move:
+    /// F0, or S0 without constant surface speed (the control's threading
+    /// waits for the spindle's one-revolution signal).
+    pub(super) fn thread_lead(&mut self, w: &Words, span: Span) -> Result<f64, Diagnostic> {
+        if let (Some(e), false, crate::Dialect::HaasLathe) = (w.get(b'E'), w.has(b'F'), self.settings.dialect) {
+            if e > 0.0 {
+                return Ok(self.mm(e));
+            }
         }
         let lead = self.mm(self.feed_word);
         if !self.feed_set || lead.is_nan() || lead <= 0.0 {
@@ -46,15 +68,6 @@ impl State {
                 ),
             ));
         }
-        let start = self.tip;
-        let end = self.target(w);
-        let axes = w.axes();
-        self.push_move(MoveKind::Feed, end, 0.0, axes, line);
-        let Some(m) = self.toolpath.moves.last_mut() else { return Ok(true) };
-        // Under constant surface speed the feed is set after the block
-        // (its time integrated with the speed along the move).
-        m.feed = lead * self.speed * thread_stretch(m);
-        self.threads.push(Thread { lead, start, end, line });
-        Ok(true)
+        Ok(lead)
     }
 }
