@@ -536,3 +536,38 @@ fn cycle_moves_under_constant_surface_speed() {
     assert!((t.moves[1].speed - rpm).abs() < 0.01, "{}", t.moves[1].speed);
     assert!((t.moves[2].speed - 3000.0).abs() < 1e-9, "{}", t.moves[2].speed);
 }
+
+// "Canned cycle for drilling", face drilling G83 (B-64604EN): the hole
+// along Z at the block's X (and C), R the distance from the initial level to
+// point R (G code system A, parameter 5102#6 RAB at its default 0), Z the
+// bottom, Q the depth of each peck; after each peck the tool returns to
+// point R at rapid, then goes at rapid to d (parameter 5115, 0.1 mm) above
+// the last depth; at the bottom it returns to the initial level (system A:
+// G98/G99 are the feed modes).
+// Initial level Z6., R-3. gives point R at Z3.; bottom Z-10., Q4.: pecks to
+// Z-1, -5, -9, then -10. With G98 (feed per minute) F100 is 100 mm/min.
+#[test]
+fn g83_face_drilling_from_the_initial_level() {
+    let text = "S1000 M03\nG98 G00 X0. Z6.\nG83 X0. Z-10. R-3. Q4. F100.\nG80\nM30\n";
+    let t = path(text, &fanuc());
+    expect(
+        &t,
+        1,
+        &[
+            (K::R, 0.0, 3.0),
+            (K::F, 0.0, -1.0),
+            (K::R, 0.0, 3.0),
+            (K::R, 0.0, -0.9),
+            (K::F, 0.0, -5.0),
+            (K::R, 0.0, 3.0),
+            (K::R, 0.0, -4.9),
+            (K::F, 0.0, -9.0),
+            (K::R, 0.0, 3.0),
+            (K::R, 0.0, -8.9),
+            (K::F, 0.0, -10.0),
+            (K::R, 0.0, 6.0),
+        ],
+    );
+    assert_eq!(t.moves.len(), 13);
+    assert!((t.moves[2].feed - 100.0).abs() < 1e-9, "feed {}", t.moves[2].feed);
+}

@@ -266,9 +266,11 @@ pub fn kezuri_done(done: Done, csv: &Path) -> Result<Vec<Motion>, String> {
 /// Whether `m` goes nowhere from `from`: a straight move to where the tool
 /// is (rs274 and kezuri make such moves in different places: G28's
 /// intermediate point, a block that names an axis without moving it). An arc
-/// to its start is a full circle and stays.
+/// to its start is a full circle and stays. Within 1e-3 mm on both sides:
+/// a move shorter than that is lost in rs274's printed step (a lathe
+/// cycle's last 1 µm to the profile), so kezuri's is dropped as rs274's is.
 fn stays(m: &Motion, from: &[f64; 6]) -> bool {
-    matches!(m.kind, Kind::Rapid | Kind::Feed) && (0..6).all(|k| (m.end[k] - from[k]).abs() <= 1e-9 + m.tol.max(1e-6))
+    matches!(m.kind, Kind::Rapid | Kind::Feed) && (0..6).all(|k| (m.end[k] - from[k]).abs() <= 1e-9 + m.tol.max(1e-3))
 }
 
 /// The motions without those that stay where the last one ended; the

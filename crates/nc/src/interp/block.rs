@@ -25,6 +25,12 @@ pub(super) enum Action {
     /// shape that follows the cycle block.
     Resume(u32),
     Return(Option<u32>),
+    /// A LinuxCNC O-word subroutine called by number (a lathe cycle's
+    /// profile, `G71 Q100`).
+    OCall {
+        number: u32,
+        span: Span,
+    },
     End,
 }
 
@@ -100,7 +106,14 @@ impl State {
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         self.g_codes(&w, &mut codes)?;
-        if self.turning.is_some() {
+        // A LinuxCNC lathe cycle's profile: the block is read, not run.
+        if self.reading_profile() {
+            let n = w.g_count;
+            self.profile_block(&w, &codes[..n], span)?;
+            return Ok(Action::Next);
+        }
+        // A Fanuc or Haas lathe's words (LinuxCNC's X: `diameter_words`).
+        if self.turning.as_ref().is_some_and(|t| t.fanuc) {
             let n = w.g_count;
             self.lathe_block(&mut w, &mut codes[..n])?;
         }
@@ -116,6 +129,11 @@ impl State {
         for &(code, gspan) in codes.iter().flatten() {
             self.apply_modal(code, &w, gspan)?;
             self.path_code(code, &w, gspan, line)?;
+        }
+        self.diameter_words(&mut w);
+        if let Some((GCode::LatheProfile(tenths), gspan)) = has(|c| matches!(c, GCode::LatheProfile(_))) {
+            self.feed_speed_tool(&w);
+            return self.profile_cycle(tenths, &w, gspan, line);
         }
 
         // G66.1 mode: every block calls the macro instead of moving.
@@ -169,12 +187,16 @@ impl State {
             }
         }
 
+        self.linuxcnc_tool_word(&w)?;
         self.feed_speed_tool(&w);
         if self.turning.is_some() {
             self.lathe_speed_tool(&w, codes)?;
         }
-        // In a lathe cycle's block D is the cycle's (Haas: a depth of cut).
-        if !self.lathe_own_words() {
+        // LinuxCNC's G96 D is the spindle's top speed, not an offset number;
+        // in a lathe cycle's block D is the cycle's (Haas: a depth of cut).
+        let top_speed =
+            self.settings.dialect == crate::Dialect::LinuxCnc && has(|c| *c == GCode::ConstantSpeed).is_some();
+        if !top_speed && !self.lathe_own_words() {
             self.comp_register(w.get(b'D'), w.span(b'D'))?;
         }
         let mut stops: [Option<u32>; 4] = [None; 4];
@@ -284,7 +306,7 @@ impl State {
         match (code, self.settings.coords.control) {
             // LinuxCNC's G8 is lathe radius mode, its default.
             (GCode::Smoothing(80), Control::LinuxCnc) => {
-                self.set_x_mode(super::XMode::Radius);
+                self.radius_mode();
                 return Ok(());
             }
             // LinuxCNC's G5 and G5.1 are splines, of their block only:
@@ -410,6 +432,7 @@ impl State {
                 self.modal.motion = m;
                 self.rigid_tap = false;
                 self.threading = false;
+                self.spindle_sync = false;
                 self.end_cycle();
                 self.lathe_motion(None);
             }
@@ -425,6 +448,9 @@ impl State {
                 self.end_cycle();
                 self.lathe_motion(Some(super::lathe::LatheMotion::Threading));
             }
+            GCode::ConstantSpeed | GCode::ConstantSpeedOff if self.settings.dialect == crate::Dialect::LinuxCnc => {
+                self.linuxcnc_lathe_code(code, w, gspan)?
+            }
             GCode::ConstantSpeed => self.constant_speed(true, gspan)?,
             GCode::ConstantSpeedOff if self.turning.is_some() => self.constant_speed(false, gspan)?,
             GCode::RigidTap if self.settings.coords.control != Control::LinuxCnc => {
@@ -437,6 +463,14 @@ impl State {
                 self.lathe_motion(None);
                 self.rigid_tap = true;
                 self.threading = false;
+                self.spindle_sync = false;
+                self.end_cycle();
+            }
+            GCode::SpindleSync | GCode::LatheDiameter => self.linuxcnc_lathe_code(code, w, gspan)?,
+            GCode::LatheProfile(_) => {
+                self.rigid_tap = false;
+                self.threading = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
             GCode::Plane(p) => self.modal.plane = p,
@@ -513,6 +547,7 @@ impl State {
             GCode::CycleOff => {
                 self.rigid_tap = false;
                 self.threading = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
             GCode::CycleReturn(r) => self.modal.cycle_return = r,
@@ -528,11 +563,13 @@ impl State {
             GCode::CannedCycle(Cycle::FineBore) if self.settings.coords.control == Control::LinuxCnc => {
                 self.threading = true;
                 self.rigid_tap = false;
+                self.spindle_sync = false;
                 self.end_cycle();
             }
             GCode::CannedCycle(cycle) => {
                 self.rigid_tap = false;
                 self.threading = false;
+                self.spindle_sync = false;
                 if self.modal.cycle.is_none() {
                     self.begin_cycle();
                 }

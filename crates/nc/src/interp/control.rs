@@ -437,6 +437,7 @@ impl<'a> Interp<'a> {
                 Ok(true)
             }
             Action::Return(target) => self.return_from(target, span),
+            Action::OCall { number, span } => self.call_by_number(number, span),
             Action::Resume(pc) => {
                 self.frame().pc = pc;
                 Ok(true)
@@ -560,6 +561,7 @@ impl<'a> Interp<'a> {
         }
         if done.kind == FrameKind::OSub {
             self.st.call_level -= 1;
+            self.st.profile_returned(self.st.call_level)?;
         }
         if let Some(n) = target {
             let caller = self.frames.last().map_or(0, |f| f.unit);

@@ -122,10 +122,21 @@ struct Levels {
 }
 
 impl State {
+    /// The plane a canned cycle's holes lie in: the program's, but a Fanuc
+    /// or Haas lathe's face drilling (G83, G84, G85) goes along Z whatever
+    /// the plane, its X and C placing the hole.
+    pub(super) fn cycle_plane(&self) -> kezuri_geom::Plane {
+        if self.settings.dialect.is_lathe() {
+            kezuri_geom::Plane::Xy
+        } else {
+            self.modal.plane
+        }
+    }
+
     /// A canned cycle begins (from G80 or a motion mode): the initial level
     /// is where the tool is now.
     pub(super) fn begin_cycle(&mut self) {
-        let (_, _, n) = self.modal.plane.axes();
+        let (_, _, n) = self.cycle_plane().axes();
         self.hole = HoleData {
             initial: self.tip.to_array()[n],
             initial_guessed: self.guessed.contains(n),
@@ -146,7 +157,7 @@ impl State {
     /// hole(s) it asks for: a block that names a position in the plane, the
     /// bottom or R drills. Returns whether the tool moved.
     pub(super) fn cycle_block(&mut self, cycle: Cycle, w: &Words, span: Span, line: u32) -> Result<bool, Diagnostic> {
-        let (i, j, n) = self.modal.plane.axes();
+        let (i, j, n) = self.cycle_plane().axes();
         let depth_letter = b"XYZ"[n];
         let plane_letters = [b"XYZ"[i], b"XYZ"[j]];
         // LinuxCNC's G87 reads K as the top of the back bore.
@@ -240,7 +251,12 @@ impl State {
             }
             let to_initial = back || self.modal.cycle_return == CycleReturn::Initial;
             let linuxcnc = self.settings.coords.control == Control::LinuxCnc;
-            if to_initial && !linuxcnc && self.hole.initial < r_level.max(bottom_level) {
+            // (A lathe's R above the initial level is only air above the face.)
+            if to_initial
+                && !linuxcnc
+                && !self.settings.dialect.is_lathe()
+                && self.hole.initial < r_level.max(bottom_level)
+            {
                 self.warn(
                     "initial-level",
                     span,
@@ -299,7 +315,11 @@ impl State {
             self.hole.bottom = Some((self.mm(v), mode));
         }
         if let Some(v) = w.get(b'R') {
-            self.hole.r = Some((self.mm(v), mode));
+            // A Fanuc lathe in G code system A gives R from the initial level
+            // (parameter 5102#6 RAB at its default, 0).
+            let fanuc_a = self.settings.dialect == crate::Dialect::FanucLathe
+                && self.turning.as_ref().is_some_and(|t| t.system == super::GCodeSystem::A);
+            self.hole.r = Some((self.mm(v), if fanuc_a { Distance::Incremental } else { mode }));
         }
         if let Some(q) = w.get(b'Q') {
             self.hole.q = Some(self.mm(q));
@@ -353,7 +373,7 @@ impl State {
 
     /// A move along the depth axis to machine coordinate `level`.
     fn along(&mut self, kind: MoveKind, level: f64, feed: f64, line: u32) {
-        let (_, _, n) = self.modal.plane.axes();
+        let (_, _, n) = self.cycle_plane().axes();
         let mut a = self.tip.to_array();
         a[n] = level;
         self.push_move(kind, Axes::from_array(a), feed, AxisSet::NONE.with(n), line);

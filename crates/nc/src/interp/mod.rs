@@ -341,6 +341,15 @@ struct State {
     rigid_tap: bool,
     /// LinuxCNC's G76 threading cycle is the motion mode (group 1).
     threading: bool,
+    /// LinuxCNC's G33 spindle-synchronised motion is the motion mode
+    /// (group 1).
+    spindle_sync: bool,
+    /// A LinuxCNC lathe cycle (G70, G71, G72) reading its profile from
+    /// its subroutine.
+    profile: Option<Box<lathe::Capture>>,
+    /// A block that changed LinuxCNC's X mode (its count in `blocks`) and
+    /// what rs274 multiplies a G76's I J K by in it (0.5 for G7, 2 for G8).
+    ijk_rescaled: Option<(u64, f64)>,
     /// LinuxCNC's spline (G5: 50, G5.1: 51) is this block's motion; the
     /// motion mode stays as it was (rs274 2.9).
     spline: Option<u32>,
@@ -487,6 +496,9 @@ impl State {
             hole: cycle::HoleData::default(),
             rigid_tap: false,
             threading: false,
+            spindle_sync: false,
+            profile: None,
+            ijk_rescaled: None,
             spline: None,
             spline_pq: [0.0; 2],
             holes: 0,

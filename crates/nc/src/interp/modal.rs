@@ -205,6 +205,17 @@ pub enum GCode {
     /// G33.1 (LinuxCNC): rigid tapping to the end point and back, the
     /// feed synchronised with the spindle (K, the pitch). Group 1.
     RigidTap,
+    /// G33 (LinuxCNC): spindle-synchronised motion, K the distance a turn
+    /// along the move (threading). Group 1.
+    SpindleSync,
+    /// G70, G71, G72 and their .1 .2 (LinuxCNC): the lathe's finishing and
+    /// roughing cycles along the profile of the subroutine Q, as ten times
+    /// the number (711: G71.1). Group 1.
+    LatheProfile(u32),
+    /// G7 (LinuxCNC): lathe diameter mode, X words read as diameters (G8,
+    /// radius mode, is decoded as [`GCode::Smoothing`]`(80)`, Fanuc's G08,
+    /// and read by dialect).
+    LatheDiameter,
     /// G10 (offsets by program)
     SetOffsets,
     /// G17 G18 G19
@@ -320,6 +331,9 @@ impl GCode {
             30 => Motion(self::Motion::Ccw),
             40 => Dwell,
             331 => RigidTap,
+            330 => SpindleSync,
+            70 => LatheDiameter,
+            700 | 710..=712 | 720..=722 => LatheProfile(tenths),
             100 => SetOffsets,
             170 => Plane(kezuri_geom::Plane::Xy),
             180 => Plane(kezuri_geom::Plane::Zx),
@@ -376,6 +390,9 @@ impl GCode {
             50 | 51 | 80 | 1030 | 1870 => Smoothing(tenths),
             90 => ExactStop,
             970 => ConstantSpeedOff,
+            // LinuxCNC's constant surface speed (a Fanuc lathe's from its
+            // own table; a mill refuses it where it is read).
+            960 => ConstantSpeed,
             940 => FeedMode(self::FeedMode::PerMinute),
             950 => FeedMode(self::FeedMode::PerRev),
             930 => FeedMode(self::FeedMode::InverseTime),
@@ -387,7 +404,7 @@ impl GCode {
     pub fn group(self) -> u32 {
         use GCode::*;
         match self {
-            Motion(_) | RigidTap | SingleCycle(_) | Threading => 1,
+            Motion(_) | RigidTap | SpindleSync | LatheProfile(_) | SingleCycle(_) | Threading => 1,
             Plane(_) => 2,
             Distance(_) => 3,
             FeedMode(_) => 5,
@@ -410,6 +427,8 @@ impl GCode {
             Smoothing(tenths) => 1000 + tenths,
             ExactStop => 100,
             ConstantSpeedOff | ConstantSpeed => 13,
+            // LinuxCNC's group 15 (G7/G8); not a Fanuc group.
+            LatheDiameter => 102,
             Dwell | SetOffsets | Home | OtherHome | LocalOffset | Skip | MachineCoords | MacroCall | SetPosition
             | ResetShift | Pocket(_) | Contour(_) | LatheSetPosition | Grooving(_) | MultipleThreading => 0,
         }
@@ -485,6 +504,10 @@ impl GCode {
             (740, A | B) | (760, C) => Grooving(true),
             (750, A | B) | (770, C) => Grooving(false),
             (760, A | B) | (780, C) => MultipleThreading,
+            // Face drilling, tapping and boring along Z (G83 G84 G85): the
+            // mill's cycles with the hole along Z (`cycle.rs`); side drilling
+            // (G87 G88 G89) is not read.
+            (830 | 840 | 850, _) => return GCode::decode(tenths),
             (700..=790, _) | (810..=890, _) if tenths.is_multiple_of(10) => return None,
             _ => return GCode::decode(tenths),
         })

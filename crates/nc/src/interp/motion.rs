@@ -258,6 +258,9 @@ impl State {
         if self.threading {
             return self.thread_block(w, span, line);
         }
+        if self.spindle_sync {
+            return self.spindle_sync_block(w, span, line);
+        }
         self.modal_motion(w, span, line)
     }
 
@@ -607,7 +610,7 @@ impl State {
     /// 0.1 % of the larger radius, both, or past 100 times the absolute
     /// tolerance. GRBL: past 0.005 mm and 0.1 %,
     /// both, or past 0.5 mm.
-    fn arc_radius_refused(&self, r0: f64, r1: f64) -> Option<String> {
+    pub(super) fn arc_radius_refused(&self, r0: f64, r1: f64) -> Option<String> {
         let off = (r1 - r0).abs();
         let given = self.settings.arc_tolerance;
         match self.settings.dialect {

@@ -116,6 +116,9 @@ impl State {
         let (Some(i), Some(j), Some(k)) = (w.get(b'I'), w.get(b'J'), w.get(b'K')) else {
             return Err(Diagnostic::error(span, "I J or K words missing with G76"));
         };
+        // Under G7 (diameter mode) the depths are diameters, as X is.
+        let half = self.g76_depth_scale(span);
+        let (i, j, k) = (i * half, j * half, k * half);
         if i == 0.0 {
             return Err(Diagnostic::error(w.span(b'I'), "In G76, I must not be 0"));
         }
@@ -229,12 +232,16 @@ impl State {
             } else {
                 self.push_move(MoveKind::Rapid, at(cut, z_in), 0.0, xz, line);
             }
+            // The pass's thread: from the tool where the synchronised
+            // motion begins to where it ends.
+            let begins = if entry { at(out, z_in) } else { at(cut, z_in) };
             if exit {
                 self.push_move(MoveKind::Feed, at(cut, z_end - s * e_mm), feed, xz, line);
                 self.push_move(MoveKind::Feed, at(shallow, z_end), taper_feed, xz, line);
             } else {
                 self.push_move(MoveKind::Feed, at(cut, z_end), feed, xz, line);
             }
+            self.push_thread(self.mm(pitch), begins, self.tip, line);
             self.push_move(MoveKind::Rapid, at(out, z_end), 0.0, xz, line);
         }
         self.push_move(MoveKind::Rapid, end, 0.0, w.axes(), line);

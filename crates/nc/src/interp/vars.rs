@@ -307,9 +307,11 @@ impl State {
             },
             "_current_pocket" => f64::from(self.tool),
             "_ijk_absolute_mode" => bool(self.coords.arc_absolute),
-            // A mill: radius mode (G8) and rpm (G97) always.
-            "_lathe_diameter_mode" | "_spindle_css_mode" => 0.0,
-            "_lathe_radius_mode" | "_spindle_rpm_mode" => 1.0,
+            // G7 / G8 and G96 / G97 (a mill: G8 and G97 always).
+            "_lathe_diameter_mode" => bool(self.linuxcnc_diameter()),
+            "_lathe_radius_mode" => bool(!self.linuxcnc_diameter()),
+            "_spindle_css_mode" => bool(self.surface_speed_on()),
+            "_spindle_rpm_mode" => bool(!self.surface_speed_on()),
             // kezuri's machine works in mm.
             "_metric_machine" => 1.0,
             _ => match name.strip_prefix("_abs_") {

@@ -163,6 +163,14 @@ impl<'a> Words<'a> {
         out.join(" ")
     }
 
+    /// The word of `letter`, if the block has it, multiplied by `factor`
+    /// (a diameter read as the radius).
+    pub(super) fn scale(&mut self, letter: u8, factor: f64) {
+        if self.has(letter) {
+            self.value[slot(letter)] *= factor;
+        }
+    }
+
     /// Gives address `letter` the value `value`, as if written where the
     /// word of `from` is (for the spans of diagnostics); the word of `from`
     /// is taken out where it is another address. A lathe's `U` read as an

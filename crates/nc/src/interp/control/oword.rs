@@ -424,6 +424,14 @@ impl Interp<'_> {
         }
     }
 
+    /// `o<number> call` without arguments, from the block just run (a lathe
+    /// cycle's `Q`: its profile's subroutine).
+    pub(super) fn call_by_number(&mut self, number: u32, span: Span) -> Result<bool, Diagnostic> {
+        let pc = self.frame().pc.saturating_sub(1);
+        self.o_call(&OName::Number(i64::from(number)), &[], pc, span)?;
+        Ok(true)
+    }
+
     /// `o<name> call [a] [b] …`: finds the subroutine and runs it with the
     /// arguments in #1, #2, ….
     fn o_call(&mut self, name: &OName, args: &[ExprId], pc: u32, span: Span) -> Result<(), Diagnostic> {

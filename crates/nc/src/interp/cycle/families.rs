@@ -178,7 +178,7 @@ impl State {
 
     /// A rapid to the level the hole ends at, where the tool is not there.
     fn rapid_up(&mut self, l: Levels, line: u32) {
-        let (_, _, n) = self.modal.plane.axes();
+        let (_, _, n) = self.cycle_plane().axes();
         if self.tip.to_array()[n] != l.up {
             self.along(MoveKind::Rapid, l.up, 0.0, line);
         }
@@ -208,7 +208,7 @@ impl State {
         if shift == [0.0, 0.0] {
             return;
         }
-        let (i, j, _) = self.modal.plane.axes();
+        let (i, j, _) = self.cycle_plane().axes();
         let mut a = self.tip.to_array();
         a[i] += sign * shift[0];
         a[j] += sign * shift[1];

@@ -29,7 +29,7 @@ impl State {
             state: kezuri_geom::ToolState::of(&self.toolpath.moves[start]),
             cycle,
             ret: self.modal.cycle_return,
-            plane: self.modal.plane,
+            plane: self.cycle_plane(),
             inch: self.modal.units == Units::Inch,
             origin: self.frame_offset().to_array(),
             q: self.hole.q,

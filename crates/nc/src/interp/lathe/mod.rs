@@ -9,6 +9,9 @@
 pub(super) mod contour;
 mod corner;
 mod grooving;
+mod linuxcnc;
+mod linuxcnc_cycles;
+mod linuxcnc_profile;
 pub mod nose;
 mod profile;
 mod roughing;
@@ -19,6 +22,8 @@ mod threading;
 mod words;
 
 use kezuri_geom::{Axes, AxisSet};
+
+pub(super) use linuxcnc_cycles::Capture;
 
 use super::modal::{GCode, SingleCycle};
 use super::State;
