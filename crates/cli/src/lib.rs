@@ -87,6 +87,7 @@ enum Command {
   kezuri check samples/o1011-digitize.nc
   kezuri check samples/nameplate-cam.nc --json --machine samples/tools/mill.toml
   kezuri check samples/o2007-thermal.nc --machine samples/mill-turn.toml
+  kezuri check samples/o3001-turning.nc --machine samples/lathe.toml
   printf 'G21 G90 F300\\nG0 Z5\\nG1 X10.5 Y0\\nG3 X20.5 Y10 I10\\nM30\\n' > router.nc
   kezuri check router.nc --no-decimal units   # Y10 is 10 mm, not 0.010 mm\n\n\
 Values the program read from the machine file rather than set itself (a work offset #5221, a tool \

@@ -239,10 +239,8 @@ impl State {
     /// After a subroutine returns to `level`: the cycle that called it for
     /// its profile cuts it.
     pub(in crate::interp) fn profile_returned(&mut self, level: u32) -> Result<(), Diagnostic> {
-        if self.profile.as_ref().is_none_or(|c| c.level != level) {
-            return Ok(());
-        }
-        let c = *self.profile.take().expect("a profile");
+        let Some(c) = self.profile.take_if(|c| c.level == level) else { return Ok(()) };
+        let c = *c;
         self.tip = c.tool;
         if c.segs.len() <= 1 {
             return Ok(());
