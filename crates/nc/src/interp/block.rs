@@ -5,7 +5,7 @@ use kezuri_geom::{AxisSet, Spindle};
 use super::modal::{g_name, Cycle, GCode, ModalCallKind, Units};
 use super::value::Value;
 use super::vars::Locals;
-use super::words::Words;
+use super::words::{letters, Words};
 use super::{Control, ModalCall, State};
 use crate::ast::Program;
 use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
@@ -118,7 +118,7 @@ impl State {
             self.lathe_block(&mut w, &mut codes[..n])?;
         }
         let codes = &codes[..w.g_count];
-        let has = |f: fn(&GCode) -> bool| codes.iter().flatten().find(|(c, _)| f(c)).map(|&(c, s)| (c, s));
+        let has = |f: fn(&GCode) -> bool| first_code(codes, f);
 
         // G65: a macro call with arguments, and nothing else.
         if let Some((_, gspan)) = has(|c| *c == GCode::MacroCall) {
@@ -140,9 +140,9 @@ impl State {
         let in_modal_macro = self.modal_depth > 0;
         if let Some(call) = &self.modal_call {
             if self.modal.modal_call == Some(ModalCallKind::EveryBlock) && !in_modal_macro {
-                if let Some((code, gspan)) = codes.iter().flatten().find(|(c, _)| c.group() == 0) {
+                if let Some((code, gspan)) = first_code(codes, |c| c.group() == 0) {
                     return Err(Diagnostic::error(
-                        *gspan,
+                        gspan,
                         format!("{code:?} cannot be given while G66.1 calls a macro on every block"),
                     ));
                 }
@@ -162,7 +162,7 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
-        if self.turning.is_none() {
+        if self.turning.is_none() && w.has_any(letters(b"cr")) {
             if let Some(letter) = [b'c', b'r'].into_iter().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
@@ -174,7 +174,7 @@ impl State {
                 ));
             }
         }
-        if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
+        if w.has_any(letters(b"UVW")) && has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
@@ -196,8 +196,10 @@ impl State {
         // in a lathe cycle's block D is the cycle's (Haas: a depth of cut).
         let top_speed =
             self.settings.dialect == crate::Dialect::LinuxCnc && has(|c| *c == GCode::ConstantSpeed).is_some();
-        if !top_speed && !self.lathe_own_words() {
-            self.comp_register(w.get(b'D'), w.span(b'D'))?;
+        if let Some(d) = w.get(b'D') {
+            if !top_speed && !self.lathe_own_words() {
+                self.comp_register(d, w.span(b'D'))?;
+            }
         }
         let mut stops: [Option<u32>; 4] = [None; 4];
         let end = self.m_codes(&w, line, &mut stops)?;
@@ -615,6 +617,7 @@ impl State {
         Ok(())
     }
 
+    #[inline(always)]
     fn feed_speed_tool(&mut self, w: &Words) {
         if let Some(f) = w.get(b'F') {
             self.feed_word = f;
@@ -634,6 +637,19 @@ impl State {
             }
         }
     }
+}
+
+/// The first of a block's decoded G codes that `is` accepts, with its
+/// word's span (a plain loop: the iterator adapters' fold is not inlined
+/// into the block function, and this runs a few times a block).
+#[inline(always)]
+pub(super) fn first_code(codes: &[Option<(GCode, Span)>], is: impl Fn(&GCode) -> bool) -> Option<(GCode, Span)> {
+    for &(code, span) in codes.iter().flatten() {
+        if is(&code) {
+            return Some((code, span));
+        }
+    }
+    None
 }
 
 fn fill_arguments(w: &Words, args: &mut Locals) {

@@ -2,6 +2,8 @@
 //! was read, where that may be behind it, and the reach of a move no
 //! machine has.
 
+use kezuri_geom::{Axes, Move};
+
 use super::modal::Units;
 use super::words::{Words, AXIS_LETTERS};
 use super::{IntegerInput, State};
@@ -66,27 +68,46 @@ impl State {
 
     /// An error where a move of this block (from move `first` on) goes
     /// farther than any machine reaches, at the axis word that sent it.
+    #[inline(always)]
     pub(super) fn within_reach(&self, first: usize, w: &Words, span: Span) -> Result<(), Diagnostic> {
-        for m in &self.toolpath.moves[first.min(self.toolpath.moves.len())..] {
-            let end = m.end.to_array();
-            for (k, &v) in end.iter().enumerate() {
-                let reach = if k < 3 { REACH_MM } else { REACH_DEG };
-                if v.abs() <= reach {
-                    continue;
-                }
-                let letter = b"XYZABC"[k];
-                let at = if w.has(letter) { w.span(letter) } else { span };
-                let (unit, limit) = if k < 3 { ("mm", "1 km") } else { ("deg", "10^9 deg") };
-                return Err(Diagnostic::error(
-                    at,
-                    format!(
-                        "this move takes {} to {v:.3} {unit} from machine zero, beyond any machine's reach ({limit}): \
-                         is a number misread?",
-                        letter as char
-                    ),
-                ));
+        let moves = &self.toolpath.moves[first.min(self.toolpath.moves.len())..];
+        // One branch a move (NaN fails it too).
+        let near = |e: &Axes| {
+            let linear = (e.x.abs() <= REACH_MM) & (e.y.abs() <= REACH_MM) & (e.z.abs() <= REACH_MM);
+            linear & (e.a.abs() <= REACH_DEG) & (e.b.abs() <= REACH_DEG) & (e.c.abs() <= REACH_DEG)
+        };
+        for m in moves {
+            if !near(&m.end) {
+                return Err(beyond_reach(moves, w, span));
             }
         }
         Ok(())
     }
+}
+
+/// The error of [`State::within_reach`]: the first axis of `moves` beyond
+/// any machine's reach.
+#[cold]
+#[inline(never)]
+fn beyond_reach(moves: &[Move], w: &Words, span: Span) -> Diagnostic {
+    for m in moves {
+        for (k, &v) in m.end.to_array().iter().enumerate() {
+            let reach = if k < 3 { REACH_MM } else { REACH_DEG };
+            if v.abs() <= reach {
+                continue;
+            }
+            let letter = b"XYZABC"[k];
+            let at = if w.has(letter) { w.span(letter) } else { span };
+            let (unit, limit) = if k < 3 { ("mm", "1 km") } else { ("deg", "10^9 deg") };
+            return Diagnostic::error(
+                at,
+                format!(
+                    "this move takes {} to {v:.3} {unit} from machine zero, beyond any machine's reach ({limit}): \
+                     is a number misread?",
+                    letter as char
+                ),
+            );
+        }
+    }
+    Diagnostic::error(span, "this move goes beyond any machine's reach")
 }

@@ -4,6 +4,7 @@
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, MoveKind};
 
+use super::block::first_code;
 use super::modal::{g_name, Distance, FeedMode, GCode, Motion, Units};
 use super::words::Words;
 use super::{Control, IntegerInput, State};
@@ -180,16 +181,16 @@ impl State {
     ) -> Result<bool, Diagnostic> {
         // A LinuxCNC spline is its block's motion only.
         let spline = self.spline.take();
-        if codes.iter().flatten().any(|(c, _)| *c == GCode::LengthGiven) {
+        if first_code(codes, |c| *c == GCode::LengthGiven).is_some() {
             // G43.1's axis words are its offset: nothing moves.
             return Ok(false);
         }
-        let one_shot = codes.iter().flatten().find(|(c, _)| c.group() == 0).copied();
-        if let Some((_, gspan)) = one_shot.filter(|_| {
-            let has = |g: GCode| codes.iter().flatten().any(|(c, _)| *c == g);
-            has(GCode::MachineCoords) && has(GCode::Skip)
-        }) {
-            return self.machine_skip(w, gspan, span, line);
+        let one_shot = first_code(codes, |c| c.group() == 0);
+        if let Some((GCode::MachineCoords | GCode::Skip, gspan)) = one_shot {
+            let has = |g: GCode| first_code(codes, |c| *c == g).is_some();
+            if has(GCode::MachineCoords) && has(GCode::Skip) {
+                return self.machine_skip(w, gspan, span, line);
+            }
         }
         if w.polar() {
             self.polar_rules(one_shot, w)?;
@@ -302,7 +303,7 @@ impl State {
         // LinuxCNC dwells first in every block (its order of
         // execution), then makes the block's motion in the motion
         // mode in force: a canned cycle's holes too.
-        let motion_code = codes.iter().flatten().any(|(c, _)| matches!(c, GCode::Motion(_)));
+        let motion_code = first_code(codes, |c| matches!(c, GCode::Motion(_))).is_some();
         Ok(w.has(b'P') && (motion_code || lcnc) && (w.any_axis() || (lcnc && w.has(b'R'))))
     }
 

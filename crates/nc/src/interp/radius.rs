@@ -166,8 +166,7 @@ impl State {
 
     /// Hook, after the block's words are applied: a Fanuc D word changes the
     /// offset number, and while compensation is on the radius.
-    pub(super) fn comp_register(&mut self, d: Option<f64>, dspan: Span) -> Result<(), Diagnostic> {
-        let Some(d) = d else { return Ok(()) };
+    pub(super) fn comp_register(&mut self, d: f64, dspan: Span) -> Result<(), Diagnostic> {
         // LinuxCNC's D names a tool, read at G41/G42; a lathe's radius is
         // its tool's nose.
         if self.settings.comp_rules == Rules::LinuxCnc || self.settings.lathe_conventions().is_some() {

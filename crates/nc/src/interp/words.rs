@@ -36,7 +36,7 @@ pub(super) struct Words<'a> {
 const SLOTS: usize = 30;
 
 /// Where an address is kept: A–Z in order, then `@`, `^`, `,C` and `,R`.
-fn slot(letter: u8) -> usize {
+const fn slot(letter: u8) -> usize {
     match letter {
         b'@' => 26,
         b'^' => 27,
@@ -46,8 +46,20 @@ fn slot(letter: u8) -> usize {
     }
 }
 
-fn bit(letter: u8) -> u32 {
+const fn bit(letter: u8) -> u32 {
     1 << slot(letter)
+}
+
+/// The addresses in `list` as one mask, for [`Words::has_any`]: a block's
+/// rare words are looked for with one test.
+pub(super) const fn letters(list: &[u8]) -> u32 {
+    let mut mask = 0;
+    let mut k = 0;
+    while k < list.len() {
+        mask |= bit(list[k]);
+        k += 1;
+    }
+    mask
 }
 
 impl<'a> Words<'a> {
@@ -68,6 +80,11 @@ impl<'a> Words<'a> {
 
     pub(super) fn has(&self, letter: u8) -> bool {
         self.present & bit(letter) != 0
+    }
+
+    /// Whether the block has any address of `mask` (made by [`letters`]).
+    pub(super) fn has_any(&self, mask: u32) -> bool {
+        self.present & mask != 0
     }
 
     pub(super) fn get(&self, letter: u8) -> Option<f64> {
