@@ -89,7 +89,8 @@ enum Command {
   kezuri check samples/o2007-thermal.nc --machine samples/mill-turn.toml
   kezuri check samples/o3001-turning.nc --machine samples/lathe.toml
   printf 'G21 G90 F300\\nG0 Z5\\nG1 X10.5 Y0\\nG3 X20.5 Y10 I10\\nM30\\n' > router.nc
-  kezuri check router.nc --no-decimal units   # Y10 is 10 mm, not 0.010 mm\n\n\
+  kezuri check router.nc --no-decimal units   # Y10 is 10 mm, not 0.010 mm
+  kezuri check --jobs 2 samples/nameplate-cam.nc samples/o2007-thermal.nc\n\n\
 Values the program read from the machine file rather than set itself (a work offset #5221, a tool \
 offset #2001, the machine position #5021, an input #1000, the clock #3001) are listed as notes: a \
 program expanded from them holds this machine's values.\n\n\
@@ -105,16 +106,28 @@ words for, G41/G42 for GRBL) is an error here too, said as run says it. Where a 
 point may be behind an error, the error says how it was read and the option that reads it otherwise: \
 without --no-decimal units, router.nc above stops at its arc with `…; Y10 was read as 0.010 mm \
 (Fanuc increments); with --no-decimal units it is 10 mm`.\n\n\
-Exit code 1 when the program has errors (each shown with file:line:column).")]
+Several programs (a shop's library) are checked on --jobs threads, each as it would be alone, the \
+reports in the order the files are given; with --json one line a file, with `error` null or why it \
+failed (an unreadable file is a failure in its place, not the end of the batch). docs/batch.md shows \
+it under GNU parallel or Slurm for more than one computer.\n\n\
+Exit code 1 when the program has errors (each shown with file:line:column), or any of several does.")]
     Check {
         #[command(flatten)]
         run: RunOptions,
         /// Print one JSON object: blocks, motions, holes, feed_length_mm,
         /// rapid_length_mm, time_s, bounds, machine_moves, spindle_rpm
         /// ([min, max] or null), threads (lead, start, end, line), errors,
-        /// warnings, machine_values.
+        /// warnings, machine_values. With several files, one such line a
+        /// file, in the order given, with `error` (null, or why it failed).
         #[arg(long)]
         json: bool,
+        /// More programs, checked as the first is: each report in the
+        /// order the files are given (exit code 1 if any fails).
+        #[arg(value_name = "FILE")]
+        more: Vec<PathBuf>,
+        /// Programs checked at once [default: one a core].
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
     },
     /// Execute macros and subprograms and write the expanded motion program.
     #[command(after_help = "Examples:
@@ -206,7 +219,12 @@ Fanuc. What the post cannot write is said at its line, file:line:column.")]
 fn dispatch(command: &Command) -> anyhow::Result<()> {
     match command {
         Command::Demo { out, only, frames } => demo::run(out, only, *frames),
-        Command::Check { run, json } => check::run(run, *json),
+        Command::Check { run, json, more, jobs } if more.is_empty() && jobs.is_none() => check::run(run, *json),
+        Command::Check { run, json, more, jobs } => {
+            let files: Vec<PathBuf> = std::iter::once(run.file.clone()).chain(more.iter().cloned()).collect();
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            check::run_many(run, &files, jobs.unwrap_or(cores), *json)
+        }
         Command::Run { run, write } => run::run(run, write),
         Command::Scallop(args) => scallop::run(args),
         Command::Engage(args) => engage::run(args),

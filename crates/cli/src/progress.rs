@@ -51,6 +51,11 @@ impl LateBar {
         }
     }
 
+    /// Runs `f`, which writes to the terminal, with the bar out of its way.
+    pub fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.bar.suspend(f)
+    }
+
     /// Removes the bar.
     pub fn finish(&self) {
         self.bar.finish_and_clear();

@@ -13,6 +13,9 @@ use crate::program::{missing_axes, model_notes, read_and_run, run_refusal, whole
 use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
 
+mod batch;
+pub use batch::run as run_many;
+
 /// Whether `check` looks for Z moves without a length offset: on a Fanuc
 /// or Haas control (length offsets are how their tools are set), unless
 /// the machine file's `[post]` says otherwise (its `length_offset`, or its
@@ -128,8 +131,44 @@ fn thread_lines(threads: &[Thread]) -> Vec<String> {
     out
 }
 
-/// Runs `kezuri check`.
+/// Runs `kezuri check` on one program.
 pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
+    let checked = check(o, as_json)?;
+    eprint!("{}", checked.notes);
+    write_output(None, checked.said().as_bytes())?;
+    match checked.failure {
+        Some(failure) => bail!(failure),
+        None => Ok(()),
+    }
+}
+
+/// What checking one program says: its report (standard output), the
+/// diagnostics and warnings (standard error), and why it fails, if it does.
+struct Checked {
+    report: Said,
+    notes: String,
+    failure: Option<String>,
+}
+
+/// A check's report: text, or the JSON object of `--json`.
+enum Said {
+    Text(String),
+    Json(serde_json::Value),
+}
+
+impl Checked {
+    /// The report as standard output has it (JSON on one line).
+    fn said(&self) -> String {
+        match &self.report {
+            Said::Text(text) => text.clone(),
+            Said::Json(value) => value.to_string() + "\n",
+        }
+    }
+}
+
+/// Checks one program; an error only where it cannot be read or run at all.
+fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
+    let mut notes = String::new();
     let (mut ran, parse_diagnostics) = read_and_run(o)?;
     std::mem::take(&mut ran.outputs).commit()?;
     // What `kezuri run` refuses of a program that ran is an error here too.
@@ -158,7 +197,7 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
     } else {
         missing
     };
-    if as_json {
+    let said = if as_json {
         // An axis no position of the program gives: null.
         let lo: Vec<Option<f64>> = report.bounds.iter().map(|r| r.map(|r| r.0)).collect();
         let hi: Vec<Option<f64>> = report.bounds.iter().map(|r| r.map(|r| r.1)).collect();
@@ -199,9 +238,9 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             "warnings": headlines(false).into_iter().chain(missing.iter().cloned()).collect::<Vec<_>>(),
             "machine_values": model_notes(&ran.outcome),
         });
-        write_output(None, (value.to_string() + "\n").as_bytes())?;
+        Said::Json(value)
     } else {
-        ran.print_diagnostics(&parse_diagnostics);
+        notes += &ran.rendered_diagnostics(&parse_diagnostics);
         let mut text = format!(
             "{}: {} blocks ({} statements), {} motions\n  feed  {:.3} mm\n  rapid {:.3} mm\n  time  {} ({:.1} s)\n",
             o.file.display(),
@@ -249,24 +288,22 @@ pub fn run(o: &RunOptions, as_json: bool) -> Result<()> {
             text += &format!("  {n} {s} in machine coordinates (G28/G30/G53), not in the bounds\n");
         }
         for m in &missing {
-            eprintln!("warning: {m}");
+            notes += &format!("warning: {m}\n");
         }
         for note in model_notes(&ran.outcome) {
             text += &format!("  note: {note}\n");
         }
         if let Some(r) = &refusal {
-            eprintln!("{r}\n");
+            notes += &format!("{r}\n\n");
         }
         let warnings = parse_diagnostics.iter().filter(|d| !d.is_error()).count() as u64
             + ran.outcome.warnings
             + missing.len() as u64;
         text += &format!("  {}, {}\n", say::count(errors as u64, "error"), say::count(warnings, "warning"));
-        write_output(None, text.as_bytes())?;
-    }
-    if errors > 0 {
-        bail!("{}: {}", o.file.display(), say::count(errors as u64, "error"));
-    }
-    Ok(())
+        Said::Text(text)
+    };
+    let failure = (errors > 0).then(|| format!("{}: {}", o.file.display(), say::count(errors as u64, "error")));
+    Ok(Checked { report: said, notes, failure })
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ pub enum NoDecimal {
 }
 
 /// Options shared by every command that runs a program.
-#[derive(Args, Debug)]
+#[derive(Args, Clone, Debug)]
 pub struct RunOptions {
     /// The program file (`-` for standard input).
     pub file: PathBuf,
@@ -156,9 +156,12 @@ impl Ran {
 
     /// Renders every diagnostic to standard error.
     pub fn print_diagnostics(&self, parse_diagnostics: &[Diagnostic]) {
-        for d in parse_diagnostics.iter().chain(&self.outcome.diagnostics) {
-            eprintln!("{}\n", d.render(&self.sources));
-        }
+        eprint!("{}", self.rendered_diagnostics(parse_diagnostics));
+    }
+
+    /// Every diagnostic rendered, each followed by a blank line.
+    pub fn rendered_diagnostics(&self, parse_diagnostics: &[Diagnostic]) -> String {
+        parse_diagnostics.iter().chain(&self.outcome.diagnostics).map(|d| d.render(&self.sources) + "\n\n").collect()
     }
 
     /// What a command that goes on to use the run says first: every
