@@ -65,11 +65,6 @@ const KNOWN: &[(&str, &str)] = &[
         "kezuri stops the G72 shape that goes deeper as it moves in (Z0, then Z-2) with PS0329; the \
          manual's 'monotonic increase or decrease' lets it run: to settle with the manual's G72 figure",
     ),
-    (
-        "CadeKiely__Hass-CNC-Programs/O58215.nc",
-        "kezuri refuses a file that opens with % and has no closing %; the control loads it and stops at \
-         the G71 whose Q58 names no block",
-    ),
 ];
 
 fn lathe_corpus() -> PathBuf {
