@@ -57,7 +57,7 @@ fn expect(t: &Toolpath, from: usize, want: &[(K, f64, f64, f64)]) {
 // G87, system A, G98 (feed per minute). The tool stands at X60. Z-10.: the
 // initial level is radius 30, the hole's place Z-10 C0, where it is already.
 // puts point R at 30 - 2 = 28; X20. is the bottom at radius 10; Q4000
-// is 4.000 mm a peck. Pecks: feed 28 → 24; rapid to 28, rapid to 24.1, feed
+// is 4.000 mm a peck, no P: no dwell. Pecks: feed 28 → 24; rapid to 28, rapid to 24.1, feed
 // to 20; to 28, 20.1, feed 16; to 28, 16.1, feed 12; to 28, 12.1, feed to
 // the bottom 10; then rapid to the initial level 30. F100. is 100 mm/min.
 #[test]
@@ -121,6 +121,31 @@ fn g87_in_system_b_returns_to_point_r_with_g99_and_drills_the_next_hole() {
     expect(&t, 1, &want);
     assert_eq!(t.moves.len(), 19);
     assert!((t.moves[2].feed - 100.0).abs() < 1e-9, "feed {}", t.moves[2].feed);
+}
+
+// G87 with Q and P: the pecks as above, then the dwell P at the bottom
+// before the rapid out. From X50. (radius 25), R-1. (point R 24), X30.
+// (bottom 15), Q5000 (5 mm): feed 24 → 19; to 24, 19.1, feed to 15; the
+// dwell P300 (0.3 s); rapid to 25.
+#[test]
+fn g87_dwells_at_the_bottom_after_its_last_peck() {
+    let text = "S1000 M03\nG98 G00 X50. Z-4.\nG87 Z-4. X30. R-1. Q5000 P300 F60.\nG80\nM30\n";
+    let t = path(text, &fanuc());
+    expect(
+        &t,
+        1,
+        &[
+            (K::R, 24.0, -4.0, 0.0),
+            (K::F, 19.0, -4.0, 0.0),
+            (K::R, 24.0, -4.0, 0.0),
+            (K::R, 19.1, -4.0, 0.0),
+            (K::F, 15.0, -4.0, 0.0),
+            (K::D, 15.0, -4.0, 0.0),
+            (K::R, 25.0, -4.0, 0.0),
+        ],
+    );
+    assert_eq!(t.moves.len(), 8);
+    assert_eq!(t.moves[6].kind, MoveKind::Dwell(0.3));
 }
 
 // G87 and the face G83 without Q: "Drilling cycle" (no depth of cut

@@ -54,7 +54,8 @@ impl State {
     }
 
     /// G83: pecks of `peck`, each back to R and down to the clearance above
-    /// the last depth; G73: each back by the retract only.
+    /// the last depth (on a lathe the dwell P at the bottom, and G87 the
+    /// same along X); G73: each back by the retract only.
     fn peck(&mut self, cycle: Cycle, l: Levels, feed: f64, peck: Option<f64>, line: u32) {
         let q = peck.unwrap_or(l.bottom - l.r);
         let (clearance, retract) = if self.settings.dialect == crate::Dialect::LinuxCnc {
@@ -76,6 +77,10 @@ impl State {
             }
             self.along(MoveKind::Feed, next, feed, line);
             depth = next;
+        }
+        // A lathe's G83 and G87 dwell P at the bottom.
+        if self.settings.dialect.is_lathe() {
+            self.dwell_here(line);
         }
         self.along(MoveKind::Rapid, l.up, 0.0, line);
     }
