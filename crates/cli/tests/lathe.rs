@@ -318,6 +318,21 @@ const CSS: &str = "%\nO0003\nN10 G50 S2000\nN20 T0101\nN30 G96 S150 M03\nN40 G00
                    N60 X80.\nN70 G00 X100. Z5.\nN80 G97 S600\nN90 G00 X19. Z5.\nN100 G32 Z-20. F1.5\nN110 G00 X30.\n\
                    N120 M30\n%\n";
 
+/// A lathe's T word is the tool and its offset (FANUC Series 0i-TF Plus
+/// Operator's Manual, B-64604EN, lathe system, "Tool function": T0101 tool
+/// 1 with offset 1): check says what each T word selected, never an H
+/// register the lathe has not.
+#[test]
+fn check_names_what_a_lathes_t_words_selected() {
+    let text = "%\nO0004\nT0101\nG97 S1000 M03\nG00 X50. Z2.\nG01 Z-10. F0.2\nT0111\nG01 Z-20.\n\
+                T0202\nG00 X60. Z5.\nM30\n%\n";
+    let machine = "[machine]\nkind = \"lathe\"\n[tools.T1]\nnose_radius = 0.8\ntip = 3\nname = \"OD finish\"\n";
+    let dir = folder(&[("m.toml", machine), ("a.nc", text)]);
+    let out = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
+    assert!(out.contains("  tool  T0101, T0111 (tool 1, offsets 1, 11) nose 0.8 mm tip 3 (OD finish)\n"), "{out}");
+    assert!(out.contains("  tool  T0202 (tool 2, offset 2) (not in the tool table)\n"), "{out}");
+}
+
 #[test]
 fn a_diameter_program_reports_its_speeds_threads_and_time() {
     let slower = CSS.replace("N60 X80.", "N60 X80. F0.1");
@@ -348,7 +363,9 @@ fn a_diameter_program_reports_its_speeds_threads_and_time() {
     // The text report.
     let text = ok(&kezuri(&["check", &path(dir.path(), "a.nc"), "--machine", &path(dir.path(), "m.toml")]));
     assert!(text.contains("  spindle 597 … 955 rpm (cutting)\n"), "{text}");
-    assert!(text.contains("  tool  T1 H1 nose 0.8 mm tip 3\n"), "{text}");
+    // A lathe has no H register: T0101 selected tool 1 with offset 1.
+    assert!(text.contains("  tool  T0101 (tool 1, offset 1) nose 0.8 mm tip 3\n"), "{text}");
+    assert!(!text.contains(" H1"), "{text}");
     assert!(text.contains("  thread lead 1.5000 mm, Z 5.000 → -20.000, 1 pass, X 9.500 (radius; line 12)\n"), "{text}");
     // run --emit csv: x is the tool's radius, half of each X word.
     let csv =

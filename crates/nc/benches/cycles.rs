@@ -11,8 +11,9 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, Criterion, Throughput};
-use kezuri_nc::interp::{self, Outcome, Settings};
-use kezuri_nc::{parse, Program, SourceFile, Sources};
+use kezuri_nc::interp::{Outcome, Settings};
+
+mod common;
 
 /// The allocator the `kezuri` binary uses: huge pages for large blocks.
 #[global_allocator]
@@ -57,20 +58,10 @@ fn settings() -> Settings {
     Settings { tool_lengths: BTreeMap::from([(1, 100.0)]), ..Settings::default() }
 }
 
-/// Parses and runs `text` whole: what is timed.
-fn parse_and_run(text: &str, settings: &Settings) -> Outcome {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("drill.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    assert!(diagnostics.is_empty(), "{:?}", diagnostics.first());
-    interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings)
-}
-
 /// Checks the program drills every hole and, for G83, pecks 10 times a
 /// hole (one feed a peck; G81 one feed a hole).
 fn check(name: &str, text: &str, settings: &Settings) -> Outcome {
-    let outcome = parse_and_run(text, settings);
+    let outcome = common::parse_and_run("drill.nc", text, settings);
     assert!(outcome.completed, "{name}: {:?}", outcome.diagnostics.first());
     assert_eq!(outcome.holes, HOLES as u64, "{name}");
     let feeds = outcome.toolpath.moves.iter().filter(|m| matches!(m.kind, kezuri_geom::MoveKind::Feed)).count();
@@ -86,7 +77,7 @@ fn bench(c: &mut Criterion) {
     for (name, text) in [("g83_1000_holes", g83_program()), ("g81_g99_1000_holes", g81_program())] {
         check(name, &text, &settings);
         group.throughput(Throughput::Elements(HOLES as u64));
-        group.bench_function(name, |b| b.iter(|| parse_and_run(black_box(&text), &settings)));
+        group.bench_function(name, |b| b.iter(|| common::parse_and_run("drill.nc", black_box(&text), &settings)));
     }
     group.finish();
 }
@@ -112,10 +103,5 @@ fn once() {
 criterion_group!(benches, bench);
 
 fn main() {
-    if std::env::var_os("KEZURI_BENCH_ONCE").is_some() {
-        once();
-        return;
-    }
-    benches();
-    Criterion::default().configure_from_args().final_summary();
+    common::main(once, benches);
 }

@@ -11,8 +11,10 @@ use std::time::Duration;
 
 use criterion::{criterion_group, Criterion, Throughput};
 use kezuri_geom::MoveKind;
-use kezuri_nc::interp::{self, Outcome, Settings};
-use kezuri_nc::{parse, Dialect, Program, SourceFile, Sources};
+use kezuri_nc::interp::{Outcome, Settings};
+use kezuri_nc::Dialect;
+
+mod common;
 
 /// The allocator the `kezuri` binary uses: huge pages for large blocks.
 #[global_allocator]
@@ -43,20 +45,10 @@ fn settings() -> Settings {
     Settings { dialect: Dialect::FanucLathe, ..Settings::default() }
 }
 
-/// Parses and runs the program whole: what is timed.
-fn parse_and_run(text: &str, settings: &Settings) -> Outcome {
-    let mut sources = Sources::default();
-    let file = sources.add(SourceFile::new("g71.nc", text));
-    let mut program = Program::default();
-    let diagnostics = parse(&mut program, file, text);
-    assert!(diagnostics.is_empty(), "{:?}", diagnostics.first());
-    interp::run(&mut program, &mut sources, 0, &mut interp::NoLibrary, settings)
-}
-
 /// Checks the run makes every cut: one feed along Z a cut, two along the
 /// shape.
 fn check(text: &str, settings: &Settings) -> Outcome {
-    let outcome = parse_and_run(text, settings);
+    let outcome = common::parse_and_run("g71.nc", text, settings);
     assert!(outcome.completed, "{:?}", outcome.diagnostics.first());
     let feeds = outcome.toolpath.moves.iter().filter(|m| m.kind == MoveKind::Feed).count();
     assert_eq!(feeds, CUTS + 2, "feeds");
@@ -69,7 +61,9 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("lathe_contour");
     group.sample_size(50).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(5));
     group.throughput(Throughput::Elements(CUTS as u64));
-    group.bench_function("g71_10000_cuts", |b| b.iter(|| parse_and_run(black_box(PROGRAM), &settings)));
+    group.bench_function("g71_10000_cuts", |b| {
+        b.iter(|| common::parse_and_run("g71.nc", black_box(PROGRAM), &settings))
+    });
     group.finish();
 }
 
@@ -85,10 +79,5 @@ fn once() {
 criterion_group!(benches, bench);
 
 fn main() {
-    if std::env::var_os("KEZURI_BENCH_ONCE").is_some() {
-        once();
-        return;
-    }
-    benches();
-    Criterion::default().configure_from_args().final_summary();
+    common::main(once, benches);
 }

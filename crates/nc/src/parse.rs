@@ -156,9 +156,23 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
     // A '%' inside a line was refused where it stands: not again at the end.
     let stray_percent = diagnostics.iter().any(|d| d.is_error() && d.message.contains("'%'"));
     if percent_seen == 1 && text.trim_start().starts_with('%') && !stray_percent {
-        // A tape that opens with '%' ends with one (LinuxCNC refuses a file
-        // without it); a missing one means the file was cut short.
-        diagnostics.push(Diagnostic::error(at_end, "the file ends before its closing '%': is it complete?"));
+        // A tape that opens with '%' ends with one. LinuxCNC refuses a file
+        // without it. A Fanuc or Haas control reading a program into memory
+        // takes its program end (M02, M30 or M99) as the end of the program
+        // (FANUC parameter No. 3201 #6 NPE at 0, as shipped): with one, the
+        // program is whole and only the '%' is missing; without one the file
+        // was cut short.
+        let end = program.blocks[blocks_before..].iter().find_map(|b| program_end(program, b).map(|m| (m, b.line)));
+        match end {
+            Some((m, line)) if dialect.is_fanuc() => diagnostics.push(Diagnostic::warning(
+                at_end,
+                format!(
+                    "the file has no closing '%': a Fanuc or Haas control loads the program up to its end \
+                     (M{m:02} on line {line}) all the same; LinuxCNC would refuse it"
+                ),
+            )),
+            _ => diagnostics.push(Diagnostic::error(at_end, "the file ends before its closing '%': is it complete?")),
+        }
     } else if program.units.len() == units_before && !diagnostics.iter().any(Diagnostic::is_error) {
         diagnostics.push(Diagnostic::error(at_end, "the file holds no program: no blocks to run"));
     }
@@ -168,9 +182,22 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
 /// Whether `block` ends the program: an `M30` or `M02` word written as a
 /// number (`M#1` is not looked at before the run).
 fn ends_program(program: &Program, block: &Block) -> bool {
-    program.words(block).iter().any(|w| {
-        w.letter == b'M' && matches!(w.value(), WordValue::Number { value, .. } if value == 30.0 || value == 2.0)
-    })
+    program.words(block).iter().any(|w| matches!(end_code(w), Some(2 | 30)))
+}
+
+/// The program end `block` gives: 2, 30 or 99 for its first `M02`, `M30`
+/// or `M99` word.
+fn program_end(program: &Program, block: &Block) -> Option<u32> {
+    program.words(block).iter().find_map(end_code)
+}
+
+/// 2, 30 or 99 where `w` is `M02`, `M30` or `M99` written as a number
+/// (`M#1` is not looked at before the run).
+fn end_code(w: &Word) -> Option<u32> {
+    match w.value() {
+        WordValue::Number { value, .. } if w.letter == b'M' && [2.0, 30.0, 99.0].contains(&value) => Some(value as u32),
+        _ => None,
+    }
 }
 
 fn finish_unit(program: &mut Program, unit: &mut ProgramUnit) {

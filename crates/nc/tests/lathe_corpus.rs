@@ -33,8 +33,12 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use kezuri_nc::interp::{self, IntegerInput, Library, Settings};
+use kezuri_nc::interp::{self, IntegerInput, Settings};
 use kezuri_nc::{parse_as, Dialect, Program, SourceFile, Sources};
+
+mod common;
+
+use common::corpus::Folder;
 
 /// How long one program may run before it counts as a hang.
 const TIME_LIMIT: Duration = Duration::from_secs(60);
@@ -65,40 +69,10 @@ const KNOWN: &[(&str, &str)] = &[
         "kezuri stops the G72 shape that goes deeper as it moves in (Z0, then Z-2) with PS0329; the \
          manual's 'monotonic increase or decrease' lets it run: to settle with the manual's G72 figure",
     ),
-    (
-        "CadeKiely__Hass-CNC-Programs/O58215.nc",
-        "kezuri refuses a file that opens with % and has no closing %; the control loads it and stops at \
-         the G71 whose Q58 names no block",
-    ),
 ];
 
 fn lathe_corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/lathe")
-}
-
-/// Subprograms `O####.nc` (or `O#`, `####`, `#`, with `.nc`, `.txt` or no
-/// extension) from the program's own folder.
-struct Folder(PathBuf);
-
-impl Library for Folder {
-    fn load(&mut self, number: u32) -> Option<SourceFile> {
-        let stems = [format!("O{number:04}"), format!("O{number}"), format!("{number:04}"), format!("{number}")];
-        let mut found: Vec<PathBuf> = std::fs::read_dir(&self.0)
-            .ok()?
-            .flatten()
-            .map(|e| e.path())
-            .filter(|p| p.is_file())
-            .filter(|p| {
-                let stem = p.file_stem().map(|s| s.to_string_lossy().to_uppercase()).unwrap_or_default();
-                let ext = p.extension().map(|s| s.to_string_lossy().to_lowercase());
-                stems.contains(&stem) && matches!(ext.as_deref(), None | Some("nc") | Some("txt"))
-            })
-            .collect();
-        found.sort();
-        let path = found.into_iter().next()?;
-        let text = String::from_utf8_lossy(&std::fs::read(&path).ok()?).into_owned();
-        Some(SourceFile::new(path.display().to_string(), text))
-    }
 }
 
 /// What a row says the control does.
@@ -214,7 +188,7 @@ fn run(case: &Case, text: &str, folder: PathBuf) -> Outcome {
         max_rpm: Some(TOP_SPEED),
         ..Settings::default()
     };
-    let outcome = interp::run(&mut program, &mut sources, 0, &mut Folder(folder), &settings);
+    let outcome = interp::run(&mut program, &mut sources, 0, &mut Folder(vec![folder]), &settings);
     // Whatever the outcome, no move may hold a value that is not a finite number.
     if let Some(m) = outcome.toolpath.moves.iter().find(|m| {
         let (s, e) = (m.start.to_array(), m.end.to_array());
@@ -297,16 +271,7 @@ fn lathe_programs_run_as_the_control_runs_them() {
         Err(e) => panic!("corpus/lathe/SOURCES.tsv: {e}"),
     };
     // Every program file has its row, and every row its file.
-    let mut on_disk = Vec::new();
-    for dir in std::fs::read_dir(lathe_corpus()).expect("corpus/lathe").flatten().filter(|e| e.path().is_dir()) {
-        for file in std::fs::read_dir(dir.path()).expect("a corpus folder").flatten() {
-            let name = file.file_name().to_string_lossy().into_owned();
-            if !name.ends_with(".upstream") {
-                on_disk.push(format!("{}/{name}", dir.file_name().to_string_lossy()));
-            }
-        }
-    }
-    on_disk.sort();
+    let on_disk = common::corpus::programs(&lathe_corpus());
     let mut listed: Vec<String> = cases.iter().map(|c| c.name.clone()).collect();
     listed.sort();
     assert_eq!(listed, on_disk, "corpus/lathe: every program has its SOURCES.tsv row and every row its file");

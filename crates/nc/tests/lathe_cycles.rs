@@ -9,51 +9,12 @@
 //! (G-codes chapter), before the output was looked at. Positions are the
 //! tool's: X a radius (a diameter X50. is 25 from the axis).
 
-use kezuri_geom::{Axes, MoveKind, Toolpath};
-use kezuri_nc::interp::{Control, CoordSettings, GCodeSystem, IntegerInput, Lathe, Outcome, Settings, XMode};
-use kezuri_nc::Dialect;
+use kezuri_geom::{MoveKind, Toolpath};
+use kezuri_nc::interp::GCodeSystem;
 
 mod common;
 
-fn lathe(system: GCodeSystem) -> Settings {
-    Settings {
-        dialect: Dialect::FanucLathe,
-        integer_input: IntegerInput::Increments,
-        coords: CoordSettings { control: Control::Fanuc, ..CoordSettings::default() },
-        home: Axes { x: 100.0, z: 200.0, ..Axes::ZERO },
-        reference_given: [true; 4],
-        lathe: Some(Lathe { x: XMode::Diameter, system }),
-        ..Settings::default()
-    }
-}
-
-fn fanuc() -> Settings {
-    lathe(GCodeSystem::A)
-}
-
-fn haas() -> Settings {
-    Settings {
-        dialect: Dialect::HaasLathe,
-        coords: CoordSettings { control: Control::Haas, ..CoordSettings::default() },
-        lathe: None,
-        ..fanuc()
-    }
-}
-
-fn outcome(text: &str, settings: &Settings) -> Outcome {
-    common::run("t.nc", text, settings).completed()
-}
-
-fn path(text: &str, settings: &Settings) -> Toolpath {
-    outcome(text, settings).toolpath
-}
-
-/// The error's message and the text its span covers.
-fn error(text: &str, settings: &Settings) -> (String, String) {
-    let ran = common::run("t.nc", text, settings);
-    let d = ran.error().unwrap_or_else(|| panic!("no error:\n{text}")).clone();
-    (d.message.clone(), text[d.span.start as usize..d.span.end as usize].to_string())
-}
+use common::lathe::{error, fanuc, haas, lathe, outcome, path};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum K {

@@ -8,42 +8,13 @@
 //! Positions in a move are the tool's: X is its distance from the spindle
 //! axis (a radius), whatever the program's diameter mode.
 
-use kezuri_geom::{Axes, MoveKind, Plane, Toolpath};
-use kezuri_nc::interp::{Control, CoordSettings, GCodeSystem, IntegerInput, Lathe, Outcome, Settings, XMode};
+use kezuri_geom::{MoveKind, Plane, Toolpath};
+use kezuri_nc::interp::{Control, CoordSettings, GCodeSystem, Settings};
 use kezuri_nc::Dialect;
 
 mod common;
 
-fn lathe(system: GCodeSystem) -> Settings {
-    Settings {
-        dialect: Dialect::FanucLathe,
-        integer_input: IntegerInput::Increments,
-        coords: CoordSettings { control: Control::Fanuc, ..CoordSettings::default() },
-        home: Axes { x: 100.0, z: 200.0, ..Axes::ZERO },
-        reference_given: [true; 4],
-        lathe: Some(Lathe { x: XMode::Diameter, system }),
-        ..Settings::default()
-    }
-}
-
-fn fanuc() -> Settings {
-    lathe(GCodeSystem::A)
-}
-
-fn path(text: &str, settings: &Settings) -> Toolpath {
-    common::run("t.nc", text, settings).path()
-}
-
-fn outcome(text: &str, settings: &Settings) -> Outcome {
-    common::run("t.nc", text, settings).completed()
-}
-
-/// The error's message and the text its span covers.
-fn error(text: &str, settings: &Settings) -> (String, String) {
-    let ran = common::run("t.nc", text, settings);
-    let d = ran.error().unwrap_or_else(|| panic!("no error:\n{text}")).clone();
-    (d.message.clone(), text[d.span.start as usize..d.span.end as usize].to_string())
-}
+use common::lathe::{error, fanuc, haas, lathe, outcome, path};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
@@ -72,12 +43,7 @@ fn x_is_a_diameter_and_f_is_per_revolution_at_power_on() {
 // "G-codes": X diameter, U W incremental, G99 feed per revolution).
 #[test]
 fn a_haas_lathe_reads_the_same_words() {
-    let haas = Settings {
-        dialect: Dialect::HaasLathe,
-        coords: CoordSettings { control: Control::Haas, ..CoordSettings::default() },
-        lathe: None,
-        ..fanuc()
-    };
+    let haas = haas();
     let t = path("S500 M03\nG00 X30. Z1.\nG01 U-4. W-11. F0.3\nM30\n", &haas);
     // X30 → radius 15; U-4 is 4 mm off the diameter, 2 off the radius:
     // 13; W-11 from Z1: -10. Feed 0.3 × 500 = 150 mm/min.

@@ -39,6 +39,10 @@ use kezuri_nc::interp::{self, IntegerInput, Library, Outcome, Settings};
 use kezuri_nc::write::{program, Dialect, WriteOptions};
 use kezuri_nc::{parse, Program, SourceFile, Sources};
 
+mod common;
+
+use common::corpus::Folder;
+
 /// How far apart two ends may be: 1e-3 mm plus half a unit of the last of
 /// the three decimals written.
 const TOLERANCE: f64 = 1e-3 + 5e-4;
@@ -72,36 +76,6 @@ const KNOWN: &[(&str, &str)] = &[
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Subprograms `O####.nc` (or `O#`, `####`, `#` with `.nc`, `.txt`, `.min`
-/// or no extension, as `kezuri`'s library folder) from the program's own
-/// folder, then from the others given.
-struct Folder(Vec<PathBuf>);
-
-impl Library for Folder {
-    fn load(&mut self, number: u32) -> Option<SourceFile> {
-        let stems = [format!("O{number:04}"), format!("O{number}"), format!("{number:04}"), format!("{number}")];
-        for dir in &self.0 {
-            let Ok(entries) = std::fs::read_dir(dir) else { continue };
-            let mut found: Vec<PathBuf> = entries
-                .flatten()
-                .map(|e| e.path())
-                .filter(|p| p.is_file())
-                .filter(|p| {
-                    let stem = p.file_stem().map(|s| s.to_string_lossy().to_uppercase()).unwrap_or_default();
-                    let ext = p.extension().map(|s| s.to_string_lossy().to_lowercase());
-                    stems.contains(&stem) && matches!(ext.as_deref(), None | Some("nc") | Some("txt") | Some("min"))
-                })
-                .collect();
-            found.sort();
-            if let Some(path) = found.into_iter().next() {
-                let text = String::from_utf8_lossy(&std::fs::read(&path).ok()?).into_owned();
-                return Some(SourceFile::new(path.display().to_string(), text));
-            }
-        }
-        None
-    }
 }
 
 /// A program of the corpus and how it is read.
@@ -196,10 +170,7 @@ fn corpus() -> Vec<Case> {
     }
     // Every program file of corpus/shop has its row.
     let listed = cases.len();
-    let mut on_disk = 0;
-    for entry in std::fs::read_dir(&shop).unwrap().flatten().filter(|e| e.path().is_dir()) {
-        on_disk += files(&entry.path(), |p| !p.to_string_lossy().ends_with(".upstream")).len();
-    }
+    let on_disk = common::corpus::programs(&shop).len();
     assert_eq!(listed, on_disk, "corpus/shop: every program has its SOURCES.tsv row");
 
     // crates/nc/testdata: the interp cases with their (TEST: …) settings.

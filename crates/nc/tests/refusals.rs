@@ -172,6 +172,33 @@ fn a_percent_sign_is_reported_where_it_stands() {
     }
 }
 
+/// A file that opens with `%` and has no closing one. A Fanuc or Haas
+/// control reading a program into memory ends it at its program end
+/// (M02, M30 or M99: FANUC parameter No. 3201 #6 NPE at 0, as shipped), so
+/// the missing `%` leaves the program whole; LinuxCNC refuses any such file
+/// ("file ended with no percent sign"). Without a program end the file was
+/// cut short, and every control refuses it.
+#[test]
+fn a_tape_without_its_closing_percent_sign() {
+    for d in Dialect::ALL {
+        for end in ["M30", "M02", "M99"] {
+            let got = parsed(d, &format!("%\nG90 G21 F100\nG01 X1.\n{end}\n"));
+            if d.is_fanuc() {
+                let want = format!(
+                    "t.nc:5:1: warning: the file has no closing '%': a Fanuc or Haas control loads the program up \
+                     to its end ({end} on line 4) all the same; LinuxCNC would refuse it"
+                );
+                assert_eq!(got, [want], "{d}");
+            } else {
+                assert_eq!(got, ["t.nc:5:1: error: the file ends before its closing '%': is it complete?"], "{d}");
+            }
+        }
+        // No program end: cut short, in every dialect.
+        let got = parsed(d, "%\nG90 G21 F100\nG01 X1.\n");
+        assert_eq!(got, ["t.nc:4:1: error: the file ends before its closing '%': is it complete?"], "{d}");
+    }
+}
+
 #[test]
 fn a_haas_programs_dollar_line_is_not_called_grbl() {
     let text = "%\nO1000 (HAAS VF2)\n$AXES=X,Y,Z\nG90 G21 F100\nG01 X1.\nM30\n%\n";

@@ -77,31 +77,48 @@ pub fn unoffset_z_moves(path: &Toolpath, tools: &BTreeMap<u32, ToolEntry>) -> Ve
     out
 }
 
-/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, a turning tool
-/// `T1 H1 nose 0.8 mm tip 3 (name)`, `T5 (not in the tool table)`, or `no
-/// tool (T0)`.
-fn tool_line(t: u32, entry: &Option<ToolEntry>) -> String {
-    match entry {
-        _ if t == 0 => "no tool (T0)".to_string(),
-        None => format!("T{t} (not in the tool table)"),
-        Some(e) => {
-            let mut s = format!("T{t}");
-            if let Some(c) = e.shape {
-                s += &format!(" {c}");
-            }
-            s += &format!(" H{}", e.h);
-            if let Some(d) = e.d {
-                s += &format!(" D{d}");
-            }
-            if let Some(n) = e.nose {
-                s += &format!(" nose {} mm tip {}", n.radius, n.tip);
-            }
-            if let Some(n) = &e.name {
-                s += &format!(" ({n})");
-            }
-            s
+/// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, `T5 (not in
+/// the tool table)`, or `no tool (T0)`. On a Fanuc or Haas lathe (`lathe`,
+/// the offset numbers its T words selected the tool with), which has no H
+/// or D register, what the T word selected and the nose: `T0101 (tool 1,
+/// offset 1) nose 0.8 mm tip 3 (name)`.
+fn tool_line(t: u32, entry: &Option<ToolEntry>, lathe: Option<&[u32]>) -> String {
+    let mut s = match lathe {
+        _ if t == 0 => return "no tool (T0)".to_string(),
+        Some(offsets) => lathe_selection(t, offsets),
+        None => format!("T{t}"),
+    };
+    let Some(e) = entry else { return s + " (not in the tool table)" };
+    if let Some(c) = e.shape {
+        s += &format!(" {c}");
+    }
+    if lathe.is_none() {
+        s += &format!(" H{}", e.h);
+        if let Some(d) = e.d {
+            s += &format!(" D{d}");
         }
     }
+    if let Some(n) = e.nose {
+        s += &format!(" nose {} mm tip {}", n.radius, n.tip);
+    }
+    if let Some(n) = &e.name {
+        s += &format!(" ({n})");
+    }
+    s
+}
+
+/// What a lathe's T words selected tool `t` with: `T0101 (tool 1, offset
+/// 1)`, `T0100 (tool 1, no offset)`, `T0101, T0111 (tool 1, offsets 1, 11)`,
+/// or `tool 1` where no T word named it.
+fn lathe_selection(t: u32, offsets: &[u32]) -> String {
+    let words: Vec<String> = offsets.iter().map(|o| format!("T{t:02}{o:02}")).collect();
+    let what = match offsets {
+        [] => return format!("tool {t}"),
+        [0] => "no offset".to_string(),
+        [o] => format!("offset {o}"),
+        _ => format!("offsets {}", offsets.iter().map(u32::to_string).collect::<Vec<_>>().join(", ")),
+    };
+    format!("{} (tool {t}, {what})", words.join(", "))
 }
 
 /// The threads as the text report says them: one line for each run of
@@ -266,13 +283,15 @@ fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
         for line in thread_lines(&report.threads) {
             text += &format!("  {line}\n");
         }
+        let lathe = ran.dialect.dialect.is_lathe();
         for (t, e) in &report.tools {
-            text += &format!("  tool  {}\n", tool_line(*t, e));
+            let offsets: Vec<u32> =
+                ran.outcome.tool_offsets.iter().filter(|(tool, _)| tool == t).map(|&(_, o)| o).collect();
+            text += &format!("  tool  {}\n", tool_line(*t, e, lathe.then_some(&offsets[..])));
         }
         if report.motions > 0 {
             // On a lathe X is the tool's radius, and Y is said only where
             // the program places it (a mill-turn's).
-            let lathe = ran.dialect.dialect.is_lathe();
             for (axis, range) in ["X", "Y", "Z"].iter().zip(report.bounds) {
                 let radius = if lathe && *axis == "X" { " (radius)" } else { "" };
                 text += &match range {

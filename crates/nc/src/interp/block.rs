@@ -572,10 +572,13 @@ impl State {
                 self.rigid_tap = false;
                 self.threading = false;
                 self.spindle_sync = false;
-                if self.modal.cycle.is_none() {
+                // A lathe's side cycle after a face cycle drills along
+                // another axis: its initial level is taken afresh.
+                let fresh = self.modal.cycle.is_none_or(|c| c.is_side() != cycle.is_side());
+                self.modal.cycle = Some(cycle);
+                if fresh {
                     self.begin_cycle();
                 }
-                self.modal.cycle = Some(cycle);
             }
             GCode::ModalCall(kind) => {
                 let call = self.macro_call(w, gspan, FrameKind::ModalMacro)?;

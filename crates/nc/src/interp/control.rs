@@ -169,6 +169,7 @@ impl<'a> Interp<'a> {
             model_reads: self.st.model_reads,
             warnings,
             threads: self.st.threads,
+            tool_offsets: self.st.tool_offsets,
         }
     }
 

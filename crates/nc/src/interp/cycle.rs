@@ -124,12 +124,15 @@ struct Levels {
 impl State {
     /// The plane a canned cycle's holes lie in: the program's, but a Fanuc
     /// or Haas lathe's face drilling (G83, G84, G85) goes along Z whatever
-    /// the plane, its X and C placing the hole.
+    /// the plane, its X and C placing the hole, and a Fanuc lathe's side
+    /// drilling (G87, G88, G89) along X, its Z and C placing the hole.
     pub(super) fn cycle_plane(&self) -> kezuri_geom::Plane {
-        if self.settings.dialect.is_lathe() {
-            kezuri_geom::Plane::Xy
-        } else {
+        if !self.settings.dialect.is_lathe() {
             self.modal.plane
+        } else if self.modal.cycle.is_some_and(Cycle::is_side) {
+            kezuri_geom::Plane::Yz
+        } else {
+            kezuri_geom::Plane::Xy
         }
     }
 
@@ -187,12 +190,14 @@ impl State {
         })?;
         let r = self.hole.r.ok_or_else(|| Diagnostic::error(span, format!("G{g} needs the R level")))?;
         let peck = match cycle {
-            Cycle::Peck | Cycle::HighSpeedPeck => match self.hole.q {
+            Cycle::Peck | Cycle::HighSpeedPeck | Cycle::SideDrill => match self.hole.q {
                 Some(q) if q > 0.0 => Some(q),
                 Some(q) => {
                     let at = if w.has(b'Q') { w.span(b'Q') } else { span };
                     return Err(Diagnostic::error(at, format!("G{g} needs a peck depth Q greater than 0, not {q}")));
                 }
+                // A lathe's G83 or G87 without Q drills in one feed.
+                None if self.settings.dialect.is_lathe() => None,
                 None => return Err(Diagnostic::error(span, format!("G{g} needs the peck depth Q"))),
             },
             _ => None,
@@ -238,6 +243,15 @@ impl State {
             let back = cycle == Cycle::BackBore && !lcnc_back;
             if !back && bottom_level > r_level {
                 let at = if w.has(depth_letter) { w.span(depth_letter) } else { span };
+                if cycle.is_side() {
+                    return Err(Diagnostic::error(
+                        at,
+                        format!(
+                            "the hole's bottom X is farther from the spindle axis than its R level: G{g} drills in \
+                             from R toward the axis"
+                        ),
+                    ));
+                }
                 return Err(Diagnostic::error(
                     at,
                     format!(

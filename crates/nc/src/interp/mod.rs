@@ -260,6 +260,10 @@ pub struct Outcome {
     pub warnings: u64,
     /// The threads cut, in order.
     pub threads: Vec<Thread>,
+    /// What a Fanuc or Haas lathe's `T` words selected: the tool and the
+    /// offset number, each pair once, in the order first selected
+    /// (`T0101` is (1, 1), `T0100` (1, 0)).
+    pub tool_offsets: Vec<(u32, u32)>,
 }
 
 /// A log file a LinuxCNC program opened, with the lines it wrote to it.
@@ -359,6 +363,8 @@ struct State {
     holes: u64,
     /// The threads cut ([`Outcome::threads`]).
     threads: Vec<Thread>,
+    /// A lathe's tool and offset selections ([`Outcome::tool_offsets`]).
+    tool_offsets: Vec<(u32, u32)>,
     /// What a lathe's cycles remember between blocks.
     cycles: lathe::single::CycleMemory,
     /// What the first blocks of the lathe's G71/G72/G73 left for the next.
@@ -503,6 +509,7 @@ impl State {
             spline_pq: [0.0; 2],
             holes: 0,
             threads: Vec::new(),
+            tool_offsets: Vec::new(),
             cycles: lathe::single::CycleMemory::default(),
             contour: Default::default(),
             turning,

@@ -93,6 +93,14 @@ pub enum Cycle {
     BoreManual,
     /// G89 boring: dwell at the bottom, feed out.
     BoreDwell,
+    /// A Fanuc lathe's G87 side drilling: G83's pecks along X toward the
+    /// spindle axis, the hole placed by Z and C.
+    SideDrill,
+    /// A Fanuc lathe's G88 side tapping: G84 along X.
+    SideTap,
+    /// A Fanuc lathe's G89 side boring: feed in along X, the dwell, feed
+    /// out to R.
+    SideBore,
 }
 
 impl Cycle {
@@ -109,9 +117,9 @@ impl Cycle {
             Tap => 84,
             Bore => 85,
             BoreStop => 86,
-            BackBore => 87,
-            BoreManual => 88,
-            BoreDwell => 89,
+            BackBore | SideDrill => 87,
+            BoreManual | SideTap => 88,
+            BoreDwell | SideBore => 89,
         }
     }
 
@@ -137,7 +145,13 @@ impl Cycle {
     /// Tapping (G74, G84): the spindle and the feed are synchronised by
     /// the control, so it is never written as plain moves.
     pub fn is_tapping(self) -> bool {
-        matches!(self, Cycle::Tap | Cycle::LeftTap)
+        matches!(self, Cycle::Tap | Cycle::LeftTap | Cycle::SideTap)
+    }
+
+    /// A lathe's side cycle (G87 G88 G89): the hole goes along X, toward
+    /// the spindle axis, and Z and C place it.
+    pub fn is_side(self) -> bool {
+        matches!(self, Cycle::SideDrill | Cycle::SideTap | Cycle::SideBore)
     }
 }
 
@@ -505,9 +519,12 @@ impl GCode {
             (750, A | B) | (770, C) => Grooving(false),
             (760, A | B) | (780, C) => MultipleThreading,
             // Face drilling, tapping and boring along Z (G83 G84 G85): the
-            // mill's cycles with the hole along Z (`cycle.rs`); side drilling
-            // (G87 G88 G89) is not read.
+            // mill's cycles with the hole along Z; side drilling, tapping and
+            // boring (G87 G88 G89) the same along X (`cycle.rs`).
             (830 | 840 | 850, _) => return GCode::decode(tenths),
+            (870, _) => CannedCycle(Cycle::SideDrill),
+            (880, _) => CannedCycle(Cycle::SideTap),
+            (890, _) => CannedCycle(Cycle::SideBore),
             (700..=790, _) | (810..=890, _) if tenths.is_multiple_of(10) => return None,
             _ => return GCode::decode(tenths),
         })

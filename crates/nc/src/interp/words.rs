@@ -230,6 +230,8 @@ pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@cr";
 impl State {
     /// Evaluates the words of `w` (made by [`Words::new`]) into it.
     pub(super) fn gather(&mut self, program: &Program, w: &mut Words) -> Result<(), Diagnostic> {
+        // A lathe block's G codes, decoded once where a word needs them.
+        let mut lathe_codes = None;
         for (k, word) in w.words.iter().enumerate() {
             let word_span = word.span(w.file);
             let (v, decimal) = match word.value() {
@@ -281,16 +283,17 @@ impl State {
                     let mut v = v;
                     // In a canned cycle K is a repeat count, not an arc centre.
                     // (A lathe's G74 G75 G76 are no drilling cycles: their K is a length.)
+                    let mut codes = || *lathe_codes.get_or_insert_with(|| self.lathe_codes(w.words));
                     let count = letter == b'K'
                         && (self.modal.cycle.is_some() || names_cycle(w.words))
-                        && !self.lathe_names_cycle(w.words);
+                        && !self.lathe_names_cycle(&codes());
                     // A lathe cycle's sequence numbers and counts (Q, R) are no lengths.
                     if !decimal
                         && !count
                         && AXIS_LETTERS.contains(&letter)
                         && self.settings.integer_input == IntegerInput::Increments
-                        && !self.contour_count(letter, w.words)
-                        && !self.lathe_cycle_count(letter, w.words)
+                        && !self.contour_count(letter, &codes(), w.words)
+                        && !self.lathe_cycle_count(letter, &codes())
                     {
                         // Counts per unit: 0.001 mm or degree, 0.0001 inch. Dividing by
                         // the exact power of ten gives the nearest double (X-26 is -0.026).

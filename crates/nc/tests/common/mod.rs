@@ -1,7 +1,8 @@
 //! What the interpreter's tests share: a program parsed (a parse error
 //! fails the test) and run, and what the run said. The writer's tests share
 //! [`writer`], the tests of LinuxCNC's program language [`ngc`] and those of
-//! its motion words [`linuxcnc`].
+//! its motion words [`linuxcnc`], the tests of a Fanuc or Haas lathe
+//! [`lathe`], those of the tool nose [`nose`], the corpus tests [`corpus`].
 
 // Each test file uses a part of it.
 #![allow(dead_code)]
@@ -10,6 +11,8 @@ use kezuri_geom::Toolpath;
 use kezuri_nc::interp::{self, Outcome, Settings};
 use kezuri_nc::{parse, Diagnostic, Program, SourceFile, Sources};
 
+pub mod corpus;
+pub mod lathe;
 pub mod linuxcnc;
 pub mod ngc;
 pub mod nose;

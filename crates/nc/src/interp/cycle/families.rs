@@ -27,12 +27,20 @@ impl State {
     ) {
         match cycle {
             Cycle::Drill | Cycle::DrillDwell => self.drill(cycle, levels, feed, line),
+            // A lathe's drilling cycle with no peck depth: to the bottom in
+            // one feed, the dwell P there, rapid out.
+            Cycle::Peck | Cycle::SideDrill if peck.is_none() => self.drill(Cycle::DrillDwell, levels, feed, line),
             Cycle::Peck | Cycle::HighSpeedPeck => self.peck(cycle, levels, feed, peck, line),
             Cycle::Bore | Cycle::BoreDwell => self.bore(cycle, levels, feed, line),
             Cycle::BoreStop | Cycle::BoreManual => self.bore_stop(cycle, levels, feed, span, line),
             Cycle::FineBore => self.fine_bore(shift, levels, feed, line),
             Cycle::BackBore => self.back_bore(shift, levels, feed, line),
             Cycle::Tap | Cycle::LeftTap => self.tap(cycle, levels, feed, line),
+            // A lathe's side cycles: the face cycles' motions along X (G89
+            // with the dwell P at the bottom).
+            Cycle::SideDrill => self.peck(Cycle::Peck, levels, feed, peck, line),
+            Cycle::SideTap => self.tap(Cycle::Tap, levels, feed, line),
+            Cycle::SideBore => self.bore(Cycle::BoreDwell, levels, feed, line),
         }
     }
 
@@ -46,7 +54,8 @@ impl State {
     }
 
     /// G83: pecks of `peck`, each back to R and down to the clearance above
-    /// the last depth; G73: each back by the retract only.
+    /// the last depth (on a lathe the dwell P at the bottom, and G87 the
+    /// same along X); G73: each back by the retract only.
     fn peck(&mut self, cycle: Cycle, l: Levels, feed: f64, peck: Option<f64>, line: u32) {
         let q = peck.unwrap_or(l.bottom - l.r);
         let (clearance, retract) = if self.settings.dialect == crate::Dialect::LinuxCnc {
@@ -68,6 +77,10 @@ impl State {
             }
             self.along(MoveKind::Feed, next, feed, line);
             depth = next;
+        }
+        // A lathe's G83 and G87 dwell P at the bottom.
+        if self.settings.dialect.is_lathe() {
+            self.dwell_here(line);
         }
         self.along(MoveKind::Rapid, l.up, 0.0, line);
     }

@@ -26,6 +26,7 @@ use super::super::words::Words;
 use super::super::State;
 use super::profile::{Contour, Piece, P};
 use super::roughing::{self, cut_count, Rough, Step};
+use super::words::LatheCodes;
 use super::{GCodeSystem, XMode};
 use crate::ast::{Program, Statement, Word, WordValue};
 use crate::source::{Diagnostic, Span};
@@ -103,18 +104,14 @@ impl State {
     }
 
     /// Whether `letter` is a count or a sequence number, not a length, in
-    /// the block of `words`: P and Q of a contour cycle, G73's R (the
-    /// divisions) and Haas's R1 (type II) of G71 and G72.
-    pub(in crate::interp) fn contour_count(&self, letter: u8, words: &[Word]) -> bool {
+    /// the block of `words` (its G codes `codes`): P and Q of a contour
+    /// cycle, G73's R (the divisions) and Haas's R1 (type II) of G71 and G72.
+    pub(in crate::interp) fn contour_count(&self, letter: u8, codes: &LatheCodes, words: &[Word]) -> bool {
         if !matches!(letter, b'P' | b'Q' | b'R') || self.turning.is_none() {
             return false;
         }
-        let cycle = words.iter().find_map(|w| match (w.letter, w.value()) {
-            (b'G', WordValue::Number { value, .. }) => self.contour_code((value * 10.0).round() as u32),
-            _ => None,
-        });
         let haas = self.settings.dialect.is_haas();
-        match cycle {
+        match codes.contour {
             None => false,
             Some(ContourCycle::Pattern) if letter == b'R' => !words.iter().any(|w| w.letter == b'P'),
             Some(ContourCycle::Turning | ContourCycle::Facing) if letter == b'R' => haas,

@@ -22,6 +22,7 @@ use super::super::modal::{g_name, GCode, SingleCycle};
 use super::super::words::Words;
 use super::super::State;
 use super::single::{Refusal, Step};
+use super::words::LatheCodes;
 use super::LatheMotion;
 use crate::source::{Diagnostic, Span};
 
@@ -264,41 +265,32 @@ impl State {
 }
 
 impl State {
-    /// Whether the block of `words` names a lathe's G74 G75 or G76 (in
-    /// its G code system), whose K (Haas) is a length, not the repeat count
-    /// of the mill's drilling cycles of the same numbers.
-    pub(in super::super) fn lathe_names_cycle(&self, words: &[crate::ast::Word]) -> bool {
-        self.turning.as_ref().is_some_and(|t| t.fanuc)
-            && words.iter().filter(|w| w.letter == b'G').any(|w| {
-                matches!(w.value(), crate::ast::WordValue::Number { value, .. }
-                    if matches!(self.decode_g((value * 10.0).round() as u32),
-                        Some(GCode::Grooving(_) | GCode::MultipleThreading)))
-            })
+    /// Whether the block (its G codes `codes`) names a lathe's G74 G75 or
+    /// G76 (in its G code system), whose K (Haas) is a length, not the
+    /// repeat count of the mill's drilling cycles of the same numbers.
+    pub(in super::super) fn lathe_names_cycle(&self, codes: &LatheCodes) -> bool {
+        self.turning.as_ref().is_some_and(|t| t.fanuc) && codes.cycle.is_some()
     }
 
-    /// Whether `letter` of the block of `words` is a count its cycle reads
-    /// itself ([`State::count_word`]), not an axis word in least
+    /// Whether `letter` of the block (its G codes `codes`) is a count its
+    /// cycle reads itself ([`State::count_word`]), not an axis word in least
     /// increments: Q of Fanuc's G74 G75 G76 and of the threading cycle
     /// G92 (its start angle, 0.001°, also in the blocks that repeat it),
     /// Haas G76's A (the tool's angle) and Q (the start angle).
-    pub(in super::super) fn lathe_cycle_count(&self, letter: u8, words: &[crate::ast::Word]) -> bool {
+    pub(in super::super) fn lathe_cycle_count(&self, letter: u8, codes: &LatheCodes) -> bool {
         let Some(turning) = self.turning.as_ref().filter(|t| t.fanuc) else { return false };
         if !matches!(letter, b'Q' | b'A') {
             return false;
         }
         let haas = self.settings.dialect == crate::Dialect::HaasLathe;
-        let mut motion = turning.motion;
-        for w in words.iter().filter(|w| w.letter == b'G') {
-            let crate::ast::WordValue::Number { value, .. } = w.value() else { continue };
-            match self.decode_g((value * 10.0).round() as u32) {
-                Some(GCode::Grooving(_)) => return letter == b'Q',
-                Some(GCode::MultipleThreading) => return letter == b'Q' || haas,
-                Some(GCode::SingleCycle(c)) => motion = Some(LatheMotion::Single(c)),
-                Some(c) if c.group() == 1 => motion = None,
-                _ => {}
+        match codes.cycle {
+            Some(GCode::MultipleThreading) => letter == b'Q' || haas,
+            Some(_) => letter == b'Q',
+            None => {
+                let motion = codes.motion.unwrap_or(turning.motion);
+                letter == b'Q' && motion == Some(LatheMotion::Single(SingleCycle::Threading))
             }
         }
-        letter == b'Q' && motion == Some(LatheMotion::Single(SingleCycle::Threading))
     }
 }
 

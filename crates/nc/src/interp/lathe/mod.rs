@@ -160,7 +160,12 @@ impl State {
     /// the mill's.
     pub(super) fn decode_g(&self, tenths: u32) -> Option<GCode> {
         match &self.turning {
-            Some(t) if t.fanuc => GCode::decode_lathe(tenths, t.system),
+            // A Haas lathe's G87 G88 G89 are boring cycles along Z, not
+            // Fanuc's side cycles: not read.
+            Some(t) if t.fanuc => match GCode::decode_lathe(tenths, t.system) {
+                Some(GCode::CannedCycle(c)) if c.is_side() && self.settings.dialect.is_haas() => None,
+                g => g,
+            },
             _ => GCode::decode(tenths),
         }
     }

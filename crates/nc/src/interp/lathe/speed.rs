@@ -419,6 +419,9 @@ impl State {
         if let Some(turning) = &mut self.turning {
             turning.offset = offset;
         }
+        if !self.tool_offsets.contains(&(tool, offset)) {
+            self.tool_offsets.push((tool, offset));
+        }
         let before = self.length_offset();
         self.modal.length_comp = (offset != 0 && self.tool_length(offset).is_some()).then_some((1.0, offset));
         if self.length_offset() != before {

@@ -11,16 +11,56 @@
 
 use kezuri_geom::AxisSet;
 
-use super::super::modal::{GCode, Units};
+use super::super::modal::{ContourCycle, GCode, Units};
 use super::super::words::Words;
 use super::super::State;
 use super::{GCodeSystem, LatheMotion, XMode};
+use crate::ast::{Word, WordValue};
 use crate::source::{Diagnostic, Span};
+
+/// What a lathe block's G codes make of its other words, decoded once a
+/// block ([`State::lathe_codes`]) before its words are read: which of P, Q,
+/// R, A and K are a cycle's counts or sequence numbers, not lengths.
+#[derive(Clone, Copy, Debug, Default)]
+pub(in super::super) struct LatheCodes {
+    /// The first contour cycle (G70–G73) the block names.
+    pub contour: Option<ContourCycle>,
+    /// The first of the grooving cycles (G74, G75) and multiple threading
+    /// (G76) the block names.
+    pub cycle: Option<GCode>,
+    /// The lathe motion the block's group 1 codes leave in force, where it
+    /// names any (`Some(None)`: a motion that is no lathe cycle).
+    pub motion: Option<Option<LatheMotion>>,
+}
 
 /// The absolute address, its incremental one (system A) and the axis.
 const PAIRS: [(u8, u8, usize); 3] = [(b'X', b'U', 0), (b'Z', b'W', 2), (b'C', b'H', 5)];
 
 impl State {
+    /// The block's G codes as [`LatheCodes`] reads them: each G word written
+    /// as a number, decoded in the lathe's G code system (none off a lathe).
+    pub(in super::super) fn lathe_codes(&self, words: &[Word]) -> LatheCodes {
+        let mut codes = LatheCodes::default();
+        if self.turning.is_none() {
+            return codes;
+        }
+        for w in words.iter().filter(|w| w.letter == b'G') {
+            let WordValue::Number { value, .. } = w.value() else { continue };
+            match self.decode_g((value * 10.0).round() as u32) {
+                Some(GCode::Contour(c)) => {
+                    codes.contour.get_or_insert(c);
+                }
+                Some(c @ (GCode::Grooving(_) | GCode::MultipleThreading)) => {
+                    codes.cycle.get_or_insert(c);
+                }
+                Some(GCode::SingleCycle(c)) => codes.motion = Some(Some(LatheMotion::Single(c))),
+                Some(c) if c.group() == 1 => codes.motion = Some(None),
+                _ => {}
+            }
+        }
+        codes
+    }
+
     /// Reads the lathe's words of a block (after its modal codes, before
     /// its feed, speed and motion): the spindle clamp of `G50 S` (`G92 S`
     /// in systems B and C), then X U Z W C H as [`State::lathe_axes`] reads
