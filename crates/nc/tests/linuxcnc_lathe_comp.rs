@@ -137,18 +137,27 @@ fn orientation_6_and_9_shift_as_the_figure_says() {
     // (and 0): the nose centre itself, 0.8 further in X and Z.
     let path = common::linuxcnc::path_with(&program("G42.1 D1.6 L6"), &linuxcnc(None));
     let mut six = want();
-    for p in &mut six[1..6] {
+    for p in &mut six[1..7] {
         p.1 += 0.8;
     }
     assert_ends("L6", &path, &six);
     for l in ["L9", "L0", ""] {
         let path = common::linuxcnc::path_with(&program(&format!("G42.1 D1.6 {l}")), &linuxcnc(None));
         let mut centre = want();
-        for p in &mut centre[1..6] {
+        for p in &mut centre[1..7] {
             (p.0, p.1) = (p.0 + 0.8, p.1 + 0.8);
         }
         assert_ends(&format!("G42.1 D1.6 {l}"), &path, &centre);
     }
+}
+
+/// `file:line:col: error: …` of the error that stops `text` under
+/// LinuxCNC's rules.
+fn error(text: &str) -> String {
+    let (outcome, sources) = common::linuxcnc::run_with(text, &linuxcnc(None)).unwrap_or_else(|e| panic!("{e}"));
+    let d = outcome.diagnostics.iter().find(|d| d.is_error()).unwrap_or_else(|| panic!("{text}: no error"));
+    assert!(!outcome.completed);
+    d.headline(&sources)
 }
 
 #[test]
@@ -156,12 +165,12 @@ fn a_bad_orientation_is_refused_where_it_is_written() {
     for (l, said) in
         [("L2.5", "Non integer value for integer"), ("L-1", "Negative l word used"), ("L10", "orientation is 0 to 9")]
     {
-        let e = common::linuxcnc::error(&program(&format!("G42.1 D1.6 {l}")));
-        assert!(e.starts_with("t.ngc:4:13:") && e.contains(said), "{l}: {e}");
+        let e = error(&program(&format!("G42.1 D1.6 {l}")));
+        assert!(e.starts_with("t.ngc:4:12:") && e.contains(said), "{l}: {e}");
     }
     // L in the XY plane.
-    let e = common::linuxcnc::error(&program("G17 G42.1 D1.6 L2"));
-    assert!(e.starts_with("t.ngc:4:17:") && e.contains("plane is not G18"), "{e}");
+    let e = error(&program("G17 G42.1 D1.6 L2"));
+    assert!(e.starts_with("t.ngc:4:16:") && e.contains("plane is not G18"), "{e}");
 }
 
 #[test]
@@ -169,14 +178,14 @@ fn an_entry_move_not_longer_than_the_radius_stops_where_it_is_made() {
     // The entry Z4.5 travels 0.5, not more than the radius 0.8: LinuxCNC
     // stops at it, before the arc after it (off its circle) is read.
     let text = "G18 G8 G21 G90\nG0 X4 Z5\nG42.1 D1.6 L2\nG1 Z4.5 F100\nG2 X9 Z0 R1\nM2\n";
-    let e = common::linuxcnc::error(text);
+    let e = error(text);
     assert!(
         e.starts_with("t.ngc:4:")
             && e.contains("Length of cutter compensation entry move is not greater than the tool radius"),
         "{e}"
     );
     // An entry of 1 mm runs on (and the arc is refused, for its own reason).
-    let e = common::linuxcnc::error(&text.replace("Z4.5", "Z4"));
+    let e = error(&text.replace("Z4.5", "Z4"));
     assert!(e.starts_with("t.ngc:5:"), "{e}");
 }
 
@@ -184,7 +193,7 @@ fn an_entry_move_not_longer_than_the_radius_stops_where_it_is_made() {
 fn a_program_must_end_with_m2_m30_or_its_closing_percent() {
     // LinuxCNC reads to the end of the file and refuses a program that
     // runs off it: "File ended with no percent sign or program end".
-    let e = common::linuxcnc::error("G0 X1\nG1 X2 F10\n");
+    let e = error("G0 X1\nG1 X2 F10\n");
     assert!(e.starts_with("t.ngc:2:") && e.contains("File ended with no percent sign or program end"), "{e}");
     common::linuxcnc::path("G0 X1\nG1 X2 F10\nM2\n");
     common::linuxcnc::path("G0 X1\nG1 X2 F10\nM30\n");
