@@ -157,11 +157,12 @@ M2\n",
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
     (
         "lathe_g70_71_demo.ngc (G8)",
-        "its G71.1 and G71.2 agree (175 motions), and its G70 under `G42.1 D0.3 L2` moves the imaginary tip as \
-         rs274 does but for one move: the cycle repeats its start point (a rapid that goes nowhere, X15 Z3.041 \
-         again), which rs274 turns under compensation into a rapid to X14.85 Z-38.25, the far end of the profile, \
-         and back; kezuri makes it in place, so the entry move before it ends at the corner with the next move \
-         (Z2.741, where rs274 has Z2.891): 0.15 mm, the cutter's radius",
+        "its G71.1 and G71.2 agree (175 motions), and its G70 under `G42.1 D0.3 L2` moves the imaginary tip \
+         as rs274 does but at the cycle's start: the cycle makes its start point twice (a rapid that goes \
+         nowhere), and rs274 makes the second, under compensation in this cycle, as a rapid to X14.85 Z-38.25 \
+         (the far end of the profile) before the profile's start, where kezuri makes it in place (as both do \
+         in a plain program: kezuri-nc's linuxcnc_lathe_comp.rs); so rs274's entry ends at X14.7 Z2.891 and \
+         kezuri's at the corner with the next move, Z2.741: 0.15 mm, the cutter's radius",
     ),
     (
         "macros/lathe/probe-hole.ngc",

@@ -201,3 +201,23 @@ fn a_program_must_end_with_m2_m30_or_its_closing_percent() {
     // A subroutine ends at its endsub, not at the end of its file.
     common::linuxcnc::path("o<a> sub\nG1 X2 F10\no<a> endsub\no<a> call\nM2\n");
 }
+
+#[test]
+fn a_move_that_goes_nowhere_after_the_entry_leaves_the_corner_to_the_next_move() {
+    // R = 0.15 (D0.3), orientation 2 (tip = centre − (0.15, 0.15)). The
+    // entry X15 Z−37.59 → X15 Z3.041 travels +Z: the tool right of it is
+    // on the −X side, its offset line X14.85. The rapid to the same point
+    // moves nothing in the plane and makes no corner. The next move, −X
+    // to X0.452, has the tool on its −Z side (offset line Z2.891) and
+    // turns toward the tool: a concave corner, so the entry ends at
+    // X14.85 Z2.891, tip X14.7 Z2.741. −X then −Z turns toward the tool
+    // again: the corner X0.602 Z2.891 (the −Z move's offset line X0.602),
+    // tip X0.452 Z2.741; Z−5 ends at centre X0.602 Z−5, tip X0.452 Z−5.15;
+    // G40 goes to X20 Z−5. rs274 prints the same (14.7/2.741 twice,
+    // 0.452/2.741, 0.452/−5.15, 20/−5).
+    let text = "G18 G8 G21\nG0 X15 Z-37.59\nG42.1 D0.3 L2\nG0 X15 Z3.041\nG0 X15 Z3.041\nG0 X0.452 Z3.041\n\
+                G1 Z-5 F100\nG40 G0 X20\nM2\n";
+    let path = common::linuxcnc::path_with(text, &linuxcnc(None));
+    let want = [(15.0, -37.59), (14.7, 2.741), (14.7, 2.741), (0.452, 2.741), (0.452, -5.15), (20.0, -5.0)];
+    assert_ends("a rapid in place after the entry", &path, &want);
+}

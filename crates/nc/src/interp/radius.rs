@@ -272,13 +272,13 @@ impl State {
         if travel <= on.radius.abs() {
             let arc = matches!(m.kind, MoveKind::Arc(_));
             let message = comp::entry_too_short(arc);
-            let mm = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
+            let (mm, unit) = if self.modal.units == Units::Inch { (25.4, "in") } else { (1.0, "mm") };
             let why = format!(
-                "{message}: the entry move after {} travels {} in the plane, the radius is {} (LinuxCNC puts the \
-                 tool centre off the move's end by the radius, square to it; make the entry move longer)",
-                if on.side == Side::Left { "G41" } else { "G42" },
-                number(travel / mm, 4),
-                number(on.radius.abs() / mm, 4),
+                "{message}: the entry move travels {:.4} {unit} in the plane, the radius is {:.4} {unit} (LinuxCNC \
+                 puts the tool centre off the entry move's end by the radius, square to it; make the entry move \
+                 longer)",
+                travel / mm,
+                on.radius.abs() / mm,
             );
             let alarm = Diagnostic::error(self.radius.block.0, self.comp_alarm(&why));
             self.radius.refused = Some((alarm, self.toolpath.moves.len()));
