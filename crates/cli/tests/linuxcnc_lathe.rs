@@ -158,10 +158,10 @@ const EXPECTED_FAILURES: &[(&str, &str)] = &[
     (
         "lathe_g70_71_demo.ngc (G8)",
         "its G71.1 and G71.2 agree (175 motions), and its G70 under `G42.1 D0.3 L2` moves the imaginary tip \
-         as rs274 does but at the cycle's start: the cycle makes its start point twice (a rapid that goes \
-         nowhere), and rs274 makes the second, under compensation in this cycle, as a rapid to X14.85 Z-38.25 \
-         (the far end of the profile) before the profile's start, where kezuri makes it in place (as both do \
-         in a plain program: kezuri-nc's linuxcnc_lathe_comp.rs); so rs274's entry ends at X14.7 Z2.891 and \
+         as rs274 does but at the cycle's start: the cycle rapids to its start point twice (the second a rapid \
+         that goes nowhere), and rs274 2.9 makes the second, in this cycle only, as a rapid to X14.85 Z-38.25, \
+         the far end of the profile, before the profile's start; kezuri makes it in place, as both do in a \
+         plain program (kezuri-nc's linuxcnc_lathe_comp.rs). rs274's first rapid ends at X14.7 Z2.891, \
          kezuri's at the corner with the next move, Z2.741: 0.15 mm, the cutter's radius",
     ),
     (
