@@ -221,17 +221,7 @@ impl<'a> Interp<'a> {
         if pc >= end {
             let span = self.program.units[unit].span;
             if self.frames.len() == 1 {
-                let unit = &self.program.units[unit];
-                if self.st.settings.dialect == crate::Dialect::LinuxCnc && !unit.closed_by_percent {
-                    // LinuxCNC reads on to the end of the file and refuses
-                    // it there (its interpreter's read of the next line).
-                    let last = unit.blocks.clone().last().map_or(span, |b| self.program.blocks[b as usize].span);
-                    return Err(Diagnostic::error(
-                        last,
-                        "File ended with no percent sign or program end: LinuxCNC refuses a program that runs off \
-                         its end; end it with M2 or M30 (or open and close the file with '%')",
-                    ));
-                }
+                self.linuxcnc_file_end(unit)?;
                 self.st.warn("end", span, "the program ends without M30 or M02: is the file complete?");
                 return Ok(false);
             }
