@@ -156,33 +156,18 @@ M2\n",
 /// that agrees fails the test.
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
     (
-        "lathe-g76.ngc",
-        "written for radius mode: under G7 its arc `g3 x3.05 z-3.05 i0 k-3.05` ends off its circle, where kezuri \
-         stops; rs274 stops a block earlier, at the compensation entry `g0z1` (1 mm, under the tool's 1.27 mm \
-         radius), which kezuri checks when it plans the compensated path",
-    ),
-    ("g76.ngc", "the same program as lathe-g76.ngc"),
-    (
         "lathe_g70_71_demo.ngc (G8)",
-        "its G71.1 and G71.2 agree (175 motions); its G70 runs under `G42.1 D0.3 L2`, compensation with the \
-         tool orientation L, and parts at the first compensated rapid by 0.15 mm (the cutter's radius), as \
-         lathecomp.ngc does",
-    ),
-    (
-        "lathecomp.ngc",
-        "G41/G42 with the lathe table's tools (D0.1 in, orientations Q2 and Q7): rs274 moves the tool's \
-         imaginary tip, the nose centre shifted by the nose radius along X and Z as the orientation says (the \
-         first compensated move ends at X0 Z-2.54 where the nose centre is at X1.27 Z-1.27); kezuri's \
-         linuxcnc dialect moves the nose centre, a mill's compensation, without the orientation's shift",
+        "its G71.1 and G71.2 agree (175 motions), and its G70 under `G42.1 D0.3 L2` moves the imaginary tip \
+         as rs274 does but at the cycle's start: the cycle rapids to its start point twice (the second a rapid \
+         that goes nowhere), and rs274 2.9 makes the second, in this cycle only, as a rapid to X14.85 Z-38.25, \
+         the far end of the profile, before the profile's start; kezuri makes it in place, as both do in a \
+         plain program (kezuri-nc's linuxcnc_lathe_comp.rs). rs274's first rapid ends at X14.7 Z2.891, \
+         kezuri's at the corner with the next move, Z2.741: 0.15 mm, the cutter's radius",
     ),
     (
         "macros/lathe/probe-hole.ngc",
         "probing (G38.2/G38.3): where the probe trips is the machine's; rs274's canon and kezuri place the \
          tripped probe differently",
-    ),
-    (
-        "ngcgui_lib/lathe/lathe_std.ngc",
-        "ngcgui's preamble, not a program: it ends without M2 or %, which rs274 refuses and kezuri runs to its end",
     ),
 ];
 

@@ -637,6 +637,9 @@ pub struct ProgramUnit {
     pub span: Span,
     /// Its blocks: indices into [`Program::blocks`].
     pub blocks: std::ops::Range<u32>,
+    /// Whether the tape's closing `%` ends it (the file opened with `%`):
+    /// a program that runs to that `%` ends there, M2 or not.
+    pub closed_by_percent: bool,
 }
 
 /// Everything parsed so far: one or more files of program units.

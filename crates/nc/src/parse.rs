@@ -43,6 +43,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
         title: None,
         span: Span::new(file, 0, 0),
         blocks: program.blocks.len() as u32..program.blocks.len() as u32,
+        closed_by_percent: false,
     };
     let mut percent_seen = 0;
     let blocks_before = program.blocks.len();
@@ -76,6 +77,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
             }
             percent_seen += 1;
             if percent_seen == 2 {
+                unit.closed_by_percent = true;
                 let after = text[(end + 1).min(text.len())..].lines().filter(|l| !l.trim().is_empty()).count();
                 if after > 0 {
                     let lines =
@@ -92,6 +94,7 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
                 title: header.1,
                 span: Span::new(file, pos, end),
                 blocks: program.blocks.len() as u32..program.blocks.len() as u32,
+                closed_by_percent: false,
             };
         } else {
             let words_mark = p.program.words.len();

@@ -195,10 +195,11 @@ M30
 }
 
 #[test]
-fn lathe_nose_linuxcnc_numbers_the_tip_with_x_mirrored_and_agrees_with_rs274() {
+fn lathe_nose_linuxcnc_compensates_the_tip_and_agrees_with_rs274() {
     // The OD profile in LinuxCNC's words, its OD tool being orientation 2
     // (its figure is drawn with X down, a front tool post): the imaginary
-    // tip (−R, −R) from the centre, Fanuc's 3. LinuxCNC's own corners: the
+    // tip (−R, −R) from the centre, Fanuc's 3, the tip kezuri keeps (a
+    // tool table's Q is turned into Fanuc's tip as it is read). LinuxCNC's own corners: the
     // entry ends perpendicular and is moved to the inside corner's
     // intersection (X0.8 Z0.8, tip X0 Z0); convex corners get an arc of
     // the nose centre round the programmed corner (from the face's offset
@@ -242,7 +243,7 @@ M2
     ];
     let settings = Settings {
         lathe: Some(Lathe { x: XMode::Radius, system: GCodeSystem::A }),
-        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 2 })]),
+        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 3 })]),
         comp_rules: kezuri_nc::interp::comp::Rules::LinuxCnc,
         ..common::linuxcnc::settings()
     };
@@ -269,7 +270,7 @@ M2
 ";
     let settings = Settings {
         lathe: Some(Lathe { x: XMode::Radius, system: GCodeSystem::A }),
-        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 2 })]),
+        noses: BTreeMap::from([(1, Nose { radius: 0.8, tip: 3 })]),
         comp_rules: kezuri_nc::interp::comp::Rules::LinuxCnc,
         ..common::linuxcnc::settings()
     };

@@ -9,7 +9,8 @@
 //!
 //! A lathe tool's line (an orientation Q 1–9) gives its nose: the radius is
 //! half of D (LinuxCNC's tool nose diameter), the tip direction Q turned
-//! into Fanuc's numbering ([`fanuc_tip`]).
+//! into Fanuc's numbering (`TipNumbers::LinuxCnc`: the same corner of the
+//! nose, numbered with X mirrored; Q2, the outside turning tool, is tip 3).
 
 /// The start of the note a tool.tbl leaves: the machine file that imports
 /// it names the tools its own entries leave without a shape instead.
@@ -21,7 +22,7 @@ use super::{Table, Units};
 use crate::error::{fail, Result};
 use crate::files::{read_text, Files};
 use crate::machine::ToolEntry;
-use kezuri_nc::interp::Nose;
+use kezuri_nc::interp::{Nose, TipNumbers};
 
 /// Reads a `tool.tbl`.
 pub fn read(path: &Path, units: Units, files: &dyn Files) -> Result<Table> {
@@ -38,27 +39,6 @@ struct Words {
     orientation: Option<u8>,
     /// A lathe's X or a rotary offset, or a front or back angle, not zero.
     unused: bool,
-}
-
-/// Fanuc's imaginary tool tip direction for LinuxCNC's lathe tool
-/// orientation `q` (0–9). Each names the corner of the nose the tool is
-/// set to, seen from the nose centre, in the machine's +X and +Z; the two
-/// number those corners mirrored in X. LinuxCNC (what `rs274` does with
-/// a tool of each orientation under `G41`/`G42`): 1 (−X, +Z), 2 (−X, −Z),
-/// 3 (+X, −Z), 4 (+X, +Z), 5 +Z, 6 −X, 7 −Z, 8 +X. Fanuc (the turning
-/// tool for outside diameters is tip 3, the boring bar tip 2): 1 (+X, +Z),
-/// 2 (+X, −Z), 3 (−X, −Z), 4 (−X, +Z), 5 +Z, 6 +X, 7 −Z, 8 −X. 0 and 9:
-/// the nose centre in both.
-pub(crate) fn fanuc_tip(q: u8) -> u8 {
-    match q {
-        1 => 4,
-        2 => 3,
-        3 => 2,
-        4 => 1,
-        6 => 8,
-        8 => 6,
-        other => other,
-    }
 }
 
 fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
@@ -80,7 +60,7 @@ fn parse(name: &str, text: &str, units: Units) -> Result<Table> {
         // A lathe tool's nose: its orientation, and half its D.
         let nose = match (w.orientation, w.diameter) {
             (None | Some(0), _) => None,
-            (Some(q), Some(d)) => Some(Nose { radius: units.mm(d) / 2.0, tip: fanuc_tip(q) }),
+            (Some(q), Some(d)) => Some(Nose { radius: units.mm(d) / 2.0, tip: TipNumbers::LinuxCnc.fanuc_tip(q) }),
             (Some(q), None) => {
                 table.notes.warnings.push(format!(
                     "line {n}: T{number}: orientation Q{q} with no diameter D: no nose (add D, the nose diameter)"

@@ -93,7 +93,9 @@ impl State {
     /// Executes the NC block at `pc`. An error in a block that a word
     /// without a decimal point may be behind says how it was read.
     pub(super) fn exec_block(&mut self, program: &Program, pc: u32) -> Result<Action, Diagnostic> {
-        self.exec_words(program, pc).map_err(|d| self.with_decimal_hint(program, pc, d))
+        let action = self.exec_words(program, pc).map_err(|d| self.with_decimal_hint(program, pc, d))?;
+        self.comp_entry_alarm()?;
+        Ok(action)
     }
 
     #[inline(always)]
@@ -479,8 +481,11 @@ impl State {
             GCode::Distance(d) => self.modal.distance = d,
             GCode::FeedMode(f) => self.modal.feed_mode = f,
             GCode::Units(u) => self.modal.units = u,
-            GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), gspan)?,
-            GCode::RadiusCompDiameter(c) => self.comp_code(c, true, w.get(b'D'), w.span(b'D'), gspan)?,
+            GCode::RadiusComp(c) => self.comp_code(c, false, w.get(b'D'), w.span(b'D'), None, gspan)?,
+            GCode::RadiusCompDiameter(c) => {
+                let l = w.get(b'L').map(|l| (l, w.span(b'L')));
+                self.comp_code(c, true, w.get(b'D'), w.span(b'D'), l, gspan)?
+            }
             GCode::LengthComp(_) | GCode::LengthGiven | GCode::LengthAdded | GCode::LengthCompOff
                 if self.settings.coords.control == Control::LinuxCnc && self.comp_on() =>
             {

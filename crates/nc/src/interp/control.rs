@@ -222,6 +222,7 @@ impl<'a> Interp<'a> {
         if pc >= end {
             let span = self.program.units[unit].span;
             if self.frames.len() == 1 {
+                self.linuxcnc_file_end(unit)?;
                 self.st.warn("end", span, "the program ends without M30 or M02: is the file complete?");
                 return Ok(false);
             }

@@ -163,7 +163,7 @@ impl State {
             relative,
             unknown: AxisSet(self.unplaced.0 | self.at_machine.0),
         };
-        self.comp_tag();
+        self.comp_tag(&m);
         self.toolpath.push(m);
         self.tip = end;
         self.settle_program(kind, start);

@@ -17,9 +17,9 @@
 //! no D word; the toolpath is the imaginary tip's
 //! ([`compensate_nose`]; `docs/lathe.md`, "Nose radius compensation").
 
-use kezuri_geom::{Axes, Kept, MoveKind, Toolpath};
+use kezuri_geom::{Axes, Kept, Move, MoveKind, Toolpath};
 
-use super::comp::{Comp, Rules, Side};
+use super::comp::{self, Comp, Rules, Side};
 use super::lathe::nose::{compensate_nose, TipNumbers};
 use super::lathe::Nose;
 use super::modal::{RadiusComp, Units};
@@ -50,6 +50,12 @@ pub(super) struct Radius {
     /// The G41/G42 D and G40 blocks for the writer of the programmed
     /// contour, each with its place in `Toolpath::kept` when it was read.
     marks: Vec<(usize, Kept)>,
+    /// Whether the entry move of the compensation in force has been made
+    /// (LinuxCNC checks it as it is made).
+    entered: bool,
+    /// LinuxCNC's refusal of an entry move, found as the move was made,
+    /// and the move's index in the toolpath: the block stops there ([`State::comp_entry_alarm`]).
+    refused: Option<(Diagnostic, usize)>,
 }
 
 /// Compensation in force.
@@ -82,13 +88,15 @@ impl State {
     }
 
     /// G40, G41, G42, or with `diameter` G41.1 / G42.1, with the block's D
-    /// word `d` (written at `dspan`); `gspan` is the G word.
+    /// word `d` (written at `dspan`) and L word `l` (G41.1/G42.1: LinuxCNC's
+    /// lathe tool orientation, with its span); `gspan` is the G word.
     pub(super) fn comp_code(
         &mut self,
         code: RadiusComp,
         diameter: bool,
         d: Option<f64>,
         dspan: Span,
+        l: Option<(f64, Span)>,
         gspan: Span,
     ) -> Result<(), Diagnostic> {
         let rules = self.settings.comp_rules;
@@ -115,16 +123,35 @@ impl State {
             return Err(Diagnostic::error(gspan, "Cannot turn cutter radius comp on when on"));
         }
         let at = if d.is_some() { dspan } else { gspan };
-        if !diameter && self.settings.lathe_conventions().is_some() {
+        // A lathe's G41/G42 compensate the nose of the tool in use; so do
+        // LinuxCNC's, on any machine, for a tool with an orientation.
+        if !diameter && (linuxcnc || self.settings.lathe_conventions().is_some()) {
             if let Some(nose) = self.nose_in_use(&name, d, gspan)? {
-                let numbers = if linuxcnc { TipNumbers::LinuxCnc } else { TipNumbers::Fanuc };
-                let tip = nose.tip_vector(numbers);
+                // The noses are Fanuc's tips, whatever the dialect (the
+                // machine file's `tip`; a tool table's Q turned into it).
+                let tip = nose.tip_vector(TipNumbers::Fanuc);
                 self.radius.on = Some(On { side, radius: nose.radius, register: None, tip });
+                self.radius.entered = false;
                 self.modal.radius_comp = code;
                 self.comp_mark(name);
                 return Ok(());
             }
         }
+        // G41.1/G42.1 L: the orientation of the lathe tool whose nose
+        // diameter D gives.
+        let q = match l {
+            Some((l, lspan)) if diameter => {
+                let q = orientation(l, lspan)?;
+                if self.modal.plane != kezuri_geom::Plane::Zx {
+                    return Err(Diagnostic::error(
+                        lspan,
+                        format!("{name} with L word, but plane is not G18: a lathe tool's orientation is given in the XZ plane"),
+                    ));
+                }
+                Some(q)
+            }
+            _ => None,
+        };
         let (radius, register, text) = if diameter {
             let Some(d) = d else {
                 return Err(Diagnostic::error(gspan, format!("{name} needs D, the cutter diameter")));
@@ -158,7 +185,18 @@ impl State {
             };
             (radius, (!linuxcnc).then_some(register), text)
         };
-        self.radius.on = Some(On { side, radius, register, tip: (0.0, 0.0) });
+        let tip = match q {
+            Some(q) => {
+                Nose { radius: radius.abs(), tip: TipNumbers::LinuxCnc.fanuc_tip(q) }.tip_vector(TipNumbers::Fanuc)
+            }
+            None => (0.0, 0.0),
+        };
+        let text = match l {
+            Some((l, _)) if diameter => format!("{text} L{}", number(l, 0)),
+            _ => text,
+        };
+        self.radius.on = Some(On { side, radius, register, tip });
+        self.radius.entered = false;
         self.modal.radius_comp = code;
         self.comp_mark(text);
         Ok(())
@@ -184,9 +222,10 @@ impl State {
         Ok(())
     }
 
-    /// Hook: the move about to be pushed as `toolpath.moves[len]` is made
-    /// with the compensation in force now.
-    pub(super) fn comp_tag(&mut self) {
+    /// Hook: the move `m` about to be pushed as `toolpath.moves[len]` is
+    /// made with the compensation in force now.
+    pub(super) fn comp_tag(&mut self, m: &Move) {
+        self.comp_entry(m);
         // A programmable mirror on one axis of the plane swaps G41 and G42.
         let tag = self.radius.on.map(|on| {
             let side = match (on.side, self.plane_reversed()) {
@@ -210,6 +249,55 @@ impl State {
         self.radius.tags.push(tag);
         self.radius.tips.push(tip);
         self.radius.spans.push(self.radius.block.0);
+    }
+
+    /// LinuxCNC's rule for the entry move `m`, the first move after
+    /// G41/G42 that is not a dwell, checked as the move is made: its travel
+    /// in the compensation plane must be longer than the tool radius (the
+    /// nose centre is put off its end by that radius, perpendicular to it).
+    /// `rs274` stops there, before the blocks after it are read.
+    fn comp_entry(&mut self, m: &Move) {
+        let Some(on) = self.radius.on else { return };
+        if self.radius.entered || matches!(m.kind, MoveKind::Dwell(_)) {
+            return;
+        }
+        self.radius.entered = true;
+        if self.settings.comp_rules != Rules::LinuxCnc || on.radius == 0.0 {
+            return;
+        }
+        let (i, j, _) = self.modal.plane.axes();
+        let (a, b) = (m.start.xyz(), m.end.xyz());
+        let travel = (b[i] - a[i]).hypot(b[j] - a[j]);
+        if travel <= on.radius.abs() {
+            let arc = matches!(m.kind, MoveKind::Arc(_));
+            let message = comp::entry_too_short(arc);
+            let (mm, unit) = if self.modal.units == Units::Inch { (25.4, "in") } else { (1.0, "mm") };
+            let why = format!(
+                "{message}: the entry move travels {:.4} {unit} in the plane, the radius is {:.4} {unit} (LinuxCNC \
+                 puts the tool centre off the entry move's end by the radius, square to it; make the entry move \
+                 longer)",
+                travel / mm,
+                on.radius.abs() / mm,
+            );
+            let alarm = Diagnostic::error(self.radius.block.0, self.comp_alarm(&why));
+            self.radius.refused = Some((alarm, self.toolpath.moves.len()));
+        }
+    }
+
+    /// The refusal of an entry move made by the block just executed: the
+    /// move and what followed it in the block are taken back, as the
+    /// control stops before making them.
+    pub(super) fn comp_entry_alarm(&mut self) -> Result<(), Diagnostic> {
+        let Some((alarm, end)) = self.radius.refused.take() else { return Ok(()) };
+        if let Some(since) = self.radius.since {
+            let k = end.saturating_sub(since);
+            self.toolpath.moves.truncate(end);
+            self.toolpath.kept.retain(|kept| kept.before <= end);
+            self.radius.tags.truncate(k);
+            self.radius.tips.truncate(k);
+            self.radius.spans.truncate(k);
+        }
+        Err(alarm)
     }
 
     /// Hook: a move is added after the last with the compensation of the
@@ -391,6 +479,29 @@ impl State {
         let kept = self.kept(before, 0, text, false, self.radius.block.1);
         self.radius.marks.push((self.toolpath.kept.len(), kept));
     }
+}
+
+/// LinuxCNC's lathe tool orientation: the `L` of `G41.1`/`G42.1`, a whole
+/// number 0–9 (`rs274` refuses a fraction and a negative number, and runs
+/// one above 9 as the nose centre: kezuri refuses it, a number no tool
+/// table holds).
+fn orientation(l: f64, at: Span) -> Result<u8, Diagnostic> {
+    if l.fract() != 0.0 {
+        return Err(Diagnostic::error(
+            at,
+            format!("Non integer value for integer: L{l}, the tool's orientation, is a whole number 0 to 9"),
+        ));
+    }
+    if l < 0.0 {
+        return Err(Diagnostic::error(at, format!("Negative l word used: L{l}, the tool's orientation, is 0 to 9")));
+    }
+    if l > 9.0 {
+        return Err(Diagnostic::error(
+            at,
+            format!("L{l}: a lathe tool's orientation is 0 to 9 (1–8 round the nose, 0 and 9 the nose centre)"),
+        ));
+    }
+    Ok(l as u8)
 }
 
 /// A D word's value as a register number.

@@ -44,7 +44,7 @@ impl Alarm {
         stop(move_index, self.text(rules))
     }
 
-    fn text(self, rules: Rules) -> String {
+    pub(super) fn text(self, rules: Rules) -> String {
         let fanuc = matches!(rules, Rules::Fanuc { .. });
         let t = match self {
             Alarm::ArcStartUp => "an arc cannot start cutter compensation: the G41/G42 start-up move must be G00 or G01 (Fanuc alarm PS0034)",

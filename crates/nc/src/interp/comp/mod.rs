@@ -111,6 +111,12 @@ impl Comp {
     }
 }
 
+/// LinuxCNC's refusal of an entry move (an arc, with `arc`) whose travel
+/// in the plane is not longer than the tool radius, in its words.
+pub(crate) fn entry_too_short(arc: bool) -> String {
+    Alarm::EntryTooShort { arc }.text(Rules::LinuxCnc)
+}
+
 /// Why a toolpath cannot be compensated: the move in the input the control
 /// would stop on, and what is wrong, worded as the control's alarm.
 fn stop(move_index: usize, message: String) -> Error {

@@ -1,5 +1,5 @@
 //! LinuxCNC lines: settings of numbered and named parameters mixed with
-//! words, and comment commands.
+//! words, and comment commands; the end of a LinuxCNC file.
 
 use super::Interp;
 use crate::ast::{CommentCommand, Expr, ExprId, PrintItem, Program, Statement, WordValue};
@@ -8,6 +8,23 @@ use crate::interp::{LogFile, State};
 use crate::source::{Diagnostic, Span};
 
 impl Interp<'_> {
+    /// The main program `unit` has run off its last block without M2 or
+    /// M30. LinuxCNC reads on to the end of the file and refuses it there
+    /// (its interpreter's read of the next line), unless the file opened
+    /// with `%` and this one closed it. Other dialects end with a warning.
+    pub(super) fn linuxcnc_file_end(&self, unit: usize) -> Result<(), Diagnostic> {
+        let unit = &self.program.units[unit];
+        if self.st.settings.dialect != crate::Dialect::LinuxCnc || unit.closed_by_percent {
+            return Ok(());
+        }
+        let last = unit.blocks.clone().last().map_or(unit.span, |b| self.program.blocks[b as usize].span);
+        Err(Diagnostic::error(
+            last,
+            "File ended with no percent sign or program end: LinuxCNC refuses a program that runs off its end; \
+             end it with M2 or M30 (or open and close the file with '%')",
+        ))
+    }
+
     /// The value of the setting `#var=value` of a line, read with the
     /// line's other values before any is set. A named parameter that is not
     /// set is made (reading 0) where the line sets it, before its value is

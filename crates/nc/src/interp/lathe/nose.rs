@@ -28,10 +28,29 @@ pub enum TipNumbers {
     /// and Direction" gives each code as a direction in X and Z.
     #[default]
     Fanuc,
-    /// LinuxCNC's tool table orientation `Q` (its interpreter's
-    /// `interp_queue.cc`, where the compensated centre becomes the tool's
-    /// origin): Fanuc's numbers with X mirrored.
+    /// LinuxCNC's lathe tool orientation (the tool table's `Q`, the `L`
+    /// of `G41.1`/`G42.1`): Fanuc's picture drawn with X down (its front
+    /// tool post lathe), so each number names the corner Fanuc's number
+    /// names with X mirrored — what `rs274` does with each orientation
+    /// under `G41`/`G42` shows it (its outside turning tool is 2).
     LinuxCnc,
+}
+
+impl TipNumbers {
+    /// Fanuc's tip number for the corner `tip` names in this numbering:
+    /// for LinuxCNC, the Fanuc tip whose direction is `tip`'s with X
+    /// mirrored (1 is 4, 2 is 3, 3 is 2, 4 is 1, 6 is 8, 8 is 6; 5, 7 and
+    /// the centre's 0 and 9 stay). A number outside 0–9 is kept, for
+    /// [`Nose::check`] to refuse.
+    pub fn fanuc_tip(self, tip: u8) -> u8 {
+        let Some(&(sx, sz)) = FANUC.get(usize::from(tip)) else { return tip };
+        match self {
+            TipNumbers::Fanuc => tip,
+            // Tips 0 and 9 are both the centre: each stays itself.
+            TipNumbers::LinuxCnc if (sx, sz) == (0.0, 0.0) => tip,
+            TipNumbers::LinuxCnc => (1..=8u8).find(|&k| FANUC[usize::from(k)] == (-sx, sz)).unwrap_or(tip),
+        }
+    }
 }
 
 /// The direction from the nose centre to the imaginary tip for each tip
@@ -91,11 +110,10 @@ impl Nose {
     }
 
     /// The imaginary tip's place from the nose centre, (X, Z) in mm, X a
-    /// radius; (0, 0) for tip 0 and 9, and for a tip outside 0–9 (which
-    /// [`Nose::check`] refuses).
+    /// radius, the tip numbered as `numbers` says; (0, 0) for tip 0 and 9,
+    /// and for a tip outside 0–9 (which [`Nose::check`] refuses).
     pub fn tip_vector(&self, numbers: TipNumbers) -> (f64, f64) {
-        let (sx, sz) = FANUC.get(usize::from(self.tip)).copied().unwrap_or_default();
-        let sx = if numbers == TipNumbers::LinuxCnc { -sx } else { sx };
+        let (sx, sz) = FANUC.get(usize::from(numbers.fanuc_tip(self.tip))).copied().unwrap_or_default();
         (sx * self.radius, sz * self.radius)
     }
 
@@ -208,6 +226,17 @@ mod tests {
         // LinuxCNC's OD tool on a front tool post is its 2: X mirrored.
         assert_eq!(nose(2).tip_vector(TipNumbers::LinuxCnc), (-0.8, -0.8));
         assert_eq!(nose(8).tip_vector(TipNumbers::LinuxCnc), (0.8, 0.0));
+    }
+
+    #[test]
+    fn lathe_linuxcnc_orientations_are_fanuc_tips_mirrored_in_x() {
+        let fanuc: Vec<u8> = (0..=10).map(|q| TipNumbers::LinuxCnc.fanuc_tip(q)).collect();
+        assert_eq!(fanuc, [0, 4, 3, 2, 1, 5, 8, 7, 6, 9, 10]);
+        for q in 0..=9 {
+            assert_eq!(TipNumbers::Fanuc.fanuc_tip(q), q);
+            let (x, z) = nose(q).tip_vector(TipNumbers::LinuxCnc);
+            assert_eq!((-x, z), nose(q).tip_vector(TipNumbers::Fanuc), "Q{q}");
+        }
     }
 
     #[test]
