@@ -163,8 +163,9 @@ impl State {
             relative,
             unknown: AxisSet(self.unplaced.0 | self.at_machine.0),
         };
-        self.comp_tag(&m);
+        self.comp_tag();
         self.toolpath.push(m);
+        self.comp_entry();
         self.tip = end;
         self.settle_program(kind, start);
     }

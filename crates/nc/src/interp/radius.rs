@@ -17,7 +17,7 @@
 //! no D word; the toolpath is the imaginary tip's
 //! ([`compensate_nose`]; `docs/lathe.md`, "Nose radius compensation").
 
-use kezuri_geom::{Axes, Kept, Move, MoveKind, Toolpath};
+use kezuri_geom::{Axes, Kept, MoveKind, Toolpath};
 
 use super::comp::{self, Comp, Rules, Side};
 use super::lathe::nose::{compensate_nose, TipNumbers};
@@ -224,8 +224,7 @@ impl State {
 
     /// Hook: the move `m` about to be pushed as `toolpath.moves[len]` is
     /// made with the compensation in force now.
-    pub(super) fn comp_tag(&mut self, m: &Move) {
-        self.comp_entry(m);
+    pub(super) fn comp_tag(&mut self) {
         // A programmable mirror on one axis of the plane swaps G41 and G42.
         let tag = self.radius.on.map(|on| {
             let side = match (on.side, self.plane_reversed()) {
@@ -256,20 +255,22 @@ impl State {
     /// in the compensation plane must be longer than the tool radius (the
     /// nose centre is put off its end by that radius, perpendicular to it).
     /// `rs274` stops there, before the blocks after it are read.
-    fn comp_entry(&mut self, m: &Move) {
+    #[inline(always)]
+    pub(super) fn comp_entry(&mut self) {
         let Some(on) = self.radius.on else { return };
+        let Some(m) = self.toolpath.moves.last() else { return };
         if self.radius.entered || matches!(m.kind, MoveKind::Dwell(_)) {
             return;
         }
+        let (kind, a, b) = (m.kind, m.start.xyz(), m.end.xyz());
         self.radius.entered = true;
         if self.settings.comp_rules != Rules::LinuxCnc || on.radius == 0.0 {
             return;
         }
         let (i, j, _) = self.modal.plane.axes();
-        let (a, b) = (m.start.xyz(), m.end.xyz());
         let travel = (b[i] - a[i]).hypot(b[j] - a[j]);
         if travel <= on.radius.abs() {
-            let arc = matches!(m.kind, MoveKind::Arc(_));
+            let arc = matches!(kind, MoveKind::Arc(_));
             let message = comp::entry_too_short(arc);
             let (mm, unit) = if self.modal.units == Units::Inch { (25.4, "in") } else { (1.0, "mm") };
             let why = format!(
@@ -280,14 +281,19 @@ impl State {
                 on.radius.abs() / mm,
             );
             let alarm = Diagnostic::error(self.radius.block.0, self.comp_alarm(&why));
-            self.radius.refused = Some((alarm, self.toolpath.moves.len()));
+            self.radius.refused = Some((alarm, self.toolpath.moves.len() - 1));
         }
     }
 
     /// The refusal of an entry move made by the block just executed: the
     /// move and what followed it in the block are taken back, as the
     /// control stops before making them.
+    #[inline(always)]
     pub(super) fn comp_entry_alarm(&mut self) -> Result<(), Diagnostic> {
+        // Tested before it is taken: a refusal is rare, and large to move.
+        if self.radius.refused.is_none() {
+            return Ok(());
+        }
         let Some((alarm, end)) = self.radius.refused.take() else { return Ok(()) };
         if let Some(since) = self.radius.since {
             let k = end.saturating_sub(since);
