@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Wall time, CPU time and peak memory of kezuri's program commands on generated G1 rasters
+# of growing size, beside LinuxCNC's rs274 on the same file (where it is installed).
+#
+#   bench/scale.sh [SIZES...]        (default: 100000 1000000; e.g. 100000 1000000 9000000)
+#
+# Each program is a zig-zag raster, 29 bytes a block: `X… Y… Z…` lines under G1, rows of
+# 1,000 blocks. Prints a Markdown table: blocks, command, wall s, user s, sys s, peak RSS
+# MiB, and blocks a second (wall). Builds target/release/kezuri when it is missing
+# (KEZURI=/path/to/kezuri overrides). A command that fails is shown with its exit status.
+# Measures; never gates.
+set -u
+cd "$(dirname "$0")/.."
+sizes=("$@")
+[ ${#sizes[@]} -eq 0 ] && sizes=(100000 1000000)
+bin=${KEZURI:-target/release/kezuri}
+[ -x "$bin" ] || cargo build --release -p kezuri >/dev/null 2>&1 || { echo "cannot build kezuri" >&2; exit 1; }
+bin=$(realpath "$bin")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+generate() { # blocks file
+    awk -v n="$1" 'BEGIN {
+        print "%"; print "O1000"; print "G21 G90 G17"; print "G0 X0 Y0 Z5."; print "G1 Z-1. F1200."
+        for (k = 0; k < n; k++) {
+            row = int(k / 1000); i = k % 1000; if (row % 2) i = 999 - i
+            printf "X%.3f Y%.3f Z%.3f\n", i * 0.1, row * 0.5, -1 - 0.001 * (k % 7)
+        }
+        print "G0 Z5."; print "M30"; print "%"
+    }' > "$2"
+}
+
+measure() { # label blocks command...
+    local label=$1 blocks=$2; shift 2
+    /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$@" > /dev/null 2> "$work/err"
+    local rc=$?
+    read -r wall user sys kb < <(tail -1 "$work/time")
+    local rate
+    rate=$(awk -v b="$blocks" -v w="$wall" 'BEGIN { printf "%.2f M", (w > 0 ? b / w / 1e6 : 0) }')
+    local status=""
+    [ $rc -ne 0 ] && status=" (exit $rc: $(head -c 80 "$work/err" | tr '\n' ' '))"
+    printf "| %s | %s | %s | %s | %s | %.0f | %s%s |\n" "$blocks" "$label" "$wall" "$user" "$sys" \
+        "$(awk -v k="$kb" 'BEGIN { print k / 1024 }')" "$rate" "$status"
+}
+
+echo "| blocks | command | wall s | user s | sys s | peak MiB | blocks/s |"
+echo "|---|---|---|---|---|---|---|"
+for n in "${sizes[@]}"; do
+    f="$work/raster-$n.nc"
+    generate "$n" "$f"
+    measure "check" "$n" "$bin" check "$f"
+    measure "run -o" "$n" "$bin" run "$f" -o "$work/out.nc"
+    measure "run --emit csv" "$n" "$bin" run "$f" --emit csv
+    measure "view" "$n" "$bin" view "$f" -o "$work/page.html"
+    if command -v rs274 >/dev/null; then
+        # rs274 reads .ngc; the same text as a LinuxCNC program (no O word, no %).
+        grep -v '^[%O]' "$f" > "$work/raster.ngc"
+        measure "rs274" "$n" rs274 -g "$work/raster.ngc"
+    fi
+    rm -f "$f" "$work/out.nc" "$work/page.html" "$work/raster.ngc"
+done
