@@ -157,7 +157,7 @@ impl State {
         if cycle == ContourCycle::Finishing {
             self.finish(program, &shape)?;
             own = self.toolpath.moves.len();
-            self.push_move(MoveKind::Rapid, start, 0.0, AxisSet::NONE.with(0).with(2), line);
+            self.comp_cycle_return(|s| s.push_move(MoveKind::Rapid, start, 0.0, AxisSet::NONE.with(0).with(2), line));
         } else {
             let steps = match cycle {
                 ContourCycle::Pattern => self.pattern_steps(program, &shape, w, gspan, name, haas)?,
