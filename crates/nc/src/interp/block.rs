@@ -164,14 +164,18 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
-        if self.turning.is_none() && w.has_any(letters(b"cr")) {
-            if let Some(letter) = [b'c', b'r'].into_iter().find(|&l| w.has(l)) {
+        if self.turning.is_none() && w.has_any(letters(b"cra")) {
+            if let Some(letter) = [b'c', b'r', b'a'].into_iter().find(|&l| w.has(l)) {
+                let what = match letter {
+                    b'c' => "a chamfer between two moves",
+                    b'r' => "a corner R between two moves",
+                    _ => "the angle of a straight line",
+                };
                 return Err(Diagnostic::error(
                     w.span(letter),
                     format!(
-                        ",{} (a {}) between two moves is read on a lathe only: kezuri does not run it on a mill",
+                        ",{} ({what}) is read on a lathe only: kezuri does not run it on a mill",
                         letter.to_ascii_uppercase() as char,
-                        if letter == b'c' { "chamfer" } else { "corner R" }
                     ),
                 ));
             }

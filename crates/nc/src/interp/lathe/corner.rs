@@ -76,6 +76,17 @@ impl State {
         let system_a = turning.fanuc && turning.system == super::GCodeSystem::A;
         let (x, z) = (w.has(b'X'), w.has(b'Z'));
         let one_axis = x != z && !w.has(b'Y');
+        // Direct drawing dimensions: the line's angle gives its other end
+        // coordinate; a corner waiting on the block before is the corner
+        // between that block and this line, whatever their directions.
+        let angle = linear && !one_shot && self.drawing_angle(w)?;
+        let Some(turning) = &mut self.turning else { return Ok(()) };
+        if angle {
+            if let Some(c) = &mut turning.corner {
+                c.toward = None;
+            }
+        }
+        let drawing = system_a && turning.drawing;
         let mut found: Option<(u8, bool, Toward)> = None;
         for (letter, round) in [(b'c', false), (b'r', true)] {
             if w.has(letter) {
@@ -86,6 +97,20 @@ impl State {
                     ));
                 }
                 found = Some((letter, round, None));
+            }
+        }
+        if drawing && linear && !one_shot && found.is_none() {
+            // C and R without the comma, as the direct drawing corners.
+            for (letter, round) in [(b'R', true), (b'C', false)] {
+                if w.has(letter) {
+                    if found.is_some() {
+                        return Err(Diagnostic::error(
+                            w.span(letter),
+                            "C and R in one block: a corner is chamfered or rounded, not both",
+                        ));
+                    }
+                    found = Some((letter, round, None));
+                }
             }
         }
         if system_a && linear && !one_shot && one_axis && found.is_none() {

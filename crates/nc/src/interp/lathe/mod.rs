@@ -8,6 +8,7 @@
 
 pub(super) mod contour;
 mod corner;
+mod drawing;
 mod grooving;
 mod linuxcnc;
 mod linuxcnc_cycles;
@@ -130,6 +131,9 @@ pub(super) struct Turning {
     pub asked: Option<Corner>,
     /// A chamfer or corner R waiting for the next block's move.
     pub corner: Option<Corner>,
+    /// The program has given a direct drawing angle `A` (system A): its
+    /// `C` and `R` are the corners between any two moves.
+    pub drawing: bool,
     /// The tool's geometry and wear offset number (`T0101`: 1), 0 for none.
     pub offset: u32,
 }
@@ -149,6 +153,7 @@ impl Turning {
             own_words: false,
             asked: None,
             corner: None,
+            drawing: false,
             offset: 0,
         }
     }
