@@ -8,6 +8,7 @@
 
 pub(super) mod contour;
 mod corner;
+mod corner_arc;
 mod drawing;
 mod grooving;
 mod linuxcnc;
