@@ -38,8 +38,11 @@ fn error(text: &str, settings: &Settings) -> (String, String) {
     (d.message.clone(), text[d.span.start as usize..d.span.end as usize].to_string())
 }
 
+/// A move's end (X, Z) and, for an arc, its centre.
+type End = ((f64, f64), Option<(f64, f64)>);
+
 /// The end (X, Z) of `m` and, for an arc, its centre.
-fn end(m: &Move) -> ((f64, f64), Option<(f64, f64)>) {
+fn end(m: &Move) -> End {
     let centre = match m.kind {
         MoveKind::Arc(a) => Some((a.center[0], a.center[2])),
         _ => None,
@@ -47,7 +50,7 @@ fn end(m: &Move) -> ((f64, f64), Option<(f64, f64)>) {
     ((m.end.x, m.end.z), centre)
 }
 
-fn assert_path(got: &[Move], want: &[((f64, f64), Option<(f64, f64)>)]) {
+fn assert_path(got: &[Move], want: &[End]) {
     let got: Vec<_> = got.iter().map(end).collect();
     assert_eq!(got.len(), want.len(), "{got:?}");
     for (k, (g, w)) in got.iter().zip(want).enumerate() {
@@ -126,16 +129,46 @@ fn lathe_drawing_comma_angle_with_z_in_system_b() {
 }
 
 #[test]
+fn lathe_drawing_angle_alone_ends_where_its_line_meets_the_next() {
+    // From X20 (radius 10) Z0 at A135 (direction (cos135, sin135) in
+    // (Z, X): −Z and +X at 45°), then X60 (radius 30) Z−30 at A180 (along
+    // Z): the second line is X = 30, met where 10 + t·sin45 = 30, t =
+    // 20·√2: Z = −20. The first block's R2 rounds that corner: the turn
+    // from 135° to 180° is 45°, legs 2·tan22.5° = 0.828427 along each;
+    // the arc is tangent to X30 from below, its centre at X28, level with
+    // its end Z −20.828427, turning counter-clockwise (left in (Z, X)).
+    let text = "G18 G21 G98\nG00 X20. Z0.\nG01 A135. R2. F100.\nX60. Z-30. A180.\nM30\n";
+    let p = path(text, &lathe(GCodeSystem::A));
+    let leg = 2.0 * 22.5f64.to_radians().tan();
+    let h = leg / 2f64.sqrt();
+    let want = [
+        ((10.0, 0.0), None),
+        ((30.0 - h, -20.0 + h), None),
+        ((30.0, -20.0 - leg), Some((28.0, -20.0 - leg))),
+        ((30.0, -30.0), None),
+    ];
+    assert_path(&p.moves, &want);
+    let MoveKind::Arc(a) = p.moves[2].kind else { panic!("the corner R is an arc") };
+    assert!(a.ccw);
+    // System B writes the same with ,A and ,R.
+    let text_b = "G18 G21 G90 G94\nG00 X20. Z0.\nG01 ,A135. ,R2. F100.\nX60. Z-30. ,A180.\nM30\n";
+    assert_path(&path(text_b, &lathe(GCodeSystem::B)).moves, &want);
+}
+
+#[test]
 fn lathe_drawing_forms_kezuri_cannot_or_the_control_will_not_run_are_located_errors() {
     let a = lathe(GCodeSystem::A);
     // Both ends and an angle: the end point twice.
     let (m, at) = error("G98 G00 X20. Z0.\nG01 X30. Z-5. A45. F100.\nM30\n", &a);
     assert!(m.contains("given twice"), "{m}");
     assert_eq!(at, "A45.");
-    // The angle alone: the intersection form, not modelled.
-    let (m, at) = error("G98 G00 X20. Z0.\nG01 A160. F100.\nX40. Z-20. A90.\nM30\n", &a);
-    assert!(m.contains("does not model"), "{m}");
+    // The angle alone, the next block without its angle: no line to meet.
+    let (m, at) = error("G98 G00 X20. Z0.\nG01 A160. F100.\nX40. Z-20.\nM30\n", &a);
+    assert!(m.contains("must give X, Z and its angle"), "{m}");
     assert_eq!(at, "A160.");
+    // Two parallel lines never meet.
+    let (m, _) = error("G98 G00 X20. Z0.\nG01 A135. F100.\nX60. Z-30. A-45.\nM30\n", &a);
+    assert!(m.contains("parallel"), "{m}");
     // A line along Z (A180) cannot reach another X: the control's alarm.
     let (m, at) = error("G98 G00 X20. Z0.\nG01 X30. A180. F100.\nM30\n", &a);
     assert!(m.contains("never reaches"), "{m}");

@@ -117,7 +117,14 @@ impl State {
         // A Fanuc or Haas lathe's words (LinuxCNC's X: `diameter_words`).
         if self.turning.as_ref().is_some_and(|t| t.fanuc) {
             let n = w.g_count;
-            self.lathe_block(&mut w, &mut codes[..n])?;
+            // The next block's words: a line given by its angle alone ends
+            // where it meets the next block's line.
+            let next = program.blocks[pc as usize + 1..]
+                .iter()
+                .find(|b| !matches!(b.statement, crate::ast::Statement::Empty))
+                .filter(|b| matches!(b.statement, crate::ast::Statement::Words { .. }))
+                .map(|b| program.words(b));
+            self.lathe_block(&mut w, &mut codes[..n], next)?;
         }
         let codes = &codes[..w.g_count];
         let has = |f: fn(&GCode) -> bool| first_code(codes, f);

@@ -63,6 +63,7 @@ impl State {
         &mut self,
         w: &mut Words,
         codes: &[Option<(GCode, Span)>],
+        next: Option<&[crate::ast::Word]>,
     ) -> Result<(), Diagnostic> {
         let Some(turning) = &self.turning else { return Ok(()) };
         let motion = codes.iter().flatten().find_map(|(c, _)| match c {
@@ -79,7 +80,7 @@ impl State {
         // Direct drawing dimensions: the line's angle gives its other end
         // coordinate; a corner waiting on the block before is the corner
         // between that block and this line, whatever their directions.
-        let angle = linear && !one_shot && self.drawing_angle(w)?;
+        let angle = linear && !one_shot && self.drawing_angle(w, next)?;
         let Some(turning) = &mut self.turning else { return Ok(()) };
         if angle {
             if let Some(c) = &mut turning.corner {

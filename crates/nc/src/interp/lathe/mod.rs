@@ -135,6 +135,9 @@ pub(super) struct Turning {
     /// The program has given a direct drawing angle `A` (system A): its
     /// `C` and `R` are the corners between any two moves.
     pub drawing: bool,
+    /// The block before gave an angle alone and ended where its line meets
+    /// this block's: this block's X, Z and angle are that line's.
+    pub drawing_pending: bool,
     /// The tool's geometry and wear offset number (`T0101`: 1), 0 for none.
     pub offset: u32,
 }
@@ -155,6 +158,7 @@ impl Turning {
             asked: None,
             corner: None,
             drawing: false,
+            drawing_pending: false,
             offset: 0,
         }
     }
