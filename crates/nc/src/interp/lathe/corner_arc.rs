@@ -79,10 +79,13 @@ impl Element {
             }
             _ => return None,
         };
-        if arc.is_some() && norm(sub(from, to)) < 1e-12 {
-            return None;
-        }
-        Some(Element { from, to, arc })
+        // A full circle, an arc round its own end, a line of no length:
+        // no direction to make a corner with.
+        let degenerate = match arc {
+            Some((_, r, _)) => r < 1e-9 || norm(sub(from, to)) < 1e-12,
+            None => norm(sub(from, to)) < 1e-12,
+        };
+        (!degenerate).then_some(Element { from, to, arc })
     }
 
     /// +1 counter-clockwise, −1 clockwise.
@@ -240,8 +243,8 @@ pub(super) fn corner(first: &Move, second: &Move, plane: Plane, size: f64, round
     let what = if round { "corner R" } else { "chamfer" };
     let (Some(e1), Some(e2)) = (Element::of(first, plane), Element::of(second, plane)) else {
         return Err(format!(
-            "a {what} next to an arc joins two moves in the plane in force: these leave it, or one is a full circle \
-             (the control stops with an alarm)"
+            "a {what} next to an arc joins two moves in the plane in force: these leave it, one is a full circle or \
+             one has no length (the control stops with an alarm)"
         ));
     };
     let p = e1.to;
@@ -264,7 +267,11 @@ pub(super) fn corner(first: &Move, second: &Move, plane: Plane, size: f64, round
         if size > l1 + 1e-9 || size > l2 + 1e-9 {
             return Err(too_long(size, size));
         }
-        return Ok(Made { a: e1.at(size, true), b: e2.at(size, false), round: None });
+        let (a, b) = (e1.at(size, true), e2.at(size, false));
+        if !(a.iter().chain(&b).all(|c| c.is_finite())) {
+            return Err(too_long(size, size));
+        }
+        return Ok(Made { a, b, round: None });
     }
     // The corner arc's centre: both paths moved r toward the turn.
     let side = turn.signum();
@@ -284,12 +291,28 @@ pub(super) fn corner(first: &Move, second: &Move, plane: Plane, size: f64, round
     if !(-1e-9..=l1 + 1e-9).contains(&d1) || !(-1e-9..=l2 + 1e-9).contains(&d2) {
         return Err(too_long(d1, d2));
     }
+    let finite = [a, b, centre].iter().all(|v| v.iter().all(|c| c.is_finite()));
+    if !finite {
+        return Err(format!("no corner R of {size:.4} mm touches both moves (the control stops with an alarm)"));
+    }
     Ok(Made { a, b, round: Some((centre, side > 0.0)) })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_move_of_no_length_beside_an_arc_is_refused_not_a_nan() {
+        use kezuri_geom::{Arc, Axes};
+        let at = |x: f64, z: f64| Axes { x, z, ..Axes::ZERO };
+        let line = Move { kind: MoveKind::Feed, start: at(10.0, -10.0), end: at(10.0, -10.0), ..Move::default() };
+        let arc = Arc { center: [10.0, 0.0, -20.0], plane: Plane::Zx, ccw: true, turns: 0 };
+        let q = Move { kind: MoveKind::Arc(arc), start: at(10.0, -10.0), end: at(20.0, -20.0), ..Move::default() };
+        for round in [false, true] {
+            assert!(corner(&line, &q, Plane::Zx, 1.0, round).unwrap_err().contains("no length"));
+        }
+    }
 
     #[test]
     fn lines_meet_circles_where_the_equations_say() {

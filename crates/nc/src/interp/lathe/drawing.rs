@@ -58,12 +58,14 @@ impl State {
                 *w = w.without(letter);
                 return Ok(true);
             }
-            (Some(_), Some(_)) => return Err(Diagnostic::error(
-                span,
-                format!(
+            (Some(_), Some(_)) => {
+                return Err(Diagnostic::error(
+                    span,
+                    format!(
                     "{name} with both X and Z: the end point is given twice; give the angle and one of X (U) and Z (W)"
                 ),
-            )),
+                ))
+            }
             (None, None) => {
                 let (px, pz) = self.meeting_point(angle, name, span, next)?;
                 w.put(b'X', px, letter);
