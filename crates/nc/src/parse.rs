@@ -577,9 +577,10 @@ impl LineParser<'_> {
             }
             // `,C` and `,R` (Fanuc): the chamfer and the corner radius
             // between this block's move and the next's, kept as the
-            // addresses `c` and `r`.
+            // addresses `c` and `r`; `,A` the angle of a straight line
+            // (direct drawing dimensions), `a`.
             if c == b',' && self.dialect.is_fanuc() && self.pos + 1 < self.end {
-                if let l @ (b'C' | b'R') = self.b[self.pos + 1].to_ascii_uppercase() {
+                if let l @ (b'C' | b'R' | b'A') = self.b[self.pos + 1].to_ascii_uppercase() {
                     self.pos += 2;
                     let value = match self.plain_number() {
                         Some(value) => value,

@@ -58,18 +58,7 @@ const AT_LEAST: usize = 20;
 /// Programs (paths under `corpus/lathe`) whose outcome in kezuri is known to
 /// differ from what the control does, with why. Each must still differ: one
 /// that comes to agree is reported, to be taken off this list.
-const KNOWN: &[(&str, &str)] = &[
-    (
-        "MaestroFusion360__easy_gcode_plot/cycle71_ID.nc",
-        "direct drawing dimensions are not read: X87.8 R1. before X84.45 A20. R1.8 is taken for the \
-         perpendicular corner R, whose next block must move along Z only",
-    ),
-    (
-        "MaestroFusion360__easy_gcode_plot/face_groove.nc",
-        "kezuri stops the G72 shape that goes deeper as it moves in (Z0, then Z-2) with PS0329; the \
-         manual's 'monotonic increase or decrease' lets it run: to settle with the manual's G72 figure",
-    ),
-];
+const KNOWN: &[(&str, &str)] = &[];
 
 fn lathe_corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/lathe")

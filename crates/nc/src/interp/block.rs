@@ -117,7 +117,14 @@ impl State {
         // A Fanuc or Haas lathe's words (LinuxCNC's X: `diameter_words`).
         if self.turning.as_ref().is_some_and(|t| t.fanuc) {
             let n = w.g_count;
-            self.lathe_block(&mut w, &mut codes[..n])?;
+            // The next block's words: a line given by its angle alone ends
+            // where it meets the next block's line.
+            let next = program.blocks[pc as usize + 1..]
+                .iter()
+                .find(|b| !matches!(b.statement, crate::ast::Statement::Empty))
+                .filter(|b| matches!(b.statement, crate::ast::Statement::Words { .. }))
+                .map(|b| program.words(b));
+            self.lathe_block(&mut w, &mut codes[..n], next)?;
         }
         let codes = &codes[..w.g_count];
         let has = |f: fn(&GCode) -> bool| first_code(codes, f);
@@ -164,14 +171,18 @@ impl State {
         }
         // An axis the machine model has not would lose its motion: never
         // dropped in silence. G10 sets its offset, which moves nothing.
-        if self.turning.is_none() && w.has_any(letters(b"cr")) {
-            if let Some(letter) = [b'c', b'r'].into_iter().find(|&l| w.has(l)) {
+        if self.turning.is_none() && w.has_any(letters(b"cra")) {
+            if let Some(letter) = [b'c', b'r', b'a'].into_iter().find(|&l| w.has(l)) {
+                let what = match letter {
+                    b'c' => "a chamfer between two moves",
+                    b'r' => "a corner R between two moves",
+                    _ => "the angle of a straight line",
+                };
                 return Err(Diagnostic::error(
                     w.span(letter),
                     format!(
-                        ",{} (a {}) between two moves is read on a lathe only: kezuri does not run it on a mill",
+                        ",{} ({what}) is read on a lathe only: kezuri does not run it on a mill",
                         letter.to_ascii_uppercase() as char,
-                        if letter == b'c' { "chamfer" } else { "corner R" }
                     ),
                 ));
             }

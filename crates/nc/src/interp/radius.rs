@@ -47,6 +47,9 @@ pub(super) struct Radius {
     tips: Vec<(f64, f64)>,
     /// The block that made each move from `since` on, for located alarms.
     spans: Vec<Span>,
+    /// The multiple repetitive cycles' returns to their start points made
+    /// while compensation was on: move indices from `since`, ascending.
+    returns: Vec<usize>,
     /// The G41/G42 D and G40 blocks for the writer of the programmed
     /// contour, each with its place in `Toolpath::kept` when it was read.
     marks: Vec<(usize, Kept)>,
@@ -321,6 +324,30 @@ impl State {
         }
     }
 
+    /// A multiple repetitive cycle's return to its start point, made by
+    /// `make` (which pushes it): with compensation in force, the cycle's
+    /// offset ends with its shape and the return is made with the offset
+    /// cancelled (FANUC Series 0i-TF Plus Operator's Manual (B-64604EN),
+    /// lathe system, "Multiple repetitive cycle", "Tool nose radius
+    /// compensation"); compensation stays in force for the blocks after.
+    pub(super) fn comp_cycle_return(&mut self, make: impl FnOnce(&mut State)) {
+        let on = self.radius.on.take();
+        let at = self.toolpath.moves.len();
+        make(self);
+        if let (Some(_), Some(since)) = (on, self.radius.since) {
+            if self.toolpath.moves.len() > at {
+                self.radius.returns.push(at - since);
+            }
+        }
+        self.radius.on = on;
+    }
+
+    /// The cycles' returns among the recorded moves `range` (indices from
+    /// `since`), as indices from the range's start.
+    fn comp_returns(&self, range: std::ops::Range<usize>) -> Vec<usize> {
+        self.radius.returns.iter().filter(|&&k| range.contains(&k)).map(|&k| k - range.start).collect()
+    }
+
     /// At the end of the run: replaces the toolpath by the tool-centre path
     /// and returns the programmed contour, or `None` when no move was made
     /// with compensation on. An alarm cuts both paths before its move.
@@ -333,7 +360,8 @@ impl State {
         let mut alarm = None;
         let centre = loop {
             let (tags, tips) = (&self.radius.tags[..end - since], &self.radius.tips[..end - since]);
-            match compensate_nose(&self.toolpath.moves[since..end], tags, tips, rules) {
+            let returns = self.comp_returns(0..end - since);
+            match compensate_nose(&self.toolpath.moves[since..end], tags, tips, &returns, rules) {
                 Ok(done) => break Some(done),
                 // A control stops at the alarm: nothing from its move on is made.
                 Err(e) if alarm.is_none() => {
@@ -413,8 +441,9 @@ impl State {
         }
         let start = tags[..end].iter().rposition(Option::is_none).map_or(0, |k| k + 1);
         let tips = &self.radius.tips[start..end];
+        let returns = self.comp_returns(start..end);
         let (centre, _) =
-            compensate_nose(&moves[start..end], &tags[start..end], tips, self.settings.comp_rules).ok()?;
+            compensate_nose(&moves[start..end], &tags[start..end], tips, &returns, self.settings.comp_rules).ok()?;
         centre.last().map(|m| m.end)
     }
 

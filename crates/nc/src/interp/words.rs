@@ -33,7 +33,7 @@ pub(super) struct Words<'a> {
 
 /// A–Z, `@` (the polar radius), `^` (the polar angle), and Fanuc's `,C`
 /// and `,R` (kept as `c` and `r`).
-const SLOTS: usize = 30;
+const SLOTS: usize = 31;
 
 /// Where an address is kept: A–Z in order, then `@`, `^`, `,C` and `,R`.
 const fn slot(letter: u8) -> usize {
@@ -42,6 +42,7 @@ const fn slot(letter: u8) -> usize {
         b'^' => 27,
         b'c' => 28,
         b'r' => 29,
+        b'a' => 30,
         _ => (letter - b'A') as usize,
     }
 }

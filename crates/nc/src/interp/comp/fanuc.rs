@@ -4,7 +4,10 @@
 //! plane travel between two plane moves are made after them, at the start
 //! of the next move's offset path. Fanuc reads ahead past at most
 //! [`LOOKAHEAD`] such moves; with more, the vector at the end of the move
-//! before them stays perpendicular to it.
+//! before them stays perpendicular to it. A run that a multiple
+//! repetitive cycle's return to its start point ends keeps the
+//! perpendicular vector at its last move's end too: the cycle's offset
+//! ends with its shape.
 
 use super::plane::{classify, intersect, Element, Path, Turn, V2};
 use super::{Alarm, Approach, Item, Run, Step};
@@ -66,7 +69,7 @@ pub(super) fn plan(run: &Run, approach: Approach) -> Result<Vec<Step>, Error> {
                     perpendicular(run, &a)
                 }
                 None => match exit {
-                    Some(c) if seen && k > 0 => cancel(run, &a, &c, approach)?,
+                    Some(c) if seen && k > 0 && !run.cycle_return => cancel(run, &a, &c, approach)?,
                     _ => perpendicular(run, &a),
                 },
             };

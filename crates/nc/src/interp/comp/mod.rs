@@ -156,6 +156,22 @@ pub fn compensate_traced(
     tags: &[Option<Comp>],
     rules: Rules,
 ) -> Result<(Vec<Move>, Vec<usize>), Error> {
+    compensate_with_returns(moves, tags, &[], rules)
+}
+
+/// [`compensate_traced`], where `returns` (ascending input indices) are the
+/// returns of Fanuc's multiple repetitive cycles (G70–G73) to their start
+/// points: untagged moves after which compensation goes on. A run that
+/// such a return ends leaves its last move on the vector perpendicular to
+/// it, whatever the turn to the return (the cycle's offset ends with its
+/// shape), and the return runs from there to the start point with the
+/// offset cancelled; the next compensated move is a new start-up.
+pub(crate) fn compensate_with_returns(
+    moves: &[Move],
+    tags: &[Option<Comp>],
+    returns: &[usize],
+    rules: Rules,
+) -> Result<(Vec<Move>, Vec<usize>), Error> {
     if tags.len() != moves.len() {
         let message = format!("{} compensation tags for {} moves", tags.len(), moves.len());
         return Err(stop(tags.len().min(moves.len()), message));
@@ -186,7 +202,8 @@ pub fn compensate_traced(
             exit += 1;
         }
         let run = Run::new(moves, i..exit, (exit < moves.len() && tags[exit].is_none()).then_some(exit), comp, rules)?;
-        let run = Run { start: in_plane(cur, comp.plane), ..run };
+        let cycle_return = run.exit.is_some_and(|x| returns.binary_search(&x).is_ok());
+        let run = Run { start: in_plane(cur, comp.plane), cycle_return, ..run };
         let steps = if run.r == 0.0 {
             (i..exit).map(|index| Step::Keep { index }).chain(run.exit.map(|index| Step::Keep { index })).collect()
         } else {
@@ -214,6 +231,9 @@ struct Run<'a> {
     rules: Rules,
     /// The tool's plane position before the run.
     start: V2,
+    /// The cancel move is a repetitive cycle's return to its start point:
+    /// the last move ends on its perpendicular vector.
+    cycle_return: bool,
 }
 
 /// A move of a run.
@@ -252,7 +272,7 @@ impl<'a> Run<'a> {
             }
             items.push(Element::of(m, index, comp.plane).map_or(Item::Pass(index), Item::Plane));
         }
-        Ok(Run { moves, items, exit, s, r, plane: comp.plane, rules, start: V2::new(0.0, 0.0) })
+        Ok(Run { moves, items, exit, s, r, plane: comp.plane, rules, start: V2::new(0.0, 0.0), cycle_return: false })
     }
 
     /// The offset path of `e`, refusing an inside arc not larger than the

@@ -157,7 +157,7 @@ impl State {
         if cycle == ContourCycle::Finishing {
             self.finish(program, &shape)?;
             own = self.toolpath.moves.len();
-            self.push_move(MoveKind::Rapid, start, 0.0, AxisSet::NONE.with(0).with(2), line);
+            self.comp_cycle_return(|s| s.push_move(MoveKind::Rapid, start, 0.0, AxisSet::NONE.with(0).with(2), line));
         } else {
             let steps = match cycle {
                 ContourCycle::Pattern => self.pattern_steps(program, &shape, w, gspan, name, haas)?,
@@ -477,8 +477,14 @@ impl State {
             };
             return Err(Diagnostic::error(blame(k), format!("{name}'s shape must run one way in {axis}, the way it cuts, and this block turns back (alarm {alarm})")));
         }
-        if !pockets {
-            if let Some(k) = contour.first_deeper() {
+        // Type I: the shape's depth changes one way, rising toward the
+        // start point's level or going deeper (the alarm is for a shape
+        // that is not a monotonous increase or decrease).
+        let deepening = !pockets && contour.first_deeper().is_some() && contour.first_shallower().is_none();
+        if !pockets && !deepening {
+            // Where it turns: the later of the first rise and the first drop.
+            let turn = contour.first_deeper().map(|k| contour.first_shallower().map_or(k, |j| j.max(k)));
+            if let Some(k) = turn {
                 let (axis, alarm, other) = if turning {
                     ("X", "PS0064: the finishing shape is not a monotonous change (first axis)", "Z (W)")
                 } else {
@@ -486,12 +492,12 @@ impl State {
                 };
                 return Err(Diagnostic::error(
                     blame(k),
-                    format!("{name} type I needs a shape that rises steadily in {axis} from its first block, and this block goes deeper (alarm {alarm}); a shape with pockets needs type II: name {other} in the first block N{} too", ns.number.unwrap_or(0)),
+                    format!("{name} type I needs a shape whose {axis} changes one way from its first block, and this block turns back (alarm {alarm}); a shape with pockets needs type II: name {other} in the first block N{} too", ns.number.unwrap_or(0)),
                 ));
             }
         }
         let rough_shape = shift(&contour, roughing);
-        let cuts = cut_count(&rough_shape, depth);
+        let cuts = cut_count(&rough_shape, depth, deepening);
         if cuts > MAX_CUTS {
             return Err(Diagnostic::error(
                 self.contour.depth.filter(|_| !haas).map_or(at(b'D'), |(_, s)| s),
@@ -500,7 +506,7 @@ impl State {
                 ),
             ));
         }
-        let rough = Rough { depth, escape, pockets, rapid_approach: shape.rapid };
+        let rough = Rough { depth, escape, pockets, rapid_approach: shape.rapid, to_start: deepening };
         let along = along_shape.then(|| shift(&contour, finish));
         Ok((frame, roughing::rough(&rough_shape, along.as_ref(), &rough)))
     }

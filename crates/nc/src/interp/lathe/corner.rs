@@ -1,4 +1,4 @@
-//! Chamfering and corner rounding between a straight move and the next:
+//! Chamfering and corner rounding between a move and the next:
 //! FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe system,
 //! "Chamfering and corner R".
 //!
@@ -12,7 +12,7 @@
 //!   its chamfer is I or K.)
 //! - Any system, any two straight moves: `,C` is the chamfer's distance
 //!   from the corner along both moves, `,R` the radius of an arc tangent to
-//!   both.
+//!   both; where one of them is an arc, [`super::corner_arc`] makes it.
 //!
 //! The block's move is made to the corner; the next block that moves cuts
 //! it back to where the chamfer or arc begins, adds the chamfer or arc
@@ -63,6 +63,7 @@ impl State {
         &mut self,
         w: &mut Words,
         codes: &[Option<(GCode, Span)>],
+        next: Option<&[crate::ast::Word]>,
     ) -> Result<(), Diagnostic> {
         let Some(turning) = &self.turning else { return Ok(()) };
         let motion = codes.iter().flatten().find_map(|(c, _)| match c {
@@ -76,6 +77,17 @@ impl State {
         let system_a = turning.fanuc && turning.system == super::GCodeSystem::A;
         let (x, z) = (w.has(b'X'), w.has(b'Z'));
         let one_axis = x != z && !w.has(b'Y');
+        // Direct drawing dimensions: the line's angle gives its other end
+        // coordinate; a corner waiting on the block before is the corner
+        // between that block and this line, whatever their directions.
+        let angle = linear && !one_shot && self.drawing_angle(w, next)?;
+        let Some(turning) = &mut self.turning else { return Ok(()) };
+        if angle {
+            if let Some(c) = &mut turning.corner {
+                c.toward = None;
+            }
+        }
+        let drawing = system_a && turning.drawing;
         let mut found: Option<(u8, bool, Toward)> = None;
         for (letter, round) in [(b'c', false), (b'r', true)] {
             if w.has(letter) {
@@ -86,6 +98,20 @@ impl State {
                     ));
                 }
                 found = Some((letter, round, None));
+            }
+        }
+        if drawing && linear && !one_shot && found.is_none() {
+            // C and R without the comma, as the direct drawing corners.
+            for (letter, round) in [(b'R', true), (b'C', false)] {
+                if w.has(letter) {
+                    if found.is_some() {
+                        return Err(Diagnostic::error(
+                            w.span(letter),
+                            "C and R in one block: a corner is chamfered or rounded, not both",
+                        ));
+                    }
+                    found = Some((letter, round, None));
+                }
             }
         }
         if system_a && linear && !one_shot && one_axis && found.is_none() {
@@ -120,8 +146,12 @@ impl State {
             b'K' => "K",
             _ => "R",
         };
-        if !linear || one_shot {
-            return Err(Diagnostic::error(span, format!("{name} (a chamfer or corner R) is read only in a G01 block")));
+        let arc = matches!(motion, Some(Motion::Cw | Motion::Ccw)) && toward.is_none() && matches!(letter, b'c' | b'r');
+        if !(linear || arc) || one_shot {
+            return Err(Diagnostic::error(
+                span,
+                format!("{name} (a chamfer or corner R) is read only in a G01, G02 or G03 block"),
+            ));
         }
         let size = self.mm(size.abs());
         if size.is_nan() || size == 0.0 {
@@ -154,10 +184,10 @@ impl State {
         }
         if let Some(mut corner) = asked {
             let n = self.toolpath.moves.len();
-            if n != own + 1 || self.toolpath.moves[own].kind != MoveKind::Feed {
+            if n != own + 1 || !matches!(self.toolpath.moves[own].kind, MoveKind::Feed | MoveKind::Arc(_)) {
                 return Err(Diagnostic::error(
                     corner.span,
-                    "a chamfer or corner R needs its block to make one G01 move",
+                    "a chamfer or corner R needs its block to make one G01, G02 or G03 move",
                 ));
             }
             corner.at = Some(own);
@@ -192,11 +222,36 @@ impl State {
         let what = if corner.round { "corner R" } else { "chamfer" };
         let (before, after) = (self.toolpath.moves[k], self.toolpath.moves[next]);
         let single = self.toolpath.moves.len() == next + 1;
-        if next != k + 1 || !single || after.kind != MoveKind::Feed || after.start != before.end {
+        let cuts = |m: &kezuri_geom::Move| matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
+        if next != k + 1 || !single || !cuts(&after) || after.start != before.end {
             return refuse(format!(
-                "the block after a {what} must be a G01 move from the corner (the control stops with an alarm: no \
-                 move after the chamfer or corner R)"
+                "the block after a {what} must be a G01, G02 or G03 move from the corner (the control stops with an \
+                 alarm: no move after the chamfer or corner R)"
             ));
+        }
+        if matches!(after.kind, MoveKind::Arc(_)) && corner.toward.is_some() {
+            return refuse(format!("after a {what} of G01's one-axis form the next block must be a G01 move"));
+        }
+        if matches!(before.kind, MoveKind::Arc(_)) || matches!(after.kind, MoveKind::Arc(_)) {
+            let plane = self.modal.plane;
+            let made = super::corner_arc::corner(&before, &after, plane, corner.size, corner.round)
+                .map_err(|why| Diagnostic::error(corner.span, why))?;
+            let (i, j, _) = plane.axes();
+            let point = |v: [f64; 2]| {
+                let mut p = before.end.to_array();
+                (p[i], p[j]) = (v[0], v[1]);
+                kezuri_geom::Axes::from_array(p)
+            };
+            let kind = match made.round {
+                Some((c, ccw)) => {
+                    let mut center = before.end.xyz();
+                    (center[i], center[j]) = (c[0], c[1]);
+                    MoveKind::Arc(Arc { center, plane, ccw, turns: 0 })
+                }
+                None => MoveKind::Feed,
+            };
+            self.put_corner(k, next, point(made.a), point(made.b), kind);
+            return Ok(());
         }
         let (p0, p1, p2) = (before.start.xyz(), before.end.xyz(), after.end.xyz());
         let (u1, l1) = direction(p0, p1);
@@ -245,18 +300,26 @@ impl State {
         } else {
             MoveKind::Feed
         };
-        self.toolpath.moves[k].end = point(a);
-        let mut cut = self.toolpath.moves[next];
+        self.put_corner(k, next, point(a), point(b), kind);
+        Ok(())
+    }
+
+    /// Move `k` now ends at `a`; move `next` becomes the corner (`kind`,
+    /// from `a` to `b`, at move `k`'s feed, in its line); the rest of the
+    /// next block's move follows from `b`.
+    fn put_corner(&mut self, k: usize, next: usize, a: kezuri_geom::Axes, b: kezuri_geom::Axes, kind: MoveKind) {
+        let (before, after) = (self.toolpath.moves[k], self.toolpath.moves[next]);
+        self.toolpath.moves[k].end = a;
+        let mut cut = after;
         cut.kind = kind;
-        cut.start = point(a);
-        cut.end = point(b);
+        cut.start = a;
+        cut.end = b;
         cut.line = before.line;
         cut.feed = before.feed;
         cut.speed = before.speed;
         self.toolpath.moves[next] = cut;
-        let rest = kezuri_geom::Move { start: point(b), ..after };
+        let rest = kezuri_geom::Move { start: b, ..after };
         self.comp_repeat_tag();
         self.toolpath.push(rest);
-        Ok(())
     }
 }

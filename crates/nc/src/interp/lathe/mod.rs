@@ -8,6 +8,8 @@
 
 pub(super) mod contour;
 mod corner;
+mod corner_arc;
+mod drawing;
 mod grooving;
 mod linuxcnc;
 mod linuxcnc_cycles;
@@ -130,6 +132,12 @@ pub(super) struct Turning {
     pub asked: Option<Corner>,
     /// A chamfer or corner R waiting for the next block's move.
     pub corner: Option<Corner>,
+    /// The program has given a direct drawing angle `A` (system A): its
+    /// `C` and `R` are the corners between any two moves.
+    pub drawing: bool,
+    /// The block before gave an angle alone and ended where its line meets
+    /// this block's: this block's X, Z and angle are that line's.
+    pub drawing_pending: bool,
     /// The tool's geometry and wear offset number (`T0101`: 1), 0 for none.
     pub offset: u32,
 }
@@ -149,6 +157,8 @@ impl Turning {
             own_words: false,
             asked: None,
             corner: None,
+            drawing: false,
+            drawing_pending: false,
             offset: 0,
         }
     }

@@ -15,7 +15,7 @@ use std::collections::BTreeMap;
 use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
 
 use super::Nose;
-use crate::interp::comp::{compensate_traced, Comp, Rules};
+use crate::interp::comp::{compensate_with_returns, Comp, Rules};
 use crate::{Error, ErrorKind, Place};
 
 /// Whose numbering a tip direction follows: the same picture, drawn with X
@@ -149,7 +149,7 @@ pub fn nose_centre_path(path: &Toolpath, noses: &BTreeMap<u32, Nose>, numbers: T
     out
 }
 
-/// Tool nose radius compensation: [`compensate_traced`] puts the nose
+/// Tool nose radius compensation: [`compensate_with_returns`] puts the nose
 /// centre on the programmed contour offset by the nose radius; each move
 /// made with compensation on then ends at that centre plus its tip vector
 /// `tips[i]` (X, Z), where the machine puts the imaginary tip. Moves made
@@ -157,19 +157,23 @@ pub fn nose_centre_path(path: &Toolpath, noses: &BTreeMap<u32, Nose>, numbers: T
 /// written to the imaginary tip: the start-up move runs from the
 /// programmed point to the first tip point, the cancel move back.
 ///
+/// `returns` are the multiple repetitive cycles' returns to their start
+/// points (ascending indices in `moves`), made with the offset cancelled.
+///
 /// Returns the moves and, for each, the input move it comes from.
 ///
 /// # Errors
-/// As [`compensate_traced`]; and an arc as the start-up move of a tool
+/// As [`compensate_with_returns`]; and an arc as the start-up move of a tool
 /// whose tip is off its centre (LinuxCNC's entry arc): its start is the
 /// tip, its end and centre the centre's, which no arc joins.
 pub(in crate::interp) fn compensate_nose(
     moves: &[Move],
     tags: &[Option<Comp>],
     tips: &[(f64, f64)],
+    returns: &[usize],
     rules: Rules,
 ) -> Result<(Vec<Move>, Vec<usize>), Error> {
-    let (mut out, origin) = compensate_traced(moves, tags, rules)?;
+    let (mut out, origin) = compensate_with_returns(moves, tags, returns, rules)?;
     if tips.iter().all(|&v| v == (0.0, 0.0)) {
         return Ok((out, origin));
     }

@@ -226,6 +226,12 @@ impl Contour {
     pub fn first_deeper(&self) -> Option<usize> {
         self.pieces.iter().position(|p| p.to[1] > p.from[1] + EPS || p.passes(PI / 2.0) || p.passes(-PI / 2.0))
     }
+
+    /// The first piece that rises along the cut (against a contour that
+    /// goes deeper from its start to its end), if any.
+    pub fn first_shallower(&self) -> Option<usize> {
+        self.pieces.iter().position(|p| p.to[1] < p.from[1] - EPS || p.passes(PI / 2.0) || p.passes(-PI / 2.0))
+    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,8 @@
 //! by the finishing allowance) in cuts of depth Δd, each along `a`.
 //!
 //! - Type I (the shape's first block names only the depth axis; the shape
-//!   rises steadily): each cut is approached along `d` as the shape's first
+//!   rises steadily, or goes steadily deeper, when the cuts reach only its
+//!   start's depth): each cut is approached along `d` as the shape's first
 //!   block moves (G00 or G01), runs along `a` until it meets the shape, and
 //!   leaves at 45° by the escape `e`; the tool goes back along `a` at rapid.
 //! - Type II (pockets allowed): each cut goes on along the shape up to the
@@ -56,12 +57,17 @@ pub(super) struct Rough {
     /// The shape's first block is a rapid (G00): cuts are approached at
     /// rapid, else at the feed.
     pub rapid_approach: bool,
+    /// Type I with a shape that goes deeper from its start: the cuts by
+    /// depth go down to the shape's start only (the manual's cuts from A
+    /// toward A'); the cut along the shape takes the rest.
+    pub to_start: bool,
 }
 
 /// How many cuts by depth the cycle makes before the cut along the shape:
-/// depths Δd, 2Δd, … shallower than the shape's deepest point.
-pub(super) fn cut_count(contour: &Contour, depth: f64) -> f64 {
-    let deepest = contour.deepest();
+/// depths Δd, 2Δd, … shallower than the shape's deepest point (`to_start`:
+/// than its start).
+pub(super) fn cut_count(contour: &Contour, depth: f64, to_start: bool) -> f64 {
+    let deepest = if to_start { contour.start()[1] } else { contour.deepest() };
     if deepest <= EPS {
         return 0.0;
     }
@@ -132,7 +138,7 @@ pub(super) fn rough(shape: &Contour, along: Option<&Contour>, rough: &Rough) -> 
         contour.pieces.insert(0, lead);
     }
     let mut path = Path { steps: Vec::new(), at: [0.0, 0.0], rough };
-    let count = cut_count(&contour, rough.depth) as usize;
+    let count = cut_count(&contour, rough.depth, rough.to_start) as usize;
     for k in 1..=count {
         let level = k as f64 * rough.depth;
         if rough.pockets {
@@ -250,7 +256,7 @@ fn pocket_level(path: &mut Path, contour: &Contour, level: f64, above: f64) {
 /// the start point moved by it, back to the next at rapid, then to the
 /// start point.
 pub(super) fn pattern(shape: &Contour, offsets: &[P], rapid_approach: bool) -> Vec<Step> {
-    let rough = Rough { depth: 1.0, escape: 0.0, pockets: false, rapid_approach };
+    let rough = Rough { depth: 1.0, escape: 0.0, pockets: false, rapid_approach, to_start: false };
     let mut path = Path { steps: Vec::new(), at: [0.0, 0.0], rough: &rough };
     for o in offsets {
         let moved = |p: P| [p[0] + o[0], p[1] + o[1]];
@@ -274,7 +280,7 @@ mod tests {
     }
 
     fn r(depth: f64, escape: f64, pockets: bool) -> Rough {
-        Rough { depth, escape, pockets, rapid_approach: true }
+        Rough { depth, escape, pockets, rapid_approach: true, to_start: false }
     }
 
     #[test]

@@ -70,6 +70,7 @@ impl State {
         &mut self,
         w: &mut Words,
         codes: &mut [Option<(GCode, Span)>],
+        next: Option<&[Word]>,
     ) -> Result<(), Diagnostic> {
         let Some(turning) = &self.turning else { return Ok(()) };
         let in_force = turning.motion;
@@ -108,7 +109,7 @@ impl State {
         if let Some(t) = &mut self.turning {
             t.increments = increments;
         }
-        self.corner_words(w, codes)
+        self.corner_words(w, codes, next)
     }
 
     /// Reads the end point words of a lathe block into the words the mill's
