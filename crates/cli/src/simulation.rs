@@ -13,7 +13,9 @@ use clap::{ArgGroup, Args};
 use kezuri_cam::mill::{read_gouge_note, GOUGE_TOL};
 use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::compare::{compare, target_heights};
-use kezuri_cam::sim::{cutting_tools, simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
+use kezuri_cam::sim::{
+    cutting_tools, simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap, CELL_BYTES, DEFAULT_MEMORY,
+};
 use kezuri_geom::Toolpath;
 use kezuri_picture::sim::DeviationScale;
 use kezuri_picture::Simulation;
@@ -115,9 +117,25 @@ pub struct SimSetup {
     /// How far the chords arcs are cut as may stray from the arc (their sagitta), mm.
     #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
     pub chord_tol: f64,
-    /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
-    #[arg(long, value_name = "N", default_value_t = 250_000_000)]
-    pub max_cells: usize,
+    /// Memory for the grid (5 bytes a cell: its height to the nanometre and the tool that cut it
+    /// last; 13 with --compare): K, M, G or T, powers of 1024. A larger grid is cut in tiles of
+    /// rows, each a pass over the moves: the same cells, minutes longer [default: 2G].
+    #[arg(long, value_name = "SIZE", value_parser = crate::numbers::memory, conflicts_with = "max_cells")]
+    pub max_memory: Option<u64>,
+    /// The same as --max-memory, as a number of cells (kept for older scripts: 5 bytes a cell).
+    #[arg(long, value_name = "N")]
+    pub max_cells: Option<u64>,
+}
+
+impl SimSetup {
+    /// The memory the grid may take, bytes.
+    pub fn memory(&self) -> u64 {
+        match (self.max_memory, self.max_cells) {
+            (Some(bytes), _) => bytes,
+            (None, Some(cells)) => cells.saturating_mul(CELL_BYTES),
+            (None, None) => DEFAULT_MEMORY,
+        }
+    }
 }
 
 /// A simulation done: the cutters, the stock, the cut grid, the report and
@@ -162,15 +180,15 @@ const DEFAULT_CELLS: f64 = 16e6;
 
 /// The cell size without `--res`: a tenth of the smallest cutter's radius,
 /// at most 0.1 mm, coarsened to whole hundredths until the stock holds at
-/// most [`DEFAULT_CELLS`] cells (or `--max-cells`).
+/// most [`DEFAULT_CELLS`] cells (or what `--max-memory` holds).
 fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f64 {
     let smallest = tools.table.iter().map(|(_, t)| t.radius()).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
     let fine = (smallest / 10.0).min(0.1);
     // The stock's area, from a grid of 1 mm cells.
     let mut coarse = SimOptions::new(1.0);
-    coarse.max_cells = setup.max_cells;
+    coarse.max_memory = setup.memory();
     let area = stock.grid(&coarse, setup.units).map_or(0.0, |z| z.cells() as f64);
-    let most = DEFAULT_CELLS.min(setup.max_cells as f64);
+    let most = DEFAULT_CELLS.min((setup.memory() / CELL_BYTES) as f64);
     if area / (fine * fine) > most {
         ((area / most).sqrt() * 100.0).ceil() / 100.0
     } else {
@@ -225,7 +243,7 @@ pub fn simulate(
     });
     let mut options = SimOptions::new(res);
     options.chord_tolerance = setup.chord_tol;
-    options.max_cells = setup.max_cells;
+    options.max_memory = setup.memory();
     let mut zmap = stock.grid(&options, setup.units)?;
     let top = zmap.range().1;
     let t0 = Instant::now();

@@ -237,7 +237,6 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
             compare: Some(out.join("groove-target.stl")),
             units: Some(crate::surface::Units::Mm),
             chord_tol: 0.001,
-            max_cells: 250_000_000,
             ..SimSetup::default()
         };
         let sim = simulate(&ran.outcome.toolpath, &ran.machine, &setup, Some(0.002), 10, program)?;
