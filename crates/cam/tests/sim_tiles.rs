@@ -74,7 +74,8 @@ fn whole_against_tiles(size: f64, res: f64, rows: usize) -> (usize, usize) {
         &options,
         rows,
         &|_, _| {},
-        &mut |tile, by| {
+        &mut |tile, by, top| {
+            assert_eq!(top, 0.0, "the stock's top before cutting");
             assert_eq!(tile.first_row, nm.len() / tile.nx, "tiles come bottom up, rows in order");
             assert!(tile.ny <= rows);
             nm.extend_from_slice(&tile.nm);

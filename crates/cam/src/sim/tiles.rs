@@ -47,8 +47,9 @@ pub fn tiles(grid: &Grid, rows: usize) -> impl Iterator<Item = Range<usize>> + '
 
 /// [`super::simulate_tools`] over the grid of `start`, `rows` rows at a
 /// time ([`tile_rows`]): each tile is made, cut and handed to
-/// `each(tile, cut_by)` (the tool that lowered each of its cells last, as
-/// [`SimReport::cut_by`]), then dropped. The report's `cut_by` is empty;
+/// `each(tile, cut_by, top)` (the tool that lowered each of its cells
+/// last, as [`SimReport::cut_by`]; its highest cell before cutting), then
+/// dropped. The report's `cut_by` is empty;
 /// everything else is what the untiled simulation reports.
 /// `progress(done, total)` counts over all the tiles.
 pub fn simulate_tiles<E: From<Error>>(
@@ -58,7 +59,7 @@ pub fn simulate_tiles<E: From<Error>>(
     options: &SimOptions,
     rows: usize,
     progress: &(dyn Fn(u64, u64) + Sync),
-    each: &mut dyn FnMut(&ZMap, &[u8]) -> Result<(), E>,
+    each: &mut dyn FnMut(&ZMap, &[u8], f64) -> Result<(), E>,
 ) -> Result<SimReport, E> {
     let work = Work::new(path, tooling, options)?;
     let grid = start.grid(options)?;
@@ -66,6 +67,7 @@ pub fn simulate_tiles<E: From<Error>>(
     let mut cut = Cut { removed: vec![0; work.slots.shapes.len()], ..Cut::default() };
     for (t, range) in tiles(&grid, rows).enumerate() {
         let mut tile = start.rows(options, range)?;
+        let top = tile.range().1;
         let mut cut_by = Vec::new();
         if cut_by.try_reserve_exact(tile.cells()).is_err() {
             return Err(out_of_memory(tile.cells()).into());
@@ -77,7 +79,7 @@ pub fn simulate_tiles<E: From<Error>>(
             progress(t as u64 * 1000 + part, count * 1000)
         };
         cut.add(work.cut(path, &mut tile, &mut cut_by, options, &step)?);
-        each(&tile, &cut_by)?;
+        each(&tile, &cut_by, top)?;
     }
     let mut report = work.report.clone();
     cut.into_report(&mut report, grid.res, path);

@@ -239,7 +239,15 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
             chord_tol: 0.001,
             ..SimSetup::default()
         };
-        let sim = simulate(&ran.outcome.toolpath, &ran.machine, &setup, Some(0.002), 10, program)?;
+        let sim = simulate(
+            &ran.outcome.toolpath,
+            &ran.machine,
+            &setup,
+            Some(0.002),
+            10,
+            kezuri_cam::mill::GOUGE_TOL,
+            program,
+        )?;
         let Some((c, heights)) = &sim.comparison else { bail!("{program}: no comparison") };
         let caption = format!(
             "{program}, {what}: deepest gouge {:.2} µm, most left {:.2} µm",
