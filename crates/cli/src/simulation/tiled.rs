@@ -85,6 +85,22 @@ pub fn run(
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let bands = threads as u64 * 32 * grid.nx as u64 * 12;
     let budget = options.max_memory.saturating_sub(coarse.bytes() + coarse.cells() * extra + bands);
+    let row = grid.nx as u64 * (CELL_BYTES + extra);
+    if row > budget {
+        bail!(
+            "a grid of {} × {} = {} cells does not fit in --max-memory ({:.1} GB) even in tiles: a tile is whole \
+             rows of {} cells ({:.1} MB each) and the cutting holds {} more rows of heights ({:.1} MB); use a \
+             coarser resolution, a smaller stock or more memory",
+            grid.nx,
+            grid.ny,
+            grid.cells(),
+            options.max_memory as f64 / 1e9,
+            grid.nx,
+            row as f64 / 1e6,
+            threads * 32,
+            bands as f64 / 1e6
+        );
+    }
     let rows = tile_rows(&grid, CELL_BYTES + extra, budget)?;
     let mut zmap = ZMap::filled(&coarse, 0..coarse.ny, 0.0)?;
     let mut cut_by = vec![UNCUT; zmap.cells()];

@@ -161,10 +161,15 @@ impl Done<'_> {
         let _ =
             writeln!(t, "  moves      {} ({} straight segments), {:.2} s", report.moves, report.segments, self.seconds);
         if let Some(tiles) = &self.figures.tiles {
+            let every = match (tiles.sample, tiles.sample % 100) {
+                (1, _) => "every cell".to_string(),
+                (f, 11..=13) => format!("every {f}th cell each way"),
+                (f, _) => format!("every {f}{} cell each way", ["th", "st", "nd", "rd"].get(f % 10).unwrap_or(&"th")),
+            };
             let _ = writeln!(
                 t,
-                "  tiles      {} of {} rows (over --max-memory); pictures of every {}th cell each way",
-                tiles.count, tiles.rows, tiles.sample
+                "  tiles      {} of {} rows (over --max-memory); the pictures and the histogram of {every}",
+                tiles.count, tiles.rows
             );
         }
         let (lo, hi) = self.figures.range;
