@@ -55,7 +55,8 @@ pub struct TiledRun {
 /// cells centred on the sampled cells' centres.
 fn sample_grid(grid: &Grid, f: usize) -> Grid {
     let h = (f - 1) / 2;
-    let n = |cells: usize| (cells - h).div_ceil(f).max(1);
+    // A side shorter than half a sample: one cell, the last.
+    let n = |cells: usize| cells.saturating_sub(h).div_ceil(f).max(1);
     Grid { x0: grid.x0, y0: grid.y0, res: grid.res * f as f64, nx: n(grid.nx), ny: n(grid.ny) }
 }
 
@@ -115,14 +116,14 @@ pub fn run(
             let (lo, hi) = tile.range();
             range = (range.0.min(lo), range.1.max(hi));
             for jc in 0..coarse.ny {
-                let j = jc * f + h;
+                let j = (jc * f + h).min(grid.ny - 1);
                 if j < tile.first_row || j >= tile.first_row + tile.ny {
                     continue;
                 }
                 let row = (j - tile.first_row) * tile.nx;
                 for ic in 0..coarse.nx {
-                    zmap.nm[jc * coarse.nx + ic] = tile.nm[row + ic * f + h];
-                    cut_by[jc * coarse.nx + ic] = by[row + ic * f + h];
+                    zmap.nm[jc * coarse.nx + ic] = tile.nm[row + (ic * f + h).min(grid.nx - 1)];
+                    cut_by[jc * coarse.nx + ic] = by[row + (ic * f + h).min(grid.nx - 1)];
                 }
             }
             let Some(triangles) = target else { return Ok(()) };
