@@ -351,10 +351,10 @@ mod tests {
     fn grid(dev: impl Fn(usize) -> f64) -> (ZMap, Vec<f64>) {
         let stock = Stock { x0: 0.0, y0: 0.0, x1: 10.0, y1: 10.0, top: 1.0 };
         let mut z = ZMap::new(&stock, &SimOptions::new(1.0)).unwrap();
-        for (k, h) in z.z.iter_mut().enumerate() {
-            *h = dev(k);
+        for (k, h) in z.nm.iter_mut().enumerate() {
+            *h = kezuri_cam::sim::to_nm(dev(k)).unwrap();
         }
-        let target = vec![0.0; z.z.len()];
+        let target = vec![0.0; z.nm.len()];
         (z, target)
     }
 

@@ -45,6 +45,9 @@ pub fn tiles(grid: &Grid, rows: usize) -> impl Iterator<Item = Range<usize>> + '
     (0..grid.ny.div_ceil(rows)).map(move |t| t * rows..((t + 1) * rows).min(grid.ny))
 }
 
+/// What is done with each tile cut: `(tile, cut_by, top)`.
+pub type TileDone<'a, E> = dyn FnMut(&ZMap, &[u8], f64) -> Result<(), E> + 'a;
+
 /// [`super::simulate_tools`] over the grid of `start`, `rows` rows at a
 /// time ([`tile_rows`]): each tile is made, cut and handed to
 /// `each(tile, cut_by, top)` (the tool that lowered each of its cells
@@ -59,7 +62,7 @@ pub fn simulate_tiles<E: From<Error>>(
     options: &SimOptions,
     rows: usize,
     progress: &(dyn Fn(u64, u64) + Sync),
-    each: &mut dyn FnMut(&ZMap, &[u8], f64) -> Result<(), E>,
+    each: &mut TileDone<'_, E>,
 ) -> Result<SimReport, E> {
     let work = Work::new(path, tooling, options)?;
     let grid = start.grid(options)?;
@@ -75,7 +78,7 @@ pub fn simulate_tiles<E: From<Error>>(
         cut_by.resize(tile.cells(), UNCUT);
         // Each tile a 1000th part of the whole.
         let step = |done: u64, total: u64| {
-            let part = if total == 0 { 1000 } else { done * 1000 / total };
+            let part = (done * 1000).checked_div(total).unwrap_or(1000);
             progress(t as u64 * 1000 + part, count * 1000)
         };
         cut.add(work.cut(path, &mut tile, &mut cut_by, options, &step)?);
