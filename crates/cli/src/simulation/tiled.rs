@@ -88,18 +88,20 @@ pub fn run(
     let budget = options.max_memory.saturating_sub(coarse.bytes() + coarse.cells() * extra + bands);
     let row = grid.nx as u64 * (CELL_BYTES + extra);
     if row > budget {
+        let size =
+            |bytes: f64| if bytes >= 1e9 { format!("{:.1} GB", bytes / 1e9) } else { format!("{:.1} MB", bytes / 1e6) };
         bail!(
-            "a grid of {} × {} = {} cells does not fit in --max-memory ({:.1} GB) even in tiles: a tile is whole \
-             rows of {} cells ({:.1} MB each) and the cutting holds {} more rows of heights ({:.1} MB); use a \
-             coarser resolution, a smaller stock or more memory",
+            "a grid of {} × {} = {} cells does not fit in --max-memory ({}) even in tiles: a tile is whole rows of \
+             {} cells ({} each) and the cutting holds {} more rows of heights ({}); use a coarser resolution, a \
+             smaller stock or more memory",
             grid.nx,
             grid.ny,
             grid.cells(),
-            options.max_memory as f64 / 1e9,
+            size(options.max_memory as f64),
             grid.nx,
-            row as f64 / 1e6,
+            size(row as f64),
             threads * 32,
-            bands as f64 / 1e6
+            size(bands as f64)
         );
     }
     let rows = tile_rows(&grid, CELL_BYTES + extra, budget)?;
