@@ -88,8 +88,11 @@ pub fn run(
     let budget = options.max_memory.saturating_sub(coarse.bytes() + coarse.cells() * extra + bands);
     let row = grid.nx as u64 * (CELL_BYTES + extra);
     if row > budget {
-        let size =
-            |bytes: f64| if bytes >= 1e9 { format!("{:.1} GB", bytes / 1e9) } else { format!("{:.1} MB", bytes / 1e6) };
+        let size = |bytes: f64| match bytes {
+            b if b >= 1e9 => format!("{:.1} GB", b / 1e9),
+            b if b >= 1e6 => format!("{:.1} MB", b / 1e6),
+            b => format!("{:.1} kB", b / 1e3),
+        };
         bail!(
             "a grid of {} × {} = {} cells does not fit in --max-memory ({}) even in tiles: a tile is whole rows of \
              {} cells ({} each) and the cutting holds {} more rows of heights ({}); use a coarser resolution, a \
