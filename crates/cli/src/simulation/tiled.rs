@@ -15,6 +15,9 @@ use kezuri_cam::sim::{
 };
 use kezuri_geom::Toolpath;
 
+/// Most tiles, each a pass over the moves, a grid is cut in.
+pub const MAX_TILES: usize = 10_000;
+
 /// Most cells of the sample that the pictures, the STL and the page show.
 pub const SAMPLE_CELLS: u64 = 16_000_000;
 
@@ -84,7 +87,8 @@ pub fn run(
     f += 1 - f % 2;
     let coarse = sample_grid(&grid, f);
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let bands = threads as u64 * 32 * grid.nx as u64 * 12;
+    // At most a quarter of the memory: many cores and a small budget share.
+    let bands = (threads as u64 * 32 * grid.nx as u64 * 12).min(options.max_memory / 4);
     let budget = options.max_memory.saturating_sub(coarse.bytes() + coarse.cells() * extra + bands);
     let row = grid.nx as u64 * (CELL_BYTES + extra);
     if row > budget {
@@ -108,6 +112,16 @@ pub fn run(
         );
     }
     let rows = tile_rows(&grid, CELL_BYTES + extra, budget)?;
+    let passes = grid.ny.div_ceil(rows);
+    if passes > MAX_TILES {
+        bail!(
+            "a grid of {} × {} = {} cells would take {passes} tiles of {rows} rows within --max-memory, each a \
+             pass over the moves (at most {MAX_TILES}): use a coarser resolution, a smaller stock or more memory",
+            grid.nx,
+            grid.ny,
+            grid.cells()
+        );
+    }
     let mut zmap = ZMap::filled(&coarse, 0..coarse.ny, 0.0)?;
     let mut cut_by = vec![UNCUT; zmap.cells()];
     let (mut top, mut range) = (f64::NEG_INFINITY, (f64::INFINITY, f64::NEG_INFINITY));
