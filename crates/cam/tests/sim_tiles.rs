@@ -185,3 +185,19 @@ fn heights_a_cell_cannot_keep_are_clear_errors() {
     simulate_tools(&Toolpath::from(vec![floor]), Tooling::One(&flat), &mut zmap, &options, &|_, _| {}).unwrap();
     assert_eq!(zmap.range().0, -2147.0);
 }
+
+#[test]
+fn heights_round_to_the_nearest_nanometre() {
+    use kezuri_cam::sim::{from_nm, to_nm};
+    assert_eq!(to_nm(-1.0), Some(-1_000_000));
+    assert_eq!(to_nm(0.0012344), Some(1234));
+    assert_eq!(to_nm(-0.0012346), Some(-1235));
+    assert_eq!(to_nm(2147.483647), Some(i32::MAX));
+    assert_eq!(to_nm(-2147.483648), Some(i32::MIN));
+    for z in [2147.4836475, -2147.4836486, 1e300, f64::NAN, f64::INFINITY] {
+        assert_eq!(to_nm(z), None, "{z}");
+    }
+    for n in [0, 1, -1, 7_286_539, -2_999_982, i32::MAX, i32::MIN] {
+        assert_eq!(to_nm(from_nm(n)), Some(n), "{n}");
+    }
+}

@@ -265,8 +265,18 @@ fn solid_box(triangles: &[[[f64; 3]; 3]]) -> Result<(Stock, f64), Error> {
 /// Heights are kept in whole nanometres: `z` mm to the nearest one, `None`
 /// when not finite or beyond what a cell holds ([`LOWEST`] to [`HIGHEST`]).
 pub fn to_nm(z: f64) -> Option<i32> {
-    let n = (z * 1e6).round();
+    let n = nearest(z * 1e6);
     (n >= i32::MIN as f64 && n <= i32::MAX as f64).then_some(n as i32)
+}
+
+/// `x` to the nearest whole number, a half to the even one, for |x| up to
+/// 2⁵¹ (what a cell holds and well beyond): adding and taking away 1.5·2⁵²
+/// leaves no fraction bits. Branch-free and without a library call, so a
+/// row of cells rounds in vector registers; larger `x` stays past the range.
+#[inline(always)]
+fn nearest(x: f64) -> f64 {
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    (x + SHIFT) - SHIFT
 }
 
 /// The height in mm of a cell holding `n` nanometres: the nearest double
@@ -282,7 +292,13 @@ pub fn from_nm(n: i32) -> f64 {
 /// in mm and rounding once gives what rounding after every move would.
 #[inline(always)]
 pub(crate) fn round_nm(z: f64) -> i32 {
-    (z * 1e6).round() as i32
+    let x = z * 1e6;
+    // Past ±2⁵¹ the shift would not round: those are far out of range anyway.
+    if x.abs() < 2_251_799_813_685_248.0 {
+        nearest(x) as i32
+    } else {
+        x as i32
+    }
 }
 
 /// The lowest height a cell holds, mm (−2147.483648).
