@@ -38,6 +38,8 @@ pub enum ErrorKind {
     TooManyCells,
     /// The simulation grid's memory could not be had.
     OutOfMemory,
+    /// A move goes lower than a simulation grid keeps heights.
+    HeightRange,
     /// A move has a coordinate that is not finite.
     NonFinite,
     /// Arcs split into more chords than can be indexed.

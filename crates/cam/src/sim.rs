@@ -67,7 +67,8 @@
 //! // The cell centred on (5.25, 5.25): 0.25 mm off the line's axis.
 //! let (i, j) = (10, 10);
 //! let want = -1.0 + 2.0 - (4.0f64 - 0.0625).sqrt();
-//! assert!((zmap.height(i, j) - want).abs() < 1e-12);
+//! // Heights are kept to the nanometre.
+//! assert!((zmap.height(i, j) - want).abs() <= 0.5e-6);
 //! ```
 
 pub mod compare;
@@ -75,6 +76,7 @@ pub mod measured;
 mod segments;
 pub mod stock;
 pub mod sweep;
+pub mod tiles;
 pub mod tools;
 
 use std::fmt;
@@ -87,8 +89,10 @@ use crate::error::{Error, ErrorKind};
 use crate::Cutter;
 pub use measured::MeasuredTool;
 use segments::segments;
-pub use stock::{Cylinder, Stock, ZMap};
+use stock::round_nm;
+pub use stock::{from_nm, to_nm, Cylinder, Grid, Start, Stock, ZMap, CELL_BYTES, HIGHEST, LOWEST};
 use sweep::{cell_range, Band, Prep, Reach, Shape};
+pub use tiles::{simulate_tiles, tile_rows};
 pub use tools::{cutting_tools, ToolCut, Tooling, UNCUT};
 use tools::{Ledger, Window};
 
@@ -154,17 +158,22 @@ pub struct SimOptions {
     /// A rapid that lowers some cell by more than this (mm) is a rapid
     /// into the stock.
     pub rapid_tolerance: f64,
-    /// Most cells a grid may have (memory: 9 bytes a cell, its height and the tool that cut it last).
-    pub max_cells: usize,
+    /// Most bytes a grid may take held at once ([`CELL_BYTES`] a cell:
+    /// its height and the tool that lowered it last). [`ZMap::new`] refuses
+    /// a larger grid; [`simulate_tiles`] cuts it in tiles of this size.
+    pub max_memory: u64,
 }
 
 impl SimOptions {
     /// Defaults at `resolution`: 1 µm chords, 1 µm rapid tolerance, at most
-    /// 250 million cells (2.25 GB).
+    /// [`DEFAULT_MEMORY`] for the grid.
     pub fn new(resolution: f64) -> SimOptions {
-        SimOptions { resolution, chord_tolerance: 1e-3, rapid_tolerance: 1e-3, max_cells: 250_000_000 }
+        SimOptions { resolution, chord_tolerance: 1e-3, rapid_tolerance: 1e-3, max_memory: DEFAULT_MEMORY }
     }
 }
+
+/// The memory a grid may take by default: 2 GiB (some 429 million cells).
+pub const DEFAULT_MEMORY: u64 = 2 << 30;
 
 /// A rapid that cut into the stock.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -203,7 +212,7 @@ pub struct SimReport {
     /// Each tool, in the order it first moves: its moves and the material
     /// it removed. The volumes add up to all the material removed.
     pub tools: Vec<ToolCut>,
-    /// Per cell (as [`ZMap::z`]), the index in [`SimReport::tools`] of the
+    /// Per cell (as [`ZMap::nm`]), the index in [`SimReport::tools`] of the
     /// tool whose move lowered it last; [`UNCUT`] where none did.
     pub cut_by: Vec<u8>,
 }
@@ -217,7 +226,7 @@ fn bad_tolerance(t: f64) -> Error {
 fn out_of_memory(cells: usize) -> Error {
     Error::new(
         ErrorKind::OutOfMemory,
-        format!("not enough memory for a grid of {cells} cells ({:.1} GB)", cells as f64 * 9.0 / 1e9),
+        format!("not enough memory for a grid of {cells} cells ({:.1} GB)", cells as f64 * CELL_BYTES as f64 / 1e9),
     )
 }
 
@@ -251,147 +260,234 @@ pub fn simulate_tools(
     options: &SimOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<SimReport, Error> {
-    if limits::length(options.chord_tolerance, "").is_err() {
-        return Err(bad_tolerance(options.chord_tolerance));
-    }
-    let (segs, mut report, slots, unplaced_rapids) = segments(path, tooling, options.chord_tolerance)?;
-    let (nx, ny, res, x0, y0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0);
+    let work = Work::new(path, tooling, options)?;
     let mut cut_by = Vec::new();
     if cut_by.try_reserve_exact(zmap.cells()).is_err() {
         return Err(out_of_memory(zmap.cells()));
     }
     cut_by.resize(zmap.cells(), UNCUT);
+    let cut = work.cut(path, zmap, &mut cut_by, options, progress)?;
+    let mut report = work.report.clone();
     report.cut_by = cut_by;
-    if nx == 0 || ny == 0 {
-        return Ok(report);
-    }
-    let top = zmap.range().1;
-    // A rapid from an unknown position is not simulated, but if it ends
-    // inside the stock (as it stands before the program) it went through it.
-    let mut all: Vec<(u32, f64)> = Vec::new();
-    for index in unplaced_rapids {
-        let e = path.moves[index].end;
-        let (i, j) = (((e.x - x0) / res).floor(), ((e.y - y0) / res).floor());
-        if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
-            let depth = zmap.height(i as usize, j as usize) - e.z;
-            if depth > options.rapid_tolerance {
-                all.push((index as u32, depth));
-            }
-        }
-    }
-    // A margin of a millionth of a cell keeps cells on the footprint's edge.
-    let margin = 1e-6 * res;
-
-    // Bands of rows; each segment is listed (in order) in every band its
-    // footprint meets.
-    let threads = rayon::current_num_threads().max(1);
-    let band_rows = ny.div_ceil(8 * threads).clamp(1, 32);
-    let bands = ny.div_ceil(band_rows);
-    let mut reaches = Vec::with_capacity(segs.len());
-    let mut cols = Vec::with_capacity(segs.len());
-    let mut counts = vec![0u32; bands + 1];
-    for s in &segs {
-        let p = &s.prep;
-        let r = slots.shapes[s.slot as usize].radius();
-        let (bx, by) = (p.ax + p.ux * p.len, p.ay + p.uy * p.len);
-        let xs = cell_range(p.ax.min(bx) - r - margin, p.ax.max(bx) + r + margin, x0, res, nx);
-        // A segment at or above every cell cannot cut.
-        let rows = if p.z_min() >= top || xs.is_empty() {
-            0..0
-        } else {
-            cell_range(p.ay.min(by) - r - margin, p.ay.max(by) + r + margin, y0, res, ny)
-        };
-        if !rows.is_empty() {
-            for b in rows.start / band_rows..=(rows.end - 1) / band_rows {
-                counts[b + 1] += 1;
-            }
-        }
-        reaches.push(Reach { j0: rows.start, j1: rows.end, from: s.from, to: s.to });
-        cols.push(xs);
-    }
-    for b in 0..bands {
-        counts[b + 1] += counts[b];
-    }
-    let mut fill: Vec<u32> = counts[..bands].to_vec();
-    let mut listed = vec![0u32; counts[bands] as usize];
-    for (k, reach) in reaches.iter().enumerate() {
-        if reach.j0 < reach.j1 {
-            for b in reach.j0 / band_rows..=(reach.j1 - 1) / band_rows {
-                listed[fill[b] as usize] = k as u32;
-                fill[b] += 1;
-            }
-        }
-    }
-    let xs: Vec<f64> = (0..nx).map(|i| x0 + (i as f64 + 0.5) * res).collect();
-    let total = listed.len() as u64;
-    let done = AtomicU64::new(0);
-    progress(0, total);
-
-    // Each band's rapid hits, drills fed sideways and what each tool removed from it.
-    type BandCut = (Vec<(u32, f64)>, Vec<(u32, f64)>, Vec<f64>);
-    let bands: Vec<BandCut> = zmap
-        .z
-        .par_chunks_mut(band_rows * nx)
-        .zip(report.cut_by.par_chunks_mut(band_rows * nx))
-        .enumerate()
-        .map(|(b, (cells, cut_by))| {
-            let first = b * band_rows;
-            let last = first + cells.len() / nx;
-            let mut band = Band { cells, first, nx, xs: &xs, x0, y0, res };
-            let mut hits: Vec<(u32, f64)> = Vec::new();
-            let mut sides: Vec<(u32, f64)> = Vec::new();
-            let mut ledger = Ledger::new(slots.shapes.len());
-            let list = &listed[counts[b] as usize..counts[b + 1] as usize];
-            for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
-                let slot = segs[run[0] as usize].slot;
-                let shape = slots.shapes[slot as usize];
-                let reached = run.iter().map(|&k| (reaches[k as usize].j0..reaches[k as usize].j1, &cols[k as usize]));
-                let window = Window::around(reached, first..last, nx);
-                ledger.open(band.cells, nx, &window);
-                for (n, &k) in run.iter().enumerate() {
-                    if n % PROGRESS_STEP == PROGRESS_STEP - 1 {
-                        let step = PROGRESS_STEP as u64;
-                        progress(done.fetch_add(step, Ordering::Relaxed) + step, total);
-                    }
-                    let s = &segs[k as usize];
-                    let reach = &reaches[k as usize];
-                    let deepest = match shape {
-                        Shape::Closed { r, r2, hs } if s.rapid => {
-                            sweep::closed_rows::<true>(&s.prep, r, r2, hs, reach, &mut band)
-                        }
-                        Shape::Closed { r, r2, hs } => {
-                            sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band)
-                        }
-                        Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
-                        Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
-                    };
-                    if s.rapid && deepest > options.rapid_tolerance {
-                        hits.push((s.index, deepest));
-                    }
-                    if s.side && deepest > options.rapid_tolerance {
-                        sides.push((s.index, deepest));
-                    }
-                }
-                ledger.close(band.cells, cut_by, nx, &window, slot);
-                let n = (run.len() % PROGRESS_STEP) as u64;
-                progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
-            }
-            (hits, sides, ledger.removed)
-        })
-        .collect();
-
-    let area = res * res;
-    let mut sides = Vec::new();
-    for (hits, side, removed) in bands {
-        all.extend(hits);
-        sides.extend(side);
-        for (cut, v) in report.tools.iter_mut().zip(removed) {
-            cut.volume += v * area;
-        }
-    }
-    report.rapid_hits = merged(all, path);
-    report.drill_side_moves = merged(sides, path);
+    cut.into_report(&mut report, zmap.res, path);
     Ok(report)
+}
+
+/// What a toolpath cuts, ready to run over a grid or over each tile of one.
+struct Work<'a> {
+    segs: Vec<segments::Segment>,
+    /// The report so far: the moves and tools, no cuts yet.
+    report: SimReport,
+    slots: tools::Slots<'a>,
+    /// Rapids whose start is not known but whose end Z is.
+    unplaced_rapids: Vec<usize>,
+}
+
+/// What cutting a grid, or a tile of one, found.
+#[derive(Default)]
+struct Cut {
+    /// Rapids that cut: (move, depth), one or more per move.
+    hits: Vec<(u32, f64)>,
+    /// A drill's sideways feeds that cut: (move, depth).
+    sides: Vec<(u32, f64)>,
+    /// What each tool (by slot) removed: whole nanometres of height summed
+    /// over the cells, exact whatever the order.
+    removed: Vec<i64>,
+}
+
+impl Cut {
+    /// `other` added: a tile's cut to the tiles' before it.
+    fn add(&mut self, other: Cut) {
+        self.hits.extend(other.hits);
+        self.sides.extend(other.sides);
+        self.removed.resize(self.removed.len().max(other.removed.len()), 0);
+        for (a, b) in self.removed.iter_mut().zip(other.removed) {
+            *a += b;
+        }
+    }
+
+    /// Into `report`: the rapids and sideways drill feeds that cut, and
+    /// each tool's volume on cells of `res` mm.
+    fn into_report(self, report: &mut SimReport, res: f64, path: &Toolpath) {
+        for (cut, nm) in report.tools.iter_mut().zip(self.removed) {
+            cut.volume = nm as f64 / 1e6 * (res * res);
+        }
+        report.rapid_hits = merged(self.hits, path);
+        report.drill_side_moves = merged(self.sides, path);
+    }
+}
+
+impl<'a> Work<'a> {
+    fn new(path: &Toolpath, tooling: Tooling<'a>, options: &SimOptions) -> Result<Work<'a>, Error> {
+        if limits::length(options.chord_tolerance, "").is_err() {
+            return Err(bad_tolerance(options.chord_tolerance));
+        }
+        let (segs, report, slots, unplaced_rapids) = segments(path, tooling, options.chord_tolerance)?;
+        Ok(Work { segs, report, slots, unplaced_rapids })
+    }
+
+    /// Runs every segment over `zmap` (a whole grid or a tile of one),
+    /// lowering it; `cut_by` (one per cell of `zmap`) takes the tool that
+    /// lowered each cell last.
+    fn cut(
+        &self,
+        path: &Toolpath,
+        zmap: &mut ZMap,
+        cut_by: &mut [u8],
+        options: &SimOptions,
+        progress: &(dyn Fn(u64, u64) + Sync),
+    ) -> Result<Cut, Error> {
+        let (segs, slots) = (&self.segs, &self.slots);
+        let (nx, ny, res, x0, y0, row0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0, zmap.first_row);
+        let mut cut = Cut { removed: vec![0; slots.shapes.len()], ..Cut::default() };
+        if nx == 0 || ny == 0 {
+            return Ok(cut);
+        }
+        let top = zmap.range().1;
+        // A rapid from an unknown position is not simulated, but if it ends
+        // inside the stock (as it stands before the program) it went through it.
+        for &index in &self.unplaced_rapids {
+            let e = path.moves[index].end;
+            let (i, j) = (((e.x - x0) / res).floor(), ((e.y - y0) / res).floor() - row0 as f64);
+            if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
+                let depth = zmap.height(i as usize, j as usize) - e.z;
+                if depth > options.rapid_tolerance {
+                    cut.hits.push((index as u32, depth));
+                }
+            }
+        }
+        // A margin of a millionth of a cell keeps cells on the footprint's edge.
+        let margin = 1e-6 * res;
+
+        // Bands of rows; each segment is listed (in order) in every band its
+        // footprint meets. Rows are counted over the whole grid (a tile's
+        // cell centres are the whole grid's), bands from the first held.
+        let threads = rayon::current_num_threads().max(1);
+        let band_rows = ny.div_ceil(8 * threads).clamp(1, 32);
+        let bands = ny.div_ceil(band_rows);
+        let mut reaches = Vec::with_capacity(segs.len());
+        let mut cols = Vec::with_capacity(segs.len());
+        let mut counts = vec![0u32; bands + 1];
+        for s in segs {
+            let p = &s.prep;
+            let r = slots.shapes[s.slot as usize].radius();
+            let (bx, by) = (p.ax + p.ux * p.len, p.ay + p.uy * p.len);
+            let xs = cell_range(p.ax.min(bx) - r - margin, p.ax.max(bx) + r + margin, x0, res, nx);
+            // A segment at or above every cell cannot cut.
+            let rows = if p.z_min() >= top || xs.is_empty() {
+                0..0
+            } else {
+                let rows = cell_range(p.ay.min(by) - r - margin, p.ay.max(by) + r + margin, y0, res, row0 + ny);
+                rows.start.max(row0)..rows.end.max(row0)
+            };
+            if !rows.is_empty() {
+                if p.z_min() < LOWEST {
+                    return Err(too_deep(s.index as usize, path));
+                }
+                for b in (rows.start - row0) / band_rows..=(rows.end - 1 - row0) / band_rows {
+                    counts[b + 1] += 1;
+                }
+            }
+            reaches.push(Reach { j0: rows.start, j1: rows.end, from: s.from, to: s.to });
+            cols.push(xs);
+        }
+        for b in 0..bands {
+            counts[b + 1] += counts[b];
+        }
+        let mut fill: Vec<u32> = counts[..bands].to_vec();
+        let mut listed = vec![0u32; counts[bands] as usize];
+        for (k, reach) in reaches.iter().enumerate() {
+            if reach.j0 < reach.j1 {
+                for b in (reach.j0 - row0) / band_rows..=(reach.j1 - 1 - row0) / band_rows {
+                    listed[fill[b] as usize] = k as u32;
+                    fill[b] += 1;
+                }
+            }
+        }
+        let xs: Vec<f64> = (0..nx).map(|i| x0 + (i as f64 + 0.5) * res).collect();
+        let total = listed.len() as u64;
+        let done = AtomicU64::new(0);
+        progress(0, total);
+
+        // Each band's rapid hits, drills fed sideways and what each tool removed from it.
+        let bands: Vec<Cut> = zmap
+            .nm
+            .par_chunks_mut(band_rows * nx)
+            .zip(cut_by.par_chunks_mut(band_rows * nx))
+            .enumerate()
+            .map(|(b, (heights, cut_by))| {
+                let mut cut = Cut::default();
+                let list = &listed[counts[b] as usize..counts[b + 1] as usize];
+                if list.is_empty() {
+                    return cut;
+                }
+                // The band is cut in mm and rounded to the nanometre once.
+                let mut cells: Vec<f64> = heights.iter().map(|&n| from_nm(n)).collect();
+                let first = row0 + b * band_rows;
+                let last = first + heights.len() / nx;
+                let mut band = Band { cells: &mut cells, first, nx, xs: &xs, x0, y0, res };
+                let mut ledger = Ledger::new(slots.shapes.len());
+                for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
+                    let slot = segs[run[0] as usize].slot;
+                    let shape = slots.shapes[slot as usize];
+                    let reached =
+                        run.iter().map(|&k| (reaches[k as usize].j0..reaches[k as usize].j1, &cols[k as usize]));
+                    let window = Window::around(reached, first..last, nx);
+                    ledger.open(band.cells, nx, &window);
+                    for (n, &k) in run.iter().enumerate() {
+                        if n % PROGRESS_STEP == PROGRESS_STEP - 1 {
+                            let step = PROGRESS_STEP as u64;
+                            progress(done.fetch_add(step, Ordering::Relaxed) + step, total);
+                        }
+                        let s = &segs[k as usize];
+                        let reach = &reaches[k as usize];
+                        let deepest = match shape {
+                            Shape::Closed { r, r2, hs } if s.rapid => {
+                                sweep::closed_rows::<true>(&s.prep, r, r2, hs, reach, &mut band)
+                            }
+                            Shape::Closed { r, r2, hs } => {
+                                sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band)
+                            }
+                            Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
+                            Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
+                        };
+                        if s.rapid && deepest > options.rapid_tolerance {
+                            cut.hits.push((s.index, deepest));
+                        }
+                        if s.side && deepest > options.rapid_tolerance {
+                            cut.sides.push((s.index, deepest));
+                        }
+                    }
+                    ledger.close(band.cells, cut_by, nx, &window, slot);
+                    let n = (run.len() % PROGRESS_STEP) as u64;
+                    progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
+                }
+                for (n, &z) in heights.iter_mut().zip(&cells) {
+                    *n = round_nm(z);
+                }
+                cut.removed = ledger.removed;
+                cut
+            })
+            .collect();
+        for band in bands {
+            cut.add(band);
+        }
+        Ok(cut)
+    }
+}
+
+/// A move that goes lower than a cell's height can be kept.
+fn too_deep(index: usize, path: &Toolpath) -> Error {
+    let m = &path.moves[index];
+    Error::new(
+        ErrorKind::HeightRange,
+        format!(
+            "move {index} (line {}) goes down to Z {} mm, below the lowest height the grid keeps ({LOWEST} mm: \
+             heights are kept in whole nanometres)",
+            m.line,
+            m.start.z.min(m.end.z)
+        ),
+    )
 }
 
 /// The bands' hits merged: one per move, the deepest, in program order.

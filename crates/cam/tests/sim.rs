@@ -23,6 +23,10 @@ fn tool(spec: &str) -> Cutter {
     spec.parse().unwrap()
 }
 
+/// Heights are kept in whole nanometres: a cell is the exact envelope to
+/// half of one (and the evaluation's rounding).
+const NM: f64 = 0.5e-6 + 1e-12;
+
 const SHAPES: [&str; 8] = ["ball:6", "flat:6", "oval:8,6", "oval:8,2", "bull:6,1", "bull:6,0", "v:6,90", "v:4,40"];
 
 /// Simulates `moves` over the stock at `res`.
@@ -54,7 +58,7 @@ fn a_level_line_leaves_exactly_the_ball_trough() {
             let d = along.hypot(y - 5.0);
             let want = if d <= r { (z0 + ball(r, d)).min(top) } else { top };
             let got = zmap.height(i, j);
-            assert!((got - want).abs() <= 1e-12, "cell ({x}, {y}): {got} vs {want}");
+            assert!((got - want).abs() <= NM, "cell ({x}, {y}): {got} vs {want}");
             cut += usize::from(got < top);
         }
     }
@@ -71,7 +75,7 @@ fn a_plunge_leaves_the_tool_imprint() {
                 let [x, y] = zmap.centre(i, j);
                 let d = (x - 5.0).hypot(y - 5.0);
                 let want = if d <= c.radius() { (-2.0 + c.height(d)).min(0.0) } else { 0.0 };
-                assert!((zmap.height(i, j) - want).abs() <= 1e-12, "{spec} at ({x}, {y})");
+                assert!((zmap.height(i, j) - want).abs() <= NM, "{spec} at ({x}, {y})");
             }
         }
     }
@@ -132,7 +136,7 @@ fn sloped_lines_match_the_swept_sphere() {
                 let [x, y] = zmap.centre(i, j);
                 let want = capsule_bottom(3.0, a, b, x, y).map_or(5.0, |z| z.min(5.0));
                 let got = zmap.height(i, j);
-                assert!((got - want).abs() <= 1e-9, "{a:?}->{b:?} at ({x}, {y}): {got} vs {want}");
+                assert!((got - want).abs() <= NM + 1e-9, "{a:?}->{b:?} at ({x}, {y}): {got} vs {want}");
             }
         }
     }
@@ -258,7 +262,7 @@ fn simulation_is_the_minimum_over_its_moves() {
                     .filter_map(|m| swept_height(&c, m.start.xyz(), m.end.xyz(), x, y))
                     .fold(0.0f64, f64::min);
                 let got = zmap.height(i, j);
-                assert!((got - want).abs() <= 1e-12, "{spec} at ({x}, {y}): {got} vs {want}");
+                assert!((got - want).abs() <= NM, "{spec} at ({x}, {y}): {got} vs {want}");
             }
         }
     }
@@ -395,7 +399,7 @@ fn level_raster_cusp_is_the_ball_scallop() {
         }
     }
     let h = r - (r * r - (p / 2.0) * (p / 2.0)).sqrt();
-    assert!((hi - h).abs() <= 1e-9, "{hi} vs {h}");
+    assert!((hi - h).abs() <= NM + 1e-9, "{hi} vs {h}");
 }
 
 #[test]
@@ -416,8 +420,8 @@ fn inclined_raster_cusp_agrees_with_scallop_theory_within_the_grid() {
         // A cell centre misses the cusp's peak by at most half a cell, on
         // flanks of slope below 1 in the plane; never above it, never below
         // the plane.
-        assert!(hi <= theory + 1e-9 && hi >= theory - res, "{spec} {angle}°: simulated {hi} vs {theory}");
-        assert!(lo >= -1e-9 && lo <= res, "{spec} {angle}°: lowest {lo}");
+        assert!(hi <= theory + NM + 1e-9 && hi >= theory - res, "{spec} {angle}°: simulated {hi} vs {theory}");
+        assert!(lo >= -NM - 1e-9 && lo <= res, "{spec} {angle}°: lowest {lo}");
     }
 }
 
@@ -486,14 +490,14 @@ fn a_comparison_with_the_plane_finds_the_cusp_as_material_left() {
     let c = compare(&zmap, &target, 8);
     let h = r - (r * r - 0.25f64).sqrt();
     assert_eq!(c.missing, 0);
-    assert!((c.max_left - h).abs() < 1e-9, "{}", c.max_left);
-    assert!(c.max_gouge < 1e-12 && c.range.0 > -1e-12);
+    assert!((c.max_left - h).abs() <= NM + 1e-9, "{}", c.max_left);
+    assert!(c.max_gouge <= NM && c.range.0 >= -NM);
     assert_eq!(c.histogram.counts.iter().sum::<u64>() as usize, c.compared);
     assert!(c.mean_abs_dev > 0.0 && c.mean_abs_dev < h);
     // The same plane raised by 0.01: everything is a gouge of up to 0.01.
     let raised: Vec<f64> = target.iter().map(|t| t + 0.01).collect();
     let c = compare(&zmap, &raised, 8);
-    assert!((c.max_gouge - 0.01).abs() < 1e-9, "{}", c.max_gouge);
+    assert!((c.max_gouge - 0.01).abs() <= NM + 1e-9, "{}", c.max_gouge);
 }
 
 #[test]
@@ -527,5 +531,5 @@ fn bad_input_is_a_clear_error() {
     let e = simulate(&Toolpath::from(vec![bad]), &c, &mut zmap, &options).unwrap_err();
     assert_eq!(e.kind, ErrorKind::NonFinite);
     assert_eq!(e.to_string(), "move 0 (line 12) has a coordinate that is not a finite number");
-    assert!(zmap.z.iter().all(|z| *z == 0.0));
+    assert!(zmap.nm.iter().all(|z| *z == 0));
 }

@@ -248,7 +248,7 @@ fn simulation_is_the_minimum_over_its_moves() {
                     .filter_map(|m| swept_height_tool(&tool, m.start.xyz(), m.end.xyz(), x, y))
                     .fold(0.0f64, f64::min);
                 let got = zmap.height(i, j);
-                assert!((got - want).abs() <= 1e-12, "{name} at ({x}, {y}): {got} vs {want}");
+                assert!((got - want).abs() <= 0.5e-6 + 1e-12, "{name} at ({x}, {y}): {got} vs {want}");
                 cut += usize::from(got < 0.0);
             }
         }
@@ -326,10 +326,12 @@ fn a_finely_sampled_ball_cuts_as_the_ball_within_its_sagitta() {
     let inner = run(&raised, &Tool::Cutter(small));
     let got = run(&moves, &tool);
     let mut most = 0.0f64;
-    for c in 0..got.z.len() {
-        assert!(outer.z[c] <= got.z[c] + 1e-12, "cell {c}: ball {} below the samples {}", outer.z[c], got.z[c]);
-        assert!(got.z[c] <= inner.z[c] + 1e-12, "cell {c}: samples {} below the small ball {}", got.z[c], inner.z[c]);
-        most = most.max(got.z[c] - outer.z[c]);
+    for c in 0..got.cells() {
+        let (o, g, i) = (outer.height_at(c), got.height_at(c), inner.height_at(c));
+        // Each kept to the nanometre: the order holds to one.
+        assert!(o <= g + 1e-6, "cell {c}: ball {o} below the samples {g}");
+        assert!(g <= i + 1e-6, "cell {c}: samples {g} below the small ball {i}");
+        most = most.max(g - o);
     }
     // Where the contact is not on the steep rim, the sagitta (1.6e-7) is
     // all: the deepest cut is the same.

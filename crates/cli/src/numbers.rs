@@ -40,3 +40,47 @@ pub fn signed_length(s: &str) -> Result<f64, String> {
     let v = number(s)?;
     limits::length(v.abs(), "its size").map(|_| v)
 }
+
+/// An amount of memory, bytes: a number with K, M, G or T (powers of 1024:
+/// `512M`, `2G`, `1.5G`; a trailing `B` or `iB` allowed), or a number of
+/// bytes; at least 1 MiB.
+pub fn memory(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let t = t.strip_suffix("iB").or_else(|| t.strip_suffix('B')).unwrap_or(t);
+    let (digits, shift) = match t.char_indices().last() {
+        Some((k, c)) if c.is_ascii_alphabetic() => {
+            let shift = match c.to_ascii_uppercase() {
+                'K' => 10,
+                'M' => 20,
+                'G' => 30,
+                'T' => 40,
+                _ => return Err(format!("'{s}' is not a size: a number with K, M, G or T (such as 2G or 512M)")),
+            };
+            (&t[..k], shift)
+        }
+        _ => (t, 0),
+    };
+    let v = digits.trim().parse::<f64>().map_err(|_| format!("'{s}' is not a size: a number with K, M, G or T"))?;
+    let bytes = v * (1u64 << shift) as f64;
+    if !(bytes >= (1u64 << 20) as f64 && bytes <= (1u64 << 50) as f64) {
+        return Err(format!("'{s}' must be from 1M to 1024T"));
+    }
+    Ok(bytes as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::memory;
+
+    #[test]
+    fn sizes_are_powers_of_1024() {
+        assert_eq!(memory("2G"), Ok(2 << 30));
+        assert_eq!(memory("512M"), Ok(512 << 20));
+        assert_eq!(memory("1.5GiB"), Ok(3 << 29));
+        assert_eq!(memory("4096k"), Ok(4 << 20));
+        assert_eq!(memory("1048576"), Ok(1 << 20));
+        for bad in ["", "2X", "G", "-1G", "100K", "nanG", "infG"] {
+            assert!(memory(bad).is_err(), "{bad}");
+        }
+    }
+}

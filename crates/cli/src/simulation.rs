@@ -3,6 +3,7 @@
 //! cutting with a progress bar, and the comparison with the target.
 
 pub mod stock;
+pub mod tiled;
 pub mod tools;
 
 use std::path::PathBuf;
@@ -12,8 +13,10 @@ use anyhow::{bail, Context, Result};
 use clap::{ArgGroup, Args};
 use kezuri_cam::mill::{read_gouge_note, GOUGE_TOL};
 use kezuri_cam::sim::compare::Comparison;
-use kezuri_cam::sim::compare::{compare, target_heights};
-use kezuri_cam::sim::{cutting_tools, simulate_tools, SimOptions, SimReport, Stock, Tooling, ZMap};
+use kezuri_cam::sim::compare::{compare, gouged_cells, gouges_by_tool, target_heights, ToolGouge};
+use kezuri_cam::sim::{
+    cutting_tools, simulate_tools, Grid, SimOptions, SimReport, Stock, Tooling, ZMap, CELL_BYTES, DEFAULT_MEMORY, UNCUT,
+};
 use kezuri_geom::Toolpath;
 use kezuri_picture::sim::DeviationScale;
 use kezuri_picture::Simulation;
@@ -115,9 +118,25 @@ pub struct SimSetup {
     /// How far the chords arcs are cut as may stray from the arc (their sagitta), mm.
     #[arg(long, value_name = "MM", default_value_t = 0.001, value_parser = crate::numbers::length)]
     pub chord_tol: f64,
-    /// Most cells the grid may have (9 bytes each: a height and the tool that cut it last).
-    #[arg(long, value_name = "N", default_value_t = 250_000_000)]
-    pub max_cells: usize,
+    /// Memory for the grid (5 bytes a cell: its height to the nanometre and the tool that cut it
+    /// last; 13 with --compare): K, M, G or T, powers of 1024. A larger grid is cut in tiles of
+    /// rows, each a pass over the moves: the same cells, minutes longer [default: 2G].
+    #[arg(long, value_name = "SIZE", value_parser = crate::numbers::memory, conflicts_with = "max_cells")]
+    pub max_memory: Option<u64>,
+    /// The same as --max-memory, as a number of cells (kept for older scripts: 5 bytes a cell).
+    #[arg(long, value_name = "N")]
+    pub max_cells: Option<u64>,
+}
+
+impl SimSetup {
+    /// The memory the grid may take, bytes.
+    pub fn memory(&self) -> u64 {
+        match (self.max_memory, self.max_cells) {
+            (Some(bytes), _) => bytes,
+            (None, Some(cells)) => cells.saturating_mul(CELL_BYTES),
+            (None, None) => DEFAULT_MEMORY,
+        }
+    }
 }
 
 /// A simulation done: the cutters, the stock, the cut grid, the report and
@@ -136,6 +155,25 @@ pub struct Simulated {
     pub comparison: Option<(Comparison, Vec<f64>)>,
     /// Seconds the cutting took.
     pub seconds: f64,
+    /// The figures of every cell (where the grid was cut in tiles, `zmap`
+    /// and the comparison's heights are a sample of it).
+    pub figures: Figures,
+}
+
+/// What the report says of every cell of the grid, whole or in tiles.
+pub struct Figures {
+    /// The grid cut.
+    pub grid: Grid,
+    /// Lowest and highest cell after cutting.
+    pub range: (f64, f64),
+    /// With a target: cells deeper than the allowance below it.
+    pub gouged: usize,
+    /// With a target: each tool's worst gouge (by [`SimReport::tools`]).
+    pub gouges: Vec<Option<ToolGouge>>,
+    /// With a target: the number of the tool that lowered the worst gouge's cell last.
+    pub gouge_tool: Option<u32>,
+    /// Where the grid was cut in tiles: how.
+    pub tiles: Option<tiled::Tiles>,
 }
 
 impl Simulated {
@@ -162,15 +200,15 @@ const DEFAULT_CELLS: f64 = 16e6;
 
 /// The cell size without `--res`: a tenth of the smallest cutter's radius,
 /// at most 0.1 mm, coarsened to whole hundredths until the stock holds at
-/// most [`DEFAULT_CELLS`] cells (or `--max-cells`).
+/// most [`DEFAULT_CELLS`] cells (or what `--max-memory` holds).
 fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f64 {
     let smallest = tools.table.iter().map(|(_, t)| t.radius()).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
     let fine = (smallest / 10.0).min(0.1);
     // The stock's area, from a grid of 1 mm cells.
     let mut coarse = SimOptions::new(1.0);
-    coarse.max_cells = setup.max_cells;
+    coarse.max_memory = setup.memory();
     let area = stock.grid(&coarse, setup.units).map_or(0.0, |z| z.cells() as f64);
-    let most = DEFAULT_CELLS.min(setup.max_cells as f64);
+    let most = DEFAULT_CELLS.min((setup.memory() / CELL_BYTES) as f64);
     if area / (fine * fine) > most {
         ((area / most).sqrt() * 100.0).ceil() / 100.0
     } else {
@@ -180,13 +218,16 @@ fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f
 
 /// Cuts `path` (of `file`, run on `machine`) out of the stock at `res` mm
 /// cells (none: [`DEFAULT_RES_HELP`]), with a progress bar on a terminal,
-/// and compares it with the target (a histogram of `bins` bins).
+/// and compares it with the target (a histogram of `bins` bins; deeper
+/// than `allowance` below it a gouge). A grid over `--max-memory` is cut in
+/// tiles ([`tiled`]).
 pub fn simulate(
     path: &Toolpath,
     machine: &Machine,
     setup: &SimSetup,
     res: Option<f64>,
     bins: usize,
+    allowance: f64,
     file: &str,
 ) -> Result<Simulated> {
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
@@ -225,9 +266,10 @@ pub fn simulate(
     });
     let mut options = SimOptions::new(res);
     options.chord_tolerance = setup.chord_tol;
-    options.max_cells = setup.max_cells;
-    let mut zmap = stock.grid(&options, setup.units)?;
-    let top = zmap.range().1;
+    options.max_memory = setup.memory();
+    let solid = stock.solid(setup.units)?;
+    let start = stock.start(solid.as_deref());
+    let grid = start.grid(&options)?;
     let t0 = Instant::now();
     let bar = LateBar::new("cutting", "pieces", Duration::from_secs(1));
     let progress = |done: u64, total: u64| {
@@ -235,7 +277,32 @@ pub fn simulate(
             bar.update(done, total)
         }
     };
-    let report = simulate_tools(path, Tooling::Table(&tools.table), &mut zmap, &options, &progress);
+    let tooling = Tooling::Table(&tools.table);
+    // A target's heights take 8 bytes a cell more.
+    let extra = if target.is_some() { 8 } else { 0 };
+    if grid.bytes().saturating_add(grid.cells().saturating_mul(extra)) > options.max_memory {
+        let triangles = target.as_ref().map(|t| t.2.as_slice());
+        let run = tiled::run(path, tooling, &start, &options, triangles, allowance, bins, &progress);
+        if let Some(bar) = &bar {
+            bar.finish();
+        }
+        let run = run.with_context(|| file.to_string())?;
+        let seconds = t0.elapsed().as_secs_f64();
+        let gouge_tool = run.gouge_slot.map(|s| run.report.tools[s as usize].number);
+        let figures = Figures {
+            grid,
+            range: run.range,
+            gouged: run.gouged,
+            gouges: run.gouges,
+            gouge_tool,
+            tiles: Some(run.tiles),
+        };
+        let (zmap, report, comparison, top) = (run.zmap, run.report, run.comparison, run.top);
+        return Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures });
+    }
+    let mut zmap = start.rows(&options, 0..grid.ny)?;
+    let top = zmap.range().1;
+    let report = simulate_tools(path, tooling, &mut zmap, &options, &progress);
     if let Some(bar) = &bar {
         bar.finish();
     }
@@ -252,5 +319,17 @@ pub fn simulate(
         }
         None => None,
     };
-    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds })
+    let (gouged, gouges, gouge_tool) = match &comparison {
+        Some((c, heights)) => {
+            let slot = c.gouge_cell.and_then(|k| report.cut_by.get(k)).filter(|&&b| b != UNCUT);
+            (
+                gouged_cells(&zmap, heights, allowance),
+                gouges_by_tool(&zmap, heights, &report.cut_by, report.tools.len()),
+                slot.map(|&b| report.tools[b as usize].number),
+            )
+        }
+        None => (0, Vec::new(), None),
+    };
+    let figures = Figures { grid, range: zmap.range(), gouged, gouges, gouge_tool, tiles: None };
+    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures })
 }

@@ -67,7 +67,8 @@ fn json_keys_and_the_trough() {
     assert_eq!(v["moves"], 5);
     // The cells nearest the line are 0.25 mm off its axis.
     let want = -1.0 + 2.0 - (4.0f64 - 0.0625).sqrt();
-    assert!((v["min_z_mm"].as_f64().unwrap() - want).abs() < 1e-12, "{v}");
+    // Heights are kept in whole nanometres.
+    assert!((v["min_z_mm"].as_f64().unwrap() - want).abs() <= 0.5e-6 + 1e-12, "{v}");
     assert_eq!(v["rapids_into_stock"], 0);
     assert!(v["first_rapid_into_stock_line"].is_null());
     assert!(v.get("max_gouge_mm").is_none());
@@ -103,7 +104,8 @@ fn comparison_with_the_plane_finds_the_scallop() {
     let h = 3.0 - (9.0f64 - 0.25).sqrt();
     let left = v["max_left_mm"].as_f64().unwrap();
     // The target is stored in f32: −1 is exact.
-    assert!((left - h).abs() < 1e-9, "{left} vs {h}");
+    // Heights are kept in whole nanometres.
+    assert!((left - h).abs() <= 0.5e-6 + 1e-9, "{left} vs {h}");
     assert_eq!(v["max_gouge_mm"].as_f64().unwrap(), 0.0);
     let mean = v["mean_abs_dev_mm"].as_f64().unwrap();
     assert!(mean > 0.2 * h && mean < 0.6 * h, "{mean}");
@@ -308,4 +310,48 @@ fn a_rapid_from_the_unknown_start_into_the_stock_is_caught() {
     assert_eq!(v["rapids_into_stock"], 2);
     assert_eq!(v["first_rapid_into_stock_line"], 2);
     assert_eq!(v["unplaced_moves"], 2);
+}
+
+/// Over `--max-memory` the grid is cut in tiles: every figure of the JSON is
+/// what the grid held whole gives, to the bit; only the histogram's counts
+/// come from a sample of the cells.
+#[test]
+fn a_grid_over_the_memory_is_cut_in_tiles_to_the_same_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = write(dir.path(), "raster.nc", raster(7).as_bytes());
+    let stl = write(dir.path(), "plane.stl", &plane_stl(-10.0, -10.0, 20.0, 20.0, -1.0));
+    // 600 × 401 cells, 13 bytes each with --compare: 3.1 MB.
+    let run = |extra: &[&str]| {
+        let args = [
+            &["sim", &nc, "--tool", "ball:6", "--res", "0.01", "--stock", "2,0.995,8,5.005,0", "--compare"][..],
+            &[&stl, "--json"],
+            extra,
+        ]
+        .concat();
+        json(&kezuri(&args))
+    };
+    let mut whole = run(&[]);
+    let mut tiled = run(&["--max-memory", "1M"]);
+    assert_eq!(whole["tiles"], 1);
+    let tiles = tiled["tiles"].as_u64().unwrap();
+    assert!(tiles >= 4, "{tiled}");
+    // Each tile a pass: the sample's histogram has fewer cells.
+    let count = |v: &serde_json::Value| {
+        v["histogram"]["counts"].as_array().unwrap().iter().map(|c| c.as_u64().unwrap()).sum::<u64>()
+    };
+    assert_eq!(count(&whole), 600 * 401);
+    assert!(count(&tiled) < 600 * 401 / 4, "{tiled}");
+    for v in [&mut whole, &mut tiled] {
+        let o = v.as_object_mut().unwrap();
+        for key in ["tiles", "seconds"] {
+            o.remove(key);
+        }
+        o["histogram"].as_object_mut().unwrap().remove("counts");
+    }
+    assert_eq!(whole, tiled);
+    // --max-cells is --max-memory in cells of 5 bytes.
+    let cells = run(&["--max-cells", "200000"]);
+    assert!(cells["tiles"].as_u64().unwrap() > 1, "{cells}");
+    let o = kezuri(&["sim", &nc, "--tool", "ball:6", "--max-memory", "2X"]);
+    assert!(!o.status.success() && stderr(&o).contains("'2X' is not a size"), "{}", stderr(&o));
 }

@@ -170,7 +170,7 @@ impl DeviationScale {
     /// one scale for several pictures of a job, its bar saying the extremes
     /// of them all.
     pub fn include(&mut self, zmap: &ZMap, target: &[f64]) {
-        for (z, t) in zmap.z.iter().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY) {
+        for (z, t) in zmap.heights().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY) {
             let d = z - t;
             self.extremes = [self.extremes[0].max(-d), self.extremes[1].max(d)];
         }
@@ -242,7 +242,7 @@ impl DeviationScale {
 /// `target` covers (`-inf` where it does not), mm.
 fn percentile_99(zmap: &ZMap, target: &[f64]) -> f64 {
     let mut all: Vec<f64> =
-        zmap.z.iter().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY).map(|(z, t)| (z - t).abs()).collect();
+        zmap.heights().zip(target).filter(|(_, &t)| t != f64::NEG_INFINITY).map(|(z, t)| (z - t).abs()).collect();
     if all.is_empty() {
         return 0.0;
     }
@@ -281,7 +281,11 @@ fn deviation_raster(zmap: &ZMap, target: &[f64], scale: &DeviationScale) -> Rast
         let j = (h - 1 - row) * k;
         for col in 0..w {
             let c = j * zmap.nx + col * k;
-            rgb.extend(if target[c] == f64::NEG_INFINITY { NO_TARGET } else { scale.colour(zmap.z[c] - target[c]) });
+            rgb.extend(if target[c] == f64::NEG_INFINITY {
+                NO_TARGET
+            } else {
+                scale.colour(zmap.height_at(c) - target[c])
+            });
         }
     }
     Raster { width: w, height: h, rgb }
@@ -347,10 +351,10 @@ mod tests {
     fn grid(dev: impl Fn(usize) -> f64) -> (ZMap, Vec<f64>) {
         let stock = Stock { x0: 0.0, y0: 0.0, x1: 10.0, y1: 10.0, top: 1.0 };
         let mut z = ZMap::new(&stock, &SimOptions::new(1.0)).unwrap();
-        for (k, h) in z.z.iter_mut().enumerate() {
-            *h = dev(k);
+        for (k, h) in z.nm.iter_mut().enumerate() {
+            *h = kezuri_cam::sim::to_nm(dev(k)).unwrap();
         }
-        let target = vec![0.0; z.z.len()];
+        let target = vec![0.0; z.nm.len()];
         (z, target)
     }
 

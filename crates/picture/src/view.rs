@@ -276,7 +276,7 @@ fn sim_marks(s: &Simulation, run: &Toolpath, drawn: &Toolpath, gouge: f64) -> Ve
             marks.push(json!({
                 "kind": "gouge",
                 "label": format!("worst gouge {:.1} µm below the target at X{x:.3} Y{y:.3}{tool}", c.max_gouge * 1000.0),
-                "at_mm": [x, y, s.zmap.z[cell]],
+                "at_mm": [x, y, s.zmap.height_at(cell)],
                 "move": null,
                 "line": null,
             }));

@@ -34,12 +34,15 @@ pub fn target_heights(grid: &ZMap, triangles: impl IntoIterator<Item = [[f64; 3]
         let lo_y = a[1].min(b[1]).min(c[1]);
         let hi_y = a[1].max(b[1]).max(c[1]);
         let is = super::sweep::cell_range(lo_x, hi_x, grid.x0, res, nx);
-        let js = super::sweep::cell_range(lo_y, hi_y, grid.y0, res, ny);
+        // Rows counted over the whole grid (the same centres in a tile), then
+        // those held.
+        let js = super::sweep::cell_range(lo_y, hi_y, grid.y0, res, grid.first_row + ny);
+        let js = js.start.max(grid.first_row) - grid.first_row..js.end.max(grid.first_row) - grid.first_row;
         // Points on an edge belong to both triangles: a small tolerance
         // keeps a centre on a shared edge from falling through.
         let eps = -1e-12 * area.abs();
         for j in js {
-            let y = grid.y0 + (j as f64 + 0.5) * res;
+            let y = grid.y0 + ((grid.first_row + j) as f64 + 0.5) * res;
             for i in is.clone() {
                 let x = grid.x0 + (i as f64 + 0.5) * res;
                 let wa = (b[0] - x) * (c[1] - y) - (c[0] - x) * (b[1] - y);
@@ -80,7 +83,7 @@ pub struct Comparison {
     pub max_gouge: f64,
     /// Where (cell centre), if anywhere below the target.
     pub gouge_at: Option<[f64; 2]>,
-    /// Its cell (index into [`ZMap::z`]).
+    /// Its cell (`j·nx + i`, rows counted over the whole grid).
     pub gouge_cell: Option<usize>,
     /// Most material left above the target (≥ 0, mm).
     pub max_left: f64,
@@ -94,48 +97,89 @@ pub struct Comparison {
     pub histogram: Histogram,
 }
 
-/// Compares `sim` with `target` (from [`target_heights`] on the same grid),
-/// with a histogram of `bins` bins (at least 1).
-pub fn compare(sim: &ZMap, target: &[f64], bins: usize) -> Comparison {
+/// A comparison gathered part by part: the tiles of a grid
+/// ([`super::simulate_tiles`]) in order of rows, or a whole grid. Every
+/// figure of [`compare`] but the histogram, the same to the bit as over
+/// the whole grid at once (the cells are taken in the same order).
+#[derive(Clone, Debug)]
+pub struct Tally {
+    c: Comparison,
+    /// Σ |simulated − target|.
+    sum: f64,
+}
+
+impl Default for Tally {
+    fn default() -> Tally {
+        Tally { c: Comparison { range: (f64::INFINITY, f64::NEG_INFINITY), ..Comparison::default() }, sum: 0.0 }
+    }
+}
+
+impl Tally {
+    /// Adds the cells of `sim` (a grid or the next tile of one) against
+    /// `target` (from [`target_heights`] on it).
+    pub fn add(&mut self, sim: &ZMap, target: &[f64]) {
+        let (c, base) = (&mut self.c, sim.first_row * sim.nx);
+        for (k, (z, &t)) in sim.heights().zip(target).enumerate() {
+            if t == f64::NEG_INFINITY {
+                c.missing += 1;
+                continue;
+            }
+            let d = z - t;
+            c.compared += 1;
+            self.sum += d.abs();
+            c.range = (c.range.0.min(d), c.range.1.max(d));
+            let at = || sim.centre(k % sim.nx, k / sim.nx);
+            if -d > c.max_gouge {
+                c.max_gouge = -d;
+                c.gouge_at = Some(at());
+                c.gouge_cell = Some(base + k);
+            }
+            if d > c.max_left {
+                c.max_left = d;
+                c.left_at = Some(at());
+            }
+        }
+    }
+
+    /// The comparison so far, without its histogram ([`histogram`]).
+    pub fn comparison(&self) -> Comparison {
+        let mut c = self.c.clone();
+        if c.compared == 0 {
+            c.range = (0.0, 0.0);
+        } else {
+            c.mean_abs_dev = self.sum / c.compared as f64;
+        }
+        c
+    }
+}
+
+/// `c`'s histogram of `bins` equal bins (at least 1) over `c.range`, of
+/// the deviations of `sim` from `target`: the cells of the comparison, or
+/// a sample of them.
+pub fn histogram(c: &mut Comparison, sim: &ZMap, target: &[f64], bins: usize) {
     let bins = bins.max(1);
-    let mut c = Comparison { range: (f64::INFINITY, f64::NEG_INFINITY), ..Comparison::default() };
-    let mut sum = 0.0;
-    for (k, (&z, &t)) in sim.z.iter().zip(target).enumerate() {
-        if t == f64::NEG_INFINITY {
-            c.missing += 1;
-            continue;
-        }
-        let d = z - t;
-        c.compared += 1;
-        sum += d.abs();
-        c.range = (c.range.0.min(d), c.range.1.max(d));
-        let at = || sim.centre(k % sim.nx, k / sim.nx);
-        if -d > c.max_gouge {
-            c.max_gouge = -d;
-            c.gouge_at = Some(at());
-            c.gouge_cell = Some(k);
-        }
-        if d > c.max_left {
-            c.max_left = d;
-            c.left_at = Some(at());
-        }
-    }
-    if c.compared == 0 {
-        c.range = (0.0, 0.0);
-        return c;
-    }
-    c.mean_abs_dev = sum / c.compared as f64;
     let (lo, hi) = c.range;
     let width = (hi - lo) / bins as f64;
     c.histogram.edges = (0..=bins).map(|b| if b == bins { hi } else { lo + width * b as f64 }).collect();
     c.histogram.counts = vec![0; bins];
-    for (&z, &t) in sim.z.iter().zip(target) {
+    for (z, &t) in sim.heights().zip(target) {
         if t == f64::NEG_INFINITY {
             continue;
         }
         let d = z - t;
-        let b = if width > 0.0 { (((d - lo) / width) as usize).min(bins - 1) } else { 0 };
+        let b = if width > 0.0 { (((d - lo) / width).max(0.0) as usize).min(bins - 1) } else { 0 };
         c.histogram.counts[b] += 1;
+    }
+}
+
+/// Compares `sim` with `target` (from [`target_heights`] on the same grid),
+/// with a histogram of `bins` bins (at least 1).
+pub fn compare(sim: &ZMap, target: &[f64], bins: usize) -> Comparison {
+    let mut tally = Tally::default();
+    tally.add(sim, target);
+    let mut c = tally.comparison();
+    if c.compared > 0 {
+        histogram(&mut c, sim, target, bins);
     }
     c
 }
@@ -154,7 +198,7 @@ pub struct ToolGouge {
 /// lowered last, if any went below the target.
 pub fn gouges_by_tool(sim: &ZMap, target: &[f64], cut_by: &[u8], tools: usize) -> Vec<Option<ToolGouge>> {
     let mut out: Vec<Option<ToolGouge>> = vec![None; tools];
-    for (k, ((&z, &t), &by)) in sim.z.iter().zip(target).zip(cut_by).enumerate() {
+    for (k, ((z, &t), &by)) in sim.heights().zip(target).zip(cut_by).enumerate() {
         let depth = t - z;
         let Some(worst) = out.get_mut(by as usize) else { continue };
         if t != f64::NEG_INFINITY && depth > 0.0 && worst.is_none_or(|g| depth > g.depth) {
@@ -168,5 +212,5 @@ pub fn gouges_by_tool(sim: &ZMap, target: &[f64], cut_by: &[u8], tools: usize) -
 /// [`target_heights`] on the same grid): the gouges past the program's
 /// allowance, which the deviation picture paints magenta.
 pub fn gouged_cells(sim: &ZMap, target: &[f64], allowance: f64) -> usize {
-    sim.z.iter().zip(target).filter(|&(&z, &t)| t != f64::NEG_INFINITY && t - z > allowance).count()
+    sim.heights().zip(target).filter(|&(z, &t)| t != f64::NEG_INFINITY && t - z > allowance).count()
 }

@@ -19,6 +19,7 @@ use std::ops::Range;
 
 use kezuri_geom::Toolpath;
 
+use super::stock::round_nm;
 use super::sweep::Shape;
 use super::Tool;
 use crate::error::{Error, ErrorKind};
@@ -143,36 +144,39 @@ impl Window {
 
 /// A band's account of what each tool removed.
 pub(super) struct Ledger {
-    /// Σ (before − after) per slot, mm (times the cell area: mm³).
-    pub removed: Vec<f64>,
-    /// The window's heights before the run.
-    before: Vec<f64>,
+    /// Σ (before − after) per slot, whole nanometres of height (times the
+    /// cell area: mm³ · 10⁶), summed exactly whatever the order.
+    pub removed: Vec<i64>,
+    /// The window's heights before the run, nm.
+    before: Vec<i32>,
 }
 
 impl Ledger {
     pub fn new(tools: usize) -> Ledger {
-        Ledger { removed: vec![0.0; tools], before: Vec::new() }
+        Ledger { removed: vec![0; tools], before: Vec::new() }
     }
 
-    /// Keeps the window's heights before a run.
+    /// Keeps the window's heights (mm) before a run, to the nanometre.
     pub fn open(&mut self, cells: &[f64], nx: usize, w: &Window) {
         self.before.clear();
         for j in w.rows.clone() {
-            self.before.extend_from_slice(&cells[j * nx + w.cols.start..j * nx + w.cols.end]);
+            self.before.extend(cells[j * nx + w.cols.start..j * nx + w.cols.end].iter().map(|&z| round_nm(z)));
         }
     }
 
     /// Counts what the run of tool `slot` removed from the window, and
-    /// marks the cells it lowered as its own.
+    /// marks the cells it lowered (by a nanometre or more, as the grid
+    /// keeps them) as its own.
     pub fn close(&mut self, cells: &[f64], cut_by: &mut [u8], nx: usize, w: &Window, slot: u8) {
         let width = w.cols.len();
-        let mut removed = 0.0;
+        let mut removed = 0i64;
         for (r, j) in w.rows.clone().enumerate() {
             let at = j * nx + w.cols.start;
             let before = &self.before[r * width..(r + 1) * width];
             for ((&b, &a), owner) in before.iter().zip(&cells[at..at + width]).zip(&mut cut_by[at..at + width]) {
+                let a = round_nm(a);
                 if a < b {
-                    removed += b - a;
+                    removed += b as i64 - a as i64;
                     *owner = slot;
                 }
             }

@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 use clap::Args;
-use kezuri_cam::sim::compare::{gouged_cells, gouges_by_tool};
 use kezuri_geom::write_binary_stl_to;
 use kezuri_picture::sim as picture;
 
@@ -153,9 +152,9 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let mut out = std::mem::take(&mut ran.outputs);
     let file = args.run.file.display().to_string();
     let path = &ran.outcome.toolpath;
-    let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), &file)?;
-    let Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds } = &sim;
     let allowance = args.deviation.allowance(&ran.sources.get(0).text);
+    let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), allowance.mm, &file)?;
+    let Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures } = &sim;
 
     let title = picture_title(&args.run.file, tools);
     if let Some(png) = &args.output {
@@ -232,14 +231,9 @@ pub fn run(args: &SimArgs) -> Result<()> {
         top: *top,
         top_from,
         allowance,
-        gouged: comparison.as_ref().map(|(_, heights)| gouged_cells(zmap, heights, allowance.mm)).unwrap_or(0),
-        zmap,
+        figures,
         report,
         times: tools::times(path, &tools.table, &ran.machine.dynamics),
-        gouges: comparison
-            .as_ref()
-            .map(|(_, heights)| gouges_by_tool(zmap, heights, &report.cut_by, report.tools.len()))
-            .unwrap_or_default(),
         comparison: comparison.as_ref().map(|c| &c.0),
         seconds: *seconds,
     };

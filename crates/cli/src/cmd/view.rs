@@ -112,13 +112,13 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if !args.sim && (args.setup.compare.is_some() || args.setup.stock.is_some()) {
         bail!("--compare and --stock are for the simulated part: give --sim too");
     }
+    let allowance = args.deviation.allowance(&ran.sources.get(0).text);
     let sim = if args.sim {
-        Some(simulate(&ran.outcome.toolpath, &ran.machine, &args.setup, args.res, 10, &file)?)
+        Some(simulate(&ran.outcome.toolpath, &ran.machine, &args.setup, args.res, 10, allowance.mm, &file)?)
     } else {
         None
     };
     let any: Option<Cutter> = args.setup.tool.as_deref().map(str::parse).transpose()?;
-    let allowance = args.deviation.allowance(&ran.sources.get(0).text);
     let scale = sim.as_ref().and_then(|s| args.deviation.scale(s, &allowance));
     let shown = sim.as_ref().map(|s| s.on_page(scale.as_ref()));
     let job = Job { any, ..crate::page::job(&ran, &file, &[]) };

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use kezuri_cam::sim::{Cylinder, SimOptions, Stock, ZMap};
+use kezuri_cam::sim::{Cylinder, Grid, SimOptions, Start, Stock, ZMap};
 use serde_json::{json, Value};
 
 /// What `--stock` says.
@@ -57,6 +57,24 @@ pub fn parse(text: &str) -> Result<StockSpec> {
 }
 
 impl StockSpec {
+    /// A solid stock's triangles (none for a box or a cylinder), read once
+    /// for all the tiles of its grid.
+    pub fn solid(&self, units: Option<crate::surface::Units>) -> Result<Option<Vec<[[f64; 3]; 3]>>> {
+        match self {
+            StockSpec::Solid(file) => Ok(Some(crate::surface::read_surface(file, units)?.triangles())),
+            _ => Ok(None),
+        }
+    }
+
+    /// What the grid and its tiles start from; `solid` from [`StockSpec::solid`].
+    pub fn start<'a>(&self, solid: Option<&'a [[[f64; 3]; 3]]>) -> Start<'a> {
+        match (self, solid) {
+            (StockSpec::Box(s), _) => Start::Box(*s),
+            (StockSpec::Cylinder(c), _) => Start::Cylinder(*c),
+            (StockSpec::Solid(_), t) => Start::Solid(t.unwrap_or(&[])),
+        }
+    }
+
     /// The grid the simulation starts from.
     pub fn grid(&self, options: &SimOptions, units: Option<crate::surface::Units>) -> Result<ZMap> {
         Ok(match self {
@@ -72,9 +90,9 @@ impl StockSpec {
     /// The `stock` of `sim --json`: the box as `x0 y0 x1 y1 top`; a
     /// cylinder or a solid adds what it is to its grid's box and its
     /// highest point `top` (before cutting).
-    pub fn json(&self, zmap: &ZMap, top: f64) -> Value {
-        let (x1, y1) = (zmap.x0 + zmap.nx as f64 * zmap.res, zmap.y0 + zmap.ny as f64 * zmap.res);
-        let mut v = json!({"x0": zmap.x0, "y0": zmap.y0, "x1": x1, "y1": y1, "top": top});
+    pub fn json(&self, grid: &Grid, top: f64) -> Value {
+        let (x1, y1) = (grid.x0 + grid.nx as f64 * grid.res, grid.y0 + grid.ny as f64 * grid.res);
+        let mut v = json!({"x0": grid.x0, "y0": grid.y0, "x1": x1, "y1": y1, "top": top});
         match self {
             StockSpec::Box(s) => v = json!({"x0": s.x0, "y0": s.y0, "x1": s.x1, "y1": s.y1, "top": s.top}),
             StockSpec::Cylinder(c) => {
@@ -86,15 +104,15 @@ impl StockSpec {
     }
 
     /// How the text report names it.
-    pub fn describe(&self, zmap: &ZMap) -> String {
-        let (x1, y1) = (zmap.x0 + zmap.nx as f64 * zmap.res, zmap.y0 + zmap.ny as f64 * zmap.res);
+    pub fn describe(&self, grid: &Grid) -> String {
+        let (x1, y1) = (grid.x0 + grid.nx as f64 * grid.res, grid.y0 + grid.ny as f64 * grid.res);
         match self {
             StockSpec::Box(s) => format!("X {} … {}, Y {} … {}, top {}", s.x0, s.x1, s.y0, s.y1, s.top),
             StockSpec::Cylinder(c) => {
                 format!("a cylinder Ø{} × {} on X {} Y {}, top {}", c.diameter, c.height, c.x, c.y, c.top)
             }
             StockSpec::Solid(file) => {
-                format!("the top of {} over X {:.3} … {x1:.3}, Y {:.3} … {y1:.3}", file.display(), zmap.x0, zmap.y0)
+                format!("the top of {} over X {:.3} … {x1:.3}, Y {:.3} … {y1:.3}", file.display(), grid.x0, grid.y0)
             }
         }
     }

@@ -46,7 +46,7 @@ impl Part<'_> {
     /// Deviation of cell `k` in mm, where the target covers it.
     fn deviation(&self, k: usize) -> Option<f64> {
         let t = self.target?[k];
-        (t != f64::NEG_INFINITY).then(|| self.zmap.z[k] - t)
+        (t != f64::NEG_INFINITY).then(|| self.zmap.height_at(k) - t)
     }
 
     /// Packs sections 10 to 12 into `blob`; the meta's `sim` entry and the
@@ -59,7 +59,7 @@ impl Part<'_> {
         for j in 0..z.ny {
             for i in 0..z.nx {
                 let (k, shown) = (j * z.nx + i, (j / s.f) * s.nx + i / s.f);
-                heights[shown] = heights[shown].min(z.z[k]);
+                heights[shown] = heights[shown].min(z.height_at(k));
                 if let Some(d) = self.deviation(k) {
                     let slot = &mut deviations[shown];
                     if slot.is_none_or(|old| d.abs() > old.abs()) {

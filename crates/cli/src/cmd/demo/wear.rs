@@ -237,10 +237,17 @@ fn groove_deviation(out: &Path) -> Result<Vec<u8>> {
             compare: Some(out.join("groove-target.stl")),
             units: Some(crate::surface::Units::Mm),
             chord_tol: 0.001,
-            max_cells: 250_000_000,
             ..SimSetup::default()
         };
-        let sim = simulate(&ran.outcome.toolpath, &ran.machine, &setup, Some(0.002), 10, program)?;
+        let sim = simulate(
+            &ran.outcome.toolpath,
+            &ran.machine,
+            &setup,
+            Some(0.002),
+            10,
+            kezuri_cam::mill::GOUGE_TOL,
+            program,
+        )?;
         let Some((c, heights)) = &sim.comparison else { bail!("{program}: no comparison") };
         let caption = format!(
             "{program}, {what}: deepest gouge {:.2} µm, most left {:.2} µm",

@@ -4,14 +4,14 @@
 
 use std::fmt::Write as _;
 
-use kezuri_cam::sim::compare::{Comparison, ToolGouge};
-use kezuri_cam::sim::{SimReport, ToolCut, ZMap, UNCUT};
+use kezuri_cam::sim::compare::Comparison;
+use kezuri_cam::sim::{SimReport, ToolCut};
 use serde_json::json;
 
 use super::SimArgs;
 use crate::simulation::stock::StockSpec;
 use crate::simulation::tools::ToolSet;
-use crate::simulation::Allowance;
+use crate::simulation::{Allowance, Figures};
 
 /// A simulation done, all its report needs.
 pub struct Done<'a> {
@@ -25,14 +25,11 @@ pub struct Done<'a> {
     pub top_from: &'a str,
     /// The gouge allowance of the comparison.
     pub allowance: Allowance,
-    /// With --compare, the cells deeper than the allowance below the target.
-    pub gouged: usize,
-    pub zmap: &'a ZMap,
+    /// The figures of every cell: the grid, its range, the gouges.
+    pub figures: &'a Figures,
     pub report: &'a SimReport,
     /// Seconds of each tool of `tools.table`.
     pub times: Vec<f64>,
-    /// With --compare, each tool's worst gouge (by `report.tools`).
-    pub gouges: Vec<Option<ToolGouge>>,
     pub comparison: Option<&'a Comparison>,
     pub seconds: f64,
 }
@@ -44,20 +41,13 @@ impl Done<'_> {
         (&self.tools.names[k], self.times.get(k).copied().unwrap_or(0.0))
     }
 
-    /// The number of the tool that lowered the cell of the worst gouge last.
-    fn gouge_tool(&self) -> Option<u32> {
-        let cell = self.comparison?.gouge_cell?;
-        let by = *self.report.cut_by.get(cell)?;
-        (by != UNCUT).then(|| self.report.tools[by as usize].number)
-    }
-
     fn removed(&self) -> f64 {
         self.report.tools.iter().map(|t| t.volume).sum()
     }
 
     pub fn json(&self) -> serde_json::Value {
-        let (zmap, report) = (self.zmap, self.report);
-        let (lo, hi) = zmap.range();
+        let (zmap, report) = (&self.figures.grid, self.report);
+        let (lo, hi) = self.figures.range;
         let tools: Vec<_> = report
             .tools
             .iter()
@@ -73,7 +63,7 @@ impl Done<'_> {
                     "volume_mm3": cut.volume,
                 });
                 if self.comparison.is_some() {
-                    let g = self.gouges.get(k).copied().flatten();
+                    let g = self.figures.gouges.get(k).copied().flatten();
                     t["max_gouge_mm"] = json!(g.map_or(0.0, |g| g.depth));
                     t["max_gouge_at"] = json!(g.map(|g| g.at));
                 }
@@ -90,6 +80,7 @@ impl Done<'_> {
             "nx": zmap.nx,
             "ny": zmap.ny,
             "cells": zmap.cells(),
+            "tiles": self.figures.tiles.as_ref().map_or(1, |t| t.count),
             "stock": self.stock.json(zmap, self.top),
             "stock_top_mm": self.top,
             "stock_top_from": self.top_from,
@@ -121,11 +112,11 @@ impl Done<'_> {
                 "max_gouge_mm": c.max_gouge,
                 "gouge_tol_mm": self.allowance.mm,
                 "gouge_tol_from": self.allowance.from,
-                "gouge_cells": self.gouged,
+                "gouge_cells": self.figures.gouged,
                 "max_left_mm": c.max_left,
                 "mean_abs_dev_mm": c.mean_abs_dev,
                 "max_gouge_at": c.gouge_at,
-                "max_gouge_tool": self.gouge_tool(),
+                "max_gouge_tool": self.figures.gouge_tool,
                 "max_left_at": c.left_at,
                 "compared_cells": c.compared,
                 "cells_without_target": c.missing,
@@ -140,7 +131,7 @@ impl Done<'_> {
     }
 
     pub fn text(&self) -> String {
-        let (zmap, report) = (self.zmap, self.report);
+        let (zmap, report) = (&self.figures.grid, self.report);
         let mut t = String::new();
         let name = match self.tools.measured() {
             Some(m) => format!(
@@ -169,13 +160,25 @@ impl Done<'_> {
         );
         let _ =
             writeln!(t, "  moves      {} ({} straight segments), {:.2} s", report.moves, report.segments, self.seconds);
-        let (lo, hi) = zmap.range();
+        if let Some(tiles) = &self.figures.tiles {
+            let every = match (tiles.sample, tiles.sample % 100) {
+                (1, _) => "every cell".to_string(),
+                (f, 11..=13) => format!("every {f}th cell each way"),
+                (f, _) => format!("every {f}{} cell each way", ["th", "st", "nd", "rd"].get(f % 10).unwrap_or(&"th")),
+            };
+            let _ = writeln!(
+                t,
+                "  tiles      {} of {} rows (over --max-memory); the pictures and the histogram of {every}",
+                tiles.count, tiles.rows
+            );
+        }
+        let (lo, hi) = self.figures.range;
         let _ = writeln!(t, "  surface    {lo:.4} … {hi:.4} mm");
         let _ = writeln!(t, "  removed    {:.3} mm³ (tools from {})", self.removed(), self.tools.from);
         for (k, cut) in report.tools.iter().enumerate() {
             let (name, time) = self.tool(cut);
             let label = if cut.number == 0 { name.to_string() } else { format!("T{} {name}", cut.number) };
-            let gouge = match self.gouges.get(k).copied().flatten() {
+            let gouge = match self.figures.gouges.get(k).copied().flatten() {
                 Some(g) if g.depth <= self.allowance.mm => {
                     format!(", gouge {:.4} mm at ({:.3}, {:.3}), within the allowance", g.depth, g.at[0], g.at[1])
                 }
@@ -221,9 +224,10 @@ impl Done<'_> {
             let target = self.args.setup.compare.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
             let _ = writeln!(t, "compare with {target}: {} cells ({} outside the target)", c.compared, c.missing);
             let at = |p: Option<[f64; 2]>| p.map(|[x, y]| format!(" at ({x:.3}, {y:.3})")).unwrap_or_default();
-            let by = self.gouge_tool().filter(|&n| n != 0).map(|n| format!(", cut last by T{n}")).unwrap_or_default();
+            let by =
+                self.figures.gouge_tool.filter(|&n| n != 0).map(|n| format!(", cut last by T{n}")).unwrap_or_default();
             let _ = writeln!(t, "  max gouge  {:.4} mm{}{by}", c.max_gouge, at(c.gouge_at));
-            let (a, deeper) = (self.allowance, self.gouged);
+            let (a, deeper) = (self.allowance, self.figures.gouged);
             let verdict =
                 if deeper == 0 { "no cell deeper".to_string() } else { format!("{deeper} cells deeper: GOUGES") };
             let _ = writeln!(t, "  allowance  {:.4} mm ({}): {verdict}", a.mm, a.source());
