@@ -17,7 +17,7 @@
 //! no D word; the toolpath is the imaginary tip's
 //! ([`compensate_nose`]; `docs/lathe.md`, "Nose radius compensation").
 
-use kezuri_geom::{Axes, Kept, MoveKind, Toolpath};
+use kezuri_geom::{Axes, Kept, Move, MoveKind, Toolpath};
 
 use super::comp::{self, Comp, Rules, Side};
 use super::lathe::nose::{compensate_nose, TipNumbers};
@@ -26,6 +26,7 @@ use super::modal::{RadiusComp, Units};
 use super::State;
 use crate::number::number;
 use crate::source::{Diagnostic, Span};
+use crate::Error;
 
 /// What the interpreter records for cutter compensation.
 #[derive(Clone, Debug, Default)]
@@ -228,6 +229,21 @@ impl State {
     /// Hook: the move `m` about to be pushed as `toolpath.moves[len]` is
     /// made with the compensation in force now.
     pub(super) fn comp_tag(&mut self) {
+        let (tag, tip) = self.comp_in_force();
+        if self.radius.since.is_none() {
+            if tag.is_none() {
+                return;
+            }
+            self.radius.since = Some(self.toolpath.moves.len());
+        }
+        self.radius.tags.push(tag);
+        self.radius.tips.push(tip);
+        self.radius.spans.push(self.radius.block.0);
+    }
+
+    /// The compensation a move made now is made with, and its tool's tip
+    /// vector (X, Z).
+    fn comp_in_force(&self) -> (Option<Comp>, (f64, f64)) {
         // A programmable mirror on one axis of the plane swaps G41 and G42.
         let tag = self.radius.on.map(|on| {
             let side = match (on.side, self.plane_reversed()) {
@@ -242,15 +258,35 @@ impl State {
             Some(on) if self.modal.plane == kezuri_geom::Plane::Zx => on.tip,
             _ => (0.0, 0.0),
         };
-        if self.radius.since.is_none() {
-            if tag.is_none() {
-                return;
-            }
-            self.radius.since = Some(self.toolpath.moves.len());
+        (tag, tip)
+    }
+
+    /// The imaginary tip's path of a roughing cycle's finishing shape
+    /// `moves` (from the cycle's start point, its first block's moves
+    /// first) compensated as the compensation in force says: the shape the
+    /// roughing is made on (FANUC Series 0i-TF Plus Operator's Manual
+    /// (B-64604EN), lathe system, "Multiple repetitive cycle", "Tool nose
+    /// radius compensation"). Its offset starts up from the start point on
+    /// the shape's first block and ends with the shape, as `G70`'s does.
+    /// `None` where no compensation is in force, or with radius 0; else
+    /// the moves, each with the index in `moves` it comes from.
+    pub(super) fn comp_cycle_shape(&self, moves: &[Move]) -> Option<Result<(Vec<Move>, Vec<usize>), Error>> {
+        let (Some(tag), tip) = self.comp_in_force() else { return None };
+        let (first, last) = (moves.first()?, moves.last()?);
+        if tag.radius == 0.0 {
+            return None;
         }
-        self.radius.tags.push(tag);
-        self.radius.tips.push(tip);
-        self.radius.spans.push(self.radius.block.0);
+        let n = moves.len();
+        // The return to the start point closes the run, with the offset
+        // cancelled: the shape's end is on the vector perpendicular to it.
+        let back = Move { kind: MoveKind::Rapid, start: last.end, end: first.start, ..*last };
+        let all: Vec<Move> = moves.iter().copied().chain([back]).collect();
+        let tags: Vec<Option<Comp>> = (0..=n).map(|k| (k < n).then_some(tag)).collect();
+        let tips = vec![tip; n + 1];
+        Some(compensate_nose(&all, &tags, &tips, &[n], self.settings.comp_rules).map(|(out, origin)| {
+            let keep = origin.iter().take_while(|&&o| o < n).count();
+            (out[..keep].to_vec(), origin[..keep].to_vec())
+        }))
     }
 
     /// LinuxCNC's rule for the entry move `m`, the first move after
@@ -448,7 +484,7 @@ impl State {
     }
 
     /// A compensation alarm's text: a lathe's G41/G42 compensate the nose.
-    fn comp_alarm(&self, message: &str) -> String {
+    pub(super) fn comp_alarm(&self, message: &str) -> String {
         if self.settings.lathe_conventions().is_some() {
             let message = message
                 .replace("cutter compensation", "nose radius compensation")

@@ -159,11 +159,18 @@ impl State {
             own = self.toolpath.moves.len();
             self.comp_cycle_return(|s| s.push_move(MoveKind::Rapid, start, 0.0, AxisSet::NONE.with(0).with(2), line));
         } else {
+            let on = self.compensated_shape(program, &shape)?;
+            let rough = on.as_ref().unwrap_or(&shape);
             let steps = match cycle {
-                ContourCycle::Pattern => self.pattern_steps(program, &shape, w, gspan, name, haas)?,
-                _ => self.rough_steps(program, &shape, cycle, w, gspan, name, haas)?,
+                ContourCycle::Pattern => self.pattern_steps(program, rough, w, gspan, name, haas)?,
+                _ => self.rough_steps(program, rough, cycle, w, gspan, name, haas)?,
             };
-            self.put_steps(&steps.0, &steps.1, gspan, line)?;
+            // With compensation in force the cuts are the imaginary tip's
+            // already: they are made with the offset cancelled, from the
+            // start point and back to it; the next move starts it up again.
+            let mut made = Ok(());
+            self.comp_cycle_return(|s| made = s.put_steps(&steps.0, &steps.1, gspan, line));
+            made?;
         }
         // The shape's blocks right after the cycle are its, not the program's.
         let next =
@@ -300,6 +307,27 @@ impl State {
         self.diagnostics.append(&mut scratch.diagnostics);
         self.warned = scratch.warned;
         Ok(Shape { moves: scratch.toolpath.moves, approach, blocks, rapid, first, last })
+    }
+
+    /// With tool nose radius compensation in force, the shape the roughing
+    /// is made on: the imaginary tip's path of the compensated finishing
+    /// shape, each move from the block of the shape move it comes from
+    /// (FANUC Series 0i-TF Plus Operator's Manual (B-64604EN), lathe
+    /// system, "Multiple repetitive cycle", "Tool nose radius
+    /// compensation"). `None` without compensation: the shape as written.
+    fn compensated_shape(&self, program: &Program, shape: &Shape) -> Result<Option<Shape>, Diagnostic> {
+        let Some(done) = self.comp_cycle_shape(&shape.moves) else { return Ok(None) };
+        let (moves, origin) = done.map_err(|e| {
+            let k = e.move_index().unwrap_or_default().min(shape.blocks.len().saturating_sub(1));
+            let span = shape
+                .blocks
+                .get(k)
+                .map_or(program.blocks[shape.first as usize].span, |&b| program.blocks[b as usize].span);
+            Diagnostic::error(span, self.comp_alarm(&format!("{} (the cycle's shape, offset by the nose)", e.message)))
+        })?;
+        let approach = origin.iter().take_while(|&&o| o < shape.approach).count();
+        let blocks = origin.iter().map(|&o| shape.blocks[o]).collect();
+        Ok(Some(Shape { moves, approach, blocks, ..*shape }))
     }
 
     /// Whether a block's words name one of these cycles (literal G numbers).
