@@ -297,3 +297,45 @@ fn lathe_g71_stops_where_the_nose_cannot_follow_the_shape() {
     assert!(e.message.contains("PS0041") && e.message.contains("nose radius"), "{}", e.message);
     run(&program(""), &settings());
 }
+
+/// G71 type II (N10 names X and Z), G42, a 45° V-sided pocket in the OD
+/// radius 7: down from (X7, Z−4) to (X5, Z−6) (the line X − Z = 11), the
+/// bottom to Z−9, up to (X7, Z−11) (X + Z = −4), the OD to Z−16.
+///
+/// Compensated: the down wall (direction (−1, −1)/√2 in (Z, X), right
+/// (−1, 1)/√2) has its centre on X − Z = 11 + 0.8·√2, the tip the same
+/// line (the tip vector (−0.8, −0.8) runs along it), moved by w
+/// X − Z = 11.1 + 0.8·√2 ≈ 12.2314; the up wall (right (1, 1)/√2): centre
+/// X + Z = −4 + 0.8·√2, tip 1.6 less, moved 0.3 more: X + Z = −5.3 +
+/// 0.8·√2 ≈ −4.1686; the bottom: tip X5, moved X5.2; the ODs X7.2.
+///
+/// The cuts at X7 and X6 lie below the moved OD (7.2) and above the moved
+/// bottom: each runs across the pocket from the down wall (Z = X − 12.2314)
+/// to the up wall (Z = −4.1686 − X). The uncompensated cycle runs them
+/// from X − Z = 11.3 to X + Z = −3.7.
+#[test]
+fn lathe_g71_type_ii_with_g42_cuts_the_compensated_pocket() {
+    let program = "G18 G21 G40 G98\nT0101\nG00 X40. Z10.\nG42 G00 X30. Z1.\nG71 U1. R0.5\nG71 P10 Q15 U0.4 W0.1 F100.\nN10 G00 X14. Z1.\nG01 Z-4.\nX10. Z-6.\nZ-9.\nX14. Z-11.\nN15 Z-16.\nG40 G00 X40. Z10.\nM30\n";
+    let out = run(program, &settings());
+    let moves = cycle(&out.toolpath, 6);
+    let (down, up) = (11.1 + 0.8 * S2, -5.3 + 0.8 * S2);
+    for x in [7.0, 6.0] {
+        let (from, to) = (x - down, up - x);
+        let cut = moves.iter().find(|m| {
+            m.kind == MoveKind::Feed
+                && (m.start.x - x).abs() < 1e-12
+                && (m.end.x - x).abs() < 1e-12
+                && m.end.z < m.start.z
+        });
+        let cut = cut.unwrap_or_else(|| panic!("no cut at X{x}"));
+        assert!(
+            (cut.start.z - from).abs() < 1e-9 && (cut.end.z - to).abs() < 1e-9,
+            "the cut at X{x} runs Z{} to Z{}, want Z{from} to Z{to}",
+            cut.start.z,
+            cut.end.z
+        );
+    }
+    assert!(!moves.iter().any(|m| m.end.x < 5.2 - 1e-9), "nothing below the moved bottom");
+    let last = moves.last().expect("the cycle's moves");
+    assert_eq!((last.end.x, last.end.z), (15.0, 1.0));
+}
