@@ -47,9 +47,12 @@ fn cut_at(cuts: &[(f64, f64)], x: f64) -> f64 {
     cuts.iter().find(|c| (c.0 - x).abs() < 1e-9).unwrap_or_else(|| panic!("no cut at X{x}: {cuts:?}")).1
 }
 
+/// A point of the finished part's surface (X, Z) and its outward normal.
+type Sample = ((f64, f64), (f64, f64));
+
 /// A stretch of the finished part's surface: points (X, Z) with the unit
 /// normal (X, Z) pointing out of the material, sampled every 0.02 mm.
-fn line_samples(a: (f64, f64), b: (f64, f64), n: (f64, f64)) -> Vec<((f64, f64), (f64, f64))> {
+fn line_samples(a: (f64, f64), b: (f64, f64), n: (f64, f64)) -> Vec<Sample> {
     let k = ((b.0 - a.0).hypot(b.1 - a.1) / 0.02).ceil() as usize;
     (0..=k)
         .map(|i| {
@@ -61,7 +64,7 @@ fn line_samples(a: (f64, f64), b: (f64, f64), n: (f64, f64)) -> Vec<((f64, f64),
 
 /// Points of a convex arc round `c` (X, Z) of radius `r`, at angles `from`
 /// to `to` degrees from +X toward +Z, the normal outward.
-fn arc_samples(c: (f64, f64), r: f64, from: f64, to: f64) -> Vec<((f64, f64), (f64, f64))> {
+fn arc_samples(c: (f64, f64), r: f64, from: f64, to: f64) -> Vec<Sample> {
     let k = ((to - from).to_radians().abs() * r / 0.02).ceil() as usize;
     (0..=k)
         .map(|i| {
@@ -75,7 +78,7 @@ fn arc_samples(c: (f64, f64), r: f64, from: f64, to: f64) -> Vec<((f64, f64), (f
 /// less the allowance there (the part moved by w, measured along the
 /// normal: n·w, the arcs' curvature changing it by under |w|²/(2·6) =
 /// 0.0042 mm): (least, most) over the samples.
-fn left_over_allowance(moves: &[Move], samples: &[((f64, f64), (f64, f64))], w: (f64, f64)) -> (f64, f64) {
+fn left_over_allowance(moves: &[Move], samples: &[Sample], w: (f64, f64)) -> (f64, f64) {
     let path = Toolpath { moves: moves.to_vec(), ..Default::default() };
     let centre = nose_centre_path(&path, &settings().noses, TipNumbers::Fanuc);
     let points = centres(&centre, 0.01);
@@ -112,7 +115,7 @@ fn g71(comp: &str) -> String {
 /// (X7, Z−14), Z = −14 + √(6.8² − 0.8²) ≈ −7.247, touching the OD there
 /// and the round at atan(6.753/0.8) ≈ 83.2° from +X; the stretches end
 /// short of that (Z−7.0, 80°).
-fn od_surface() -> Vec<((f64, f64), (f64, f64))> {
+fn od_surface() -> Vec<Sample> {
     let n45 = (0.5f64.sqrt(), 0.5f64.sqrt());
     let mut s = line_samples((5.6, -0.6), (6.8, -1.8), n45);
     s.extend(line_samples((7.0, -2.3), (7.0, -7.0), (1.0, 0.0)));

@@ -62,6 +62,9 @@ pub(super) struct Radius {
     refused: Option<(Diagnostic, usize)>,
 }
 
+/// Moves, each with the index of the input move it comes from.
+type Traced = (Vec<Move>, Vec<usize>);
+
 /// Compensation in force.
 #[derive(Clone, Copy, Debug)]
 struct On {
@@ -270,7 +273,7 @@ impl State {
     /// the shape's first block and ends with the shape, as `G70`'s does.
     /// `None` where no compensation is in force, or with radius 0; else
     /// the moves, each with the index in `moves` it comes from.
-    pub(super) fn comp_cycle_shape(&self, moves: &[Move]) -> Option<Result<(Vec<Move>, Vec<usize>), Error>> {
+    pub(super) fn comp_cycle_shape(&self, moves: &[Move]) -> Option<Result<Traced, Error>> {
         let (Some(tag), tip) = self.comp_in_force() else { return None };
         let (first, last) = (moves.first()?, moves.last()?);
         if tag.radius == 0.0 {
