@@ -102,6 +102,7 @@ impl State {
         let (span, line) = (block.span, block.line);
         self.comp_block(span, line);
         let mut w = Words::new(program.words(block), block.span.file);
+        w.axis_bits = self.axis_bits();
         self.gather(program, &mut w)?;
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
@@ -174,13 +175,13 @@ impl State {
                 ));
             }
         }
-        if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
+        if has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() && !w.has_uvw() {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
                     format!(
-                        "{} is an axis kezuri does not model on this machine (X Y Z A B C): its motion would be lost, \
-                         so the program is not run",
+                        "{} is an axis this control does not have (X Y Z A B C; LinuxCNC has U V W too): its \
+                         motion would be lost, so the program is not run",
                         letter as char
                     ),
                 ));

@@ -3,6 +3,8 @@
 //! machine has.
 
 use super::modal::Units;
+use kezuri_geom::Axes;
+
 use super::words::{Words, AXIS_LETTERS};
 use super::{IntegerInput, State};
 use crate::ast::{Program, WordValue};
@@ -70,13 +72,13 @@ impl State {
         for m in &self.toolpath.moves[first.min(self.toolpath.moves.len())..] {
             let end = m.end.to_array();
             for (k, &v) in end.iter().enumerate() {
-                let reach = if k < 3 { REACH_MM } else { REACH_DEG };
+                let reach = if Axes::is_linear(k) { REACH_MM } else { REACH_DEG };
                 if v.abs() <= reach {
                     continue;
                 }
-                let letter = b"XYZABC"[k];
+                let letter = Axes::LETTERS[k];
                 let at = if w.has(letter) { w.span(letter) } else { span };
-                let (unit, limit) = if k < 3 { ("mm", "1 km") } else { ("deg", "10^9 deg") };
+                let (unit, limit) = if Axes::is_linear(k) { ("mm", "1 km") } else { ("deg", "10^9 deg") };
                 return Err(Diagnostic::error(
                     at,
                     format!(
