@@ -12,7 +12,7 @@
 //! installed, and programs of this test's own: G92 and G92.1 on U V W, G10
 //! L2 and L20 setting their offsets, G55, G91 increments, G20 inches, arcs
 //! in each plane with U V W moving beside them, G28 through a U V W point,
-//! G53, and the coordinate system parameters #5227… of U V W.
+//! G53, and the coordinate system parameters of U V W (#5227…, #5247…).
 //!
 //! Without `/usr/bin/python3` and its `gcode` module the test skips, saying
 //! so, unless `KEZURI_REQUIRE_RS274` is set (CI), where it fails.
@@ -168,7 +168,7 @@ const PROGRAMS: &[(&str, &str)] = &[
         // and by R, and a full circle with a turn of W.
         "arcs.ngc",
         "G21 G90 G17\nG0 X0 Y0 Z0 U0 V0 W0\nG2 X20 Y0 I10 J0 U7 F300\nG3 X0 Y0 R10 V-3 W2\n\
-         G18 G2 X10 Z0 I5 K0 U1\nG19 G3 Y10 Z0 J5 K0 W-4\nG17 G2 X0 Y10 I5 J0 U2 V2 W2\nM2\n",
+         G18 G2 X10 Z0 I5 K0 U1\nG19 G3 Y10 Z0 J5 K0 W-4\nG17 G2 X10 Y10 I5 J0 U2 V2 W2\nM2\n",
     ),
     (
         // Inches: U V W in G20 as X Y Z are.
@@ -182,11 +182,14 @@ const PROGRAMS: &[(&str, &str)] = &[
         "G21 G90\nG0 X5 U6 V7 W8\nG28 U1 W2\nG0 U3 V3 W3\nG53 G0 W-5\nG0 W1\nG30 V4\nG28\nM2\n",
     ),
     (
-        // The coordinate system parameters of U V W: #5227–#5229 G54's,
-        // #5247–#5249 G55's, read and written, and G52 on U.
+        // The coordinate system parameters of U V W: G55's #5247–#5249 and
+        // G54's #5227, read and written, and G52 on U. The parameters are
+        // in the machine's units (mm for kezuri, inches for the preview
+        // parser's machine): the program only copies them and takes their
+        // ratios, so both machines reach the same places.
         "params.ngc",
-        "G21 G90\n#5247=11\n#5248=12\n#5249=13\nG55 G0 U0 V0 W0\nG0 U[#5247+1] V#5228\nG52 U5\nG0 U0\nG52 U0\n\
-         G54 G0 U#5247 V0 W0\nM2\n",
+        "G21 G90\nG10 L2 P2 U11 V12 W13\n#5249=[#5247*2]\nG55 G0 U0 V0 W0\n#5227=#5248\n\
+         G0 U[10*#5247/#5248] V[#5249/#5247]\nG52 U5\nG0 U0\nG52 U0\nG54 G0 U0 V0 W0\nM2\n",
     ),
 ];
 
