@@ -220,3 +220,55 @@ fn uvw_moves_agree_with_linuxcnc() {
         eprintln!("{}: {n} motions agree", f.display());
     }
 }
+
+/// A foam cutter's move: U V alone, then X Y with U beside them.
+const UV_ONLY_THEN_XY: &str = "G21 G90\nG0 X0 Y0 U0\nG1 U3 V4 F60\nG1 X3 Y4 U10 F60\nM2\n";
+
+#[test]
+fn check_reports_uvw_and_feeds_them_as_linuxcnc_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = common::path(dir.path(), "uv.ngc");
+    std::fs::write(&nc, UV_ONLY_THEN_XY).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&common::ok(&common::kezuri(&["check", &nc, "--dialect", "linuxcnc", "--json"]))).unwrap();
+    // LinuxCNC's G-code reference, "Feed Rate": line 3 moves only U V, so
+    // F60 is along U V: √(3² + 4²) = 5 mm in 5 s; line 4 moves X Y, so F60
+    // is along X Y, 5 mm in 5 s, U following. 10 s, and the acceleration's
+    // few milliseconds. The feed length is the tool tip's: X Y's 5 mm.
+    let time = json["time_s"].as_f64().unwrap();
+    assert!((10.0..10.01).contains(&time), "{time}");
+    assert_eq!(json["feed_length_mm"].as_f64(), Some(5.0));
+    // U from 0 to 10; V known only where line 3 names it (4); W never named.
+    assert_eq!(json["uvw_bounds"], serde_json::json!({"min": [0.0, 4.0, null], "max": [10.0, 4.0, null]}));
+    // The CSV has u,v,w after the nine columns.
+    let csv = common::ok(&common::kezuri(&["run", &nc, "--dialect", "linuxcnc", "--emit", "csv"]));
+    assert!(csv.starts_with("line,kind,x,y,z,a,b,c,feed,u,v,w\n"), "{csv}");
+    assert!(csv.contains("\n4,feed,3,4,0,0,0,0,60,10,4,0\n"), "{csv}");
+}
+
+#[test]
+fn uvw_are_written_for_linuxcnc_and_refused_where_they_cannot_be() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = common::path(dir.path(), "uv.ngc");
+    std::fs::write(&nc, UV_ONLY_THEN_XY).unwrap();
+    // LinuxCNC's program names U V W where the blocks did, and runs back to
+    // the same motions.
+    let written = common::ok(&common::kezuri(&["run", &nc, "--dialect", "linuxcnc", "--emit", "linuxcnc"]));
+    assert!(written.contains("\nG1 U3. V4. F60.\nX3. Y4. U10.\n"), "{written}");
+    let again = common::path(dir.path(), "again.ngc");
+    std::fs::write(&again, &written).unwrap();
+    let csv = |f: &str| common::ok(&common::kezuri(&["run", f, "--dialect", "linuxcnc", "--emit", "csv"]));
+    let rows = |t: String| t.lines().skip(1).map(|l| l.split_once(',').unwrap().1.to_string()).collect::<Vec<_>>();
+    assert_eq!(rows(csv(&again)), rows(csv(&nc)));
+    // Fanuc and GRBL have no U V W: refused, never dropped.
+    for dialect in ["fanuc", "grbl"] {
+        let o = common::kezuri(&["run", &nc, "--dialect", "linuxcnc", "--emit", dialect]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(&format!("{dialect} has no axis U")), "{err}");
+    }
+    // The simulation cuts at X Y Z: it refuses what U V W would change.
+    let png = common::path(dir.path(), "uv.png");
+    let o = common::kezuri(&["sim", &nc, "--dialect", "linuxcnc", "--tool", "flat:6", "-o", &png]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("line 3 moves U: the simulation cuts with the tool at X Y Z"), "{err}");
+}

@@ -103,6 +103,11 @@ fn an_axis_the_machine_has_not_is_never_dropped() {
         let e = stopped(d, "G21 G90\nG00 Z5.\nG00 W-2.\nM30\n").expect("W refused");
         assert!(e.starts_with("t.nc:3:5: error: W is an axis"), "{d}: {e}");
     }
+    // LinuxCNC's canned cycles in the XYZ planes take no U V W: its preview
+    // parser stops at this block with "Cannot put a U in a canned cycle in
+    // the XY plane".
+    let e = stopped(Dialect::LinuxCnc, "G21 G90\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 U2 F100\nM2\n").expect("U refused");
+    assert!(e.starts_with("t.nc:3:18: error: U in a canned cycle (G81)"), "{e}");
     // A macro's arguments are no axes.
     let call = "G65 P9001 U1. V2. W3.\nM30\nO9001\n#100=#21+#22+#23\nM99\n";
     assert_eq!(stopped(Dialect::Fanuc, call), None);
