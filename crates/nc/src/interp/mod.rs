@@ -567,7 +567,7 @@ impl State {
     }
 
     /// Offset from work coordinates to machine coordinates of the tool tip.
-    #[inline]
+    #[inline(always)]
     fn frame_offset(&self) -> Axes {
         let w = self.work_offsets[self.modal.work_offset].to_array();
         let e = self.external_offset.to_array();

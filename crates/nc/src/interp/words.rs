@@ -233,7 +233,7 @@ impl<'a> Words<'a> {
             }
             let k = left.trailing_zeros() as usize;
             left &= left - 1;
-            Some((k, self.value[slot(Axes::LETTERS[k])]))
+            Some((k, self.value[AXIS_SLOTS[k]]))
         })
     }
 
@@ -247,6 +247,9 @@ impl<'a> Words<'a> {
         }
     }
 }
+
+/// The slot of each axis, in [`Axes::LETTERS`] order.
+const AXIS_SLOTS: [usize; Axes::COUNT] = [23, 24, 25, 0, 1, 2, 20, 21, 22];
 
 /// The `present` bits of U V W.
 const UVW_BITS: u32 = 0b111 << 20;
@@ -387,4 +390,18 @@ fn names_cycle(words: &[Word]) -> bool {
             && matches!(w.value(), WordValue::Number { value, .. }
                 if matches!(GCode::decode((value * 10.0).round() as u32), Some(GCode::CannedCycle(_))))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_slots_and_bits_follow_the_letters() {
+        for (k, &letter) in Axes::LETTERS.iter().enumerate() {
+            assert_eq!(AXIS_SLOTS[k], slot(letter), "{}", letter as char);
+            assert_eq!(NINE_AXES & bit(letter), bit(letter));
+            assert_eq!(SIX_AXES & bit(letter) != 0, k < 6);
+        }
+    }
 }
