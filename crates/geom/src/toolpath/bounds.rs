@@ -27,6 +27,10 @@ impl Toolpath {
     /// [`Toolpath::known_bounds`] has X Y Z's: `None` for an axis no known
     /// position gives (every program that does not name it).
     pub fn known_bounds_uvw(&self, program: bool) -> AxisRanges {
+        // Most programs never place U V W (every one but LinuxCNC's).
+        if self.moves.iter().all(|m| m.unknown.0 & AxisSet::UVW.0 == AxisSet::UVW.0) {
+            return [None; 3];
+        }
         self.bounds_of(program, 6)
     }
 

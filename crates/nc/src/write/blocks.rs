@@ -185,7 +185,9 @@ impl Writer {
             for p in [m.start, m.end] {
                 let v = p.to_array();
                 for k in 3..N {
-                    let wanted = w.fixed(v[k], AXIS_LETTERS[k])? != 0 || (named && m.named.contains(k));
+                    // A zero is written as 0 whatever the digits.
+                    let wanted =
+                        (v[k] != 0.0 && w.fixed(v[k], AXIS_LETTERS[k])? != 0) || (named && m.named.contains(k));
                     if !w.used[k] && wanted {
                         if !w.has_axis(k) {
                             let message = format!(
