@@ -129,12 +129,13 @@ pub fn shorten(path: &Toolpath, options: &ShortenOptions) -> Toolpath {
     Toolpath { moves: out, frames: path.frames.clone(), unknown_start: path.unknown_start, kept }
 }
 
-/// Straight feeds and rapids that turn no rotary axis.
+/// Straight feeds and rapids that turn no rotary axis and move no U V W.
 fn mergeable(m: &Move) -> bool {
     matches!(m.kind, MoveKind::Feed | MoveKind::Rapid)
         && m.start.a == m.end.a
         && m.start.b == m.end.b
         && m.start.c == m.end.c
+        && m.start.uvw() == m.end.uvw()
         && m.start.to_array().iter().chain(&m.end.to_array()).all(|v| v.is_finite())
 }
 

@@ -221,6 +221,11 @@ fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f
 /// and compares it with the target (a histogram of `bins` bins; deeper
 /// than `allowance` below it a gouge). A grid over `--max-memory` is cut in
 /// tiles ([`tiled`]).
+///
+/// The tool cuts at X Y Z. A program that moves U V W (LinuxCNC's) is
+/// refused: what those axes carry (a quill that moves the tool, a second
+/// head, a foam cutter's other wire end) no machine file says, so a part
+/// cut from X Y Z alone could be wrong without a sign of it.
 pub fn simulate(
     path: &Toolpath,
     machine: &Machine,
@@ -230,6 +235,16 @@ pub fn simulate(
     allowance: f64,
     file: &str,
 ) -> Result<Simulated> {
+    if let Some((k, m)) =
+        path.moves.iter().find_map(|m| (0..3).find(|&k| m.start.uvw()[k] != m.end.uvw()[k]).map(|k| (k, m)))
+    {
+        bail!(
+            "{file}: line {} moves {}: the simulation cuts with the tool at X Y Z and does not know what U V W \
+             carry (a quill, a second head, a wire's other end), so it simulates no program that moves them",
+            m.line,
+            ['U', 'V', 'W'][k]
+        );
+    }
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
     let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, path).with_context(|| file.to_string())?;
     // The target first: without --stock its top is the top of the material.

@@ -137,7 +137,7 @@ fn a_programs_moves_land_on_their_targets_and_the_extrapolated_ones_are_counted(
     assert_eq!(c.ends.len(), moves.len());
     assert_eq!((c.ends[1], c.ends[3]), (moves[1].end, moves[3].end));
     for i in [0, 2] {
-        let (target, landed) = (k.forward(&moves[i].end.to_array()), model.deformed(&k, &c.ends[i].to_array()));
+        let (target, landed) = (k.forward(&moves[i].end.xyzabc()), model.deformed(&k, &c.ends[i].xyzabc()));
         let landed = landed.unwrap();
         assert!((0..3).all(|j| (landed[j] - target[j]).abs() < 1e-6), "{landed:?} vs {target:?}");
     }

@@ -120,9 +120,14 @@ pub fn move_times(path: &Toolpath, machine: &Dynamics) -> (Vec<f64>, usize) {
             MoveKind::Dwell(s) => s,
             MoveKind::Rapid | MoveKind::Home | MoveKind::Machine => {
                 let (s, e) = (m.start.to_array(), m.end.to_array());
-                (0..6)
+                (0..Axes::COUNT)
                     .map(|k| {
-                        let rate = if k < 3 { machine.rapid_mm_min[k] } else { machine.rapid_deg_min } / 60.0;
+                        // U V W at the rapid rate of X Y Z, which they parallel.
+                        let rate = match k {
+                            0..3 => machine.rapid_mm_min[k],
+                            3..6 => machine.rapid_deg_min,
+                            _ => machine.rapid_mm_min[k - 6],
+                        } / 60.0;
                         trapezoid((e[k] - s[k]).abs(), 0.0, 0.0, rate.max(1e-9), a)
                     })
                     .fold(0.0, f64::max)
@@ -140,6 +145,7 @@ pub fn move_times(path: &Toolpath, machine: &Dynamics) -> (Vec<f64>, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Arc, Plane};
 
     #[test]
     fn an_empty_program_takes_no_time_not_minus_zero() {
@@ -191,6 +197,29 @@ mod tests {
         let mixed = turn(Axes::ZERO, Axes { x: 1.0, b: -30.0, c: 15.5, ..Axes::ZERO });
         let expected = (1.0f64 + 900.0 + 240.25).sqrt() / 6.0;
         assert!((cycle_time(&Toolpath::from(vec![mixed]), &d).0 - expected).abs() < 1e-6);
+    }
+
+    #[test]
+    fn uvw_feed_as_linuxcnc_feeds_them() {
+        // LinuxCNC's G-code reference, "Feed Rate": where X Y Z move, F is
+        // along X Y Z and U V W follow; where only U V W move, F is along U
+        // V W (rotary axes follow).
+        let d = Dynamics { acceleration_mm_s2: 1e12, ..Dynamics::default() };
+        let feed_to = |end: Axes| Move { kind: MoveKind::Feed, end, feed: 60.0, ..Move::default() };
+        let seconds = |m: Move| cycle_time(&Toolpath::from(vec![m]), &d).0;
+        // X 3 Y 4 (5 mm) with U 10: 5 mm at 60 mm/min, 5 s.
+        assert!((seconds(feed_to(Axes { x: 3.0, y: 4.0, u: 10.0, ..Axes::ZERO })) - 5.0).abs() < 1e-6);
+        // U 3 V 4 alone, and with A 90°: 5 mm of U V, 5 s.
+        assert!((seconds(feed_to(Axes { u: 3.0, v: 4.0, ..Axes::ZERO })) - 5.0).abs() < 1e-6);
+        assert!((seconds(feed_to(Axes { u: 3.0, v: 4.0, a: 90.0, ..Axes::ZERO })) - 5.0).abs() < 1e-6);
+        // A full circle of radius 1 in XY with W 30 beside it: 2π mm, 2π s.
+        let arc = Arc { center: [1.0, 0.0, 0.0], plane: Plane::Xy, ccw: true, turns: 0 };
+        let circle = Move { kind: MoveKind::Arc(arc), ..feed_to(Axes { w: 30.0, ..Axes::ZERO }) };
+        assert!((seconds(circle) - std::f64::consts::TAU).abs() < 1e-6);
+        // A rapid of W 100 at Z's rapid rate (6,000 mm/min): 1 s.
+        let fast = Dynamics { rapid_mm_min: [60_000.0, 60_000.0, 6_000.0], ..d };
+        let w = Move { kind: MoveKind::Rapid, end: Axes { w: 100.0, ..Axes::ZERO }, ..Move::default() };
+        assert!((cycle_time(&Toolpath::from(vec![w]), &fast).0 - 1.0).abs() < 1e-6);
     }
 
     #[test]

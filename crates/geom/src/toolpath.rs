@@ -6,7 +6,11 @@ mod transform;
 
 use std::f64::consts::TAU;
 
-/// A position of all six axes: X Y Z in mm, A B C in degrees.
+/// A position of all nine axes: X Y Z in mm, A B C in degrees, U V W in mm.
+///
+/// U V W are the linear axes parallel to X Y Z that LinuxCNC has (a foam
+/// cutter's second wire end, a quill, a second head): they are not part of
+/// the tool tip, which is X Y Z ([`Axes::xyz`], [`Axes::distance`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Axes {
     /// X in mm.
@@ -21,20 +25,53 @@ pub struct Axes {
     pub b: f64,
     /// C (rotary about Z) in degrees.
     pub c: f64,
+    /// U (linear, parallel to X) in mm.
+    pub u: f64,
+    /// V (linear, parallel to Y) in mm.
+    pub v: f64,
+    /// W (linear, parallel to Z) in mm.
+    pub w: f64,
 }
 
 impl Axes {
     /// All axes at zero.
-    pub const ZERO: Axes = Axes { x: 0.0, y: 0.0, z: 0.0, a: 0.0, b: 0.0, c: 0.0 };
+    pub const ZERO: Axes = Axes { x: 0.0, y: 0.0, z: 0.0, a: 0.0, b: 0.0, c: 0.0, u: 0.0, v: 0.0, w: 0.0 };
 
-    /// The axes as an array in the order X Y Z A B C.
-    pub fn to_array(self) -> [f64; 6] {
+    /// How many axes there are.
+    pub const COUNT: usize = 9;
+
+    /// The axes' letters in array order.
+    pub const LETTERS: [u8; Axes::COUNT] = *b"XYZABCUVW";
+
+    /// Whether axis `k` (in array order) is linear (mm): X Y Z and U V W;
+    /// A B C are degrees.
+    pub const fn is_linear(k: usize) -> bool {
+        k < 3 || k >= 6
+    }
+
+    /// The axes as an array in the order X Y Z A B C U V W.
+    pub fn to_array(self) -> [f64; Axes::COUNT] {
+        [self.x, self.y, self.z, self.a, self.b, self.c, self.u, self.v, self.w]
+    }
+
+    /// Builds axes from an array in the order X Y Z A B C U V W.
+    pub fn from_array(v: [f64; Axes::COUNT]) -> Axes {
+        Axes { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5], u: v[6], v: v[7], w: v[8] }
+    }
+
+    /// The X Y Z A B C part: what a machine's kinematics places the tool by.
+    pub fn xyzabc(self) -> [f64; 6] {
         [self.x, self.y, self.z, self.a, self.b, self.c]
     }
 
-    /// Builds axes from an array in the order X Y Z A B C.
-    pub fn from_array(v: [f64; 6]) -> Axes {
-        Axes { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5] }
+    /// These axes with X Y Z A B C set from `v` (U V W kept).
+    pub fn with_xyzabc(self, v: [f64; 6]) -> Axes {
+        Axes { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5], ..self }
+    }
+
+    /// The U V W part.
+    pub fn uvw(self) -> [f64; 3] {
+        [self.u, self.v, self.w]
     }
 
     /// The X Y Z part.
@@ -133,8 +170,8 @@ impl Arc {
         ((sweep / step).ceil().max(1.0) as usize).min(10_000_000)
     }
 
-    /// The point at parameter `t` in [0, 1] along the arc (rotary axes and the
-    /// helical axis vary linearly).
+    /// The point at parameter `t` in [0, 1] along the arc (rotary axes, U V W
+    /// and the helical axis vary linearly).
     pub fn point_at(&self, start: Axes, end: Axes, t: f64) -> Axes {
         let (i, j, n) = self.plane.axes();
         let s = start.xyz();
@@ -147,7 +184,17 @@ impl Arc {
         p[i] = self.center[i] + r * a.cos();
         p[j] = self.center[j] + r * a.sin();
         p[n] = lerp(s[n], end.xyz()[n]);
-        Axes { x: p[0], y: p[1], z: p[2], a: lerp(start.a, end.a), b: lerp(start.b, end.b), c: lerp(start.c, end.c) }
+        Axes {
+            x: p[0],
+            y: p[1],
+            z: p[2],
+            a: lerp(start.a, end.a),
+            b: lerp(start.b, end.b),
+            c: lerp(start.c, end.c),
+            u: lerp(start.u, end.u),
+            v: lerp(start.v, end.v),
+            w: lerp(start.w, end.w),
+        }
     }
 }
 
@@ -175,10 +222,10 @@ pub enum MoveKind {
     Machine,
 }
 
-/// A set of the axes X Y Z A B C: bit k for the k-th. The default is all
-/// six.
+/// A set of the axes X Y Z A B C U V W: bit k for the k-th. The default is
+/// all nine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct AxisSet(pub u8);
+pub struct AxisSet(pub u16);
 
 impl Default for AxisSet {
     fn default() -> AxisSet {
@@ -189,12 +236,14 @@ impl Default for AxisSet {
 impl AxisSet {
     /// No axis.
     pub const NONE: AxisSet = AxisSet(0);
-    /// X Y Z A B C.
-    pub const ALL: AxisSet = AxisSet(0b11_1111);
+    /// X Y Z A B C U V W.
+    pub const ALL: AxisSet = AxisSet(0b1_1111_1111);
+    /// U V W.
+    pub const UVW: AxisSet = AxisSet(0b1_1100_0000);
 
-    /// Whether axis `k` (0 = X … 5 = C) is in the set.
+    /// Whether axis `k` (0 = X … 5 = C, 6 = U … 8 = W) is in the set.
     pub fn contains(self, k: usize) -> bool {
-        k < 6 && self.0 & (1 << k) != 0
+        k < Axes::COUNT && self.0 & (1 << k) != 0
     }
 
     /// The set with axis `k` added.
@@ -377,13 +426,23 @@ impl Move {
     /// `√(L² + ΔA² + ΔB² + ΔC²)`, as a Fanuc control feeds a move that turns
     /// a rotary axis (F in mm/min and deg/min at once; a rotary-only move is
     /// fed at F deg/min).
+    ///
+    /// U V W count as LinuxCNC counts them (its G-code reference, "Feed
+    /// Rate"): where X Y Z move, F is along the X Y Z path and U V W follow
+    /// in step; where only U V W move (rotary axes beside them or not), F
+    /// is along the straight U V W path.
     pub fn feed_distance(&self) -> f64 {
         let (s, e) = (self.start, self.end);
         let turn = (e.a - s.a).powi(2) + (e.b - s.b).powi(2) + (e.c - s.c).powi(2);
+        let length = self.length();
+        if length == 0.0 && s.uvw() != e.uvw() {
+            let d = [e.u - s.u, e.v - s.v, e.w - s.w];
+            return (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        }
         if turn == 0.0 {
-            self.length()
+            length
         } else {
-            (self.length().powi(2) + turn).sqrt()
+            (length.powi(2) + turn).sqrt()
         }
     }
 

@@ -366,10 +366,10 @@ fn positive(name: &str, v: Option<f64>, default: f64) -> Result<f64> {
 }
 
 fn axes(name: &str, v: &[f64]) -> Result<Axes> {
-    if v.is_empty() || v.len() > 6 || v.iter().any(|x| !x.is_finite()) {
-        fail!(Invalid, "{name} must list 1 to 6 finite numbers (X Y Z A B C)");
+    if v.is_empty() || v.len() > Axes::COUNT || v.iter().any(|x| !x.is_finite()) {
+        fail!(Invalid, "{name} must list 1 to 9 finite numbers (X Y Z A B C U V W)");
     }
-    let mut a = [0.0; 6];
+    let mut a = [0.0; Axes::COUNT];
     a[..v.len()].copy_from_slice(v);
     Ok(Axes::from_array(a))
 }

@@ -13,7 +13,8 @@ pub enum ErrorKind {
     /// A number no program can hold: not finite, too large, or negative
     /// where that means nothing (a feed, a speed, a dwell).
     Number,
-    /// A rotary axis turned for a language without one (GRBL, RML-1).
+    /// An axis the language has not: a rotary axis turned for GRBL or
+    /// RML-1, U V W moved for Fanuc, GRBL or RML-1.
     RotaryAxis,
     /// A block or move the language has no words for: a kept block the
     /// dialect has not, a tapping cycle or a change of work offset in RML-1.

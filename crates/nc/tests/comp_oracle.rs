@@ -146,8 +146,8 @@ fn path_strategy() -> impl Strategy<Value = (Vec<Move>, Vec<Option<Comp>>, Rules
                     let mut end = cur;
                     end[n] -= 1.0;
                     moves.push(Move {
-                        start: Axes::from_array([cur[0], cur[1], cur[2], 0., 0., 0.]),
-                        end: Axes::from_array([end[0], end[1], end[2], 0., 0., 0.]),
+                        start: Axes { x: cur[0], y: cur[1], z: cur[2], ..Axes::ZERO },
+                        end: Axes { x: end[0], y: end[1], z: end[2], ..Axes::ZERO },
                         ..Move::default()
                     });
                     cur = end;
@@ -155,8 +155,8 @@ fn path_strategy() -> impl Strategy<Value = (Vec<Move>, Vec<Option<Comp>>, Rules
                 let mut end = cur;
                 end[i] = u;
                 end[j] = v;
-                let start_a = Axes::from_array([cur[0], cur[1], cur[2], 0., 0., 0.]);
-                let end_a = Axes::from_array([end[0], end[1], end[2], 0., 0., 0.]);
+                let start_a = Axes { x: cur[0], y: cur[1], z: cur[2], ..Axes::ZERO };
+                let end_a = Axes { x: end[0], y: end[1], z: end[2], ..Axes::ZERO };
                 let kind = match bulge {
                     // Centre on the chord's bisector, `h` chords off it.
                     Some(h) => {

@@ -410,7 +410,7 @@ fn machine_positions_are_said_not_known() {
                 G90 G0 Z5.\nG53 Z0.\nG30 X0.\nG0 X1. Z2.\nG91 G28 Y0.\nG90 G92 Y0.\nG0 X3.\nM30\n";
     let settings = Settings { tool_lengths: [(1, 31.75)].into(), ..Settings::default() };
     let t = path_with(text, &settings);
-    let unknown: Vec<u8> = t.moves.iter().map(|m| m.unknown.0 & 0b111).collect();
+    let unknown: Vec<u16> = t.moves.iter().map(|m| m.unknown.0 & 0b111).collect();
     // X Y placed, Z not yet; all three; G28 Z; X20 still at Z home; an
     // increment from there; Z5 absolute; G53 Z; G30 X: through X0 (the
     // intermediate point, absolute), then X (and Z still) at the 2nd
@@ -421,7 +421,7 @@ fn machine_positions_are_said_not_known() {
     // The reference point and the machine's position given: known.
     let given = Settings { reference_given: [true, true, false, false], ..settings };
     let t = path_with(text, &given);
-    let unknown: Vec<u8> = t.moves.iter().map(|m| m.unknown.0 & 0b111).collect();
+    let unknown: Vec<u16> = t.moves.iter().map(|m| m.unknown.0 & 0b111).collect();
     assert_eq!(unknown, [0b100, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
     // G30 P3: the 3rd reference point, not given.
     let t = path_with("G90 G0 X0 Y0 Z0\nG30 P3 Z0.\nM30\n", &given);

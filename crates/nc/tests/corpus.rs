@@ -41,7 +41,7 @@ impl Library for Folder {
 
 fn axes(text: &str) -> Axes {
     let v: Vec<f64> = text.split(',').map(|s| s.parse().expect("a number in a TEST: axes list")).collect();
-    let mut a = [0.0; 6];
+    let mut a = [0.0; Axes::COUNT];
     a[..v.len()].copy_from_slice(&v);
     Axes::from_array(a)
 }

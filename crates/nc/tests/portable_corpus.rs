@@ -232,7 +232,7 @@ fn corpus() -> Vec<Case> {
 }
 
 fn at(x: f64, y: f64, z: f64, a: f64, b: f64, c: f64) -> Axes {
-    Axes::from_array([x, y, z, a, b, c])
+    Axes { x, y, z, a, b, c, ..Axes::ZERO }
 }
 
 /// A machine: `k` = 0 for A, 1 for B. Every offset, length, radius and

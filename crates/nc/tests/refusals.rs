@@ -1,7 +1,7 @@
 //! What no dialect may run as if it were fine: a cutting move at feed zero
 //! (`F0`, or G95 with spindle speed 0), which LinuxCNC refuses and on a
-//! Fanuc would wait forever; an axis word the machine model has not (U V W
-//! on a mill), whose motion would be lost. Each is an error at the word.
+//! Fanuc would wait forever; an axis word the control has not (U V W on a
+//! Fanuc, Haas or GRBL mill; LinuxCNC has them), whose motion would be lost. Each is an error at the word.
 //! The programs are a mill's: the lathe dialects, which read G90 G94 and U
 //! W otherwise, are tested in lathe_fanuc.rs.
 
@@ -95,12 +95,19 @@ const FOAM: &str = "G21 G90 G94 F300\nG00 X0. Y0. U0. V0.\nG01 X50. Y0. U50. V5.
 
 #[test]
 fn an_axis_the_machine_has_not_is_never_dropped() {
-    for d in Dialect::ALL.into_iter().filter(|d| !d.is_lathe()) {
+    // LinuxCNC has nine axes: there U V W move (linuxcnc_uvw.rs).
+    assert_eq!(stopped(Dialect::LinuxCnc, FOAM), None);
+    for d in Dialect::ALL.into_iter().filter(|d| !d.is_lathe() && *d != Dialect::LinuxCnc) {
         let e = stopped(d, FOAM).expect("U V refused");
-        assert!(e.starts_with("t.nc:2:13: error: U is an axis kezuri does not model on this machine"), "{d}: {e}");
+        assert!(e.starts_with("t.nc:2:13: error: U is an axis this control does not have"), "{d}: {e}");
         let e = stopped(d, "G21 G90\nG00 Z5.\nG00 W-2.\nM30\n").expect("W refused");
         assert!(e.starts_with("t.nc:3:5: error: W is an axis"), "{d}: {e}");
     }
+    // LinuxCNC's canned cycles in the XYZ planes take no U V W: its preview
+    // parser stops at this block with "Cannot put a U in a canned cycle in
+    // the XY plane".
+    let e = stopped(Dialect::LinuxCnc, "G21 G90\nG0 X0 Y0 Z5\nG81 X1 Y1 Z-1 R1 U2 F100\nM2\n").expect("U refused");
+    assert!(e.starts_with("t.nc:3:18: error: U in a canned cycle (G81)"), "{e}");
     // A macro's arguments are no axes.
     let call = "G65 P9001 U1. V2. W3.\nM30\nO9001\n#100=#21+#22+#23\nM99\n";
     assert_eq!(stopped(Dialect::Fanuc, call), None);

@@ -275,7 +275,7 @@ fn o7023_same_seed_same_toolpath() {
 #[test]
 fn o2007_measures_at_the_programmed_positions() {
     // Reference point somewhere inside the travel, so that G92 matters.
-    let home = Axes { x: 120.0, y: 10.0, z: 200.0, a: 0.0, b: 15.0, c: 30.0 };
+    let home = Axes { x: 120.0, y: 10.0, z: 200.0, a: 0.0, b: 15.0, c: 30.0, ..Axes::ZERO };
     let settings = Settings { home, ..Settings::default() };
     let outcome = run_seed("o2007_thermal.nc", &settings);
     // The printed program's first G01 comes before any F: a warning here.
@@ -301,7 +301,7 @@ fn o2007_measures_at_the_programmed_positions() {
     // The G91 G28 returns at the end, one axis group per block, in order; in
     // G91 the intermediate point is where the tool is, so no move goes there.
     let homing: Vec<(Axes, AxisSet)> = moves.iter().rev().take(4).rev().map(|m| (m.end, m.named)).collect();
-    let at = |x: f64, y: f64, z: f64, b: f64, c: f64| Axes { x, y, z, a: 0.0, b, c };
+    let at = |x: f64, y: f64, z: f64, b: f64, c: f64| Axes { x, y, z, a: 0.0, b, c, ..Axes::ZERO };
     let (x, y) = (120.0 - 165.0, 10.0);
     assert_eq!(
         homing,

@@ -34,10 +34,10 @@ fn run_clean(text: &str, dialect: Dialect, settings: &Settings) -> Toolpath {
 
 /// A position in units of the last written digit (of an inch with
 /// `inch`): what the program wrote, whatever the float noise of reading it.
-fn counts(p: Axes, o: &WriteOptions) -> [i64; 6] {
+fn counts(p: Axes, o: &WriteOptions) -> [i64; Axes::COUNT] {
     let scale = 10f64.powi(i32::from(o.digits));
     let v = p.to_array();
-    std::array::from_fn(|k| (v[k] * scale / if k < 3 && o.inch { 25.4 } else { 1.0 }).round() as i64)
+    std::array::from_fn(|k| (v[k] * scale / if Axes::is_linear(k) && o.inch { 25.4 } else { 1.0 }).round() as i64)
 }
 
 /// Writes `path` absolute and incremental with `o`, runs both and checks

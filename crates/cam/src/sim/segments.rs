@@ -113,7 +113,7 @@ pub(super) fn segments<'a>(
     let mut slots = Slots::new(tooling);
     // Axes (X Y Z bits) whose position is known: none at the start of an
     // NC program, where the start is only the interpreter's assumption.
-    let mut known = if path.unknown_start { 0u8 } else { 0b111 };
+    let mut known = if path.unknown_start { 0u16 } else { 0b111 };
     let mut unplaced_rapids = Vec::new();
     for ((index, m), number) in path.moves.iter().enumerate().zip(cutting_tools(path)) {
         if matches!(m.kind, MoveKind::Dwell(_)) {

@@ -234,6 +234,10 @@ fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
             "rapid_length_mm": report.rapid_length_mm,
             "time_s": report.time_s,
             "bounds": {"min": lo, "max": hi},
+            "uvw_bounds": report.uvw_bounds.iter().any(Option::is_some).then(|| json!({
+                "min": report.uvw_bounds.iter().map(|r| r.map(|r| r.0)).collect::<Vec<_>>(),
+                "max": report.uvw_bounds.iter().map(|r| r.map(|r| r.1)).collect::<Vec<_>>(),
+            })),
             "machine_moves": report.machine_moves,
             "spindle_rpm": report.spindle_rpm.map(|(lo, hi)| [lo, hi]),
             "threads": report.threads.iter().map(|t| json!({
@@ -299,6 +303,12 @@ fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
                     None if lathe && *axis == "Y" => String::new(),
                     None => format!("  {axis}     not placed by the program\n"),
                 };
+            }
+            // LinuxCNC's U V W, where the program places them.
+            for (axis, range) in ["U", "V", "W"].iter().zip(report.uvw_bounds) {
+                if let Some((lo, hi)) = range {
+                    text += &format!("  {axis} {lo:>10.3} … {hi:>10.3}\n");
+                }
             }
         }
         if report.machine_moves > 0 {

@@ -558,7 +558,7 @@ fn thermal_drift(out: &Path) -> Result<()> {
             })
         };
         let mut v: Vec<[f64; 6]> =
-            ran.outcome.toolpath.moves.iter().map(|m| m.end.to_array()).filter(|c| inside(c)).collect();
+            ran.outcome.toolpath.moves.iter().map(|m| m.end.xyzabc()).filter(|c| inside(c)).collect();
         v.dedup();
         Ok(v)
     };

@@ -373,7 +373,7 @@ pub fn report_logs(outcome: &Outcome) {
 pub fn missing_axes(path: &Toolpath, machine: &Kinematics) -> Vec<(char, u32)> {
     let mut out: Vec<(char, u32)> = Vec::new();
     for m in &path.moves {
-        for (k, (a, b)) in m.start.to_array().into_iter().zip(m.end.to_array()).enumerate() {
+        for (k, (a, b)) in m.start.xyzabc().into_iter().zip(m.end.xyzabc()).enumerate() {
             if a != b && !machine.has(k) && !out.iter().any(|&(axis, _)| axis == AXES[k]) {
                 out.push((AXES[k], m.line));
             }
@@ -394,6 +394,10 @@ pub struct Report {
     /// The tool tip's extent in program coordinates over the positions the
     /// program gave ([`Toolpath::known_bounds`]).
     pub bounds: AxisRanges,
+    /// U V W's extent likewise ([`Toolpath::known_bounds_uvw`]): `None`
+    /// for an axis the program does not place (every program but a
+    /// LinuxCNC one that names U V W).
+    pub uvw_bounds: AxisRanges,
     /// Returns to a reference point and `G53` moves: not in `bounds`.
     pub machine_moves: usize,
     /// The tools that make moves, in the order they first do (0: none
@@ -418,6 +422,7 @@ impl Report {
             rapid_length_mm: path.rapid_length(),
             time_s: cycle_time(path, &ran.machine.dynamics).0,
             bounds: path.known_bounds(true),
+            uvw_bounds: path.known_bounds_uvw(true),
             machine_moves: path.machine_moves(),
             tools: tools_used(path).into_iter().map(|t| (t, ran.machine.tools.get(&t).cloned())).collect(),
             spindle_rpm: spindle_range(path),

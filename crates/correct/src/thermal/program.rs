@@ -97,7 +97,7 @@ pub fn correct_moves(model: &ErrorModel, k: &Kinematics, moves: &[Move], solver:
             continue;
         }
         summary.checked += 1;
-        let c = m.end.to_array();
+        let c = m.end.xyzabc();
         let target = k.forward(&c);
         let (x, residual) = match solver {
             Solver::Newton => {
@@ -134,7 +134,7 @@ pub fn correct_moves(model: &ErrorModel, k: &Kinematics, moves: &[Move], solver:
                 summary.arc_correction_change.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
         }
         last_shift = shift;
-        ends.push(Axes::from_array(x));
+        ends.push(m.end.with_xyzabc(x));
     }
     Ok(Corrected { ends, summary })
 }

@@ -68,7 +68,7 @@ pub fn correct_moves(
             ends.push(m.end);
             continue;
         }
-        let c = m.end.to_array();
+        let c = m.end.xyzabc();
         let tip = to_vec(k.forward(&c));
         let axis = to_vec(k.tool_axis(&c));
         if path.frame(m) != Frame::default() {
@@ -83,7 +83,7 @@ pub fn correct_moves(
             // A hair back along the arc's tangent at its end.
             MoveKind::Arc(arc) => {
                 let (i, j, _) = arc.plane.axes();
-                let (e, mut back) = (m.end.to_array(), m.end.to_array());
+                let (e, mut back) = (m.end.xyzabc(), m.end.xyzabc());
                 let (ri, rj) = (e[i] - arc.center[i], e[j] - arc.center[j]);
                 let r = ri.hypot(rj).max(1e-12);
                 let sign = if arc.ccw { 1.0 } else { -1.0 };
@@ -91,7 +91,7 @@ pub fn correct_moves(
                 back[j] -= sign * 1e-4 * ri / r;
                 to_vec(k.forward(&back))
             }
-            _ => to_vec(k.forward(&m.start.to_array())),
+            _ => to_vec(k.forward(&m.start.xyzabc())),
         };
         let feed = unit(tip - before);
         match correct(surface, nominal, worn, tip, axis, feed, options).map_err(|e| e.at_line(m.line))? {
@@ -105,7 +105,7 @@ pub fn correct_moves(
                 summary.largest_error_before = summary.largest_error_before.max((fix.worn_gap - fix.nominal_gap).abs());
                 summary.corrected += 1;
                 summary.along_axis += usize::from(fix.along_axis);
-                ends.push(Axes::from_array(x));
+                ends.push(m.end.with_xyzabc(x));
             }
             Err(Skip::Far(_)) => {
                 summary.far.push(m.line);

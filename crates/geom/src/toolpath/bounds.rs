@@ -2,7 +2,7 @@
 //! the program gave ([`Move::unknown`]), never a reference point or a
 //! `G53` position.
 
-use super::{arc_extremes, AxisSet, MoveKind, Toolpath};
+use super::{arc_extremes, Axes, AxisSet, MoveKind, Toolpath};
 
 /// Per axis X Y Z, the smallest and largest value; `None` for an axis no
 /// known position gives.
@@ -20,26 +20,51 @@ impl Toolpath {
     /// where the move before left it known; arcs count at their quadrant
     /// points.
     pub fn known_bounds(&self, program: bool) -> AxisRanges {
+        self.bounds_of(program, 0)
+    }
+
+    /// The extent of U V W over the positions the program gave, as
+    /// [`Toolpath::known_bounds`] has X Y Z's: `None` for an axis no known
+    /// position gives (every program that does not name it).
+    pub fn known_bounds_uvw(&self, program: bool) -> AxisRanges {
+        // Most programs never place U V W (every one but LinuxCNC's).
+        if self.moves.iter().all(|m| m.unknown.0 & AxisSet::UVW.0 == AxisSet::UVW.0) {
+            return [None; 3];
+        }
+        self.bounds_of(program, 6)
+    }
+
+    /// The extent of the three linear axes from axis `first` on (0: X Y Z,
+    /// 6: U V W); arcs add their quadrant points on X Y Z (U V W move on a
+    /// straight line beside them).
+    fn bounds_of(&self, program: bool, first: usize) -> AxisRanges {
+        let three = |p: Axes| -> [f64; 3] {
+            if first == 0 {
+                p.xyz()
+            } else {
+                p.uvw()
+            }
+        };
         let mut out: AxisRanges = [None; 3];
         let mut add = |p: [f64; 3], unknown: AxisSet, zero: [f64; 3]| {
-            for k in (0..3).filter(|&k| !unknown.contains(k)) {
+            for k in (0..3).filter(|&k| !unknown.contains(first + k)) {
                 let v = p[k] - zero[k];
                 out[k] = Some(out[k].map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
             }
         };
         let mut before = if self.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
         for m in &self.moves {
-            let zero = if program { self.frame(m).zero().xyz() } else { [0.0; 3] };
+            let zero = if program { three(self.frame(m).zero()) } else { [0.0; 3] };
             // A start counts where known: a move leaving a return's end
             // counts it only where that place is known (the machine file
             // gives it, or a G92 there names it).
-            add(m.start.xyz(), before, zero);
+            add(three(m.start), before, zero);
             let was = std::mem::replace(&mut before, m.unknown);
             if matches!(m.kind, MoveKind::Home | MoveKind::Machine) {
                 continue;
             }
-            add(m.end.xyz(), m.unknown, zero);
-            if let MoveKind::Arc(arc) = m.kind {
+            add(three(m.end), m.unknown, zero);
+            if let (MoveKind::Arc(arc), 0) = (m.kind, first) {
                 for p in arc_extremes(&arc, m.start, m.end) {
                     add(p, AxisSet(m.unknown.0 | was.0), zero);
                 }

@@ -31,7 +31,7 @@ impl Move {
 }
 
 impl Toolpath {
-    /// The toolpath scaled by `k` in X and Y and `s` in Z about each move's
+    /// The toolpath scaled by `k` in X and Y (U and V) and `s` in Z (W) about each move's
     /// program zero. An arc outside the XY plane scaled unevenly is no
     /// longer an arc: it becomes chords within 0.0005 mm of the scaled
     /// curve. Returns to the reference point and machine-coordinate moves
@@ -44,8 +44,16 @@ impl Toolpath {
         for m in &self.moves {
             first.push(out.moves.len());
             let o = self.frame(m).origin;
-            let sc =
-                |p: Axes| Axes { x: o.x + (p.x - o.x) * k, y: o.y + (p.y - o.y) * k, z: o.z + (p.z - o.z) * s, ..p };
+            // U V W scale as the X Y Z they parallel.
+            let sc = |p: Axes| Axes {
+                x: o.x + (p.x - o.x) * k,
+                y: o.y + (p.y - o.y) * k,
+                z: o.z + (p.z - o.z) * s,
+                u: o.u + (p.u - o.u) * k,
+                v: o.v + (p.v - o.v) * k,
+                w: o.w + (p.w - o.w) * s,
+                ..p
+            };
             let start = match fixed_end {
                 Some(e) if e == m.start => m.start,
                 _ => sc(m.start),

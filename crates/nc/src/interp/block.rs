@@ -104,6 +104,7 @@ impl State {
         let (span, line) = (block.span, block.line);
         self.comp_block(span, line);
         let mut w = Words::new(program.words(block), block.span.file);
+        w.axis_bits = self.axis_bits();
         self.gather(program, &mut w)?;
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
@@ -187,13 +188,17 @@ impl State {
                 ));
             }
         }
-        if w.has_any(letters(b"UVW")) && has(|c| *c == GCode::SetOffsets).is_none() && !self.lathe_own_words() {
+        if w.has_any(letters(b"UVW"))
+            && !w.has_uvw()
+            && has(|c| *c == GCode::SetOffsets).is_none()
+            && !self.lathe_own_words()
+        {
             if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l)) {
                 return Err(Diagnostic::error(
                     w.span(letter),
                     format!(
-                        "{} is an axis kezuri does not model on this machine (X Y Z A B C): its motion would be lost, \
-                         so the program is not run",
+                        "{} is an axis this control does not have (X Y Z A B C; LinuxCNC has U V W too): its \
+                         motion would be lost, so the program is not run",
                         letter as char
                     ),
                 ));

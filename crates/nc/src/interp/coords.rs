@@ -81,7 +81,7 @@ struct Rotation {
 #[derive(Clone, Debug, Default)]
 pub(super) struct Transforms {
     /// Fanuc G52 local offset (mm; on LinuxCNC G52 writes the G92 offset).
-    pub(super) local: [f64; 6],
+    pub(super) local: [f64; N],
     /// G16 polar coordinate mode.
     polar: bool,
     /// G51.1: the position of the mirror line on each of X Y Z.
@@ -91,12 +91,14 @@ pub(super) struct Transforms {
     /// G90.1: I J K are absolute positions.
     pub(super) arc_absolute: bool,
     /// Program position minus the tool's position mapped back.
-    delta: [f64; 6],
+    delta: [f64; N],
     /// The program point of the move being made (set with its target).
-    pending: Option<[f64; 6]>,
+    pending: Option<[f64; N]>,
 }
 
-const LETTERS: &[u8; 6] = b"XYZABC";
+const LETTERS: &[u8; N] = &Axes::LETTERS;
+/// How many axes a position has.
+const N: usize = Axes::COUNT;
 
 fn deg(v: f64) -> (f64, f64) {
     v.to_radians().sin_cos()
@@ -126,7 +128,7 @@ impl Transforms {
 
     /// Mirror then scaling of a point.
     #[allow(clippy::needless_range_loop)]
-    fn sm(&self, p: [f64; 6]) -> [f64; 6] {
+    fn sm(&self, p: [f64; N]) -> [f64; N] {
         let mut q = p;
         for i in 0..3 {
             if let Some(m) = self.mirror[i] {
@@ -142,7 +144,7 @@ impl Transforms {
     }
 
     #[allow(clippy::needless_range_loop)]
-    fn sm_inverse(&self, q: [f64; 6]) -> [f64; 6] {
+    fn sm_inverse(&self, q: [f64; N]) -> [f64; N] {
         let mut p = q;
         for i in 0..3 {
             if let Some(s) = self.scale {
@@ -165,7 +167,7 @@ impl Transforms {
     }
 
     /// Program point to local coordinates (work coordinates plus G52 and G92).
-    fn forward(&self, p: [f64; 6]) -> [f64; 6] {
+    fn forward(&self, p: [f64; N]) -> [f64; N] {
         let mut q = self.sm(p);
         if let Some((i, j, c, a)) = self.turn() {
             let (s, co) = deg(a);
@@ -176,7 +178,7 @@ impl Transforms {
         q
     }
 
-    fn inverse(&self, q: [f64; 6]) -> [f64; 6] {
+    fn inverse(&self, q: [f64; N]) -> [f64; N] {
         let mut q = q;
         if let Some((i, j, c, a)) = self.turn() {
             let (s, co) = deg(-a);
@@ -188,8 +190,8 @@ impl Transforms {
     }
 
     /// A vector (an increment, an arc's I J K) to local coordinates.
-    fn linear(&self, v: [f64; 6]) -> [f64; 6] {
-        let mut q: [f64; 6] = std::array::from_fn(|i| v[i] * self.factor(i));
+    fn linear(&self, v: [f64; N]) -> [f64; N] {
+        let mut q: [f64; N] = std::array::from_fn(|i| v[i] * self.factor(i));
         if let Some((i, j, _, a)) = self.turn() {
             let (s, co) = deg(a);
             let (x, y) = (q[i], q[j]);
@@ -200,18 +202,18 @@ impl Transforms {
     }
 }
 
-fn sub(a: [f64; 6], b: [f64; 6]) -> [f64; 6] {
+fn sub(a: [f64; N], b: [f64; N]) -> [f64; N] {
     std::array::from_fn(|i| a[i] - b[i])
 }
 
-fn add(a: [f64; 6], b: [f64; 6]) -> [f64; 6] {
+fn add(a: [f64; N], b: [f64; N]) -> [f64; N] {
     std::array::from_fn(|i| a[i] + b[i])
 }
 
 impl State {
     /// The tool tip in local coordinates: work coordinates with the G52 and
     /// G92 shifts, before rotation, scaling and mirror are undone.
-    fn local_position(&self) -> [f64; 6] {
+    fn local_position(&self) -> [f64; N] {
         sub(self.tip.to_array(), self.frame_offset().to_array())
     }
 
@@ -281,17 +283,15 @@ impl State {
     /// The end point, in machine coordinates, that the axis words ask for;
     /// remembers the program point for [`State::settle_program`].
     pub(super) fn program_target(&mut self, w: &Words) -> Axes {
-        if !self.coords.polar && !self.coords.active() && self.coords.delta == [0.0; 6] {
+        if !self.coords.polar && !self.coords.active() && self.coords.delta == [0.0; N] {
             // No transform in force (most blocks of most programs): the
             // words on the work position, nothing to remember.
             let (t, o) = (self.tip.to_array(), self.frame_offset().to_array());
             let mut p = sub(t, o);
             let incremental = self.modal.distance == Distance::Incremental;
-            for (i, &letter) in LETTERS.iter().enumerate() {
-                if let Some(v) = w.get(letter) {
-                    let v = if i < 3 { self.mm(v) } else { v };
-                    p[i] = if incremental { p[i] + v } else { v };
-                }
+            for (i, v) in w.axis_words() {
+                let v = if Axes::is_linear(i) { self.mm(v) } else { v };
+                p[i] = if incremental { p[i] + v } else { v };
             }
             if let Some([x, y]) = self.polar_point(w) {
                 (p[0], p[1]) = (x, y);
@@ -304,14 +304,12 @@ impl State {
         let incremental = self.modal.distance == Distance::Incremental;
         let mut from_zero = !incremental;
         let plane = self.modal.plane.axes();
-        for (i, &letter) in LETTERS.iter().enumerate() {
+        for (i, v) in w.axis_words() {
             if self.coords.polar && (i == plane.0 || i == plane.1) {
                 continue;
             }
-            if let Some(v) = w.get(letter) {
-                let v = if i < 3 { self.mm(v) } else { v };
-                p[i] = if incremental { p[i] + v } else { v };
-            }
+            let v = if Axes::is_linear(i) { self.mm(v) } else { v };
+            p[i] = if incremental { p[i] + v } else { v };
         }
         if let Some([x, y]) = self.polar_point(w) {
             (p[0], p[1]) = (x, y);
@@ -373,7 +371,7 @@ impl State {
                 }
             }
             MoveKind::Dwell(_) => {}
-            _ if self.tip != start => self.coords.delta = [0.0; 6],
+            _ if self.tip != start => self.coords.delta = [0.0; N],
             _ => {}
         }
     }
@@ -385,32 +383,28 @@ impl State {
             return named;
         }
         let (s, e) = (start.to_array(), end.to_array());
-        (0..6).filter(|&i| s[i] != e[i]).fold(named, |set, i| set.with(i))
+        (0..N).filter(|&i| s[i] != e[i]).fold(named, |set, i| set.with(i))
     }
 
     /// `G92`: the named axes of the program position take the words'
     /// values. On Fanuc the G52 local offset of those axes is cleared.
     pub(super) fn set_position(&mut self, w: &Words) {
         let mut p = self.program_position().to_array();
-        for (i, &letter) in LETTERS.iter().enumerate() {
-            if let Some(v) = w.get(letter) {
-                p[i] = if i < 3 { self.mm(v) } else { v };
-                if self.settings.coords.control != Control::LinuxCnc {
-                    self.coords.local[i] = 0.0;
-                }
+        for (i, v) in w.axis_words() {
+            p[i] = if Axes::is_linear(i) { self.mm(v) } else { v };
+            if self.settings.coords.control != Control::LinuxCnc {
+                self.coords.local[i] = 0.0;
             }
         }
         let q = self.coords.forward(p);
         let (t, o) = (self.tip.to_array(), self.work_offsets[self.modal.work_offset].to_array());
         let (e, l) = (self.external_offset.to_array(), self.coords.local);
         let mut g = self.g92_shift.to_array();
-        for (i, &letter) in LETTERS.iter().enumerate() {
-            if w.has(letter) {
-                g[i] = t[i] - o[i] - e[i] - l[i] - q[i];
-            }
+        for (i, _) in w.axis_words() {
+            g[i] = t[i] - o[i] - e[i] - l[i] - q[i];
         }
         self.g92_shift = Axes::from_array(g);
-        self.coords.delta = [0.0; 6];
+        self.coords.delta = [0.0; N];
         self.coords.delta = sub(p, self.program_position().to_array());
     }
 
@@ -418,17 +412,15 @@ impl State {
     /// G91); on LinuxCNC the G92 offset itself.
     pub(super) fn local_offset(&mut self, w: &Words) {
         let incremental = self.modal.distance == Distance::Incremental;
-        for (i, &letter) in LETTERS.iter().enumerate() {
-            if let Some(v) = w.get(letter) {
-                let v = if i < 3 { self.mm(v) } else { v };
-                match self.settings.coords.control {
-                    Control::Fanuc | Control::Haas if incremental => self.coords.local[i] += v,
-                    Control::Fanuc | Control::Haas => self.coords.local[i] = v,
-                    Control::LinuxCnc => {
-                        let mut g = self.g92_shift.to_array();
-                        g[i] = v;
-                        self.g92_shift = Axes::from_array(g);
-                    }
+        for (i, v) in w.axis_words() {
+            let v = if Axes::is_linear(i) { self.mm(v) } else { v };
+            match self.settings.coords.control {
+                Control::Fanuc | Control::Haas if incremental => self.coords.local[i] += v,
+                Control::Fanuc | Control::Haas => self.coords.local[i] = v,
+                Control::LinuxCnc => {
+                    let mut g = self.g92_shift.to_array();
+                    g[i] = v;
+                    self.g92_shift = Axes::from_array(g);
                 }
             }
         }
@@ -472,8 +464,8 @@ impl State {
         if let Some(p) = w.get(b'P').filter(|&p| p != 2.0) {
             text.push_str(&format!(" P{p}"));
         }
-        for &letter in LETTERS.iter().filter(|&&l| w.has(l)) {
-            text.push_str(&format!(" {}0.", letter as char));
+        for (k, _) in w.axis_words() {
+            text.push_str(&format!(" {}0.", LETTERS[k] as char));
         }
         self.keep(text, 1, false, line);
     }
@@ -512,7 +504,7 @@ impl State {
     /// The arc's centre (X Y Z, machine) from I J K, or `None` when the
     /// block has none.
     pub(super) fn arc_centre(&self, w: &Words, span: Span) -> Result<Option<[f64; 3]>, Diagnostic> {
-        let mut v = [0.0; 6];
+        let mut v = [0.0; N];
         let mut any = false;
         for (k, letter) in [b'I', b'J', b'K'].into_iter().enumerate() {
             if let Some(x) = w.get(letter) {

@@ -64,7 +64,7 @@ struct RunHole {
     plane: kezuri_geom::Plane,
     inch: bool,
     /// The program's zero (work offset and shifts), machine coordinates.
-    origin: [f64; 6],
+    origin: [f64; kezuri_geom::Axes::COUNT],
     q: Option<f64>,
     dwell: f64,
     /// The spindle speed of rigid tapping (M29 S), if it is.
@@ -165,6 +165,18 @@ impl State {
         let plane_letters = [b"XYZ"[i], b"XYZ"[j]];
         // LinuxCNC's G87 reads K as the top of the back bore.
         let lcnc_back = cycle == Cycle::BackBore && self.settings.dialect == crate::Dialect::LinuxCnc;
+        // LinuxCNC's canned cycles in the XYZ planes take no U V W words.
+        if let Some(letter) = b"UVW".iter().copied().find(|&l| w.has(l) && w.is_axis(l)) {
+            return Err(Diagnostic::error(
+                w.span(letter),
+                format!(
+                    "{} in a canned cycle (G{}): in the XY, ZX and YZ planes the cycle takes X Y Z, not U V W \
+                     (LinuxCNC stops too)",
+                    letter as char,
+                    cycle.number()
+                ),
+            ));
+        }
         self.hole_data(w, depth_letter, lcnc_back)?;
         let drills =
             plane_letters.iter().chain(b"ABC").any(|&l| w.has(l)) || w.polar() || w.has(depth_letter) || w.has(b'R');

@@ -74,7 +74,8 @@ impl State {
         // One branch a move (NaN fails it too).
         let near = |e: &Axes| {
             let linear = (e.x.abs() <= REACH_MM) & (e.y.abs() <= REACH_MM) & (e.z.abs() <= REACH_MM);
-            linear & (e.a.abs() <= REACH_DEG) & (e.b.abs() <= REACH_DEG) & (e.c.abs() <= REACH_DEG)
+            let parallel = (e.u.abs() <= REACH_MM) & (e.v.abs() <= REACH_MM) & (e.w.abs() <= REACH_MM);
+            linear & parallel & (e.a.abs() <= REACH_DEG) & (e.b.abs() <= REACH_DEG) & (e.c.abs() <= REACH_DEG)
         };
         for m in moves {
             if !near(&m.end) {
@@ -92,13 +93,13 @@ impl State {
 fn beyond_reach(moves: &[Move], w: &Words, span: Span) -> Diagnostic {
     for m in moves {
         for (k, &v) in m.end.to_array().iter().enumerate() {
-            let reach = if k < 3 { REACH_MM } else { REACH_DEG };
+            let reach = if Axes::is_linear(k) { REACH_MM } else { REACH_DEG };
             if v.abs() <= reach {
                 continue;
             }
-            let letter = b"XYZABC"[k];
+            let letter = Axes::LETTERS[k];
             let at = if w.has(letter) { w.span(letter) } else { span };
-            let (unit, limit) = if k < 3 { ("mm", "1 km") } else { ("deg", "10^9 deg") };
+            let (unit, limit) = if Axes::is_linear(k) { ("mm", "1 km") } else { ("deg", "10^9 deg") };
             return Diagnostic::error(
                 at,
                 format!(

@@ -562,7 +562,19 @@ impl State {
         }
     }
 
+    /// The addresses that are axes on this control ([`words::Words`]'s
+    /// bits): X Y Z A B C, and U V W on LinuxCNC, which has nine axes
+    /// (on a Fanuc or Haas lathe U W are the incremental X Z instead).
+    fn axis_bits(&self) -> u32 {
+        if self.settings.dialect == crate::Dialect::LinuxCnc {
+            words::NINE_AXES
+        } else {
+            words::SIX_AXES
+        }
+    }
+
     /// Offset from work coordinates to machine coordinates of the tool tip.
+    #[inline(always)]
     fn frame_offset(&self) -> Axes {
         let w = self.work_offsets[self.modal.work_offset].to_array();
         let e = self.external_offset.to_array();

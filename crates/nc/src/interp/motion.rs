@@ -333,11 +333,13 @@ impl State {
             let lz = self.length_offset();
             let home = Axes::from_array(std::array::from_fn(|i| h[i] - if i == 2 { lz } else { 0.0 }));
             let tip = self.tip.to_array();
-            let axes = (3..6).filter(|&k| tip[k] != 0.0).fold(AxisSet(0b111), |set, k| set.with(k));
+            let axes = (3..Axes::COUNT).filter(|&k| tip[k] != 0.0).fold(AxisSet(0b111), |set, k| set.with(k));
             if code == GCode::OtherHome {
                 let p = w.get(b'P').filter(|&p| p != 2.0).map_or(String::new(), |p| format!(" P{p}"));
-                let words: String =
-                    (0..6).filter(|&k| axes.contains(k)).map(|k| format!(" {}0.", b"XYZABC"[k] as char)).collect();
+                let words: String = (0..Axes::COUNT)
+                    .filter(|&k| axes.contains(k))
+                    .map(|k| format!(" {}0.", Axes::LETTERS[k] as char))
+                    .collect();
                 self.keep(format!("G91 G30{p}{words}"), 1, false, line);
             }
             self.push_move(MoveKind::Home, home, 0.0, axes, line);
@@ -347,16 +349,14 @@ impl State {
         let via = self.target(w);
         let (h, mut v) = (self.reference_point(code, w)?.to_array(), self.tip.to_array());
         let lz = self.length_offset();
-        for (i, &letter) in b"XYZABC".iter().enumerate() {
-            if w.has(letter) {
-                v[i] = h[i] - if i == 2 { lz } else { 0.0 };
-            }
+        for (i, _) in w.axis_words() {
+            v[i] = h[i] - if i == 2 { lz } else { 0.0 };
         }
         let home = Axes::from_array(v);
         // `G91 G28 Z0` has no intermediate move (nor does a via point a
         // rounding away from the tool).
         let (v, t) = (via.to_array(), self.tip.to_array());
-        if (0..6).any(|k| (v[k] - t[k]).abs() > 1e-9) {
+        if (0..Axes::COUNT).any(|k| (v[k] - t[k]).abs() > 1e-9) {
             self.push_move(MoveKind::Rapid, via, 0.0, w.axes(), line);
         }
         if code == GCode::OtherHome {
@@ -375,9 +375,10 @@ impl State {
                 // The G92 shift is cancelled: on the named axes (Fanuc's
                 // preset), on every axis when none is named (LinuxCNC).
                 let mut g = self.g92_shift.to_array();
-                for (i, &letter) in b"XYZABC".iter().enumerate() {
-                    if !w.any_axis() || w.has(letter) {
-                        g[i] = 0.0;
+                let named = w.axes();
+                for (i, g) in g.iter_mut().enumerate() {
+                    if !w.any_axis() || named.contains(i) {
+                        *g = 0.0;
                     }
                 }
                 self.g92_shift = Axes::from_array(g);
@@ -397,10 +398,8 @@ impl State {
     fn machine_move(&mut self, w: &Words, line: u32) -> bool {
         let mut p = self.tip.to_array();
         let lz = self.length_offset();
-        for (i, &letter) in b"XYZABC".iter().enumerate() {
-            if let Some(v) = w.get(letter) {
-                p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
-            }
+        for (i, v) in w.axis_words() {
+            p[i] = if Axes::is_linear(i) { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
         }
         // G53 positions at rapid traverse whatever the group 1 mode.
         if w.any_axis() {
@@ -444,10 +443,8 @@ impl State {
         }
         let mut p = self.tip.to_array();
         let lz = self.length_offset();
-        for (i, &letter) in b"XYZABC".iter().enumerate() {
-            if let Some(v) = w.get(letter) {
-                p[i] = if i < 3 { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
-            }
+        for (i, v) in w.axis_words() {
+            p[i] = if Axes::is_linear(i) { self.mm(v) } else { v } - if i == 2 { lz } else { 0.0 };
         }
         let feed = self.feed_mm_min(span)?;
         self.push_move(MoveKind::Probe, Axes::from_array(p), feed, w.axes(), line);

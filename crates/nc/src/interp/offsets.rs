@@ -58,11 +58,9 @@ impl State {
                 let (tip, frame) = (self.tip.to_array(), self.frame_offset().to_array());
                 let mut v = self.work_offsets[index].to_array();
                 let base = self.work_offsets[self.modal.work_offset].to_array();
-                for (i, &letter) in b"XYZABC".iter().enumerate() {
-                    if let Some(value) = w.get(letter) {
-                        let value = if i < 3 { self.mm(value) } else { value };
-                        v[i] = tip[i] - (frame[i] - base[i]) - value;
-                    }
+                for (i, value) in w.axis_words() {
+                    let value = if Axes::is_linear(i) { self.mm(value) } else { value };
+                    v[i] = tip[i] - (frame[i] - base[i]) - value;
                 }
                 self.work_offsets[index] = Axes::from_array(v);
                 self.guessed = AxisSet::ALL;
@@ -150,11 +148,9 @@ impl State {
 /// added).
 fn offset_words(offset: Axes, w: &Words, incremental: bool, inch: bool) -> Axes {
     let mut v = offset.to_array();
-    for (i, &letter) in b"XYZABC".iter().enumerate() {
-        if let Some(value) = w.get(letter) {
-            let value = if i < 3 && inch { value * 25.4 } else { value };
-            v[i] = if incremental { v[i] + value } else { value };
-        }
+    for (i, value) in w.axis_words() {
+        let value = if Axes::is_linear(i) && inch { value * 25.4 } else { value };
+        v[i] = if incremental { v[i] + value } else { value };
     }
     Axes::from_array(v)
 }

@@ -8,8 +8,9 @@
 //! G55, … #5381… G59.3, #5400 the tool, #5401–#5409 its offsets, #5410 its
 //! diameter, #5420–#5428 the current position in program coordinates and
 //! units. Lengths are in mm (the machine's units), the position in the
-//! program's. Axes U V W, the rotation R and every other number in the range
-//! are plain storage that starts at 0, as in LinuxCNC.
+//! program's. U V W are axes as X Y Z are (LinuxCNC has nine); the rotation
+//! R and every other number in the range are plain storage that starts at 0,
+//! as in LinuxCNC.
 
 use kezuri_geom::{Axes, AxisSet};
 
@@ -60,12 +61,12 @@ fn param(n: u32) -> Param {
     }
 }
 
-/// Axis `i` (X Y Z A B C; U V W are not kept) of `a`.
+/// Axis `i` (X Y Z A B C U V W; `None` past W) of `a`.
 fn get(a: Axes, i: usize) -> Option<f64> {
     a.to_array().get(i).copied()
 }
 
-/// `a` with axis `i` set to `v` (nothing for U V W).
+/// `a` with axis `i` set to `v` (nothing past W).
 fn set(a: &mut Axes, i: usize, v: f64) {
     let mut arr = a.to_array();
     if let Some(slot) = arr.get_mut(i) {
@@ -102,7 +103,7 @@ impl State {
     /// Reads LinuxCNC parameter `n` (5001–5999).
     pub(super) fn read_linuxcnc(&mut self, n: u32) -> f64 {
         let inch = self.modal.units == Units::Inch;
-        let unit = |i: usize, v: f64| if inch && i < 3 { v / 25.4 } else { v };
+        let unit = |i: usize, v: f64| if inch && Axes::is_linear(i) { v / 25.4 } else { v };
         let or_stored = |v: Option<f64>, st: &State| v.unwrap_or_else(|| st.stored(n));
         match param(n) {
             Param::Probe(i) => or_stored(get(self.skip_position, i), self),
@@ -153,13 +154,13 @@ impl State {
     /// else storage.
     fn set_linuxcnc(&mut self, n: u32, v: f64) {
         match param(n) {
-            Param::Home(i) if i < 6 => set(&mut self.settings.home, i, v),
-            Param::Second(i) if i < 6 => set(&mut self.settings.coords.reference_points[0], i, v),
-            Param::Offset(k, i) if i < 6 => {
+            Param::Home(i) if i < Axes::COUNT => set(&mut self.settings.home, i, v),
+            Param::Second(i) if i < Axes::COUNT => set(&mut self.settings.coords.reference_points[0], i, v),
+            Param::Offset(k, i) if i < Axes::COUNT => {
                 set(&mut self.work_offsets[system_index(k)], i, v);
                 self.guessed = AxisSet::ALL;
             }
-            Param::G92(i) if i < 6 => set(&mut self.g92_shift, i, v),
+            Param::G92(i) if i < Axes::COUNT => set(&mut self.g92_shift, i, v),
             Param::System if (1.0..=9.0).contains(&v) => self.select_work_offset(system_index(v as usize - 1)),
             _ => {
                 self.sparse.insert(n, Value::Num(v));

@@ -65,8 +65,8 @@ impl State {
         let unit = if self.modal.units == Units::Inch { 25.4 } else { 1.0 };
         let (e, o) = (end.to_array(), self.frame_offset().to_array());
         let mut text = String::from(if unit == 1.0 { "G21 G90 G33.1" } else { "G20 G90 G33.1" });
-        for (i, &letter) in b"XYZABC".iter().enumerate().filter(|&(i, _)| w.axes().contains(i)) {
-            let v = if i < 3 { (e[i] - o[i]) / unit } else { e[i] - o[i] };
+        for (i, letter) in Axes::LETTERS.into_iter().enumerate().filter(|&(i, _)| w.axes().contains(i)) {
+            let v = if Axes::is_linear(i) { (e[i] - o[i]) / unit } else { e[i] - o[i] };
             text.push_str(&format!(" {}{}", letter as char, number(v, 6)));
         }
         text.push_str(&format!(" K{}", number(k, 6)));

@@ -255,7 +255,9 @@ impl State {
                 "a" => a[3],
                 "b" => a[4],
                 "c" => a[5],
-                "u" | "v" | "w" => 0.0,
+                "u" => length(a[6]),
+                "v" => length(a[7]),
+                "w" => length(a[8]),
                 _ => return None,
             })
         };

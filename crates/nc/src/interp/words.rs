@@ -1,7 +1,7 @@
 //! The words of one NC block, evaluated: G and M codes apart, every other
 //! address once, integer axis words read as the control reads them.
 
-use kezuri_geom::AxisSet;
+use kezuri_geom::{Axes, AxisSet};
 
 use super::modal::{GCode, Units};
 use super::value::Value;
@@ -29,6 +29,10 @@ pub(super) struct Words<'a> {
     /// In a macro call's block (G65, G66, G66.1), an M word that is no M
     /// code (`M0.070`, `M-1.`): argument #13 only.
     pub(super) m_argument: Option<f64>,
+    /// The addresses that are axes, as `present` bits: X Y Z A B C
+    /// ([`SIX_AXES`]), and U V W where the control has them ([`NINE_AXES`],
+    /// [`State::axis_bits`]).
+    pub(super) axis_bits: u32,
 }
 
 /// A–Z, `@` (the polar radius), `^` (the polar angle), and Fanuc's `,C`
@@ -76,6 +80,7 @@ impl<'a> Words<'a> {
             m: [(0, Span::default()); 4],
             m_count: 0,
             m_argument: None,
+            axis_bits: SIX_AXES,
         }
     }
 
@@ -113,7 +118,7 @@ impl<'a> Words<'a> {
 
     /// Whether the block names an axis (a polar word names X and Y).
     pub(super) fn any_axis(&self) -> bool {
-        b"XYZABC".iter().any(|&l| self.has(l)) || self.polar()
+        self.present & self.axis_bits != 0 || self.polar()
     }
 
     /// Whether the block has LinuxCNC's polar `@` (radius) or `^` (angle).
@@ -213,10 +218,46 @@ impl<'a> Words<'a> {
         Words { present: self.present & !bit(letter), ..*self }
     }
 
+    /// The words with X Y Z A B C as their only axes: where U V W are a
+    /// code's own parameters (LinuxCNC's lathe cycles).
+    pub(super) fn six_axes(&self) -> Words<'a> {
+        Words { axis_bits: SIX_AXES, ..*self }
+    }
+
+    /// Whether `letter` is an axis address of this block's control.
+    pub(super) fn is_axis(&self, letter: u8) -> bool {
+        self.axis_bits & bit(letter) != 0
+    }
+
+    /// Whether the control has U V W as axes (LinuxCNC).
+    pub(super) fn has_uvw(&self) -> bool {
+        self.axis_bits & UVW_BITS == UVW_BITS
+    }
+
+    /// The axes whose own words the block has (a polar word names none).
+    fn axis_words_named(&self) -> AxisSet {
+        // Slots: A B C are 0–2, U V W 20–22, X Y Z 23–25.
+        let p = self.present & self.axis_bits;
+        AxisSet((((p >> 23) & 0b111) | ((p & 0b111) << 3) | (((p >> 20) & 0b111) << 6)) as u16)
+    }
+
+    /// The block's axis words: the axis (in [`Axes::LETTERS`] order) and
+    /// the value, as written (program units).
+    pub(super) fn axis_words(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let mut left = self.axis_words_named().0;
+        std::iter::from_fn(move || {
+            if left == 0 {
+                return None;
+            }
+            let k = left.trailing_zeros() as usize;
+            left &= left - 1;
+            Some((k, self.value[AXIS_SLOTS[k]]))
+        })
+    }
+
     /// The axes the block names.
     pub(super) fn axes(&self) -> AxisSet {
-        let named =
-            b"XYZABC".iter().enumerate().filter(|(_, &l)| self.has(l)).fold(AxisSet::NONE, |set, (k, _)| set.with(k));
+        let named = self.axis_words_named();
         if self.polar() {
             named.with(0).with(1)
         } else {
@@ -224,6 +265,16 @@ impl<'a> Words<'a> {
         }
     }
 }
+
+/// The slot of each axis, in [`Axes::LETTERS`] order.
+const AXIS_SLOTS: [usize; Axes::COUNT] = [23, 24, 25, 0, 1, 2, 20, 21, 22];
+
+/// The `present` bits of U V W.
+const UVW_BITS: u32 = 0b111 << 20;
+/// The axis addresses of a control with X Y Z A B C, as `present` bits.
+pub(super) const SIX_AXES: u32 = (0b111 << 23) | 0b111;
+/// The axis addresses of a control with U V W as well (LinuxCNC).
+pub(super) const NINE_AXES: u32 = SIX_AXES | UVW_BITS;
 
 /// Addresses whose integer values count least input increments.
 pub(super) const AXIS_LETTERS: &[u8] = b"XYZABCIJKRUVWQ@cr";
@@ -360,4 +411,18 @@ fn names_cycle(words: &[Word]) -> bool {
             && matches!(w.value(), WordValue::Number { value, .. }
                 if matches!(GCode::decode((value * 10.0).round() as u32), Some(GCode::CannedCycle(_))))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_slots_and_bits_follow_the_letters() {
+        for (k, &letter) in Axes::LETTERS.iter().enumerate() {
+            assert_eq!(AXIS_SLOTS[k], slot(letter), "{}", letter as char);
+            assert_eq!(NINE_AXES & bit(letter), bit(letter));
+            assert_eq!(SIX_AXES & bit(letter) != 0, k < 6);
+        }
+    }
 }

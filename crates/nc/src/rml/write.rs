@@ -69,10 +69,11 @@ pub fn write_rml(path: &Toolpath, options: &RmlOptions) -> Result<String, Error>
             let message = "the toolpath changes work offset; RML-1 has one work origin";
             return Err(at_move(ErrorKind::Unsupported, index, m.line, message));
         }
-        for (k, axis) in [(3, 'A'), (4, 'B'), (5, 'C')] {
+        for (k, axis) in [(3, 'A'), (4, 'B'), (5, 'C'), (6, 'U'), (7, 'V'), (8, 'W')] {
             let base = rotary.to_array()[k];
             if m.start.to_array()[k] != base || m.end.to_array()[k] != base {
-                let message = format!("the toolpath turns axis {axis}; RML-1 moves X, Y and Z only");
+                let turns = if k < 6 { "turns" } else { "moves" };
+                let message = format!("the toolpath {turns} axis {axis}; RML-1 moves X, Y and Z only");
                 return Err(at_move(ErrorKind::RotaryAxis, index, m.line, message));
             }
         }

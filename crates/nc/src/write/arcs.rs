@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use kezuri_geom::{Arc, Axes, AxisSet, Move, Plane};
 
-use super::blocks::{Motion, Writer};
+use super::blocks::{Motion, Writer, N};
 use super::options::Arcs;
 use crate::Error;
 
@@ -19,7 +19,7 @@ impl Writer {
         // start is real and is reached; an NC program's arc starts wherever
         // the control is, as in the source (never a move to the model's
         // guess).
-        let away = (0..6).any(|k| match self.pos[k] {
+        let away = (0..N).any(|k| match self.pos[k] {
             Some(p) => (p as f64 - exact[k] * self.scale).abs() > 1.0,
             None => self.generated,
         });
@@ -40,7 +40,7 @@ impl Writer {
             for turn in 1..=arc.turns {
                 let t = f64::from(turn) * std::f64::consts::TAU / total;
                 let mut p = s;
-                for k in (3..6).chain([n]) {
+                for k in (3..N).chain([n]) {
                     p[k] = s[k] + (e[k] - s[k]) * t;
                 }
                 let to = Axes::from_array(p);
@@ -75,7 +75,7 @@ impl Writer {
             } else {
                 let f = f64::from(k) / f64::from(count);
                 let (sin, cos) = (sign * total * f).sin_cos();
-                let mut p: [f64; 6] = std::array::from_fn(|a| s[a] + (e[a] - s[a]) * f);
+                let mut p: [f64; N] = std::array::from_fn(|a| s[a] + (e[a] - s[a]) * f);
                 p[i] = c[i] + di * cos - dj * sin;
                 p[j] = c[j] + di * sin + dj * cos;
                 p
@@ -95,7 +95,7 @@ impl Writer {
         // toolpath's start (the centre is given from there, as the source
         // gave it).
         let from = self.target(start)?;
-        let s: [i64; 6] = std::array::from_fn(|k| self.pos[k].unwrap_or(from[k]));
+        let s: [i64; N] = std::array::from_fn(|k| self.pos[k].unwrap_or(from[k]));
         let exact_sweep = arc.sweep(start, end);
         let letters = ['I', 'J', 'K'];
         let centre = [self.fixed(arc.center[i], letters[i])?, self.fixed(arc.center[j], letters[j])?];
@@ -110,7 +110,7 @@ impl Writer {
                 // R cannot give a full circle: two half circles, the helical
                 // and rotary axes half way at the middle.
                 let (sv, ev) = (start.to_array(), end.to_array());
-                let mut mid: [f64; 6] = std::array::from_fn(|k| (sv[k] + ev[k]) / 2.0);
+                let mut mid: [f64; N] = std::array::from_fn(|k| (sv[k] + ev[k]) / 2.0);
                 mid[i] = 2.0 * arc.center[i] - sv[i];
                 mid[j] = 2.0 * arc.center[j] - sv[j];
                 let mid = Axes::from_array(mid);
@@ -185,10 +185,10 @@ impl Writer {
     }
 
     /// The sweep a control computes from the written start, end and centre.
-    fn written_sweep(&self, arc: Arc, s: &[i64; 6], t: &[i64; 6], offset: [i64; 2]) -> f64 {
+    fn written_sweep(&self, arc: Arc, s: &[i64; N], t: &[i64; N], offset: [i64; 2]) -> f64 {
         let (i, j, _) = arc.plane.axes();
         let unit = |v: i64| v as f64 / self.scale;
-        let point = |p: &[i64; 6]| Axes { x: unit(p[0]), y: unit(p[1]), z: unit(p[2]), ..Axes::ZERO };
+        let point = |p: &[i64; N]| Axes { x: unit(p[0]), y: unit(p[1]), z: unit(p[2]), ..Axes::ZERO };
         let mut center = [0.0; 3];
         center[i] = unit(s[i] + offset[0]);
         center[j] = unit(s[j] + offset[1]);

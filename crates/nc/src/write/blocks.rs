@@ -15,7 +15,10 @@ pub(super) const MAX_SEQUENCE: u32 = 99_999;
 /// Numbers must be smaller than this in size.
 const LIMIT: f64 = 1e9;
 
-pub(super) const AXIS_LETTERS: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+/// How many axes a position has.
+pub(super) const N: usize = Axes::COUNT;
+
+pub(super) const AXIS_LETTERS: [char; N] = ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'];
 
 /// The motion modal group (group 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,9 +42,9 @@ pub(super) struct Writer {
     pub(super) step: u32,
     pub(super) sequence: u32,
     /// Which of X Y Z A B C the program writes.
-    pub(super) used: [bool; 6],
+    pub(super) used: [bool; N],
     /// The control's position in units of the last digit (`None`: unknown).
-    pub(super) pos: [Option<i64>; 6],
+    pub(super) pos: [Option<i64>; N],
     /// Write motions in `G91` where every position is exact.
     pub(super) incremental: bool,
     /// Whether the control is in `G91` (`None`: unknown, after a tool
@@ -51,7 +54,7 @@ pub(super) struct Writer {
     /// program wrote it, and nothing the writer cannot follow to the digit
     /// (a return to the reference point, `G53`, a probe, a new frame, a tool
     /// change) moved it since. Only incremental programs look at it.
-    pub(super) exact: [bool; 6],
+    pub(super) exact: [bool; N],
     pub(super) motion: Option<Motion>,
     pub(super) plane: Option<Plane>,
     pub(super) feed: Option<i64>,
@@ -134,11 +137,11 @@ impl Writer {
             point: true,
             step: o.line_numbers.unwrap_or(0),
             sequence: o.line_numbers.unwrap_or(0),
-            used: [true, true, true, false, false, false],
-            pos: [None, None, None, Some(0), Some(0), Some(0)],
+            used: [true, true, true, false, false, false, false, false, false],
+            pos: [None, None, None, Some(0), Some(0), Some(0), Some(0), Some(0), Some(0)],
             incremental: o.incremental,
             relative: Some(false),
-            exact: [false; 6],
+            exact: [false; N],
             motion: None,
             plane: Some(Plane::Xy),
             feed: None,
@@ -173,20 +176,26 @@ impl Writer {
                 w.loads.push(m.tool);
             }
         }
-        // Rotary axes are written only if the toolpath turns them, or (a
-        // program read) names them: `G00 A0.` moves A from wherever it is.
+        // Rotary axes and U V W are written only if the toolpath moves
+        // them, or (a program read) names them: `G00 A0.` moves A from
+        // wherever it is.
         for (index, m) in toolpath.moves.iter().enumerate() {
             w.at = (index, m.line);
             let named = toolpath.unknown_start && m.named != AxisSet::ALL;
             for p in [m.start, m.end] {
                 let v = p.to_array();
-                for k in 3..6 {
-                    let wanted = w.fixed(v[k], AXIS_LETTERS[k])? != 0 || (named && m.named.contains(k));
+                for k in 3..N {
+                    // A zero is written as 0 whatever the digits.
+                    let wanted =
+                        (v[k] != 0.0 && w.fixed(v[k], AXIS_LETTERS[k])? != 0) || (named && m.named.contains(k));
                     if !w.used[k] && wanted {
-                        if w.dialect == Dialect::Grbl {
+                        if !w.has_axis(k) {
                             let message = format!(
-                                "{} has no rotary axis {}, but the toolpath turns it",
-                                w.dialect, AXIS_LETTERS[k]
+                                "{} has no {} {}, but the toolpath {} it",
+                                w.dialect,
+                                if k < 6 { "rotary axis" } else { "axis" },
+                                AXIS_LETTERS[k],
+                                if k < 6 { "turns" } else { "moves" }
                             );
                             let place = Place::Move { index, line: m.line };
                             return Err(Error::new(ErrorKind::RotaryAxis, message).at(place));
@@ -198,6 +207,16 @@ impl Writer {
             }
         }
         Ok(w)
+    }
+
+    /// Whether the dialect has axis `k` (in [`AXIS_LETTERS`] order): X Y
+    /// Z always, A B C but on GRBL, U V W on LinuxCNC only.
+    pub(super) fn has_axis(&self, k: usize) -> bool {
+        match k {
+            0..3 => true,
+            3..6 => self.dialect != Dialect::Grbl,
+            _ => self.dialect == Dialect::LinuxCnc,
+        }
     }
 
     /// A value in units of the last digit, or an error for a value no
@@ -223,10 +242,10 @@ impl Writer {
     }
 
     /// The rounded position of the axes the program writes.
-    pub(super) fn target(&self, p: Axes) -> Result<[i64; 6], Error> {
+    pub(super) fn target(&self, p: Axes) -> Result<[i64; N], Error> {
         let v = p.to_array();
-        let mut t = [0; 6];
-        for k in 0..6 {
+        let mut t = [0; N];
+        for k in 0..N {
             if self.used[k] {
                 t[k] = self.fixed(v[k], AXIS_LETTERS[k])?;
             }
@@ -311,7 +330,7 @@ impl Writer {
     /// program, where the position on every axis the program writes is
     /// known and exact.
     fn wants_relative(&self) -> bool {
-        self.incremental && (0..6).all(|k| !self.used[k] || (self.pos[k].is_some() && self.exact[k]))
+        self.incremental && (0..N).all(|k| !self.used[k] || (self.pos[k].is_some() && self.exact[k]))
     }
 
     /// Starts a motion block: its `N` word and the `G90`/`G91` it needs.
@@ -331,7 +350,7 @@ impl Writer {
         self.reckoned = m.relative != AxisSet::NONE;
         if self.reckoned {
             let s = self.target(m.start)?;
-            for k in (0..6).filter(|&k| self.used[k]) {
+            for k in (0..N).filter(|&k| self.used[k]) {
                 self.pos[k] = Some(s[k]);
             }
         }
@@ -347,9 +366,9 @@ impl Writer {
         let t = self.target(end)?;
         // Every axis the return names, even one the program never turns (a
         // `G28 C0` of the source): without axis words a G28 would return
-        // every axis on Haas and LinuxCNC. GRBL has no rotary axes.
-        let grbl = self.dialect == Dialect::Grbl;
-        let named: Vec<usize> = (0..6).filter(|&k| axes.contains(k) && (k < 3 || !grbl)).collect();
+        // every axis on Haas and LinuxCNC. GRBL has no rotary axes, only
+        // LinuxCNC has U V W.
+        let named: Vec<usize> = (0..N).filter(|&k| axes.contains(k) && self.has_axis(k)).collect();
         if named.is_empty() {
             return Ok(());
         }
@@ -383,7 +402,7 @@ impl Writer {
         self.code(self.codes.motion[Motion::Rapid as usize]);
         self.motion = Some(Motion::Rapid);
         let used = self.used;
-        for k in (0..6).filter(|&k| axes.contains(k) && used[k]) {
+        for k in (0..N).filter(|&k| axes.contains(k) && used[k]) {
             self.word(AXIS_LETTERS[k], g[k], self.point);
             self.pos[k] = Some(t[k]);
             self.exact[k] = false;
@@ -422,8 +441,8 @@ impl Writer {
         Ok(())
     }
 
-    pub(super) fn straight_to(&mut self, motion: Option<Motion>, t: [i64; 6], feed: Option<i64>, named: AxisSet) {
-        if !(0..6).any(|k| self.writes(k, &t, named)) {
+    pub(super) fn straight_to(&mut self, motion: Option<Motion>, t: [i64; N], feed: Option<i64>, named: AxisSet) {
+        if !(0..N).any(|k| self.writes(k, &t, named)) {
             return;
         }
         self.motion_block();
@@ -454,7 +473,7 @@ impl Writer {
         let moved = self.axis_words(&t, named);
         if motion.is_none() {
             // A probe stops where it touches, not at its end.
-            for k in (0..6).filter(|&k| moved[k]) {
+            for k in (0..N).filter(|&k| moved[k]) {
                 self.exact[k] = false;
             }
         }
@@ -469,7 +488,7 @@ impl Writer {
     /// start, after a tool change), when the move names the axis, so that an
     /// axis the source program left alone is never commanded to the model's
     /// guess of where it is.
-    fn writes(&self, k: usize, t: &[i64; 6], named: AxisSet) -> bool {
+    fn writes(&self, k: usize, t: &[i64; N], named: AxisSet) -> bool {
         match self.pos[k] {
             // Where the position is only reckoned (after a return, G53, a
             // new frame, a tool change), a named axis is written even at
@@ -483,10 +502,10 @@ impl Writer {
     /// `G91`, as the difference from the control's position; the control's
     /// position becomes `t` on those axes, exactly. Returns which axes were
     /// written.
-    pub(super) fn axis_words(&mut self, t: &[i64; 6], named: AxisSet) -> [bool; 6] {
+    pub(super) fn axis_words(&mut self, t: &[i64; N], named: AxisSet) -> [bool; N] {
         let relative = self.relative == Some(true);
-        let mut moved = [false; 6];
-        for k in 0..6 {
+        let mut moved = [false; N];
+        for k in 0..N {
             if self.writes(k, t, named) {
                 let n = match self.pos[k] {
                     // G91 is written only where every position is known.

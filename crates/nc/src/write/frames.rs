@@ -3,7 +3,7 @@
 
 use kezuri_geom::{Axes, Frame, LengthOffset};
 
-use super::blocks::{unsupported, Writer, AXIS_LETTERS};
+use super::blocks::{unsupported, Writer, AXIS_LETTERS, N};
 use super::dialect::Dialect;
 use crate::number::push_uint;
 use crate::offsets::EXTRA_OFFSETS;
@@ -23,7 +23,7 @@ impl Writer {
         self.end_cycle();
         // Positions in the new frame are the writer's reckoning, not what
         // the program wrote: absolute until every axis is written again.
-        self.exact = [false; 6];
+        self.exact = [false; N];
         let work = f.work as usize;
         let code = self.work_code(work)?;
         let known = *self.origins[work].get_or_insert(f.origin);
@@ -44,7 +44,7 @@ impl Writer {
             self.out.push('P');
             push_uint(&mut self.out, p as u64);
             let used = self.used;
-            for k in (0..6).filter(|&k| used[k]) {
+            for k in (0..N).filter(|&k| used[k]) {
                 let n = self.fixed(v[k], AXIS_LETTERS[k])?;
                 self.word(AXIS_LETTERS[k], n, self.point);
             }
@@ -71,7 +71,7 @@ impl Writer {
         if let (Some(o), Some(e)) = (old, last) {
             if o.zero() != f.zero() {
                 let (e, origin) = (e.to_array(), f.zero().to_array());
-                for k in 0..6 {
+                for k in 0..N {
                     if self.pos[k].is_some() {
                         self.pos[k] = Some(self.fixed(e[k] - origin[k], AXIS_LETTERS[k])?);
                     }

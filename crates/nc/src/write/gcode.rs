@@ -231,7 +231,7 @@ pub fn dwell_block(options: &WriteOptions, seconds: f64) -> Result<String, Error
 /// `p - origin`, its linear axes times `unit` (rotary axes stay degrees).
 fn scaled(p: Axes, origin: Axes, unit: f64) -> Axes {
     let (p, o) = (p.to_array(), origin.to_array());
-    Axes::from_array(std::array::from_fn(|k| (p[k] - o[k]) * if k < 3 { unit } else { 1.0 }))
+    Axes::from_array(std::array::from_fn(|k| (p[k] - o[k]) * if Axes::is_linear(k) { unit } else { 1.0 }))
 }
 
 /// `frame` with its lengths times `unit`.

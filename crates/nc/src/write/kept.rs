@@ -3,7 +3,7 @@
 
 use kezuri_geom::{Axes, CycleBlock, Kept};
 
-use super::blocks::{unsupported, Writer};
+use super::blocks::{unsupported, Writer, N};
 use super::dialect::Dialect;
 use crate::Error;
 
@@ -68,7 +68,7 @@ impl Writer {
     /// block made.
     pub(super) fn made(&mut self, end: Axes) -> Result<(), Error> {
         let t = self.target(end)?;
-        for k in (0..6).filter(|&k| self.used[k]) {
+        for k in (0..N).filter(|&k| self.used[k]) {
             self.pos[k] = Some(t[k]);
             self.exact[k] = false;
         }
@@ -102,5 +102,5 @@ fn has(line: &str, letter: char, value: f64) -> bool {
 
 /// Whether kept text holds an axis word (`X5.`, `Z-1`; not in a comment).
 fn has_axis_words(text: &str) -> bool {
-    text.lines().any(|line| words(line).iter().any(|(l, _)| "XYZABC".contains(*l)))
+    text.lines().any(|line| words(line).iter().any(|(l, _)| "XYZABCUVW".contains(*l)))
 }

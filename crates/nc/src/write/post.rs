@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 
 use kezuri_geom::{Axes, AxisSet, Coolant, Spindle, ToolState};
 
-use super::blocks::{Motion, Writer};
+use super::blocks::{Motion, Writer, N};
 use super::dialect::Dialect;
 use super::options::{CoolantChoice, Home, Retract, Setup, WriteOptions};
 use crate::number::{push_padded, push_uint};
@@ -383,7 +383,7 @@ impl Writer {
         self.pending_length = setup.as_ref().filter(|s| s.length_offset && tool != 0).map(|s| s.register(tool));
         // A tool change macro may move the axes and change modal words.
         self.tool = tool;
-        for k in 0..6 {
+        for k in 0..N {
             if self.used[k] {
                 self.pos[k] = None;
             }
@@ -391,7 +391,7 @@ impl Writer {
         self.motion = None;
         self.plane = None;
         self.feed = None;
-        self.exact = [false; 6];
+        self.exact = [false; N];
         if self.incremental {
             // The macro may leave the control in G91: G90 is written again.
             self.relative = None;

@@ -77,6 +77,8 @@ impl State {
         gspan: Span,
         line: u32,
     ) -> Result<Action, Diagnostic> {
+        // The cycle's U W are its allowances, not axes.
+        let w = &w.six_axes();
         let (cycle, kind) = (tenths / 10, (tenths % 10) as u8);
         let name = if kind == 0 { format!("G{cycle}") } else { format!("G{cycle}.{kind}") };
         if self.settings.dialect != crate::Dialect::LinuxCnc {
@@ -106,10 +108,8 @@ impl State {
             // rs274 reads the cycle's rapid in absolute distance mode, G91
             // or not (the cycle's X Z above are incremental under G91).
             let (o, mut end) = (self.frame_offset().to_array(), self.tip.to_array());
-            for (k, letter) in b"XYZABC".iter().enumerate() {
-                if let Some(v) = w.get(*letter) {
-                    end[k] = if k < 3 { self.mm(v) } else { v } + o[k];
-                }
+            for (k, v) in w.axis_words() {
+                end[k] = if Axes::is_linear(k) { self.mm(v) } else { v } + o[k];
             }
             self.push_move(MoveKind::Rapid, Axes::from_array(end), 0.0, w.axes(), line);
         }
