@@ -109,6 +109,8 @@ impl State {
         self.blocks += 1;
         let mut codes: [Option<(GCode, Span)>; 8] = [None; 8];
         self.g_codes(&w, &mut codes)?;
+        self.block_plain = plain(&w, &codes[..w.g_count]);
+        self.frame_known &= self.block_plain;
         // A LinuxCNC lathe cycle's profile: the block is read, not run.
         if self.reading_profile() {
             let n = w.g_count;
@@ -661,6 +663,24 @@ impl State {
             }
         }
     }
+}
+
+/// Whether a block has motion words only: G00–G03, axis and arc words,
+/// F and S, no M code. Such a block cannot change the work offset, the
+/// shifts or the tool length offset (an H or T word, a G10, a macro
+/// statement can), so its moves keep the frame of the move before.
+#[inline(always)]
+fn plain(w: &Words, codes: &[Option<(GCode, Span)>]) -> bool {
+    const MOTION_WORDS: u32 = letters(b"XYZABCUVWIJKRFS");
+    if w.m_count > 0 || w.has_any(!MOTION_WORDS) {
+        return false;
+    }
+    for (code, _) in codes.iter().flatten() {
+        if !matches!(code, GCode::Motion(_)) {
+            return false;
+        }
+    }
+    true
 }
 
 /// The first of a block's decoded G codes that `is` accepts, with its

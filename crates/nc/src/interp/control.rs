@@ -245,6 +245,10 @@ impl<'a> Interp<'a> {
             self.st.last.n = f64::from(n);
         }
         let located = |r: Result<Value, String>| r.map_err(|m| Diagnostic::error(span, m));
+        // A statement may set what the frame is made of (#5221…, #2001…).
+        if !matches!(block.statement, Statement::Empty | Statement::Words { .. }) {
+            self.st.frame_known = false;
+        }
         match &block.statement {
             Statement::Empty => {}
             Statement::Words { .. } => {

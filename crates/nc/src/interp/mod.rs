@@ -444,6 +444,13 @@ struct State {
     at_line: u32,
     clock: Clock,
     toolpath: Toolpath,
+    /// Whether the last frame pushed is the one in force and nothing run
+    /// since could have changed it: the block of motion words only
+    /// ([`State::block_plain`]) reuses it instead of building it again.
+    frame_known: bool,
+    /// Whether the block being run has motion words only (G00–G03, axis,
+    /// arc, F and S words; no M code), which cannot change the frame.
+    block_plain: bool,
     /// Cutter radius compensation: tags and spans of the moves.
     radius: radius::Radius,
     diagnostics: Vec<Diagnostic>,
@@ -551,6 +558,8 @@ impl State {
             at: Span::default(),
             at_line: 0,
             toolpath: Toolpath { unknown_start: true, ..Toolpath::default() },
+            frame_known: false,
+            block_plain: false,
             radius: radius::Radius::default(),
             diagnostics: Vec::new(),
             warned: HashMap::new(),

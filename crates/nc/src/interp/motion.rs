@@ -144,9 +144,12 @@ impl State {
             _ => self.guessed = AxisSet(self.guessed.0 & !(named.0 & !stepped.0)),
         }
         self.place(kind, named);
-        let frame = self.frame();
-        if self.toolpath.frames.last() != Some(&frame) {
-            self.toolpath.frames.push(frame);
+        if !self.frame_known {
+            let frame = self.frame();
+            if self.toolpath.frames.last() != Some(&frame) {
+                self.toolpath.frames.push(frame);
+            }
+            self.frame_known = self.block_plain;
         }
         let m = Move {
             kind,
