@@ -102,6 +102,9 @@ fn what_cannot_be_shared_between_programs_is_refused() {
         assert!(stderr.contains(why), "{args:?}: {stderr}");
     };
     refused(&["check", "--jobs", "0", &files[0], &files[1]], "--jobs must be at least 1");
+    // The most jobs there can be: as many threads as files, no more.
+    let out = kezuri(&["check", "--jobs", &usize::MAX.to_string(), &files[0], &files[1]]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let dprnt = path(dir.path(), "printed.txt");
     refused(&["check", &files[0], &files[1], "--dprnt", &dprnt], "--dprnt names one file");
     refused(&["check", &files[0], "-"], "standard input (-) can be checked alone only");

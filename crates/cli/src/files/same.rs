@@ -93,7 +93,7 @@ const OUTPUTS: [&str; 12] =
 /// command line is in one list or the other (the test below holds it: a
 /// new output option cannot be left out of the check).
 #[cfg(test)]
-const INPUTS: [&str; 19] = [
+const INPUTS: [&str; 20] = [
     "file",
     "input",
     "data",
@@ -106,6 +106,7 @@ const INPUTS: [&str; 19] = [
     "profile",
     "offsets",
     "files",
+    "more",
     "machine",
     "lib",
     "var",

@@ -35,13 +35,15 @@ pub fn run(o: &RunOptions, files: &[PathBuf], jobs: usize, as_json: bool) -> Res
         bail!("standard input (-) can be checked alone only");
     }
     let bar = LateBar::new("check", "files", Duration::from_secs(2));
+    // More threads than files would only wait.
+    let jobs = jobs.min(files.len());
     let window = jobs * AHEAD_PER_JOB;
     let (task_tx, task_rx) = sync_channel::<usize>(jobs);
     let task_rx = Mutex::new(task_rx);
     let (done_tx, done_rx) = channel::<(usize, Checked)>();
     let mut failed = 0;
     std::thread::scope(|scope| -> Result<()> {
-        for _ in 0..jobs.min(files.len()) {
+        for _ in 0..jobs {
             let done_tx = done_tx.clone();
             let task_rx = &task_rx;
             scope.spawn(move || loop {
