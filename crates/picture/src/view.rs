@@ -192,12 +192,8 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
         text = None;
     }
     let budget = limit - fixed - text.as_ref().map_or(0.0, |(_, p)| p.len() as f64);
-    let chosen = detail::choose(
-        || path.moves.iter().zip(seconds.iter().copied()),
-        path.unknown_start,
-        options.arc_tol,
-        budget,
-    );
+    let chosen =
+        detail::choose(|| path.moves.iter().zip(seconds.iter().copied()), path.unknown_start, options.arc_tol, budget);
     let Some(chosen) = chosen else {
         return Err(too_large(file, options, text.is_some(), sim.is_some()));
     };
@@ -230,8 +226,12 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
                     thousands(chosen.moves),
                     thousands(moves.len() as u64)
                 ));
-                simplified =
-                    Toolpath { moves, frames: path.frames.clone(), unknown_start: path.unknown_start, kept: Vec::new() };
+                simplified = Toolpath {
+                    moves,
+                    frames: path.frames.clone(),
+                    unknown_start: path.unknown_start,
+                    kept: Vec::new(),
+                };
                 (&simplified, kinds, Cow::Owned(times))
             }
         };
