@@ -285,9 +285,10 @@ fn too_large(file: &str, options: &PageOptions, text: bool, sim: bool) -> Error 
     Error::new(
         ErrorKind::PageTooLarge,
         format!(
-            "{file}: even simplified to {} mm the path would not fit --max-page-mb {}: raise --max-page-mb{}{}",
-            detail::TOLERANCES[detail::TOLERANCES.len() - 1],
+            "{file}: the page would not fit {} MB (--max-page-mb) even with the path simplified to {} mm: \
+             raise --max-page-mb{}{}",
             options.max_page_mb,
+            detail::TOLERANCES[detail::TOLERANCES.len() - 1],
             if text { ", leave the program text out with --no-text" } else { "" },
             if sim { ", or show the part with fewer --mesh-vertices" } else { "" },
         ),
