@@ -259,9 +259,9 @@ fn raster(rows: usize, per_row: usize) -> String {
     nc
 }
 
-/// A page over --max-page-mb is drawn simplified, not refused, and says so
-/// on the page and in the summary; one no tolerance can fit is refused,
-/// naming --max-page-mb.
+/// A page over --max-page-mb is drawn simplified, not refused, says so on
+/// the page and in the summary, and opens in headless Chromium; one no
+/// tolerance can fit is refused, naming --max-page-mb.
 #[test]
 fn a_page_over_the_budget_is_drawn_simplified() {
     let dir = tempfile::tempdir().unwrap();
@@ -280,6 +280,7 @@ fn a_page_over_the_budget_is_drawn_simplified() {
     assert!(err.contains("simplified to ") && err.contains(" mm to fit 0.2 MB: 20,003 moves drawn as "), "{err}");
     let page = std::fs::read_to_string(&html).unwrap();
     assert!(page.contains("simplified to ") && page.contains("20,003 moves drawn as"));
+    drawn_in_chromium(&html);
     // The viewer alone is some 60 kB: nothing fits 0.01 MB.
     let o = kezuri(&["view", &nc, "--max-page-mb", "0.01", "-o", &html]);
     assert_eq!(o.status.code(), Some(1));
@@ -300,6 +301,12 @@ fn a_million_moves_make_a_page_within_the_budget() {
     let size = std::fs::metadata(&html).unwrap().len();
     assert!(size <= 32_000_000, "{size} bytes");
     eprintln!("{}", String::from_utf8_lossy(&o.stderr));
+    drawn_in_chromium(&html);
+}
+
+/// Opens `html` in headless Chromium (as docs/view.md does) and checks the
+/// page drawn (`data-ready="1"`); without Chromium it says so.
+fn drawn_in_chromium(html: &str) {
     let chromium = std::env::var("KEZURI_CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
     if !std::path::Path::new(&chromium).exists() {
         eprintln!("skipped: no Chromium at {chromium}");
@@ -319,5 +326,5 @@ fn a_million_moves_make_a_page_within_the_budget() {
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains(r#"data-ready="1""#), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains(r#"data-ready="1""#), "{html}: {}", String::from_utf8_lossy(&o.stderr));
 }

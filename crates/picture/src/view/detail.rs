@@ -23,9 +23,11 @@
 //! with a coordinate that is not a number are drawn whole, as at full
 //! detail.
 //!
-//! [`choose`] picks the tolerance before the page is built: it counts, in
-//! one pass, what each tolerance of [`TOLERANCES`] would draw, and takes the
-//! finest whose estimated size fits.
+//! [`choose`] picks the tolerance before the page is built: a pass counts
+//! the full detail, and where its reckoned size ([`MOVE_BYTES`],
+//! [`VERTEX_BYTES`]) does not fit, one more counts what every tolerance of
+//! [`TOLERANCES`] would draw, and takes the finest that fits. (Where a page
+//! still comes out larger, [`super::fitted_page`] draws the next coarser.)
 
 use kezuri_cam::shorten::douglas_peucker;
 use kezuri_geom::{Move, MoveKind};
