@@ -56,7 +56,7 @@ pub struct Drawn {
     /// The move: its start and end, and the state of the last move it
     /// stands for (line, feed, tool, work zero).
     pub mv: Move,
-    /// Its kind on the page (see [`super::pack`]): the kind of the moves it
+    /// Its kind on the page (see [`kind`]): the kind of the moves it
     /// stands for.
     pub kind: u8,
     /// The seconds of the moves it stands for.
