@@ -209,8 +209,9 @@ fn merge_run(run: &[Move], tol: f64, arcs: bool, out: &mut Vec<Move>) {
 }
 
 /// Indices of the points Douglas–Peucker keeps between `a` and `b`
-/// (both kept), in order.
-fn douglas_peucker(points: &[[f64; 3]], a: usize, b: usize, tol: f64) -> Vec<usize> {
+/// (both kept), in order: every point between two kept ones is within
+/// `tol` (plus [`ON_LINE`]) of the segment joining them.
+pub fn douglas_peucker(points: &[[f64; 3]], a: usize, b: usize, tol: f64) -> Vec<usize> {
     let mut keep = vec![a];
     let mut stack = vec![(a, b)];
     let mut kept_inner = Vec::new();

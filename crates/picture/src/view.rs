@@ -33,9 +33,11 @@
 //! the target does not reach).
 
 mod blob;
+pub mod detail;
 mod pack;
 mod part;
 
+use std::borrow::Cow;
 use std::io::Write as _;
 
 use base64::Engine as _;
@@ -115,9 +117,26 @@ pub struct Simulation<'a> {
     pub scale: Option<&'a DeviationScale>,
 }
 
+/// A page and what was left out to make it fit.
+pub struct Page {
+    /// The page.
+    pub html: Vec<u8>,
+    /// How it was made to fit, where it was (the path simplified, the text
+    /// left out), as the page says it.
+    pub fitted: Vec<String>,
+}
+
 /// The page of `job` (and of its simulation): the tools' shapes from the
 /// simulation, else the job's.
 pub fn page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Result<Vec<u8>, Error> {
+    Ok(fitted_page(job, sim, options)?.html)
+}
+
+/// The page of `job` (and of its simulation) within `--max-page-mb`: the
+/// level of detail is chosen before the page is built (see [`detail`]);
+/// the program text is left out where it would take more than half the
+/// page. Refused only where even the coarsest tolerance does not fit.
+pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Result<Page, Error> {
     let file = job.title;
     let mut notes = Vec::new();
     let original = job.path;
@@ -135,11 +154,9 @@ pub fn page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Resul
         None => original,
     };
     let (seconds, _) = move_times(path, job.dynamics);
-    let looks = tool_looks(job, path, sim);
-    let mut blob = Blob::default();
-    let packed = pack::pack(path, &seconds, looks, options.arc_tol, &mut blob)?;
-    let mut bounds = packed.bounds;
-    let mut marks = Vec::new();
+    // The part first: what it takes decides what is left for the path.
+    let mut part_blob = Blob::default();
+    let mut part_bounds = None;
     let sim_meta = match sim {
         Some(s) => {
             let part = Part {
@@ -148,7 +165,7 @@ pub fn page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Resul
                 scale: s.scale,
                 max_vertices: options.mesh_vertices,
             };
-            let (meta, (lo, hi)) = part.pack(&mut blob);
+            let (meta, bounds) = part.pack(&mut part_blob);
             if meta["cell_mm"].as_f64() != Some(s.zmap.res) {
                 notes.push(format!(
                     "the part is shown at {:.3} mm cells (simulated at {} mm), each the lowest of its cells",
@@ -156,48 +173,139 @@ pub fn page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Resul
                     s.zmap.res
                 ));
             }
-            bounds = Some(match bounds {
-                Some((a, b)) => (std::array::from_fn(|k| a[k].min(lo[k])), std::array::from_fn(|k| b[k].max(hi[k]))),
-                None => (lo, hi),
-            });
-            marks.extend(sim_marks(s, original, path, s.scale.map_or(GOUGE_MM, |d| d.gouge)));
+            part_bounds = Some(bounds);
             meta
         }
         None => Value::Null,
     };
-    let text = job.text.filter(|_| !options.no_text);
-    let mut meta = packed.meta();
-    let extra = json!({
-        "version": 1,
-        "title": file,
-        "units": if job.inch { "inch" } else { "mm" },
-        "unit_mm": if job.inch { 25.4 } else { 1.0 },
-        "bbox_mm": bounds.map(|(a, b)| [a, b]),
-        "arc_tolerance_mm": options.arc_tol,
-        "cycle_time_s": seconds.iter().sum::<f64>(),
-        "notes": notes,
-        "text": text.is_some(),
-        "sim": sim_meta,
-        "marks": marks,
-    });
-    if let (Value::Object(m), Value::Object(e)) = (&mut meta, extra) {
-        m.extend(e);
-    }
-    let html = html(&meta, &blob.into_bytes(), text);
     let limit = options.max_page_mb * 1e6;
-    if html.len() as f64 > limit {
-        return Err(Error::new(
-            ErrorKind::PageTooLarge,
-            format!(
-                "{file}: the page would be {:.1} MB, over --max-page-mb {}: merge moves with --shorten 0.005 \
-                 (or a larger tolerance){}, or raise --max-page-mb",
-                html.len() as f64 / 1e6,
-                options.max_page_mb,
-                if text.is_some() { ", leave the program text out with --no-text" } else { "" }
-            ),
+    // The viewer, the meta data and the part (base64 of at most its own size).
+    let fixed = (VIEWER_JS.len() + VIEWER_CSS.len() + BODY.len() + 16_384) as f64 + part_blob.len() as f64 * 4.0 / 3.0;
+    let mut fitted = Vec::new();
+    let mut text = job.text.filter(|_| !options.no_text).map(|t| (t, packed(t.as_bytes())));
+    if let Some((_, packed_text)) = text.as_ref().filter(|(_, p)| p.len() as f64 > (limit - fixed) / 2.0) {
+        fitted.push(format!(
+            "the program text is left out to fit {} MB (it takes {:.1} MB packed)",
+            options.max_page_mb,
+            packed_text.len() as f64 / 1e6
         ));
+        text = None;
     }
-    Ok(html)
+    let budget = limit - fixed - text.as_ref().map_or(0.0, |(_, p)| p.len() as f64);
+    let chosen =
+        detail::choose(|| path.moves.iter().zip(seconds.iter().copied()), path.unknown_start, options.arc_tol, budget);
+    let Some(chosen) = chosen else {
+        return Err(too_large(file, options, text.is_some(), sim.is_some()));
+    };
+    // The estimate of what a drawn move costs holds on the programs
+    // measured; where a page comes out larger all the same, the next
+    // coarser tolerance is drawn.
+    let mut rung = chosen.tolerance.and_then(|t| detail::TOLERANCES.iter().position(|&x| x == t));
+    loop {
+        let simplified;
+        let mut fitted = fitted.clone();
+        let (drawn, kinds, times): (&Toolpath, Vec<u8>, Cow<[f64]>) = match rung {
+            None => (path, path.moves.iter().map(pack::kind).collect(), Cow::Borrowed(&seconds)),
+            Some(k) => {
+                let tolerance = detail::TOLERANCES[k];
+                let mut moves = Vec::new();
+                let (mut kinds, mut times) = (Vec::new(), Vec::new());
+                let mut out = |d: detail::Drawn| {
+                    moves.push(d.mv);
+                    kinds.push(d.kind);
+                    times.push(d.seconds);
+                };
+                let mut simplifier = detail::Simplifier::new(tolerance, path.unknown_start);
+                for (m, &s) in path.moves.iter().zip(&seconds) {
+                    simplifier.push(m, s, &mut out);
+                }
+                simplifier.finish(&mut out);
+                fitted.push(format!(
+                    "simplified to {tolerance} mm to fit {} MB: {} moves drawn as {}",
+                    options.max_page_mb,
+                    thousands(chosen.moves),
+                    thousands(moves.len() as u64)
+                ));
+                simplified = Toolpath {
+                    moves,
+                    frames: path.frames.clone(),
+                    unknown_start: path.unknown_start,
+                    kept: Vec::new(),
+                };
+                (&simplified, kinds, Cow::Owned(times))
+            }
+        };
+        let mut notes = notes.clone();
+        notes.extend(fitted.iter().cloned());
+        let mut blob = Blob::default();
+        let looks = tool_looks(job, path, sim);
+        let packed = pack::pack(drawn, &kinds, &times, looks, options.arc_tol, &mut blob)?;
+        blob.append(part_blob.clone());
+        let mut bounds = packed.bounds;
+        if let Some((lo, hi)) = part_bounds {
+            bounds = Some(match bounds {
+                Some((a, b)) => (std::array::from_fn(|k| a[k].min(lo[k])), std::array::from_fn(|k| b[k].max(hi[k]))),
+                None => (lo, hi),
+            });
+        }
+        let marks = match sim {
+            Some(s) => sim_marks(s, original, drawn, s.scale.map_or(GOUGE_MM, |d| d.gouge)),
+            None => Vec::new(),
+        };
+        let mut meta = packed.meta();
+        let extra = json!({
+            "version": 1,
+            "title": file,
+            "units": if job.inch { "inch" } else { "mm" },
+            "unit_mm": if job.inch { 25.4 } else { 1.0 },
+            "bbox_mm": bounds.map(|(a, b)| [a, b]),
+            "arc_tolerance_mm": options.arc_tol,
+            "cycle_time_s": times.iter().sum::<f64>(),
+            "notes": notes,
+            "text": text.is_some(),
+            "sim": sim_meta.clone(),
+            "marks": marks,
+        });
+        if let (Value::Object(m), Value::Object(e)) = (&mut meta, extra) {
+            m.extend(e);
+        }
+        let html = html(&meta, &blob.into_bytes(), text.as_ref().map(|(_, p)| p.as_str()));
+        if html.len() as f64 <= limit {
+            return Ok(Page { html, fitted });
+        }
+        rung = match rung.map_or(0, |k| k + 1) {
+            k if k < detail::TOLERANCES.len() => Some(k),
+            _ => return Err(too_large(file, options, text.is_some(), sim.is_some())),
+        };
+    }
+}
+
+/// The refusal of a path that does not fit even at the coarsest tolerance.
+fn too_large(file: &str, options: &PageOptions, text: bool, sim: bool) -> Error {
+    Error::new(
+        ErrorKind::PageTooLarge,
+        format!(
+            "{file}: the page would not fit {} MB (--max-page-mb) even with the path simplified to {} mm: \
+             raise --max-page-mb{}{}",
+            options.max_page_mb,
+            detail::TOLERANCES[detail::TOLERANCES.len() - 1],
+            if text { ", leave the program text out with --no-text" } else { "" },
+            if sim { ", or show the part with fewer --mesh-vertices" } else { "" },
+        ),
+    )
+}
+
+/// `n` with its thousands apart: 9,000,000.
+fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
 }
 
 /// How each tool `path` loads looks: the simulation's cutters, else the
@@ -296,8 +404,9 @@ fn packed(data: &[u8]) -> String {
     base64::engine::general_purpose::STANDARD.encode(gz.finish().expect("gzip into memory cannot fail"))
 }
 
-/// The page: the viewer and the data as inert script elements, a policy
-/// that lets only the viewer run and nothing load.
+/// The page: the viewer and the data (`text`: the program text, already
+/// [`packed`]) as inert script elements, a policy that lets only the viewer
+/// run and nothing load.
 fn html(meta: &Value, data: &[u8], text: Option<&str>) -> Vec<u8> {
     let hash = base64::engine::general_purpose::STANDARD.encode(sha2::Sha256::digest(VIEWER_JS.as_bytes()));
     // JSON holds < > & only inside strings, where \u escapes mean the same.
@@ -320,7 +429,7 @@ fn html(meta: &Value, data: &[u8], text: Option<&str>) -> Vec<u8> {
     page.push_str("</script>\n");
     if let Some(text) = text {
         page.push_str("<script type=\"application/octet-stream\" id=\"kz-text\">");
-        page.push_str(&packed(text.as_bytes()));
+        page.push_str(text);
         page.push_str("</script>\n");
     }
     page.push_str("<script>");

@@ -3,7 +3,7 @@
 //! arrays in place).
 
 /// Arrays laid end to end.
-#[derive(Default)]
+#[derive(Default, Clone)]
 pub struct Blob {
     bytes: Vec<u8>,
 }
@@ -41,6 +41,17 @@ impl Blob {
     /// An `f32` array.
     pub fn f32s(&mut self, v: impl IntoIterator<Item = f32>) {
         self.bytes.extend(v.into_iter().flat_map(f32::to_le_bytes));
+    }
+
+    /// Bytes so far.
+    pub fn len(&self) -> usize {
+        self.bytes.len()
+    }
+
+    /// The arrays of `other` after these (each still at a multiple of four).
+    pub fn append(&mut self, other: Blob) {
+        self.align();
+        self.bytes.extend(other.bytes);
     }
 
     /// The bytes so far.

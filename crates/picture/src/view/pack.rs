@@ -75,7 +75,7 @@ impl Packed {
 
 /// The page's kind of a move: 0 rapid, 1 feed, 2 arc, 3 plunge, 4 probe,
 /// 5 dwell, 6 [`UNPLACED`].
-fn kind(m: &Move) -> u8 {
+pub fn kind(m: &Move) -> u8 {
     if m.unknown.0 & 0b111 != 0 {
         return UNPLACED;
     }
@@ -107,17 +107,18 @@ fn points(m: &Move, kind: u8, from_unknown: bool, tol: f64, out: &mut Vec<[f64; 
     }
 }
 
-/// Packs `path` into `blob` (sections 1 to 9): `seconds` is each move's
-/// time, `looks` the tools by number, arcs as chords within `tol` mm.
+/// Packs `path` into `blob` (sections 1 to 9): `kinds` is each move's
+/// page kind (see [`kind`]), `seconds` its time, `looks` the tools by
+/// number, arcs as chords within `tol` mm.
 pub fn pack(
     path: &Toolpath,
+    kinds: &[u8],
     seconds: &[f64],
     looks: Vec<ToolLook>,
     tol: f64,
     blob: &mut Blob,
 ) -> Result<Packed, Error> {
     let moves = &path.moves;
-    let kinds: Vec<u8> = moves.iter().map(kind).collect();
     // Whether each move starts where the program does not say.
     let first = if path.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
     let from_unknown: Vec<bool> =
@@ -125,7 +126,7 @@ pub fn pack(
     // The box of what is drawn: every point below.
     let mut through = Vec::new();
     let mut bounds: Option<([f64; 3], [f64; 3])> = None;
-    for ((m, &k), &unknown) in moves.iter().zip(&kinds).zip(&from_unknown) {
+    for ((m, &k), &unknown) in moves.iter().zip(kinds).zip(&from_unknown) {
         points(m, k, unknown, tol, &mut through);
         let start = (!unknown && !through.is_empty()).then(|| m.start.xyz());
         for p in start.iter().chain(&through) {
@@ -219,7 +220,7 @@ pub fn pack(
         breaks.push(u8::from(brk));
         *last = Some(q);
     };
-    for ((m, &k), &unknown) in moves.iter().zip(&kinds).zip(&from_unknown) {
+    for ((m, &k), &unknown) in moves.iter().zip(kinds).zip(&from_unknown) {
         rotary |= m.start.a != m.end.a || m.start.b != m.end.b || m.start.c != m.end.c;
         points(m, k, unknown, tol, &mut through);
         let mut count = 0u32;
@@ -250,7 +251,7 @@ pub fn pack(
         line = i64::from(m.line);
         d as i32
     }));
-    blob.f32s(moves.iter().zip(&kinds).map(|(m, &k)| if k == 0 || k == 5 { 0.0 } else { m.feed as f32 }));
+    blob.f32s(moves.iter().zip(kinds).map(|(m, &k)| if k == 0 || k == 5 { 0.0 } else { m.feed as f32 }));
     blob.f32s(seconds.iter().map(|&s| s as f32));
     blob.u32s(counts);
     let vertices = breaks.len();
