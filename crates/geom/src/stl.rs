@@ -298,6 +298,38 @@ mod tests {
     }
 
     #[test]
+    fn a_binary_file_read_in_pieces_gives_the_same_mesh() {
+        // The square, a degenerate triangle (skipped and counted) and the
+        // square again (its corners merge with the first's).
+        let p = Vec3::new;
+        let mut triangles = square();
+        triangles.push(Triangle::new(p(0., 0., 0.), p(1., 0., 0.), p(2., 0., 0.)));
+        triangles.extend(square());
+        let b = write_binary_stl(&triangles);
+        let read = read_binary_stl_mesh(&b[84..], triangles.len() as u32, 1.0).unwrap();
+        assert_eq!(read, Mesh::from_stl(&b).unwrap());
+        assert_eq!((read.len(), read.vertices().len(), read.skipped()), (4, 4, 1));
+        // Inches: every corner times 25.4, as the triangles scaled first.
+        let inch = read_binary_stl_mesh(&b[84..], triangles.len() as u32, 25.4).unwrap();
+        let scaled = triangles.iter().map(|t| Triangle { v: t.v.map(|c| c * 25.4) });
+        assert_eq!(inch, Mesh::from_stl_triangles(scaled.collect()).unwrap());
+        assert_eq!(inch.vertices()[2], p(50.8, 50.8, 1.5 * 25.4));
+        // A NaN in the third triangle: its number, as the whole-file reader says.
+        let mut bad = b.clone();
+        bad[84 + 2 * 50 + 12..84 + 2 * 50 + 16].copy_from_slice(&f32::NAN.to_le_bytes());
+        let e = read_binary_stl_mesh(&bad[84..], triangles.len() as u32, 1.0).unwrap_err();
+        assert_eq!(e.to_string(), Mesh::from_stl(&bad).unwrap_err().to_string());
+        assert!(e.to_string().contains("triangle 3"), "{e}");
+        // Cut short: the record that is missing is named.
+        let e = read_binary_stl_mesh(&b[84..84 + 120], triangles.len() as u32, 1.0).unwrap_err();
+        assert!(e.to_string().contains("cannot read STL triangle 3"), "{e}");
+        // Only degenerate triangles: the empty-STL error.
+        let flat = write_binary_stl(&triangles[2..3]);
+        let e = read_binary_stl_mesh(&flat[84..], 1, 1.0).unwrap_err();
+        assert!(e.to_string().contains("all 1 triangles are degenerate"), "{e}");
+    }
+
+    #[test]
     fn bad_files_say_what_is_wrong() {
         let b = write_binary_stl(&square());
         let err = |bytes: &[u8]| parse_stl(bytes).unwrap_err().to_string();
