@@ -317,30 +317,100 @@ impl FromStr for Grid {
     }
 }
 
-/// Drops `cutter` at every point of `grid`, rows in parallel; the result is
-/// row by row (`y` outer, `x` inner). `on_row` is called after each row
-/// (from any thread), for progress.
+/// Drops `cutter` at every point of `grid`, in parallel; the result is
+/// row by row (`y` outer, `x` inner). `on_row` is called after each row,
+/// for progress.
 pub fn drop_cutter_grid<S: Surface + ?Sized>(
     cutter: &Cutter,
     surface: &S,
     grid: &Grid,
     on_row: &(dyn Fn() + Sync),
 ) -> Vec<Option<f64>> {
-    let mut out = vec![None; grid.len()];
-    if grid.nx == 0 {
-        return out;
-    }
-    out.par_chunks_mut(grid.nx).enumerate().for_each_init(
-        || surface.scratch(),
-        |scratch, (j, row)| {
-            let y = grid.y(j);
-            for (i, z) in row.iter_mut().enumerate() {
-                *z = surface.drop_cutter_with(cutter, grid.x(i), y, scratch);
-            }
+    let mut out = Vec::with_capacity(grid.len());
+    let mut rows_told = 0;
+    let each = |zs: Vec<Option<f64>>| -> Result<(), std::convert::Infallible> {
+        out.extend(zs);
+        for _ in rows_told..out.len() / grid.nx.max(1) {
             on_row();
-        },
-    );
-    out
+        }
+        rows_told = out.len() / grid.nx.max(1);
+        Ok(())
+    };
+    match drop_cutter_grid_in_order(cutter, surface, grid, |_, zs| zs.to_vec(), each) {
+        Ok(()) => out,
+        Err(never) => match never {},
+    }
+}
+
+/// Points dropped at once by [`drop_cutter_grid_in_order`]: what is held
+/// of its output.
+const BATCH_POINTS: usize = 1 << 16;
+
+/// Points one thread takes at a time.
+const PIECE_POINTS: usize = 512;
+
+/// [`drop_cutter_grid`] handed on as it goes, in bounded memory: the
+/// points are dropped a batch of 65,536 at a time, both cores sharing
+/// each batch in pieces of 512; `make(k, zs)` turns a piece (`zs` the z of
+/// points `k..k + zs.len()`, row by row) into what is kept of it, on the
+/// thread that dropped it; `each` gets the pieces in order, on the
+/// caller's thread, and may stop the run with an error (a full disk).
+pub fn drop_cutter_grid_in_order<S: Surface + ?Sized, T: Send, E>(
+    cutter: &Cutter,
+    surface: &S,
+    grid: &Grid,
+    make: impl Fn(usize, &[Option<f64>]) -> T + Sync,
+    mut each: impl FnMut(T) -> Result<(), E>,
+) -> Result<(), E> {
+    // Working memory for each thread, kept from batch to batch (a stamp per
+    // vertex and edge of the mesh: too big to make afresh).
+    let pool = Mutex::new(Vec::new());
+    let nx = grid.nx.max(1);
+    for first in (0..grid.len()).step_by(BATCH_POINTS) {
+        let last = (first + BATCH_POINTS).min(grid.len());
+        let starts: Vec<usize> = (first..last).step_by(PIECE_POINTS).collect();
+        let pieces: Vec<T> = starts
+            .par_iter()
+            .map_init(
+                || Pooled::take(&pool, surface),
+                |scratch, &k0| {
+                    let zs: Vec<Option<f64>> = (k0..(k0 + PIECE_POINTS).min(last))
+                        .map(|k| surface.drop_cutter_with(cutter, grid.x(k % nx), grid.y(k / nx), scratch.get()))
+                        .collect();
+                    make(k0, &zs)
+                },
+            )
+            .collect();
+        for piece in pieces {
+            each(piece)?;
+        }
+    }
+    Ok(())
+}
+
+/// A scratch taken from a pool, given back when dropped.
+struct Pooled<'a, S: Surface + ?Sized> {
+    pool: &'a Mutex<Vec<S::Scratch>>,
+    scratch: Option<S::Scratch>,
+}
+
+impl<'a, S: Surface + ?Sized> Pooled<'a, S> {
+    fn take(pool: &'a Mutex<Vec<S::Scratch>>, surface: &S) -> Pooled<'a, S> {
+        let pooled = pool.lock().ok().and_then(|mut p| p.pop());
+        Pooled { pool, scratch: Some(pooled.unwrap_or_else(|| surface.scratch())) }
+    }
+
+    fn get(&mut self) -> &mut S::Scratch {
+        self.scratch.as_mut().expect("a scratch until dropped")
+    }
+}
+
+impl<S: Surface + ?Sized> Drop for Pooled<'_, S> {
+    fn drop(&mut self) {
+        if let (Some(scratch), Ok(mut pool)) = (self.scratch.take(), self.pool.lock()) {
+            pool.push(scratch);
+        }
+    }
 }
 
 /// Whether [`drop_cutter_rows`] places `cutter` whole rows at once (a ball

@@ -38,5 +38,8 @@ pub mod sim;
 pub mod texture;
 
 pub use cutter::Cutter;
-pub use dropcut::{drop_cutter, drop_cutter_grid, drop_cutter_rows, rows_at_once, Grid, MeshSurface, Surface};
+pub use dropcut::{
+    drop_cutter, drop_cutter_grid, drop_cutter_grid_in_order, drop_cutter_rows, rows_at_once, Grid, MeshSurface,
+    Surface,
+};
 pub use error::{Error, ErrorKind};

@@ -18,7 +18,6 @@ macro_rules! tool_help {
     };
 }
 
-mod budget;
 mod cmd;
 mod corrected;
 mod files;

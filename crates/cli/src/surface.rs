@@ -1,6 +1,7 @@
 //! Surfaces from files: an STL mesh, or a height grid of `x y z` lines;
 //! and a height grid written as an STL.
 
+use std::io::Read;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
@@ -8,7 +9,7 @@ use clap::ValueEnum;
 use kezuri_cam::cutter::Flat;
 use kezuri_cam::dropcut::{drop_cutter, MeshSurface};
 use kezuri_cam::Cutter;
-use kezuri_geom::{read_stl, write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
+use kezuri_geom::{read_binary_stl_mesh, read_stl, write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
 
 use crate::files::{read_bytes, Outputs};
 use crate::say::note;
@@ -110,12 +111,40 @@ fn say_size(name: &str, given: Option<Units>, lo: [f64; 3], hi: [f64; 3]) {
 /// Reads an STL mesh (binary or ASCII) in `units`: says its size, and
 /// warns of degenerate triangles skipped and of an ASCII file cut short.
 pub fn read_mesh(path: &Path, units: Option<Units>) -> Result<Mesh> {
+    let name = path.display().to_string();
+    if let Some((file, count)) = binary_stl_file(path) {
+        let scale = units.unwrap_or_default().scale();
+        let mesh = read_binary_stl_mesh(file, count, scale).with_context(|| name.clone())?;
+        return Ok(told(&name, mesh, units));
+    }
     let bytes = read_bytes(path)?;
-    mesh_of(&path.display().to_string(), &bytes, units)
+    mesh_of(&name, &bytes, units)
+}
+
+/// A binary STL file (not standard input), opened past its 84-byte header,
+/// and its triangle count: its size is the one the header announces. It is
+/// then read a piece at a time, never held whole.
+fn binary_stl_file(path: &Path) -> Option<(std::fs::File, u32)> {
+    if path == Path::new("-") {
+        return None;
+    }
+    let mut file = std::fs::File::open(path).ok()?;
+    let size = file.metadata().ok().filter(|m| m.is_file())?.len();
+    let mut header = [0u8; 84];
+    file.read_exact(&mut header).ok()?;
+    let count = u32::from_le_bytes([header[80], header[81], header[82], header[83]]);
+    (84 + 50 * u64::from(count) == size).then_some((file, count))
 }
 
 fn mesh_of(name: &str, bytes: &[u8], given: Option<Units>) -> Result<Mesh> {
     let units = given.unwrap_or_default();
+    if let Some(c) = bytes.get(80..84) {
+        let count = u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+        if 84 + 50 * u64::from(count) == bytes.len() as u64 {
+            let mesh = read_binary_stl_mesh(&bytes[84..], count, units.scale()).with_context(|| name.to_string())?;
+            return Ok(told(name, mesh, given));
+        }
+    }
     let file = read_stl(bytes).map_err(|e| match e.at {
         Some((line, column)) => anyhow::anyhow!("{name}:{line}:{column}: {} (ASCII STL)", e.message),
         None => anyhow::Error::new(e).context(name.to_string()),
@@ -133,13 +162,19 @@ fn mesh_of(name: &str, bytes: &[u8], given: Option<Units>) -> Result<Mesh> {
         Units::Inch => file.triangles.into_iter().map(|t| Triangle { v: t.v.map(|p| p * k) }).collect(),
     };
     let mesh = Mesh::from_stl_triangles(triangles).with_context(|| name.to_string())?;
+    Ok(told(name, mesh, given))
+}
+
+/// `mesh`, once the user is told of degenerate triangles skipped and of its
+/// size.
+fn told(name: &str, mesh: Mesh, given: Option<Units>) -> Mesh {
     if mesh.skipped() > 0 {
         eprintln!("warning: {name}: skipped {} degenerate (zero-area) triangles", mesh.skipped());
     }
     if let Some((lo, hi)) = mesh.bounds() {
         say_size(name, given, [lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]);
     }
-    Ok(mesh)
+    mesh
 }
 
 /// Reads an STL (binary or ASCII) or a height grid (`x y z` or `x,y,z`
@@ -147,6 +182,9 @@ fn mesh_of(name: &str, bytes: &[u8], given: Option<Units>) -> Result<Mesh> {
 /// and comments, are skipped; a line that starts with one must be `x y z`),
 /// in `units` (none: mm), and says its size.
 pub fn read_surface(path: &Path, units: Option<Units>) -> Result<Surface> {
+    if binary_stl_file(path).is_some() {
+        return Ok(Surface::Mesh(Box::new(MeshSurface::new(read_mesh(path, units)?))));
+    }
     let bytes = read_bytes(path)?;
     let name = path.display().to_string();
     let is_stl = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("stl"))
@@ -155,7 +193,9 @@ pub fn read_surface(path: &Path, units: Option<Units>) -> Result<Surface> {
             .get(80..84)
             .is_some_and(|c| 84 + 50 * u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])) == bytes.len() as u64);
     if is_stl {
-        return Ok(Surface::Mesh(Box::new(MeshSurface::new(mesh_of(&name, &bytes, units)?))));
+        let mesh = mesh_of(&name, &bytes, units)?;
+        drop(bytes);
+        return Ok(Surface::Mesh(Box::new(MeshSurface::new(mesh))));
     }
     let surface =
         grid(&String::from_utf8_lossy(&bytes), units.unwrap_or_default().scale()).with_context(|| name.clone())?;

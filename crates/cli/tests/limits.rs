@@ -91,12 +91,15 @@ fn lengths_from_a_nanometre_to_a_kilometre() {
 }
 
 #[test]
-fn dropcut_points_are_weighed_before_the_work() {
+fn dropcut_points_are_counted_before_the_work() {
+    // The points are written as they are dropped (memory does not grow
+    // with the grid), but a grid is still bounded: 1/0.00005 + 1 = 20,001
+    // points a side, 4.0e8 in all, over the 100 million allowed.
     let dir = tempfile::tempdir().unwrap();
     let stl = path(dir.path(), "flat.stl");
     std::fs::write(&stl, "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n").unwrap();
-    let o = kezuri(&["dropcut", &stl, "--tool", "ball:1", "--grid", "0,0,1,1,0.00015"]);
-    refused(&o, "--grid: 44.5 million points would take about 2.5 GB of memory (at most 2.1 GB");
+    let o = kezuri(&["dropcut", &stl, "--tool", "ball:1", "--grid", "0,0,1,1,0.00005"]);
+    refused(&o, "the grid has 20001 x 20001 points, more than 100 million");
 }
 
 /// A binary STL of two triangles: a 50 mm square ramp.

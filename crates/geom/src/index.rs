@@ -58,12 +58,14 @@ impl XyIndex {
     /// The index of `mesh`, cells sized from its median triangle.
     pub fn new(mesh: &Mesh) -> XyIndex {
         let boxes: Vec<[f64; 4]> = mesh.iter().map(|t| t.xy_box()).collect();
-        let mut sizes: Vec<f64> = boxes.iter().map(side).collect();
-        let median = if sizes.is_empty() {
-            1.0
-        } else {
-            let mid = sizes.len() / 2;
-            *sizes.select_nth_unstable_by(mid, f64::total_cmp).1
+        let median = {
+            let mut sizes: Vec<f64> = boxes.iter().map(side).collect();
+            if sizes.is_empty() {
+                1.0
+            } else {
+                let mid = sizes.len() / 2;
+                *sizes.select_nth_unstable_by(mid, f64::total_cmp).1
+            }
         };
         XyIndex::build(boxes, median)
     }
@@ -96,10 +98,11 @@ impl XyIndex {
             while cell * f64::powi(2.0, l) < side(b) && l < 64 {
                 l += 1;
             }
-            l as usize
+            l as u8
         };
-        let of: Vec<usize> = boxes.iter().map(level_of).collect();
-        let count = of.iter().max().map_or(1, |l| l + 1);
+        // A byte a triangle: at most 65 levels.
+        let of: Vec<u8> = boxes.iter().map(level_of).collect();
+        let count = of.iter().max().map_or(1, |&l| usize::from(l) + 1);
         let mut levels: Vec<Level> = (0..count)
             .map(|l| Level {
                 origin: lo,
@@ -111,7 +114,7 @@ impl XyIndex {
             })
             .collect();
         for &l in &of {
-            let level = &mut levels[l];
+            let level = &mut levels[usize::from(l)];
             if level.nx == 0 {
                 level.nx = (extent[0] / level.cell) as usize + 1;
                 level.ny = (extent[1] / level.cell) as usize + 1;
@@ -121,12 +124,15 @@ impl XyIndex {
         let low = boxes
             .iter()
             .zip(&of)
-            .map(|(b, &l)| [levels[l].cell_of(b[0], 0) as u32, levels[l].cell_of(b[1], 1) as u32])
+            .map(|(b, &l)| {
+                let level = &levels[usize::from(l)];
+                [level.cell_of(b[0], 0) as u32, level.cell_of(b[1], 1) as u32]
+            })
             .collect();
         // Counting sort of (cell, triangle) pairs, level by level: at most
         // four pairs a triangle, so the u32 counts cannot overflow.
         for (b, &l) in boxes.iter().zip(&of) {
-            let level = &mut levels[l];
+            let level = &mut levels[usize::from(l)];
             let (i0, j0, i1, j1) = level.cell_range(b);
             for j in j0..=j1 {
                 for i in i0..=i1 {
@@ -143,6 +149,7 @@ impl XyIndex {
             fill.push(level.start.clone());
         }
         for (t, (b, &l)) in boxes.iter().zip(&of).enumerate() {
+            let l = usize::from(l);
             let level = &mut levels[l];
             let (i0, j0, i1, j1) = level.cell_range(b);
             for j in j0..=j1 {

@@ -51,7 +51,9 @@ pub use heightfield::{Heightfield, Slopes, BLOCK};
 pub use index::XyIndex;
 pub use mesh::{Mesh, Triangle, Vec3};
 pub use random::SplitMix64;
-pub use stl::{parse_stl, read_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlFile};
+pub use stl::{
+    parse_stl, read_binary_stl_mesh, read_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlFile,
+};
 pub use time::{cycle_time, move_times, Dynamics};
 pub use tool_profile::{Support, ToolProfile};
 pub use toolpath::{

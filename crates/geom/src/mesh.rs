@@ -142,10 +142,17 @@ impl Mesh {
     /// (see [`Triangle::is_degenerate`]; also two corners that merge).
     pub fn from_triangles<I: IntoIterator<Item = Triangle>>(triangles: I) -> Mesh {
         let triangles = triangles.into_iter();
-        let mut mesh = Mesh::default();
         let hint = triangles.size_hint().0;
+        Mesh::from_triangles_counted(triangles, hint)
+    }
+
+    /// [`Mesh::from_triangles`] of about `hint` triangles.
+    pub(crate) fn from_triangles_counted(triangles: impl Iterator<Item = Triangle>, hint: usize) -> Mesh {
+        let mut mesh = Mesh::default();
         mesh.triangles.reserve(hint);
-        // A closed mesh has about half as many vertices as triangles.
+        // A closed mesh, or a surface drawn as a grid, has about half as
+        // many vertices as triangles.
+        mesh.vertices.reserve(hint / 2 + 16);
         let mut vertex_ids = VertexTable::with_capacity(hint / 2 + 16);
         for t in triangles {
             if t.is_degenerate() {
@@ -159,6 +166,8 @@ impl Mesh {
             }
             mesh.triangles.push(ids);
         }
+        // The table is no longer needed: its memory is free for the edges.
+        drop(vertex_ids);
         (mesh.edges, mesh.triangle_edges) = edges_of(mesh.vertices.len(), &mesh.triangles);
         mesh
     }

@@ -5,7 +5,7 @@
 //! (and has no NUL byte) is read as ASCII. Facet normals are ignored: the
 //! corners say which way a triangle faces, and drop-cutter does not care.
 
-use std::io::Write;
+use std::io::{BufReader, Read, Write};
 
 use crate::error::{Error, ErrorKind};
 use crate::mesh::{Mesh, Triangle, Vec3};
@@ -64,7 +64,11 @@ impl Mesh {
 
     /// The mesh of an STL's `triangles` (see [`Mesh::from_stl`]).
     pub fn from_stl_triangles(triangles: Vec<Triangle>) -> Result<Mesh, Error> {
-        let mesh = Mesh::from_triangles(triangles);
+        Mesh::from_mesh_checked(Mesh::from_triangles(triangles))
+    }
+
+    /// `mesh`, or the error of an STL with no triangle left.
+    fn from_mesh_checked(mesh: Mesh) -> Result<Mesh, Error> {
         if mesh.is_empty() {
             return Err(stl_error(match mesh.skipped() {
                 0 => "empty STL: no triangles".to_string(),
@@ -94,18 +98,51 @@ fn looks_ascii(bytes: &[u8]) -> bool {
 fn parse_binary(body: &[u8], n: usize) -> Result<Vec<Triangle>, Error> {
     let mut out = Vec::with_capacity(n);
     for (k, rec) in body.chunks_exact(50).enumerate() {
-        let f = |i: usize| {
-            let b = &rec[12 + 4 * i..16 + 4 * i];
-            f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        };
-        let p = |c: usize| Vec3::new(f(3 * c), f(3 * c + 1), f(3 * c + 2));
-        let t = Triangle::new(p(0), p(1), p(2));
-        if !t.v.iter().all(|v| v.is_finite()) {
-            return Err(non_finite(k + 1));
-        }
-        out.push(t);
+        out.push(record(rec).ok_or_else(|| non_finite(k + 1))?);
     }
     Ok(out)
+}
+
+/// The triangle of a binary STL's 50-byte record; `None` where a
+/// coordinate is NaN or infinite.
+fn record(rec: &[u8]) -> Option<Triangle> {
+    let f = |i: usize| {
+        let b = &rec[12 + 4 * i..16 + 4 * i];
+        f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let p = |c: usize| Vec3::new(f(3 * c), f(3 * c + 1), f(3 * c + 2));
+    let t = Triangle::new(p(0), p(1), p(2));
+    t.v.iter().all(|v| v.is_finite()).then_some(t)
+}
+
+/// Reads the `count` triangles of a binary STL from `body` (the bytes after
+/// its 84-byte header) straight into a mesh, each corner multiplied by
+/// `scale`: the same mesh and errors as [`Mesh::from_stl`] of the whole
+/// file (scaled), without the file or its triangles ever held whole (a
+/// megabyte is read at a time; the mesh keeps each distinct corner once).
+pub fn read_binary_stl_mesh(body: impl Read, count: u32, scale: f64) -> Result<Mesh, Error> {
+    let mut reader = BufReader::with_capacity(1 << 20, body);
+    let mut failed = None;
+    let mut rec = [0u8; 50];
+    let triangles = (0..count as usize).map_while(|k| {
+        if let Err(e) = reader.read_exact(&mut rec) {
+            failed = Some(stl_error(format!("cannot read STL triangle {}: {e}", k + 1)));
+            return None;
+        }
+        match record(&rec) {
+            Some(t) if scale == 1.0 => Some(t),
+            Some(t) => Some(Triangle { v: t.v.map(|p| p * scale) }),
+            None => {
+                failed = Some(non_finite(k + 1));
+                None
+            }
+        }
+    });
+    let mesh = Mesh::from_triangles_counted(triangles, count as usize);
+    match failed {
+        Some(e) => Err(e),
+        None => Mesh::from_mesh_checked(mesh),
+    }
 }
 
 fn parse_ascii(bytes: &[u8]) -> Result<StlFile, Error> {
@@ -258,6 +295,38 @@ mod tests {
         let mut b2 = b.clone();
         b2[..5].copy_from_slice(b"solid");
         assert_eq!(parse_stl(&b2).unwrap(), square());
+    }
+
+    #[test]
+    fn a_binary_file_read_in_pieces_gives_the_same_mesh() {
+        // The square, a degenerate triangle (skipped and counted) and the
+        // square again (its corners merge with the first's).
+        let p = Vec3::new;
+        let mut triangles = square();
+        triangles.push(Triangle::new(p(0., 0., 0.), p(1., 0., 0.), p(2., 0., 0.)));
+        triangles.extend(square());
+        let b = write_binary_stl(&triangles);
+        let read = read_binary_stl_mesh(&b[84..], triangles.len() as u32, 1.0).unwrap();
+        assert_eq!(read, Mesh::from_stl(&b).unwrap());
+        assert_eq!((read.len(), read.vertices().len(), read.skipped()), (4, 4, 1));
+        // Inches: every corner times 25.4, as the triangles scaled first.
+        let inch = read_binary_stl_mesh(&b[84..], triangles.len() as u32, 25.4).unwrap();
+        let scaled = triangles.iter().map(|t| Triangle { v: t.v.map(|c| c * 25.4) });
+        assert_eq!(inch, Mesh::from_stl_triangles(scaled.collect()).unwrap());
+        assert_eq!(inch.vertices()[2], p(50.8, 50.8, 1.5 * 25.4));
+        // A NaN in the third triangle: its number, as the whole-file reader says.
+        let mut bad = b.clone();
+        bad[84 + 2 * 50 + 12..84 + 2 * 50 + 16].copy_from_slice(&f32::NAN.to_le_bytes());
+        let e = read_binary_stl_mesh(&bad[84..], triangles.len() as u32, 1.0).unwrap_err();
+        assert_eq!(e.to_string(), Mesh::from_stl(&bad).unwrap_err().to_string());
+        assert!(e.to_string().contains("triangle 3"), "{e}");
+        // Cut short: the record that is missing is named.
+        let e = read_binary_stl_mesh(&b[84..84 + 120], triangles.len() as u32, 1.0).unwrap_err();
+        assert!(e.to_string().contains("cannot read STL triangle 3"), "{e}");
+        // Only degenerate triangles: the empty-STL error.
+        let flat = write_binary_stl(&triangles[2..3]);
+        let e = read_binary_stl_mesh(&flat[84..], 1, 1.0).unwrap_err();
+        assert!(e.to_string().contains("all 1 triangles are degenerate"), "{e}");
     }
 
     #[test]

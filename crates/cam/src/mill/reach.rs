@@ -13,6 +13,8 @@
 //! the flat, more on a steep wall where the contact points lie further
 //! apart), so the figures are upper bounds within that.
 
+use rayon::prelude::*;
+
 use crate::Cutter;
 
 /// What a cutter leaves of a relief where it cannot reach.
@@ -76,13 +78,15 @@ pub fn unreached(
     area: Area,
     cutter: &Cutter,
     threshold: f64,
-    z_at: impl Fn(f64, f64) -> Option<f64>,
-    cl: impl Fn(f64, f64) -> Option<f64>,
+    z_at: impl Fn(f64, f64) -> Option<f64> + Sync,
+    cl: impl Fn(f64, f64) -> Option<f64> + Sync,
 ) -> Option<Unreached> {
     let Area { bounds: [x0, y0, x1, y1], inset, step } = area;
     let (nx, ny) = (((x1 - x0) / step).floor() as usize + 1, ((y1 - y0) / step).floor() as usize + 1);
     let at = |i: usize, j: usize| (x0 + i as f64 * step, y0 + j as f64 * step);
+    // Both cores: the locations, then the rows of points judged.
     let locations: Vec<Option<f64>> = (0..nx * ny)
+        .into_par_iter()
         .map(|k| {
             let (x, y) = at(k % nx, k / nx);
             cl(x, y)
@@ -97,53 +101,70 @@ pub fn unreached(
             (r <= cutter.radius()).then(|| (di, dj, cutter.height(r)))
         })
         .collect();
-    let (mut worst, mut over, mut sampled): (Option<Unreached>, usize, usize) = (None, 0, 0);
-    for j in 0..ny {
-        for i in 0..nx {
-            if locations[j * nx + i].is_none() {
-                continue;
+    // What each point leaves, `None` for a point not judged.
+    let left_at = |i: usize, j: usize| -> Option<f64> {
+        locations[j * nx + i]?;
+        let (x, y) = at(i, j);
+        if inset > 0.0 && (x - x0 < inset || x1 - x < inset || y - y0 < inset || y1 - y < inset) {
+            return None;
+        }
+        let z = z_at(x, y)?;
+        let best = offsets
+            .iter()
+            .filter_map(|&(di, dj, h)| {
+                let (qi, qj) = (i as isize + di, j as isize + dj);
+                if qi < 0 || qj < 0 || qi >= nx as isize || qj >= ny as isize {
+                    return None;
+                }
+                locations[qj as usize * nx + qi as usize].map(|c| c + h)
+            })
+            .fold(f64::INFINITY, f64::min);
+        // The slope's cosine, from the relief half a step either side.
+        let d = step / 2.0;
+        let slope = |a: Option<f64>, b: Option<f64>| a.zip(b).map_or(0.0, |(a, b)| (b - a) / (2.0 * d));
+        let (gx, gy) = (slope(z_at(x - d, y), z_at(x + d, y)), slope(z_at(x, y - d), z_at(x, y + d)));
+        let cos = 1.0 / (1.0 + gx * gx + gy * gy).sqrt();
+        let mut left = (best - z) * cos;
+        if left > threshold {
+            // Before it is called unreached: the cutter placed where it
+            // would touch the tangent plane at this very point (its axis
+            // downhill of it by the radius a plane of this slope touches),
+            // which no grid of locations need hold: a flat end on a wall
+            // leaves the grid's steps, not the wall.
+            let g = gx.hypot(gy);
+            let rho = if g > 0.0 { cutter.facet_radius(g) } else { 0.0 };
+            let (ux, uy) = if g > 0.0 { (gx / g, gy / g) } else { (0.0, 0.0) };
+            if let Some(c) = cl(x - rho * ux, y - rho * uy) {
+                left = left.min((c + cutter.height(rho) - z) * cos);
             }
-            let (x, y) = at(i, j);
-            if inset > 0.0 && (x - x0 < inset || x1 - x < inset || y - y0 < inset || y1 - y < inset) {
-                continue;
-            }
-            let Some(z) = z_at(x, y) else { continue };
-            let best = offsets
-                .iter()
-                .filter_map(|&(di, dj, h)| {
-                    let (qi, qj) = (i as isize + di, j as isize + dj);
-                    if qi < 0 || qj < 0 || qi >= nx as isize || qj >= ny as isize {
-                        return None;
+        }
+        Some(left)
+    };
+    // Each row's worst point (the first of the worst), points over and
+    // points judged; then the rows in order, as one pass would find them.
+    let rows: Vec<(Option<Unreached>, usize, usize)> = (0..ny)
+        .into_par_iter()
+        .map(|j| {
+            let (mut worst, mut over, mut sampled): (Option<Unreached>, usize, usize) = (None, 0, 0);
+            for i in 0..nx {
+                let Some(left) = left_at(i, j) else { continue };
+                sampled += 1;
+                if left > threshold {
+                    over += 1;
+                    if worst.is_none_or(|w| left > w.left) {
+                        worst = Some(Unreached { left, at: [at(i, j).0, at(i, j).1], share: 0.0 });
                     }
-                    locations[qj as usize * nx + qi as usize].map(|c| c + h)
-                })
-                .fold(f64::INFINITY, f64::min);
-            // The slope's cosine, from the relief half a step either side.
-            let d = step / 2.0;
-            let slope = |a: Option<f64>, b: Option<f64>| a.zip(b).map_or(0.0, |(a, b)| (b - a) / (2.0 * d));
-            let (gx, gy) = (slope(z_at(x - d, y), z_at(x + d, y)), slope(z_at(x, y - d), z_at(x, y + d)));
-            let cos = 1.0 / (1.0 + gx * gx + gy * gy).sqrt();
-            let mut left = (best - z) * cos;
-            if left > threshold {
-                // Before it is called unreached: the cutter placed where it
-                // would touch the tangent plane at this very point (its axis
-                // downhill of it by the radius a plane of this slope touches),
-                // which no grid of locations need hold: a flat end on a wall
-                // leaves the grid's steps, not the wall.
-                let g = gx.hypot(gy);
-                let rho = if g > 0.0 { cutter.facet_radius(g) } else { 0.0 };
-                let (ux, uy) = if g > 0.0 { (gx / g, gy / g) } else { (0.0, 0.0) };
-                if let Some(c) = cl(x - rho * ux, y - rho * uy) {
-                    left = left.min((c + cutter.height(rho) - z) * cos);
                 }
             }
-            sampled += 1;
-            if left > threshold {
-                over += 1;
-                if worst.is_none_or(|w| left > w.left) {
-                    worst = Some(Unreached { left, at: [x, y], share: 0.0 });
-                }
-            }
+            (worst, over, sampled)
+        })
+        .collect();
+    let (mut worst, mut over, mut sampled): (Option<Unreached>, usize, usize) = (None, 0, 0);
+    for (row_worst, row_over, row_sampled) in rows {
+        over += row_over;
+        sampled += row_sampled;
+        if let Some(w) = row_worst.filter(|r| worst.is_none_or(|w| r.left > w.left)) {
+            worst = Some(w);
         }
     }
     worst.map(|w| Unreached { share: over as f64 / sampled.max(1) as f64, ..w })

@@ -1,15 +1,15 @@
 //! `kezuri dropcut`: cutter-location z over a grid of points on an STL.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::dropcut::{drop_cutter_grid, Grid, MeshSurface};
+use kezuri_cam::dropcut::{drop_cutter_grid_in_order, Grid, MeshSurface};
 use kezuri_cam::Cutter;
 
-use crate::files::write_output;
+use crate::files::Outputs;
 
 /// Options of `kezuri dropcut`.
 #[derive(Args, Debug)]
@@ -18,7 +18,9 @@ For every grid point (x, y) the cutter is lowered onto the mesh until it touches
 the tip's z (the lowest point of the cutter: cutter-location or CL points, as OpenCAMLib's), exact for every shape
 (vertex, facet and edge contacts). Points run x = X0 + i·STEP for i = 0..round((X1−X0)/STEP),
 y likewise; one line `x y z` a point, no header, y outer, x inner, numbers in full precision
-(shortest round-trip). Binary and ASCII STL are read; degenerate triangles are skipped.
+(shortest round-trip). The points are written as they are computed, on all cores, so memory
+does not grow with the grid. Binary and ASCII STL are read (a binary one a piece at a time,
+never held whole); degenerate triangles are skipped.
 
 Points with no triangle within the cutter's radius (off the mesh) get no line, and a warning
 on stderr says how many; --fill Z writes Z for them instead. A grid entirely off the mesh is
@@ -62,27 +64,36 @@ pub struct DropcutArgs {
 pub fn run(args: &DropcutArgs) -> Result<()> {
     let cutter: Cutter = args.tool.parse()?;
     let grid: Grid = args.grid.parse().with_context(|| "--grid")?;
-    // Each point's height (16 bytes) and its line of text (about 40).
-    crate::budget::memory("--grid", grid.len() as f64, "points", 56.0)?;
     let mesh = crate::surface::read_mesh(&args.mesh, args.units)?;
     let surface = MeshSurface::new(mesh);
 
     // Long runs only: a quarter of a million points take a second or so.
     let bar = crate::progress::bar("dropcut", "rows", grid.ny as u64, if grid.len() < 200_000 { u64::MAX } else { 0 });
-    let rows_done = AtomicU64::new(0);
-    let on_row = || {
-        let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
-        if let Some(bar) = &bar {
-            bar.set_position(done);
-        }
-    };
-    let z = drop_cutter_grid(&cutter, &surface, &grid, &on_row);
+    // The points are written as they are dropped: to the output file's
+    // temporary file, or to standard output once a point has met the mesh
+    // (until then a grid wholly off the mesh, an error, is still possible).
+    let mut counts = Counts::default();
+    let to_stdout = args.output.as_deref().is_none_or(|p| p == Path::new("-"));
+    let mut out = Outputs::new();
+    if to_stdout {
+        let mut w = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+        counts = match write_points(&mut w, &cutter, &surface, &grid, args.fill, true, bar.as_ref())
+            .and_then(|c| w.flush().map(|()| c))
+        {
+            // The reader has gone (`| head`): nothing more to do.
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+            r => r.context("cannot write to standard output")?,
+        };
+    } else {
+        out.add_with(args.output.as_deref(), |w| {
+            counts = write_points(w, &cutter, &surface, &grid, args.fill, false, bar.as_ref())?;
+            Ok(())
+        })?;
+    }
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-
-    let missing = z.iter().filter(|z| z.is_none()).count();
-    if missing == z.len() {
+    if counts.missing == grid.len() {
         let (lo, hi) = surface.mesh().bounds().expect("a mesh from an STL has triangles");
         bail!(
             "no grid point has a triangle within the cutter's radius: the grid x {}..{}, y {}..{} lies off the mesh \
@@ -97,15 +108,8 @@ pub fn run(args: &DropcutArgs) -> Result<()> {
             hi.y
         );
     }
-    let mut out = String::with_capacity(z.len() * 32);
-    for (k, z) in z.iter().enumerate() {
-        if let Some(z) = z.or(args.fill) {
-            // `+ 0.0` turns a -0 into 0.
-            let (x, y) = (grid.x(k % grid.nx) + 0.0, grid.y(k / grid.nx) + 0.0);
-            writeln!(out, "{x} {y} {}", z + 0.0).expect("writing to a String");
-        }
-    }
-    write_output(args.output.as_deref(), out.as_bytes())?;
+    out.commit()?;
+    let missing = counts.missing;
     if missing > 0 {
         let what = if args.fill.is_some() { "written with --fill" } else { "left out (use --fill Z to write them)" };
         eprintln!(
@@ -114,4 +118,57 @@ pub fn run(args: &DropcutArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Points written and left without a triangle under the cutter.
+#[derive(Default)]
+struct Counts {
+    missing: usize,
+}
+
+/// Drops the cutter at every grid point and writes each point's line to
+/// `w` in order, a batch at a time; with `hold`, nothing is written before
+/// the first point that meets the mesh (the lines before it are kept).
+fn write_points(
+    w: &mut dyn Write,
+    cutter: &Cutter,
+    surface: &MeshSurface,
+    grid: &Grid,
+    fill: Option<f64>,
+    hold: bool,
+    bar: Option<&indicatif::ProgressBar>,
+) -> std::io::Result<Counts> {
+    let mut counts = Counts::default();
+    let mut held: Option<Vec<u8>> = hold.then(Vec::new);
+    let make = |k0: usize, zs: &[Option<f64>]| {
+        let mut text = String::with_capacity(zs.len() * 40);
+        let mut missing = 0;
+        for (k, z) in (k0..).zip(zs) {
+            missing += usize::from(z.is_none());
+            if let Some(z) = z.or(fill) {
+                // `+ 0.0` turns a -0 into 0.
+                let (x, y) = (grid.x(k % grid.nx) + 0.0, grid.y(k / grid.nx) + 0.0);
+                writeln!(text, "{x} {y} {}", z + 0.0).expect("writing to a String");
+            }
+        }
+        (k0 + zs.len(), text, missing, missing < zs.len())
+    };
+    let each = |(end, text, missing, met): (usize, String, usize, bool)| -> std::io::Result<()> {
+        counts.missing += missing;
+        match &mut held {
+            Some(bytes) if !met => bytes.extend_from_slice(text.as_bytes()),
+            Some(bytes) => {
+                w.write_all(bytes)?;
+                held = None;
+                w.write_all(text.as_bytes())?;
+            }
+            None => w.write_all(text.as_bytes())?,
+        }
+        if let Some(bar) = bar {
+            bar.set_position((end / grid.nx) as u64);
+        }
+        Ok(())
+    };
+    drop_cutter_grid_in_order(cutter, surface, grid, make, each)?;
+    Ok(counts)
 }
