@@ -10,23 +10,12 @@
 //! (X a radius: the program's diameters halved) before the runs were
 //! looked at.
 
-use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
-use kezuri_nc::interp::{Control, CoordSettings, GCodeSystem, IntegerInput, Lathe, Settings, XMode};
-use kezuri_nc::Dialect;
+use kezuri_geom::{Move, MoveKind, Toolpath};
+use kezuri_nc::interp::{GCodeSystem, Settings};
 
 mod common;
 
-fn lathe(system: GCodeSystem) -> Settings {
-    Settings {
-        dialect: Dialect::FanucLathe,
-        integer_input: IntegerInput::Increments,
-        coords: CoordSettings { control: Control::Fanuc, ..CoordSettings::default() },
-        home: Axes { x: 100.0, z: 200.0, ..Axes::ZERO },
-        reference_given: [true; 4],
-        lathe: Some(Lathe { x: XMode::Diameter, system }),
-        ..Settings::default()
-    }
-}
+use common::lathe::lathe;
 
 fn path(text: &str, settings: &Settings) -> Toolpath {
     common::run("t.nc", text, settings).path()
