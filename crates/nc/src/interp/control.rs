@@ -1,9 +1,12 @@
 //! The block pointer: macro statements, loops, jumps, calls and returns.
 
+mod index;
 mod line;
 mod oword;
 
 use std::collections::HashMap;
+
+use index::{build_index, UnitIndex};
 
 use super::block::{Action, Call, FrameKind};
 use super::value::{self, Value};
@@ -40,15 +43,6 @@ struct Frame {
     /// The number each LinuxCNC opener of a computed label (`o#1 if`) read
     /// when it last ran here, by block: its closing word must read the same.
     read_labels: HashMap<u32, OName>,
-}
-
-/// Sequence numbers and loop pairs of one program unit.
-#[derive(Default)]
-struct UnitIndex {
-    labels: HashMap<u32, u32>,
-    /// For each WHILE/DO block, its END; for each END, its WHILE/DO; or why
-    /// it has none.
-    loops: HashMap<u32, Result<u32, String>>,
 }
 
 pub(super) struct Interp<'a> {
@@ -575,46 +569,6 @@ impl<'a> Interp<'a> {
         }
         Ok(true)
     }
-}
-
-fn build_index(program: &Program, unit: usize) -> UnitIndex {
-    let mut index = UnitIndex::default();
-    let mut open: Vec<(u8, u32)> = Vec::new();
-    for i in program.units[unit].blocks.clone() {
-        let block = &program.blocks[i as usize];
-        if let Some(n) = block.number {
-            index.labels.entry(n).or_insert(i);
-        }
-        match block.statement {
-            Statement::While { label, .. } | Statement::Do { label } => open.push((label, i)),
-            Statement::End { label } => match open.last() {
-                Some(&(l, start)) if l == label => {
-                    open.pop();
-                    index.loops.insert(start, Ok(i));
-                    index.loops.insert(i, Ok(start));
-                }
-                Some(&(l, _)) => {
-                    let crossing =
-                        format!("END{label} comes before END{l}: the DO{label} and DO{l} loops cross; loops must nest");
-                    if let Some(&(_, start)) = open.iter().rev().find(|(o, _)| *o == label) {
-                        index.loops.insert(start, Err(crossing.clone()));
-                    }
-                    index.loops.insert(i, Err(crossing));
-                }
-                None => {
-                    index.loops.insert(i, Err(format!("END{label} has no WHILE … DO{label} before it")));
-                }
-            },
-            _ => {}
-        }
-    }
-    for (label, start) in open {
-        index
-            .loops
-            .entry(start)
-            .or_insert_with(|| Err(format!("DO{label} has no END{label} after it in this program")));
-    }
-    index
 }
 
 impl State {
