@@ -49,5 +49,5 @@ pub use ast::Program;
 pub use detect::{detect, Detected};
 pub use dialect::Dialect;
 pub use error::{Error, ErrorKind, Place};
-pub use parse::{comments, parse, parse_as};
+pub use parse::{comments, parse, parse_as, parse_counting};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

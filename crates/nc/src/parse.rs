@@ -7,18 +7,21 @@
 //! empty block, and parsing goes on with the next line.
 
 mod comment;
+mod ends;
 mod expr;
 mod number;
 mod oword;
 
 pub use comment::comments;
 use comment::with_comment;
+use ends::{ends_program, finish_unit, program_end};
 use number::plain_words;
 use oword::{link_oword, OpenOWord, OWORD_KEYWORDS};
 
 use crate::ast::{Block, Expr, ExprId, Func, Line, PrintItem, Program, ProgramUnit, Statement, Word, WordValue};
 use crate::source::{Diagnostic, FileId, Span};
 use crate::Dialect;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Parses `text` (file `file` of the run) as a Fanuc program and appends its
 /// program units to `program`: [`parse_as`] with [`Dialect::Fanuc`].
@@ -30,7 +33,35 @@ pub fn parse(program: &mut Program, file: FileId, text: &str) -> Vec<Diagnostic>
 /// program units to `program`. Returns the diagnostics; the program is
 /// usable for the blocks that parsed.
 pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialect) -> Vec<Diagnostic> {
+    parse_reporting(program, file, text, dialect, None)
+}
+
+/// [`parse_as`], storing in `done` how many bytes of `text` it has read:
+/// every 64 KiB, and the whole length at the end (for a progress bar
+/// another thread draws).
+pub fn parse_counting(
+    program: &mut Program,
+    file: FileId,
+    text: &str,
+    dialect: Dialect,
+    done: &AtomicU64,
+) -> Vec<Diagnostic> {
+    parse_reporting(program, file, text, dialect, Some(done))
+}
+
+/// Bytes read between two stores of the count of bytes read.
+const REPORT_EVERY: usize = 1 << 16;
+
+fn parse_reporting(
+    program: &mut Program,
+    file: FileId,
+    text: &str,
+    dialect: Dialect,
+    done: Option<&AtomicU64>,
+) -> Vec<Diagnostic> {
     let mut diagnostics = Vec::new();
+    // The next offset at which `done` is told (one comparison a line).
+    let mut next_report = if done.is_some() { 0 } else { usize::MAX };
     let bytes = text.as_bytes();
     let units_before = program.units.len();
     // Room for the whole file up front (a block per line, a word per 8
@@ -56,6 +87,10 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
     // LinuxCNC O-words opened and not closed yet.
     let mut open_owords: Vec<OpenOWord> = Vec::new();
     while pos < bytes.len() {
+        if pos >= next_report {
+            done.inspect(|d| d.store(pos as u64, Ordering::Relaxed));
+            next_report = pos + REPORT_EVERY;
+        }
         line += 1;
         let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |i| pos + i);
         let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0, operators: 0, dialect };
@@ -179,39 +214,8 @@ pub fn parse_as(program: &mut Program, file: FileId, text: &str, dialect: Dialec
     } else if program.units.len() == units_before && !diagnostics.iter().any(Diagnostic::is_error) {
         diagnostics.push(Diagnostic::error(at_end, "the file holds no program: no blocks to run"));
     }
+    done.inspect(|d| d.store(bytes.len() as u64, Ordering::Relaxed));
     diagnostics
-}
-
-/// Whether `block` ends the program: an `M30` or `M02` word written as a
-/// number (`M#1` is not looked at before the run).
-fn ends_program(program: &Program, block: &Block) -> bool {
-    program.words(block).iter().any(|w| matches!(end_code(w), Some(2 | 30)))
-}
-
-/// The program end `block` gives: 2, 30 or 99 for its first `M02`, `M30`
-/// or `M99` word.
-fn program_end(program: &Program, block: &Block) -> Option<u32> {
-    program.words(block).iter().find_map(end_code)
-}
-
-/// 2, 30 or 99 where `w` is `M02`, `M30` or `M99` written as a number
-/// (`M#1` is not looked at before the run).
-fn end_code(w: &Word) -> Option<u32> {
-    match w.value() {
-        WordValue::Number { value, .. } if w.letter == b'M' && [2.0, 30.0, 99.0].contains(&value) => Some(value as u32),
-        _ => None,
-    }
-}
-
-fn finish_unit(program: &mut Program, unit: &mut ProgramUnit) {
-    unit.blocks.end = program.blocks.len() as u32;
-    let anonymous_and_empty = unit.number.is_none()
-        && program.blocks[unit.blocks.start as usize..unit.blocks.end as usize]
-            .iter()
-            .all(|b| b.statement == Statement::Empty);
-    if !anonymous_and_empty {
-        program.units.push(unit.clone());
-    }
 }
 
 /// Replaces block `at` by an error that the run stops on, and reports it.

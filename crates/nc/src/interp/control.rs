@@ -229,6 +229,7 @@ impl<'a> Interp<'a> {
             return Err(self.runaway(pc));
         }
         let block = &self.program.blocks[pc as usize];
+        self.st.settings.reached(block.span, || self.program.units[self.frames[0].unit].span.file);
         if block.delete && self.st.settings.block_delete {
             return Ok(true);
         }

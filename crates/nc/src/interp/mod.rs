@@ -33,6 +33,8 @@ mod vars;
 mod words;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, ToolState, Toolpath};
 
@@ -143,6 +145,10 @@ pub struct Settings {
     /// Turning tools' noses by tool number (nose radius compensation, the
     /// simulation).
     pub noses: BTreeMap<u32, Nose>,
+    /// Where the run is in the main program's text: the byte offset of the
+    /// block being run is stored here (relaxed), so a loop moves it back;
+    /// blocks of other files leave it at their call. For a progress bar.
+    pub progress: Option<Arc<AtomicU64>>,
 }
 
 impl Settings {
@@ -150,6 +156,17 @@ impl Settings {
     /// a lathe dialect's defaults (X a diameter, system A); `None` for a mill.
     pub fn lathe_conventions(&self) -> Option<Lathe> {
         self.lathe.or_else(|| self.dialect.is_lathe().then(Lathe::default))
+    }
+
+    /// Stores where the run is ([`Settings::progress`]): `at`'s first byte,
+    /// where `at` is in the main program's file (`main`).
+    #[inline]
+    fn reached(&self, at: Span, main: impl FnOnce() -> crate::source::FileId) {
+        if let Some(done) = &self.progress {
+            if at.file == main() {
+                done.store(u64::from(at.start), Ordering::Relaxed);
+            }
+        }
     }
 
     /// Checks what a machine file can get wrong: the macro variable ranges
@@ -188,6 +205,7 @@ impl Default for Settings {
             lathe: None,
             max_rpm: None,
             noses: BTreeMap::new(),
+            progress: None,
         }
     }
 }
