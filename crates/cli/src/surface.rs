@@ -12,6 +12,7 @@ use kezuri_cam::Cutter;
 use kezuri_geom::{read_binary_stl_mesh, read_stl, write_binary_stl_to, Heightfield, Mesh, Triangle, Vec3};
 
 use crate::files::{read_bytes, Outputs};
+use crate::progress::{ByteProgress, CountingReader};
 use crate::say::note;
 
 /// A surface to cut or to compare with.
@@ -114,8 +115,11 @@ pub fn read_mesh(path: &Path, units: Option<Units>) -> Result<Mesh> {
     let name = path.display().to_string();
     if let Some((file, count)) = binary_stl_file(path) {
         let scale = units.unwrap_or_default().scale();
-        let mesh = read_binary_stl_mesh(file, count, scale).with_context(|| name.clone())?;
-        return Ok(told(&name, mesh, units));
+        // A large mesh takes seconds to read: a bar by bytes.
+        let progress = ByteProgress::start("reading", 84 + 50 * u64::from(count));
+        let mesh = read_binary_stl_mesh(CountingReader::new(file, 84, &progress), count, scale);
+        progress.finish();
+        return Ok(told(&name, mesh.with_context(|| name.clone())?, units));
     }
     let bytes = read_bytes(path)?;
     mesh_of(&name, &bytes, units)

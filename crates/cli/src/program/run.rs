@@ -11,9 +11,10 @@ use kezuri_correct::kinematics::{Kinematics, AXES};
 use kezuri_geom::{cycle_time, AxisRanges, Move, MoveKind, Spindle, Toolpath};
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings, Thread};
-use kezuri_nc::{detect, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
+use kezuri_nc::{detect, parse_as, parse_counting, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
 use crate::files::{read_text, Folder, Outputs};
+use crate::progress::ByteProgress;
 use kezuri_machine::{Machine, ToolEntry};
 
 /// How axis words without a decimal point are read.
@@ -323,7 +324,7 @@ fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) 
         Some(p) => read_var_file(p)?,
         None => base.parameters.clone(),
     };
-    let settings = Settings {
+    let mut settings = Settings {
         parameters,
         radii_required,
         clock_seed: o.clock_seed,
@@ -337,14 +338,22 @@ fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) 
     let id = sources.add(SourceFile::new(name, text));
     let mut program = Program::default();
     let text = sources.get(id).text.clone();
-    let parse_diagnostics = parse_as(&mut program, id, &text, detected.dialect);
+    // Reading and running a big program takes seconds: a bar by bytes.
+    let progress = ByteProgress::start("reading", text.len() as u64);
+    let parse_diagnostics = match progress.counter() {
+        Some(done) => parse_counting(&mut program, id, &text, detected.dialect, &done),
+        None => parse_as(&mut program, id, &text, detected.dialect),
+    };
     let parse_errors = parse_diagnostics.iter().filter(|d| d.is_error()).count();
     let dir = library_dir(o.lib.as_deref(), &o.file);
     let outcome = if parse_errors > 0 || program.units.is_empty() {
         Outcome::default()
     } else {
+        progress.stage("running");
+        settings.progress = progress.counter();
         interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings)
     };
+    progress.finish();
     let mut outputs = Outputs::new();
     if !outcome.prints.is_empty() {
         match &o.dprnt {
