@@ -3,7 +3,6 @@
 //! points, running the binary.
 #![allow(dead_code)]
 
-use std::fs::File;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -15,6 +14,7 @@ use crate::capture::CaptureArgs;
 use clap::Parser;
 
 mod terminal;
+#[allow(unused_imports)]
 pub use terminal::{pty, Pty};
 
 #[derive(Parser)]

@@ -1,5 +1,6 @@
 //! A pseudo-terminal for a test: kezuri is given one end, the test reads
 //! or writes the other.
+#![allow(dead_code)]
 
 use std::fs::File;
 use std::io::Write;
