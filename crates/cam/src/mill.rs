@@ -237,15 +237,13 @@ pub fn raster_with(
     }
     let total: usize = plans.iter().map(|p| p.3.len()).sum();
     let done = AtomicUsize::new(0);
-    for (along_y, u0, u1, rows) in plans {
+    // Every pass sampled first (16 bytes a point as written), so that the
+    // toolpath is made at its size once: growing it move by move would
+    // hold up to twice the moves, and both copies while it grows.
+    let mut sampled_passes = Vec::with_capacity(plans.len());
+    for (along_y, u0, u1, rows) in &plans {
+        let (along_y, u0, u1) = (*along_y, *u0, *u1);
         let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
-        let point = |u: f64, v: f64, z: f64| {
-            if along_y {
-                Axes { x: v, y: u, z, ..Axes::ZERO }
-            } else {
-                Axes { x: u, y: v, z, ..Axes::ZERO }
-            }
-        };
         let forward = |k: usize| o.pattern == Pattern::OneWay || k.is_multiple_of(2);
         let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
         let ask = |asked: &[(f64, &[f64])]| match rows_at {
@@ -262,8 +260,20 @@ pub fn raster_with(
                 on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             }
         }
+        sampled_passes.push(sampled);
+    }
+    path.toolpath.moves.reserve_exact(moves_at_most(&plans, &sampled_passes, o));
+    for ((along_y, _, _, rows), sampled) in plans.into_iter().zip(sampled_passes) {
+        let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
+        let point = |u: f64, v: f64, z: f64| {
+            if along_y {
+                Axes { x: v, y: u, z, ..Axes::ZERO }
+            } else {
+                Axes { x: u, y: v, z, ..Axes::ZERO }
+            }
+        };
         let mut last_row_end: Option<(f64, f64)> = None;
-        for (&v, pieces) in rows.iter().zip(&sampled) {
+        for (&v, pieces) in rows.iter().zip(sampled) {
             for (k, piece) in pieces.iter().enumerate() {
                 let first = piece[0];
                 let linked = k == 0
@@ -309,6 +319,22 @@ pub fn raster_with(
         ));
     }
     Ok(path.toolpath)
+}
+
+/// The most moves the sampled rows of `plans` make: each piece's points,
+/// its approach (two rapids and a plunge, two more rapids at the start) and
+/// retract, and the samples of a link to the next row.
+fn moves_at_most(
+    plans: &[(bool, f64, f64, Vec<f64>)],
+    sampled: &[Vec<Vec<Vec<(f64, f64)>>>],
+    o: &RasterOptions,
+) -> usize {
+    let mut n = 1;
+    for ((_, _, _, rows), pass) in plans.iter().zip(sampled) {
+        let gaps = rows.windows(2).map(|w| ((w[1] - w[0]).abs() / o.step).ceil() as usize + 1);
+        n += 1 + gaps.sum::<usize>() + pass.iter().flatten().map(|piece| piece.len() + 4).sum::<usize>();
+    }
+    n
 }
 
 fn check(r: Region, o: &RasterOptions) -> Result<(), Error> {
