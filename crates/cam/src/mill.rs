@@ -165,6 +165,10 @@ pub type ClRowsFn<'a> = dyn Fn(bool, &[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> 
 /// answers take 24 bytes each).
 const BATCH_POINTS: usize = 4 << 20;
 
+/// Rows refined together where the CL function is asked point by point:
+/// enough for both cores, few enough that their refinement is small.
+const ROWS_AT_ONCE: usize = 16;
+
 /// The pick feed (in the inclined plane) for a surface inclined at `angle`
 /// radians across the rows, `None` where no pick feed meets the target.
 pub type PickFeedFn<'a> = dyn Fn(f64) -> Option<f64> + Sync + 'a;
@@ -252,7 +256,13 @@ pub fn raster_with(
         };
         let mut sampled = Vec::with_capacity(rows.len());
         let per_row = first_level(&row_samples(u0, u1, o), Quantum(o.quantum)).len().max(1);
-        let batch = (BATCH_POINTS / per_row).max(1);
+        // Rows asked point by point are refined a few at a time: what a
+        // row holds while it is refined (every CL point asked of it, some
+        // six for each point it keeps) is let go as soon as it is done.
+        let batch = match rows_at {
+            Some(_) => (BATCH_POINTS / per_row).max(1),
+            None => ROWS_AT_ONCE,
+        };
         for (b, chunk) in rows.chunks(batch).enumerate() {
             let jobs: Vec<Job> = chunk.iter().enumerate().map(|(k, &v)| (v, ends(b * batch + k))).collect();
             sampled.extend(sample_rows(&ask, rows_at.is_some(), &jobs, o));
