@@ -29,7 +29,8 @@
 //! Halving goes level by level over all the rows of a pass, so that each
 //! level's new points can be asked of the CL function at once
 //! ([`raster_with`] and a [`ClRowsFn`]: a ball on a height grid is placed
-//! on whole rows far faster than point by point).
+//! on whole rows far faster than point by point); asked point by point,
+//! the rows are refined sixteen at a time, in bounded memory.
 //!
 //! # Pick-feed control (`cusp`)
 //! The oval end mill paper's pick-feed control, generalised: with a target cusp height,
