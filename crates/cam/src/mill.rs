@@ -332,14 +332,17 @@ pub fn raster_with(
     Ok(path.toolpath)
 }
 
+/// A pass: whether its rows run along Y, where they start and end (u0,
+/// u1) and where each row is (v).
+type Plan = (bool, f64, f64, Vec<f64>);
+
+/// A row's pieces, each its points (u, z) in order.
+type RowPieces = Vec<Vec<(f64, f64)>>;
+
 /// The most moves the sampled rows of `plans` make: each piece's points,
 /// its approach (two rapids and a plunge, two more rapids at the start) and
 /// retract, and the samples of a link to the next row.
-fn moves_at_most(
-    plans: &[(bool, f64, f64, Vec<f64>)],
-    sampled: &[Vec<Vec<Vec<(f64, f64)>>>],
-    o: &RasterOptions,
-) -> usize {
+fn moves_at_most(plans: &[Plan], sampled: &[Vec<RowPieces>], o: &RasterOptions) -> usize {
     let mut n = 1;
     for ((_, _, _, rows), pass) in plans.iter().zip(sampled) {
         let gaps = rows.windows(2).map(|w| ((w[1] - w[0]).abs() / o.step).ceil() as usize + 1);
