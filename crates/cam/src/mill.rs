@@ -29,7 +29,8 @@
 //! Halving goes level by level over all the rows of a pass, so that each
 //! level's new points can be asked of the CL function at once
 //! ([`raster_with`] and a [`ClRowsFn`]: a ball on a height grid is placed
-//! on whole rows far faster than point by point).
+//! on whole rows far faster than point by point); asked point by point,
+//! the rows are refined sixteen at a time, in bounded memory.
 //!
 //! # Pick-feed control (`cusp`)
 //! The oval end mill paper's pick-feed control, generalised: with a target cusp height,
@@ -165,6 +166,10 @@ pub type ClRowsFn<'a> = dyn Fn(bool, &[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> 
 /// answers take 24 bytes each).
 const BATCH_POINTS: usize = 4 << 20;
 
+/// Rows refined together where the CL function is asked point by point:
+/// enough for both cores, few enough that their refinement is small.
+const ROWS_AT_ONCE: usize = 16;
+
 /// The pick feed (in the inclined plane) for a surface inclined at `angle`
 /// radians across the rows, `None` where no pick feed meets the target.
 pub type PickFeedFn<'a> = dyn Fn(f64) -> Option<f64> + Sync + 'a;
@@ -237,15 +242,13 @@ pub fn raster_with(
     }
     let total: usize = plans.iter().map(|p| p.3.len()).sum();
     let done = AtomicUsize::new(0);
-    for (along_y, u0, u1, rows) in plans {
+    // Every pass sampled first (16 bytes a point as written), so that the
+    // toolpath is made at its size once: growing it move by move would
+    // hold up to twice the moves, and both copies while it grows.
+    let mut sampled_passes = Vec::with_capacity(plans.len());
+    for (along_y, u0, u1, rows) in &plans {
+        let (along_y, u0, u1) = (*along_y, *u0, *u1);
         let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
-        let point = |u: f64, v: f64, z: f64| {
-            if along_y {
-                Axes { x: v, y: u, z, ..Axes::ZERO }
-            } else {
-                Axes { x: u, y: v, z, ..Axes::ZERO }
-            }
-        };
         let forward = |k: usize| o.pattern == Pattern::OneWay || k.is_multiple_of(2);
         let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
         let ask = |asked: &[(f64, &[f64])]| match rows_at {
@@ -254,7 +257,13 @@ pub fn raster_with(
         };
         let mut sampled = Vec::with_capacity(rows.len());
         let per_row = first_level(&row_samples(u0, u1, o), Quantum(o.quantum)).len().max(1);
-        let batch = (BATCH_POINTS / per_row).max(1);
+        // Rows asked point by point are refined a few at a time: what a
+        // row holds while it is refined (every CL point asked of it, some
+        // six for each point it keeps) is let go as soon as it is done.
+        let batch = match rows_at {
+            Some(_) => (BATCH_POINTS / per_row).max(1),
+            None => ROWS_AT_ONCE,
+        };
         for (b, chunk) in rows.chunks(batch).enumerate() {
             let jobs: Vec<Job> = chunk.iter().enumerate().map(|(k, &v)| (v, ends(b * batch + k))).collect();
             sampled.extend(sample_rows(&ask, rows_at.is_some(), &jobs, o));
@@ -262,8 +271,20 @@ pub fn raster_with(
                 on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             }
         }
+        sampled_passes.push(sampled);
+    }
+    path.toolpath.moves.reserve_exact(moves_at_most(&plans, &sampled_passes, o));
+    for ((along_y, _, _, rows), sampled) in plans.into_iter().zip(sampled_passes) {
+        let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
+        let point = |u: f64, v: f64, z: f64| {
+            if along_y {
+                Axes { x: v, y: u, z, ..Axes::ZERO }
+            } else {
+                Axes { x: u, y: v, z, ..Axes::ZERO }
+            }
+        };
         let mut last_row_end: Option<(f64, f64)> = None;
-        for (&v, pieces) in rows.iter().zip(&sampled) {
+        for (&v, pieces) in rows.iter().zip(sampled) {
             for (k, piece) in pieces.iter().enumerate() {
                 let first = piece[0];
                 let linked = k == 0
@@ -309,6 +330,25 @@ pub fn raster_with(
         ));
     }
     Ok(path.toolpath)
+}
+
+/// A pass: whether its rows run along Y, where they start and end (u0,
+/// u1) and where each row is (v).
+type Plan = (bool, f64, f64, Vec<f64>);
+
+/// A row's pieces, each its points (u, z) in order.
+type RowPieces = Vec<Vec<(f64, f64)>>;
+
+/// The most moves the sampled rows of `plans` make: each piece's points,
+/// its approach (two rapids and a plunge, two more rapids at the start) and
+/// retract, and the samples of a link to the next row.
+fn moves_at_most(plans: &[Plan], sampled: &[Vec<RowPieces>], o: &RasterOptions) -> usize {
+    let mut n = 1;
+    for ((_, _, _, rows), pass) in plans.iter().zip(sampled) {
+        let gaps = rows.windows(2).map(|w| ((w[1] - w[0]).abs() / o.step).ceil() as usize + 1);
+        n += 1 + gaps.sum::<usize>() + pass.iter().flatten().map(|piece| piece.len() + 4).sum::<usize>();
+    }
+    n
 }
 
 fn check(r: Region, o: &RasterOptions) -> Result<(), Error> {

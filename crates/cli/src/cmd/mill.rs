@@ -2,15 +2,16 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use kezuri_cam::dropcut::{drop_cutter_rows, rows_at_once};
 use kezuri_cam::mill::reach::{self, unreached, Area};
-use kezuri_cam::mill::{gouge_note, raster, RasterOptions, Region, GOUGE_TOL};
+use kezuri_cam::mill::{gouge_note, raster_with, ClRowsFn, RasterOptions, Region, GOUGE_TOL};
 use kezuri_cam::{scallop, Cutter};
 
 use crate::files::Outputs;
 use crate::machine::MachineArg;
 use crate::program::{write_program, Origin, WriteArgs};
 use crate::raster::{RowDirection, RowPattern};
-use crate::surface::read_surface;
+use crate::surface::{read_surface, Surface};
 
 /// Options of `kezuri mill`.
 #[derive(Args, Debug)]
@@ -167,8 +168,18 @@ pub fn run(args: &MillArgs) -> Result<()> {
             bar.set_position(done as u64);
         }
     };
-    let path = raster(
+    // A ball on a height grid is placed on whole rows at once, far faster
+    // than point by point, with the same answers.
+    let grid_rows = match &surface {
+        Surface::Grid(field) if rows_at_once(&cutter) => {
+            Some(|along_y: bool, asked: &[(f64, &[f64])]| drop_cutter_rows(&cutter, field, along_y, asked))
+        }
+        _ => None,
+    };
+    let rows_at = grid_rows.as_ref().map(|f| f as &ClRowsFn);
+    let path = raster_with(
         &cl,
+        rows_at,
         Region { x0, y0, x1, y1 },
         &options,
         pick_feed.as_ref().map(|f| f as &kezuri_cam::mill::PickFeedFn),
