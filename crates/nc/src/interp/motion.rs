@@ -144,7 +144,8 @@ impl State {
             _ => self.guessed = AxisSet(self.guessed.0 & !(named.0 & !stepped.0)),
         }
         self.place(kind, named);
-        if !self.frame_known {
+        // (A state cloned for a scratch run has no frames yet: it builds one.)
+        if !self.frame_known || self.toolpath.frames.is_empty() {
             let frame = self.frame();
             if self.toolpath.frames.last() != Some(&frame) {
                 self.toolpath.frames.push(frame);
