@@ -57,6 +57,6 @@ pub use stl::{
 pub use time::{cycle_time, move_times, Dynamics};
 pub use tool_profile::{Support, ToolProfile};
 pub use toolpath::{
-    Arc, Axes, AxisRanges, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, Plane, Spindle,
-    ToolState, Toolpath,
+    Arc, Axes, AxisRanges, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, PathSink, Plane,
+    Spindle, ToolState, Toolpath, WholePath,
 };

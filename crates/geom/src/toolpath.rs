@@ -2,6 +2,8 @@
 
 mod bounds;
 pub use bounds::AxisRanges;
+mod piece;
+pub use piece::{PathSink, WholePath};
 mod transform;
 
 use std::f64::consts::TAU;

@@ -24,7 +24,9 @@ fn parse_run(text: &str, settings: &Settings) -> (Vec<Diagnostic>, Option<Outcom
         for d in &o.diagnostics {
             assert!(!d.render(&sources).is_empty());
         }
-        assert!(o.statements <= settings.step_limit + 1, "the step limit holds");
+        // Each block once, then at most the limit run again.
+        let once = program.blocks.len() as u64;
+        assert!(o.statements <= settings.step_limit + 1 + once, "the step limit holds");
         assert!(o.completed || o.diagnostics.iter().any(Diagnostic::is_error), "a run that stops says why");
         outcome.get_or_insert(o);
     }
@@ -104,7 +106,8 @@ fn endless_loop_stops_at_the_step_limit_naming_the_loop() {
     let (_, outcome) = parse_run(text, &Settings { step_limit: 1_000_000, ..Settings::default() });
     let outcome = outcome.unwrap();
     assert!(!outcome.completed);
-    assert_eq!(outcome.statements, 1_000_001);
+    // G90, WHILE and END once, then a million of them run again.
+    assert_eq!(outcome.statements, 1_000_004);
     let error = outcome.diagnostics.iter().find(|d| d.is_error()).unwrap();
     assert_eq!(
         error.message,
@@ -175,12 +178,22 @@ fn a_wait_loop_of_dwells_is_one_dwell() {
 }
 
 #[test]
-fn a_runaway_loop_that_moves_is_stopped_by_its_moves() {
+fn a_runaway_loop_that_moves_is_stopped_by_the_step_limit() {
+    // No cap on moves: the step limit counts the statements run again, so a
+    // loop that moves stops by it (three statements a turn, one move)…
     let text = "O1\nG90 G00 X0. Y0. Z5.\nM98 P2 L99999999\nM30\nO2\nG91 G01 X0.001 F100.\nG90\nM99\n";
-    let settings = Settings { step_limit: 100_000_000, move_limit: 10_000, ..Settings::default() };
+    let settings = Settings { step_limit: 10_000, ..Settings::default() };
     let (_, outcome) = parse_run(text, &settings);
     let o = outcome.unwrap();
     let e = o.diagnostics.iter().find(|d| d.is_error()).expect("stopped").message.clone();
-    assert!(e.starts_with("stopped after 10000 moves, the most a run keeps"), "{e}");
-    assert!(o.toolpath.moves.len() <= 10_001);
+    assert!(e.starts_with("stopped after 10000 statements"), "{e}");
+    // The G00, the first turn (run once), then turns 2 to 3335: the
+    // 10,001st statement run again is the G90 of turn 3335, after its move.
+    assert_eq!(o.toolpath.moves.len(), 1 + 1 + 3334);
+    // …while a program read straight through runs whatever its length.
+    let straight: String = (0..30_000).map(|k| format!("G01 X{}. F100.\n", k % 7)).collect::<String>() + "M30\n";
+    let (_, outcome) = parse_run(&straight, &settings);
+    let o = outcome.unwrap();
+    assert!(o.completed, "{:?}", o.diagnostics.first());
+    assert_eq!((o.statements, o.toolpath.moves.len()), (30_001, 30_000));
 }

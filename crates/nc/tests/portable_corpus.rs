@@ -535,3 +535,50 @@ fn programs_expanded_on_one_machine_run_the_same_on_another() {
     assert!(compared >= AT_LEAST_COMPARED, "only {compared} pairs compared, at least {AT_LEAST_COMPARED} expected");
     assert!(unexpected.is_empty(), "{} cases:\n{}", unexpected.len(), unexpected.join("\n"));
 }
+
+/// A sink that keeps the pieces as they come, to join them after.
+#[derive(Default)]
+struct Pieces {
+    whole: kezuri_geom::WholePath,
+    count: usize,
+}
+
+impl kezuri_geom::PathSink for Pieces {
+    fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
+        self.count += 1;
+        self.whole.take(piece, programmed);
+    }
+}
+
+#[test]
+fn a_run_handed_on_in_pieces_is_the_whole_run() {
+    // Every program of the corpus (those that stop with an error too), run
+    // whole and handed on a piece wherever the path may be cut (pieces of
+    // one move): the pieces joined are the whole path, move for move and
+    // block for block, with the same diagnostics.
+    let a = machine(0);
+    let (mut programs, mut cut) = (0, 0);
+    for case in corpus() {
+        let mut sources = Sources::default();
+        let file = sources.add(SourceFile::new(case.name.as_str(), case.text.as_str()));
+        let mut program = Program::default();
+        if parse(&mut program, file, &case.text).iter().any(|d| d.is_error()) || program.units.is_empty() {
+            continue;
+        }
+        let settings = Settings { piece_moves: 1, ..case.settings(&a) };
+        let whole =
+            interp::run(&mut program.clone(), &mut sources.clone(), 0, &mut Folder(case.library.clone()), &settings);
+        let mut pieces = Pieces::default();
+        let handed =
+            interp::run_into(&mut program, &mut sources, 0, &mut Folder(case.library.clone()), &settings, &mut pieces);
+        assert!(handed.toolpath.moves.is_empty() && handed.programmed.is_none(), "{}", case.name);
+        assert_eq!(pieces.whole.path, whole.toolpath, "{}", case.name);
+        assert_eq!(pieces.whole.programmed, whole.programmed, "{}", case.name);
+        assert_eq!(format!("{:?}", handed.diagnostics), format!("{:?}", whole.diagnostics), "{}", case.name);
+        assert_eq!((handed.completed, handed.statements), (whole.completed, whole.statements), "{}", case.name);
+        programs += 1;
+        cut += usize::from(pieces.count > 2);
+    }
+    // Pinned, so that the test cannot pass by comparing nothing or cutting nothing.
+    assert!(programs >= 116 && cut >= 90, "{programs} programs, {cut} cut in pieces");
+}

@@ -1,5 +1,6 @@
 //! The block pointer: macro statements, loops, jumps, calls and returns.
 
+mod finish;
 mod index;
 mod line;
 mod oword;
@@ -10,13 +11,15 @@ use index::{build_index, UnitIndex};
 
 use super::block::{Action, Call, FrameKind};
 use super::value::{self, Value};
-use super::{Library, Outcome, Settings, State};
+use super::{Library, Settings, State};
 use crate::ast::{Expr, ExprId, OName, PrintItem, Program, Statement};
 use crate::parse::parse;
 use crate::source::{Diagnostic, Sources, Span};
 use crate::Dialect;
+use kezuri_geom::PathSink;
 
-/// Most moves reserved before a run (a hint; the toolpath grows past it).
+/// Most moves reserved before a run that keeps its whole path (a hint; the
+/// toolpath grows past it).
 const MAX_RESERVED_MOVES: usize = 1 << 22;
 /// Deepest nesting of M98 subprogram calls.
 const MAX_SUBPROGRAM_DEPTH: usize = 4;
@@ -61,6 +64,13 @@ pub(super) struct Interp<'a> {
     /// Whether a LinuxCNC O-word of the program has a computed label
     /// (`o#1 if`): the run then reads the labels of the blocks it skips.
     computed_labels: bool,
+    /// Where the toolpath goes piece by piece; `None`: it is kept whole.
+    sink: Option<&'a mut dyn PathSink>,
+    /// Statements run again ([`Settings::step_limit`](super::Settings)).
+    repeated: u64,
+    /// Each program unit's furthest block run so far (one past it): a block
+    /// before it runs again.
+    reached: Vec<u32>,
 }
 
 impl<'a> Interp<'a> {
@@ -69,6 +79,7 @@ impl<'a> Interp<'a> {
         sources: &'a mut Sources,
         library: &'a mut dyn Library,
         settings: Settings,
+        sink: Option<&'a mut dyn PathSink>,
     ) -> Self {
         let computed_labels = oword::computed_labels(&program.blocks);
         Interp {
@@ -83,6 +94,9 @@ impl<'a> Interp<'a> {
             last_back_jump: None,
             subs: HashMap::new(),
             computed_labels,
+            sink,
+            repeated: 0,
+            reached: Vec::new(),
         }
     }
 
@@ -100,7 +114,8 @@ impl<'a> Interp<'a> {
         self.st.last.o = unit.number.unwrap_or(0) as f64;
         // Room for about a move per block up front: growing a large toolpath
         // step by step copies it. Untouched capacity costs no memory.
-        self.st.toolpath.moves.reserve(unit.blocks.len().min(MAX_RESERVED_MOVES));
+        let room = if self.sink.is_some() { self.st.settings.piece_moves + 1 } else { MAX_RESERVED_MOVES };
+        self.st.toolpath.moves.reserve(unit.blocks.len().min(room));
         self.frames.push(Frame {
             unit: main,
             pc: unit.blocks.start,
@@ -115,7 +130,11 @@ impl<'a> Interp<'a> {
         });
         loop {
             match self.step() {
-                Ok(true) => {}
+                Ok(true) => {
+                    if self.st.toolpath.moves.len() > self.st.settings.piece_moves {
+                        self.hand_on();
+                    }
+                }
                 Ok(false) => {
                     self.completed = true;
                     break;
@@ -126,44 +145,6 @@ impl<'a> Interp<'a> {
                     break;
                 }
             }
-        }
-    }
-
-    pub(super) fn finish(mut self) -> Outcome {
-        let compensated = self.st.comp_finish();
-        let programmed = compensated.map(|c| {
-            if let Some(alarm) = c.alarm {
-                self.st.diagnostics.push(alarm);
-                self.completed = false;
-            }
-            c.programmed
-        });
-        let shown = self.st.diagnostics.iter().filter(|d| !d.is_error()).count() as u64;
-        let mut summary: Vec<_> = self.st.warned.iter().filter(|(_, &n)| n > super::WARNINGS_PER_KIND).collect();
-        let warnings = shown + summary.iter().map(|(_, &n)| u64::from(n - super::WARNINGS_PER_KIND)).sum::<u64>();
-        summary.sort();
-        for (kind, n) in summary {
-            let span = self.st.diagnostics.iter().rev().find(|d| !d.is_error()).map_or(Span::default(), |d| d.span);
-            let more = n - super::WARNINGS_PER_KIND;
-            self.st
-                .diagnostics
-                .push(Diagnostic::warning(span, format!("… and {more} more warnings like these ({kind})")));
-        }
-        Outcome {
-            toolpath: self.st.toolpath,
-            programmed,
-            diagnostics: self.st.diagnostics,
-            prints: self.st.prints,
-            logs: self.st.logs,
-            blocks: self.st.blocks,
-            statements: self.statements,
-            completed: self.completed,
-            holes: self.st.holes,
-            inch: self.st.modal.units == super::modal::Units::Inch,
-            model_reads: self.st.model_reads,
-            warnings,
-            threads: self.st.threads,
-            tool_offsets: self.st.tool_offsets,
         }
     }
 
@@ -225,8 +206,16 @@ impl<'a> Interp<'a> {
         }
         self.frame().pc = pc + 1;
         self.statements += 1;
-        if self.statements > self.st.settings.step_limit || self.st.toolpath.moves.len() > self.st.settings.move_limit {
-            return Err(self.runaway(pc));
+        if unit >= self.reached.len() {
+            self.reached.resize(unit + 1, 0);
+        }
+        if pc < self.reached[unit] {
+            self.repeated += 1;
+            if self.repeated > self.st.settings.step_limit {
+                return Err(self.runaway(pc));
+            }
+        } else {
+            self.reached[unit] = pc + 1;
         }
         let block = &self.program.blocks[pc as usize];
         self.st.settings.reached(block.span, || self.program.units[self.frames[0].unit].span.file);
@@ -404,15 +393,10 @@ impl<'a> Interp<'a> {
     }
 
     fn runaway(&self, pc: u32) -> Diagnostic {
-        let moves = self.st.settings.move_limit;
-        let (stopped, raise) = if self.st.toolpath.moves.len() > moves {
-            (format!("stopped after {moves} moves, the most a run keeps (some 300 bytes each)"), "")
-        } else {
-            (
-                format!("stopped after {} statements", self.st.settings.step_limit),
-                " (raise the step limit if it should run longer)",
-            )
-        };
+        let (stopped, raise) = (
+            format!("stopped after {} statements", self.st.settings.step_limit),
+            " (raise the step limit if it should run longer)",
+        );
         let at = self.last_back_jump.unwrap_or(pc);
         let block = &self.program.blocks[at as usize];
         let what = match block.statement {

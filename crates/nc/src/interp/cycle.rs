@@ -110,6 +110,14 @@ pub(super) struct HoleData {
     run: Vec<RunHole>,
 }
 
+impl HoleData {
+    /// No hole refers to a move already made: none waits to be kept, and no
+    /// kept cycle goes on.
+    pub(super) fn settled(&self) -> bool {
+        self.run.is_empty() && !self.kept_open
+    }
+}
+
 /// One hole's levels on the depth axis, machine coordinates.
 #[derive(Clone, Copy, Debug)]
 struct Levels {

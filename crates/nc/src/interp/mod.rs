@@ -22,6 +22,7 @@ mod modal;
 mod motion;
 mod offsets;
 mod params;
+mod pieces;
 mod placed;
 mod pocket;
 mod radius;
@@ -38,14 +39,14 @@ use std::sync::Arc;
 
 use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Kept, LengthOffset, Spindle, ToolState, Toolpath};
 
-use crate::ast::Program;
 use crate::offsets::{EXTRA_OFFSETS, EXTRA_OFFSET_COUNT};
-use crate::source::{Diagnostic, SourceFile, Sources, Span};
+use crate::source::{Diagnostic, SourceFile, Span};
 pub use coords::{Control, CoordSettings};
 pub use cycle::CycleSettings;
 pub use lathe::nose::{nose_centre_path, TipNumbers};
 pub use lathe::{GCodeSystem, Lathe, Nose, Thread, XMode};
 pub use modal::{Cycle, CycleReturn, Distance, FeedMode, GCode, Modal, ModalCallKind, Motion, RadiusComp, Units};
+pub use pieces::{run, run_into};
 pub use signals::check_inputs;
 use signals::Outputs;
 pub use value::Value;
@@ -75,11 +76,14 @@ pub struct Settings {
     /// `None`: the clock advances 16 ms per read; `Some(seed)`: by a
     /// reproducible pseudo-random 1–1000 ms per read.
     pub clock_seed: Option<u64>,
-    /// Most statements executed before the run is stopped as a runaway loop.
+    /// Most statements run again (after a jump back, in a loop's next turn,
+    /// in a subprogram or macro called again) before the run is stopped as
+    /// a runaway loop. A program read straight through is never stopped,
+    /// whatever its size.
     pub step_limit: u64,
-    /// Most moves a run makes, whatever the step limit (each some 300 bytes
-    /// as it is kept): a runaway loop that moves is stopped by its memory.
-    pub move_limit: usize,
+    /// How many moves a run handing its path on ([`run_into`]) gathers
+    /// before it hands them on, where it may (4096; fewer only to test).
+    pub piece_moves: usize,
     /// Skip blocks that start with `/` (the block delete switch is on).
     pub block_delete: bool,
     /// Tool length offsets by H number (mm).
@@ -184,7 +188,7 @@ impl Default for Settings {
             integer_input: IntegerInput::Increments,
             clock_seed: None,
             step_limit: 10_000_000,
-            move_limit: 10_000_000,
+            piece_moves: 4096,
             block_delete: false,
             tool_lengths: BTreeMap::new(),
             tool_radii: BTreeMap::new(),
@@ -306,21 +310,6 @@ pub struct ModelRead {
     pub variable: u32,
     /// 1-based source line of the first read.
     pub line: u32,
-}
-
-/// Runs program unit `main` of `program` and returns the toolpath with its
-/// diagnostics. Subprograms are looked up first in `program`, then in
-/// `library` (whose files are added to `sources` and parsed into `program`).
-pub fn run(
-    program: &mut Program,
-    sources: &mut Sources,
-    main: usize,
-    library: &mut dyn Library,
-    settings: &Settings,
-) -> Outcome {
-    let mut interp = control::Interp::new(program, sources, library, settings.clone());
-    interp.run(main);
-    interp.finish()
 }
 
 /// Words of the block being executed that a macro may read back.

@@ -62,6 +62,14 @@ pub(super) struct Radius {
     refused: Option<(Diagnostic, usize)>,
 }
 
+impl Radius {
+    /// Compensation has not been turned on in this run: no move or block
+    /// is recorded for the centre path.
+    pub(super) fn unused(&self) -> bool {
+        self.since.is_none() && self.on.is_none() && self.marks.is_empty()
+    }
+}
+
 /// Moves, each with the index of the input move it comes from.
 type Traced = (Vec<Move>, Vec<usize>);
 
