@@ -6,7 +6,11 @@
 //! and subprogram files) parse into one `Program`; `GOTO` and `WHILE` resolve
 //! to block indices of the program unit they belong to.
 
+mod pages;
+use crate::paged::Paged;
 use crate::source::{FileId, Span};
+pub(crate) use pages::PageInfo;
+pub use pages::PAGE_BLOCKS;
 
 /// Index of an expression in [`Program::exprs`].
 pub type ExprId = u32;
@@ -643,24 +647,32 @@ pub struct ProgramUnit {
 }
 
 /// Everything parsed so far: one or more files of program units.
+///
+/// A program read whole holds every block. One read in pages
+/// ([`Program::read_in_pages`]) holds those its pages of plain blocks
+/// (words only) need now, and reads a dropped page again from its text
+/// when the run comes back to it ([`Program::ensure`]); numbers of blocks,
+/// words and expressions never change.
 #[derive(Clone, Debug, Default)]
 pub struct Program {
     /// Program units in the order they were parsed.
     pub units: Vec<ProgramUnit>,
     /// All blocks.
-    pub blocks: Vec<Block>,
+    pub blocks: Paged<Block>,
     /// All words of all `Words` blocks.
-    pub words: Vec<Word>,
+    pub words: Paged<Word>,
     /// All expressions.
-    pub exprs: Vec<Expr>,
+    pub exprs: Paged<Expr>,
+    /// Where each page was read from, and which may be dropped.
+    pub(crate) pages: pages::Pages,
 }
 
 impl Program {
     /// The words of a block (empty for macro statements).
     pub fn words(&self, block: &Block) -> &[Word] {
         match block.statement {
-            Statement::Words { start, len } => &self.words[start as usize..(start + len) as usize],
-            Statement::Line(ref l) => &self.words[l.start as usize..(l.start + l.len) as usize],
+            Statement::Words { start, len } => self.words.slice(start as usize..(start + len) as usize),
+            Statement::Line(ref l) => self.words.slice(l.start as usize..(l.start + l.len) as usize),
             _ => &[],
         }
     }

@@ -9,12 +9,13 @@
 mod comment;
 mod ends;
 mod expr;
+mod lines;
 mod number;
 mod oword;
 
 pub use comment::comments;
-use comment::with_comment;
 use ends::{ends_program, finish_unit, program_end};
+pub(crate) use lines::read_page_again;
 use number::plain_words;
 use oword::{link_oword, OpenOWord, OWORD_KEYWORDS};
 
@@ -66,9 +67,18 @@ fn parse_reporting(
     let units_before = program.units.len();
     // Room for the whole file up front (a block per line, a word per 8
     // bytes): growing the arenas step by step copies them. Capacity that is
-    // never touched costs no memory.
-    program.blocks.reserve(memchr::memchr_iter(b'\n', bytes).count() + 1);
-    program.words.reserve(bytes.len() / 8);
+    // never touched costs no memory. Read in pages: a page at a time.
+    let paging = program.paging();
+    program.page_begin(file, 0, 0, dialect);
+    let page_lines = program.pages.lines;
+    if paging {
+        program.blocks.reserve(page_lines);
+        program.words.reserve(page_lines * 4);
+    } else {
+        program.blocks.reserve(memchr::memchr_iter(b'\n', bytes).count() + 1);
+        program.words.reserve(bytes.len() / 8);
+    }
+    let mut page_start = program.blocks.len();
     let mut unit = ProgramUnit {
         number: None,
         title: None,
@@ -77,7 +87,12 @@ fn parse_reporting(
         closed_by_percent: false,
     };
     let mut percent_seen = 0;
-    let blocks_before = program.blocks.len();
+    // Whether a block that is not blank was read (before a '%', the tape's
+    // leader may only have blank lines), the unit's blocks are all empty,
+    // and the file's first program end (M02, M30, M99) and its line.
+    let mut content = false;
+    let mut unit_empty = true;
+    let mut first_end: Option<(u32, u32)> = None;
     // After M30/M02 a unit's lines that are not NC blocks are notes: the
     // first such line and how many there are, for one warning at the end.
     let mut after_end = false;
@@ -91,17 +106,19 @@ fn parse_reporting(
             done.inspect(|d| d.store(pos as u64, Ordering::Relaxed));
             next_report = pos + REPORT_EVERY;
         }
+        if paging && program.blocks.len() - page_start >= page_lines {
+            program.page_begin(file, pos, line, dialect);
+            page_start = program.blocks.len();
+        }
         line += 1;
         let end = memchr::memchr(b'\n', &bytes[pos..]).map_or(bytes.len(), |i| pos + i);
         let mut p = LineParser { b: bytes, pos, end, file, program, depth: 0, operators: 0, dialect };
         p.skip_blanks();
         if p.pos < end && p.b[p.pos] == b'%' {
             let at = Span::new(file, p.pos, p.pos + 1);
+            program.pin_page();
             // Blank lines before the tape's leader are not a program.
-            let blank = |b: &Block| {
-                b.number.is_none() && matches!(b.statement, Statement::Empty | Statement::Words { len: 0, .. })
-            };
-            if percent_seen == 0 && program.blocks[blocks_before..].iter().any(|b| !blank(b)) && !after_end {
+            if percent_seen == 0 && content && !after_end {
                 // Not the tape's leader: the file did not open with '%'.
                 diagnostics.push(Diagnostic::error(
                     at,
@@ -122,7 +139,9 @@ fn parse_reporting(
                 break;
             }
         } else if let Some(header) = p.program_header(&mut diagnostics) {
-            finish_unit(program, &mut unit);
+            program.pin_page();
+            finish_unit(program, &mut unit, unit_empty);
+            unit_empty = true;
             after_end = false;
             unit = ProgramUnit {
                 number: Some(header.0),
@@ -132,39 +151,14 @@ fn parse_reporting(
                 closed_by_percent: false,
             };
         } else {
-            let words_mark = p.program.words.len();
-            let exprs_mark = p.program.exprs.len();
-            let block = match p.block(line) {
-                Ok(mut block) => {
-                    if dialect == Dialect::LinuxCnc && !matches!(block.statement, Statement::OWord(_)) {
-                        if let Some(command) = p.comment_command(pos) {
-                            block.statement =
-                                with_comment(std::mem::replace(&mut block.statement, Statement::Empty), command);
-                        }
-                    }
-                    after_end |= ends_program(program, &block);
-                    block
-                }
-                Err(d) => {
-                    program.words.truncate(words_mark);
-                    program.exprs.truncate(exprs_mark);
-                    let span = Span::new(file, pos, end);
-                    let statement = if after_end {
-                        // Haas M97 targets live after M30, and so do notes
-                        // about the setup: such a line is no error unless
-                        // a jump reaches it.
-                        notes.get_or_insert((span, 0)).1 += 1;
-                        Statement::Unsupported(format!(
-                            "this line after M30 was read as a note, not an NC block ({})",
-                            d.message
-                        ))
-                    } else {
-                        diagnostics.push(d);
-                        Statement::Empty
-                    };
-                    Block { span, line, number: None, delete: false, statement }
-                }
-            };
+            let block = p.read_block(line, pos, after_end, &mut notes, &mut diagnostics);
+            after_end |= ends_program(program, &block);
+            if percent_seen == 1 && first_end.is_none() {
+                first_end = program_end(program, &block).map(|m| (m, block.line));
+            }
+            content |= block.number.is_some()
+                || !matches!(block.statement, Statement::Empty | Statement::Words { len: 0, .. });
+            unit_empty &= block.statement == Statement::Empty;
             if unit.blocks.is_empty() && unit.number.is_none() {
                 unit.span = block.span;
             }
@@ -179,7 +173,8 @@ fn parse_reporting(
         }
         pos = end + 1;
     }
-    finish_unit(program, &mut unit);
+    finish_unit(program, &mut unit, unit_empty);
+    program.page_end(bytes.len());
     oword::refuse_unclosed(program, open_owords, &mut diagnostics);
     if let Some((span, lines)) = notes {
         let more = match lines {
@@ -200,8 +195,7 @@ fn parse_reporting(
         // (FANUC parameter No. 3201 #6 NPE at 0, as shipped): with one, the
         // program is whole and only the '%' is missing; without one the file
         // was cut short.
-        let end = program.blocks[blocks_before..].iter().find_map(|b| program_end(program, b).map(|m| (m, b.line)));
-        match end {
+        match first_end {
             Some((m, line)) if dialect.is_fanuc() => diagnostics.push(Diagnostic::warning(
                 at_end,
                 format!(
@@ -555,7 +549,7 @@ impl LineParser<'_> {
 
     fn words(&mut self) -> Result<Statement> {
         let start = self.program.words.len() as u32;
-        self.pos = plain_words(&self.b[..self.end], self.pos, self.file, &mut self.program.words);
+        self.pos = plain_words(&self.b[..self.end], self.pos, self.file, self.program.words.writing_mut());
         self.skip_blanks();
         // LinuxCNC parameter settings among the words, each with the number
         // of words before it.

@@ -553,21 +553,28 @@ impl kezuri_geom::PathSink for Pieces {
 #[test]
 fn a_run_handed_on_in_pieces_is_the_whole_run() {
     // Every program of the corpus (those that stop with an error too), run
-    // whole and handed on a piece wherever the path may be cut (pieces of
+    // whole and read in pages of 3 lines, 2 held at once (the others
+    // dropped and read again from the text where the run comes back to
+    // them), the path handed on a piece wherever it may be cut (pieces of
     // one move): the pieces joined are the whole path, move for move and
     // block for block, with the same diagnostics.
     let a = machine(0);
-    let (mut programs, mut cut) = (0, 0);
+    let (mut programs, mut cut, mut read_again) = (0, 0, 0);
     for case in corpus() {
         let mut sources = Sources::default();
         let file = sources.add(SourceFile::new(case.name.as_str(), case.text.as_str()));
-        let mut program = Program::default();
-        if parse(&mut program, file, &case.text).iter().any(|d| d.is_error()) || program.units.is_empty() {
+        let mut whole_program = Program::default();
+        let parsed = parse(&mut whole_program, file, &case.text);
+        if parsed.iter().any(|d| d.is_error()) || whole_program.units.is_empty() {
             continue;
         }
+        let mut program = Program::default();
+        program.read_in_pages(3, 2);
+        let paged = parse(&mut program, file, &case.text);
+        assert_eq!(format!("{paged:?}"), format!("{parsed:?}"), "{}", case.name);
         let settings = Settings { piece_moves: 1, ..case.settings(&a) };
         let whole =
-            interp::run(&mut program.clone(), &mut sources.clone(), 0, &mut Folder(case.library.clone()), &settings);
+            interp::run(&mut whole_program, &mut sources.clone(), 0, &mut Folder(case.library.clone()), &settings);
         let mut pieces = Pieces::default();
         let handed =
             interp::run_into(&mut program, &mut sources, 0, &mut Folder(case.library.clone()), &settings, &mut pieces);
@@ -578,7 +585,13 @@ fn a_run_handed_on_in_pieces_is_the_whole_run() {
         assert_eq!((handed.completed, handed.statements), (whole.completed, whole.statements), "{}", case.name);
         programs += 1;
         cut += usize::from(pieces.count > 2);
+        read_again += usize::from(program.pages_read_again() > 0);
     }
-    // Pinned, so that the test cannot pass by comparing nothing or cutting nothing.
-    assert!(programs >= 116 && cut >= 90, "{programs} programs, {cut} cut in pieces");
+    // Pinned, so that the test cannot pass by comparing nothing, cutting
+    // nothing or reading nothing again.
+    println!("{programs} programs, {cut} cut in pieces, {read_again} with pages read again");
+    assert!(
+        programs >= 116 && cut >= 90 && read_again >= 76,
+        "{programs} programs, {cut} cut, {read_again} read again"
+    );
 }

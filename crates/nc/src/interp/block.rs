@@ -70,8 +70,9 @@ impl State {
             let n = w.g_count;
             // The next block's words: a line given by its angle alone ends
             // where it meets the next block's line.
-            let next = program.blocks[pc as usize + 1..]
-                .iter()
+            // (A lathe's program is read whole: every block is held.)
+            let next = (pc as usize + 1..program.blocks.len())
+                .map_while(|i| program.blocks.get(i))
                 .find(|b| !matches!(b.statement, crate::ast::Statement::Empty))
                 .filter(|b| matches!(b.statement, crate::ast::Statement::Words { .. }))
                 .map(|b| program.words(b));

@@ -66,6 +66,9 @@ pub(super) struct Interp<'a> {
     computed_labels: bool,
     /// Where the toolpath goes piece by piece; `None`: it is kept whole.
     sink: Option<&'a mut dyn PathSink>,
+    /// A program read in pages: the N numbers searched for, by unit, and
+    /// the block found.
+    found_labels: HashMap<(usize, u32), Option<u32>>,
     /// Statements run again ([`Settings::step_limit`](super::Settings)).
     repeated: u64,
     /// Each program unit's furthest block run so far (one past it): a block
@@ -81,7 +84,7 @@ impl<'a> Interp<'a> {
         settings: Settings,
         sink: Option<&'a mut dyn PathSink>,
     ) -> Self {
-        let computed_labels = oword::computed_labels(&program.blocks);
+        let computed_labels = oword::computed_labels(program.blocks.iter());
         Interp {
             program,
             sources,
@@ -95,6 +98,7 @@ impl<'a> Interp<'a> {
             subs: HashMap::new(),
             computed_labels,
             sink,
+            found_labels: HashMap::new(),
             repeated: 0,
             reached: Vec::new(),
         }
@@ -204,6 +208,7 @@ impl<'a> Interp<'a> {
             self.st.warn("end", span, "the subprogram ends without M99; returning");
             return self.return_from(None, span);
         }
+        self.program.run_at(pc, self.sources);
         self.frame().pc = pc + 1;
         self.statements += 1;
         if unit >= self.reached.len() {
@@ -349,7 +354,7 @@ impl<'a> Interp<'a> {
                 format!("{what}{n}: a sequence number is a whole number from 1 to 99999999"),
             ));
         }
-        let to = self.unit_index(unit).labels.get(&(n as u32)).copied();
+        let to = self.label_block(unit, n as u32);
         let Some(to) = to else {
             let number = self.program.units[unit].number.map_or(String::from("this program"), |o| format!("O{o:04}"));
             return Err(Diagnostic::error(span, format!("{what}{n}: there is no block N{n} in {number}")));
@@ -381,6 +386,32 @@ impl<'a> Interp<'a> {
     fn unit_index(&mut self, unit: usize) -> &UnitIndex {
         let program = &*self.program;
         self.index.entry(unit).or_insert_with(|| build_index(program, unit))
+    }
+
+    /// The first block numbered N`n` in `unit`. A program read in pages is
+    /// searched page by page (only those whose numbers may hold it), as a
+    /// control searches its memory, and what was found is remembered.
+    fn label_block(&mut self, unit: usize, n: u32) -> Option<u32> {
+        if !self.program.paging() {
+            return self.unit_index(unit).labels.get(&n).copied();
+        }
+        if let Some(&found) = self.found_labels.get(&(unit, n)) {
+            return found;
+        }
+        let blocks = self.program.units[unit].blocks.clone();
+        let mut found = None;
+        let mut i = blocks.start;
+        while i < blocks.end && found.is_none() {
+            let page = self.program.page_of_block(i);
+            let page_end = (self.program.blocks.page_range(page).end as u32).min(blocks.end);
+            if self.program.page_may_hold(page, n) {
+                self.program.ensure(i, self.sources);
+                found = (i..page_end).find(|&k| self.program.blocks[k as usize].number == Some(n));
+            }
+            i = page_end;
+        }
+        self.found_labels.insert((unit, n), found);
+        found
     }
 
     fn loop_partner(&mut self, unit: usize, pc: u32) -> Result<u32, Diagnostic> {
@@ -473,7 +504,7 @@ impl<'a> Interp<'a> {
     /// from `N<label>` to M99, `repeats` times, then goes on after the M97.
     fn local_call(&mut self, label: u32, repeats: u32, span: Span) -> Result<(), Diagnostic> {
         let unit = self.frames.last().map_or(0, |f| f.unit);
-        let Some(start) = self.unit_index(unit).labels.get(&label).copied() else {
+        let Some(start) = self.label_block(unit, label) else {
             let number = self.program.units[unit].number.map_or(String::from("this program"), |o| format!("O{o:04}"));
             return Err(Diagnostic::error(span, format!("M97 P{label}: there is no block N{label} in {number}")));
         };

@@ -54,8 +54,8 @@ impl State {
         let at = if own.is_some() || span.file != block.span.file {
             String::new()
         } else {
-            let before = &program.blocks[..pc as usize];
-            let line = before.iter().rev().find(|b| b.span.file == span.file && b.span.start <= span.start);
+            let mut before = (0..pc as usize).rev().filter_map(|i| program.blocks.get(i));
+            let line = before.find(|b| b.span.file == span.file && b.span.start <= span.start);
             line.map_or(String::new(), |b| format!("line {}: ", b.line))
         };
         d.message += &format!(

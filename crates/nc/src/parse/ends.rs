@@ -1,7 +1,7 @@
 //! Where programs end: a program unit closed, and the ends written as
 //! numbers (`M02`, `M30`, `M99`).
 
-use crate::ast::{Block, Program, ProgramUnit, Statement, Word, WordValue};
+use crate::ast::{Block, Program, ProgramUnit, Word, WordValue};
 
 /// Whether `block` ends the program: an `M30` or `M02` word written as a
 /// number (`M#1` is not looked at before the run).
@@ -28,14 +28,10 @@ fn end_code(w: &Word) -> Option<u32> {
 }
 
 /// Closes `unit` at the last block parsed and adds it to `program`, unless
-/// it has no number and only empty blocks.
-pub(super) fn finish_unit(program: &mut Program, unit: &mut ProgramUnit) {
+/// it has no number and only empty blocks (`all_empty`).
+pub(super) fn finish_unit(program: &mut Program, unit: &mut ProgramUnit, all_empty: bool) {
     unit.blocks.end = program.blocks.len() as u32;
-    let anonymous_and_empty = unit.number.is_none()
-        && program.blocks[unit.blocks.start as usize..unit.blocks.end as usize]
-            .iter()
-            .all(|b| b.statement == Statement::Empty);
-    if !anonymous_and_empty {
+    if unit.number.is_some() || !all_empty {
         program.units.push(unit.clone());
     }
 }

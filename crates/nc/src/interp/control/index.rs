@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use crate::ast::{Program, Statement};
 
 /// Sequence numbers and loop pairs of one program unit.
+// (A program read in pages skips its dropped pages here.)
 #[derive(Default)]
 pub(super) struct UnitIndex {
     pub(super) labels: HashMap<u32, u32>,
@@ -14,12 +15,15 @@ pub(super) struct UnitIndex {
     pub(super) loops: HashMap<u32, Result<u32, String>>,
 }
 
+/// The index of `unit`; for a program read in pages its loops alone (a
+/// dropped page holds no loop statement; its numbers are searched for).
 pub(super) fn build_index(program: &Program, unit: usize) -> UnitIndex {
     let mut index = UnitIndex::default();
     let mut open: Vec<(u8, u32)> = Vec::new();
+    let labels = !program.paging();
     for i in program.units[unit].blocks.clone() {
-        let block = &program.blocks[i as usize];
-        if let Some(n) = block.number {
+        let Some(block) = program.blocks.get(i as usize) else { continue };
+        if let Some(n) = block.number.filter(|_| labels) {
             index.labels.entry(n).or_insert(i);
         }
         match block.statement {

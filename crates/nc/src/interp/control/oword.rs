@@ -277,7 +277,9 @@ impl Interp<'_> {
             return Ok(());
         }
         for at in from..to.min(self.program.blocks.len() as u32) {
-            if matches!(&self.program.blocks[at as usize].statement, Statement::OWord(o) if o.label.is_some()) {
+            // (O-words are never on a dropped page.)
+            if matches!(self.program.blocks.get(at as usize).map(|b| &b.statement), Some(Statement::OWord(o)) if o.label.is_some())
+            {
                 self.label_of(at)?;
             }
         }
@@ -477,7 +479,7 @@ impl Interp<'_> {
         }
         let file = self.program.blocks[pc as usize].span.file;
         let first = pc as usize + 1;
-        if let Some(sub) = self.sub_in(name, first, |b| b.span.file == file) {
+        if let Some(sub) = self.sub_in(name, first, Some(file)) {
             return Ok(sub);
         }
         let stem = name.file_stem();
@@ -500,25 +502,31 @@ impl Interp<'_> {
         if let Some(first) = errors.into_iter().next() {
             return Err(first);
         }
-        self.computed_labels |= computed_labels(&self.program.blocks[first..]);
-        self.sub_in(name, first, |_| true)
+        self.computed_labels |= computed_labels(self.program.blocks.iter().skip(first));
+        self.sub_in(name, first, None)
             .ok_or_else(|| Diagnostic::error(span, format!("{file_name} does not define {name} sub")))
     }
 
-    /// The first `sub` of `name` among the blocks from `first` on that
-    /// `within` keeps (it stops at the first it does not), noted as defined.
-    fn sub_in(&mut self, name: &OName, first: usize, within: impl Fn(&crate::ast::Block) -> bool) -> Option<u32> {
-        let found = self.program.blocks[first.min(self.program.blocks.len())..]
-            .iter()
-            .take_while(|b| within(b))
-            .position(|b| matches!(&b.statement, Statement::OWord(o) if o.name == *name && matches!(o.flow, Flow::Sub { .. })))
-            .map(|k| (first + k) as u32)?;
+    /// The first `sub` of `name` among the blocks from `first` on (in file
+    /// `within` only, where given: it stops at the first block of another),
+    /// noted as defined. A dropped page holds no `sub`.
+    fn sub_in(&mut self, name: &OName, first: usize, within: Option<crate::source::FileId>) -> Option<u32> {
+        let program = &*self.program;
+        let found = (first..program.blocks.len())
+            .take_while(|&i| within.is_none_or(|file| program.block_file(i as u32) == file))
+            .find(|&i| {
+                program.blocks.get(i).is_some_and(|b| {
+                    matches!(&b.statement, Statement::OWord(o) if o.name == *name && matches!(o.flow, Flow::Sub { .. }))
+                })
+            })? as u32;
         self.subs.insert(name.clone(), found);
         Some(found)
     }
 }
 
 /// Whether a LinuxCNC O-word among `blocks` has a computed label.
-pub(super) fn computed_labels(blocks: &[crate::ast::Block]) -> bool {
-    blocks.iter().any(|b| matches!(&b.statement, Statement::OWord(o) if o.label.is_some()))
+/// Whether a LinuxCNC O-word among `blocks` has a computed label (the
+/// blocks held: O-words are never on a dropped page).
+pub(super) fn computed_labels<'b>(mut blocks: impl Iterator<Item = &'b crate::ast::Block>) -> bool {
+    blocks.any(|b| matches!(&b.statement, Statement::OWord(o) if o.label.is_some()))
 }
