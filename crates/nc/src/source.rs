@@ -4,6 +4,8 @@
 //! are computed only when a diagnostic is rendered.
 
 use std::fmt;
+use std::ops::{Deref, Range};
+use std::sync::{Arc, OnceLock};
 
 /// Index of a file in a [`Sources`] set.
 pub type FileId = u32;
@@ -31,39 +33,134 @@ impl Span {
     }
 }
 
+/// Where a source file's text is kept: a `String`, or the caller's store
+/// (a file mapped into memory) that can let go of what has been read, to
+/// read it again when asked.
+pub trait TextStore: Send + Sync {
+    /// The whole text.
+    fn text(&self) -> &str;
+
+    /// The bytes `range` will not be needed again soon (they stay
+    /// readable).
+    fn forget(&self, range: Range<usize>) {
+        let _ = range;
+    }
+}
+
+impl TextStore for String {
+    fn text(&self) -> &str {
+        self
+    }
+}
+
+/// A source file's text, shared.
+#[derive(Clone)]
+pub struct Text(Arc<dyn TextStore>);
+
+impl Text {
+    /// The text.
+    pub fn as_str(&self) -> &str {
+        self.0.text()
+    }
+
+    /// Tells the store the bytes `range` will not be needed again soon.
+    pub fn forget(&self, range: Range<usize>) {
+        self.0.forget(range);
+    }
+}
+
+impl Deref for Text {
+    type Target = str;
+
+    fn deref(&self) -> &str {
+        self.0.text()
+    }
+}
+
+impl fmt::Debug for Text {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Text({} bytes)", self.len())
+    }
+}
+
+/// One line start in this many is kept for rendering diagnostics.
+const LINES_APART: usize = 256;
+
 /// One source file: its name as the user gave it and its text.
 #[derive(Clone, Debug)]
 pub struct SourceFile {
     /// Name shown in diagnostics (usually the path).
     pub name: String,
     /// The text; invalid UTF-8 was replaced before it got here.
-    pub text: String,
-    line_starts: Vec<u32>,
+    pub text: Text,
+    /// The start of every [`LINES_APART`]th line, made when first needed.
+    line_starts: OnceLock<Vec<u32>>,
 }
 
 impl SourceFile {
     /// A file from its name and text.
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
-        let text = text.into();
-        let mut line_starts = vec![0];
-        line_starts.extend(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i as u32 + 1));
-        SourceFile { name: name.into(), text, line_starts }
+        SourceFile::stored(name, Arc::new(text.into()))
+    }
+
+    /// A file whose text `store` keeps (a file mapped into memory).
+    pub fn stored(name: impl Into<String>, store: Arc<dyn TextStore>) -> SourceFile {
+        SourceFile { name: name.into(), text: Text(store), line_starts: OnceLock::new() }
+    }
+
+    /// Every [`LINES_APART`]th line's start, read a megabyte at a time
+    /// (each let go of once counted).
+    fn line_starts(&self) -> &[u32] {
+        self.line_starts.get_or_init(|| {
+            let bytes = self.text.as_bytes();
+            let mut starts = vec![0];
+            let mut lines = 0usize;
+            for from in (0..bytes.len()).step_by(1 << 20) {
+                let to = (from + (1 << 20)).min(bytes.len());
+                for i in memchr::memchr_iter(b'\n', &bytes[from..to]) {
+                    lines += 1;
+                    if lines % LINES_APART == 0 {
+                        starts.push((from + i + 1) as u32);
+                    }
+                }
+                self.text.forget(from..to);
+            }
+            starts
+        })
+    }
+
+    /// The start of 1-based line `line` (the text's end past its last).
+    fn line_start(&self, line: usize) -> usize {
+        let (k, more) = ((line - 1) / LINES_APART, (line - 1) % LINES_APART);
+        let starts = self.line_starts();
+        let Some(&from) = starts.get(k) else { return self.text.len() };
+        let from = from as usize;
+        match more {
+            0 => from,
+            _ => memchr::memchr_iter(b'\n', &self.text.as_bytes()[from..])
+                .nth(more - 1)
+                .map_or(self.text.len(), |i| from + i + 1),
+        }
     }
 
     /// 1-based line and column (in characters) of a byte offset.
     pub fn line_col(&self, offset: u32) -> (u32, u32) {
-        let line = self.line_starts.partition_point(|&s| s <= offset) - 1;
-        let start = self.line_starts[line] as usize;
+        let starts = self.line_starts();
+        let k = starts.partition_point(|&s| s <= offset) - 1;
+        let from = starts[k] as usize;
         let end = (offset as usize).min(self.text.len());
+        let before = &self.text.as_bytes()[from.min(end)..end];
+        let more = memchr::memchr_iter(b'\n', before).count();
+        let line = k * LINES_APART + more;
+        let start = memchr::memrchr(b'\n', before).map_or(from, |i| from + i + 1);
         let col = self.text.get(start..end).map_or(end - start, |s| s.chars().count());
         (line as u32 + 1, col as u32 + 1)
     }
 
     /// The text of a 1-based line, without its line break.
     pub fn line_text(&self, line: u32) -> &str {
-        let i = (line - 1) as usize;
-        let start = self.line_starts[i] as usize;
-        let end = self.line_starts.get(i + 1).map_or(self.text.len(), |&e| e as usize);
+        let start = self.line_start(line as usize);
+        let end = memchr::memchr(b'\n', &self.text.as_bytes()[start..]).map_or(self.text.len(), |i| start + i + 1);
         self.text[start..end].trim_end_matches(['\n', '\r'])
     }
 }
@@ -226,5 +323,23 @@ mod tests {
         let caret = lines[2].find('^').unwrap();
         assert_eq!(lines[1].chars().nth(caret), Some('@'));
         assert_eq!(lines[2].matches('^').count(), 1);
+    }
+
+    #[test]
+    fn lines_and_columns_past_the_kept_line_starts() {
+        // 2,000 lines of varied lengths (some blank, one with a 3-byte
+        // character), checked at every byte against a plain count.
+        let text: String = (0..2000).map(|k| format!("N{k} {}X1.\r\n", "é ".repeat(k % 5))).collect::<String>() + "M30";
+        let file = SourceFile::new("long.nc", text.as_str());
+        let (mut line, mut start) = (1, 0);
+        for (i, c) in text.char_indices() {
+            let col = text[start..i].chars().count() as u32 + 1;
+            assert_eq!(file.line_col(i as u32), (line, col), "at byte {i}");
+            if c == '\n' {
+                assert_eq!(file.line_text(line), text[start..i].trim_end_matches('\r'));
+                (line, start) = (line + 1, i + 1);
+            }
+        }
+        assert_eq!((file.line_col(text.len() as u32), file.line_text(2001)), ((2001, 4), "M30"));
     }
 }

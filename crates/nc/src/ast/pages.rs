@@ -183,6 +183,7 @@ impl Program {
             let info = self.pages.info[k].clone();
             let text = &sources.get(info.file).text;
             crate::parse::read_page_again(self, k, text, &info);
+            text.forget(info.bytes.start as usize..info.bytes.end as usize);
             self.pages.held.push(k);
             self.pages.read_again += 1;
         }
