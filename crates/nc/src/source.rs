@@ -119,7 +119,7 @@ impl SourceFile {
                 let to = (from + (1 << 20)).min(bytes.len());
                 for i in memchr::memchr_iter(b'\n', &bytes[from..to]) {
                     lines += 1;
-                    if lines % LINES_APART == 0 {
+                    if lines.is_multiple_of(LINES_APART) {
                         starts.push((from + i + 1) as u32);
                     }
                 }
