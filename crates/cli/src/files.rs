@@ -2,6 +2,7 @@
 //! not at all, and the subprogram library folder.
 
 mod live;
+mod mapped;
 mod outputs;
 mod same;
 
@@ -33,6 +34,15 @@ pub fn read_bytes(path: &Path) -> Result<Vec<u8>> {
 pub fn read_text(path: &Path) -> Result<String> {
     let bytes = read_bytes(path)?;
     text_of(&bytes).map_err(|why| anyhow::anyhow!("{}: {why}", path.display()))
+}
+
+/// A program's text as [`read_text`] reads it, a large file mapped into
+/// memory instead (read page by page as the parser and the run need it).
+pub fn read_program_text(path: &Path) -> Result<std::sync::Arc<dyn kezuri_nc::source::TextStore>> {
+    match mapped::map_text(path)? {
+        Some(mapped) => Ok(std::sync::Arc::new(mapped)),
+        None => Ok(std::sync::Arc::new(read_text(path)?)),
+    }
 }
 
 /// The text of `bytes`, as [`read_text`] reads it.

@@ -4,18 +4,25 @@
 use std::collections::BTreeMap;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_correct::kinematics::{Kinematics, AXES};
 use kezuri_geom::{cycle_time, AxisRanges, Move, MoveKind, Spindle, Toolpath};
+use kezuri_nc::ast::PAGE_BLOCKS;
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings, Thread};
+use kezuri_nc::source::TextStore;
 use kezuri_nc::{detect, parse_as, parse_counting, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
-use crate::files::{read_text, Folder, Outputs};
+use crate::files::{read_program_text, read_text, Folder, Outputs};
 use crate::progress::ByteProgress;
 use kezuri_machine::{Machine, ToolEntry};
+
+/// Pages of plain blocks a run holds at once (of [`PAGE_BLOCKS`] lines):
+/// some 4 MB.
+const PAGES_HELD: usize = 8;
 
 /// How axis words without a decimal point are read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -182,14 +189,14 @@ impl Ran {
 /// A cutter compensation register the tool table lacks is a warning
 /// (radius 0).
 pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_text(o, read_text(&o.file)?)
+    run_program(o, read_program_text(&o.file)?, false)
 }
 
 /// [`read_and_run`] where the tool-centre path was asked for (`run
 /// --apply-comp`): a cutter compensation register the tool table lacks is
 /// an error. `sim` and `view` warn of it, as `check` and `run` do.
 pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_text(&o.file)?, true)
+    run_program(o, read_program_text(&o.file)?, true)
 }
 
 /// The folder subprograms and subroutine files come from: `--lib`, else
@@ -213,7 +220,7 @@ pub fn print_label(dialect: kezuri_nc::Dialect) -> &'static str {
 
 /// [`read_and_run`] on the program's text, read already.
 pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, text, false)
+    run_program(o, Arc::new(text), false)
 }
 
 /// Whether `dialect` reads whole units without a decimal point and
@@ -277,7 +284,7 @@ fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
     Ok(out)
 }
 
-fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
+fn run_program(o: &RunOptions, text: Arc<dyn TextStore>, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
     let machine = match &o.machine {
         Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
@@ -289,7 +296,7 @@ fn run_program(o: &RunOptions, text: String, radii_required: bool) -> Result<(Ra
 /// as `kezuri view` would run the file: for the page of a writer's `--view`.
 pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
     let o: RunOptions = options_from(&[OsStr::new("--"), name.as_os_str()])?;
-    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, text, false)?;
+    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, Arc::new(text), false)?;
     if ran.errors() > 0 {
         ran.print_diagnostics(&parse_diagnostics);
         bail!(
@@ -311,8 +318,13 @@ pub(super) fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr
 }
 
 /// [`run_program`] on a machine loaded already.
-fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
-    let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, &text)?, &machine);
+fn run_on(
+    machine: Machine,
+    o: &RunOptions,
+    text: Arc<dyn TextStore>,
+    radii_required: bool,
+) -> Result<(Ran, Vec<Diagnostic>)> {
+    let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, text.text())?, &machine);
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
     let parameters = match &o.var {
         Some(_) if !whole_units(detected.dialect) => bail!(
@@ -335,8 +347,14 @@ fn run_on(machine: Machine, o: &RunOptions, text: String, radii_required: bool) 
     };
     let mut sources = Sources::default();
     let name = if o.file == Path::new("-") { "<stdin>".to_string() } else { o.file.display().to_string() };
-    let id = sources.add(SourceFile::new(name, text));
+    let id = sources.add(SourceFile::stored(name, text));
     let mut program = Program::default();
+    // A program is read in pages (those of plain blocks dropped once run, read
+    // again where the run comes back), but a Fanuc or Haas lathe's, whose
+    // cycles read the blocks of a contour ahead.
+    if !detected.dialect.is_lathe() {
+        program.read_in_pages(PAGE_BLOCKS, PAGES_HELD);
+    }
     let text = sources.get(id).text.clone();
     // Reading and running a big program takes seconds: a bar by bytes.
     let progress = ByteProgress::start("reading", text.len() as u64);

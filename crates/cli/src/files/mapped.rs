@@ -1,0 +1,100 @@
+//! A large program's text mapped into memory instead of read: the kernel
+//! reads its pages as they are needed, and this process lets go of them
+//! again every tenth of a second, so that reading a file of any size holds
+//! only the pages read in the last moment (they stay in the page cache and
+//! come back at the cost of a minor fault).
+
+use std::fs::File;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use kezuri_nc::source::TextStore;
+use memmap2::{Mmap, UncheckedAdvice};
+
+/// Files at least this long are mapped rather than read.
+const MAP_FROM_BYTES: u64 = 8 << 20;
+
+/// How often the pages read are let go of.
+const FORGET_EVERY: Duration = Duration::from_millis(100);
+
+/// A file's text, mapped: UTF-8 (a byte-order mark skipped).
+pub struct MappedText {
+    map: Arc<Mmap>,
+    /// Where the text begins (3 after a byte-order mark).
+    start: usize,
+    stop: Arc<AtomicBool>,
+    forgetter: Option<JoinHandle<()>>,
+}
+
+/// `path` mapped, where it is a plain file of [`MAP_FROM_BYTES`] or more
+/// holding UTF-8 text; `None` where it is to be read as before (smaller,
+/// not a plain file, or bytes that are not UTF-8, which reading replaces).
+pub fn map_text(path: &Path) -> Result<Option<MappedText>> {
+    if path == Path::new("-") {
+        return Ok(None);
+    }
+    let file = File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let meta = file.metadata().with_context(|| format!("cannot read {}", path.display()))?;
+    if !meta.is_file() || meta.len() < MAP_FROM_BYTES || meta.len() > u64::from(u32::MAX) {
+        return Ok(None);
+    }
+    // SAFETY: the map is read only. A program must not be rewritten on disk
+    // while kezuri reads it (its text would change under the run, as it
+    // would under a control drip-feeding it).
+    let map = Arc::new(unsafe { Mmap::map(&file) }.with_context(|| format!("cannot read {}", path.display()))?);
+    let start = if map.starts_with(b"\xEF\xBB\xBF") { 3 } else { 0 };
+    let stop = Arc::new(AtomicBool::new(false));
+    let forgetter = {
+        let (map, stop) = (Arc::clone(&map), Arc::clone(&stop));
+        std::thread::spawn(move || {
+            while !stop.load(Ordering::Relaxed) {
+                std::thread::park_timeout(FORGET_EVERY);
+                forget(&map, 0..map.len());
+            }
+        })
+    };
+    let text = MappedText { map, start, stop, forgetter: Some(forgetter) };
+    // Checked a piece at a time (each let go of by the thread).
+    if text.map[start..].utf8_chunks().any(|c| !c.invalid().is_empty()) {
+        return Ok(None);
+    }
+    Ok(Some(text))
+}
+
+/// Lets go of the pages of `range` (they are read again when touched).
+fn forget(map: &Mmap, range: std::ops::Range<usize>) {
+    if range.is_empty() {
+        return;
+    }
+    // SAFETY: DONTNEED on a read-only file mapping drops this process's
+    // copies of the pages; the next touch reads the file's bytes again.
+    let _ = unsafe { map.unchecked_advise_range(UncheckedAdvice::DontNeed, range.start, range.len()) };
+}
+
+impl TextStore for MappedText {
+    fn text(&self) -> &str {
+        // SAFETY: checked to be UTF-8 when mapped; the file is read only.
+        unsafe { std::str::from_utf8_unchecked(&self.map[self.start..]) }
+    }
+
+    fn forget(&self, range: std::ops::Range<usize>) {
+        let page = 4096;
+        let from = (self.start + range.start).div_ceil(page) * page;
+        let to = ((self.start + range.end) / page * page).max(from);
+        forget(&self.map, from..to);
+    }
+}
+
+impl Drop for MappedText {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.forgetter.take() {
+            t.thread().unpark();
+            let _ = t.join();
+        }
+    }
+}
