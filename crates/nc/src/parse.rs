@@ -14,7 +14,7 @@ mod number;
 mod oword;
 
 pub use comment::comments;
-use ends::{ends_program, finish_unit, program_end};
+use ends::{finish_unit, program_ends};
 pub(crate) use lines::read_page_again;
 use number::plain_words;
 use oword::{link_oword, OpenOWord, OWORD_KEYWORDS};
@@ -152,9 +152,10 @@ fn parse_reporting(
             };
         } else {
             let block = p.read_block(line, pos, after_end, &mut notes, &mut diagnostics);
-            after_end |= ends_program(program, &block);
+            let (ends, end) = program_ends(program, &block);
+            after_end |= ends;
             if percent_seen == 1 && first_end.is_none() {
-                first_end = program_end(program, &block).map(|m| (m, block.line));
+                first_end = end.map(|m| (m, block.line));
             }
             content |= block.number.is_some()
                 || !matches!(block.statement, Statement::Empty | Statement::Words { len: 0, .. });

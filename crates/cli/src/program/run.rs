@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_correct::kinematics::{Kinematics, AXES};
-use kezuri_geom::{cycle_time, AxisRanges, Move, MoveKind, Spindle, Toolpath};
+use kezuri_geom::{cycle_time, AxisRanges, Move, MoveKind, PathSink, Spindle, Toolpath};
 use kezuri_nc::ast::PAGE_BLOCKS;
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings, Thread};
@@ -189,14 +189,20 @@ impl Ran {
 /// A cutter compensation register the tool table lacks is a warning
 /// (radius 0).
 pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, false)
+    run_program(o, read_program_text(&o.file)?, false, None)
+}
+
+/// [`read_and_run`] handing the toolpath to `sink` piece by piece as the
+/// run makes it: the run's `outcome.toolpath` is then empty.
+pub fn read_and_run_into(o: &RunOptions, sink: &mut dyn PathSink) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_program(o, read_program_text(&o.file)?, false, Some(sink))
 }
 
 /// [`read_and_run`] where the tool-centre path was asked for (`run
 /// --apply-comp`): a cutter compensation register the tool table lacks is
 /// an error. `sim` and `view` warn of it, as `check` and `run` do.
 pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, true)
+    run_program(o, read_program_text(&o.file)?, true, None)
 }
 
 /// The folder subprograms and subroutine files come from: `--lib`, else
@@ -220,7 +226,7 @@ pub fn print_label(dialect: kezuri_nc::Dialect) -> &'static str {
 
 /// [`read_and_run`] on the program's text, read already.
 pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, Arc::new(text), false)
+    run_program(o, Arc::new(text), false, None)
 }
 
 /// Whether `dialect` reads whole units without a decimal point and
@@ -284,19 +290,24 @@ fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
     Ok(out)
 }
 
-fn run_program(o: &RunOptions, text: Arc<dyn TextStore>, radii_required: bool) -> Result<(Ran, Vec<Diagnostic>)> {
+fn run_program(
+    o: &RunOptions,
+    text: Arc<dyn TextStore>,
+    radii_required: bool,
+    sink: Option<&mut dyn PathSink>,
+) -> Result<(Ran, Vec<Diagnostic>)> {
     let machine = match &o.machine {
         Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
     };
-    run_on(machine, o, text, radii_required)
+    run_on(machine, o, text, radii_required, sink)
 }
 
 /// A program kezuri wrote (`text`, to be saved as `name`) run on `machine`
 /// as `kezuri view` would run the file: for the page of a writer's `--view`.
 pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
     let o: RunOptions = options_from(&[OsStr::new("--"), name.as_os_str()])?;
-    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, Arc::new(text), false)?;
+    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, Arc::new(text), false, None)?;
     if ran.errors() > 0 {
         ran.print_diagnostics(&parse_diagnostics);
         bail!(
@@ -323,6 +334,7 @@ fn run_on(
     o: &RunOptions,
     text: Arc<dyn TextStore>,
     radii_required: bool,
+    sink: Option<&mut dyn PathSink>,
 ) -> Result<(Ran, Vec<Diagnostic>)> {
     let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, text.text())?, &machine);
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
@@ -369,7 +381,10 @@ fn run_on(
     } else {
         progress.stage("running");
         settings.progress = progress.counter();
-        interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings)
+        match sink {
+            Some(sink) => interp::run_into(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings, sink),
+            None => interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings),
+        }
     };
     progress.finish();
     let mut outputs = Outputs::new();

@@ -3,18 +3,17 @@
 
 use crate::ast::{Block, Program, ProgramUnit, Word, WordValue};
 
-/// Whether `block` ends the program: an `M30` or `M02` word written as a
-/// number (`M#1` is not looked at before the run).
+/// What ends of a program `block` gives: whether one ends it (an `M30` or
+/// `M02` word), and the first `M02`, `M30` or `M99` (2, 30 or 99), each
+/// written as a number (`M#1` is not looked at before the run).
 #[inline]
-pub(super) fn ends_program(program: &Program, block: &Block) -> bool {
-    program.words(block).iter().any(|w| matches!(end_code(w), Some(2 | 30)))
-}
-
-/// The program end `block` gives: 2, 30 or 99 for its first `M02`, `M30`
-/// or `M99` word.
-#[inline]
-pub(super) fn program_end(program: &Program, block: &Block) -> Option<u32> {
-    program.words(block).iter().find_map(end_code)
+pub(super) fn program_ends(program: &Program, block: &Block) -> (bool, Option<u32>) {
+    let mut ends = (false, None);
+    for code in program.words(block).iter().filter_map(end_code) {
+        ends.0 |= code != 99;
+        ends.1 = ends.1.or(Some(code));
+    }
+    ends
 }
 
 /// 2, 30 or 99 where `w` is `M02`, `M30` or `M99` written as a number
