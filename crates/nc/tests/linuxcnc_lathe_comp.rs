@@ -221,3 +221,161 @@ fn a_move_that_goes_nowhere_after_the_entry_leaves_the_corner_to_the_next_move()
     let want = [(15.0, -37.59), (14.7, 2.741), (14.7, 2.741), (0.452, 2.741), (0.452, -5.15), (20.0, -5.0)];
     assert_ends("a rapid in place after the entry", &path, &want);
 }
+
+// ------------------------------------------------------------ G70 under compensation
+//
+// LinuxCNC 2.9's G70 under G41/G42 (`src/emc/rs274ngc/interp_g7x.cc`,
+// `interp_convert.cc`, `interp_queue.cc`; read to learn the rule, which is
+// re-derived here, not copied):
+// 1. `convert_g7x` first makes the cycle's rapid to its X Z (S) with
+//    `convert_straight`, compensated as any move is (here the entry move,
+//    `convert_straight_comp1`: the nose centre off S by r, square to it).
+// 2. It then reads the profile subroutine block by block without moving,
+//    setting `settings->current_x`/`current_z` to each block's end. Under
+//    compensation those are the tool centre's position (the point the next
+//    move is compensated from), while `program_x`/`program_z` (the
+//    programmed point) stay at S: the centre is left at P, the profile's
+//    last point, uncompensated.
+// 3. `g7x::do_g70` makes each pass as a rapid to the pass's start (the
+//    profile's first piece's start: S, unless `monotonic()` moved its Z
+//    to the piece's end), a rapid to the first point of the profile moved
+//    by the pass's distance, then the profile.
+// 4. The first pass's rapid to S has no travel in the plane
+//    (`convert_straight_comp2`, "no XY motion"): it is a traverse to the
+//    current point, P. The next move is compensated as a corner from
+//    there: `theta` is the direction from the programmed point S to P
+//    (normally the radius from the path to the centre), `beta` the turn
+//    from the direction square to it; beta within 0.05 rad of 0: nothing
+//    moves (a straight corner); beta > 0.05 (convex): the moves queued
+//    before (the cycle's rapid, the rapid to P) end at P
+//    (`move_endpoint_and_flush`) and a rapid goes to S + r square to the
+//    next move; beta < −0.05 (concave) after a straight move: they end at
+//    P moved by r / tan((beta + π) / 2) along theta turned toward the
+//    tool's side by a quarter (−90° for G42).
+// 5. When the queue is printed (`dequeue_canons`) each point is moved by
+//    the orientation (`latheorigin_x`/`_z`): orientation 2, −r in X and Z.
+// The cycle's other passes start from where the pass before ended, as any
+// move does. G71 and G72 refuse compensation, so only G70 shows it.
+//
+// Each program: X a radius (G8), mm, `G42.1 D1 L2`: r = 0.5, the tip
+// (X, Z) = centre − (0.5, 0.5); the entry from X10 Z−20 up +Z to the
+// cycle's start, so the tool, right of +Z, is on its −X side. rs274
+// 2.9's figures are given beside each.
+
+/// A G70 from X10 Z`z`, under `G42.1 D1 L2`, of the profile `profile`
+/// (its blocks, one a line), then `after`, G40 and a rapid to X12.
+fn g70(profile: &str, z: &str, after: &str) -> String {
+    format!(
+        "G18 G8 G21 G90 F100\no100 sub\n{profile}o100 endsub\nG0 X10 Z-20\nG42.1 D1 L2\n\
+         G70 Q100 X10 Z{z}\n{after}G40 G0 X12\nM2\n"
+    )
+}
+
+/// The (X, Z) of the programmed point `(z, x)` + `r` along the angle `a`,
+/// as the tip of orientation 2 (− 0.5 in X and Z).
+fn tip_off(z: f64, x: f64, r: f64, a: f64) -> (f64, f64) {
+    (x + r * a.sin() - 0.5, z + r * a.cos() - 0.5)
+}
+
+/// The profile after the cycle's start (the same in each of the first
+/// two programs): the piece along −Z at X2 to Z−10, the diagonal to X5
+/// Z−15, up to X8. Its corners (each concave for G42) put the centre at
+/// X2.5 (the −Z piece's offset line) and the diagonal's offset line
+/// (normal (Z, X) = (3, 5)/√34 from X2 Z−10 → X5 Z−15) meeting X2.5 at
+/// Z = −10 − 5/6 + 17/(3√34), and the +X piece's line Z−14.5 at
+/// X = 4.7 + 3.4/√34. Tips: X2 Z−10.361508, X4.783095 Z−15, then X7.5
+/// Z−15 (X8's centre X8 Z−14.5); G40 to X12 Z−15. rs274: 2/−10.3615,
+/// 4.7831/−15, 7.5/−15, 12/−15.
+fn profile_end() -> [(f64, f64); 4] {
+    let s34 = 34f64.sqrt();
+    [(2.0, -10.0 - 5.0 / 6.0 + 17.0 / (3.0 * s34) - 0.5), (4.7 + 3.4 / s34 - 0.5, -15.0), (7.5, -15.0), (12.0, -15.0)]
+}
+
+#[test]
+fn g70s_second_start_rapid_goes_to_the_profiles_end_a_straight_corner() {
+    // S = X10 Z0; profile X2 Z0, Z−10, X10 (P = X10 Z−10, on S's X, as
+    // lathe_g70_71_demo's ends). The entry ends at centre X9.5 Z0, tip X9
+    // Z−0.5. The rapid to S goes to P: tip X9.5 Z−10.5. theta from S to P
+    // is −Z (π); the rapid to X2 Z0 runs −X (−π/2, +2π: 3π/2): beta = 3π/2
+    // − π − π/2 = 0, straight: nothing moves, and the rapid goes from P to
+    // its offset end, moved by the concave corner with −Z to X2.5 Z−0.5:
+    // tip X2 Z−1. The −Z piece to Z−10, concave with +X: centre X2.5
+    // Z−9.5, tip X2 Z−10; X10: tip X9.5 Z−10; G40 to X12 Z−10. rs274: 9/−0.5,
+    // 9.5/−10.5, 2/−1, 2/−10, 9.5/−10, 12/−10.
+    let text = g70("G1 X2 Z0\nZ-10\nX10\n", "0", "");
+    let path = common::linuxcnc::path_with(&text, &linuxcnc(None));
+    let want = [(10.0, -20.0), (9.0, -0.5), (9.5, -10.5), (2.0, -1.0), (2.0, -10.0), (9.5, -10.0), (12.0, -10.0)];
+    assert_ends("straight", &path, &want);
+}
+
+#[test]
+fn g70s_concave_corner_from_the_profiles_end_moves_the_cycles_rapid_there() {
+    // S = X10 Z2; profile X2 Z0, Z−10, X5 Z−15, X8: P = X8 Z−15. theta =
+    // atan2(8 − 10, −15 − 2) (from S to P), the rapid to X2 Z0 runs at
+    // alpha = atan2(2 − 10, 0 − 2); alpha > theta, so beta = alpha − theta
+    // − π/2 = −0.362: concave. The cycle's rapid and the rapid to P both
+    // end at P + r / tan((beta + π) / 2) along theta − π/2: centre X8.090897
+    // Z−15.010694, tip X7.590897 Z−15.510694 (rs274: 7.5909/−15.5107, twice).
+    // The rapid to X2 Z0 (direction (Z, X) = (−2, −8)) then ends where its
+    // offset line (normal (−8, 2)/√68) meets X2.5 (the −Z piece's): Z =
+    // 0.125 − 4.25/√68, tip X2 Z−0.890388 (rs274: 2/−0.8904).
+    let text = g70("G1 X2 Z0\nZ-10\nX5 Z-15\nX8\n", "2", "");
+    let path = common::linuxcnc::path_with(&text, &linuxcnc(None));
+    let theta = (8.0f64 - 10.0).atan2(-15.0 - 2.0);
+    let alpha = (2.0f64 - 10.0).atan2(0.0 - 2.0);
+    let beta = alpha - theta - std::f64::consts::FRAC_PI_2;
+    assert!(beta < -0.05, "concave: {beta}");
+    let mid =
+        tip_off(-15.0, 8.0, 0.5 / ((beta + std::f64::consts::PI) / 2.0).tan(), theta - std::f64::consts::FRAC_PI_2);
+    assert!((mid.0 - 7.590897).abs() < 1e-6 && (mid.1 + 15.510694).abs() < 1e-6, "{mid:?}");
+    let mut want = vec![(10.0, -20.0), mid, mid, (2.0, 0.125 - 4.25 / 68f64.sqrt() - 0.5)];
+    want.extend(profile_end());
+    assert_ends("concave", &path, &want);
+}
+
+#[test]
+fn g70s_convex_corner_from_the_profiles_end_flushes_the_cycles_rapid_to_it() {
+    // S = X10 Z2; profile X2 Z4 (up +Z first: LinuxCNC's monotonic() puts
+    // the pass's start at X10 Z4), Z−10, X5 Z−15, X8: P = X8 Z−15. The
+    // rapid to X10 Z4 now travels +Z: alpha = 0, theta as above (−3.0246):
+    // beta = 0 − theta − π/2 = 1.454, convex. The cycle's rapid ends at P
+    // (tip X7.5 Z−15.5), a rapid goes to S + r square to +Z (centre X9.5
+    // Z2, tip X9 Z1.5), then the rapid to X10 Z4, whose end the concave
+    // corner with −X (to X2 Z4) moves to X9.5 Z3.5: tip X9 Z3; the −X
+    // rapid meets X2.5: tip X2 Z3. rs274: 7.5/−15.5, 9/1.5, 9/3, 2/3.
+    let text = g70("G1 X2 Z4\nZ-10\nX5 Z-15\nX8\n", "2", "");
+    let path = common::linuxcnc::path_with(&text, &linuxcnc(None));
+    let mut want = vec![(10.0, -20.0), (7.5, -15.5), (9.0, 1.5), (9.0, 3.0), (2.0, 3.0)];
+    want.extend(profile_end());
+    assert_ends("convex", &path, &want);
+}
+
+#[test]
+fn a_g70_that_cuts_nothing_still_leaves_the_centre_at_its_profiles_end() {
+    // A profile of one piece (X4 Z0) is not cut (`path.size() <= 1`), but
+    // reading it has left the centre at P = X4 Z0: the next move is
+    // compensated from there. `G0 X12 Z−4` from S = X10 Z2: theta =
+    // atan2(−6, −2), alpha = atan2(2, −6); beta = alpha − theta − π/2 =
+    // 0.785 (convex): the cycle's rapid ends at P (tip X3.5 Z−0.5), a rapid
+    // goes to S + r square to the move (normal (Z, X) = (1, 3)/√10 × 0.5),
+    // then the move to its end + the same. rs274: 3.5/−0.5, 9.9743/1.6581,
+    // 11.9743/−4.3419, G40 14/−4. A dwell between changes nothing.
+    let n = (1.0 / 10f64.sqrt() * 0.5, 3.0 / 10f64.sqrt() * 0.5);
+    let want = [
+        (10.0, -20.0),
+        (3.5, -0.5),
+        (10.0 + n.1 - 0.5, 2.0 + n.0 - 0.5),
+        (12.0 + n.1 - 0.5, -4.0 + n.0 - 0.5),
+        (14.0, -4.0),
+    ];
+    for after in ["G0 X12 Z-4\n", "G4 P1\nG0 X12 Z-4\n"] {
+        let text = g70("G1 X4 Z0\n", "2", after).replace("G40 G0 X12", "G40 G0 X14");
+        let mut path = common::linuxcnc::path_with(&text, &linuxcnc(None));
+        path.moves.retain(|m| !matches!(m.kind, kezuri_geom::MoveKind::Dwell(_)));
+        assert_ends(after, &path, &want);
+    }
+    // An arc as that move: rs274 runs it, compensated from P by its arc
+    // rule; kezuri does not model it and says so.
+    let e = error(&g70("G1 X4 Z0\n", "2", "G2 X6 Z-2 R4\n"));
+    assert!(e.starts_with("t.ngc:8:") && e.contains("kezuri does not model an arc"), "{e}");
+}

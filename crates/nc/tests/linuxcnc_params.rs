@@ -122,3 +122,23 @@ fn a_starting_value_no_parameter_can_hold_is_an_error() {
     let m = common::run("t.ngc", "G1 X#31 F100\nM2\n", &linuxcnc(&[(31, 2.0), (99999, 1.0)])).message();
     assert!(m.contains("starting parameters") && m.contains("#99999"), "{m}");
 }
+
+#[test]
+fn the_probe_result_is_the_tips_program_position_in_the_units_it_was_made_in() {
+    // LinuxCNC's `set_probe_data` stores emccanon's probe position with the
+    // tool offset taken off, in the program's units of the moment; later
+    // G20/G21 leave the numbers as they are. Tool 1's length 2.54 mm (G43):
+    // #5063 is the tip's Z, −5 (Fanuc's #5063 would add the offset: −2.46).
+    // rs274 prints the same X Y (STRAIGHT_FEED 1 −5; in G20 1 −5, that is
+    // 25.4 −127 mm; after G38.3 X0.1 Z−0.2 in G20 and back in G21, 0.1 −0.2).
+    let s = Settings { tool_lengths: BTreeMap::from([(1, 2.54)]), ..linuxcnc(&[]) };
+    let text = "G21 G17\nT1 M6 G43\nG0 X1 Z10\nG38.3 Z-5 F100\nG1 X#5061 Y#5063\nG20\nG1 X#5061 Y#5063\n\
+                G38.3 X0.1 Z-0.2\nG21\nG1 X#5061 Y#5063\nM2\n";
+    let t = common::run("t.ngc", text, &s).path();
+    let xy: Vec<(f64, f64)> = t.moves.iter().map(|m| (m.end.x, m.end.y)).collect();
+    let want = [(1.0, 0.0), (1.0, 0.0), (1.0, -5.0), (25.4, -127.0), (2.54, -127.0), (0.1, -0.2)];
+    assert_eq!(xy.len(), want.len(), "{xy:?}");
+    for (g, w) in xy.iter().zip(want) {
+        assert!((g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9, "{xy:?}");
+    }
+}

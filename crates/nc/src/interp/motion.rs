@@ -425,10 +425,31 @@ impl State {
         let end = self.target(w);
         let feed = self.feed_mm_min(span)?;
         self.push_move(MoveKind::Probe, end, feed, w.axes(), line);
-        // #5061… include the tool length offset, as #5041… do.
-        let work = self.work_position();
-        self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
+        self.record_skip();
         Ok(true)
+    }
+
+    /// Where a skip (probe) move ended, as #5061… read it. Fanuc: in work
+    /// coordinates with the tool length offset on Z, as #5041… are.
+    /// LinuxCNC: the tip's program position in the program's units when
+    /// it was made, kept as they were (its interpreter's `set_probe_data`
+    /// stores emccanon's `GET_EXTERNAL_PROBE_POSITION`, the tool offset
+    /// taken off and turned into program units; rs274 alone stores the
+    /// same numbers).
+    fn record_skip(&mut self) {
+        let work = self.work_position();
+        if !super::params::linuxcnc_numbering(self.settings.dialect) {
+            self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
+            return;
+        }
+        let inch = self.modal.units == Units::Inch;
+        let mut p = work.to_array();
+        for (i, v) in p.iter_mut().enumerate() {
+            if inch && Axes::is_linear(i) {
+                *v /= 25.4;
+            }
+        }
+        self.skip_position = Axes::from_array(p);
     }
 
     /// `G53 G31` (Fanuc, Haas): a skip move to a machine position, the
@@ -452,8 +473,7 @@ impl State {
         }
         let feed = self.feed_mm_min(span)?;
         self.push_move(MoveKind::Probe, Axes::from_array(p), feed, w.axes(), line);
-        let work = self.work_position();
-        self.skip_position = Axes { z: work.z + self.length_offset(), ..work };
+        self.record_skip();
         Ok(true)
     }
 

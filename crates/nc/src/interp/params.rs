@@ -8,7 +8,8 @@
 //! G55, … #5381… G59.3, #5400 the tool, #5401–#5409 its offsets, #5410 its
 //! diameter, #5420–#5428 the current position in program coordinates and
 //! units. Lengths are in mm (the machine's units), the position in the
-//! program's. U V W are axes as X Y Z are (LinuxCNC has nine); the rotation
+//! program's, the probe result in the program's when the probe was made
+//! (the tip's program position, as `State::record_skip` says). U V W are axes as X Y Z are (LinuxCNC has nine); the rotation
 //! R and every other number in the range are plain storage that starts at 0,
 //! as in LinuxCNC.
 

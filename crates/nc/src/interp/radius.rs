@@ -51,6 +51,10 @@ pub(super) struct Radius {
     /// The multiple repetitive cycles' returns to their start points made
     /// while compensation was on: move indices from `since`, ascending.
     returns: Vec<usize>,
+    /// LinuxCNC's jumps of the tool centre its compensation works from
+    /// ([`State::comp_jump`]): before the move at each index from `since`,
+    /// to the point given.
+    jumps: Vec<(usize, Axes)>,
     /// The G41/G42 D and G40 blocks for the writer of the programmed
     /// contour, each with its place in `Toolpath::kept` when it was read.
     marks: Vec<(usize, Kept)>,
@@ -294,7 +298,7 @@ impl State {
         let all: Vec<Move> = moves.iter().copied().chain([back]).collect();
         let tags: Vec<Option<Comp>> = (0..=n).map(|k| (k < n).then_some(tag)).collect();
         let tips = vec![tip; n + 1];
-        Some(compensate_nose(&all, &tags, &tips, &[n], self.settings.comp_rules).map(|(out, origin)| {
+        Some(compensate_nose(&all, &tags, &tips, &[n], &[], self.settings.comp_rules).map(|(out, origin)| {
             let keep = origin.iter().take_while(|&&o| o < n).count();
             (out[..keep].to_vec(), origin[..keep].to_vec())
         }))
@@ -389,10 +393,29 @@ impl State {
         self.radius.on = on;
     }
 
-    /// The cycles' returns among the recorded moves `range` (indices from
-    /// `since`), as indices from the range's start.
-    fn comp_returns(&self, range: std::ops::Range<usize>) -> Vec<usize> {
-        self.radius.returns.iter().filter(|&&k| range.contains(&k)).map(|&k| k - range.start).collect()
+    /// LinuxCNC: reading a lathe cycle's profile has left the position its
+    /// compensation works from at `at`, the profile's last point, while
+    /// the tool has not moved: the next move under compensation is
+    /// compensated from there (`rs274ngc/interp_g7x.cc`, `convert_g7x`:
+    /// each profile block read sets `current_x`/`current_z`, which under
+    /// compensation are the tool centre's, and leaves `program_x`/`_z`).
+    /// Only G70 runs under compensation, and its first pass's start rapid
+    /// is that move (`docs/cutter-compensation.md`, "LinuxCNC's G70").
+    pub(super) fn comp_jump(&mut self, at: Axes) {
+        if self.radius.on.is_none() || self.settings.comp_rules != Rules::LinuxCnc {
+            return;
+        }
+        let len = self.toolpath.moves.len();
+        let since = *self.radius.since.get_or_insert(len);
+        self.radius.jumps.push((len - since, at));
+    }
+
+    /// The cycles' returns and the jumps among the recorded moves `range`
+    /// (indices from `since`), as indices from the range's start.
+    fn comp_marks(&self, range: std::ops::Range<usize>) -> (Vec<usize>, Vec<(usize, Axes)>) {
+        let returns = self.radius.returns.iter().filter(|&&k| range.contains(&k)).map(|&k| k - range.start);
+        let jumps = self.radius.jumps.iter().filter(|(k, _)| range.contains(k)).map(|&(k, p)| (k - range.start, p));
+        (returns.collect(), jumps.collect())
     }
 
     /// At the end of the run: replaces the toolpath by the tool-centre path
@@ -407,18 +430,20 @@ impl State {
         let mut alarm = None;
         let centre = loop {
             let (tags, tips) = (&self.radius.tags[..end - since], &self.radius.tips[..end - since]);
-            let returns = self.comp_returns(0..end - since);
-            match compensate_nose(&self.toolpath.moves[since..end], tags, tips, &returns, rules) {
+            let (returns, jumps) = self.comp_marks(0..end - since);
+            match compensate_nose(&self.toolpath.moves[since..end], tags, tips, &returns, &jumps, rules) {
                 Ok(done) => break Some(done),
-                // A control stops at the alarm: nothing from its move on is made.
-                Err(e) if alarm.is_none() => {
+                // A control stops at the alarm: nothing from its move on is
+                // made. Where the moves before it fail in turn, the control
+                // stops before, at theirs (found later: a corner's trim is
+                // checked as the moves are made, after every corner is
+                // planned).
+                Err(e) => {
                     let k = e.move_index().unwrap_or_default();
                     let span = self.radius.spans.get(k).copied().unwrap_or(self.radius.block.0);
                     alarm = Some(Diagnostic::error(span, self.comp_alarm(&e.message)));
                     end = since + k;
                 }
-                // The moves before the alarm fail in turn: stop before theirs too.
-                Err(e) => end = since + e.move_index().unwrap_or_default(),
             }
         };
         if alarm.is_some() {
@@ -488,9 +513,9 @@ impl State {
         }
         let start = tags[..end].iter().rposition(Option::is_none).map_or(0, |k| k + 1);
         let tips = &self.radius.tips[start..end];
-        let returns = self.comp_returns(start..end);
-        let (centre, _) =
-            compensate_nose(&moves[start..end], &tags[start..end], tips, &returns, self.settings.comp_rules).ok()?;
+        let (returns, jumps) = self.comp_marks(start..end);
+        let rules = self.settings.comp_rules;
+        let (centre, _) = compensate_nose(&moves[start..end], &tags[start..end], tips, &returns, &jumps, rules).ok()?;
         centre.last().map(|m| m.end)
     }
 

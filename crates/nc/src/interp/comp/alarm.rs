@@ -37,6 +37,9 @@ pub(super) enum Alarm {
     ZeroRadiusArc,
     /// A computed point is not finite.
     Numeric,
+    /// LinuxCNC: an arc, or a feed round a convex corner, as the first
+    /// move with plane travel after a jump of the tool centre (G70).
+    AfterJump,
 }
 
 impl Alarm {
@@ -78,6 +81,7 @@ impl Alarm {
             Alarm::Changed => "Cannot turn cutter radius comp on when on",
             Alarm::ZeroRadiusArc => "an arc whose start or end lies on its centre cannot be compensated",
             Alarm::Numeric => "cutter compensation produced a point that is not a number (a degenerate corner)",
+            Alarm::AfterJump => "kezuri does not model an arc, or a feed round a convex corner, as the first move along the plane after a G70 under cutter compensation: LinuxCNC compensates that move from the end of the G70's profile, where reading the profile left its position",
         };
         t.to_string()
     }

@@ -12,6 +12,16 @@
 //! travel are made at the end of the move before them, before any corner
 //! arc, with no limit on how many. G40 leaves no vector: the cancel move
 //! starts from the last offset point.
+//!
+//! A jump (`Run::jumps`: LinuxCNC's G70, whose reading of its profile
+//! leaves the tool position the compensation works from at the profile's
+//! end) changes the next corner only. `beta` is then taken from the line
+//! from the programmed point to the jumped point, as if that line were the
+//! radius to the tool (LinuxCNC's `theta`); moves without plane travel go
+//! to the jumped point; a convex corner (the moves before moved to the
+//! jumped point) or a straight one then proceeds as above, a concave one
+//! after a straight move backs from the jumped point, square to that line,
+//! by r / tan(half the inside corner), and moves the moves before there.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -47,41 +57,78 @@ pub(super) fn plan(run: &Run) -> Result<Vec<Step>, Error> {
     }
     let mut prev: Option<(Before, Step)> = None;
     let mut passes = Vec::new();
+    // Where a G70's profile took the tool centre the compensation works
+    // from (`run.jumps`), until the next move with plane travel.
+    let mut jump = None;
     for item in items {
+        let (Item::Pass(index) | Item::Plane(Element { index, .. })) = item;
+        jump = run.jump_before(index).or(jump);
         let b = match item {
+            // A move without plane travel goes to that point (a dwell stays).
             Item::Pass(index) => {
-                passes.push(Step::Pass { index });
+                let dwell = matches!(run.moves[index].kind, kezuri_geom::MoveKind::Dwell(_));
+                passes.push(match jump {
+                    Some(end) if !dwell => Step::Line { index, end, forward: None },
+                    _ => Step::Pass { index },
+                });
                 continue;
             }
             Item::Plane(b) => b,
         };
         let Some((a, a_step)) = prev.take() else {
-            prev = Some(entry(run, &b)?);
+            prev = Some(entry(run, &b, jump.take().unwrap_or(run.start))?);
             continue;
         };
         let path_b = run.path(&b)?;
         let t2 = b.start_tangent();
-        let phi = -s * turn_angle(a.tangent, t2);
+        // The tool's direction before the corner: along the move before,
+        // or square to the line from its programmed end to the point a
+        // jump took the tool centre to.
+        let jumped = jump.take().map(|c| (c, radial(c.sub(a.elem.to))));
+        let t1 = jumped.map_or(a.tangent, |(_, v)| v.left().scale(-s));
+        let phi = -s * turn_angle(t1, t2);
         let beta = if phi < -FRAC_PI_2 { phi + TAU } else { phi };
         let concave = !(-SMALL..=PI + SMALL).contains(&beta)
             // The "h" and "m" shapes: a reversal over an arc the tool is
             // outside of is taken as concave.
             || (b.arc.is_none() && beta > PI - SMALL && a.elem.arc.is_some() && !a.elem.tool_inside(s))
             || (b.arc.is_some() && (beta - PI).abs() < SMALL && !b.tool_inside(s));
+        if jumped.is_some() && (b.arc.is_some() || (!concave && beta > SMALL && !b.rapid)) {
+            return Err(Alarm::AfterJump.at(b.index, run.rules));
+        }
         let mut link = None;
-        let a_end = if concave {
-            let no = || Alarm::NoIntersection { from_arc: a.elem.arc.is_some(), to_arc: b.arc.is_some() };
-            intersect(a.path, path_b, a.elem.to).ok_or_else(|| no().at(b.index, run.rules))?
-        } else {
-            if beta > SMALL {
-                let to = b.offset_start(s, r);
-                let around = (!b.rapid).then_some((a.elem.to, s < 0.0));
-                link = Some(Step::Link { owner: b.index, to, around });
+        let a_end = match jumped {
+            // From the jumped point LinuxCNC backs along the line square to
+            // that radial by r / tan(half the inside corner).
+            Some((c, v)) if concave && a.elem.arc.is_none() => {
+                let half = (beta + PI) / 2.0;
+                if half == 0.0 {
+                    return Err(Alarm::NoIntersection { from_arc: false, to_arc: false }.at(b.index, run.rules));
+                }
+                c.add(normal(v, s).scale(r / half.tan()))
             }
-            a.end
+            _ if concave => {
+                let no = || Alarm::NoIntersection { from_arc: a.elem.arc.is_some(), to_arc: b.arc.is_some() };
+                intersect(a.path, path_b, a.elem.to).ok_or_else(|| no().at(b.index, run.rules))?
+            }
+            _ => {
+                if beta > SMALL {
+                    let to = b.offset_start(s, r);
+                    let around = (!b.rapid).then_some((a.elem.to, s < 0.0));
+                    link = Some(Step::Link { owner: b.index, to, around });
+                }
+                // A convex corner after a jump flushes the moves before
+                // to the jumped point; a straight one leaves them.
+                match jumped {
+                    Some((c, _)) if beta > SMALL => c,
+                    _ => a.end,
+                }
+            }
         };
         steps.push(with_end(a_step, a_end));
-        steps.append(&mut passes);
+        // The moves without plane travel end where the move before now does.
+        let moved = jumped.is_some() && (concave || beta > SMALL);
+        steps.extend(passes.drain(..).map(|p| if moved { with_end(p, a_end) } else { p }));
         steps.extend(link);
         let end = b.offset_end(s, r);
         let step = run.cut(&b, end, Some(b.to.sub(b.from)));
@@ -109,10 +156,18 @@ fn with_end(step: Step, end: V2) -> Step {
     }
 }
 
-/// The entry move `e` from the tool's uncompensated point.
-fn entry(run: &Run, e: &Element) -> Result<(Before, Step), Error> {
+/// The unit vector along `v`; along +u where `v` is none (C's `atan2(0, 0)`).
+fn radial(v: V2) -> V2 {
+    if v.len() > 0.0 {
+        v.unit()
+    } else {
+        V2::new(1.0, 0.0)
+    }
+}
+
+/// The entry move `e` from the tool's uncompensated point `from`.
+fn entry(run: &Run, e: &Element, from: V2) -> Result<(Before, Step), Error> {
     let (s, r) = (run.s, run.r);
-    let from = run.start;
     if from.dist(e.to) <= r {
         return Err(Alarm::EntryTooShort { arc: e.arc.is_some() }.at(e.index, run.rules));
     }

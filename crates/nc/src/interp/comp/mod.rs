@@ -156,7 +156,7 @@ pub fn compensate_traced(
     tags: &[Option<Comp>],
     rules: Rules,
 ) -> Result<(Vec<Move>, Vec<usize>), Error> {
-    compensate_with_returns(moves, tags, &[], rules)
+    compensate_with_returns(moves, tags, &[], &[], rules)
 }
 
 /// [`compensate_traced`], where `returns` (ascending input indices) are the
@@ -166,10 +166,17 @@ pub fn compensate_traced(
 /// it, whatever the turn to the return (the cycle's offset ends with its
 /// shape), and the return runs from there to the start point with the
 /// offset cancelled; the next compensated move is a new start-up.
+///
+/// `jumps` (ascending input indices, each with a point) are LinuxCNC's
+/// jumps of the tool centre its compensation works from: before move
+/// `index` that point is taken to the point given, without a move, as
+/// reading a G70's profile takes it to the profile's end ([`Rules::LinuxCnc`]
+/// only; `docs/cutter-compensation.md`, "LinuxCNC's G70").
 pub(crate) fn compensate_with_returns(
     moves: &[Move],
     tags: &[Option<Comp>],
     returns: &[usize],
+    jumps: &[(usize, Axes)],
     rules: Rules,
 ) -> Result<(Vec<Move>, Vec<usize>), Error> {
     if tags.len() != moves.len() {
@@ -203,7 +210,8 @@ pub(crate) fn compensate_with_returns(
         }
         let run = Run::new(moves, i..exit, (exit < moves.len() && tags[exit].is_none()).then_some(exit), comp, rules)?;
         let cycle_return = run.exit.is_some_and(|x| returns.binary_search(&x).is_ok());
-        let run = Run { start: in_plane(cur, comp.plane), cycle_return, ..run };
+        let jumps = jumps.iter().filter(|(k, _)| (i..exit).contains(k)).map(|&(k, p)| (k, in_plane(p, comp.plane)));
+        let run = Run { start: in_plane(cur, comp.plane), cycle_return, jumps: jumps.collect(), ..run };
         let steps = if run.r == 0.0 {
             (i..exit).map(|index| Step::Keep { index }).chain(run.exit.map(|index| Step::Keep { index })).collect()
         } else {
@@ -234,6 +242,9 @@ struct Run<'a> {
     /// The cancel move is a repetitive cycle's return to its start point:
     /// the last move ends on its perpendicular vector.
     cycle_return: bool,
+    /// LinuxCNC: before move `index`, the tool centre the compensation
+    /// works from is taken to the plane point given, without a move.
+    jumps: Vec<(usize, V2)>,
 }
 
 /// A move of a run.
@@ -272,7 +283,8 @@ impl<'a> Run<'a> {
             }
             items.push(Element::of(m, index, comp.plane).map_or(Item::Pass(index), Item::Plane));
         }
-        Ok(Run { moves, items, exit, s, r, plane: comp.plane, rules, start: V2::new(0.0, 0.0), cycle_return: false })
+        let start = V2::new(0.0, 0.0);
+        Ok(Run { moves, items, exit, s, r, plane: comp.plane, rules, start, cycle_return: false, jumps: Vec::new() })
     }
 
     /// The offset path of `e`, refusing an inside arc not larger than the
@@ -293,6 +305,11 @@ impl<'a> Run<'a> {
             None => Step::Line { index: e.index, end, forward },
             Some(c) => Step::Arc { index: e.index, end, centre: c.centre, check: true },
         }
+    }
+
+    /// Where the tool centre is taken just before move `index`, if it is.
+    fn jump_before(&self, index: usize) -> Option<V2> {
+        self.jumps.iter().find(|(k, _)| *k == index).map(|&(_, p)| p)
     }
 
     /// The cancel move, when it is a straight move with travel in the plane.

@@ -37,8 +37,10 @@ pub(in crate::interp) struct Capture {
     r: f64,
     u: f64,
     w: f64,
-    /// The profile so far and where it has got to.
+    /// The profile so far and where it has got to; whether a block moved
+    /// the position.
     at: P,
+    moved: bool,
     segs: Vec<Seg>,
     /// The motion mode the profile's blocks are read in (0–3: G0–G3;
     /// `None`: another, whose blocks add nothing).
@@ -129,6 +131,7 @@ impl State {
             u: get(b'U', 0.0),
             w: get(b'W', 0.0),
             at: P::new(z, x),
+            moved: false,
             segs: Vec::new(),
             // The cycle's rapid leaves G0 in force: the profile's first
             // block without a motion code is a line.
@@ -229,7 +232,7 @@ impl State {
                 _ => {}
             }
         }
-        c.at = end;
+        (c.at, c.moved) = (end, true);
         // rs274 reads the profile's point as the position (#<_x>, #<_z>).
         let o = self.frame_offset();
         (self.tip.x, self.tip.z) = (self.mm(end.x) + o.x, self.mm(end.z) + o.z);
@@ -241,6 +244,12 @@ impl State {
     pub(in crate::interp) fn profile_returned(&mut self, level: u32) -> Result<(), Diagnostic> {
         let Some(c) = self.profile.take_if(|c| c.level == level) else { return Ok(()) };
         let c = *c;
+        // rs274 read the profile by moving its position, not the tool: it
+        // compensates the cycle's next move from the profile's end (G70:
+        // the first pass's start rapid, which goes there).
+        if c.moved {
+            self.comp_jump(self.tip);
+        }
         self.tip = c.tool;
         if c.segs.len() <= 1 {
             return Ok(());

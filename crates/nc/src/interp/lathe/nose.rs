@@ -158,7 +158,9 @@ pub fn nose_centre_path(path: &Toolpath, noses: &BTreeMap<u32, Nose>, numbers: T
 /// programmed point to the first tip point, the cancel move back.
 ///
 /// `returns` are the multiple repetitive cycles' returns to their start
-/// points (ascending indices in `moves`), made with the offset cancelled.
+/// points (ascending indices in `moves`), made with the offset cancelled;
+/// `jumps` LinuxCNC's jumps of the tool centre (a G70's profile's end),
+/// as [`compensate_with_returns`] takes them.
 ///
 /// Returns the moves and, for each, the input move it comes from.
 ///
@@ -171,9 +173,10 @@ pub(in crate::interp) fn compensate_nose(
     tags: &[Option<Comp>],
     tips: &[(f64, f64)],
     returns: &[usize],
+    jumps: &[(usize, Axes)],
     rules: Rules,
 ) -> Result<(Vec<Move>, Vec<usize>), Error> {
-    let (mut out, origin) = compensate_with_returns(moves, tags, returns, rules)?;
+    let (mut out, origin) = compensate_with_returns(moves, tags, returns, jumps, rules)?;
     if tips.iter().all(|&v| v == (0.0, 0.0)) {
         return Ok((out, origin));
     }
