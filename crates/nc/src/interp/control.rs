@@ -135,7 +135,7 @@ impl<'a> Interp<'a> {
         loop {
             match self.step() {
                 Ok(true) => {
-                    if self.st.toolpath.moves.len() > self.st.settings.piece_moves {
+                    if self.sink.is_some() && self.st.toolpath.moves.len() > self.st.settings.piece_moves {
                         self.hand_on();
                     }
                 }
@@ -211,16 +211,21 @@ impl<'a> Interp<'a> {
         self.program.run_at(pc, self.sources);
         self.frame().pc = pc + 1;
         self.statements += 1;
-        if unit >= self.reached.len() {
-            self.reached.resize(unit + 1, 0);
-        }
-        if pc < self.reached[unit] {
+        let furthest = match self.reached.get_mut(unit) {
+            Some(f) => f,
+            None => {
+                self.reached.resize(unit + 1, 0);
+                &mut self.reached[unit]
+            }
+        };
+        let again = pc < *furthest;
+        if !again {
+            *furthest = pc + 1;
+        } else {
             self.repeated += 1;
             if self.repeated > self.st.settings.step_limit {
                 return Err(self.runaway(pc));
             }
-        } else {
-            self.reached[unit] = pc + 1;
         }
         let block = &self.program.blocks[pc as usize];
         self.st.settings.reached(block.span, || self.program.units[self.frames[0].unit].span.file);

@@ -38,6 +38,7 @@ impl LineParser<'_> {
     /// skipped already): a parse error is reported and leaves an empty
     /// block, or after the program's end (`after_end`) a note, counted in
     /// `notes`.
+    #[inline(always)]
     pub(super) fn read_block(
         &mut self,
         line: u32,
