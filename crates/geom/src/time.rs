@@ -98,7 +98,8 @@ pub fn move_times(path: &Toolpath, machine: &Dynamics) -> (Vec<f64>, usize) {
 
 /// [`cycle_time`] of a toolpath handed on in pieces ([`PathSink`]): the
 /// same seconds, to the bit, holding only the moves whose speeds later
-/// moves may still change (see [`Planner`]).
+/// moves may still change: about a braking distance from the top feed of
+/// path (the window `Planner` says how it bounds).
 #[derive(Clone, Debug)]
 pub struct CycleClock {
     planner: Planner,
@@ -170,7 +171,7 @@ struct Waiting {
 /// distance from the top feed, `(max_feed/60)² / 2a` (13.9 mm on the default
 /// machine), plus one move; a rapid, a dwell or a reversal (limit 0) closes
 /// it at once. Only many tiny moves along a smooth path at speed hold many
-/// moves, 4 numbers each. The window is looked at when it has doubled since
+/// moves, 48 bytes each. The window is looked at when it has doubled since
 /// it was last cut (64 moves at least), so the work stays linear.
 #[derive(Clone, Debug)]
 struct Planner {
@@ -247,7 +248,7 @@ impl Planner {
     }
 
     /// Plans the window: every move at the `end` of the path, else those
-    /// before the last junction whose speed is final (see [`Planner`]);
+    /// before the last junction whose speed is final (see `Planner`);
     /// hands on their seconds in order and lets them go.
     fn plan(&mut self, end: bool, done: &mut impl FnMut(f64)) {
         let n = self.waiting.len();

@@ -1,13 +1,12 @@
 //! `kezuri check`: a program read and run, and what it does reported.
 
 use anyhow::{bail, Result};
+use kezuri_geom::PathSink;
 use kezuri_nc::interp::{Control, Thread};
 use kezuri_nc::{Diagnostic, Dialect};
 use serde_json::json;
 
 use crate::files::write_output;
-use kezuri_geom::PathSink;
-
 use crate::program::{model_notes, read_and_run, run_refusal, whole_units, RunOptions, Tallied, Tally};
 use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
