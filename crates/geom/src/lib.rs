@@ -54,9 +54,9 @@ pub use random::SplitMix64;
 pub use stl::{
     parse_stl, read_binary_stl_mesh, read_stl, write_ascii_stl, write_binary_stl, write_binary_stl_to, StlFile,
 };
-pub use time::{cycle_time, move_times, Dynamics};
+pub use time::{cycle_time, move_times, CycleClock, Dynamics};
 pub use tool_profile::{Support, ToolProfile};
 pub use toolpath::{
-    Arc, Axes, AxisRanges, AxisSet, Coolant, CycleBlock, Frame, Kept, LengthOffset, Move, MoveKind, PathSink, Plane,
-    Spindle, ToolState, Toolpath, WholePath,
+    Arc, Axes, AxisRanges, AxisSet, Coolant, CycleBlock, Frame, Kept, KnownBounds, LengthOffset, Move, MoveKind,
+    PathSink, Plane, Spindle, ToolState, Toolpath, WholePath,
 };

@@ -1,7 +1,7 @@
 //! The machine-neutral toolpath: a list of self-contained moves.
 
 mod bounds;
-pub use bounds::AxisRanges;
+pub use bounds::{AxisRanges, KnownBounds};
 mod piece;
 pub use piece::{PathSink, WholePath};
 mod transform;

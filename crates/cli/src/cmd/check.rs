@@ -1,15 +1,13 @@
 //! `kezuri check`: a program read and run, and what it does reported.
 
-use std::collections::BTreeMap;
-
 use anyhow::{bail, Result};
-use kezuri_geom::{LengthOffset, MoveKind, Toolpath};
+use kezuri_geom::PathSink;
 use kezuri_nc::interp::{Control, Thread};
 use kezuri_nc::{Diagnostic, Dialect};
 use serde_json::json;
 
 use crate::files::write_output;
-use crate::program::{missing_axes, model_notes, read_and_run, run_refusal, whole_units, Report, RunOptions};
+use crate::program::{model_notes, read_and_run, run_refusal, whole_units, RunOptions, Tallied, Tally};
 use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
 
@@ -30,51 +28,6 @@ fn uses_length_offsets(dialect: Dialect, machine: &Machine) -> bool {
         .post
         .length_offset()
         .unwrap_or(!whole_units(dialect) && machine.settings.coords.control != Control::LinuxCnc)
-}
-
-/// The first move that changes Z after each tool change with no tool
-/// length offset of its own in force: none (or H0), the one the last tool
-/// had (G43 is modal across M06), or a register other than the tool
-/// table's for that tool. On a machine whose tools are set with length
-/// offsets that Z is not the new tool's tip.
-pub fn unoffset_z_moves(path: &Toolpath, tools: &BTreeMap<u32, ToolEntry>) -> Vec<String> {
-    let mut out = Vec::new();
-    let (mut tool, mut armed) = (0, false);
-    let mut before: Option<LengthOffset> = None;
-    let mut last: Option<LengthOffset> = None;
-    for m in &path.moves {
-        if m.tool != tool {
-            tool = m.tool;
-            armed = tool != 0;
-            before = last;
-        }
-        // Returns and G53 moves are in machine coordinates: no offset needed.
-        let machine_coordinates = matches!(m.kind, MoveKind::Home | MoveKind::Machine | MoveKind::Dwell(_));
-        let length = path.frame(m).length.filter(|l| l.register != 0);
-        if !machine_coordinates {
-            last = length;
-        }
-        if !armed || machine_coordinates || (m.start.z == m.end.z && !m.named.contains(2)) {
-            continue;
-        }
-        armed = false;
-        let what = match (length, tools.get(&tool)) {
-            (None, _) => "no tool length offset (G43 H) in force".to_string(),
-            (Some(l), _) if before.is_some_and(|b| b.register == l.register) => {
-                format!("the last tool's length offset (H{}) still in force", l.register)
-            }
-            (Some(l), Some(e)) if e.h != l.register => {
-                format!("H{} in force where the tool table gives T{tool} H{}", l.register, e.h)
-            }
-            _ => continue,
-        };
-        out.push(format!(
-            "line {}: Z moves after the change to T{tool} with {what}: on a machine whose tools are set with \
-             length offsets this Z is not the tool tip's",
-            m.line
-        ));
-    }
-    out
 }
 
 /// How a report names tool `t`: `T5 ball:6 H5 D25 (name)`, `T5 (not in
@@ -191,11 +144,18 @@ fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
     // What `kezuri run` refuses of a program that ran is an error here too.
     let refusal = if ran.errors() == 0 { run_refusal(&ran, &o.file) } else { None };
     let errors = ran.errors() + usize::from(refusal.is_some());
-    let report = Report::new(&ran);
+    // The tally of the whole path, as the pieces of a run would give it.
+    let mut tally = Tally::new(
+        &ran.machine.dynamics,
+        &ran.machine.kinematics,
+        uses_length_offsets(ran.dialect.dialect, &ran.machine),
+    );
+    tally.take(&ran.outcome.toolpath, None);
+    let Tallied { report, missing_axes, unoffset_z } = tally.finish(&ran.outcome, &ran.machine.tools);
     let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
     // Axes the program commands that the machine file's chains lack.
-    let missing: Vec<String> = match &o.machine {
-        Some(file) => missing_axes(&ran.outcome.toolpath, &ran.machine.kinematics)
+    let missing = match &o.machine {
+        Some(file) => missing_axes
             .into_iter()
             .map(|(axis, line)| {
                 format!("{}: the machine has no {axis} axis, and the program commands it (line {line})", file.display())
@@ -203,17 +163,9 @@ fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
             .collect(),
         None => Vec::new(),
     };
-    let missing: Vec<String> = if uses_length_offsets(ran.dialect.dialect, &ran.machine) {
-        let file = o.file.display();
-        missing
-            .into_iter()
-            .chain(
-                unoffset_z_moves(&ran.outcome.toolpath, &ran.machine.tools).into_iter().map(|w| format!("{file}: {w}")),
-            )
-            .collect()
-    } else {
-        missing
-    };
+    let file = o.file.display();
+    let missing: Vec<String> =
+        missing.into_iter().chain(unoffset_z.into_iter().map(|w| format!("{file}: {w}"))).collect();
     let said = if as_json {
         // An axis no position of the program gives: null.
         let lo: Vec<Option<f64>> = report.bounds.iter().map(|r| r.map(|r| r.0)).collect();

@@ -8,17 +8,16 @@ use std::sync::Arc;
 
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
-use kezuri_correct::kinematics::{Kinematics, AXES};
-use kezuri_geom::{cycle_time, AxisRanges, Move, MoveKind, PathSink, Spindle, Toolpath};
+use kezuri_geom::PathSink;
 use kezuri_nc::ast::PAGE_BLOCKS;
 use kezuri_nc::interp::comp::Rules;
-use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings, Thread};
+use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::source::TextStore;
 use kezuri_nc::{detect, parse_as, parse_counting, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
 use crate::files::{read_program_text, read_text, Folder, Outputs};
 use crate::progress::ByteProgress;
-use kezuri_machine::{Machine, ToolEntry};
+use kezuri_machine::Machine;
 
 /// Pages of plain blocks a run holds at once (of [`PAGE_BLOCKS`] lines):
 /// some 4 MB.
@@ -408,108 +407,6 @@ pub fn report_logs(outcome: &Outcome) {
             eprintln!("LOG {}: {line}", log.name);
         }
     }
-}
-
-/// The axes `path` moves that `machine` does not have, each with the first
-/// source line that moves it.
-pub fn missing_axes(path: &Toolpath, machine: &Kinematics) -> Vec<(char, u32)> {
-    let mut out: Vec<(char, u32)> = Vec::new();
-    for m in &path.moves {
-        for (k, (a, b)) in m.start.xyzabc().into_iter().zip(m.end.xyzabc()).enumerate() {
-            if a != b && !machine.has(k) && !out.iter().any(|&(axis, _)| axis == AXES[k]) {
-                out.push((AXES[k], m.line));
-            }
-        }
-    }
-    out
-}
-
-/// What a run made, counted: the `check` report (the demo prints it too).
-pub struct Report {
-    pub blocks: u64,
-    pub holes: u64,
-    pub statements: u64,
-    pub motions: usize,
-    pub feed_length_mm: f64,
-    pub rapid_length_mm: f64,
-    pub time_s: f64,
-    /// The tool tip's extent in program coordinates over the positions the
-    /// program gave ([`Toolpath::known_bounds`]).
-    pub bounds: AxisRanges,
-    /// U V W's extent likewise ([`Toolpath::known_bounds_uvw`]): `None`
-    /// for an axis the program does not place (every program but a
-    /// LinuxCNC one that names U V W).
-    pub uvw_bounds: AxisRanges,
-    /// Returns to a reference point and `G53` moves: not in `bounds`.
-    pub machine_moves: usize,
-    /// The tools that make moves, in the order they first do (0: none
-    /// loaded), each with what the machine file's tool table says of it.
-    pub tools: Vec<(u32, Option<ToolEntry>)>,
-    /// The spindle speed's range over the cutting moves, rpm
-    /// ([`spindle_range`]); `None` where none turns at a known speed.
-    pub spindle_rpm: Option<(f64, f64)>,
-    /// The threads cut, one a pass, in order (X a radius).
-    pub threads: Vec<Thread>,
-}
-
-impl Report {
-    pub fn new(ran: &Ran) -> Report {
-        let path: &Toolpath = &ran.outcome.toolpath;
-        Report {
-            blocks: ran.outcome.blocks,
-            holes: ran.outcome.holes,
-            statements: ran.outcome.statements,
-            motions: path.moves.iter().filter(|m| !matches!(m.kind, MoveKind::Dwell(_))).count(),
-            feed_length_mm: path.feed_length(),
-            rapid_length_mm: path.rapid_length(),
-            time_s: cycle_time(path, &ran.machine.dynamics).0,
-            bounds: path.known_bounds(true),
-            uvw_bounds: path.known_bounds_uvw(true),
-            machine_moves: path.machine_moves(),
-            tools: tools_used(path).into_iter().map(|t| (t, ran.machine.tools.get(&t).cloned())).collect(),
-            spindle_rpm: spindle_range(path),
-            threads: ran.outcome.threads.clone(),
-        }
-    }
-}
-
-/// The spindle speed's range over the cutting moves (straight and arc
-/// feeds) of `path`, rpm: at each one's start (the move before's
-/// end) and end ([`kezuri_geom::Move::speed`] is the speed at a move's end;
-/// under constant surface speed it changes along the move). Speeds with the
-/// spindle stopped, or on with no speed given, are not counted; `None`
-/// where nothing is left.
-pub fn spindle_range(path: &Toolpath) -> Option<(f64, f64)> {
-    let mut range: Option<(f64, f64)> = None;
-    let mut add = |rpm: f64| {
-        if rpm > 0.0 && rpm.is_finite() {
-            range = Some(range.map_or((rpm, rpm), |(lo, hi)| (lo.min(rpm), hi.max(rpm))));
-        }
-    };
-    let mut before: Option<&Move> = None;
-    for m in &path.moves {
-        let cuts = matches!(m.kind, MoveKind::Feed | MoveKind::Arc(_));
-        if cuts && m.spindle != Spindle::Off {
-            // The speed the move starts at, where the spindle was on before it.
-            if let Some(b) = before.filter(|b| b.spindle != Spindle::Off) {
-                add(b.speed);
-            }
-            add(m.speed);
-        }
-        before = Some(m);
-    }
-    range
-}
-
-/// The tool numbers that make moves in `path`, in the order they first do.
-fn tools_used(path: &Toolpath) -> Vec<u32> {
-    let mut out: Vec<u32> = Vec::new();
-    for m in &path.moves {
-        if !out.contains(&m.tool) {
-            out.push(m.tool);
-        }
-    }
-    out
 }
 
 /// One line per kind of value the run took from the machine file rather

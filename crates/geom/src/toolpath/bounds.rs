@@ -2,7 +2,7 @@
 //! the program gave ([`Move::unknown`]), never a reference point or a
 //! `G53` position.
 
-use super::{arc_extremes, Axes, AxisSet, MoveKind, Toolpath};
+use super::{arc_extremes, Axes, AxisSet, Move, MoveKind, Toolpath};
 
 /// Per axis X Y Z, the smallest and largest value; `None` for an axis no
 /// known position gives.
@@ -20,24 +20,65 @@ impl Toolpath {
     /// where the move before left it known; arcs count at their quadrant
     /// points.
     pub fn known_bounds(&self, program: bool) -> AxisRanges {
-        self.bounds_of(program, 0)
+        let mut b = KnownBounds::new(program, false);
+        b.add(self);
+        b.finish()
     }
 
     /// The extent of U V W over the positions the program gave, as
     /// [`Toolpath::known_bounds`] has X Y Z's: `None` for an axis no known
     /// position gives (every program that does not name it).
     pub fn known_bounds_uvw(&self, program: bool) -> AxisRanges {
-        // Most programs never place U V W (every one but LinuxCNC's).
-        if self.moves.iter().all(|m| m.unknown.0 & AxisSet::UVW.0 == AxisSet::UVW.0) {
-            return [None; 3];
-        }
-        self.bounds_of(program, 6)
+        let mut b = KnownBounds::new(program, true);
+        b.add(self);
+        b.finish()
     }
 
-    /// The extent of the three linear axes from axis `first` on (0: X Y Z,
-    /// 6: U V W); arcs add their quadrant points on X Y Z (U V W move on a
-    /// straight line beside them).
-    fn bounds_of(&self, program: bool, first: usize) -> AxisRanges {
+    /// The moves in machine coordinates: returns to a reference point
+    /// (G28, G30) and `G53` moves, which [`Toolpath::known_bounds`] leaves
+    /// out.
+    pub fn machine_moves(&self) -> usize {
+        self.moves.iter().filter(|m| m.is_machine()).count()
+    }
+}
+
+impl Move {
+    /// Whether the move is in machine coordinates: a return to a reference
+    /// point (G28, G30) or a `G53` move.
+    pub fn is_machine(&self) -> bool {
+        matches!(self.kind, MoveKind::Home | MoveKind::Machine)
+    }
+}
+
+/// [`Toolpath::known_bounds`] (or [`Toolpath::known_bounds_uvw`]) of a
+/// toolpath taken piece by piece, in order: the same ranges, holding only
+/// them and what the last move left known.
+#[derive(Clone, Debug)]
+pub struct KnownBounds {
+    /// In program coordinates, else in machine coordinates.
+    program: bool,
+    /// The first of the three linear axes: 0 (X Y Z) or 6 (U V W).
+    first: usize,
+    out: AxisRanges,
+    /// The axes the last move left unknown; `None` before the first piece.
+    before: Option<AxisSet>,
+    /// Whether a move has placed any of U V W: most programs never do
+    /// (every one but LinuxCNC's), and then U V W have no extent.
+    uvw_placed: bool,
+}
+
+impl KnownBounds {
+    /// The extent of X Y Z, or of U V W where `uvw`, in program
+    /// coordinates where `program`, before the first piece.
+    pub fn new(program: bool, uvw: bool) -> KnownBounds {
+        let first = if uvw { 6 } else { 0 };
+        KnownBounds { program, first, out: [None; 3], before: None, uvw_placed: false }
+    }
+
+    /// The next piece of the path; arcs add their quadrant points on X Y Z
+    /// (U V W move on a straight line beside them).
+    pub fn add(&mut self, piece: &Toolpath) {
+        let (program, first) = (self.program, self.first);
         let three = |p: Axes| -> [f64; 3] {
             if first == 0 {
                 p.xyz()
@@ -45,22 +86,24 @@ impl Toolpath {
                 p.uvw()
             }
         };
-        let mut out: AxisRanges = [None; 3];
+        let out = &mut self.out;
         let mut add = |p: [f64; 3], unknown: AxisSet, zero: [f64; 3]| {
             for k in (0..3).filter(|&k| !unknown.contains(first + k)) {
                 let v = p[k] - zero[k];
                 out[k] = Some(out[k].map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
             }
         };
-        let mut before = if self.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
-        for m in &self.moves {
-            let zero = if program { three(self.frame(m).zero()) } else { [0.0; 3] };
+        let start = if piece.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
+        let mut before = self.before.unwrap_or(start);
+        for m in &piece.moves {
+            self.uvw_placed |= m.unknown.0 & AxisSet::UVW.0 != AxisSet::UVW.0;
+            let zero = if program { three(piece.frame(m).zero()) } else { [0.0; 3] };
             // A start counts where known: a move leaving a return's end
             // counts it only where that place is known (the machine file
             // gives it, or a G92 there names it).
             add(three(m.start), before, zero);
             let was = std::mem::replace(&mut before, m.unknown);
-            if matches!(m.kind, MoveKind::Home | MoveKind::Machine) {
+            if m.is_machine() {
                 continue;
             }
             add(three(m.end), m.unknown, zero);
@@ -70,14 +113,18 @@ impl Toolpath {
                 }
             }
         }
-        out
+        if !piece.moves.is_empty() {
+            self.before = Some(before);
+        }
     }
 
-    /// The moves in machine coordinates: returns to a reference point
-    /// (G28, G30) and `G53` moves, which [`Toolpath::known_bounds`] leaves
-    /// out.
-    pub fn machine_moves(&self) -> usize {
-        self.moves.iter().filter(|m| matches!(m.kind, MoveKind::Home | MoveKind::Machine)).count()
+    /// The ranges of every piece taken: `None` for an axis no known
+    /// position gives.
+    pub fn finish(&self) -> AxisRanges {
+        if self.first == 6 && !self.uvw_placed {
+            return [None; 3];
+        }
+        self.out
     }
 }
 
