@@ -188,20 +188,28 @@ impl Ran {
 /// A cutter compensation register the tool table lacks is a warning
 /// (radius 0).
 pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, false, None)
+    run_program(o, read_program_text(&o.file)?, false, NO_SINK).map(|(ran, d, _)| (ran, d))
 }
 
-/// [`read_and_run`] handing the toolpath to `sink` piece by piece as the
-/// run makes it: the run's `outcome.toolpath` is then empty.
-pub fn read_and_run_into(o: &RunOptions, sink: &mut dyn PathSink) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, false, Some(sink))
+/// [`read_and_run`] handing the toolpath piece by piece as the run makes
+/// it to the sink `make` gives once the machine and the dialect are known
+/// (the sink is returned; the run's `outcome.toolpath` is empty).
+pub fn read_and_run_into<S: PathSink>(
+    o: &RunOptions,
+    make: impl FnOnce(&Machine, Dialect) -> S,
+) -> Result<(Ran, Vec<Diagnostic>, S)> {
+    let (ran, d, sink) = run_program(o, read_program_text(&o.file)?, false, Some(make))?;
+    Ok((ran, d, sink.expect("a sink made for the run")))
 }
+
+/// No sink: the run keeps its whole path.
+const NO_SINK: Option<fn(&Machine, Dialect) -> kezuri_geom::WholePath> = None;
 
 /// [`read_and_run`] where the tool-centre path was asked for (`run
 /// --apply-comp`): a cutter compensation register the tool table lacks is
 /// an error. `sim` and `view` warn of it, as `check` and `run` do.
 pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, true, None)
+    run_program(o, read_program_text(&o.file)?, true, NO_SINK).map(|(ran, d, _)| (ran, d))
 }
 
 /// The folder subprograms and subroutine files come from: `--lib`, else
@@ -225,7 +233,7 @@ pub fn print_label(dialect: kezuri_nc::Dialect) -> &'static str {
 
 /// [`read_and_run`] on the program's text, read already.
 pub fn run_text(o: &RunOptions, text: String) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, Arc::new(text), false, None)
+    run_program(o, Arc::new(text), false, NO_SINK).map(|(ran, d, _)| (ran, d))
 }
 
 /// Whether `dialect` reads whole units without a decimal point and
@@ -289,12 +297,12 @@ fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
     Ok(out)
 }
 
-fn run_program(
+fn run_program<S: PathSink>(
     o: &RunOptions,
     text: Arc<dyn TextStore>,
     radii_required: bool,
-    sink: Option<&mut dyn PathSink>,
-) -> Result<(Ran, Vec<Diagnostic>)> {
+    sink: Option<impl FnOnce(&Machine, Dialect) -> S>,
+) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
     let machine = match &o.machine {
         Some(p) => crate::machine::load(p)?,
         None => Machine::default(),
@@ -306,7 +314,7 @@ fn run_program(
 /// as `kezuri view` would run the file: for the page of a writer's `--view`.
 pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
     let o: RunOptions = options_from(&[OsStr::new("--"), name.as_os_str()])?;
-    let (ran, parse_diagnostics) = run_on(machine.clone(), &o, Arc::new(text), false, None)?;
+    let (ran, parse_diagnostics, _) = run_on(machine.clone(), &o, Arc::new(text), false, NO_SINK)?;
     if ran.errors() > 0 {
         ran.print_diagnostics(&parse_diagnostics);
         bail!(
@@ -328,14 +336,15 @@ pub(super) fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr
 }
 
 /// [`run_program`] on a machine loaded already.
-fn run_on(
+fn run_on<S: PathSink>(
     machine: Machine,
     o: &RunOptions,
     text: Arc<dyn TextStore>,
     radii_required: bool,
-    sink: Option<&mut dyn PathSink>,
-) -> Result<(Ran, Vec<Diagnostic>)> {
+    make_sink: Option<impl FnOnce(&Machine, Dialect) -> S>,
+) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
     let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, text.text())?, &machine);
+    let mut sink = make_sink.map(|make| make(&machine, detected.dialect));
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
     let parameters = match &o.var {
         Some(_) if !whole_units(detected.dialect) => bail!(
@@ -380,7 +389,7 @@ fn run_on(
     } else {
         progress.stage("running");
         settings.progress = progress.counter();
-        match sink {
+        match &mut sink {
             Some(sink) => interp::run_into(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings, sink),
             None => interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings),
         }
@@ -396,7 +405,7 @@ fn run_on(
     report_logs(&outcome);
     let mut machine = machine;
     super::comment_tools::from_comments(&mut machine, &text, outcome.inch, &sources.get(id).name);
-    Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics))
+    Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics, sink))
 }
 
 /// Reports the lines a LinuxCNC program logs (`(log,…)`) on standard error,
