@@ -18,9 +18,9 @@ mod options;
 mod parts;
 mod post;
 
-pub use csv::csv;
+pub use csv::{csv, may_move_uvw, CsvWriter};
 pub use dialect::{Codes, Dialect};
-pub use gcode::{dwell_block, made_text, program, MadeText};
+pub use gcode::{dwell_block, made_text, program, MadeText, ProgramWriter};
 pub use options::{Arcs, CoolantChoice, Home, Retract, Setup, WriteOptions};
 pub use parts::parts;
 pub use post::PRESETS;
