@@ -197,9 +197,9 @@ impl Writer {
     /// program leaves them where they are. An axis the dialect has not is
     /// refused at that move.
     pub(super) fn take_axes(&mut self, m: &Move) -> Result<(), Error> {
-        for p in [m.start, m.end] {
+        for p in [m.start.to_array(), m.end.to_array()] {
             for (k, letter) in AXIS_LETTERS.iter().enumerate().skip(3) {
-                if !self.used[k] && self.turns(m, p, k, !self.generated)? {
+                if !self.used[k] && self.turns(m, &p, k, !self.generated)? {
                     if !self.has_axis(k) {
                         let message = format!(
                             "{} has no {} {letter}, but the toolpath {} it",
@@ -223,10 +223,11 @@ impl Writer {
     pub(super) fn axes_ahead(&self, moves: &[Move], read: bool) -> AxisSet {
         let mut axes = AxisSet::NONE;
         for m in moves {
+            let (start, end) = (m.start.to_array(), m.end.to_array());
             for k in 3..N {
                 // A number no program can hold is refused at its move.
                 let turns = |p| self.turns(m, p, k, read).unwrap_or(false);
-                if self.has_axis(k) && !axes.contains(k) && (turns(m.start) || turns(m.end)) {
+                if self.has_axis(k) && !axes.contains(k) && (turns(&start) || turns(&end)) {
                     axes = axes.with(k);
                 }
             }
@@ -245,8 +246,8 @@ impl Writer {
 
     /// Whether position `p` of move `m` turns axis `k` away from zero, or
     /// `m`, a move of a program read (`read`), names it.
-    fn turns(&self, m: &Move, p: Axes, k: usize, read: bool) -> Result<bool, Error> {
-        let v = p.to_array()[k];
+    fn turns(&self, m: &Move, p: &[f64; N], k: usize, read: bool) -> Result<bool, Error> {
+        let v = p[k];
         // A zero is written as 0 whatever the digits.
         let turned = v != 0.0 && self.fixed(v, AXIS_LETTERS[k])? != 0;
         Ok(turned || (read && m.named != AxisSet::ALL && m.named.contains(k)))

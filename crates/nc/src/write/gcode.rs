@@ -145,11 +145,12 @@ fn tool_order(toolpath: &Toolpath) -> Vec<u32> {
 /// things the caller may know ahead and tell it:
 /// - the rotary axes and U V W the program uses
 ///   ([`ProgramWriter::with_axes`]): such an axis is written from the
-///   start, as [`program`] writes every axis the whole path turns (a made
-///   path's first positioning names it: `G00 X0. Y0. Z50. A0.`, a `G10 L2`
-///   gives its origin); any other from the first move that turns it (or,
-///   in a program read, names it). One the dialect has not is refused at
-///   that move.
+///   start, as [`program`] writes every axis the whole path turns: a made
+///   path's first positioning names it (`G00 X0. Y0. Z50. A0.`), a
+///   `G10 L2` gives its origin, an incremental program's `G91` waits
+///   until it is written. Any other is written from the first move that
+///   turns it (or, in a program read, names it). One the dialect has not
+///   is refused at that move.
 /// - the tools it loads, in order ([`ProgramWriter::with_tool_order`]),
 ///   for a post that pre-stages the next tool (haas).
 ///
@@ -222,7 +223,8 @@ impl ProgramWriter {
     /// `programmed` where it comes with one: the programmed contour of
     /// the same stretch under cutter radius compensation, which a program
     /// gives the control (its G41/G42 D and G40 kept). The first piece's
-    /// text begins with the header.
+    /// text begins with the header. After an error the program is
+    /// refused: write nothing more with this writer.
     pub fn piece(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) -> Result<String, Error> {
         let path = programmed.unwrap_or(piece);
         let unit = self.unit;
