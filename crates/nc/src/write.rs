@@ -4,8 +4,10 @@
 //! `dialect` and `options` (the words and the choices), `blocks` (the
 //! writer and what the control knows), then what it writes: `arcs`,
 //! `frames`, `kept` blocks and the presets' start, tool changes and end
-//! (`post`); `gcode` writes a whole program from them, and `parts` a
-//! program in parts of at most so many bytes.
+//! (`post`); `gcode` writes a program from them, whole or piece by piece
+//! as a run hands its path on (`ProgramWriter`), and `parts` a program in
+//! parts of at most so many bytes. `csv` writes the motion dump, whole or
+//! piece by piece (`CsvWriter`).
 
 mod arcs;
 mod blocks;
@@ -18,9 +20,9 @@ mod options;
 mod parts;
 mod post;
 
-pub use csv::csv;
+pub use csv::{csv, may_move_uvw, CsvWriter};
 pub use dialect::{Codes, Dialect};
-pub use gcode::{dwell_block, made_text, program, MadeText};
+pub use gcode::{dwell_block, made_text, program, MadeText, ProgramWriter};
 pub use options::{Arcs, CoolantChoice, Home, Retract, Setup, WriteOptions};
 pub use parts::parts;
 pub use post::PRESETS;

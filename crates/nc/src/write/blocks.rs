@@ -1,7 +1,7 @@
 //! The block writer behind [`program`](super::program): what the control
 //! knows at each point of the program, and the words of each block.
 
-use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle, Toolpath};
+use kezuri_geom::{Axes, AxisSet, Coolant, Frame, Move, Plane, Spindle};
 
 use super::dialect::{Codes, Dialect};
 use super::options::{Arcs, Retract, Setup, WriteOptions};
@@ -19,6 +19,17 @@ const LIMIT: f64 = 1e9;
 pub(super) const N: usize = Axes::COUNT;
 
 pub(super) const AXIS_LETTERS: [char; N] = ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'];
+
+/// What a writer has handed on of the program, for the control's limits.
+#[derive(Debug, Default)]
+pub(super) struct Handed {
+    /// Bytes.
+    pub(super) bytes: u64,
+    /// Blocks (lines).
+    pub(super) blocks: u64,
+    /// The first block longer than the control's line buffer.
+    pub(super) too_long: Option<Error>,
+}
 
 /// The motion modal group (group 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,7 +88,7 @@ pub(super) struct Writer {
     /// block that is not its next hole.
     pub(super) cycle_open: bool,
     /// The toolpath was made, not read from a program: its start is real
-    /// ([`Toolpath::unknown_start`] is false).
+    /// ([`kezuri_geom::Toolpath::unknown_start`] is false).
     pub(super) generated: bool,
     /// Words in the block being written.
     pub(super) words: u32,
@@ -93,12 +104,15 @@ pub(super) struct Writer {
     /// The length register to apply (`G43 H`) on the next block that moves
     /// Z: set by a made program's tool change.
     pub(super) pending_length: Option<u32>,
-    /// The tools of the toolpath in the order they are loaded, and how many
-    /// of those changes are written: the next tool is pre-staged.
+    /// The tools of the program in the order they are loaded, as the
+    /// caller gave them, and how many of those changes are written: the
+    /// next tool is pre-staged.
     pub(super) loads: Vec<u32>,
     pub(super) changes: usize,
     pub(super) block_limit: Option<u32>,
     pub(super) byte_limit: Option<u64>,
+    /// What the writer has handed on of the program so far.
+    pub(super) handed: Handed,
     /// `%` first and last.
     pub(super) percent: bool,
     pub(super) probe_code: Option<&'static str>,
@@ -112,7 +126,9 @@ pub(super) struct Writer {
 }
 
 impl Writer {
-    pub(super) fn new(toolpath: &Toolpath, o: &WriteOptions) -> Result<Writer, Error> {
+    /// A writer for `o`, its options checked; it knows nothing of the
+    /// program yet.
+    pub(super) fn new(o: &WriteOptions) -> Result<Writer, Error> {
         let range = |name, value: u32, min, max| {
             if (min..=max).contains(&value) {
                 Ok(())
@@ -128,8 +144,8 @@ impl Writer {
             range("program_number", o.program_number, 1, 9999)?;
         }
         let digits = u32::from(o.digits);
-        let mut w = Writer {
-            out: String::with_capacity(toolpath.moves.len() * 24 + 256),
+        Ok(Writer {
+            out: String::with_capacity(256),
             dialect: o.dialect,
             codes: o.dialect.codes(),
             digits,
@@ -154,7 +170,7 @@ impl Writer {
             reckoned: false,
             inch: o.inch,
             cycle_open: false,
-            generated: !toolpath.unknown_start,
+            generated: true,
             words: 0,
             at: (0, 0),
             setup: o.setup.clone(),
@@ -166,47 +182,75 @@ impl Writer {
             changes: 0,
             block_limit: o.block_limit,
             byte_limit: o.byte_limit,
+            handed: Handed::default(),
             percent: o.percent.unwrap_or(o.dialect == Dialect::Fanuc),
             loaded: o.loaded_tool,
             probe_code: o.probe_code,
             next_rapid_z: None,
-        };
-        for m in toolpath.moves.iter().filter(|m| m.tool != 0) {
-            if w.loads.last() != Some(&m.tool) {
-                w.loads.push(m.tool);
-            }
-        }
-        // Rotary axes and U V W are written only if the toolpath moves
-        // them, or (a program read) names them: `G00 A0.` moves A from
-        // wherever it is.
-        for (index, m) in toolpath.moves.iter().enumerate() {
-            w.at = (index, m.line);
-            let named = toolpath.unknown_start && m.named != AxisSet::ALL;
-            for p in [m.start, m.end] {
-                let v = p.to_array();
-                for k in 3..N {
-                    // A zero is written as 0 whatever the digits.
-                    let wanted =
-                        (v[k] != 0.0 && w.fixed(v[k], AXIS_LETTERS[k])? != 0) || (named && m.named.contains(k));
-                    if !w.used[k] && wanted {
-                        if !w.has_axis(k) {
-                            let message = format!(
-                                "{} has no {} {}, but the toolpath {} it",
-                                w.dialect,
-                                if k < 6 { "rotary axis" } else { "axis" },
-                                AXIS_LETTERS[k],
-                                if k < 6 { "turns" } else { "moves" }
-                            );
-                            let place = Place::Move { index, line: m.line };
-                            return Err(Error::new(ErrorKind::RotaryAxis, message).at(place));
-                        }
-                        w.used[k] = true;
-                        w.pos[k] = None;
+        })
+    }
+
+    /// Takes in the axes move `m` (machine coordinates; the move being
+    /// written, [`Writer::at`]) turns or names. Rotary axes and U V W are
+    /// written from the first move that turns them, or (a program read)
+    /// names them: `G00 A0.` moves A from wherever it is. Until then the
+    /// program leaves them where they are. An axis the dialect has not is
+    /// refused at that move.
+    pub(super) fn take_axes(&mut self, m: &Move) -> Result<(), Error> {
+        for p in [m.start.to_array(), m.end.to_array()] {
+            for (k, letter) in AXIS_LETTERS.iter().enumerate().skip(3) {
+                if !self.used[k] && self.turns(m, &p, k, !self.generated)? {
+                    if !self.has_axis(k) {
+                        let message = format!(
+                            "{} has no {} {letter}, but the toolpath {} it",
+                            self.dialect,
+                            if k < 6 { "rotary axis" } else { "axis" },
+                            if k < 6 { "turns" } else { "moves" }
+                        );
+                        let place = Place::Move { index: self.at.0, line: self.at.1 };
+                        return Err(Error::new(ErrorKind::RotaryAxis, message).at(place));
                     }
+                    self.use_axis(k);
                 }
             }
         }
-        Ok(w)
+        Ok(())
+    }
+
+    /// The axes beyond X Y Z that `moves` turn or (`read`: moves of a
+    /// program read) name, of those the dialect has: what
+    /// [`Writer::take_axes`] would take in over them.
+    pub(super) fn axes_ahead(&self, moves: &[Move], read: bool) -> AxisSet {
+        let mut axes = AxisSet::NONE;
+        for m in moves {
+            let (start, end) = (m.start.to_array(), m.end.to_array());
+            for k in 3..N {
+                // A number no program can hold is refused at its move.
+                let turns = |p| self.turns(m, p, k, read).unwrap_or(false);
+                if self.has_axis(k) && !axes.contains(k) && (turns(&start) || turns(&end)) {
+                    axes = axes.with(k);
+                }
+            }
+        }
+        axes
+    }
+
+    /// Writes axis `k` (beyond X Y Z) from here on, from a position not
+    /// known until the program writes it.
+    pub(super) fn use_axis(&mut self, k: usize) {
+        if !self.used[k] {
+            self.used[k] = true;
+            self.pos[k] = None;
+        }
+    }
+
+    /// Whether position `p` of move `m` turns axis `k` away from zero, or
+    /// `m`, a move of a program read (`read`), names it.
+    fn turns(&self, m: &Move, p: &[f64; N], k: usize, read: bool) -> Result<bool, Error> {
+        let v = p[k];
+        // A zero is written as 0 whatever the digits.
+        let turned = v != 0.0 && self.fixed(v, AXIS_LETTERS[k])? != 0;
+        Ok(turned || (read && m.named != AxisSet::ALL && m.named.contains(k)))
     }
 
     /// Whether the dialect has axis `k` (in [`AXIS_LETTERS`] order): X Y

@@ -94,7 +94,7 @@
 //! - `G90` is written before the program end, to leave the control in
 //!   absolute.
 
-use kezuri_geom::{Axes, Frame, LengthOffset, Move, MoveKind, ToolState, Toolpath};
+use kezuri_geom::{Axes, AxisSet, Frame, LengthOffset, Move, MoveKind, ToolState, Toolpath};
 
 use super::blocks::{Motion, Writer};
 use super::options::WriteOptions;
@@ -116,61 +116,185 @@ use crate::Error;
 /// assert!(grbl.contains("G0 X10. Y0. Z5.\nG1 Z-0.5 F300.\n"));
 /// ```
 pub fn program(toolpath: &Toolpath, options: &WriteOptions) -> Result<String, Error> {
-    let mut w = Writer::new(toolpath, options)?;
-    w.header(options);
-    let unit = if options.inch { 1.0 / 25.4 } else { 1.0 };
-    let mut last = None;
-    let mut kept = toolpath.kept.iter().peekable();
-    let mut covered = 0;
-    for (index, machine) in toolpath.moves.iter().enumerate() {
-        w.at = (index, machine.line);
-        let frame = toolpath.frame(machine);
-        let m = &in_program(machine, frame.zero(), unit);
-        if index < covered {
-            // Made by the kept block before it, spindle reversals and all.
-            w.made(m.end)?;
-            continue;
+    let writer = ProgramWriter::new(options)?;
+    let axes = writer.w.axes_ahead(&toolpath.moves, toolpath.unknown_start);
+    let mut writer = writer.with_axes(axes).with_tool_order(tool_order(toolpath));
+    let mut text = writer.piece(toolpath, None)?;
+    text.push_str(&writer.finish()?);
+    Ok(text)
+}
+
+/// The tools `toolpath` loads, in order: what a post that pre-stages the
+/// next tool (haas) must know ahead ([`ProgramWriter::with_tool_order`]).
+fn tool_order(toolpath: &Toolpath) -> Vec<u32> {
+    let mut loads: Vec<u32> = Vec::new();
+    for m in toolpath.moves.iter().filter(|m| m.tool != 0) {
+        if loads.last() != Some(&m.tool) {
+            loads.push(m.tool);
         }
-        // The kept blocks before this move, each in the tool, spindle and
-        // coolant state it came in; a cycle in the move's frame.
-        w.next_rapid_z = None;
-        while let Some(k) = kept.next_if(|k| k.before <= index) {
+    }
+    loads
+}
+
+/// A program written as its toolpath comes, piece by piece (a run's
+/// [`PathSink`](kezuri_geom::PathSink) pieces, in order): the pieces'
+/// texts and the end's joined are the text [`program`] writes of the
+/// whole path, or its error.
+///
+/// Nothing in a piece's text depends on moves still to come, but for two
+/// things the caller may know ahead and tell it:
+/// - the rotary axes and U V W the program uses
+///   ([`ProgramWriter::with_axes`]): such an axis is written from the
+///   start, as [`program`] writes every axis the whole path turns: a made
+///   path's first positioning names it (`G00 X0. Y0. Z50. A0.`), a
+///   `G10 L2` gives its origin, an incremental program's `G91` waits
+///   until it is written. Any other is written from the first move that
+///   turns it (or, in a program read, names it). One the dialect has not
+///   is refused at that move.
+/// - the tools it loads, in order ([`ProgramWriter::with_tool_order`]),
+///   for a post that pre-stages the next tool (haas).
+///
+/// The control's limits ([`WriteOptions::block_limit`],
+/// [`WriteOptions::byte_limit`]) are checked at the end, over everything
+/// handed on, as they are of a whole program.
+///
+/// ```
+/// use kezuri_geom::{Axes, Move, MoveKind, Toolpath};
+/// use kezuri_nc::write::{program, ProgramWriter, WriteOptions};
+/// let at = |x| Axes { x, ..Axes::ZERO };
+/// let path = Toolpath::from((1..=4).map(|i| Move { kind: MoveKind::Feed, end: at(i as f64), feed: 100.0, ..Move::default() }).collect::<Vec<_>>());
+/// let options = WriteOptions::default();
+/// let mut writer = ProgramWriter::new(&options).unwrap();
+/// let mut text = String::new();
+/// let mut rest = path.clone();
+/// while !rest.moves.is_empty() {
+///     text += &writer.piece(&rest.split_before(1), None).unwrap();
+/// }
+/// text += &writer.finish().unwrap();
+/// assert_eq!(text, program(&path, &options).unwrap());
+/// ```
+pub struct ProgramWriter {
+    w: Writer,
+    /// Program units per mm.
+    unit: f64,
+    /// Whether a piece came: the first tells whether the path was made.
+    started: bool,
+    /// The moves of the pieces so far: the index of the next piece's first.
+    done: usize,
+    /// The end (as an index from the first move) of the moves the last
+    /// kept block makes itself (a tapping cycle).
+    covered: usize,
+    /// The last move's end, machine coordinates in program units.
+    last: Option<Axes>,
+}
+
+impl ProgramWriter {
+    /// A writer of a program in `options.dialect`, its options checked;
+    /// the header comes with the first piece's text.
+    pub fn new(options: &WriteOptions) -> Result<ProgramWriter, Error> {
+        let mut w = Writer::new(options)?;
+        w.header(options);
+        let unit = if options.inch { 1.0 / 25.4 } else { 1.0 };
+        Ok(ProgramWriter { w, unit, started: false, done: 0, covered: 0, last: None })
+    }
+
+    /// The axes beyond X Y Z (A B C, U V W) the program turns or names,
+    /// known ahead: each is written from the start, its position unknown
+    /// until the program writes it. Those the dialect has not are left to
+    /// the moves: refused at the first that turns one.
+    pub fn with_axes(mut self, axes: AxisSet) -> ProgramWriter {
+        for k in 3..Axes::COUNT {
+            if axes.contains(k) && self.w.has_axis(k) {
+                self.w.use_axis(k);
+            }
+        }
+        self
+    }
+
+    /// The tools the program loads, in order: a post that pre-stages the
+    /// next tool (haas) names it after each tool change. Without it, that
+    /// post pre-stages none.
+    pub fn with_tool_order(mut self, tools: Vec<u32>) -> ProgramWriter {
+        self.w.loads = tools;
+        self
+    }
+
+    /// The text of `piece`, the next piece of the toolpath, or of
+    /// `programmed` where it comes with one: the programmed contour of
+    /// the same stretch under cutter radius compensation, which a program
+    /// gives the control (its G41/G42 D and G40 kept). The first piece's
+    /// text begins with the header. After an error the program is
+    /// refused: write nothing more with this writer.
+    pub fn piece(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) -> Result<String, Error> {
+        let path = programmed.unwrap_or(piece);
+        let unit = self.unit;
+        let w = &mut self.w;
+        if !self.started {
+            w.generated = !path.unknown_start;
+            self.started = true;
+        }
+        w.out.reserve(path.moves.len() * 24);
+        let mut kept = path.kept.iter().peekable();
+        for (i, machine) in path.moves.iter().enumerate() {
+            let index = self.done + i;
+            w.at = (index, machine.line);
+            w.take_axes(machine)?;
+            let frame = path.frame(machine);
+            let m = &in_program(machine, frame.zero(), unit);
+            if index < self.covered {
+                // Made by the kept block before it, spindle reversals and all.
+                w.made(m.end)?;
+                continue;
+            }
+            // The kept blocks before this move, each in the tool, spindle and
+            // coolant state it came in; a cycle in the move's frame.
+            w.next_rapid_z = None;
+            while let Some(k) = kept.next_if(|k| k.before <= i) {
+                w.state(k.state)?;
+                if k.moves > 0 {
+                    w.frame(in_units(frame, unit), self.last)?;
+                }
+                w.kept(k)?;
+                self.covered = self.covered.max(self.done + k.before + k.moves);
+            }
+            w.next_rapid_z = (m.kind == MoveKind::Rapid).then_some(m.end.z);
+            w.state(ToolState::of(machine))?;
+            w.frame(in_units(frame, unit), self.last)?;
+            self.last = Some(scaled(machine.end, Axes::ZERO, unit));
+            if index < self.covered {
+                // A kept block (a tapping cycle) makes this move itself.
+                w.made(m.end)?;
+                continue;
+            }
+            w.reckon(m)?;
+            match m.kind {
+                MoveKind::Rapid => w.straight(Some(Motion::Rapid), m.end, None, m.named)?,
+                MoveKind::Feed => w.straight(Some(Motion::Linear), m.end, Some(m.feed), m.named)?,
+                MoveKind::Probe => w.straight(None, m.end, Some(m.feed), m.named)?,
+                MoveKind::Dwell(seconds) => w.dwell(seconds)?,
+                MoveKind::Arc(arc) => w.arc(m, arc)?,
+                MoveKind::Home => w.home(m.named, m.end)?,
+                MoveKind::Machine => {
+                    let lift = frame.length.map_or(0.0, |l| l.signed());
+                    let gauge = Axes { z: machine.end.z + lift, ..machine.end };
+                    w.machine(m.named, scaled(gauge, Axes::ZERO, unit), m.end)?
+                }
+            }
+        }
+        // Blocks after the last move (a piece's come with the next piece).
+        for k in kept {
             w.state(k.state)?;
-            if k.moves > 0 {
-                w.frame(in_units(frame, unit), last)?;
-            }
             w.kept(k)?;
-            covered = covered.max(k.before + k.moves);
         }
-        w.next_rapid_z = (m.kind == MoveKind::Rapid).then_some(m.end.z);
-        w.state(ToolState::of(machine))?;
-        w.frame(in_units(frame, unit), last)?;
-        last = Some(scaled(machine.end, Axes::ZERO, unit));
-        if index < covered {
-            // A kept block (a tapping cycle) makes this move itself.
-            w.made(m.end)?;
-            continue;
-        }
-        w.reckon(m)?;
-        match m.kind {
-            MoveKind::Rapid => w.straight(Some(Motion::Rapid), m.end, None, m.named)?,
-            MoveKind::Feed => w.straight(Some(Motion::Linear), m.end, Some(m.feed), m.named)?,
-            MoveKind::Probe => w.straight(None, m.end, Some(m.feed), m.named)?,
-            MoveKind::Dwell(seconds) => w.dwell(seconds)?,
-            MoveKind::Arc(arc) => w.arc(m, arc)?,
-            MoveKind::Home => w.home(m.named, m.end)?,
-            MoveKind::Machine => {
-                let lift = frame.length.map_or(0.0, |l| l.signed());
-                let gauge = Axes { z: machine.end.z + lift, ..machine.end };
-                w.machine(m.named, scaled(gauge, Axes::ZERO, unit), m.end)?
-            }
-        }
+        self.done += path.moves.len();
+        Ok(self.w.hand_out())
     }
-    for k in kept {
-        w.state(k.state)?;
-        w.kept(k)?;
+
+    /// The rest of the program: the end and the closing line. Refused
+    /// where the whole program breaks the control's limits.
+    pub fn finish(mut self) -> Result<String, Error> {
+        self.w.finish()
     }
-    w.finish()
 }
 
 /// What a made program written as text (the measuring programs) gets from
@@ -200,8 +324,7 @@ pub struct MadeText {
 /// assert_eq!(t.end, "G53 G00 Z0.\nG53 G00 X0. Y0.\nM30\n%\n");
 /// ```
 pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, Error> {
-    let empty = Toolpath::default();
-    let mut w = Writer::new(&empty, options)?;
+    let mut w = Writer::new(options)?;
     w.header(options);
     w.state(ToolState { tool, ..ToolState::default() })?;
     let length = w.take_pending_length();
@@ -222,8 +345,7 @@ pub fn made_text(options: &WriteOptions, tool: u32) -> Result<MadeText, Error> {
 /// assert_eq!(dwell_block(&WriteOptions::preset("linuxcnc").unwrap(), 0.5).unwrap(), "G4 P0.5");
 /// ```
 pub fn dwell_block(options: &WriteOptions, seconds: f64) -> Result<String, Error> {
-    let empty = Toolpath::default();
-    let mut w = Writer::new(&empty, &WriteOptions { line_numbers: None, ..options.clone() })?;
+    let mut w = Writer::new(&WriteOptions { line_numbers: None, ..options.clone() })?;
     w.dwell(seconds)?;
     Ok(w.out.trim_end().to_string())
 }

@@ -156,9 +156,10 @@ impl Writer {
         }
     }
 
-    /// The last block and the closing line; the program text. An
-    /// incremental program goes back to `G90` first.
-    pub(super) fn finish(mut self) -> Result<String, Error> {
+    /// The last block and the closing line: the rest of the program's
+    /// text. An incremental program goes back to `G90` first. The
+    /// control's limits are checked over the whole program handed on.
+    pub(super) fn finish(&mut self) -> Result<String, Error> {
         self.end_cycle();
         self.absolute_line();
         let end = match self.setup.clone() {
@@ -190,27 +191,36 @@ impl Writer {
         if self.percent {
             self.out.push_str("%\n");
         }
-        self.check_limits()?;
-        Ok(self.out)
-    }
-
-    /// Refuses a program longer than the control's memory, or with a block
-    /// longer than its line buffer.
-    fn check_limits(&self) -> Result<(), Error> {
-        if let Some(limit) = self.block_limit {
-            let kept = |l: &str| kept_length(l) as u64;
-            if let Some((n, l)) = self.out.lines().enumerate().find(|(_, l)| kept(l) > u64::from(limit)) {
-                let what = format!("block {} of the program ('{l}')", n + 1);
-                return Err(limit_error(&what, kept(l), u64::from(limit), "characters"));
-            }
+        let text = self.hand_out();
+        if let Some(e) = self.handed.too_long.take() {
+            return Err(e);
         }
         match self.byte_limit {
-            Some(limit) if self.out.len() as u64 > limit => {
+            Some(limit) if self.handed.bytes > limit => {
                 let unit = "bytes (drip-feed it, or cut it in parts)";
-                Err(limit_error("the program", self.out.len() as u64, limit, unit))
+                Err(limit_error("the program", self.handed.bytes, limit, unit))
             }
-            _ => Ok(()),
+            _ => Ok(text),
         }
+    }
+
+    /// The text written since the last call, taken and counted: its
+    /// blocks are checked against the control's line buffer (the first
+    /// too long is refused at the end, as a whole program's would be).
+    pub(super) fn hand_out(&mut self) -> String {
+        let text = std::mem::take(&mut self.out);
+        if let Some(limit) = self.block_limit {
+            if self.handed.too_long.is_none() {
+                let kept = |l: &str| kept_length(l) as u64;
+                if let Some((n, l)) = text.lines().enumerate().find(|(_, l)| kept(l) > u64::from(limit)) {
+                    let what = format!("block {} of the program ('{l}')", self.handed.blocks + n as u64 + 1);
+                    self.handed.too_long = Some(limit_error(&what, kept(l), u64::from(limit), "characters"));
+                }
+            }
+            self.handed.blocks += text.lines().count() as u64;
+        }
+        self.handed.bytes += text.len() as u64;
+        text
     }
 
     /// `G91 G28` of `axes` (`Z0.`), then `G90`: every return is followed
