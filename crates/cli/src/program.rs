@@ -5,14 +5,16 @@
 mod comment_tools;
 mod emit;
 mod run;
+mod streamed;
+pub use streamed::Streamed;
 mod tally;
 
 pub use emit::{
-    located, post_options, run_refusal, stage_toolpath, svg_title, warn_rml_drops, write_program, written_path, Origin,
-    WriteArgs,
+    located, post_options, program_title, stage_toolpath, svg_title, warn_rml_drops, write_program, written_path,
+    Origin, RunTrial, WriteArgs,
 };
 pub use run::{
     choose_dialect, dialect_settings, library_dir, model_notes, print_label, read_and_run, read_and_run_centre,
-    refuse_comp, report_logs, run_text, run_written, whole_units, Ran, RunOptions,
+    read_and_run_into, refuse_comp, report_logs, run_text, run_written, whole_units, Ran, RunOptions,
 };
 pub use tally::{missing_axes, Report, Tallied, Tally};

@@ -59,13 +59,13 @@ pub fn hms(s: f64) -> String {
 /// machine file's rapids, feeds and acceleration.
 pub fn program_summary(path: &Toolpath, machine: &Machine) -> String {
     let (time, _) = cycle_time(path, &machine.dynamics);
-    format!(
-        "{} moves, feed {:.1} mm, rapid {:.1} mm, cycle time {}",
-        path.moves.len(),
-        path.feed_length(),
-        path.rapid_length(),
-        hms(time)
-    )
+    summary_line(path.moves.len(), path.feed_length(), path.rapid_length(), time)
+}
+
+/// The summary of a written program of `moves` moves, its lengths and its
+/// cycle time in seconds.
+pub fn summary_line(moves: usize, feed_mm: f64, rapid_mm: f64, time_s: f64) -> String {
+    format!("{moves} moves, feed {feed_mm:.1} mm, rapid {rapid_mm:.1} mm, cycle time {}", hms(time_s))
 }
 
 /// The one-line summary of a command that wrote the program `path` to

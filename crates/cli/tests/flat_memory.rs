@@ -27,6 +27,8 @@ fn raster(path: &Path, blocks: usize) {
 
 /// `kezuri ARGS` run to its end: its exit status and its peak resident
 /// memory in KiB.
+// The child is waited for by `wait4`, which gives its resource use.
+#[allow(clippy::zombie_processes)]
 fn peak_kib(args: &[&str]) -> (i32, i64) {
     let child = Command::new(env!("CARGO_BIN_EXE_kezuri"))
         .args(args)

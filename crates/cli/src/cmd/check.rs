@@ -1,13 +1,12 @@
 //! `kezuri check`: a program read and run, and what it does reported.
 
 use anyhow::{bail, Result};
-use kezuri_geom::PathSink;
 use kezuri_nc::interp::{Control, Thread};
 use kezuri_nc::{Diagnostic, Dialect};
 use serde_json::json;
 
 use crate::files::write_output;
-use crate::program::{model_notes, read_and_run, run_refusal, whole_units, RunOptions, Tallied, Tally};
+use crate::program::{model_notes, read_and_run_into, whole_units, RunOptions, RunTrial, Tallied, Tally};
 use crate::say;
 use kezuri_machine::{Machine, ToolEntry};
 
@@ -139,18 +138,17 @@ impl Checked {
 /// Checks one program; an error only where it cannot be read or run at all.
 fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
     let mut notes = String::new();
-    let (mut ran, parse_diagnostics) = read_and_run(o)?;
+    // The run hands its path, piece by piece, to the tally and to a trial
+    // of what `kezuri run` writes: a program of any length is never held.
+    let (mut ran, parse_diagnostics, sinks) = read_and_run_into(o, false, |machine, dialect, _| {
+        let tally = Tally::new(&machine.dynamics, &machine.kinematics, uses_length_offsets(dialect, machine));
+        (tally, RunTrial::new(machine, dialect, &o.file))
+    })?;
+    let (tally, trial) = sinks.expect("the sinks of the run");
     std::mem::take(&mut ran.outputs).commit()?;
     // What `kezuri run` refuses of a program that ran is an error here too.
-    let refusal = if ran.errors() == 0 { run_refusal(&ran, &o.file) } else { None };
+    let refusal = if ran.errors() == 0 { trial.refusal(&ran) } else { None };
     let errors = ran.errors() + usize::from(refusal.is_some());
-    // The tally of the whole path, as the pieces of a run would give it.
-    let mut tally = Tally::new(
-        &ran.machine.dynamics,
-        &ran.machine.kinematics,
-        uses_length_offsets(ran.dialect.dialect, &ran.machine),
-    );
-    tally.take(&ran.outcome.toolpath, None);
     let Tallied { report, missing_axes, unoffset_z } = tally.finish(&ran.outcome, &ran.machine.tools);
     let all: Vec<&Diagnostic> = parse_diagnostics.iter().chain(&ran.outcome.diagnostics).collect();
     // Axes the program commands that the machine file's chains lack.

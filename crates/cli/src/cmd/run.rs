@@ -1,9 +1,11 @@
 //! `kezuri run`: a program's motions written again, as a program, CSV or RML-1.
 
-use anyhow::Result;
+use anyhow::{anyhow, Result};
 
+use crate::files::Outputs;
 use crate::program::{
-    located, model_notes, read_and_run, read_and_run_centre, write_program, written_path, Origin, RunOptions, WriteArgs,
+    located, model_notes, program_title, read_and_run, read_and_run_centre, read_and_run_into, write_program,
+    written_path, Origin, RunOptions, Streamed, WriteArgs,
 };
 
 /// `kezuri run`: the motions of the program, as a program again or as CSV.
@@ -13,11 +15,18 @@ use crate::program::{
 /// `--apply-comp` output the tool-centre path; GRBL and RML-1, which have
 /// no compensation, need `--apply-comp`.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
+    // A program or CSV alone is written as the run makes it; a drawing, a
+    // page or RML-1 needs the whole path.
+    if w.streams() {
+        if let Some(done) = run_streamed(o, w) {
+            return done;
+        }
+    }
     let (mut ran, parse_diagnostics) = if w.apply_comp { read_and_run_centre(o)? } else { read_and_run(o)? };
     ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
     let w = &w.for_program(&ran.machine, ran.dialect.dialect);
     let mut out = std::mem::take(&mut ran.outputs);
-    let title = o.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+    let title = program_title(&o.file);
     let centre = &ran.outcome.toolpath;
     let written = written_path(&ran, w, &o.file)?;
     let notes = model_notes(&ran.outcome);
@@ -29,4 +38,49 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     out.commit()?;
     crate::say::wrote_program(w.output(), "", written, &ran.machine);
     Ok(())
+}
+
+/// [`run`] writing the program (or CSV) as the run hands its path on, so
+/// that a program of any length is never held. `None` where it must be
+/// written from the whole path after all: the run read values from the
+/// machine file, which the written program's header notes.
+fn run_streamed(o: &RunOptions, w: &WriteArgs) -> Option<Result<()>> {
+    let mut out = Outputs::new();
+    let mut outcome: Option<Result<(Outputs, String)>> = None;
+    let mut whole = false;
+    let staged = out.add_with(w.output(), |to| {
+        let done = (|| {
+            let title = program_title(&o.file);
+            let (mut ran, parse_diagnostics, written) =
+                read_and_run_into(o, w.apply_comp, |machine, dialect, program| {
+                    let w = w.for_program(machine, dialect);
+                    let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
+                    Streamed::new(&w, machine, &o.file, &title, uvw, &mut *to)
+                })?;
+            ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
+            if !model_notes(&ran.outcome).is_empty() {
+                whole = true;
+                return Err(anyhow!("written from the whole path"));
+            }
+            let (_, summary) = written.expect("the sink of the run").finish().map_err(|e| located(&ran, e))?;
+            Ok((std::mem::take(&mut ran.outputs), summary))
+        })();
+        let failed = done.is_err();
+        outcome = Some(done);
+        if failed {
+            return Err(std::io::Error::other("the run did not write its program"));
+        }
+        Ok(())
+    });
+    if whole {
+        return None;
+    }
+    Some(match (outcome, staged) {
+        (Some(Ok((dprnt, summary))), Ok(())) => {
+            out.append(dprnt);
+            out.commit().map(|()| crate::say::note!("wrote {}: {summary}", crate::say::shown(w.output())))
+        }
+        (Some(Err(e)), _) | (_, Err(e)) => Err(e),
+        (None, Ok(())) => Err(anyhow!("the program was not written")),
+    })
 }

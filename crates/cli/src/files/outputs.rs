@@ -104,6 +104,11 @@ impl Outputs {
         Ok(())
     }
 
+    /// Adds the outputs `other` holds to these, to be written with them.
+    pub fn append(&mut self, mut other: Outputs) {
+        self.staged.append(&mut other.staged);
+    }
+
     /// Writes the streams, then renames every file over its target.
     pub fn commit(mut self) -> Result<()> {
         for s in &self.staged {

@@ -6,10 +6,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use kezuri_cam::Cutter;
-use kezuri_geom::Toolpath;
+use kezuri_geom::{PathSink, Toolpath};
 use kezuri_nc::write::WriteOptions;
 
 use super::run::{options_from, run_written, Ran};
+use super::streamed::Streamed;
 use crate::files::Outputs;
 use kezuri_machine::Machine;
 
@@ -100,6 +101,12 @@ impl WriteArgs {
             | kezuri_nc::Dialect::HaasLathe => None,
         };
         WriteArgs { emit: if named { self.emit } else { own }, ..self.clone() }
+    }
+
+    /// Whether the output is a program or CSV alone (no drawing, no page,
+    /// not RML-1): written as the run makes it.
+    pub fn streams(&self) -> bool {
+        self.view.is_none() && self.svg.is_none() && self.emit != Some(Emit::Rml)
     }
 
     /// Whether the output is G-code (not CSV or RML-1).
@@ -303,14 +310,20 @@ pub fn written_path<'a>(ran: &'a Ran, w: &WriteArgs, file: &Path) -> Result<&'a 
         }
     };
     Ok(match (&ran.outcome.programmed, without_comp) {
-        (Some(_), Some(control)) if !w.apply_comp => bail!(
-            "{}: the program uses cutter radius compensation (G41/G42), which {control} has not: give --apply-comp to \
-             write the tool centre path (radii from the machine file's [tools] radii)",
-            file.display(),
-        ),
+        (Some(_), Some(control)) if !w.apply_comp => return Err(comp_refusal(file, control)),
         (Some(p), None) if !w.apply_comp && w.is_gcode() => p,
         _ => centre,
     })
+}
+
+/// Why the program `file`, which uses cutter radius compensation, is not
+/// written for `control`, which has none, as it stands.
+pub fn comp_refusal(file: &Path, control: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}: the program uses cutter radius compensation (G41/G42), which {control} has not: give --apply-comp to \
+         write the tool centre path (radii from the machine file's [tools] radii)",
+        file.display(),
+    )
 }
 
 /// `e` where it is: an error of the writer at a move or a line of the
@@ -342,21 +355,42 @@ fn place(ran: &Ran, e: &anyhow::Error) -> Option<(String, String)> {
     Some((format!("{}:{line}:{column}", file.name), nc.message.clone()))
 }
 
-/// Why `kezuri run` of the program `file` (run as `ran`, with no option of
-/// how to write it) refuses it, as an error line (`file:line:column: error:
-/// …` where it has a place); `None` where it writes it. `check` says the
-/// same.
-pub fn run_refusal(ran: &Ran, file: &Path) -> Option<String> {
-    let written = || -> Result<()> {
-        let w = options_from::<WriteArgs>(&[])?.for_program(&ran.machine, ran.dialect.dialect);
-        let path = written_path(ran, &w, file)?;
-        let options = w.options(&ran.machine, Origin::Transformed)?;
-        kezuri_nc::write::program(path, &options)?;
-        Ok(())
-    };
-    let e = written().err()?;
-    Some(match place(ran, &e) {
-        Some((at, message)) => format!("{at}: error: kezuri run refuses this: {message}"),
-        None => format!("error: kezuri run refuses this: {e:#}"),
-    })
+/// The title `kezuri run` gives the program it writes of `file`: its name
+/// in capitals.
+pub fn program_title(file: &Path) -> String {
+    file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase())
+}
+
+/// What `kezuri run` (with no option of how to write) would write of a
+/// program, written to nowhere as the run hands its path on: whether it
+/// refuses it, and why. `check` says the same.
+pub struct RunTrial(Result<Streamed<std::io::Sink>>);
+
+impl RunTrial {
+    /// The trial of program `file` on `machine`, read in `dialect`.
+    pub fn new(machine: &Machine, dialect: kezuri_nc::Dialect, file: &Path) -> RunTrial {
+        RunTrial(options_from::<WriteArgs>(&[]).map(|w| {
+            let w = w.for_program(machine, dialect);
+            Streamed::new(&w, machine, file, &program_title(file), false, std::io::sink())
+        }))
+    }
+
+    /// After the run `ran`: why `kezuri run` refuses it, as an error line
+    /// (`file:line:column: error: …` where it has a place); `None` where it
+    /// writes it.
+    pub fn refusal(self, ran: &Ran) -> Option<String> {
+        let e = self.0.and_then(|s| s.finish().map(|_| ())).err()?;
+        Some(match place(ran, &e) {
+            Some((at, message)) => format!("{at}: error: kezuri run refuses this: {message}"),
+            None => format!("error: kezuri run refuses this: {e:#}"),
+        })
+    }
+}
+
+impl PathSink for RunTrial {
+    fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
+        if let Ok(s) = &mut self.0 {
+            s.take(piece, programmed);
+        }
+    }
 }

@@ -192,18 +192,20 @@ pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
 }
 
 /// [`read_and_run`] handing the toolpath piece by piece as the run makes
-/// it to the sink `make` gives once the machine and the dialect are known
-/// (the sink is returned; the run's `outcome.toolpath` is empty).
+/// it to the sink `make` gives once the machine, the dialect and the
+/// program parsed are known (the sink is returned; the run's
+/// `outcome.toolpath` is empty). `centre`: the tool-centre path is asked
+/// for ([`read_and_run_centre`]).
 pub fn read_and_run_into<S: PathSink>(
     o: &RunOptions,
-    make: impl FnOnce(&Machine, Dialect) -> S,
-) -> Result<(Ran, Vec<Diagnostic>, S)> {
-    let (ran, d, sink) = run_program(o, read_program_text(&o.file)?, false, Some(make))?;
-    Ok((ran, d, sink.expect("a sink made for the run")))
+    centre: bool,
+    make: impl FnOnce(&Machine, Dialect, &Program) -> S,
+) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
+    run_program(o, read_program_text(&o.file)?, centre, Some(make))
 }
 
 /// No sink: the run keeps its whole path.
-const NO_SINK: Option<fn(&Machine, Dialect) -> kezuri_geom::WholePath> = None;
+const NO_SINK: Option<fn(&Machine, Dialect, &Program) -> kezuri_geom::WholePath> = None;
 
 /// [`read_and_run`] where the tool-centre path was asked for (`run
 /// --apply-comp`): a cutter compensation register the tool table lacks is
@@ -301,7 +303,7 @@ fn run_program<S: PathSink>(
     o: &RunOptions,
     text: Arc<dyn TextStore>,
     radii_required: bool,
-    sink: Option<impl FnOnce(&Machine, Dialect) -> S>,
+    sink: Option<impl FnOnce(&Machine, Dialect, &Program) -> S>,
 ) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
     let machine = match &o.machine {
         Some(p) => crate::machine::load(p)?,
@@ -341,10 +343,9 @@ fn run_on<S: PathSink>(
     o: &RunOptions,
     text: Arc<dyn TextStore>,
     radii_required: bool,
-    make_sink: Option<impl FnOnce(&Machine, Dialect) -> S>,
+    make_sink: Option<impl FnOnce(&Machine, Dialect, &Program) -> S>,
 ) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
     let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, text.text())?, &machine);
-    let mut sink = make_sink.map(|make| make(&machine, detected.dialect));
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
     let parameters = match &o.var {
         Some(_) if !whole_units(detected.dialect) => bail!(
@@ -383,6 +384,7 @@ fn run_on<S: PathSink>(
         None => parse_as(&mut program, id, &text, detected.dialect),
     };
     let parse_errors = parse_diagnostics.iter().filter(|d| d.is_error()).count();
+    let mut sink = make_sink.map(|make| make(&machine, detected.dialect, &program));
     let dir = library_dir(o.lib.as_deref(), &o.file);
     let outcome = if parse_errors > 0 || program.units.is_empty() {
         Outcome::default()

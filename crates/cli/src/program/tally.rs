@@ -110,6 +110,13 @@ impl Tally {
         }
     }
 
+    /// The one-line summary of a written program whose moves this
+    /// tallied: `moves` of them, dwells included.
+    pub fn summary(self, moves: usize) -> String {
+        let (time, _) = self.clock.finish();
+        crate::say::summary_line(moves, self.feed_length_mm, self.rapid_length_mm, time)
+    }
+
     /// The report of the run that made `outcome` (its counts of blocks,
     /// statements, holes, threads), whose tool table is `tools` (the
     /// machine file's, or the one the program's comments gave after the

@@ -24,6 +24,14 @@ pub trait PathSink {
     fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>);
 }
 
+/// Two sinks fed the same pieces.
+impl<A: PathSink, B: PathSink> PathSink for (A, B) {
+    fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
+        self.0.take(piece, programmed);
+        self.1.take(piece, programmed);
+    }
+}
+
 /// A sink that keeps the whole path: what a caller that needs it all gets.
 #[derive(Clone, Debug, Default)]
 pub struct WholePath {

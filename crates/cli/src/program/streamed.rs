@@ -1,0 +1,110 @@
+//! A program written as the run makes it: what `kezuri run` writes (G-code
+//! through a post, or CSV) fed the run's path piece by piece, and `check`'s
+//! trial of it. Nothing of the path is held but the piece at hand.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Result};
+use kezuri_geom::{PathSink, Toolpath};
+use kezuri_machine::Machine;
+use kezuri_nc::write::{CsvWriter, ProgramWriter, WriteOptions};
+
+use super::emit::{comp_refusal, Emit, Origin, WriteArgs};
+use super::tally::Tally;
+
+/// What is written.
+enum Writer {
+    Gcode {
+        writer: Box<ProgramWriter>,
+        /// The control the output is for, where it has no cutter
+        /// compensation (GRBL): a run that used it is refused.
+        without_comp: Option<&'static str>,
+        /// Write the tool-centre path rather than the programmed contour.
+        centre: bool,
+    },
+    Csv(CsvWriter),
+}
+
+/// A program written piece by piece to `out`, and what its summary says.
+pub struct Streamed<W: Write> {
+    writer: Option<Writer>,
+    out: W,
+    file: PathBuf,
+    /// The first error: nothing more is written after it.
+    error: Option<anyhow::Error>,
+    /// The written path's moves and tally, for the summary.
+    moves: usize,
+    tally: Tally,
+}
+
+impl<W: Write> Streamed<W> {
+    /// The program `kezuri run` writes with `w` of the program `file` on
+    /// `machine` to `out`, titled `title`. `uvw`: the CSV has U V W
+    /// columns (the program names them).
+    pub fn new(w: &WriteArgs, machine: &Machine, file: &Path, title: &str, uvw: bool, out: W) -> Streamed<W> {
+        let tally = Tally::new(&machine.dynamics, &machine.kinematics, false);
+        let mut streamed = Streamed { writer: None, out, file: file.to_path_buf(), error: None, moves: 0, tally };
+        let writer = match w.emit {
+            Some(Emit::Csv) => Ok(Writer::Csv(CsvWriter::new(uvw))),
+            Some(Emit::Rml) => Err(anyhow!("RML-1 is written from the whole path")),
+            _ => w.options(machine, Origin::Transformed).and_then(|options| {
+                let options = WriteOptions { title: Some(title.to_string()), ..options };
+                let without_comp = (options.dialect == kezuri_nc::write::Dialect::Grbl).then_some("GRBL");
+                Ok(Writer::Gcode {
+                    writer: Box::new(ProgramWriter::new(&options)?),
+                    without_comp,
+                    centre: w.apply_comp,
+                })
+            }),
+        };
+        match writer {
+            Ok(writer) => streamed.writer = Some(writer),
+            Err(e) => streamed.error = Some(e),
+        }
+        streamed
+    }
+
+    /// The output, or the first error writing it met.
+    pub fn finish(mut self) -> Result<(W, String)> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        let end = match self.writer.take() {
+            Some(Writer::Gcode { writer, .. }) => writer.finish().map_err(anyhow::Error::from)?,
+            Some(Writer::Csv(writer)) => writer.finish(),
+            None => String::new(),
+        };
+        self.out.write_all(end.as_bytes())?;
+        let summary = self.tally.summary(self.moves);
+        Ok((self.out, summary))
+    }
+
+    fn write(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) -> Result<()> {
+        let (text, written) = match self.writer.as_mut() {
+            None => return Ok(()),
+            Some(Writer::Csv(writer)) => (writer.piece(piece)?, piece),
+            Some(Writer::Gcode { writer, without_comp, centre }) => {
+                if let (Some(_), Some(control), false) = (programmed, *without_comp, *centre) {
+                    return Err(comp_refusal(&self.file, control));
+                }
+                let programmed = programmed.filter(|_| !*centre);
+                (writer.piece(piece, programmed)?, programmed.unwrap_or(piece))
+            }
+        };
+        self.moves += written.moves.len();
+        self.tally.take(written, None);
+        self.out.write_all(text.as_bytes())?;
+        Ok(())
+    }
+}
+
+impl<W: Write> PathSink for Streamed<W> {
+    fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
+        if self.error.is_none() {
+            if let Err(e) = self.write(piece, programmed) {
+                self.error = Some(e);
+            }
+        }
+    }
+}
