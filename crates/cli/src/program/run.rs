@@ -72,7 +72,10 @@ pub struct RunOptions {
     /// Skip blocks that start with `/` (block delete switch on).
     #[arg(long)]
     pub block_delete: bool,
-    /// Most statements executed before a run is stopped as a runaway loop.
+    /// Most statements run again (after a jump back, in a loop's next turn,
+    /// in a subprogram or macro called again) before a run is stopped as a
+    /// runaway loop. A program read straight through is never stopped,
+    /// whatever its length.
     #[arg(long, value_name = "N", default_value_t = 10_000_000)]
     pub step_limit: u64,
     /// Write DPRNT lines to this file (default: standard error).
