@@ -2,6 +2,7 @@
 //! (`run.rs`; the tool table of its comments where no machine file gives
 //! one, `comment_tools.rs`), and writing a toolpath through a post (`emit.rs`).
 
+mod beside;
 mod comment_tools;
 mod emit;
 mod run;

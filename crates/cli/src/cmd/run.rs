@@ -16,8 +16,9 @@ use crate::program::{
 /// no compensation, need `--apply-comp`.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     // A program or CSV alone is written as the run makes it; a drawing, a
-    // page or RML-1 needs the whole path.
-    if w.streams() {
+    // page or RML-1 needs the whole path, and standard input is read whole
+    // (it cannot be read twice).
+    if w.streams() && o.file != std::path::Path::new("-") {
         if let Some(done) = run_streamed(o, w) {
             return done;
         }

@@ -57,7 +57,7 @@ impl Outputs {
     pub fn add_with(
         &mut self,
         path: Option<&Path>,
-        fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+        fill: impl FnOnce(&mut (dyn Write + Send)) -> std::io::Result<()>,
     ) -> Result<()> {
         let path = match path {
             Some(p) if p != Path::new("-") => p,
@@ -97,7 +97,11 @@ impl Outputs {
         Ok(())
     }
 
-    fn stream(&mut self, to: Option<PathBuf>, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    fn stream(
+        &mut self,
+        to: Option<PathBuf>,
+        fill: impl FnOnce(&mut (dyn Write + Send)) -> std::io::Result<()>,
+    ) -> Result<()> {
         let mut bytes = Vec::new();
         fill(&mut bytes).context("cannot make the output")?;
         self.staged.push(Staged::Stream { to, bytes });

@@ -199,7 +199,7 @@ pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
 /// program parsed are known (the sink is returned; the run's
 /// `outcome.toolpath` is empty). `centre`: the tool-centre path is asked
 /// for ([`read_and_run_centre`]).
-pub fn read_and_run_into<S: PathSink>(
+pub fn read_and_run_into<S: PathSink + Send>(
     o: &RunOptions,
     centre: bool,
     make: impl FnOnce(&Machine, Dialect, &Program) -> S,
@@ -302,7 +302,7 @@ fn read_var_file(path: &Path) -> Result<BTreeMap<u32, f64>> {
     Ok(out)
 }
 
-fn run_program<S: PathSink>(
+fn run_program<S: PathSink + Send>(
     o: &RunOptions,
     text: Arc<dyn TextStore>,
     radii_required: bool,
@@ -341,7 +341,7 @@ pub(super) fn options_from<T: clap::Args + clap::FromArgMatches>(words: &[&OsStr
 }
 
 /// [`run_program`] on a machine loaded already.
-fn run_on<S: PathSink>(
+fn run_on<S: PathSink + Send>(
     machine: Machine,
     o: &RunOptions,
     text: Arc<dyn TextStore>,
@@ -394,9 +394,17 @@ fn run_on<S: PathSink>(
     } else {
         progress.stage("running");
         settings.progress = progress.counter();
-        match &mut sink {
-            Some(sink) => interp::run_into(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings, sink),
-            None => interp::run(&mut program, &mut sources, 0, &mut Folder::new(dir), &settings),
+        let mut library = Folder::new(dir);
+        match sink.take() {
+            // The path taken on the other core as the run makes it.
+            Some(taker) => {
+                let (outcome, taker) = super::beside::with_sink_beside(taker, |handing| {
+                    interp::run_into(&mut program, &mut sources, 0, &mut library, &settings, handing)
+                });
+                sink = Some(taker);
+                outcome
+            }
+            None => interp::run(&mut program, &mut sources, 0, &mut library, &settings),
         }
     };
     progress.finish();
