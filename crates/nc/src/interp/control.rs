@@ -144,6 +144,13 @@ impl<'a> Interp<'a> {
                     break;
                 }
                 Err(mut d) => {
+                    // The blocks the chain names (a local subprogram's N)
+                    // held again where their pages were dropped.
+                    for k in 0..self.frames.len() {
+                        if self.frames[k].kind == FrameKind::Local {
+                            self.program.ensure(self.frames[k].start, self.sources);
+                        }
+                    }
                     d.call_chain = self.call_chain();
                     self.st.diagnostics.push(d);
                     break;
@@ -201,6 +208,9 @@ impl<'a> Interp<'a> {
         if pc >= end {
             let span = self.program.units[unit].span;
             if self.frames.len() == 1 {
+                if let Some(last) = self.program.units[unit].blocks.clone().last() {
+                    self.program.ensure(last, self.sources);
+                }
                 self.linuxcnc_file_end(unit)?;
                 self.st.warn("end", span, "the program ends without M30 or M02: is the file complete?");
                 return Ok(false);
@@ -224,6 +234,7 @@ impl<'a> Interp<'a> {
         } else {
             self.repeated += 1;
             if self.repeated > self.st.settings.step_limit {
+                self.program.ensure(self.last_back_jump.unwrap_or(pc), self.sources);
                 return Err(self.runaway(pc));
             }
         }
