@@ -41,6 +41,21 @@ impl Default for Dynamics {
 }
 
 /// Unit direction of travel at the start and end of a move (X Y Z).
+/// The speed (mm/s) the junction deviation allows where a move leaving in
+/// direction `d1` follows one arriving in direction `d0` (unit vectors), at
+/// acceleration `a`: unlimited straight on, 0 for a reversal.
+fn junction_speed(d0: [f64; 3], d1: [f64; 3], a: f64, machine: &Dynamics) -> f64 {
+    let cos = -(d0[0] * d1[0] + d0[1] * d1[1] + d0[2] * d1[2]);
+    if cos < -0.999_999 {
+        f64::INFINITY
+    } else if cos > 0.999_999 {
+        0.0
+    } else {
+        let sin_half = ((1.0 - cos) / 2.0).sqrt();
+        (a * machine.junction_deviation_mm * sin_half / (1.0 - sin_half)).sqrt()
+    }
+}
+
 fn directions(m: &Move) -> Option<([f64; 3], [f64; 3])> {
     let unit = |a: Axes, b: Axes| {
         let d = [b.x - a.x, b.y - a.y, b.z - a.z];
@@ -216,18 +231,7 @@ impl Planner {
         let cruise = m.feed.min(machine.max_feed_mm_min).max(0.0) / 60.0;
         let dirs = directions(m);
         let limit = match (self.last, dirs) {
-            (Some((d0, before)), Some((d1, _))) => {
-                let cos = -(d0[0] * d1[0] + d0[1] * d1[1] + d0[2] * d1[2]);
-                let v = if cos < -0.999_999 {
-                    f64::INFINITY
-                } else if cos > 0.999_999 {
-                    0.0
-                } else {
-                    let sin_half = ((1.0 - cos) / 2.0).sqrt();
-                    (a * machine.junction_deviation_mm * sin_half / (1.0 - sin_half)).sqrt()
-                };
-                v.min(before).min(cruise)
-            }
+            (Some((d0, before)), Some((d1, _))) => junction_speed(d0, d1, a, machine).min(before).min(cruise),
             _ => 0.0,
         };
         self.last = dirs.map(|(_, end)| (end, cruise));
@@ -316,16 +320,7 @@ mod tests {
         let mut entry = vec![0.0f64; n + 1];
         for i in 1..n {
             if let (Some((_, d0)), Some((d1, _))) = (dirs[i - 1], dirs[i]) {
-                let cos = -(d0[0] * d1[0] + d0[1] * d1[1] + d0[2] * d1[2]);
-                let v = if cos < -0.999_999 {
-                    f64::INFINITY
-                } else if cos > 0.999_999 {
-                    0.0
-                } else {
-                    let sin_half = ((1.0 - cos) / 2.0).sqrt();
-                    (a * machine.junction_deviation_mm * sin_half / (1.0 - sin_half)).sqrt()
-                };
-                entry[i] = v.min(cruise[i - 1]).min(cruise[i]);
+                entry[i] = junction_speed(d0, d1, a, machine).min(cruise[i - 1]).min(cruise[i]);
             }
         }
         let lengths: Vec<f64> = moves.iter().map(Move::feed_distance).collect();
