@@ -502,7 +502,8 @@ impl Interp<'_> {
         if let Some(first) = errors.into_iter().next() {
             return Err(first);
         }
-        self.computed_labels |= computed_labels(self.program.blocks.iter().skip(first));
+        let blocks = &self.program.blocks;
+        self.computed_labels |= computed_labels((first..blocks.len()).filter_map(|i| blocks.get(i)));
         self.sub_in(name, first, None)
             .ok_or_else(|| Diagnostic::error(span, format!("{file_name} does not define {name} sub")))
     }
