@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use kezuri_nc::source::TextStore;
 use memmap2::{Mmap, UncheckedAdvice};
 
@@ -39,7 +39,11 @@ pub fn map_text(path: &Path) -> Result<Option<MappedText>> {
     }
     let file = File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
     let meta = file.metadata().with_context(|| format!("cannot read {}", path.display()))?;
-    if !meta.is_file() || meta.len() < MAP_FROM_BYTES || meta.len() > u64::from(u32::MAX) {
+    if meta.is_file() && meta.len() > u64::from(u32::MAX) {
+        // Positions in a program are kept in 32 bits.
+        bail!("{}: {} bytes: kezuri reads programs of up to 4 GiB", path.display(), meta.len());
+    }
+    if !meta.is_file() || meta.len() < MAP_FROM_BYTES {
         return Ok(None);
     }
     // SAFETY: the map is read only. A program must not be rewritten on disk
