@@ -140,11 +140,10 @@ fn check(o: &RunOptions, as_json: bool) -> Result<Checked> {
     let mut notes = String::new();
     // The run hands its path, piece by piece, to the tally and to a trial
     // of what `kezuri run` writes: a program of any length is never held.
-    let (mut ran, parse_diagnostics, sinks) = read_and_run_into(o, false, |machine, dialect, _| {
+    let (mut ran, parse_diagnostics, (tally, trial)) = read_and_run_into(o, false, |machine, dialect, _| {
         let tally = Tally::new(&machine.dynamics, &machine.kinematics, uses_length_offsets(dialect, machine));
         (tally, RunTrial::new(machine, dialect, &o.file))
     })?;
-    let (tally, trial) = sinks.expect("the sinks of the run");
     std::mem::take(&mut ran.outputs).commit()?;
     // What `kezuri run` refuses of a program that ran is an error here too.
     let refusal = if ran.errors() == 0 { trial.refusal(&ran) } else { None };

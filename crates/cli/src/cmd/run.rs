@@ -58,12 +58,13 @@ fn run_streamed(o: &RunOptions, w: &WriteArgs) -> Option<Result<()>> {
                     let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
                     Streamed::new(&w, machine, &o.file, &title, uvw, &mut *to)
                 })?;
-            ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
+            // Before anything is said: the whole path's run says it all.
             if !model_notes(&ran.outcome).is_empty() {
                 whole = true;
                 return Err(anyhow!("written from the whole path"));
             }
-            let (_, summary) = written.expect("the sink of the run").finish().map_err(|e| located(&ran, e))?;
+            ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
+            let (_, summary) = written.finish().map_err(|e| located(&ran, e))?;
             Ok((std::mem::take(&mut ran.outputs), summary))
         })();
         let failed = done.is_err();

@@ -203,8 +203,10 @@ pub fn read_and_run_into<S: PathSink + Send>(
     o: &RunOptions,
     centre: bool,
     make: impl FnOnce(&Machine, Dialect, &Program) -> S,
-) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
-    run_program(o, read_program_text(&o.file)?, centre, Some(make))
+) -> Result<(Ran, Vec<Diagnostic>, S)> {
+    let (ran, diagnostics, sink) = run_program(o, read_program_text(&o.file)?, centre, Some(make))?;
+    let sink = sink.ok_or_else(|| anyhow::anyhow!("{}: the run made no sink for its path", o.file.display()))?;
+    Ok((ran, diagnostics, sink))
 }
 
 /// No sink: the run keeps its whole path.
