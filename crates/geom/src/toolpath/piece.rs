@@ -86,9 +86,16 @@ impl Toolpath {
         Toolpath { moves: head_moves, frames: self.frames.clone(), unknown_start: self.unknown_start, kept: head_kept }
     }
 
-    /// Whether a cut before move `at` falls inside a kept block's moves.
-    pub fn cuts_kept(&self, at: usize) -> bool {
-        self.kept.iter().any(|k| k.before < at && at < k.before + k.moves)
+    /// The latest place at or before move `at` where the path may be cut:
+    /// not inside a kept block's moves (a tapping cycle standing for them).
+    pub fn cut_at_or_before(&self, at: usize) -> usize {
+        let mut at = at.min(self.moves.len());
+        for k in self.kept.iter().rev() {
+            if k.before < at && at < k.before + k.moves {
+                at = k.before;
+            }
+        }
+        at
     }
 }
 
@@ -117,7 +124,7 @@ mod tests {
             let mut joined = WholePath::default();
             let mut done = 0;
             for &c in &cuts {
-                assert!(!rest.cuts_kept(c - done));
+                assert_eq!(rest.cut_at_or_before(c - done), c - done);
                 let piece = rest.split_before(c - done);
                 joined.take(&piece, None);
                 done = c;
@@ -130,9 +137,9 @@ mod tests {
     }
 
     #[test]
-    fn a_cut_inside_a_tapping_block_is_seen() {
+    fn a_cut_inside_a_tapping_block_is_moved_before_it() {
         let p = path(9);
-        assert!(p.cuts_kept(4));
-        assert!(!p.cuts_kept(3) && !p.cuts_kept(5));
+        assert_eq!(p.cut_at_or_before(4), 3);
+        assert_eq!((p.cut_at_or_before(3), p.cut_at_or_before(5), p.cut_at_or_before(20)), (3, 5, 9));
     }
 }

@@ -14,14 +14,8 @@ impl Interp<'_> {
         if !self.st.may_hand_on() {
             return;
         }
-        let path = &self.st.toolpath;
         // The last move stays: a block may still lengthen it or place its end.
-        let mut at = path.moves.len() - 1;
-        for k in &path.kept {
-            if k.before < at && at < k.before + k.moves {
-                at = k.before;
-            }
-        }
+        let at = self.st.toolpath.cut_at_or_before(self.st.toolpath.moves.len() - 1);
         if at > 0 {
             let piece = self.st.toolpath.split_before(at);
             sink.take(&piece, None);
