@@ -64,6 +64,7 @@ impl Program {
         self.pages.keep = Some(keep.max(2));
         self.pages.lines = lines.max(1);
         self.pages.last = usize::MAX;
+        self.pages.running = usize::MAX;
     }
 
     /// Whether the program is read in pages.
