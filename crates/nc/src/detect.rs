@@ -236,24 +236,53 @@ const O_KEYWORDS: [&str; 15] = [
     "CONTINUE",
 ];
 
-/// The characters a line must hold to carry a marker (upper or lower case).
+/// The characters a line must hold to carry a marker (upper or lower case):
+/// every marker has one (an O word, #<…>, **, a G code, @ ^, IF[ DPRNT[ …,
+/// GOTO, a $ command).
 const MARKER_BYTES: &[u8] = b"OoGg#[*@^$";
+
+/// [`MARKER_BYTES`] as a table, one entry a byte.
+static MARKER_BYTE: [bool; 256] = {
+    let mut table = [false; 256];
+    let mut i = 0;
+    while i < MARKER_BYTES.len() {
+        table[MARKER_BYTES[i] as usize] = true;
+        i += 1;
+    }
+    table
+};
+
+/// The G codes that are a dialect's marker (see [`line_markers`]).
+const MARKER_G_CODES: [f64; 12] = [64.0, 33.1, 43.2, 65.0, 66.0, 66.1, 54.1, 154.0, 187.0, 103.0, 47.0, 150.0];
 
 /// The first marker of each dialect in `text` (at most one per dialect,
 /// in the order of the lines).
+///
+/// The text is searched for the bytes of [`MARKER_BYTES`]: a line of axis
+/// words and numbers alone, most of a program, is passed without being
+/// looked at, and so is a line whose only such bytes begin G codes that are
+/// no marker (`G1 X5 Y2`). Any other line is read by [`line_markers`].
 pub fn markers(text: &str) -> Vec<Marker> {
+    let b = text.as_bytes();
     let mut out: Vec<Marker> = Vec::new();
-    for (n, raw) in text.lines().enumerate() {
-        // Every marker has one of these characters (an O word, #<…>, **,
-        // a G code, @ ^, IF[ DPRNT[ …, GOTO, a $ command): a line of axis
-        // words and numbers alone, most of a program, is passed at once.
-        if !raw.bytes().any(|b| MARKER_BYTES.contains(&b)) {
+    // Lines before byte `counted`.
+    let (mut lines, mut counted) = (0u32, 0usize);
+    let mut pos = 0;
+    while let Some(hit) = b[pos..].iter().position(|&c| MARKER_BYTE[c as usize]) {
+        let hit = pos + hit;
+        let start = memchr::memrchr(b'\n', &b[..hit]).map_or(0, |i| i + 1);
+        let end = memchr::memchr(b'\n', &b[hit..]).map_or(b.len(), |i| hit + i);
+        pos = end;
+        if only_plain_g_codes(&b[start..end]) {
             continue;
         }
-        let line = n as u32 + 1;
+        lines += memchr::memchr_iter(b'\n', &b[counted..start]).count() as u32;
+        counted = start;
+        // As `str::lines` gives it: without the '\r' of a "\r\n".
+        let raw = text[start..end].strip_suffix('\r').unwrap_or(&text[start..end]);
         for (dialect, what) in line_markers(raw) {
             if !out.iter().any(|m| m.dialect == dialect) {
-                out.push(Marker { dialect, text: what, line });
+                out.push(Marker { dialect, text: what, line: lines + 1 });
             }
         }
         if out.len() == 4 {
@@ -261,6 +290,33 @@ pub fn markers(text: &str) -> Vec<Marker> {
         }
     }
     out
+}
+
+/// Whether `line`'s only bytes of [`MARKER_BYTES`] are `G`s, each followed
+/// at once by a number (ended by neither a digit nor a comment after
+/// blanks) that is none of [`MARKER_G_CODES`]: then [`line_markers`] finds
+/// nothing there. `false` sends the line to be read in full.
+fn only_plain_g_codes(line: &[u8]) -> bool {
+    let mut i = 0;
+    while let Some(k) = line[i..].iter().position(|&c| MARKER_BYTE[c as usize]) {
+        let at = i + k;
+        if line[at] | 0x20 != b'g' {
+            return false;
+        }
+        let number = &line[at + 1..];
+        let digits = number.iter().take_while(|c| c.is_ascii_digit() || **c == b'.').count();
+        let next = number[digits..].iter().find(|c| !matches!(c, b' ' | b'\t'));
+        if digits == 0 || next.is_some_and(|c| c.is_ascii_digit() || matches!(c, b'.' | b'(')) {
+            return false;
+        }
+        let value = std::str::from_utf8(&number[..digits]).ok().and_then(|s| s.parse::<f64>().ok());
+        match value {
+            Some(v) if !MARKER_G_CODES.iter().any(|g| (v - g).abs() < 1e-9) => {}
+            _ => return false,
+        }
+        i = at + 1 + digits;
+    }
+    true
 }
 
 /// `raw` without its comments, upper case, blanks removed.
@@ -419,5 +475,54 @@ mod tests {
     fn g_codes_skip_keywords() {
         assert_eq!(g_codes("GOTO10G64P0.01"), vec!["G64"]);
         assert_eq!(g_codes("G43.1Z1#G1"), vec!["G43.1"]);
+    }
+
+    /// The first marker of each dialect, line by line over `str::lines`:
+    /// what [`markers`] must find.
+    fn every_line(text: &str) -> Vec<(Dialect, String, u32)> {
+        let mut out: Vec<(Dialect, String, u32)> = Vec::new();
+        for (n, raw) in text.lines().enumerate() {
+            for (d, what) in line_markers(raw) {
+                if !out.iter().any(|m| m.0 == d) {
+                    out.push((d, what, n as u32 + 1));
+                }
+            }
+            if out.len() == 4 {
+                break;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_g_codes_passed_at_once_are_those_no_dialect_marks() {
+        for tenths in 0..2000 {
+            let g = f64::from(tenths) / 10.0;
+            let line = format!("G{g} P1 Q2");
+            let marked = !line_markers(&line).is_empty();
+            assert_eq!(marked, !only_plain_g_codes(line.as_bytes()), "{line}");
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn markers_are_those_of_every_line(
+            lines in proptest::collection::vec(
+                proptest::collection::vec(
+                    proptest::sample::select(vec![
+                        "G1", "g01", "G64", "G 64", "G6 4", "G6(x)4", "G33.1", "G43.2", "g65", "G66.1", "G154", "G103",
+                        "G1.5.3", "G", "X1.5", " ", "\t", "(G64)", "(O100 sub)", "O100", "o100 sub", "#<a>=1", "#1=2",
+                        "**", "IF[", "GOTO5", "DPRNT[", "@", "^", "$H", "$J=", "N10", "/", ";c", "P1", "\r", "%",
+                    ]),
+                    0..6,
+                ),
+                0..8,
+            )
+        ) {
+            let text: String = lines.iter().map(|l| l.concat() + "\n").collect();
+            let found: Vec<(Dialect, String, u32)> =
+                markers(&text).into_iter().map(|m| (m.dialect, m.text, m.line)).collect();
+            proptest::prop_assert_eq!(found, every_line(&text));
+        }
     }
 }
