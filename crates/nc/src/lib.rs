@@ -51,5 +51,5 @@ pub use detect::{detect, Detected};
 pub use dialect::Dialect;
 pub use error::{Error, ErrorKind, Place};
 pub use paged::Paged;
-pub use parse::{comments, parse, parse_as, parse_counting};
+pub use parse::{comments, parse, parse_as, parse_counting, Comments};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

@@ -13,7 +13,7 @@ mod lines;
 mod number;
 mod oword;
 
-pub use comment::comments;
+pub use comment::{comments, Comments};
 use ends::{finish_unit, program_ends};
 pub(crate) use lines::read_page_again;
 use number::plain_words;

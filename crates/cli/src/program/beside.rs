@@ -27,14 +27,23 @@ struct Handing {
 
 impl PathSink for Handing {
     fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
-        let new_frames: Vec<Frame> = piece.frames.get(self.frames..).unwrap_or_default().to_vec();
-        self.frames = self.frames.max(piece.frames.len());
-        let piece = Toolpath {
-            moves: piece.moves.clone(),
-            frames: new_frames,
-            unknown_start: piece.unknown_start,
-            kept: piece.kept.clone(),
-        };
+        let frames = piece.frames.get(self.frames..).unwrap_or_default().to_vec();
+        let crossing = Toolpath { moves: piece.moves.clone(), frames, kept: piece.kept.clone(), ..*piece };
+        self.send(crossing, piece.frames.len(), programmed);
+    }
+
+    fn take_owned(&mut self, mut piece: Toolpath, programmed: Option<&Toolpath>) {
+        let made = piece.frames.len();
+        piece.frames = piece.frames.split_off(self.frames.min(made));
+        self.send(piece, made, programmed);
+    }
+}
+
+impl Handing {
+    /// Sends `piece`, which holds the frames made since the last piece
+    /// (`made` in all).
+    fn send(&mut self, piece: Toolpath, made: usize, programmed: Option<&Toolpath>) {
+        self.frames = self.frames.max(made);
         // A sink's thread that stopped has said why (its panic is raised
         // where it is joined); nothing more to hand it.
         let _ = self.queue.send(Crossing { piece, programmed: programmed.cloned() });
@@ -92,11 +101,16 @@ mod tests {
         let ((), joined) = with_sink_beside(WholePath::default(), |sink| {
             let mut rest = whole.clone();
             // Frames as the run has them when it hands each piece on.
-            for at in [5, 6, 9] {
+            // Handed by reference and handed over, as the run hands them.
+            for (k, at) in [5, 6, 9].into_iter().enumerate() {
                 let mut piece = rest.split_before(at);
                 let made = piece.moves.last().map_or(0, |m| m.frame as usize + 1);
                 piece.frames.truncate(made);
-                sink.take(&piece, None);
+                if k == 1 {
+                    sink.take(&piece, None);
+                } else {
+                    sink.take_owned(piece, None);
+                }
             }
             sink.take(&rest, None);
         });

@@ -95,9 +95,14 @@ impl KnownBounds {
         };
         let start = if piece.unknown_start { AxisSet::ALL } else { AxisSet::NONE };
         let mut before = self.before.unwrap_or(start);
+        // The program's zero of the last move's frame (most moves share it).
+        let mut last_zero = (u32::MAX, [0.0; 3]);
         for m in &piece.moves {
             self.uvw_placed |= m.unknown.0 & AxisSet::UVW.0 != AxisSet::UVW.0;
-            let zero = if program { three(piece.frame(m).zero()) } else { [0.0; 3] };
+            if program && m.frame != last_zero.0 {
+                last_zero = (m.frame, three(piece.frame(m).zero()));
+            }
+            let zero = last_zero.1;
             // A start counts where known: a move leaving a return's end
             // counts it only where that place is known (the machine file
             // gives it, or a G92 there names it).

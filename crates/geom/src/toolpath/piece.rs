@@ -22,6 +22,12 @@ pub trait PathSink {
     /// only with the last piece, and `None` means the stretch is its own
     /// programmed path.
     fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>);
+
+    /// [`PathSink::take`] of a piece the caller has no more use for: a sink
+    /// that keeps or sends its pieces takes it without a copy.
+    fn take_owned(&mut self, piece: Toolpath, programmed: Option<&Toolpath>) {
+        self.take(&piece, programmed);
+    }
 }
 
 /// Two sinks fed the same pieces.

@@ -14,23 +14,54 @@ use crate::ast::{CommentCommand, Expr, Line, PrintItem, Statement};
 /// let found: Vec<_> = kezuri_nc::comments(text).collect();
 /// assert_eq!(found, [(1, "RAPID"), (1, " ball:14"), (2, "DIA 8MM")]);
 /// ```
-pub fn comments(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    text.lines().enumerate().flat_map(|(n, line)| {
-        let mut rest = Some(line);
-        std::iter::from_fn(move || {
-            let r = rest?;
-            let open = r.find(['(', ';'])?;
-            if r[open..].starts_with(';') {
-                rest = None;
-                return Some(&r[open + 1..]);
+pub fn comments(text: &str) -> Comments<'_> {
+    Comments { text, pos: 0, line: 0, counted: 0, line_end: 0 }
+}
+
+/// The comments of a text ([`comments`]): the text is searched for `(` and
+/// `;` and only the lines holding one are looked at.
+#[derive(Clone, Debug)]
+pub struct Comments<'a> {
+    text: &'a str,
+    /// Where the search goes on.
+    pos: usize,
+    /// Lines before byte `counted`.
+    line: usize,
+    counted: usize,
+    /// Where the line of the last comment ends (without its `\r`).
+    line_end: usize,
+}
+
+impl<'a> Iterator for Comments<'a> {
+    type Item = (usize, &'a str);
+
+    fn next(&mut self) -> Option<(usize, &'a str)> {
+        let b = self.text.as_bytes();
+        let open = self.pos + memchr::memchr2(b'(', b';', b.get(self.pos..)?)?;
+        if open >= self.line_end {
+            // A new line: count the lines before it, find its end.
+            let start = memchr::memrchr(b'\n', &b[..open]).map_or(0, |i| i + 1);
+            self.line += memchr::memchr_iter(b'\n', &b[self.counted..start]).count();
+            self.counted = start;
+            let end = memchr::memchr(b'\n', &b[open..]).map_or(b.len(), |i| open + i);
+            // As `str::lines` gives a line: without the '\r' of a "\r\n".
+            self.line_end = if end < b.len() && b[end - 1] == b'\r' { end - 1 } else { end };
+        }
+        let (body, line_end) = (open + 1, self.line_end);
+        let closed = if b[open] == b'(' { memchr::memchr(b')', &b[body..line_end]) } else { None };
+        let close = match closed {
+            Some(i) => {
+                self.pos = body + i + 1;
+                body + i
             }
-            let body = &r[open + 1..];
-            let close = body.find(')').unwrap_or(body.len());
-            rest = Some(&body[(close + 1).min(body.len())..]);
-            Some(&body[..close])
-        })
-        .map(move |c| (n + 1, c))
-    })
+            // After a ';', or a comment left open, the line is done.
+            None => {
+                self.pos = memchr::memchr(b'\n', &b[line_end..]).map_or(b.len(), |i| line_end + i + 1);
+                line_end
+            }
+        };
+        Some((self.line + 1, &self.text[body..close]))
+    }
 }
 
 /// `statement` with the comment command of its line: run after the line's
@@ -168,5 +199,38 @@ mod tests {
             (8, "OPEN"),
         ];
         assert_eq!(found, want);
+    }
+
+    /// The comments line by line, as `str::lines` gives the lines: what
+    /// [`comments`] must find.
+    fn line_by_line(text: &str) -> Vec<(usize, &str)> {
+        let mut out = Vec::new();
+        for (n, line) in text.lines().enumerate() {
+            let mut rest = line;
+            while let Some(open) = rest.find(['(', ';']) {
+                if rest[open..].starts_with(';') {
+                    out.push((n + 1, &rest[open + 1..]));
+                    break;
+                }
+                let body = &rest[open + 1..];
+                let close = body.find(')').unwrap_or(body.len());
+                out.push((n + 1, &body[..close]));
+                rest = &body[(close + 1).min(body.len())..];
+            }
+        }
+        out
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn comments_are_those_of_every_line(
+            pieces in proptest::collection::vec(
+                proptest::sample::select(vec!["(", ")", ";", "\n", "\r", "\r\n", "G1", " ", "T1 D=6.", "Ø", "()"]),
+                0..24,
+            )
+        ) {
+            let text = pieces.concat();
+            proptest::prop_assert_eq!(comments(&text).collect::<Vec<_>>(), line_by_line(&text));
+        }
     }
 }

@@ -18,7 +18,9 @@ impl Interp<'_> {
         let at = self.st.toolpath.cut_at_or_before(self.st.toolpath.moves.len() - 1);
         if at > 0 {
             let piece = self.st.toolpath.split_before(at);
-            sink.take(&piece, None);
+            // The moves to come get the room the piece had, at once.
+            self.st.toolpath.moves.reserve(piece.moves.capacity());
+            sink.take_owned(piece, None);
         }
     }
 
