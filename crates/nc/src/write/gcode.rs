@@ -235,12 +235,22 @@ impl ProgramWriter {
         }
         w.out.reserve(path.moves.len() * 24);
         let mut kept = path.kept.iter().peekable();
+        // The last move's frame: its number, the frame, its zero and the
+        // frame in the program's units (most moves share it).
+        let mut last_frame: Option<(u32, Frame, Axes, Frame)> = None;
         for (i, machine) in path.moves.iter().enumerate() {
             let index = self.done + i;
             w.at = (index, machine.line);
             w.take_axes(machine)?;
-            let frame = path.frame(machine);
-            let m = &in_program(machine, frame.zero(), unit);
+            let (frame, zero, framed) = match last_frame {
+                Some((k, frame, zero, framed)) if k == machine.frame => (frame, zero, framed),
+                _ => {
+                    let frame = path.frame(machine);
+                    last_frame = Some((machine.frame, frame, frame.zero(), in_units(frame, unit)));
+                    (frame, frame.zero(), in_units(frame, unit))
+                }
+            };
+            let m = &in_program(machine, zero, unit);
             if index < self.covered {
                 // Made by the kept block before it, spindle reversals and all.
                 w.made(m.end)?;
@@ -252,14 +262,14 @@ impl ProgramWriter {
             while let Some(k) = kept.next_if(|k| k.before <= i) {
                 w.state(k.state)?;
                 if k.moves > 0 {
-                    w.frame(in_units(frame, unit), self.last)?;
+                    w.frame(framed, self.last)?;
                 }
                 w.kept(k)?;
                 self.covered = self.covered.max(self.done + k.before + k.moves);
             }
             w.next_rapid_z = (m.kind == MoveKind::Rapid).then_some(m.end.z);
             w.state(ToolState::of(machine))?;
-            w.frame(in_units(frame, unit), self.last)?;
+            w.frame(framed, self.last)?;
             self.last = Some(scaled(machine.end, Axes::ZERO, unit));
             if index < self.covered {
                 // A kept block (a tapping cycle) makes this move itself.
