@@ -541,11 +541,15 @@ fn programs_expanded_on_one_machine_run_the_same_on_another() {
 struct Pieces {
     whole: kezuri_geom::WholePath,
     count: usize,
+    /// Pieces that came with their programmed contour (a stretch of cutter
+    /// compensation done with).
+    compensated: usize,
 }
 
 impl kezuri_geom::PathSink for Pieces {
     fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
         self.count += 1;
+        self.compensated += usize::from(programmed.is_some());
         self.whole.take(piece, programmed);
     }
 }
@@ -559,7 +563,7 @@ fn a_run_handed_on_in_pieces_is_the_whole_run() {
     // one move): the pieces joined are the whole path, move for move and
     // block for block, with the same diagnostics.
     let a = machine(0);
-    let (mut programs, mut cut, mut read_again) = (0, 0, 0);
+    let (mut programs, mut cut, mut read_again, mut compensated) = (0, 0, 0, 0);
     for case in corpus() {
         let mut sources = Sources::default();
         let file = sources.add(SourceFile::new(case.name.as_str(), case.text.as_str()));
@@ -586,13 +590,15 @@ fn a_run_handed_on_in_pieces_is_the_whole_run() {
         programs += 1;
         cut += usize::from(pieces.count > 2);
         read_again += usize::from(program.pages_read_again() > 0);
+        // A stretch of compensation handed on before the run's end.
+        compensated += usize::from(pieces.compensated > usize::from(whole.programmed.is_some()));
     }
     // Pinned, so that the test cannot pass by comparing nothing, cutting
     // nothing or reading nothing again.
-    println!("{programs} programs, {cut} cut in pieces, {read_again} with pages read again");
+    println!("{programs} programs, {cut} cut in pieces, {read_again} with pages read again, {compensated} with compensation handed on early");
     assert!(
-        programs >= 116 && cut >= 90 && read_again >= 76,
-        "{programs} programs, {cut} cut, {read_again} read again"
+        programs >= 116 && cut >= 90 && read_again >= 76 && compensated >= 1,
+        "{programs} programs, {cut} cut, {read_again} read again, {compensated} compensated early"
     );
 }
 

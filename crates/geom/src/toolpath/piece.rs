@@ -43,17 +43,22 @@ impl<A: PathSink, B: PathSink> PathSink for (A, B) {
 pub struct WholePath {
     /// The pieces joined.
     pub path: Toolpath,
-    /// The programmed contour joined, where the last piece came with one.
+    /// The programmed contour joined, where a piece came with one (a piece
+    /// without one is its own programmed contour).
     pub programmed: Option<Toolpath>,
 }
 
 impl PathSink for WholePath {
     fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
-        if let Some(p) = programmed {
-            // The stretches before were their own programmed path.
-            let mut whole = Toolpath { frames: Vec::new(), ..self.path.clone() };
-            whole.append(p);
-            self.programmed = Some(whole);
+        match (&mut self.programmed, programmed) {
+            (Some(whole), p) => whole.append(p.unwrap_or(piece)),
+            (None, Some(p)) => {
+                // The stretches before were their own programmed path.
+                let mut whole = Toolpath { frames: Vec::new(), ..self.path.clone() };
+                whole.append(p);
+                self.programmed = Some(whole);
+            }
+            (None, None) => {}
         }
         self.path.append(piece);
     }

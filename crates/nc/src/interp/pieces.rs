@@ -45,8 +45,9 @@ pub fn run_into(
 impl State {
     /// Whether the path made so far may be cut here and its moves but the
     /// last handed on: nothing run later refers back to them. Not while
-    /// cutter radius compensation has been on (the centre path is made at
-    /// the end of the run), a canned cycle's holes wait to be kept, or on a
+    /// cutter radius compensation has moves recorded (the centre path of a
+    /// stretch is made once it is done with, [`State::comp_flush`]), a
+    /// canned cycle's holes wait to be kept, or on a
     /// lathe (a corner, a single cycle or a contour may still change the
     /// last moves).
     pub(super) fn may_hand_on(&self) -> bool {

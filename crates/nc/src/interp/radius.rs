@@ -2,7 +2,9 @@
 //! LinuxCNC's G41.1 / G42.1) with the D register, recorded as a tag per
 //! move while the program runs; at the end of the run
 //! [`comp::compensate_traced`] turns the programmed tool-tip path into the
-//! tool-centre path.
+//! tool-centre path — or, in a run handed on in pieces, as soon as a
+//! stretch is done with: compensation off and two moves made since
+//! ([`State::comp_flush`]), so only one stretch is held.
 //!
 //! The run's [`Outcome::toolpath`](super::Outcome::toolpath) is the
 //! tool-centre path (what a simulation, the bounds and a CSV dump need);
@@ -64,6 +66,9 @@ pub(super) struct Radius {
     /// LinuxCNC's refusal of an entry move, found as the move was made,
     /// and the move's index in the toolpath: the block stops there ([`State::comp_entry_alarm`]).
     refused: Option<(Diagnostic, usize)>,
+    /// A stretch could not be handed on before the end ([`State::comp_flush`]):
+    /// the rest of the run is compensated at its end.
+    held_to_end: bool,
 }
 
 impl Radius {
@@ -464,6 +469,40 @@ impl State {
             self.toolpath.moves.extend(moves);
         }
         Some(Compensated { programmed, alarm })
+    }
+
+    /// With the run's path handed on in pieces: once compensation is off
+    /// and the last two moves were made without it, the moves recorded are
+    /// made the centre path at once, as [`State::comp_finish`] makes them,
+    /// and all but the last are returned with their programmed contour to
+    /// be handed on; the record starts again empty. `None` where the
+    /// stretch must wait: compensation on, a cycle or a lathe's contour
+    /// unsettled, a kept block over the last move, or an alarm (then it
+    /// waits for the end of the run, as a run not handed on does).
+    pub(super) fn comp_flush(&mut self) -> Option<(Toolpath, Toolpath)> {
+        let since = self.radius.since?;
+        let n = self.radius.tags.len();
+        let len = self.toolpath.moves.len();
+        let off = self.radius.on.is_none() && n >= 2 && self.radius.tags[n - 2..].iter().all(Option::is_none);
+        let settled = self.hole.settled() && self.turning.is_none() && self.profile.is_none();
+        if !off || !settled || self.radius.held_to_end || self.radius.refused.is_some() || since + n != len {
+            return None;
+        }
+        if self.toolpath.cut_at_or_before(len - 1) != len - 1 {
+            return None;
+        }
+        let before = (self.toolpath.clone(), self.radius.clone());
+        let Compensated { mut programmed, alarm } = self.comp_finish()?;
+        let (centre_last, programmed_last) = (self.toolpath.moves.len() - 1, programmed.moves.len() - 1);
+        let piece = self.toolpath.split_before(centre_last);
+        let programmed_piece = programmed.split_before(programmed_last);
+        if alarm.is_some() || programmed != self.toolpath {
+            (self.toolpath, self.radius) = before;
+            self.radius.held_to_end = true;
+            return None;
+        }
+        self.radius = Radius { block: self.radius.block, d: self.radius.d, ..Radius::default() };
+        Some((piece, programmed_piece))
     }
 
     /// The radius in register `n` (a D number, or a LinuxCNC tool number);

@@ -11,6 +11,13 @@ impl Interp<'_> {
     /// path may be cut here (see [`PathSink`]).
     pub(super) fn hand_on(&mut self) {
         let Some(sink) = self.sink.as_deref_mut() else { return };
+        if !self.st.radius.unused() {
+            // A stretch compensated and done with: handed on with its
+            // programmed contour.
+            if let Some((piece, programmed)) = self.st.comp_flush() {
+                sink.take_owned(piece, Some(&programmed));
+            }
+        }
         if !self.st.may_hand_on() {
             return;
         }
