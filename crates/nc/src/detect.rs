@@ -258,10 +258,11 @@ const MARKER_G_CODES: [f64; 12] = [64.0, 33.1, 43.2, 65.0, 66.0, 66.1, 54.1, 154
 /// The first marker of each dialect in `text` (at most one per dialect,
 /// in the order of the lines).
 ///
-/// The text is searched for the bytes of [`MARKER_BYTES`]: a line of axis
-/// words and numbers alone, most of a program, is passed without being
-/// looked at, and so is a line whose only such bytes begin G codes that are
-/// no marker (`G1 X5 Y2`). Any other line is read by [`line_markers`].
+/// The text is searched for the bytes a marker needs (`O`, `G`, `#`, `[`,
+/// `*`, `@`, `^`, `$`): a line of axis words and numbers alone, most of a
+/// program, is passed without being looked at, and so is a line whose only
+/// such bytes begin G codes that are no marker (`G1 X5 Y2`). Any other line
+/// is read in full.
 pub fn markers(text: &str) -> Vec<Marker> {
     let b = text.as_bytes();
     let mut out: Vec<Marker> = Vec::new();
