@@ -6,7 +6,8 @@
 //! a failure between them says which files were replaced already.
 //!
 //! Standard output (`-`, or no path) and a device or a pipe (`/dev/null`,
-//! a named pipe) cannot be replaced by a rename: their bytes are held and
+//! a named pipe) cannot be replaced by a rename: their bytes are held (in
+//! memory up to [`HELD_IN_MEMORY`], then in an unnamed temporary file) and
 //! written at [`Outputs::commit`], before the renames.
 //!
 //! A link is written through: the file it points to is replaced and the
@@ -16,7 +17,7 @@
 //! SIGHUP (see [`live`]).
 
 use std::fs::OpenOptions;
-use std::io::Write;
+use std::io::{Seek, Write};
 use std::os::unix::ffi::OsStrExt;
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
@@ -24,6 +25,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 
 use super::live;
+
+/// Bytes for standard output, a device or a pipe held in memory at most;
+/// more go to an unnamed temporary file (a program of any length is never
+/// held whole).
+pub const HELD_IN_MEMORY: usize = 8 << 20;
 
 /// A set of outputs written all together: [`add`](Outputs::add) each, then
 /// [`commit`](Outputs::commit). Dropped without a commit, it leaves every
@@ -38,7 +44,7 @@ enum Staged {
     /// named it, `target` past any link) at the commit.
     File { shown: PathBuf, target: PathBuf, tmp: PathBuf },
     /// Standard output (`None`) or a device or pipe, written at the commit.
-    Stream { to: Option<PathBuf>, bytes: Vec<u8> },
+    Stream { to: Option<PathBuf>, bytes: tempfile::SpooledTempFile },
 }
 
 impl Outputs {
@@ -102,8 +108,10 @@ impl Outputs {
         to: Option<PathBuf>,
         fill: impl FnOnce(&mut (dyn Write + Send)) -> std::io::Result<()>,
     ) -> Result<()> {
-        let mut bytes = Vec::new();
-        fill(&mut bytes).context("cannot make the output")?;
+        let mut bytes = tempfile::SpooledTempFile::new(HELD_IN_MEMORY);
+        let mut w = std::io::BufWriter::with_capacity(1 << 16, &mut bytes);
+        fill(&mut w).and_then(|_| w.flush()).context("cannot make the output")?;
+        drop(w);
         self.staged.push(Staged::Stream { to, bytes });
         Ok(())
     }
@@ -115,8 +123,9 @@ impl Outputs {
 
     /// Writes the streams, then renames every file over its target.
     pub fn commit(mut self) -> Result<()> {
-        for s in &self.staged {
+        for s in &mut self.staged {
             if let Staged::Stream { to, bytes } = s {
+                bytes.rewind().context("cannot read the output back")?;
                 write_stream(to.as_deref(), bytes)?;
             }
         }
@@ -168,18 +177,21 @@ pub fn cannot_write(path: &Path, e: std::io::Error) -> anyhow::Error {
 
 /// Writes `bytes` to standard output (`None`) or into a device or pipe; a
 /// reader of standard output that stops early is no error.
-fn write_stream(to: Option<&Path>, bytes: &[u8]) -> Result<()> {
+fn write_stream(to: Option<&Path>, bytes: &mut impl std::io::Read) -> Result<()> {
     match to {
         None => {
             let mut out = std::io::stdout().lock();
-            match out.write_all(bytes).and_then(|_| out.flush()) {
+            match std::io::copy(bytes, &mut out).and_then(|_| out.flush()) {
                 Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-                r => r.context("cannot write to standard output"),
+                r => r.map(|_| ()).context("cannot write to standard output"),
             }
         }
-        Some(p) => {
-            OpenOptions::new().write(true).open(p).and_then(|mut f| f.write_all(bytes)).map_err(|e| cannot_write(p, e))
-        }
+        Some(p) => OpenOptions::new()
+            .write(true)
+            .open(p)
+            .and_then(|mut f| std::io::copy(bytes, &mut f))
+            .map(|_| ())
+            .map_err(|e| cannot_write(p, e)),
     }
 }
 
@@ -225,4 +237,24 @@ fn temporary_name(target: &Path) -> PathBuf {
     };
     let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
     dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stream_larger_than_memory_holds_comes_out_whole_at_the_commit() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("device");
+        std::fs::write(&path, b"").unwrap();
+        // Bytes that are not all alike, past what is held in memory.
+        let data: Vec<u8> = (0..HELD_IN_MEMORY + 123_457).map(|i| (i % 251) as u8).collect();
+        let mut out = Outputs::new();
+        out.stream(Some(path.clone()), |w| w.write_all(&data)).unwrap();
+        // Nothing is written before the commit.
+        assert_eq!(std::fs::metadata(&path).unwrap().len(), 0);
+        out.commit().unwrap();
+        assert!(std::fs::read(&path).unwrap() == data);
+    }
 }
