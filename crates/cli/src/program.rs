@@ -4,6 +4,8 @@
 
 mod beside;
 mod comment_tools;
+#[cfg(test)]
+pub mod corpus;
 mod emit;
 mod run;
 mod streamed;

@@ -539,3 +539,76 @@ impl Correction for Drift<'_> {
         Ok(corrected)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::{PathSink, WholePath};
+    use kezuri_machine::Machine;
+
+    use super::*;
+    use crate::program::corpus::each_case;
+
+    /// The corrected pieces joined, or the correction's first error.
+    struct Joined<'a> {
+        drift: Drift<'a>,
+        path: WholePath,
+        error: Option<String>,
+        pieces: usize,
+    }
+
+    impl PathSink for Joined<'_> {
+        fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
+            self.pieces += 1;
+            if self.error.is_none() {
+                match self.drift.correct(piece) {
+                    Ok(corrected) => self.path.take(&corrected, None),
+                    Err(e) => self.error = Some(e.to_string()),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_program_corrected_in_pieces_is_corrected_whole() {
+        // A drift that grows along each axis, measured over ±100 mm.
+        let mut ms = Vec::new();
+        for axis in 0..3 {
+            for k in -4..=4 {
+                let command = 25.0 * f64::from(k);
+                let error = [1e-4 * command, 5e-3 + 2e-7 * command * command, -3e-5 * command];
+                ms.push(Measurement { axis, b_deg: 0.0, command, error });
+            }
+        }
+        let model = thermal::fit(&ms, Some(2)).unwrap();
+        let machine = Machine::default();
+        let (mut compared, mut cut, mut failed) = (0, 0, 0);
+        each_case(&machine, |mut case| {
+            let k = machine.kinematics.clone();
+            let correcting = Correcting::new(&model, k, thermal::Solver::Newton);
+            let drift = Drift { correcting, before: None, points: 0, seconds: 0.0 };
+            let mut joined = Joined { drift, path: WholePath::default(), error: None, pieces: 0 };
+            case.run_into(&mut joined);
+            let path = &case.whole.toolpath;
+            let name = &case.name;
+            match correct_moves(&model, &machine.kinematics, &path.moves, thermal::Solver::Newton) {
+                Ok(Corrected { ends, summary }) => {
+                    let mut whole = path.clone();
+                    set_ends(&mut whole, &ends, ArcCentre::FollowsEnd);
+                    // Debug writes every f64 to the bit.
+                    assert_eq!(format!("{:?}", joined.path.path.moves), format!("{:?}", whole.moves), "{name}");
+                    assert_eq!(joined.path.path.kept, whole.kept, "{name}");
+                    assert_eq!(format!("{:?}", joined.drift.correcting.summary), format!("{summary:?}"), "{name}");
+                    assert_eq!(joined.drift.points, ends.len(), "{name}");
+                    compared += 1;
+                }
+                Err(e) => {
+                    assert_eq!(joined.error, Some(e.to_string()), "{name}");
+                    failed += 1;
+                }
+            }
+            cut += usize::from(joined.pieces > 2);
+        });
+        // Pinned, so that the test cannot pass by comparing nothing.
+        assert!(compared >= 150 && cut >= 100, "{compared} compared, {cut} cut, {failed} failed");
+    }
+}

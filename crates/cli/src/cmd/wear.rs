@@ -327,3 +327,82 @@ impl Correction for Wear<'_> {
         Ok(path)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::{Mesh, PathSink, Triangle, Vec3, WholePath};
+    use kezuri_machine::Machine;
+
+    use super::*;
+    use crate::program::corpus::each_case;
+
+    /// The corrected pieces joined, or the correction's first error.
+    struct Joined<'a> {
+        wear: Wear<'a>,
+        path: WholePath,
+        error: Option<String>,
+        pieces: usize,
+    }
+
+    impl PathSink for Joined<'_> {
+        fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
+            self.pieces += 1;
+            if self.error.is_none() {
+                match self.wear.correct(piece) {
+                    Ok(corrected) => self.path.take(&corrected, None),
+                    Err(e) => self.error = Some(e.to_string()),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_program_corrected_in_pieces_is_corrected_whole() {
+        // A tilted plane under every program, a worn 6 mm ball.
+        let at = |x: f64, y: f64| Vec3::new(x, y, -1.0 + 0.01 * x - 0.02 * y);
+        let (a, b, c, d) = (at(-2e3, -2e3), at(2e3, -2e3), at(2e3, 2e3), at(-2e3, 2e3));
+        let mesh = Mesh::from_triangles([Triangle { v: [a, b, c] }, Triangle { v: [a, c, d] }]);
+        let surface = Surface::new(&mesh);
+        let z: Vec<f64> = (0..=30).map(|i| 0.1 * f64::from(i)).collect();
+        let radius: Vec<f64> = z.iter().map(|&z| (2.95f64.powi(2) - (2.95 - z.min(2.95)).powi(2)).sqrt()).collect();
+        let worn = ToolProfile::new(z, radius).unwrap();
+        let nominal = Nominal { radius: 3.0, corner: 3.0 };
+        let machine = Machine::default();
+        let wear = || Wear {
+            surface: &surface,
+            nominal,
+            worn: &worn,
+            k: machine.kinematics.clone(),
+            options: Options { reach: 5.0 },
+            before: None,
+            totals: Totals::default(),
+            turned: None,
+            seconds: 0.0,
+        };
+        let (mut compared, mut cut, mut corrected) = (0, 0, 0);
+        each_case(&machine, |mut case| {
+            let mut joined = Joined { wear: wear(), path: WholePath::default(), error: None, pieces: 0 };
+            case.run_into(&mut joined);
+            let mut whole = wear();
+            let name = &case.name;
+            match whole.correct(&case.whole.toolpath) {
+                Ok(path) => {
+                    // Debug writes every f64 to the bit.
+                    assert_eq!(format!("{:?}", joined.path.path.moves), format!("{:?}", path.moves), "{name}");
+                    assert_eq!(format!("{:?}", joined.wear.totals), format!("{:?}", whole.totals), "{name}");
+                    let turned = |w: &Wear| w.turned.as_ref().map(|t| t.refusal(name).to_string());
+                    assert_eq!(turned(&joined.wear), turned(&whole), "{name}");
+                    corrected += usize::from(whole.totals.corrected > 0);
+                    compared += 1;
+                }
+                Err(e) => assert_eq!(joined.error, Some(e.to_string()), "{name}"),
+            }
+            cut += usize::from(joined.pieces > 2);
+        });
+        // Pinned, so that the test cannot pass by comparing nothing.
+        assert!(
+            compared >= 100 && cut >= 100 && corrected >= 50,
+            "{compared} compared, {cut} cut, {corrected} corrected"
+        );
+    }
+}

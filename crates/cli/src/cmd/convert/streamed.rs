@@ -29,23 +29,14 @@ pub fn convert(a: &ConvertArgs, name: &str, dialect: Dialect, to: Format) -> Opt
         o.lib.clone_from(&a.lib);
         o.machine.clone_from(&a.machine.machine);
         o.dialect = Some(DialectArg::from(dialect));
-        let (ran, parse_diagnostics, sink) = read_and_run_into(&o, false, |machine, read_in, _| Converting {
-            scale: (a.scale_xy != 1.0 || a.scale_z != 1.0).then_some((a.scale_xy, a.scale_z)),
-            feed: a.feed,
-            speed: a.speed,
-            writer: if read_in == dialect {
+        let (ran, parse_diagnostics, sink) = read_and_run_into(&o, false, |machine, read_in, _| {
+            let writer = if read_in == dialect {
                 write_options(a, to, machine).and_then(|o| Ok(ProgramWriter::new(&o)?))
             } else {
                 Err(anyhow!("read as {read_in}"))
-            },
-            out,
-            tally: Tally::new(&machine.dynamics, &machine.kinematics, false),
-            moves: 0,
-            motion: false,
-            no_speed: false,
-            unscalable: None,
-            last: None,
-            error: None,
+            };
+            let scale = (a.scale_xy != 1.0 || a.scale_z != 1.0).then_some((a.scale_xy, a.scale_z));
+            Converting::new(scale, a.feed, a.speed, writer, machine, out)
         })?;
         // A lathe's machine file reads the program as a lathe's: `convert`
         // reads it as it says.
@@ -101,6 +92,33 @@ struct Converting<W: Write> {
 }
 
 impl<W: Write> Converting<W> {
+    /// The conversion `scale`d (`--scale-xy`, `--scale-z`) with `feed`
+    /// and `speed` where the program has none, by `writer` into `out`,
+    /// summed up on `machine`.
+    fn new(
+        scale: Option<(f64, f64)>,
+        feed: Option<f64>,
+        speed: Option<f64>,
+        writer: Result<ProgramWriter>,
+        machine: &kezuri_machine::Machine,
+        out: W,
+    ) -> Converting<W> {
+        Converting {
+            scale,
+            feed,
+            speed,
+            writer,
+            out,
+            tally: Tally::new(&machine.dynamics, &machine.kinematics, false),
+            moves: 0,
+            motion: false,
+            no_speed: false,
+            unscalable: None,
+            last: None,
+            error: None,
+        }
+    }
+
     fn write(&mut self, piece: &Toolpath) -> Result<()> {
         // Without a writer nothing is written: why is said at the end.
         let Ok(writer) = self.writer.as_mut() else { return Ok(()) };
@@ -155,6 +173,89 @@ impl<W: Write> PathSink for Converting<W> {
         }
         if let Err(e) = self.write(&path) {
             self.error = Some(e);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use kezuri_machine::Machine;
+    use kezuri_nc::write::{program, WriteOptions};
+
+    use super::*;
+    use crate::program::corpus::each_case;
+
+    #[test]
+    fn every_program_converted_in_pieces_is_converted_whole() {
+        // Every program of the repository, run whole and converted as
+        // `convert` converts the whole path, and run again handing its path
+        // on in pieces of one move to the streamed conversion: the same
+        // text to the byte, the same summary, the same refusals.
+        let machine = Machine::default();
+        let ways: [Way; 3] = [
+            (None, None, None, "fanuc"),
+            (Some((2.0, 0.5)), Some(300.0), None, "linuxcnc"),
+            (None, None, Some(900.0), "haas"),
+        ];
+        let (mut compared, mut cut, mut refused) = (0, 0, 0);
+        each_case(&machine, |mut case| {
+            for (scale, feed, speed, post) in ways {
+                let options =
+                    WriteOptions { title: Some("T".into()), setup: None, ..WriteOptions::preset(post).unwrap() };
+                let mut path = case.whole.toolpath.clone();
+                fill_feed_and_speed(&mut path, feed, speed);
+                let kept = path.kept.iter().find(|k| holds_positions(k)).map(|k| k.line);
+                let expected = match (scale, kept) {
+                    (Some(_), Some(_)) => None,
+                    (Some((k, s)), None) => Some(path.scaled(k, s)),
+                    (None, _) => Some(path.clone()),
+                }
+                .map(|p| (program(&p, &options).map_err(|e| e.to_string()), crate::say::program_summary(&p, &machine)));
+                let writer = ProgramWriter::new(&options).map_err(anyhow::Error::from);
+                let mut streamed = Converting::new(scale, feed, speed, writer, &machine, Vec::new());
+                let mut pieces = Counting { sink: &mut streamed, pieces: 0 };
+                case.run_into(&mut pieces);
+                cut += usize::from(pieces.pieces > 2);
+                let name = &case.name;
+                assert_eq!(streamed.motion, path.moves.iter().any(|m| !matches!(m.kind, MoveKind::Dwell(_))), "{name}");
+                assert_eq!(streamed.no_speed, path.moves.iter().any(|m| m.spindle != Spindle::Off && m.speed == 0.0));
+                assert_eq!(streamed.unscalable.as_ref().map(|k| k.line), kept.filter(|_| scale.is_some()), "{name}");
+                let Some((text, summary)) = expected else {
+                    refused += 1;
+                    continue;
+                };
+                let moves = streamed.moves;
+                let written = match (streamed.error, streamed.writer) {
+                    (Some(e), _) => Err(e.to_string()),
+                    (None, Ok(w)) => {
+                        w.finish().map(|end| String::from_utf8(streamed.out).unwrap() + &end).map_err(|e| e.to_string())
+                    }
+                    (None, Err(e)) => Err(e.to_string()),
+                };
+                assert_eq!(written, text, "{name} {post}");
+                if text.is_ok() {
+                    assert_eq!(streamed.tally.summary(moves), summary, "{name} {post}");
+                }
+                compared += 1;
+            }
+        });
+        // Pinned, so that the test cannot pass by comparing nothing.
+        assert!(compared >= 500 && cut >= 300 && refused >= 3, "{compared} compared, {cut} cut, {refused} refused");
+    }
+
+    /// A conversion: the scale, `--feed`, `--speed` and the post.
+    type Way = (Option<(f64, f64)>, Option<f64>, Option<f64>, &'static str);
+
+    /// A sink that counts the pieces it hands on.
+    struct Counting<'a, S> {
+        sink: &'a mut S,
+        pieces: usize,
+    }
+
+    impl<S: PathSink> PathSink for Counting<'_, S> {
+        fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
+            self.sink.take(piece, programmed);
+            self.pieces += 1;
         }
     }
 }
