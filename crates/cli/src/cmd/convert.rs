@@ -216,13 +216,10 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
         usage("--arcs fits G02/G03 arcs, which RML-1 has not: drop --arcs, or write G-code (--to fanuc)");
     }
     // G-code into G-code is written as the run makes it, but where the whole
-    // path is needed: to shorten it, to draw it, or from standard input
-    // (which cannot be read again).
+    // path is needed: to shorten it or to draw it.
     if let (Some(d), false) = (&detected, to == Format::Rml || a.shorten.is_some() || a.view.is_some()) {
-        if a.input != Path::new("-") {
-            if let Some(done) = streamed::convert(a, &name, d.dialect, to) {
-                return done;
-            }
+        if let Some(done) = streamed::convert(a, &name, d.dialect, to, text.clone()) {
+            return done;
         }
     }
     let mut sources = Sources::default();

@@ -218,7 +218,17 @@ pub fn read_and_run_into<S: PathSink + Send>(
     centre: bool,
     make: impl FnOnce(&Machine, Dialect, &Program) -> S,
 ) -> Result<(Ran, Vec<Diagnostic>, S)> {
-    let (ran, diagnostics, sink) = run_program(o, read_program_text(&o.file)?, centre, Some(make))?;
+    run_text_into(o, read_program_text(&o.file)?, centre, make)
+}
+
+/// [`read_and_run_into`] on the program's text, read already.
+pub fn run_text_into<S: PathSink + Send>(
+    o: &RunOptions,
+    text: Arc<dyn TextStore>,
+    centre: bool,
+    make: impl FnOnce(&Machine, Dialect, &Program) -> S,
+) -> Result<(Ran, Vec<Diagnostic>, S)> {
+    let (ran, diagnostics, sink) = run_program(o, text, centre, Some(make))?;
     let sink = sink.ok_or_else(|| anyhow::anyhow!("{}: the run made no sink for its path", o.file.display()))?;
     Ok((ran, diagnostics, sink))
 }

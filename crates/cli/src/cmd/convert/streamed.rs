@@ -6,9 +6,11 @@
 //! end, before anything is written: the output is staged.
 
 use std::io::Write;
+use std::sync::Arc;
 
 use anyhow::{anyhow, bail, Result};
 use kezuri_geom::{Kept, Move, MoveKind, PathSink, Spindle, Toolpath};
+use kezuri_nc::source::TextStore;
 use kezuri_nc::write::ProgramWriter;
 use kezuri_nc::Dialect;
 
@@ -16,20 +18,26 @@ use super::{
     fill_feed_and_speed, format_name, holds_positions, unscalable, warn_cutters, warn_no_speed, write_options,
     ConvertArgs, Format,
 };
-use crate::program::{read_and_run_into, run_options, staged, DialectArg, Tally};
+use crate::program::{run_options, run_text_into, staged, DialectArg, Tally};
 
 /// Converts the G-code program `a.input` (`name`), read in `dialect`, into
 /// the G-code `to`. `None` where it must be converted from the whole path
 /// after all: the machine file's lathe reads it in another dialect than
 /// `convert` does.
-pub fn convert(a: &ConvertArgs, name: &str, dialect: Dialect, to: Format) -> Option<Result<()>> {
+pub fn convert(
+    a: &ConvertArgs,
+    name: &str,
+    dialect: Dialect,
+    to: Format,
+    text: Arc<dyn TextStore>,
+) -> Option<Result<()>> {
     let mut whole = false;
     let done = staged(a.output.as_deref(), |out| {
         let mut o = run_options(&a.input)?;
         o.lib.clone_from(&a.lib);
         o.machine.clone_from(&a.machine.machine);
         o.dialect = Some(DialectArg::from(dialect));
-        let (ran, parse_diagnostics, sink) = read_and_run_into(&o, false, |machine, read_in, _| {
+        let (ran, parse_diagnostics, sink) = run_text_into(&o, text, false, |machine, read_in, _| {
             let writer = if read_in == dialect {
                 write_options(a, to, machine).and_then(|o| Ok(ProgramWriter::new(&o)?))
             } else {
