@@ -53,9 +53,9 @@ awk 'BEGIN { print "z_mm,radius_mm"; for (i = 0; i <= 20; i++) { z = i * 0.05; d
 {
     echo "solid plane"
     for t in "-1e5 -1e5 1e5 -1e5 1e5 1e5" "-1e5 -1e5 1e5 1e5 -1e5 1e5"; do
-        set -- $t
+        read -r x1 y1 x2 y2 x3 y3 <<< "$t"
         echo " facet normal 0 0 1"; echo "  outer loop"
-        echo "   vertex $1 $2 -1"; echo "   vertex $3 $4 -1"; echo "   vertex $5 $6 -1"
+        echo "   vertex $x1 $y1 -1"; echo "   vertex $x2 $y2 -1"; echo "   vertex $x3 $y3 -1"
         echo "  endloop"; echo " endfacet"
     done
     echo "endsolid plane"
