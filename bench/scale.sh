@@ -43,6 +43,24 @@ measure() { # label blocks command...
         "$(awk -v k="$kb" 'BEGIN { print k / 1024 }')" "$rate" "$status"
 }
 
+# What the program transforms need: a thermal model fitted to a made-up drift, a worn 1 mm
+# ball's profile and a plane under the raster for wear apply.
+awk 'BEGIN { print "axis,command_mm,ex_mm,ey_mm,ez_mm"
+    for (a = 0; a < 3; a++) for (c = -4000; c <= 4000; c += 2000)
+        printf "%s,%d,%g,%g,%g\n", substr("XYZ", a + 1, 1), c, 2.5e-6 * c, 5e-3 + 1e-10 * c * c, -1e-7 * c }' > "$work/meas.csv"
+"$bin" thermal fit "$work/meas.csv" --degree 2 -o "$work/model.json" >/dev/null 2>&1
+awk 'BEGIN { print "z_mm,radius_mm"; for (i = 0; i <= 20; i++) { z = i * 0.05; d = z < 0.49 ? z : 0.49; printf "%.3f,%.6f\n", z, sqrt(0.49 * 0.49 - (0.49 - d) * (0.49 - d)) } }' > "$work/worn.csv"
+{
+    echo "solid plane"
+    for t in "-1e5 -1e5 1e5 -1e5 1e5 1e5" "-1e5 -1e5 1e5 1e5 -1e5 1e5"; do
+        read -r x1 y1 x2 y2 x3 y3 <<< "$t"
+        echo " facet normal 0 0 1"; echo "  outer loop"
+        echo "   vertex $x1 $y1 -1"; echo "   vertex $x2 $y2 -1"; echo "   vertex $x3 $y3 -1"
+        echo "  endloop"; echo " endfacet"
+    done
+    echo "endsolid plane"
+} > "$work/plane.stl"
+
 echo "| blocks | command | wall s | user s | sys s | peak MiB | blocks/s |"
 echo "|---|---|---|---|---|---|---|"
 for n in "${sizes[@]}"; do
@@ -53,10 +71,13 @@ for n in "${sizes[@]}"; do
     measure "run --emit csv -o" "$n" "$bin" run "$f" --emit csv -o "$work/out.csv"
     # view still holds the whole path (some 370 bytes a move): past 2e6 blocks it is left out.
     [ "$n" -le 2000000 ] && measure "view" "$n" "$bin" view "$f" -o "$work/page.html"
+    measure "convert -o .ngc" "$n" "$bin" convert "$f" -o "$work/out.ngc"
+    measure "thermal apply -o" "$n" "$bin" thermal apply "$f" --model "$work/model.json" --allow-extrapolation -o "$work/out.nc"
+    measure "wear apply -o" "$n" "$bin" wear apply "$f" --profile "$work/worn.csv" --nominal ball:1 --surface "$work/plane.stl" -o "$work/out.nc"
     if command -v rs274 >/dev/null; then
         # rs274 reads .ngc; the same text as a LinuxCNC program (no O word, no %).
         grep -v '^[%O]' "$f" > "$work/raster.ngc"
         measure "rs274" "$n" rs274 -g "$work/raster.ngc"
     fi
-    rm -f "$f" "$work/out.nc" "$work/out.csv" "$work/page.html" "$work/raster.ngc"
+    rm -f "$f" "$work/out.nc" "$work/out.ngc" "$work/out.csv" "$work/page.html" "$work/raster.ngc"
 done

@@ -2,11 +2,16 @@
 //! toolpath with new end points, written expanded in any dialect, or the
 //! program's own text with only its axis numbers changed (`--keep-text`).
 
-use anyhow::{bail, Result};
-use kezuri_geom::{MoveKind, Toolpath};
+use std::io::Write;
 
-use crate::files::read_text;
-use crate::program::{run_text, stage_toolpath, Origin, Ran, RunOptions, WriteArgs};
+use anyhow::{bail, Result};
+use kezuri_geom::{MoveKind, PathSink, Toolpath};
+
+use crate::files::{read_text, Outputs};
+use crate::program::{
+    comp_refused, read_and_run_into, run_text, stage_toolpath, staged, MissingAxes, Origin, Ran, RunOptions, Streamed,
+    WriteArgs,
+};
 
 /// The program to correct, read and run: its text and the run, refused
 /// with its errors shown, where `check` refuses it, or where it moves an
@@ -22,6 +27,96 @@ pub fn run_to_correct(run: &RunOptions, check: impl FnOnce(&Ran) -> Result<()>) 
         bail!("{name}: line {line}: the program moves {axis}, which the machine has not");
     }
     Ok((text, ran))
+}
+
+/// A correction made piece by piece as the run hands its path on.
+pub trait Correction: Send {
+    /// `piece`, the next piece of the run's path, corrected; its moves
+    /// follow the last piece's.
+    fn correct(&mut self, piece: &Toolpath) -> Result<Toolpath, kezuri_correct::Error>;
+}
+
+/// Whether the corrected program is written as the run hands its path on:
+/// expanded G-code or CSV alone (not `--keep-text`, which rewrites the
+/// program's text, and not with a drawing, a page or RML-1).
+pub fn streams(write: &WriteArgs, keep_text: bool) -> bool {
+    !keep_text && write.streams()
+}
+
+/// The program `run` corrected by the correction `make` gives (from the
+/// machine) and written, titled with `what`, as the run hands its path on:
+/// nothing of the path is held but the piece at hand. It is refused as
+/// [`run_to_correct`] refuses it, then where the correction fails, then
+/// where `judge` refuses the correction done; nothing is written then.
+/// Returns the outputs to commit (the program, the DPRNT file) and the
+/// correction after its last piece.
+pub fn stream_corrected<C: Correction>(
+    run: &RunOptions,
+    write: &WriteArgs,
+    what: &str,
+    make: impl FnOnce(&kezuri_machine::Machine) -> C,
+    check: impl FnOnce(&Ran) -> Result<()>,
+    judge: impl FnOnce(&C) -> Result<()>,
+) -> Result<(Outputs, C)> {
+    let name = run.file.display().to_string();
+    let mut write = write.clone();
+    write.digits = Some(write_digits(&write));
+    let title = format!("{} {what}", crate::program::program_title(&run.file));
+    let (outputs, made) = staged(write.output(), |to| {
+        let (mut ran, parse_diagnostics, sink) = read_and_run_into(run, false, |machine, dialect, program| {
+            let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
+            Correcting {
+                correction: make(machine),
+                writer: Streamed::new(&write, machine, &run.file, &title, uvw, to),
+                axes: MissingAxes::new(&machine.kinematics),
+                error: None,
+                compensated: false,
+            }
+        })?;
+        ran.shown(&parse_diagnostics, &run.file, "nothing written")?;
+        if sink.compensated {
+            return Err(comp_refused(&run.file, "a correction moves"));
+        }
+        check(&ran)?;
+        if let Some((axis, line)) = sink.axes.found.first() {
+            bail!("{name}: line {line}: the program moves {axis}, which the machine has not");
+        }
+        if let Some(e) = sink.error {
+            return Err(in_program(&name, e));
+        }
+        judge(&sink.correction)?;
+        sink.writer.finish()?;
+        let dprnt = std::mem::take(&mut ran.outputs);
+        Ok((sink.correction, dprnt))
+    })?;
+    let (mut outputs, (correction, dprnt)) = (outputs, made);
+    outputs.append(dprnt);
+    Ok((outputs, correction))
+}
+
+/// The sink of a streamed correction: each piece corrected, then written.
+struct Correcting<C, W: Write> {
+    correction: C,
+    writer: Streamed<W>,
+    axes: MissingAxes,
+    /// The correction's first error: nothing more is corrected or written.
+    error: Option<kezuri_correct::Error>,
+    /// Whether the run came with a programmed contour (G41/G42).
+    compensated: bool,
+}
+
+impl<C: Correction, W: Write> PathSink for Correcting<C, W> {
+    fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
+        self.compensated |= programmed.is_some();
+        self.axes.add(piece);
+        if self.error.is_some() {
+            return;
+        }
+        match self.correction.correct(piece) {
+            Ok(corrected) => self.writer.take(&corrected, None),
+            Err(e) => self.error = Some(e),
+        }
+    }
 }
 
 /// A correction's error in the program `name`: `{name}: line {n}: …` for

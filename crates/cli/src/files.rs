@@ -37,8 +37,15 @@ pub fn read_text(path: &Path) -> Result<String> {
 }
 
 /// A program's text as [`read_text`] reads it, a large file mapped into
-/// memory instead (read page by page as the parser and the run need it).
+/// memory instead (read page by page as the parser and the run need it),
+/// and large standard input spooled to a temporary file and mapped.
 pub fn read_program_text(path: &Path) -> Result<std::sync::Arc<dyn kezuri_nc::source::TextStore>> {
+    if path == Path::new("-") {
+        return match mapped::spool_stdin()? {
+            Ok(mapped) => Ok(std::sync::Arc::new(mapped)),
+            Err(bytes) => Ok(std::sync::Arc::new(text_of(&bytes).map_err(|why| anyhow::anyhow!("-: {why}"))?)),
+        };
+    }
     match mapped::map_text(path)? {
         Some(mapped) => Ok(std::sync::Arc::new(mapped)),
         None => Ok(std::sync::Arc::new(read_text(path)?)),

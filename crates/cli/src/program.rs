@@ -4,10 +4,12 @@
 
 mod beside;
 mod comment_tools;
+#[cfg(test)]
+pub mod corpus;
 mod emit;
 mod run;
 mod streamed;
-pub use streamed::Streamed;
+pub use streamed::{staged, Streamed};
 mod tally;
 
 pub use emit::{
@@ -15,7 +17,8 @@ pub use emit::{
     Origin, RunTrial, WriteArgs,
 };
 pub use run::{
-    choose_dialect, dialect_settings, library_dir, model_notes, print_label, read_and_run, read_and_run_centre,
-    read_and_run_into, refuse_comp, report_logs, run_text, run_written, whole_units, Ran, RunOptions,
+    choose_dialect, comp_refused, dialect_settings, library_dir, model_notes, print_label, read_and_run,
+    read_and_run_centre, read_and_run_into, refuse_comp, report_logs, run_options, run_text, run_text_into,
+    run_written, whole_units, DialectArg, Ran, RunOptions,
 };
-pub use tally::{missing_axes, Report, Tallied, Tally};
+pub use tally::{missing_axes, MissingAxes, Report, Tallied, Tally};

@@ -293,3 +293,28 @@ fn a_spindle_turned_on_without_a_speed_is_never_s0() {
     let o = kezuri(&["convert", &set]);
     assert!(ok(&o).contains("\nS8000 M03\n") && !stderr(&o).contains("no speed"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_long_program_on_standard_input_converts_as_its_file_does() {
+    // Over 8 MB: standard input is spooled to a temporary file and mapped,
+    // and the conversion streams as a file's does.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("%\nO1000\nG21 G90 G17\nG0 X0 Y0 Z5.\nG1 Z-1. F1200.\n");
+    for k in 0..400_000 {
+        let (row, i) = (k / 1000, k % 1000);
+        let i = if row % 2 == 1 { 999 - i } else { i };
+        text += &format!(
+            "X{:.3} Y{:.3} Z{:.3}\n",
+            f64::from(i) * 0.1,
+            f64::from(row) * 0.5,
+            -1.0 - 0.001 * f64::from(k % 7)
+        );
+    }
+    text += "G0 Z5.\nM30\n%\n";
+    assert!(text.len() > 8 << 20);
+    let file = write(dir.path(), "long.nc", &text);
+    let from_file = ok(&kezuri(&["convert", &file, "--to", "linuxcnc", "--scale-xy", "2"]));
+    let from_stdin = ok(&kezuri_stdin(&["convert", "-", "--to", "linuxcnc", "--scale-xy", "2"], &text));
+    assert_eq!(from_stdin, from_file.replacen("(LONG.NC)", "(-)", 1));
+    assert!(from_file.contains("(LONG.NC)") && from_file.lines().count() > 400_000, "{}", &from_file[..300]);
+}

@@ -25,7 +25,7 @@ pub mod model_file;
 mod program;
 
 pub use measurement::{is_warm, linear_axis, stop_error, warm_less_cold};
-pub use program::{correct_moves, Corrected, Solver, Summary, MOST_EXTRAPOLATED};
+pub use program::{correct_moves, Corrected, Correcting, Solver, Summary, MOST_EXTRAPOLATED};
 
 /// One measurement: the command on one axis and the error there.
 #[derive(Clone, Copy, Debug, PartialEq)]

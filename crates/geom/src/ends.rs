@@ -19,7 +19,15 @@ pub enum ArcCentre {
 /// `path` with each move's end set to `ends` (one per move; dwells stay
 /// where the tool is) and each start to the end before.
 pub fn set_ends(path: &mut Toolpath, ends: &[Axes], arcs: ArcCentre) {
-    let mut start: Option<Axes> = None;
+    set_ends_after(path, ends, arcs, None);
+}
+
+/// [`set_ends`] on a piece of a path (a run's, handed on): `before` is
+/// where the piece before left the tool (its last corrected end), the
+/// start of this piece's first move. Returns where this piece leaves it,
+/// for the next: the pieces so corrected are the whole path corrected.
+pub fn set_ends_after(path: &mut Toolpath, ends: &[Axes], arcs: ArcCentre, before: Option<Axes>) -> Option<Axes> {
+    let mut start = before;
     for (m, end) in path.moves.iter_mut().zip(ends) {
         if let MoveKind::Dwell(_) = m.kind {
             if let Some(s) = start {
@@ -56,4 +64,5 @@ pub fn set_ends(path: &mut Toolpath, ends: &[Axes], arcs: ArcCentre) {
         m.end = *end;
         start = Some(*end);
     }
+    start
 }

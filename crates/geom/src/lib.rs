@@ -45,7 +45,7 @@ mod tool_profile;
 mod toolpath;
 
 pub use alloc::LargePages;
-pub use ends::{set_ends, ArcCentre};
+pub use ends::{set_ends, set_ends_after, ArcCentre};
 pub use error::{Error, ErrorKind};
 pub use heightfield::{Heightfield, Slopes, BLOCK};
 pub use index::XyIndex;

@@ -8,15 +8,17 @@ use clap::{Args, ValueEnum};
 use kezuri_cam::cutter::named::{cutter_warnings, in_comments};
 use kezuri_cam::shorten::{shorten, ShortenOptions};
 use kezuri_cam::Cutter;
-use kezuri_geom::{MoveKind, Spindle, Toolpath};
+use kezuri_geom::{Kept, MoveKind, Spindle, Toolpath};
 use kezuri_nc::interp;
 use kezuri_nc::rml::{self, RmlOptions};
 use kezuri_nc::write::{program, WriteOptions};
 use kezuri_nc::{comments, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
-use crate::files::{read_text, Folder, Outputs};
+use crate::files::{read_program_text, Folder, Outputs};
 use crate::machine::MachineArg;
 use crate::program::{choose_dialect, dialect_settings, post_options, warn_rml_drops};
+
+mod streamed;
 
 /// A program format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -200,9 +202,9 @@ fn guess_to(output: Option<&Path>) -> Format {
 
 /// `kezuri convert`.
 pub fn run(a: &ConvertArgs) -> Result<()> {
-    let text = read_text(&a.input)?;
+    let text = read_program_text(&a.input)?;
     let name = if a.input == Path::new("-") { "<stdin>".to_string() } else { a.input.display().to_string() };
-    let (from, detected) = input_format(a.dialect, &a.input, &text)?;
+    let (from, detected) = input_format(a.dialect, &a.input, text.text())?;
     if let Some(d) = &detected {
         crate::say::note!("{name}: {d}");
     }
@@ -213,8 +215,15 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     if a.arcs && to == Format::Rml {
         usage("--arcs fits G02/G03 arcs, which RML-1 has not: drop --arcs, or write G-code (--to fanuc)");
     }
+    // G-code into G-code is written as the run makes it, but where the whole
+    // path is needed: to shorten it or to draw it.
+    if let (Some(d), false) = (&detected, to == Format::Rml || a.shorten.is_some() || a.view.is_some()) {
+        if let Some(done) = streamed::convert(a, &name, d.dialect, to, text.clone()) {
+            return done;
+        }
+    }
     let mut sources = Sources::default();
-    let id = sources.add(SourceFile::new(name.clone(), text));
+    let id = sources.add(SourceFile::stored(name.clone(), text));
     let mut path = match from {
         Format::Rml => read_rml(a, &sources, id)?,
         _ => run_gcode(a, detected.map_or(Dialect::Fanuc, |d| d.dialect), &mut sources, id)?,
@@ -224,24 +233,13 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     }
     fill_feed_and_speed(&mut path, a.feed, a.speed);
     if to != Format::Rml && path.moves.iter().any(|m| m.spindle != Spindle::Off && m.speed == 0.0) {
-        eprintln!(
-            "warning: {name}: the spindle is turned on with no speed (RML-1 !MC1, or M03 without S): the program \
-             says M03 without S, so the control's S stands; give --speed RPM for one"
-        );
+        warn_no_speed(&name);
     }
     if a.scale_xy != 1.0 || a.scale_z != 1.0 {
-        let named = if from == Format::Rml { Vec::new() } else { in_comments(comments(&sources.get(id).text)) };
-        for line in cutter_warnings(a.tool, &named, a.scale_xy, a.scale_z) {
-            eprintln!("{line}");
-        }
-        // Blocks kept as written hold positions (G10, G92, G52, a tapping
-        // cycle) that scaling cannot reach.
-        if let Some(k) = path.kept.iter().find(|k| k.sets_offsets || k.moves > 0) {
-            bail!(
-                "{name}: line {} ('{}') holds positions kezuri keeps as written: the program cannot be scaled",
-                k.line,
-                k.text.lines().next().unwrap_or("")
-            );
+        let text = (from != Format::Rml).then(|| sources.get(id).text.clone());
+        warn_cutters(a, text.as_deref());
+        if let Some(k) = path.kept.iter().find(|k| holds_positions(k)) {
+            return Err(unscalable(&name, k));
         }
         path = path.scaled(a.scale_xy, a.scale_z);
     }
@@ -258,19 +256,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
             rml::write_rml(&path, &options)?
         }
         Format::Fanuc | Format::Haas | Format::Linuxcnc | Format::Grbl => {
-            let name = |t: Format| match t {
-                Format::Haas => "haas",
-                Format::Linuxcnc => "linuxcnc",
-                Format::Grbl => "grbl",
-                _ => "fanuc",
-            };
-            // --to, or without --post the format the output's name says.
-            let named = a.to.or(a.post.is_none().then_some(to)).map(name);
-            let post = post_options(a.post.as_deref(), named, &machine, None)?;
-            let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
-            // A converted program keeps its own start, tool changes and end.
-            let options = WriteOptions { digits: a.digits, title: Some(title), setup: None, ..post };
-            program(&path, &options)?
+            program(&path, &write_options(a, to, &machine)?)?
         }
     };
     let mut outputs = Outputs::new();
@@ -291,17 +277,72 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     }
     outputs.add(a.output.as_deref(), out.as_bytes())?;
     outputs.commit()?;
-    let format = match to {
+    crate::say::wrote_program(a.output.as_deref(), &format!("{}; ", format_name(to)), &path, &machine);
+    Ok(())
+}
+
+/// How the summary names the output's format.
+fn format_name(to: Format) -> &'static str {
+    match to {
         Format::Rml => "RML-1",
         Format::Fanuc => "Fanuc G-code",
         Format::Haas => "Haas G-code",
         Format::Linuxcnc => "LinuxCNC G-code",
         Format::Grbl => "GRBL G-code",
-    };
-    crate::say::wrote_program(a.output.as_deref(), &format!("{format}; "), &path, &machine);
-    Ok(())
+    }
 }
 
+/// How G-code `to` is written on `machine`: `--post`, else `--to` (or the
+/// output's name), with `--digits`; the program keeps its own start, tool
+/// changes and end.
+fn write_options(a: &ConvertArgs, to: Format, machine: &kezuri_machine::Machine) -> Result<WriteOptions> {
+    let name = |t: Format| match t {
+        Format::Haas => "haas",
+        Format::Linuxcnc => "linuxcnc",
+        Format::Grbl => "grbl",
+        _ => "fanuc",
+    };
+    // --to, or without --post the format the output's name says.
+    let named = a.to.or(a.post.is_none().then_some(to)).map(name);
+    let post = post_options(a.post.as_deref(), named, machine, None)?;
+    let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+    Ok(WriteOptions { digits: a.digits, title: Some(title), setup: None, ..post })
+}
+
+/// The warning of a spindle turned on with no speed.
+fn warn_no_speed(name: &str) {
+    eprintln!(
+        "warning: {name}: the spindle is turned on with no speed (RML-1 !MC1, or M03 without S): the program says \
+         M03 without S, so the control's S stands; give --speed RPM for one"
+    );
+}
+
+/// The warnings of a scaled program's cutter (`--tool`, or one its G-code
+/// `text` names in a comment).
+fn warn_cutters(a: &ConvertArgs, text: Option<&str>) {
+    let named = text.map(|t| in_comments(comments(t))).unwrap_or_default();
+    for line in cutter_warnings(a.tool, &named, a.scale_xy, a.scale_z) {
+        eprintln!("{line}");
+    }
+}
+
+/// Whether a block kept as written holds positions (G10, G92, G52, a
+/// tapping cycle) that scaling cannot reach.
+fn holds_positions(k: &Kept) -> bool {
+    k.sets_offsets || k.moves > 0
+}
+
+/// Why the program `name` cannot be scaled: the block `k`.
+fn unscalable(name: &str, k: &Kept) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{name}: line {} ('{}') holds positions kezuri keeps as written: the program cannot be scaled",
+        k.line,
+        k.text.lines().next().unwrap_or("")
+    )
+}
+
+/// Prints the diagnostics, each followed by a blank line; returns the
+/// errors among them.
 fn print_diagnostics<'a>(sources: &Sources, diagnostics: impl IntoIterator<Item = &'a Diagnostic>) -> usize {
     let mut errors = 0;
     for d in diagnostics {

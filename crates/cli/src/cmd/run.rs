@@ -2,9 +2,8 @@
 
 use anyhow::{anyhow, Result};
 
-use crate::files::Outputs;
 use crate::program::{
-    located, model_notes, program_title, read_and_run, read_and_run_centre, read_and_run_into, write_program,
+    located, model_notes, program_title, read_and_run, read_and_run_centre, read_and_run_into, staged, write_program,
     written_path, Origin, RunOptions, Streamed, WriteArgs,
 };
 
@@ -46,43 +45,28 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
 /// written from the whole path after all: the run read values from the
 /// machine file, which the written program's header notes.
 fn run_streamed(o: &RunOptions, w: &WriteArgs) -> Option<Result<()>> {
-    let mut out = Outputs::new();
-    let mut outcome: Option<Result<(Outputs, String)>> = None;
     let mut whole = false;
-    let staged = out.add_with(w.output(), |to| {
-        let done = (|| {
-            let title = program_title(&o.file);
-            let (mut ran, parse_diagnostics, written) =
-                read_and_run_into(o, w.apply_comp, |machine, dialect, program| {
-                    let w = w.for_program(machine, dialect);
-                    let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
-                    Streamed::new(&w, machine, &o.file, &title, uvw, &mut *to)
-                })?;
-            // Before anything is said: the whole path's run says it all.
-            if !model_notes(&ran.outcome).is_empty() {
-                whole = true;
-                return Err(anyhow!("written from the whole path"));
-            }
-            ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
-            let (_, summary) = written.finish().map_err(|e| located(&ran, e))?;
-            Ok((std::mem::take(&mut ran.outputs), summary))
-        })();
-        let failed = done.is_err();
-        outcome = Some(done);
-        if failed {
-            return Err(std::io::Error::other("the run did not write its program"));
+    let done = staged(w.output(), |to| {
+        let title = program_title(&o.file);
+        let (mut ran, parse_diagnostics, written) = read_and_run_into(o, w.apply_comp, |machine, dialect, program| {
+            let w = w.for_program(machine, dialect);
+            let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
+            Streamed::new(&w, machine, &o.file, &title, uvw, &mut *to)
+        })?;
+        // Before anything is said: the whole path's run says it all.
+        if !model_notes(&ran.outcome).is_empty() {
+            whole = true;
+            return Err(anyhow!("written from the whole path"));
         }
-        Ok(())
+        ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
+        let (_, summary) = written.finish().map_err(|e| located(&ran, e))?;
+        Ok((std::mem::take(&mut ran.outputs), summary))
     });
     if whole {
         return None;
     }
-    Some(match (outcome, staged) {
-        (Some(Ok((dprnt, summary))), Ok(())) => {
-            out.append(dprnt);
-            out.commit().map(|()| crate::say::note!("wrote {}: {summary}", crate::say::shown(w.output())))
-        }
-        (Some(Err(e)), _) | (_, Err(e)) => Err(e),
-        (None, Ok(())) => Err(anyhow!("the program was not written")),
-    })
+    Some(done.and_then(|(mut out, (dprnt, summary))| {
+        out.append(dprnt);
+        out.commit().map(|()| crate::say::note!("wrote {}: {summary}", crate::say::shown(w.output())))
+    }))
 }

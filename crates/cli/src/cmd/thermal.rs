@@ -7,13 +7,13 @@ use clap::{Args, Subcommand};
 use kezuri_correct::edge::find_edge;
 use kezuri_correct::thermal::model_file;
 use kezuri_correct::thermal::{self, correct_moves, fit, is_warm, linear_axis, stop_error, warm_less_cold};
-use kezuri_correct::thermal::{Corrected, Measurement};
-use kezuri_geom::{set_ends, ArcCentre};
+use kezuri_correct::thermal::{Corrected, Correcting, Measurement, Summary};
+use kezuri_geom::{set_ends, set_ends_after, ArcCentre, Axes, Toolpath};
 use kezuri_machine::Machine;
 use kezuri_nc::thermal_plan::{Station, ThermalPlan};
 use serde_json::json;
 
-use crate::corrected::{in_program, run_to_correct, write_corrected};
+use crate::corrected::{in_program, run_to_correct, stream_corrected, streams, write_corrected, Correction};
 use crate::files::{read_text, write_output};
 use crate::program::{RunOptions, WriteArgs};
 use crate::table::{read_columns, Table};
@@ -446,25 +446,42 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     }
     let shown = a.model.display().to_string();
     let file = model_file::from_json(&read_text(&a.model)?).with_context(|| shown.clone())?;
-    // The model's machine is checked before the program's axes against it.
-    let (text, mut ran) =
-        run_to_correct(&a.run, |ran| file.check_machine(&ran.machine.kinematics).with_context(|| shown.clone()))?;
-    let mut path = ran.outcome.toolpath.clone();
-    let t0 = std::time::Instant::now();
     let solver = match a.solver {
         Solver::Newton => thermal::Solver::Newton,
         Solver::Grid => thermal::Solver::Grid,
     };
-    let Corrected { ends, summary } =
-        correct_moves(&file.model, &ran.machine.kinematics, &path.moves, solver).map_err(|e| in_program(&name, e))?;
-    let seconds = t0.elapsed().as_secs_f64();
-    if let Some(warning) = summary.extrapolation(a.allow_extrapolation).with_context(|| name.clone())? {
-        eprintln!("warning: {name}: {warning}");
-    }
-    set_ends(&mut path, &ends, ArcCentre::FollowsEnd);
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR THERMAL DRIFT", &mut ran)?;
+    // The model's machine is checked before the program's axes against it.
+    let check = |ran: &crate::program::Ran| file.check_machine(&ran.machine.kinematics).with_context(|| shown.clone());
+    let (points, summary, seconds) = if streams(&a.write, a.keep_text) {
+        let (outputs, drift) = stream_corrected(
+            &a.run,
+            &a.write,
+            WHAT,
+            |machine| Drift {
+                correcting: Correcting::new(&file.model, machine.kinematics.clone(), solver),
+                before: None,
+                points: 0,
+                seconds: 0.0,
+            },
+            check,
+            |drift| said_extrapolation(&drift.correcting.summary, a.allow_extrapolation, &name),
+        )?;
+        outputs.commit()?;
+        (drift.points, drift.correcting.summary, drift.seconds)
+    } else {
+        let (text, mut ran) = run_to_correct(&a.run, check)?;
+        let mut path = ran.outcome.toolpath.clone();
+        let t0 = std::time::Instant::now();
+        let Corrected { ends, summary } = correct_moves(&file.model, &ran.machine.kinematics, &path.moves, solver)
+            .map_err(|e| in_program(&name, e))?;
+        let seconds = t0.elapsed().as_secs_f64();
+        said_extrapolation(&summary, a.allow_extrapolation, &name)?;
+        set_ends(&mut path, &ends, ArcCentre::FollowsEnd);
+        write_corrected(&a.run, &a.write, a.keep_text, &text, &path, WHAT, &mut ran)?;
+        (ends.len(), summary, seconds)
+    };
     let v = json!({
-        "points": ends.len(),
+        "points": points,
         "max_correction_mm": summary.largest_correction,
         "max_residual_mm": summary.largest_residual,
         "arc_correction_change_mm": summary.arc_correction_change,
@@ -479,11 +496,119 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             "wrote {}: {name}, {} points corrected in {:.3} ms; largest correction {:.4} mm, largest residual \
              {:.2e} mm",
             crate::say::shown(a.write.output()),
-            ends.len(),
+            points,
             seconds * 1e3,
             summary.largest_correction,
             summary.largest_residual
         );
     }
     Ok(())
+}
+
+/// The title's words of a program corrected for thermal drift.
+const WHAT: &str = "CORRECTED FOR THERMAL DRIFT";
+
+/// The warning of the points whose correction is extrapolated, or the
+/// refusal of too many.
+fn said_extrapolation(summary: &Summary, allowed: bool, name: &str) -> Result<()> {
+    if let Some(warning) = summary.extrapolation(allowed).with_context(|| name.to_string())? {
+        eprintln!("warning: {name}: {warning}");
+    }
+    Ok(())
+}
+
+/// The thermal correction of a run's path, piece by piece.
+struct Drift<'a> {
+    correcting: Correcting<'a>,
+    /// The last corrected end of the pieces so far.
+    before: Option<Axes>,
+    /// Moves corrected (returns to the reference point and dwells kept).
+    points: usize,
+    /// Time spent correcting.
+    seconds: f64,
+}
+
+impl Correction for Drift<'_> {
+    fn correct(&mut self, piece: &Toolpath) -> Result<Toolpath, kezuri_correct::Error> {
+        let t0 = std::time::Instant::now();
+        let ends = self.correcting.ends(&piece.moves)?;
+        self.seconds += t0.elapsed().as_secs_f64();
+        let mut corrected = piece.clone();
+        self.before = set_ends_after(&mut corrected, &ends, ArcCentre::FollowsEnd, self.before);
+        self.points += ends.len();
+        Ok(corrected)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::{PathSink, WholePath};
+    use kezuri_machine::Machine;
+
+    use super::*;
+    use crate::program::corpus::each_case;
+
+    /// The corrected pieces joined, or the correction's first error.
+    struct Joined<'a> {
+        drift: Drift<'a>,
+        path: WholePath,
+        error: Option<String>,
+        pieces: usize,
+    }
+
+    impl PathSink for Joined<'_> {
+        fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
+            self.pieces += 1;
+            if self.error.is_none() {
+                match self.drift.correct(piece) {
+                    Ok(corrected) => self.path.take(&corrected, None),
+                    Err(e) => self.error = Some(e.to_string()),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_program_corrected_in_pieces_is_corrected_whole() {
+        // A drift that grows along each axis, measured over ±100 mm.
+        let mut ms = Vec::new();
+        for axis in 0..3 {
+            for k in -4..=4 {
+                let command = 25.0 * f64::from(k);
+                let error = [1e-4 * command, 5e-3 + 2e-7 * command * command, -3e-5 * command];
+                ms.push(Measurement { axis, b_deg: 0.0, command, error });
+            }
+        }
+        let model = thermal::fit(&ms, Some(2)).unwrap();
+        let machine = Machine::default();
+        let (mut compared, mut cut, mut failed) = (0, 0, 0);
+        each_case(&machine, |mut case| {
+            let k = machine.kinematics.clone();
+            let correcting = Correcting::new(&model, k, thermal::Solver::Newton);
+            let drift = Drift { correcting, before: None, points: 0, seconds: 0.0 };
+            let mut joined = Joined { drift, path: WholePath::default(), error: None, pieces: 0 };
+            case.run_into(&mut joined);
+            let path = &case.whole.toolpath;
+            let name = &case.name;
+            match correct_moves(&model, &machine.kinematics, &path.moves, thermal::Solver::Newton) {
+                Ok(Corrected { ends, summary }) => {
+                    let mut whole = path.clone();
+                    set_ends(&mut whole, &ends, ArcCentre::FollowsEnd);
+                    // Debug writes every f64 to the bit.
+                    assert_eq!(format!("{:?}", joined.path.path.moves), format!("{:?}", whole.moves), "{name}");
+                    assert_eq!(joined.path.path.kept, whole.kept, "{name}");
+                    assert_eq!(format!("{:?}", joined.drift.correcting.summary), format!("{summary:?}"), "{name}");
+                    assert_eq!(joined.drift.points, ends.len(), "{name}");
+                    compared += 1;
+                }
+                Err(e) => {
+                    assert_eq!(joined.error, Some(e.to_string()), "{name}");
+                    failed += 1;
+                }
+            }
+            cut += usize::from(joined.pieces > 2);
+        });
+        // Pinned, so that the test cannot pass by comparing nothing.
+        assert!(compared >= 150 && cut >= 100, "{compared} compared, {cut} cut, {failed} failed");
+    }
 }

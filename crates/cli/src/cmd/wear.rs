@@ -6,11 +6,12 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
 use kezuri_cam::Cutter;
+use kezuri_correct::kinematics::Kinematics;
 use kezuri_correct::wear::{correct_moves, Corrected, Nominal, Options, Summary, Surface};
-use kezuri_geom::{set_ends, ArcCentre, MoveKind, ToolProfile};
+use kezuri_geom::{set_ends_after, ArcCentre, Axes, MoveKind, ToolProfile, Toolpath};
 use serde_json::json;
 
-use crate::corrected::{in_program, run_to_correct, write_corrected};
+use crate::corrected::{in_program, run_to_correct, stream_corrected, streams, write_corrected, Correction};
 use crate::program::{RunOptions, WriteArgs};
 
 /// `kezuri wear …`.
@@ -122,70 +123,70 @@ fn apply(a: &ApplyArgs) -> Result<()> {
     };
     let stl = a.surface.display().to_string();
     let mesh = crate::surface::read_mesh(&a.surface, a.units)?;
-    let (text, mut ran) = run_to_correct(&a.run, |_| Ok(()))?;
-    let mut path = ran.outcome.toolpath.clone();
     let surface = Surface::new(&mesh);
     let options = Options { reach: a.reach };
-    let t0 = std::time::Instant::now();
-    let Corrected { ends, summary } = correct_moves(&surface, nominal, &worn, &ran.machine.kinematics, &path, &options)
-        .map_err(|e| in_program(&name, e))?;
-    let seconds = t0.elapsed().as_secs_f64();
-    let Summary {
-        corrected,
-        along_axis,
-        largest_correction: largest,
-        largest_residual: worst,
-        largest_error_before: worst_before,
-        far,
-        gouging: gouges,
-        square,
-    } = summary;
-    if corrected == 0 && !gouges.is_empty() && far.is_empty() {
-        bail!("{name}: every cutting point cuts into {stl}: do its triangles face inward (check the STL's winding)?");
-    }
-    if corrected == 0 {
-        bail!("{name}: no cutting point within {} mm of {stl}: is the part in program coordinates?", a.reach);
-    }
-    set_ends(&mut path, &ends, ArcCentre::OnChordBisector);
-    // An arc whose ends are corrected differently must still turn the same
-    // way by about the same angle (a full circle entered from a lead-in
-    // would otherwise shrink to a sliver).
-    for (m, was) in path.moves.iter().zip(&ran.outcome.toolpath.moves) {
-        if let (MoveKind::Arc(arc), MoveKind::Arc(old)) = (m.kind, was.kind) {
-            let (turn, old_turn) = (arc.sweep(m.start, m.end), old.sweep(was.start, was.end));
-            if (turn - old_turn).abs() > 0.01 * old_turn.max(0.1) {
-                bail!(
-                    "{name}: line {}: the arc's ends need different corrections and it would turn {:.2}° instead of \
-                     {:.2}°: program the full circle as two arcs, or this arc as lines",
-                    m.line,
-                    turn.to_degrees(),
-                    old_turn.to_degrees()
-                );
-            }
+    // Refused where nothing was corrected: the surface is not where the program cuts.
+    let judge = |totals: &Totals| {
+        if totals.corrected == 0 && totals.gouges.count > 0 && totals.far.count == 0 {
+            bail!(
+                "{name}: every cutting point cuts into {stl}: do its triangles face inward (check the STL's winding)?"
+            );
         }
-    }
-    write_corrected(&a.run, &a.write, a.keep_text, &text, &path, "CORRECTED FOR TOOL WEAR", &mut ran)?;
-    if let Some(&(line, d)) = gouges.first() {
+        if totals.corrected == 0 {
+            bail!("{name}: no cutting point within {} mm of {stl}: is the part in program coordinates?", a.reach);
+        }
+        Ok(())
+    };
+    let wear = |k| Wear {
+        surface: &surface,
+        nominal,
+        worn: &worn,
+        k,
+        options,
+        before: None,
+        totals: Totals::default(),
+        turned: None,
+        seconds: 0.0,
+    };
+    let wear = if streams(&a.write, a.keep_text) {
+        let judged =
+            |w: &Wear| judge(&w.totals).and_then(|()| w.turned.as_ref().map_or(Ok(()), |t| Err(t.refusal(&name))));
+        let (outputs, wear) =
+            stream_corrected(&a.run, &a.write, WHAT, |machine| wear(machine.kinematics.clone()), |_| Ok(()), judged)?;
+        outputs.commit()?;
+        wear
+    } else {
+        let (text, mut ran) = run_to_correct(&a.run, |_| Ok(()))?;
+        let mut wear = wear(ran.machine.kinematics.clone());
+        let path = wear.correct(&ran.outcome.toolpath).map_err(|e| in_program(&name, e))?;
+        judge(&wear.totals)?;
+        if let Some(turned) = &wear.turned {
+            return Err(turned.refusal(&name));
+        }
+        write_corrected(&a.run, &a.write, a.keep_text, &text, &path, WHAT, &mut ran)?;
+        wear
+    };
+    let Totals { corrected, along_axis, largest, worst, worst_before, far, gouges, square } = wear.totals;
+    let seconds = wear.seconds;
+    if let Some(&(line, d)) = gouges.first.first() {
         eprintln!(
             "warning: {name}: {} point(s) where the new tool itself cuts more than {} mm into the surface (first at \
              line {line}, {d:.4} mm): kept as programmed",
-            gouges.len(),
-            a.reach
+            gouges.count, a.reach
         );
     }
-    if let Some(&(line, e)) = square.first() {
+    if let Some(&(line, e)) = square.first.first() {
         eprintln!(
             "warning: {name}: {} point(s) fed square into a wall along the tool (first at line {line}, error \
              {e:.4} mm): no short correction normal to the feed; kept as programmed",
-            square.len()
+            square.count
         );
     }
-    if let Some(&line) = far.first() {
+    if let Some(&line) = far.first.first() {
         eprintln!(
             "warning: {name}: {} cutting point(s) farther than {} mm from the surface (first at line {line}): kept as \
              programmed",
-            far.len(),
-            a.reach
+            far.count, a.reach
         );
     }
     if a.json {
@@ -196,10 +197,10 @@ fn apply(a: &ApplyArgs) -> Result<()> {
             "max_error_before_mm": worst_before,
             "seconds": seconds,
             "along_axis_points": along_axis,
-            "kept_far_points": far.len(),
-            "kept_gouging_points": gouges.len(),
-            "kept_square_points": square.len(),
-            "far_lines": far.iter().take(20).collect::<Vec<_>>(),
+            "kept_far_points": far.count,
+            "kept_gouging_points": gouges.count,
+            "kept_square_points": square.count,
+            "far_lines": far.first,
         });
         println!("{v}");
     } else {
@@ -215,4 +216,193 @@ fn apply(a: &ApplyArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The title's words of a program corrected for tool wear.
+const WHAT: &str = "CORRECTED FOR TOOL WEAR";
+
+/// Points kept as programmed, of one kind: how many, and the first few
+/// (those `--json` lists).
+#[derive(Debug)]
+struct KeptPoints<T> {
+    count: usize,
+    first: Vec<T>,
+}
+
+impl<T> Default for KeptPoints<T> {
+    fn default() -> Self {
+        KeptPoints { count: 0, first: Vec::new() }
+    }
+}
+
+impl<T> KeptPoints<T> {
+    /// Most points listed.
+    const LISTED: usize = 20;
+
+    fn add(&mut self, found: Vec<T>) {
+        self.count += found.len();
+        let room = Self::LISTED.saturating_sub(self.first.len());
+        self.first.extend(found.into_iter().take(room));
+    }
+}
+
+/// What the correction came to, over the pieces so far.
+#[derive(Debug, Default)]
+struct Totals {
+    corrected: usize,
+    along_axis: usize,
+    largest: f64,
+    worst: f64,
+    worst_before: f64,
+    far: KeptPoints<u32>,
+    gouges: KeptPoints<(u32, f64)>,
+    square: KeptPoints<(u32, f64)>,
+}
+
+impl Totals {
+    fn add(&mut self, s: Summary) {
+        self.corrected += s.corrected;
+        self.along_axis += s.along_axis;
+        self.largest = self.largest.max(s.largest_correction);
+        self.worst = self.worst.max(s.largest_residual);
+        self.worst_before = self.worst_before.max(s.largest_error_before);
+        self.far.add(s.far);
+        self.gouges.add(s.gouging);
+        self.square.add(s.square);
+    }
+}
+
+/// An arc whose corrected ends would make it turn another angle: its line,
+/// and the turns after and before, radians.
+struct Turned(u32, f64, f64);
+
+impl Turned {
+    fn refusal(&self, name: &str) -> anyhow::Error {
+        let Turned(line, turn, old_turn) = *self;
+        anyhow::anyhow!(
+            "{name}: line {line}: the arc's ends need different corrections and it would turn {:.2}° instead of \
+             {:.2}°: program the full circle as two arcs, or this arc as lines",
+            turn.to_degrees(),
+            old_turn.to_degrees()
+        )
+    }
+}
+
+/// The wear correction of a run's path, piece by piece (or whole).
+struct Wear<'a> {
+    surface: &'a Surface<'a>,
+    nominal: Nominal,
+    worn: &'a ToolProfile,
+    k: Kinematics,
+    options: Options,
+    /// The last corrected end of the pieces so far.
+    before: Option<Axes>,
+    totals: Totals,
+    /// The first arc that would turn another angle.
+    turned: Option<Turned>,
+    /// Time spent correcting.
+    seconds: f64,
+}
+
+impl Correction for Wear<'_> {
+    fn correct(&mut self, piece: &Toolpath) -> Result<Toolpath, kezuri_correct::Error> {
+        let t0 = std::time::Instant::now();
+        let Corrected { ends, summary } =
+            correct_moves(self.surface, self.nominal, self.worn, &self.k, piece, &self.options)?;
+        self.seconds += t0.elapsed().as_secs_f64();
+        self.totals.add(summary);
+        let mut path = piece.clone();
+        self.before = set_ends_after(&mut path, &ends, ArcCentre::OnChordBisector, self.before);
+        // An arc whose ends are corrected differently must still turn the same
+        // way by about the same angle (a full circle entered from a lead-in
+        // would otherwise shrink to a sliver).
+        for (m, was) in path.moves.iter().zip(&piece.moves) {
+            if let (MoveKind::Arc(arc), MoveKind::Arc(old), None) = (m.kind, was.kind, &self.turned) {
+                let (turn, old_turn) = (arc.sweep(m.start, m.end), old.sweep(was.start, was.end));
+                if (turn - old_turn).abs() > 0.01 * old_turn.max(0.1) {
+                    self.turned = Some(Turned(m.line, turn, old_turn));
+                }
+            }
+        }
+        Ok(path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use kezuri_geom::{Mesh, PathSink, Triangle, Vec3, WholePath};
+    use kezuri_machine::Machine;
+
+    use super::*;
+    use crate::program::corpus::each_case;
+
+    /// The corrected pieces joined, or the correction's first error.
+    struct Joined<'a> {
+        wear: Wear<'a>,
+        path: WholePath,
+        error: Option<String>,
+        pieces: usize,
+    }
+
+    impl PathSink for Joined<'_> {
+        fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
+            self.pieces += 1;
+            if self.error.is_none() {
+                match self.wear.correct(piece) {
+                    Ok(corrected) => self.path.take(&corrected, None),
+                    Err(e) => self.error = Some(e.to_string()),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_program_corrected_in_pieces_is_corrected_whole() {
+        // A tilted plane under every program, a worn 6 mm ball.
+        let at = |x: f64, y: f64| Vec3::new(x, y, -1.0 + 0.01 * x - 0.02 * y);
+        let (a, b, c, d) = (at(-2e3, -2e3), at(2e3, -2e3), at(2e3, 2e3), at(-2e3, 2e3));
+        let mesh = Mesh::from_triangles([Triangle { v: [a, b, c] }, Triangle { v: [a, c, d] }]);
+        let surface = Surface::new(&mesh);
+        let z: Vec<f64> = (0..=30).map(|i| 0.1 * f64::from(i)).collect();
+        let radius: Vec<f64> = z.iter().map(|&z| (2.95f64.powi(2) - (2.95 - z.min(2.95)).powi(2)).sqrt()).collect();
+        let worn = ToolProfile::new(z, radius).unwrap();
+        let nominal = Nominal { radius: 3.0, corner: 3.0 };
+        let machine = Machine::default();
+        let wear = || Wear {
+            surface: &surface,
+            nominal,
+            worn: &worn,
+            k: machine.kinematics.clone(),
+            options: Options { reach: 5.0 },
+            before: None,
+            totals: Totals::default(),
+            turned: None,
+            seconds: 0.0,
+        };
+        let (mut compared, mut cut, mut corrected) = (0, 0, 0);
+        each_case(&machine, |mut case| {
+            let mut joined = Joined { wear: wear(), path: WholePath::default(), error: None, pieces: 0 };
+            case.run_into(&mut joined);
+            let mut whole = wear();
+            let name = &case.name;
+            match whole.correct(&case.whole.toolpath) {
+                Ok(path) => {
+                    // Debug writes every f64 to the bit.
+                    assert_eq!(format!("{:?}", joined.path.path.moves), format!("{:?}", path.moves), "{name}");
+                    assert_eq!(format!("{:?}", joined.wear.totals), format!("{:?}", whole.totals), "{name}");
+                    let turned = |w: &Wear| w.turned.as_ref().map(|t| t.refusal(name).to_string());
+                    assert_eq!(turned(&joined.wear), turned(&whole), "{name}");
+                    corrected += usize::from(whole.totals.corrected > 0);
+                    compared += 1;
+                }
+                Err(e) => assert_eq!(joined.error, Some(e.to_string()), "{name}"),
+            }
+            cut += usize::from(joined.pieces > 2);
+        });
+        // Pinned, so that the test cannot pass by comparing nothing.
+        assert!(
+            compared >= 100 && cut >= 100 && corrected >= 50,
+            "{compared} compared, {cut} cut, {corrected} corrected"
+        );
+    }
 }

@@ -5,6 +5,7 @@
 //! at the cost of a minor fault).
 
 use std::fs::File;
+use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -38,6 +39,36 @@ pub fn map_text(path: &Path) -> Result<Option<MappedText>> {
         return Ok(None);
     }
     let file = File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    map_file(&file, path)
+}
+
+/// Standard input's text, more than [`MAP_FROM_BYTES`] of it spooled to a
+/// temporary file (gone when closed) and mapped as a file is: `Err` with
+/// the bytes read where there is less (or where they are not UTF-8).
+pub fn spool_stdin() -> Result<std::result::Result<MappedText, Vec<u8>>> {
+    let cannot = || "cannot read standard input";
+    let mut head = Vec::new();
+    let mut stdin = std::io::stdin().lock();
+    stdin.by_ref().take(MAP_FROM_BYTES).read_to_end(&mut head).context(cannot())?;
+    if (head.len() as u64) < MAP_FROM_BYTES {
+        return Ok(Err(head));
+    }
+    let mut spool = tempfile::tempfile().context("cannot make a temporary file for standard input")?;
+    spool.write_all(&head).context("cannot spool standard input")?;
+    drop(head);
+    std::io::copy(&mut stdin, &mut spool).context(cannot())?;
+    match map_file(&spool, Path::new("-"))? {
+        Some(mapped) => Ok(Ok(mapped)),
+        None => {
+            let mut bytes = Vec::new();
+            spool.seek(SeekFrom::Start(0)).and_then(|_| spool.read_to_end(&mut bytes)).context(cannot())?;
+            Ok(Err(bytes))
+        }
+    }
+}
+
+/// The open `file` (named `path`) mapped, as [`map_text`] maps it.
+fn map_file(file: &File, path: &Path) -> Result<Option<MappedText>> {
     let meta = file.metadata().with_context(|| format!("cannot read {}", path.display()))?;
     if meta.is_file() && meta.len() > u64::from(u32::MAX) {
         // Positions in a program are kept in 32 bits.
@@ -49,7 +80,7 @@ pub fn map_text(path: &Path) -> Result<Option<MappedText>> {
     // SAFETY: the map is read only. A program must not be rewritten on disk
     // while kezuri reads it (its text would change under the run, as it
     // would under a control drip-feeding it).
-    let map = Arc::new(unsafe { Mmap::map(&file) }.with_context(|| format!("cannot read {}", path.display()))?);
+    let map = Arc::new(unsafe { Mmap::map(file) }.with_context(|| format!("cannot read {}", path.display()))?);
     let start = if map.starts_with(b"\xEF\xBB\xBF") { 3 } else { 0 };
     let stop = Arc::new(AtomicBool::new(false));
     let forgetter = {

@@ -122,6 +122,20 @@ impl From<DialectArg> for Dialect {
     }
 }
 
+/// `--dialect`'s value for a dialect.
+impl From<Dialect> for DialectArg {
+    fn from(d: Dialect) -> DialectArg {
+        match d {
+            Dialect::Fanuc => DialectArg::Fanuc,
+            Dialect::Haas => DialectArg::Haas,
+            Dialect::LinuxCnc => DialectArg::Linuxcnc,
+            Dialect::Grbl => DialectArg::Grbl,
+            Dialect::FanucLathe => DialectArg::FanucLathe,
+            Dialect::HaasLathe => DialectArg::HaasLathe,
+        }
+    }
+}
+
 /// The dialect of `file` holding `text`: `given` (`--dialect`), else the
 /// rule of [`kezuri_nc::detect`]; a mixed program is refused.
 pub fn choose_dialect(given: Option<Dialect>, file: &Path, text: &str) -> Result<Detected> {
@@ -204,7 +218,17 @@ pub fn read_and_run_into<S: PathSink + Send>(
     centre: bool,
     make: impl FnOnce(&Machine, Dialect, &Program) -> S,
 ) -> Result<(Ran, Vec<Diagnostic>, S)> {
-    let (ran, diagnostics, sink) = run_program(o, read_program_text(&o.file)?, centre, Some(make))?;
+    run_text_into(o, read_program_text(&o.file)?, centre, make)
+}
+
+/// [`read_and_run_into`] on the program's text, read already.
+pub fn run_text_into<S: PathSink + Send>(
+    o: &RunOptions,
+    text: Arc<dyn TextStore>,
+    centre: bool,
+    make: impl FnOnce(&Machine, Dialect, &Program) -> S,
+) -> Result<(Ran, Vec<Diagnostic>, S)> {
+    let (ran, diagnostics, sink) = run_program(o, text, centre, Some(make))?;
     let sink = sink.ok_or_else(|| anyhow::anyhow!("{}: the run made no sink for its path", o.file.display()))?;
     Ok((ran, diagnostics, sink))
 }
@@ -452,13 +476,24 @@ pub fn model_notes(outcome: &Outcome) -> Vec<String> {
 /// (`what`) that changes its motions: they are the tool-centre path, which
 /// `kezuri run --apply-comp` writes out first.
 pub fn refuse_comp(ran: &Ran, file: &Path, what: &str) -> Result<()> {
-    if ran.outcome.programmed.is_some() {
-        bail!(
-            "{}: the program uses cutter radius compensation (G41/G42): {what} the tool centre path, so write it first \
-             with `kezuri run {} --apply-comp --machine M.toml -o centre.nc` and give that program",
-            file.display(),
-            file.display()
-        );
+    match ran.outcome.programmed {
+        Some(_) => Err(comp_refused(file, what)),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// Why [`refuse_comp`] refuses the program `file`.
+pub fn comp_refused(file: &Path, what: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{}: the program uses cutter radius compensation (G41/G42): {what} the tool centre path, so write it first \
+         with `kezuri run {} --apply-comp --machine M.toml -o centre.nc` and give that program",
+        file.display(),
+        file.display()
+    )
+}
+
+/// The options of a run of the program `file` with every other option at
+/// its default, for a command that has not all of them (`convert`).
+pub fn run_options(file: &Path) -> Result<RunOptions> {
+    options_from(&[OsStr::new("--"), file.as_os_str()])
 }

@@ -12,6 +12,33 @@ use kezuri_nc::write::{CsvWriter, ProgramWriter, WriteOptions};
 
 use super::emit::{comp_refusal, Emit, Origin, WriteArgs};
 use super::tally::Tally;
+use crate::files::Outputs;
+
+/// The output `output` (`None`: standard output) as `fill` writes it while
+/// it works (a file through its temporary file, renamed at the commit):
+/// the outputs to commit and what `fill` returned, or the first error of
+/// `fill` or of the writing, and then nothing is written.
+pub fn staged<T>(
+    output: Option<&Path>,
+    fill: impl FnOnce(&mut (dyn Write + Send)) -> Result<T>,
+) -> Result<(Outputs, T)> {
+    let mut out = Outputs::new();
+    let mut done: Option<Result<T>> = None;
+    let staged = out.add_with(output, |to| {
+        let result = fill(to);
+        let failed = result.is_err();
+        done = Some(result);
+        if failed {
+            return Err(std::io::Error::other("the output was not made"));
+        }
+        Ok(())
+    });
+    match (done, staged) {
+        (Some(Ok(made)), Ok(())) => Ok((out, made)),
+        (Some(Err(e)), _) | (_, Err(e)) => Err(e),
+        (None, Ok(())) => Err(anyhow!("the output was not made")),
+    }
+}
 
 /// What is written.
 enum Writer {

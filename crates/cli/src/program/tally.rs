@@ -192,18 +192,22 @@ pub fn missing_axes(path: &Toolpath, machine: &Kinematics) -> Vec<(char, u32)> {
 
 /// [`missing_axes`] taken piece by piece.
 #[derive(Clone, Debug)]
-struct MissingAxes {
+pub struct MissingAxes {
     /// Which of X Y Z A B C the machine has.
     has: [bool; 6],
-    found: Vec<(char, u32)>,
+    /// Each axis moved that the machine lacks, with the first line that
+    /// moves it.
+    pub found: Vec<(char, u32)>,
 }
 
 impl MissingAxes {
-    fn new(machine: &Kinematics) -> MissingAxes {
+    /// None found yet, on `machine`.
+    pub fn new(machine: &Kinematics) -> MissingAxes {
         MissingAxes { has: std::array::from_fn(|k| machine.has(k)), found: Vec::new() }
     }
 
-    fn add(&mut self, piece: &Toolpath) {
+    /// Looks for them in `piece`, the next piece of the path.
+    pub fn add(&mut self, piece: &Toolpath) {
         for m in &piece.moves {
             for (k, (a, b)) in m.start.xyzabc().into_iter().zip(m.end.xyzabc()).enumerate() {
                 if a != b && !self.has[k] && !self.found.iter().any(|&(axis, _)| axis == AXES[k]) {

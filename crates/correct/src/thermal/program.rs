@@ -85,58 +85,90 @@ pub struct Corrected {
 /// Every end of `moves` corrected by `model` on the machine `k`, found by
 /// `solver`; an error carries the line of its move.
 pub fn correct_moves(model: &ErrorModel, k: &Kinematics, moves: &[Move], solver: Solver) -> Result<Corrected, Error> {
-    let mut correctors: Vec<Corrector> = Vec::new();
-    let mut summary = Summary::default();
-    let mut ends: Vec<Axes> = Vec::with_capacity(moves.len());
-    let mut last_shift = [0.0; 3];
-    for m in moves {
-        // A return to the reference point goes where the control knows; a
-        // dwell stays: neither is a commanded position.
-        if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
-            ends.push(m.end);
-            continue;
-        }
-        summary.checked += 1;
-        let c = m.end.xyzabc();
-        let target = k.forward(&c);
-        let (x, residual) = match solver {
-            Solver::Newton => {
-                let at = match correctors.iter().position(|r| r.fits(&c)) {
-                    Some(at) => at,
-                    None => {
-                        correctors.push(Corrector::new(model, k, &c).map_err(|e| e.at_line(m.line))?);
-                        correctors.len() - 1
-                    }
-                };
-                correctors[at].correct(target)
-            }
-            Solver::Grid => model.correct_by_grid(k, target, &c, 0.001, 50),
-        }
-        .map_err(|e| e.at_line(m.line))?;
-        // A command beyond the measured range of its axis's function is
-        // extrapolated: said, not hidden. A corrected stop at the range's
-        // edge lands a correction beyond it; a twentieth of the range (a
-        // tenth of the half-span) is not counted.
-        let outside = model.functions.iter().any(|f| {
-            (f.b_deg - c[4]).abs() < 1e-6 && (x[f.axis] - f.polynomial.center).abs() > f.polynomial.scale * 1.1 + 1e-9
-        });
-        if outside {
-            summary.first_extrapolated_line.get_or_insert(m.line);
-            summary.extrapolated += 1;
-        }
-        let shift = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
-        summary.largest_correction =
-            summary.largest_correction.max((shift[0] * shift[0] + shift[1] * shift[1] + shift[2] * shift[2]).sqrt());
-        summary.largest_residual = summary.largest_residual.max(residual);
-        if matches!(m.kind, MoveKind::Arc(_)) {
-            let d = [shift[0] - last_shift[0], shift[1] - last_shift[1], shift[2] - last_shift[2]];
-            summary.arc_correction_change =
-                summary.arc_correction_change.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
-        }
-        last_shift = shift;
-        ends.push(m.end.with_xyzabc(x));
+    let mut correcting = Correcting::new(model, k.clone(), solver);
+    let ends = correcting.ends(moves)?;
+    Ok(Corrected { ends, summary: correcting.summary })
+}
+
+/// A program's moves corrected as they come, in pieces (a run's, handed
+/// on): the pieces' ends are the ends [`correct_moves`] gives of the
+/// whole, and the summary after the last piece its summary.
+pub struct Correcting<'a> {
+    model: &'a ErrorModel,
+    k: Kinematics,
+    solver: Solver,
+    /// One per setting of the rotary axes met so far (Newton).
+    correctors: Vec<Corrector<'a>>,
+    /// The correction of the last point corrected.
+    last_shift: [f64; 3],
+    /// What the correction came to so far.
+    pub summary: Summary,
+}
+
+impl<'a> Correcting<'a> {
+    /// The correction by `model` on the machine `k`, found by `solver`,
+    /// before its first move.
+    pub fn new(model: &'a ErrorModel, k: Kinematics, solver: Solver) -> Correcting<'a> {
+        Correcting { model, k, solver, correctors: Vec::new(), last_shift: [0.0; 3], summary: Summary::default() }
     }
-    Ok(Corrected { ends, summary })
+
+    /// The corrected ends of `moves`, the next moves of the program; an
+    /// error carries the line of its move.
+    pub fn ends(&mut self, moves: &[Move]) -> Result<Vec<Axes>, Error> {
+        let (model, k, summary) = (self.model, &self.k, &mut self.summary);
+        let mut ends: Vec<Axes> = Vec::with_capacity(moves.len());
+        for m in moves {
+            // A return to the reference point goes where the control knows; a
+            // dwell stays: neither is a commanded position.
+            if matches!(m.kind, MoveKind::Home | MoveKind::Dwell(_)) {
+                ends.push(m.end);
+                continue;
+            }
+            summary.checked += 1;
+            let c = m.end.xyzabc();
+            let target = k.forward(&c);
+            let (x, residual) = match self.solver {
+                Solver::Newton => {
+                    let at = match self.correctors.iter().position(|r| r.fits(&c)) {
+                        Some(at) => at,
+                        None => {
+                            self.correctors.push(Corrector::new(model, k, &c).map_err(|e| e.at_line(m.line))?);
+                            self.correctors.len() - 1
+                        }
+                    };
+                    self.correctors[at].correct(target)
+                }
+                Solver::Grid => model.correct_by_grid(k, target, &c, 0.001, 50),
+            }
+            .map_err(|e| e.at_line(m.line))?;
+            // A command beyond the measured range of its axis's function is
+            // extrapolated: said, not hidden. A corrected stop at the range's
+            // edge lands a correction beyond it; a twentieth of the range (a
+            // tenth of the half-span) is not counted.
+            let outside = model.functions.iter().any(|f| {
+                (f.b_deg - c[4]).abs() < 1e-6
+                    && (x[f.axis] - f.polynomial.center).abs() > f.polynomial.scale * 1.1 + 1e-9
+            });
+            if outside {
+                summary.first_extrapolated_line.get_or_insert(m.line);
+                summary.extrapolated += 1;
+            }
+            let shift = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+            summary.largest_correction = summary
+                .largest_correction
+                .max((shift[0] * shift[0] + shift[1] * shift[1] + shift[2] * shift[2]).sqrt());
+            summary.largest_residual = summary.largest_residual.max(residual);
+            if matches!(m.kind, MoveKind::Arc(_)) {
+                let last = self.last_shift;
+                let d = [shift[0] - last[0], shift[1] - last[1], shift[2] - last[2]];
+                summary.arc_correction_change =
+                    summary.arc_correction_change.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+            }
+            self.last_shift = shift;
+            ends.push(m.end.with_xyzabc(x));
+        }
+        Ok(ends)
+    }
 }
 
 #[cfg(test)]

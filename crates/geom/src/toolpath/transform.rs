@@ -37,9 +37,19 @@ impl Toolpath {
     /// curve. Returns to the reference point and machine-coordinate moves
     /// are machine positions and keep theirs.
     pub fn scaled(&self, k: f64, s: f64) -> Toolpath {
+        self.scaled_after(k, s, None)
+    }
+
+    /// [`Toolpath::scaled`] of a piece of a path (a run's, handed on)
+    /// whose piece before ended with `before`: a move that starts where a
+    /// return to the reference point or a machine-coordinate move left the
+    /// tool starts there still. The pieces so scaled are the whole path
+    /// scaled.
+    pub fn scaled_after(&self, k: f64, s: f64, before: Option<&Move>) -> Toolpath {
         let mut out = Toolpath { moves: Vec::with_capacity(self.moves.len()), ..self.clone() };
         out.moves.clear();
-        let mut fixed_end: Option<Axes> = None;
+        let mut fixed_end: Option<Axes> =
+            before.filter(|m| matches!(m.kind, MoveKind::Home | MoveKind::Machine)).map(|m| m.end);
         let mut first = Vec::with_capacity(self.moves.len() + 1);
         for m in &self.moves {
             first.push(out.moves.len());

@@ -1,15 +1,16 @@
 //! The tally taken piece by piece is the tally of the whole path, to the
 //! bit, for every program of the repository.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use kezuri_geom::{PathSink, Toolpath};
 use kezuri_machine::{Machine, ToolEntry};
 use kezuri_nc::interp::{self, Settings};
-use kezuri_nc::{detect, parse_as, Dialect, Program, SourceFile, Sources};
+use kezuri_nc::{parse_as, Dialect, Program, SourceFile, Sources};
 
 use super::{Tallied, Tally};
 use crate::files::Folder;
+use crate::program::corpus::each_case;
 use crate::program::dialect_settings;
 
 /// A sink that counts the pieces it hands on to a tally.
@@ -22,21 +23,6 @@ impl PathSink for Counted {
     fn take(&mut self, piece: &Toolpath, programmed: Option<&Toolpath>) {
         self.tally.take(piece, programmed);
         self.pieces += 1;
-    }
-}
-
-/// Every program file under `dir`, in order.
-fn programs(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
-    paths.sort();
-    for p in paths {
-        let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-        if p.is_dir() {
-            programs(&p, out);
-        } else if ["nc", "ngc", "gcode", "tap", "cnc"].contains(&ext.as_str()) {
-            out.push(p);
-        }
     }
 }
 
@@ -54,47 +40,29 @@ fn machine() -> Machine {
 
 #[test]
 fn every_program_tallied_in_pieces_is_tallied_whole() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let mut files = Vec::new();
-    for dir in ["corpus", "crates/nc/testdata", "samples", "bench/programs"] {
-        programs(&root.join(dir), &mut files);
-    }
     let machine = machine();
     let tally = || Tally::new(&machine.dynamics, &machine.kinematics, true);
     let (mut compared, mut cut, mut warned) = (0, 0, 0);
-    for file in &files {
-        let text = String::from_utf8_lossy(&std::fs::read(file).unwrap()).into_owned();
-        let name = file.display().to_string();
-        let Ok(detected) = detect(None, &name, &text) else { continue };
-        let mut sources = Sources::default();
-        let id = sources.add(SourceFile::new(name.clone(), text.clone()));
-        let mut program = Program::default();
-        if parse_as(&mut program, id, &text, detected.dialect).iter().any(|d| d.is_error()) || program.units.is_empty()
-        {
-            continue;
-        }
-        let settings =
-            Settings { piece_moves: 1, step_limit: 200_000, ..dialect_settings(detected.dialect, None, &machine) };
-        let library = || Folder::new(file.parent().unwrap().to_path_buf());
-        let whole = interp::run(&mut program.clone(), &mut sources.clone(), 0, &mut library(), &settings);
+    each_case(&machine, |mut case| {
+        let name = case.name.clone();
         let mut all = tally();
-        all.take(&whole.toolpath, None);
-        let all: Tallied = all.finish(&whole, &machine.tools);
+        all.take(&case.whole.toolpath, None);
+        let all: Tallied = all.finish(&case.whole, &machine.tools);
         let mut pieces = Counted { tally: tally(), pieces: 0 };
-        let handed = interp::run_into(&mut program, &mut sources, 0, &mut library(), &settings, &mut pieces);
+        let handed = case.run_into(&mut pieces);
         let in_pieces = pieces.tally.finish(&handed, &machine.tools);
         // Debug writes every f64 so that it reads back to the same bits (and
         // −0 apart from +0): equal text is equal bits.
         assert_eq!(format!("{in_pieces:?}"), format!("{all:?}"), "{name}");
         assert_eq!(in_pieces, all, "{name}");
         // The lengths are summed as the path's own sums are.
-        let path = &whole.toolpath;
+        let path = &case.whole.toolpath;
         assert_eq!(all.report.feed_length_mm.to_bits(), path.feed_length().to_bits(), "{name}");
         assert_eq!(all.report.rapid_length_mm.to_bits(), path.rapid_length().to_bits(), "{name}");
         compared += 1;
         cut += usize::from(pieces.pieces > 2);
         warned += usize::from(!all.unoffset_z.is_empty() || !all.missing_axes.is_empty());
-    }
+    });
     // Pinned, so that the test cannot pass by comparing nothing.
     assert!(compared >= 180 && cut >= 100 && warned >= 10, "{compared} programs, {cut} cut in pieces, {warned} warned");
 }
