@@ -41,7 +41,7 @@ pub struct Drawing {
     /// Arcs drawn as chords within this sagitta, mm.
     arc_tol: f64,
     /// The moves, as bytes.
-    bytes: Vec<u8>,
+    bytes: Chunks,
     /// Moves kept.
     pub moves: u64,
     /// Their seconds summed in order, as the page's cycle time.
@@ -93,7 +93,7 @@ impl Drawing {
     pub fn new(unknown_start: bool, arc_tol: f64) -> Drawing {
         Drawing {
             arc_tol,
-            bytes: Vec::new(),
+            bytes: Chunks::default(),
             moves: 0,
             // The sum of no seconds, as Rust's sum of f64 gives it.
             seconds: std::iter::empty::<f64>().sum(),
@@ -110,7 +110,7 @@ impl Drawing {
 
     /// Bytes held.
     pub fn held(&self) -> usize {
-        self.bytes.capacity()
+        self.bytes.held()
     }
 
     /// Keeps the next move drawn: `m` of page kind `kind`, `seconds` long,
@@ -152,19 +152,19 @@ impl Drawing {
         head |= u8::from(self.last.seconds != Some(secs)) << 7;
         self.bytes.push(head);
         if head & 8 != 0 {
-            varint(&mut self.bytes, u64::from(m.tool));
+            self.bytes.varint(u64::from(m.tool));
         }
         if head & 16 != 0 {
-            varint(&mut self.bytes, zero as u64);
+            self.bytes.varint(zero as u64);
         }
         if head & 64 != 0 {
-            varint(&mut self.bytes, zigzag(line_delta));
+            self.bytes.varint(zigzag(line_delta));
         }
         if head & 32 != 0 {
-            self.bytes.extend(feed.to_le_bytes());
+            self.bytes.extend(&feed.to_le_bytes());
         }
         if head & 128 != 0 {
-            self.bytes.extend(secs.to_le_bytes());
+            self.bytes.extend(&secs.to_le_bytes());
         }
         self.last = Last {
             tool: Some(m.tool),
@@ -186,7 +186,7 @@ impl Drawing {
             }
             entries.extend(through.iter().map(|p| (POINT, *p)));
         }
-        varint(&mut self.bytes, entries.len() as u64);
+        self.bytes.varint(entries.len() as u64);
         for (role, p) in entries {
             self.point(role, p);
         }
@@ -207,10 +207,10 @@ impl Drawing {
         for k in 0..3 {
             match whole[k] {
                 Some(n) => {
-                    varint(&mut self.bytes, zigzag(n - self.steps[k]));
+                    self.bytes.varint(zigzag(n - self.steps[k]));
                     self.steps[k] = n;
                 }
-                None => self.bytes.extend(p[k].to_le_bytes()),
+                None => self.bytes.extend(&p[k].to_le_bytes()),
             }
         }
         self.last_point = Some(p);
@@ -219,11 +219,11 @@ impl Drawing {
     /// Reads the moves back in order: each move, with its points and
     /// their roles.
     fn each(&self, mut visit: impl FnMut(&Read, &[(u8, [f64; 3])]) -> Result<(), Error>) -> Result<(), Error> {
-        let mut r = Reader { bytes: &self.bytes, at: 0 };
+        let mut r = Reader { chunks: &self.bytes.0, chunk: 0, at: 0 };
         let mut read = Read::default();
         let mut steps = [0i64; 3];
         let mut points = Vec::new();
-        while r.at < r.bytes.len() {
+        while !r.done() {
             let head = r.byte();
             read.kind = head & 7;
             if head & 8 != 0 {
@@ -446,24 +446,66 @@ fn unzigzag(v: u64) -> i64 {
     ((v >> 1) as i64) ^ -((v & 1) as i64)
 }
 
-fn varint(out: &mut Vec<u8>, mut v: u64) {
-    while v >= 0x80 {
-        out.push((v as u8) | 0x80);
-        v >>= 7;
+/// Bytes in blocks of [`CHUNK`]: a drawing grows without being moved, and
+/// holds at most one block more than it uses.
+#[derive(Default)]
+struct Chunks(Vec<Vec<u8>>);
+
+/// Bytes a block of [`Chunks`] holds.
+const CHUNK: usize = 1 << 20;
+
+impl Chunks {
+    fn push(&mut self, b: u8) {
+        match self.0.last_mut() {
+            Some(last) if last.len() < CHUNK => last.push(b),
+            _ => {
+                let mut block = Vec::with_capacity(CHUNK);
+                block.push(b);
+                self.0.push(block);
+            }
+        }
     }
-    out.push(v as u8);
+
+    fn extend(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.push(b);
+        }
+    }
+
+    fn varint(&mut self, mut v: u64) {
+        while v >= 0x80 {
+            self.push((v as u8) | 0x80);
+            v >>= 7;
+        }
+        self.push(v as u8);
+    }
+
+    /// Bytes held.
+    fn held(&self) -> usize {
+        self.0.iter().map(Vec::capacity).sum()
+    }
 }
 
 /// Bytes read back in order (the drawing wrote them: never short).
 struct Reader<'a> {
-    bytes: &'a [u8],
+    chunks: &'a [Vec<u8>],
+    chunk: usize,
     at: usize,
 }
 
 impl Reader<'_> {
+    fn done(&self) -> bool {
+        self.chunks.get(self.chunk).is_none_or(|c| self.at >= c.len())
+    }
+
     fn byte(&mut self) -> u8 {
-        let b = self.bytes.get(self.at).copied().unwrap_or(0);
+        let Some(chunk) = self.chunks.get(self.chunk) else { return 0 };
+        let b = chunk.get(self.at).copied().unwrap_or(0);
         self.at += 1;
+        if self.at >= chunk.len() && self.chunk + 1 < self.chunks.len() {
+            self.chunk += 1;
+            self.at = 0;
+        }
         b
     }
 

@@ -184,3 +184,47 @@ impl PathSink for PathPage {
         self.draw_timed();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kezuri_geom::{Axes, MoveKind};
+
+    /// `rows` rows of 1,000 feeds 0.1 mm long, Z stepping by a micrometre.
+    fn raster(rows: usize) -> Vec<Move> {
+        let at = |k: usize| {
+            let (row, i) = (k / 1000, k % 1000);
+            let i = if row % 2 == 1 { 999 - i } else { i };
+            Axes { x: i as f64 * 0.1, y: row as f64 * 0.5, z: -1.0 - 0.001 * (k % 7) as f64, ..Axes::ZERO }
+        };
+        (1..rows * 1000)
+            .map(|k| Move {
+                kind: MoveKind::Feed,
+                start: at(k - 1),
+                end: at(k),
+                feed: 1200.0,
+                line: k as u32,
+                ..Move::default()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn what_is_held_is_bounded_by_the_page_not_the_path() {
+        // Under a 0.5 MB page, 20 times the moves hold no more: each level
+        // is let go once its page would not fit.
+        let options = PageOptions { max_page_mb: 0.5, ..PageOptions::default() };
+        let most = |rows: usize| {
+            let mut page = PathPage::new(&Dynamics::default(), &options, Vec::new());
+            let mut most = 0;
+            for piece in raster(rows).chunks(4096) {
+                page.take(&Toolpath { moves: piece.to_vec(), ..Toolpath::default() }, None);
+                most = most.max(page.held());
+            }
+            (most, page.moves())
+        };
+        let (small, large) = (most(10), most(200));
+        assert_eq!((small.1, large.1), (9_999, 199_999));
+        assert!(large.0 <= small.0.max(13 << 20), "{} bytes held for 1e4 moves, {} for 2e5", small.0, large.0);
+    }
+}
