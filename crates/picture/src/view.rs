@@ -384,8 +384,8 @@ fn profile(tool: &Tool) -> Vec<[f64; 2]> {
 /// the rapid is marked without one).
 fn sim_marks(s: &Simulation, run: &Toolpath, drawn: usize, gouge: f64) -> Vec<Value> {
     let mut marks = Vec::new();
-    if let Some(hit) = s.report.rapid_hits.first() {
-        let m = &run.moves[hit.index];
+    // (A path drawn as it came is not held: its rapid is not marked.)
+    if let Some((hit, m)) = s.report.rapid_hits.first().and_then(|h| Some((h, run.moves.get(h.index)?))) {
         let index = (run.moves.len() == drawn).then_some(hit.index);
         marks.push(json!({
             "kind": "rapid",
