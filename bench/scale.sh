@@ -7,7 +7,8 @@
 # Each program is a zig-zag raster, 29 bytes a block: `X… Y… Z…` lines under G1, rows of
 # 1,000 blocks. Prints a Markdown table: blocks, command, wall s, user s, sys s, peak RSS
 # MiB, and blocks a second (wall). Builds target/release/kezuri when it is missing
-# (KEZURI=/path/to/kezuri overrides). A command that fails is shown with its exit status.
+# (KEZURI=/path/to/kezuri overrides; KEEP_PAGE=DIR keeps each view page). A command that fails is
+# shown with its exit status.
 # Measures; never gates.
 set -u
 cd "$(dirname "$0")/.."
@@ -69,8 +70,10 @@ for n in "${sizes[@]}"; do
     measure "check" "$n" "$bin" check "$f"
     measure "run -o" "$n" "$bin" run "$f" -o "$work/out.nc"
     measure "run --emit csv -o" "$n" "$bin" run "$f" --emit csv -o "$work/out.csv"
-    # view still holds the whole path (some 370 bytes a move): past 2e6 blocks it is left out.
-    [ "$n" -le 2000000 ] && measure "view" "$n" "$bin" view "$f" -o "$work/page.html"
+    # view draws the path as the run hands it on: past some 3e6 moves it is simplified to fit
+    # the default 32 MB page (the page kept with KEEP_PAGE=DIR, e.g. to open it in Chromium).
+    measure "view" "$n" "$bin" view "$f" -o "$work/page.html"
+    [ -n "${KEEP_PAGE:-}" ] && cp "$work/page.html" "$KEEP_PAGE/view-$n.html"
     measure "convert -o .ngc" "$n" "$bin" convert "$f" -o "$work/out.ngc"
     measure "thermal apply -o" "$n" "$bin" thermal apply "$f" --model "$work/model.json" --allow-extrapolation -o "$work/out.nc"
     measure "wear apply -o" "$n" "$bin" wear apply "$f" --profile "$work/worn.csv" --nominal ball:1 --surface "$work/plane.stl" -o "$work/out.nc"

@@ -2,7 +2,9 @@
 //! `kezuri check` and `kezuri run -o` on a generated raster of 4,000,000
 //! blocks is at most 16 MiB above their peak on 100,000 blocks. Each peak
 //! is the child's own (`wait4`'s resource use), not a timing: the test
-//! cannot pass by being fast, only by holding no more.
+//! cannot pass by being fast, only by holding no more. `kezuri view` holds
+//! what its page can show: as much at 500,000 blocks as at 50,000 under a
+//! 1 MB page.
 
 use std::io::Write;
 use std::os::unix::process::ExitStatusExt;
@@ -64,4 +66,26 @@ fn check_and_run_hold_as_much_at_four_million_blocks_as_at_a_hundred_thousand() 
         println!("{command:?}: {} MiB at 1e5 blocks, {} MiB at 4e6", a / 1024, b / 1024);
         assert!(b - a <= MIB_APART * 1024, "{command:?}: {} KiB at 1e5 blocks, {} KiB at 4e6", a, b);
     }
+}
+
+#[test]
+fn view_holds_its_page_not_its_program() {
+    // The page's budget bounds what `view` holds: with a 1 MB page, half
+    // a million blocks (drawn simplified) take no more than fifty thousand
+    // (drawn whole, some 0.5 MB).
+    let dir = tempfile::tempdir().unwrap();
+    let (small, large) = (dir.path().join("small.nc"), dir.path().join("large.nc"));
+    raster(&small, 50_000);
+    raster(&large, 500_000);
+    let page = dir.path().join("page.html");
+    let with = |file: &Path| {
+        let args = ["view", file.to_str().unwrap(), "--max-page-mb", "1", "-o", page.to_str().unwrap()];
+        let (code, kib) = peak_kib(&args);
+        assert_eq!(code, 0, "kezuri {args:?}");
+        assert!(std::fs::metadata(&page).unwrap().len() <= 1_000_000);
+        kib
+    };
+    let (a, b) = (with(&small), with(&large));
+    println!("view: {} MiB at 5e4 blocks, {} MiB at 5e5", a / 1024, b / 1024);
+    assert!(b - a <= MIB_APART * 1024, "view: {} KiB at 5e4 blocks, {} KiB at 5e5", a, b);
 }

@@ -4,7 +4,8 @@
 //! segment of its colour), colours, tools and breaks stay, and the
 //! simplifier holds a bounded window; through the binary, a page over
 //! --max-page-mb is drawn simplified and says so, and a million-move raster
-//! makes a page within the default budget that opens in headless Chromium.
+//! makes a page within the default budget; every page opens in headless
+//! Chromium without a script error.
 
 mod common;
 
@@ -304,8 +305,51 @@ fn a_million_moves_make_a_page_within_the_budget() {
     drawn_in_chromium(&html);
 }
 
+/// Arcs in rows between straight feeds, lifts between rows, a tool change
+/// and another work zero every 400 arcs: the page simplified to fit 0.2 MB
+/// (whole arcs as chords, breaks, tools and work zeros kept) opens in
+/// headless Chromium without a script error.
+#[test]
+fn a_simplified_page_of_arcs_tools_and_work_zeros_opens_without_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut nc = String::from("G21 G90 G17\nG0 X0 Y0 Z5.\nG1 Z-1. F800.\n");
+    let mut here = (0.0, 0.0);
+    for k in 0..3000 {
+        let (x, y) = ((k % 50) as f64 * 2.0, (k / 50) as f64);
+        if (x, y) != here {
+            nc.push_str(&format!("G0 Z2.\nX{x:.3} Y{y:.3}\nG1 Z-1.\n"));
+        }
+        nc.push_str(&format!(
+            "G2 X{:.3} Y{y:.3} I0.5 J0.\nG1 X{:.3} Z{:.3}\n",
+            x + 1.0,
+            x + 2.0,
+            -1.0 - 0.01 * (k % 5) as f64
+        ));
+        here = (x + 2.0, y);
+        if k % 400 == 0 {
+            nc.push_str(&format!(
+                "G0 Z5.\nT{} M6\nG{} G0 X{:.3} Y{y:.3}\nG1 Z-1.\n",
+                2 + k / 400,
+                54 + (k / 400) % 3,
+                here.0
+            ));
+        }
+    }
+    nc.push_str("G0 Z5.\nM30\n");
+    let file = path(dir.path(), "arcs.nc");
+    std::fs::write(&file, nc).unwrap();
+    let html = path(dir.path(), "arcs.html");
+    let o = kezuri(&["view", &file, "--max-page-mb", "0.2", "-o", &html]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("simplified to ") && err.contains("6,204 moves drawn as"), "{err}");
+    assert!(std::fs::metadata(&html).unwrap().len() <= 200_000);
+    drawn_in_chromium(&html);
+}
+
 /// Opens `html` in headless Chromium (as docs/view.md does) and checks the
-/// page drawn (`data-ready="1"`); without Chromium it says so.
+/// page drawn (`data-ready="1"`) with no script error on its console;
+/// without Chromium it says so.
 fn drawn_in_chromium(html: &str) {
     let chromium = std::env::var("KEZURI_CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
     if !std::path::Path::new(&chromium).exists() {
@@ -320,11 +364,17 @@ fn drawn_in_chromium(html: &str) {
             "--use-angle=swiftshader",
             "--enable-unsafe-swiftshader",
             "--virtual-time-budget=20000",
+            "--enable-logging=stderr",
+            "--v=0",
             "--dump-dom",
             &format!("file://{html}"),
         ])
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains(r#"data-ready="1""#), "{html}: {}", String::from_utf8_lossy(&o.stderr));
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(out.contains(r#"data-ready="1""#), "{html}: {log}");
+    let errors: Vec<&str> =
+        log.lines().filter(|l| l.contains(":CONSOLE") && (l.contains("Uncaught") || l.contains("Error"))).collect();
+    assert!(errors.is_empty(), "{html}: {errors:?}");
 }

@@ -131,17 +131,36 @@ impl CycleClock {
 
     /// The next moves of the path, in order.
     pub fn add(&mut self, moves: &[Move]) {
+        self.add_timed(moves, &mut |_| {});
+    }
+
+    /// [`CycleClock::add`], handing `done` the seconds of each move as
+    /// they become final, in move order ([`move_times`]' seconds, to the
+    /// bit): those of the moves added before some of these, or none yet.
+    pub fn add_timed(&mut self, moves: &[Move], done: &mut impl FnMut(f64)) {
         let total = &mut self.total;
         for m in moves {
-            self.planner.push(m, &mut |s| *total += s);
+            self.planner.push(m, &mut |s| {
+                *total += s;
+                done(s);
+            });
         }
     }
 
     /// The estimated seconds of every move added, and how many of them had
     /// no feed (none counted for them).
-    pub fn finish(mut self) -> (f64, usize) {
+    pub fn finish(self) -> (f64, usize) {
+        self.finish_timed(&mut |_| {})
+    }
+
+    /// [`CycleClock::finish`], handing `done` the seconds of the moves
+    /// that were still waiting, in order.
+    pub fn finish_timed(mut self, done: &mut impl FnMut(f64)) -> (f64, usize) {
         let total = &mut self.total;
-        self.planner.plan(true, &mut |s| *total += s);
+        self.planner.plan(true, &mut |s| {
+            *total += s;
+            done(s);
+        });
         (self.total, self.planner.unknown)
     }
 }

@@ -744,3 +744,78 @@ fn the_writers_fed_a_run_in_pieces_write_the_whole_program() {
     // Pinned, so that the test cannot pass by comparing nothing.
     assert!(compared >= 700 && cut >= 90 && errors >= 20, "{compared} compared, {cut} cut in pieces, {errors} errors");
 }
+
+#[test]
+fn the_view_page_of_a_run_in_pieces_is_the_page_of_the_whole_run() {
+    // Every program of the corpus, run whole and drawn on the page at once
+    // (`fitted_page`, as `view --sim` draws it), and run again handed on in
+    // pieces of one move to a `PathPage` (as `view` draws it), the program
+    // text fed to it 7 bytes at a time: the same page to the byte, or the
+    // same refusal, at the default budget and at budgets so small that the
+    // path is simplified or the text left out.
+    use kezuri_picture::view::{fitted_page, PathPage};
+    use kezuri_picture::{Job, PageOptions};
+    let a = machine(0);
+    let dynamics = kezuri_geom::Dynamics::default();
+    let (mut compared, mut simplified, mut left_out) = (0, 0, 0);
+    for case in corpus() {
+        let mut sources = Sources::default();
+        let file = sources.add(SourceFile::new(case.name.as_str(), case.text.as_str()));
+        let mut program = Program::default();
+        let parsed = parse(&mut program, file, &case.text);
+        if parsed.iter().any(|d| d.is_error()) || program.units.is_empty() {
+            continue;
+        }
+        let settings = Settings { piece_moves: 1, ..case.settings(&a) };
+        let whole =
+            interp::run(&mut program.clone(), &mut sources.clone(), 0, &mut Folder(case.library.clone()), &settings);
+        for max_page_mb in [32.0, 0.13, 0.1, 0.095] {
+            let options = PageOptions { max_page_mb, ..PageOptions::default() };
+            let job = Job {
+                title: &case.name,
+                path: &whole.toolpath,
+                text: Some(&case.text),
+                inch: whole.inch,
+                dynamics: &dynamics,
+                shapes: Vec::new(),
+                any: None,
+            };
+            let at_once = fitted_page(&job, None, &options);
+            let mut page = PathPage::new(&dynamics, &options, Vec::new());
+            interp::run_into(
+                &mut program.clone(),
+                &mut sources.clone(),
+                0,
+                &mut Folder(case.library.clone()),
+                &settings,
+                &mut page,
+            );
+            let empty = Toolpath::default();
+            let bytes = case.text.as_bytes();
+            let mut text = |take: &mut dyn FnMut(&[u8]) -> bool| {
+                for piece in bytes.chunks(7) {
+                    if !take(piece) {
+                        break;
+                    }
+                }
+            };
+            let in_pieces = page.finish(&Job { path: &empty, text: None, ..job }, None, Some(&mut text));
+            match (&at_once, &in_pieces) {
+                (Ok(a), Ok(b)) => {
+                    assert!(a.html == b.html, "{} at {max_page_mb} MB: the pages differ", case.name);
+                    assert_eq!(a.fitted, b.fitted, "{}", case.name);
+                    simplified += usize::from(a.fitted.iter().any(|f| f.starts_with("simplified")));
+                    left_out += usize::from(a.fitted.iter().any(|f| f.contains("text is left out")));
+                }
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "{}", case.name),
+                _ => panic!("{} at {max_page_mb} MB: one page made, the other refused", case.name),
+            }
+            compared += 1;
+        }
+    }
+    println!("{compared} pages compared, {simplified} simplified, {left_out} without their text");
+    assert!(
+        compared >= 400 && simplified >= 10 && left_out >= 10,
+        "{compared} compared, {simplified} simplified, {left_out} left out"
+    );
+}

@@ -34,10 +34,11 @@
 
 mod blob;
 pub mod detail;
+mod drawing;
 mod pack;
 mod part;
+pub mod stream;
 
-use std::borrow::Cow;
 use std::io::Write as _;
 
 use base64::Engine as _;
@@ -45,15 +46,16 @@ use kezuri_cam::shorten::{shorten, ShortenOptions};
 use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::{SimReport, Tool, ZMap};
 use kezuri_cam::Cutter;
-use kezuri_geom::{move_times, Dynamics, Toolpath};
+use kezuri_geom::{Dynamics, PathSink as _, Toolpath};
 use serde_json::{json, Value};
 use sha2::Digest as _;
 
 use crate::sim::{DeviationScale, GOUGE_MM};
 use crate::{Error, ErrorKind};
-use blob::Blob;
+use blob::{Blob, Columns};
 use pack::ToolLook;
 use part::Part;
+pub use stream::PathPage;
 
 /// How the page is made.
 #[derive(Debug, Clone)]
@@ -133,14 +135,14 @@ pub fn page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Resul
 }
 
 /// The page of `job` (and of its simulation) within `--max-page-mb`: the
-/// level of detail is chosen before the page is built (see [`detail`]);
-/// the program text is left out where it would take more than half the
-/// page. Refused only where even the coarsest tolerance does not fit.
+/// level of detail is chosen before the page is built (see [`detail`] and
+/// [`stream`]); the program text is left out where it would take more than
+/// half the page. Refused only where even the coarsest tolerance does not
+/// fit.
 pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -> Result<Page, Error> {
-    let file = job.title;
-    let mut notes = Vec::new();
     let original = job.path;
     let shortened;
+    let mut notes = Vec::new();
     let path = match options.shorten {
         Some(tolerance) => {
             shortened = shorten(original, &ShortenOptions { tolerance, arcs: false });
@@ -153,7 +155,45 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
         }
         None => original,
     };
-    let (seconds, _) = move_times(path, job.dynamics);
+    let mut builder = PathPage::new(job.dynamics, options, notes);
+    builder.take(path, None);
+    match job.text {
+        Some(t) => builder.finish(
+            job,
+            sim,
+            Some(&mut |piece: &mut dyn FnMut(&[u8]) -> bool| {
+                piece(t.as_bytes());
+            }),
+        ),
+        None => builder.finish(job, sim, None),
+    }
+}
+
+/// What the page takes besides the path and the program text: the viewer,
+/// the meta data and a part of `part` bytes (base64 of at most its own
+/// size).
+fn fixed_bytes(part: usize) -> f64 {
+    (VIEWER_JS.len() + VIEWER_CSS.len() + BODY.len() + 16_384) as f64 + part as f64 * 4.0 / 3.0
+}
+
+/// The page from the levels of detail kept (full detail first, then each
+/// of [`detail::TOLERANCES`]: its tolerance, its reckoned cost and its
+/// drawing; `None` where it was let go): the part first, then the text
+/// where it takes at most half of what is left, then the finest level that
+/// fits the rest. `tools`: the numbers of the tools the path uses; `count`:
+/// its moves.
+#[allow(clippy::too_many_arguments)]
+fn page_of_levels(
+    job: &Job,
+    sim: Option<&Simulation>,
+    text: Option<stream::TextPieces>,
+    options: &PageOptions,
+    mut notes: Vec<String>,
+    tools: &[u32],
+    count: u64,
+    levels: Vec<Option<(Option<f64>, f64, drawing::Drawing)>>,
+) -> Result<Page, Error> {
+    let file = job.title;
     // The part first: what it takes decides what is left for the path.
     let mut part_blob = Blob::default();
     let mut part_bounds = None;
@@ -179,69 +219,43 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
         None => Value::Null,
     };
     let limit = options.max_page_mb * 1e6;
-    // The viewer, the meta data and the part (base64 of at most its own size).
-    let fixed = (VIEWER_JS.len() + VIEWER_CSS.len() + BODY.len() + 16_384) as f64 + part_blob.len() as f64 * 4.0 / 3.0;
+    let fixed = fixed_bytes(part_blob.len());
     let mut fitted = Vec::new();
-    let mut text = job.text.filter(|_| !options.no_text).map(|t| (t, packed(t.as_bytes())));
-    if let Some((_, packed_text)) = text.as_ref().filter(|(_, p)| p.len() as f64 > (limit - fixed) / 2.0) {
-        fitted.push(format!(
-            "the program text is left out to fit {} MB (it takes {:.1} MB packed)",
-            options.max_page_mb,
-            packed_text.len() as f64 / 1e6
-        ));
-        text = None;
-    }
-    let budget = limit - fixed - text.as_ref().map_or(0.0, |(_, p)| p.len() as f64);
-    let chosen =
-        detail::choose(|| path.moves.iter().zip(seconds.iter().copied()), path.unknown_start, options.arc_tol, budget);
-    let Some(chosen) = chosen else {
-        return Err(too_large(file, options, text.is_some(), sim.is_some()));
+    let text = match text.filter(|_| !options.no_text).map(|t| packed_text(t, (limit - fixed) / 2.0)) {
+        Some(Ok(packed)) => Some(packed),
+        Some(Err((size, whole))) => {
+            fitted.push(format!(
+                "the program text is left out to fit {} MB (it takes {}{:.1} MB packed)",
+                options.max_page_mb,
+                if whole { "" } else { "more than " },
+                size as f64 / 1e6
+            ));
+            None
+        }
+        None => None,
     };
+    let budget = limit - fixed - text.as_ref().map_or(0.0, |p| p.len() as f64);
+    let too_large = || too_large(file, options, text.is_some(), sim.is_some());
+    let mut at =
+        levels.iter().position(|l| l.as_ref().is_some_and(|(_, cost, _)| *cost <= budget)).ok_or_else(too_large)?;
     // The estimate of what a drawn move costs holds on the programs
     // measured; where a page comes out larger all the same, the next
-    // coarser tolerance is drawn.
-    let mut rung = chosen.tolerance.and_then(|t| detail::TOLERANCES.iter().position(|&x| x == t));
+    // coarser tolerance kept is drawn.
     loop {
-        let simplified;
+        let Some((tolerance, _, drawing)) = &levels[at] else { return Err(too_large()) };
         let mut fitted = fitted.clone();
-        let (drawn, kinds, times): (&Toolpath, Vec<u8>, Cow<[f64]>) = match rung {
-            None => (path, path.moves.iter().map(pack::kind).collect(), Cow::Borrowed(&seconds)),
-            Some(k) => {
-                let tolerance = detail::TOLERANCES[k];
-                let mut moves = Vec::new();
-                let (mut kinds, mut times) = (Vec::new(), Vec::new());
-                let mut out = |d: detail::Drawn| {
-                    moves.push(d.mv);
-                    kinds.push(d.kind);
-                    times.push(d.seconds);
-                };
-                let mut simplifier = detail::Simplifier::new(tolerance, path.unknown_start);
-                for (m, &s) in path.moves.iter().zip(&seconds) {
-                    simplifier.push(m, s, &mut out);
-                }
-                simplifier.finish(&mut out);
-                fitted.push(format!(
-                    "simplified to {tolerance} mm to fit {} MB: {} moves drawn as {}",
-                    options.max_page_mb,
-                    thousands(chosen.moves),
-                    thousands(moves.len() as u64)
-                ));
-                simplified = Toolpath {
-                    moves,
-                    frames: path.frames.clone(),
-                    unknown_start: path.unknown_start,
-                    kept: Vec::new(),
-                };
-                (&simplified, kinds, Cow::Owned(times))
-            }
-        };
+        if let Some(tolerance) = tolerance {
+            fitted.push(format!(
+                "simplified to {tolerance} mm to fit {} MB: {} moves drawn as {}",
+                options.max_page_mb,
+                thousands(count),
+                thousands(drawing.moves)
+            ));
+        }
         let mut notes = notes.clone();
         notes.extend(fitted.iter().cloned());
-        let mut blob = Blob::default();
-        let looks = tool_looks(job, path, sim);
-        let packed = pack::pack(drawn, &kinds, &times, looks, options.arc_tol, &mut blob)?;
-        blob.append(part_blob.clone());
-        let mut bounds = packed.bounds;
+        let layout = drawing.layout(tool_looks(job, tools, sim))?;
+        let mut bounds = drawing.bounds;
         if let Some((lo, hi)) = part_bounds {
             bounds = Some(match bounds {
                 Some((a, b)) => (std::array::from_fn(|k| a[k].min(lo[k])), std::array::from_fn(|k| b[k].max(hi[k]))),
@@ -249,10 +263,10 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
             });
         }
         let marks = match sim {
-            Some(s) => sim_marks(s, original, drawn, s.scale.map_or(GOUGE_MM, |d| d.gouge)),
+            Some(s) => sim_marks(s, job.path, drawing.moves as usize, s.scale.map_or(GOUGE_MM, |d| d.gouge)),
             None => Vec::new(),
         };
-        let mut meta = packed.meta();
+        let mut meta = layout.meta(drawing.moves, drawing.rotary);
         let extra = json!({
             "version": 1,
             "title": file,
@@ -260,7 +274,7 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
             "unit_mm": if job.inch { 25.4 } else { 1.0 },
             "bbox_mm": bounds.map(|(a, b)| [a, b]),
             "arc_tolerance_mm": options.arc_tol,
-            "cycle_time_s": times.iter().sum::<f64>(),
+            "cycle_time_s": drawing.seconds,
             "notes": notes,
             "text": text.is_some(),
             "sim": sim_meta.clone(),
@@ -269,14 +283,23 @@ pub fn fitted_page(job: &Job, sim: Option<&Simulation>, options: &PageOptions) -
         if let (Value::Object(m), Value::Object(e)) = (&mut meta, extra) {
             m.extend(e);
         }
-        let html = html(&meta, &blob.into_bytes(), text.as_ref().map(|(_, p)| p.as_str()));
+        let html = html(
+            &meta,
+            |page| {
+                let b64 = base64::write::EncoderWriter::new(page, &base64::engine::general_purpose::STANDARD);
+                let mut columns = Columns::new(flate2::write::GzEncoder::new(b64, flate2::Compression::new(3)));
+                drawing.write(&layout, &mut columns)?;
+                columns.append(&part_blob);
+                let mut b64 = columns.finish().finish().expect("gzip into memory cannot fail");
+                b64.finish().expect("base64 into memory cannot fail");
+                Ok(())
+            },
+            text.as_deref(),
+        )?;
         if html.len() as f64 <= limit {
             return Ok(Page { html, fitted });
         }
-        rung = match rung.map_or(0, |k| k + 1) {
-            k if k < detail::TOLERANCES.len() => Some(k),
-            _ => return Err(too_large(file, options, text.is_some(), sim.is_some())),
-        };
+        at = (at + 1..levels.len()).find(|&k| levels[k].is_some()).ok_or_else(too_large)?;
     }
 }
 
@@ -308,16 +331,13 @@ fn thousands(n: u64) -> String {
     out
 }
 
-/// How each tool `path` loads looks: the simulation's cutters, else the
-/// job's shapes, or its shape of any tool.
-fn tool_looks(job: &Job, path: &Toolpath, sim: Option<&Simulation>) -> Vec<ToolLook> {
-    let mut numbers: Vec<u32> = path.moves.iter().map(|m| m.tool).collect();
-    numbers.sort_unstable();
-    numbers.dedup();
+/// How each of the tools `numbers` (in order, each once) looks: the
+/// simulation's cutters, else the job's shapes, or its shape of any tool.
+fn tool_looks(job: &Job, numbers: &[u32], sim: Option<&Simulation>) -> Vec<ToolLook> {
     let changes = numbers.iter().any(|&n| n != 0);
     numbers
-        .into_iter()
-        .map(|number| {
+        .iter()
+        .map(|&number| {
             let simulated = sim.and_then(|s| {
                 let k = s.tools.iter().position(|(n, _)| *n == number)?;
                 Some((s.names[k].clone(), profile(&s.tools[k].1)))
@@ -359,13 +379,14 @@ fn profile(tool: &Tool) -> Vec<[f64; 2]> {
 }
 
 /// The marks of a simulation: the first rapid into the stock and the
-/// worst gouge, if deeper than `gouge`. Move numbers are of `drawn` (the moves of `run`, or fewer
-/// where shortened: then the rapid is marked without one).
-fn sim_marks(s: &Simulation, run: &Toolpath, drawn: &Toolpath, gouge: f64) -> Vec<Value> {
+/// worst gouge, if deeper than `gouge`. Move numbers are of the `drawn`
+/// moves (the moves of `run`, or fewer where shortened or simplified: then
+/// the rapid is marked without one).
+fn sim_marks(s: &Simulation, run: &Toolpath, drawn: usize, gouge: f64) -> Vec<Value> {
     let mut marks = Vec::new();
-    if let Some(hit) = s.report.rapid_hits.first() {
-        let m = &run.moves[hit.index];
-        let index = (run.moves.len() == drawn.moves.len()).then_some(hit.index);
+    // (A path drawn as it came is not held: its rapid is not marked.)
+    if let Some((hit, m)) = s.report.rapid_hits.first().and_then(|h| Some((h, run.moves.get(h.index)?))) {
+        let index = (run.moves.len() == drawn).then_some(hit.index);
         marks.push(json!({
             "kind": "rapid",
             "label": format!("first rapid into the stock: line {}, {:.3} mm deep ({} in all)", hit.line, hit.depth, s.report.rapid_hits.len()),
@@ -397,21 +418,65 @@ const VIEWER_JS: &str = include_str!("view/viewer.js");
 const VIEWER_CSS: &str = include_str!("view/viewer.css");
 const BODY: &str = include_str!("view/page.html");
 
-/// `data` gzipped and in base64.
-fn packed(data: &[u8]) -> String {
-    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::new(3));
-    gz.write_all(data).expect("gzip into memory cannot fail");
-    base64::engine::general_purpose::STANDARD.encode(gz.finish().expect("gzip into memory cannot fail"))
+/// A writer that keeps what it is given up to `max` bytes, and counts it
+/// all (`len`, shared).
+struct Bounded {
+    kept: Vec<u8>,
+    max: f64,
+    len: std::rc::Rc<std::cell::Cell<usize>>,
 }
 
-/// The page: the viewer and the data (`text`: the program text, already
-/// [`packed`]) as inert script elements, a policy that lets only the viewer
-/// run and nothing load.
-fn html(meta: &Value, data: &[u8], text: Option<&str>) -> Vec<u8> {
+impl std::io::Write for Bounded {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.len.set(self.len.get() + buf.len());
+        if self.len.get() as f64 <= self.max {
+            self.kept.extend_from_slice(buf);
+        } else {
+            self.kept = Vec::new();
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The program text `text` gives, gzipped and in base64, where that takes
+/// at most `max` bytes; else its packed size and whether that is the whole
+/// (the packing stops at eight times `max`: "more than" that).
+fn packed_text(text: stream::TextPieces, max: f64) -> Result<String, (usize, bool)> {
+    let len = std::rc::Rc::new(std::cell::Cell::new(0));
+    let kept = Bounded { kept: Vec::new(), max, len: len.clone() };
+    let b64 = base64::write::EncoderWriter::new(kept, &base64::engine::general_purpose::STANDARD);
+    let mut gz = flate2::write::GzEncoder::new(b64, flate2::Compression::new(3));
+    let stop = (8.0 * max).max(0.0);
+    let mut whole = true;
+    text(&mut |piece| {
+        gz.write_all(piece).expect("gzip into memory cannot fail");
+        whole = len.get() as f64 <= stop;
+        whole
+    });
+    let mut b64 = gz.finish().expect("gzip into memory cannot fail");
+    let kept = b64.finish().expect("base64 into memory cannot fail");
+    match len.get() as f64 <= max {
+        true => Ok(String::from_utf8(kept.kept).expect("base64 is ASCII")),
+        false => Err((len.get(), whole)),
+    }
+}
+
+/// The page: the viewer and the data (`data` writes it, gzipped and in
+/// base64; `text`: the program text, packed likewise) as inert script
+/// elements, a policy that lets only the viewer run and nothing load.
+fn html(
+    meta: &Value,
+    data: impl FnOnce(&mut Vec<u8>) -> Result<(), Error>,
+    text: Option<&str>,
+) -> Result<Vec<u8>, Error> {
     let hash = base64::engine::general_purpose::STANDARD.encode(sha2::Sha256::digest(VIEWER_JS.as_bytes()));
     // JSON holds < > & only inside strings, where \u escapes mean the same.
     let meta = meta.to_string().replace('<', "\\u003c").replace('>', "\\u003e").replace('&', "\\u0026");
-    let mut page = String::with_capacity(data.len() / 2 + VIEWER_JS.len() + 4096);
+    let mut page = String::with_capacity(VIEWER_JS.len() + 4096);
     page.push_str("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n");
     page.push_str(&format!(
         "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'sha256-{hash}'; \
@@ -425,15 +490,16 @@ fn html(meta: &Value, data: &[u8], text: Option<&str>) -> Vec<u8> {
     page.push_str("\n<script type=\"application/json\" id=\"kz-meta\">");
     page.push_str(&meta);
     page.push_str("</script>\n<script type=\"application/octet-stream\" id=\"kz-data\">");
-    page.push_str(&packed(data));
-    page.push_str("</script>\n");
+    let mut page = page.into_bytes();
+    data(&mut page)?;
+    page.extend_from_slice(b"</script>\n");
     if let Some(text) = text {
-        page.push_str("<script type=\"application/octet-stream\" id=\"kz-text\">");
-        page.push_str(text);
-        page.push_str("</script>\n");
+        page.extend_from_slice(b"<script type=\"application/octet-stream\" id=\"kz-text\">");
+        page.extend_from_slice(text.as_bytes());
+        page.extend_from_slice(b"</script>\n");
     }
-    page.push_str("<script>");
-    page.push_str(VIEWER_JS);
-    page.push_str("</script>\n</body></html>\n");
-    page.into_bytes()
+    page.extend_from_slice(b"<script>");
+    page.extend_from_slice(VIEWER_JS.as_bytes());
+    page.extend_from_slice(b"</script>\n</body></html>\n");
+    Ok(page)
 }

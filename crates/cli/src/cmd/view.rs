@@ -7,9 +7,10 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use clap::Args;
 use kezuri_cam::Cutter;
+use kezuri_picture::view::{Page, PathPage};
 use kezuri_picture::{Job, PageOptions};
 
-use crate::program::{read_and_run, RunOptions};
+use crate::program::{read_and_run, read_and_run_into, RunOptions};
 use crate::simulation::{simulate, DeviationArgs, SimSetup};
 
 /// How the page is made: `view`'s options of [`PageOptions`].
@@ -108,8 +109,51 @@ pub struct ViewArgs {
     pub output: Option<PathBuf>,
 }
 
-/// Runs `kezuri view`.
+/// Runs `kezuri view`: the path drawn as the run hands it on, never held
+/// whole; with --sim or --shorten, which need the whole path, from the
+/// whole run.
 pub fn run(args: &ViewArgs) -> Result<()> {
+    if args.sim || args.page.shorten.is_some() {
+        return whole(args);
+    }
+    let options = args.page.options();
+    let (mut ran, parse_diagnostics, builder) =
+        read_and_run_into(&args.run, false, |machine, _, _| PathPage::new(&machine.dynamics, &options, Vec::new()))?;
+    ran.shown(&parse_diagnostics, &args.run.file, "no page written")?;
+    let mut out = std::mem::take(&mut ran.outputs);
+    if args.setup.compare.is_some() || args.setup.stock.is_some() {
+        bail!("--compare and --stock are for the simulated part: give --sim too");
+    }
+    let file = args.run.file.display().to_string();
+    let any: Option<Cutter> = args.setup.tool.as_deref().map(str::parse).transpose()?;
+    let job = Job { any, ..crate::page::job(&ran, &file, &[]) };
+    let moves = builder.moves();
+    // The text read again in pieces (a mapped file lets each go once read).
+    let text = &ran.sources.get(0).text;
+    let mut pieces = |take: &mut dyn FnMut(&[u8]) -> bool| {
+        let bytes = text.as_bytes();
+        for start in (0..bytes.len()).step_by(TEXT_PIECE) {
+            let end = (start + TEXT_PIECE).min(bytes.len());
+            let more = take(&bytes[start..end]);
+            text.forget(start..end);
+            if !more {
+                break;
+            }
+        }
+    };
+    let page = builder.finish(&job, None, Some(&mut pieces))?;
+    out.add(args.output.as_deref(), &page.html)?;
+    out.commit()?;
+    said(args, &file, moves, "", &page);
+    Ok(())
+}
+
+/// The program text is packed this many bytes at a time.
+const TEXT_PIECE: usize = 1 << 20;
+
+/// `kezuri view` from the whole run: with --sim (the part simulated from
+/// the whole path) or --shorten.
+fn whole(args: &ViewArgs) -> Result<()> {
     let (mut ran, parse_diagnostics) = read_and_run(&args.run)?;
     ran.shown(&parse_diagnostics, &args.run.file, "no page written")?;
     let mut out = std::mem::take(&mut ran.outputs);
@@ -130,17 +174,21 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let page = kezuri_picture::view::fitted_page(&job, shown.as_ref(), &args.page.options())?;
     out.add(args.output.as_deref(), &page.html)?;
     out.commit()?;
-    let moves = ran.outcome.toolpath.moves.len();
     let gouges = match &scale {
         Some(_) => format!(" (gouges past {} mm, {})", allowance.mm, allowance.source()),
         None => String::new(),
     };
+    let part = if sim.is_some() { " and the simulated part" } else { "" };
+    said(args, &file, ran.outcome.toolpath.moves.len() as u64, &format!("{part}{gouges}"), &page);
+    Ok(())
+}
+
+/// Says what the page shows: `moves` moves, and `what` else.
+fn said(args: &ViewArgs, file: &str, moves: u64, what: &str, page: &Page) {
     let fitted: String = page.fitted.iter().map(|f| format!("; {f}")).collect();
     crate::say::note!(
-        "{file}: {moves} moves{}{gouges}; page {:.1} MB{}{fitted}",
-        if sim.is_some() { " and the simulated part" } else { "" },
+        "{file}: {moves} moves{what}; page {:.1} MB{}{fitted}",
         page.html.len() as f64 / 1e6,
         args.output.as_ref().map(|p| format!(" in {}", p.display())).unwrap_or_default()
     );
-    Ok(())
 }

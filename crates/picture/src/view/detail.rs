@@ -23,11 +23,12 @@
 //! with a coordinate that is not a number are drawn whole, as at full
 //! detail.
 //!
-//! [`choose`] picks the tolerance before the page is built: a pass counts
-//! the full detail, and where its reckoned size ([`MOVE_BYTES`],
-//! [`VERTEX_BYTES`]) does not fit, one more counts what every tolerance of
-//! [`TOLERANCES`] would draw, and takes the finest that fits. (Where a page
-//! still comes out larger, [`super::fitted_page`] draws the next coarser.)
+//! The tolerance is chosen before the page is built ([`super::stream`]):
+//! as the path is fed, the full detail and every tolerance of
+//! [`TOLERANCES`] are counted at once, each at its reckoned size
+//! ([`MOVE_BYTES`], [`VERTEX_BYTES`]) and kept while that fits, and the
+//! finest that fits is drawn. (Where a page still comes out larger, the
+//! next coarser one kept is drawn.)
 
 use kezuri_cam::shorten::douglas_peucker;
 use kezuri_geom::{Move, MoveKind};
@@ -172,34 +173,22 @@ impl Simplifier {
     }
 }
 
-/// What [`choose`] found: the tolerance (none: full detail) and what is
-/// drawn.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Detail {
-    /// The tolerance the path is simplified to, mm; `None` where the page
-    /// fits at full detail.
-    pub tolerance: Option<f64>,
-    /// Moves of the program.
-    pub moves: u64,
-    /// Moves drawn (as many as `moves` at full detail).
-    pub drawn: u64,
-}
-
 /// What a page of `moves` moves and `vertices` vertices costs, bytes.
-fn cost(moves: u64, vertices: u64) -> f64 {
+pub(super) fn cost(moves: u64, vertices: u64) -> f64 {
     moves as f64 * MOVE_BYTES + vertices as f64 * VERTEX_BYTES
 }
 
-/// A count of drawn moves and vertices, as [`super::pack`] lays them out.
+/// A count of drawn moves and vertices, as the page lays them out.
 #[derive(Default)]
-struct Tally {
-    moves: u64,
+pub(super) struct Tally {
+    pub(super) moves: u64,
     vertices: u64,
     last: Option<[f64; 3]>,
 }
 
 impl Tally {
-    fn add(&mut self, d: &Drawn, arc_tol: f64) {
+    /// Counts one more move drawn.
+    pub(super) fn add(&mut self, d: &Drawn, arc_tol: f64) {
         self.moves += 1;
         let m = &d.mv;
         let points = match m.kind {
@@ -212,48 +201,9 @@ impl Tally {
             self.last = Some(m.end.xyz());
         }
     }
-}
 
-/// The level of detail of the page of the moves `moves()` gives (each with
-/// its seconds; the first starting where the program does not say if
-/// `unknown_start`): full detail where it costs at most `budget` bytes
-/// (arcs as chords within `arc_tol`), else the finest of [`TOLERANCES`]
-/// that fits; `None` where even the coarsest does not. One pass counts the
-/// full detail; where it does not fit, a second feeds every tolerance at
-/// once, each dropped as soon as it is over.
-pub fn choose<'a, I: Iterator<Item = (&'a Move, f64)>>(
-    moves: impl Fn() -> I,
-    unknown_start: bool,
-    arc_tol: f64,
-    budget: f64,
-) -> Option<Detail> {
-    let mut full = Tally::default();
-    for (m, seconds) in moves() {
-        full.add(&Drawn { mv: *m, kind: kind(m), seconds }, arc_tol);
+    /// What the moves counted cost, bytes.
+    pub(super) fn cost(&self) -> f64 {
+        cost(self.moves, self.vertices)
     }
-    let count = full.moves;
-    if cost(full.moves, full.vertices) <= budget {
-        return Some(Detail { tolerance: None, moves: count, drawn: count });
-    }
-    let mut rungs: Vec<(Simplifier, Tally, bool)> =
-        TOLERANCES.iter().map(|&t| (Simplifier::new(t, unknown_start), Tally::default(), true)).collect();
-    for (m, seconds) in moves() {
-        for (simplifier, tally, alive) in rungs.iter_mut().filter(|r| r.2) {
-            simplifier.push(m, seconds, &mut |d| tally.add(&d, arc_tol));
-            *alive = cost(tally.moves, tally.vertices) <= budget;
-        }
-        if rungs.iter().all(|r| !r.2) {
-            return None;
-        }
-    }
-    for (k, (simplifier, tally, alive)) in rungs.iter_mut().enumerate() {
-        if !*alive {
-            continue;
-        }
-        simplifier.finish(&mut |d| tally.add(&d, arc_tol));
-        if cost(tally.moves, tally.vertices) <= budget {
-            return Some(Detail { tolerance: Some(TOLERANCES[k]), moves: count, drawn: tally.moves });
-        }
-    }
-    None
 }
