@@ -162,6 +162,21 @@ pub type ClFn<'a> = dyn Fn(f64, f64) -> Option<f64> + Sync + 'a;
 /// (`kezuri_cam::dropcut::drop_cutter_rows`).
 pub type ClRowsFn<'a> = dyn Fn(bool, &[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> + Sync + 'a;
 
+/// How the CL points of the rows are asked.
+#[derive(Clone, Copy)]
+pub enum Rows<'a> {
+    /// One by one, of the [`ClFn`].
+    PointByPoint,
+    /// Whole rows at once, many rows together, two levels of halving
+    /// ahead: for a surface that places the cutter on whole rows far
+    /// faster than point by point (a ball on a height grid).
+    Whole(&'a ClRowsFn<'a>),
+    /// The points of each row together, as point by point asks them: for
+    /// a surface that answers the points of one row faster together (a
+    /// mesh, the triangles near the row found once).
+    Along(&'a ClRowsFn<'a>),
+}
+
 /// Most CL points asked of a [`ClRowsFn`] at once (their positions and
 /// answers take 24 bytes each).
 const BATCH_POINTS: usize = 4 << 20;
@@ -205,17 +220,18 @@ pub fn raster_with(
     on_row: &Progress,
 ) -> Result<Toolpath, Error> {
     let mut whole = WholePath::default();
-    raster_into(cl, rows_at, region, o, pick_feed, on_row, &mut whole)?;
+    let asking = rows_at.map_or(Rows::PointByPoint, Rows::Whole);
+    raster_into(cl, asking, region, o, pick_feed, on_row, &mut whole)?;
     Ok(whole.path)
 }
 
-/// [`raster_with`] handed to `sink` row by row as the rows are made, so
-/// that a program of any size is never held: the pieces joined are the
-/// path [`raster_with`] returns. An error (the safe height below a cut,
+/// [`raster_with`], the CL points asked as `asking` says, handed to `sink`
+/// row by row as the rows are made, so that a program of any size is never
+/// held: the pieces joined are the path [`raster_with`] returns. An error (the safe height below a cut,
 /// nothing to cut) comes after the pieces before it were handed on.
 pub fn raster_into(
     cl: &ClFn,
-    rows_at: Option<&ClRowsFn>,
+    asking: Rows,
     region: Region,
     o: &RasterOptions,
     pick_feed: Option<&PickFeedFn>,
@@ -265,22 +281,20 @@ pub fn raster_into(
         let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
         let forward = |k: usize| o.pattern == Pattern::OneWay || k.is_multiple_of(2);
         let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
-        let ask = |asked: &[(f64, &[f64])]| match rows_at {
-            Some(f) => f(along_y, asked),
-            None => point_by_point(&at, asked),
+        let ask = |asked: &[(f64, &[f64])]| match asking {
+            Rows::Whole(f) | Rows::Along(f) => f(along_y, asked),
+            Rows::PointByPoint => point_by_point(&at, asked),
         };
+        let whole_rows = matches!(asking, Rows::Whole(_));
         let per_row = first_level(&row_samples(u0, u1, o), Quantum(o.quantum)).len().max(1);
         // Rows asked point by point are refined a few at a time: what a
         // row holds while it is refined (every CL point asked of it, some
         // six for each point it keeps) is let go as soon as it is done.
-        let batch = match rows_at {
-            Some(_) => (BATCH_POINTS / per_row).max(1),
-            None => ROWS_AT_ONCE,
-        };
+        let batch = if whole_rows { (BATCH_POINTS / per_row).max(1) } else { ROWS_AT_ONCE };
         let mut last_row_end: Option<(f64, f64)> = None;
         for (b, chunk) in rows.chunks(batch).enumerate() {
             let jobs: Vec<Job> = chunk.iter().enumerate().map(|(k, &v)| (v, ends(b * batch + k))).collect();
-            let sampled = sample_rows(&ask, rows_at.is_some(), &jobs, o);
+            let sampled = sample_rows(&ask, whole_rows, &jobs, o);
             for (&v, pieces) in chunk.iter().zip(sampled) {
                 last_row_end = path.row(along_y, &at, v, &pieces, last_row_end);
                 path.hand_on()?;

@@ -2,9 +2,9 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::dropcut::{drop_cutter_rows, rows_at_once};
-use kezuri_cam::mill::reach::{self, unreached, Area};
-use kezuri_cam::mill::{gouge_note, raster_into, ClRowsFn, RasterOptions, Region, GOUGE_TOL};
+use kezuri_cam::dropcut::{drop_cutter_along_rows, drop_cutter_rows, rows_at_once};
+use kezuri_cam::mill::reach::{self, unreached, unreached_by_rows, Area};
+use kezuri_cam::mill::{gouge_note, raster_into, RasterOptions, Region, Rows, GOUGE_TOL};
 use kezuri_cam::{scallop, Cutter};
 use kezuri_geom::{PathSink, WholePath};
 
@@ -169,19 +169,22 @@ pub fn run(args: &MillArgs) -> Result<()> {
             bar.set_position(done as u64);
         }
     };
-    // A ball on a height grid is placed on whole rows at once, far faster
-    // than point by point, with the same answers.
-    let grid_rows = match &surface {
-        Surface::Grid(field) if rows_at_once(&cutter) => {
-            Some(|along_y: bool, asked: &[(f64, &[f64])]| drop_cutter_rows(&cutter, field, along_y, asked))
-        }
-        _ => None,
+    let row_queries = |along_y: bool, asked: &[(f64, &[f64])]| match &surface {
+        Surface::Grid(field) => drop_cutter_rows(&cutter, field, along_y, asked),
+        Surface::Mesh(mesh) => drop_cutter_along_rows(&cutter, mesh, along_y, asked),
     };
-    let rows_at = grid_rows.as_ref().map(|f| f as &ClRowsFn);
+    // A ball on a height grid is placed on whole rows at once, far faster
+    // than point by point; a mesh answers a row's points together, the
+    // triangles near the row found once. The same answers.
+    let rows = match &surface {
+        Surface::Grid(_) if rows_at_once(&cutter) => Rows::Whole(&row_queries),
+        Surface::Grid(_) => Rows::PointByPoint,
+        Surface::Mesh(_) => Rows::Along(&row_queries),
+    };
     let region = Region { x0, y0, x1, y1 };
     let pick_feed = pick_feed.as_ref().map(|f| f as &kezuri_cam::mill::PickFeedFn);
     let make = |sink: &mut dyn PathSink| {
-        raster_into(&cl, rows_at, region, &options, pick_feed, &on_row, sink)
+        raster_into(&cl, rows, region, &options, pick_feed, &on_row, sink)
             .with_context(|| args.surface.display().to_string())
     };
     let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
@@ -234,7 +237,15 @@ fn warn_unreached(
     }
     let threshold = reach::threshold(args.gouge_tol, step, r);
     let area = Area { bounds: [x0, y0, x1, y1], inset: r, step };
-    if let Some(u) = unreached(area, cutter, threshold, |x, y| surface.height_at(x, y), cl) {
+    let z_at = |x, y| surface.height_at(x, y);
+    let found = match surface {
+        // A mesh answers a row's points together, the triangles near the row found once.
+        Surface::Mesh(mesh) => {
+            unreached_by_rows(area, cutter, threshold, z_at, cl, |y, xs| mesh.drop_cutter_along(cutter, false, y, xs))
+        }
+        Surface::Grid(_) => unreached(area, cutter, threshold, z_at, cl),
+    };
+    if let Some(u) = found {
         eprintln!("warning: {}: {}", args.surface.display(), u.message(cutter, "the surface", threshold));
     }
 }
