@@ -149,8 +149,11 @@ impl MeshSurface {
 pub struct MeshScratch {
     candidates: Vec<u32>,
     /// The triangles near a row ([`MeshSurface::drop_cutter_along`]): the
-    /// low and high ends of each one's box along the row, by the low end.
+    /// low and high ends of each one's box along the row.
     near_row: Vec<(f64, f64, u32)>,
+    /// Those by slot along the row, and where each slot's begin.
+    sorted_row: Vec<(f64, f64, u32)>,
+    slot_starts: Vec<u32>,
     vertex_seen: Vec<u32>,
     edge_seen: Vec<u32>,
     query: u32,
@@ -175,6 +178,8 @@ impl Surface for MeshSurface {
         MeshScratch {
             candidates: Vec::new(),
             near_row: Vec::new(),
+            sorted_row: Vec::new(),
+            slot_starts: Vec::new(),
             vertex_seen: vec![0; self.mesh.vertices().len()],
             edge_seen: vec![0; self.mesh.edges().len()],
             query: 0,

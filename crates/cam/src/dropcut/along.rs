@@ -4,10 +4,10 @@
 //! A query of its own walks the index's cells under the cutter's square
 //! and meets each triangle about three times there (in up to four cells,
 //! reported from one). Along a row of close points the triangles within a
-//! radius of the row are gathered once, sorted by where their boxes begin
-//! along it; each point then takes, by a binary search and a scan, those
-//! whose boxes meet its disk: the very triangles the index reports (the
-//! same two tests on the same boxes), so the same contacts are tried and
+//! radius of the row are gathered once, sorted into slots by where their
+//! boxes begin along it; each point then scans the slots its disk reaches
+//! for those whose boxes meet it: the very triangles the index reports
+//! (the same test on the same boxes), so the same contacts are tried and
 //! the highest is the same, bit for bit.
 
 use rayon::prelude::*;
@@ -74,13 +74,34 @@ impl MeshSurface {
         let (a0, a1, b0, b1) = (lo - r - slack, hi + r + slack, v - r - slack, v + r + slack);
         let strip = if along_y { [b0, a0, b1, a1] } else { [a0, b0, a1, b1] };
         let (u_lo, u_hi) = if along_y { (1, 3) } else { (0, 2) };
-        scratch.near_row.clear();
-        let (index, near) = (&self.index, &mut scratch.near_row);
+        // The triangles near the run by where their boxes begin along it,
+        // in slots a quarter of a radius long (a counting sort).
+        let slot = 0.25 * r;
+        let slot_of = |a: f64, last: usize| (((a - a0) / slot).floor().max(0.0) as usize).min(last);
+        let slots = (((a1 - a0) / slot).ceil() as usize).saturating_add(1);
+        let (index, near, starts) = (&self.index, &mut scratch.near_row, &mut scratch.slot_starts);
+        near.clear();
         index.for_each_in_box(strip, |t| {
             let b = index.triangle_box(t);
             near.push((b[u_lo], b[u_hi], t));
         });
-        near.sort_unstable_by(|p, q| p.0.total_cmp(&q.0));
+        starts.clear();
+        starts.resize(slots + 1, 0);
+        for p in near.iter() {
+            starts[slot_of(p.0, slots - 1) + 1] += 1;
+        }
+        for k in 1..starts.len() {
+            starts[k] += starts[k - 1];
+        }
+        let mut fill = starts.clone();
+        let sorted = &mut scratch.sorted_row;
+        sorted.clear();
+        sorted.resize(near.len(), (0.0, 0.0, 0));
+        for &p in near.iter() {
+            let k = slot_of(p.0, slots - 1);
+            sorted[fill[k] as usize] = p;
+            fill[k] += 1;
+        }
         let widest = near.iter().map(|p| p.1 - p.0).fold(0.0, f64::max);
         for &u in run {
             let (x, y) = if along_y { (v, u) } else { (u, v) };
@@ -93,13 +114,12 @@ impl MeshSurface {
                 let (radius, [cx, cy]) = (probe.radius(), probe.centre());
                 // The index's test: the box meets the disk.
                 let r2 = radius * radius;
-                let from = scratch.near_row.partition_point(|p| p.0 < u - radius - widest - slack);
+                let first = slot_of(u - radius - widest - slack, slots - 1);
+                let last = slot_of(u + radius + slack, slots - 1);
+                let range = scratch.slot_starts[first] as usize..scratch.slot_starts[last + 1] as usize;
                 scratch.candidates.clear();
-                for &(low, high, t) in &scratch.near_row[from..] {
-                    if low > u + radius + slack {
-                        break;
-                    }
-                    if high < u - radius - slack {
+                for &(low, high, t) in &scratch.sorted_row[range] {
+                    if low > u + radius + slack || high < u - radius - slack {
                         continue;
                     }
                     let b = self.index.triangle_box(t);
