@@ -31,11 +31,14 @@ for b in "${bins[@]}"; do
   measure "$tag dropcut 320k tri, 1 pt (mesh+index)" "$b" dropcut "$dir/w320k.stl" --tool ball:6 --grid 100,100,100,100,1 -o "$dir/$tag.1.cl"
   measure "$tag mill ball:6 stepover 2" "$b" mill "$dir/w320k.stl" --tool ball:6 --stepover 2 -o "$dir/$tag.nc"
   measure "$tag mill flat:6 stepover 2" "$b" mill "$dir/w320k.stl" --tool flat:6 --stepover 2 -o "$dir/$tag.flat.nc"
-  wc -l "$dir/$tag.cl" "$dir/$tag.nc" "$dir/$tag.flat.nc" | head -3
+  # Four times the lines on the same mesh: what memory a line costs.
+  measure "$tag mill ball:6 stepover 0.5" "$b" mill "$dir/w320k.stl" --tool ball:6 --stepover 0.5 -o "$dir/$tag.fine.nc"
+  # (One file at a time: `wc … | head` could stop wc early, which pipefail takes for a failure.)
+  for f in "$dir/$tag.cl" "$dir/$tag.nc" "$dir/$tag.flat.nc" "$dir/$tag.fine.nc"; do wc -l "$f"; done
 done
 if [ -n "$BEFORE" ]; then
   b=$(basename "$BEFORE"); a=$(basename "$KEZURI")
-  for f in cl 1.cl nc flat.nc; do cmp "$dir/$a.$f" "$dir/$b.$f" && echo "identical: $f"; done
+  for f in cl 1.cl nc flat.nc fine.nc; do cmp "$dir/$a.$f" "$dir/$b.$f" && echo "identical: $f"; done
 fi
 rm -f "$dir/w320k.stl"
 

@@ -35,6 +35,8 @@
 //! assert_eq!(drop_cutter(&ball, &surface, 50.0, 0.0), None);
 //! ```
 
+mod along;
+pub use along::drop_cutter_along_rows;
 mod contact;
 mod heightfield;
 mod rows;
@@ -146,6 +148,12 @@ impl MeshSurface {
 #[derive(Debug)]
 pub struct MeshScratch {
     candidates: Vec<u32>,
+    /// The triangles near a row ([`MeshSurface::drop_cutter_along`]): the
+    /// low and high ends of each one's box along the row.
+    near_row: Vec<(f64, f64, u32)>,
+    /// Those by slot along the row, and where each slot's begin.
+    sorted_row: Vec<(f64, f64, u32)>,
+    slot_starts: Vec<u32>,
     vertex_seen: Vec<u32>,
     edge_seen: Vec<u32>,
     query: u32,
@@ -169,6 +177,9 @@ impl Surface for MeshSurface {
     fn scratch(&self) -> MeshScratch {
         MeshScratch {
             candidates: Vec::new(),
+            near_row: Vec::new(),
+            sorted_row: Vec::new(),
+            slot_starts: Vec::new(),
             vertex_seen: vec![0; self.mesh.vertices().len()],
             edge_seen: vec![0; self.mesh.edges().len()],
             query: 0,
@@ -195,11 +206,18 @@ impl Surface for MeshSurface {
 
 impl MeshSurface {
     /// [`Surface::drop_cutter_with`] with the cutter's shape known.
-    fn drop<P: Profile>(&self, mut probe: Probe<P>, scratch: &mut MeshScratch) -> Option<f64> {
+    fn drop<P: Profile>(&self, probe: Probe<P>, scratch: &mut MeshScratch) -> Option<f64> {
+        scratch.candidates.clear();
+        let candidates = &mut scratch.candidates;
+        self.index.for_each_in_disk(probe.centre(), probe.radius(), |t| candidates.push(t));
+        self.contacts(probe, scratch)
+    }
+
+    /// The highest contact of `probe` with the triangles of
+    /// `scratch.candidates` (each tried once, vertices and edges once).
+    fn contacts<P: Profile>(&self, mut probe: Probe<P>, scratch: &mut MeshScratch) -> Option<f64> {
         let query = scratch.next_query();
         let MeshScratch { candidates, vertex_seen, edge_seen, .. } = scratch;
-        candidates.clear();
-        self.index.for_each_in_disk(probe.centre(), probe.radius(), |t| candidates.push(t));
         let (vertices, triangles, edges) = (self.mesh.vertices(), self.mesh.triangles(), self.mesh.edges());
         for &t in candidates.iter() {
             for &v in &triangles[t as usize] {

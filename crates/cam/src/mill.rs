@@ -46,7 +46,7 @@ mod refine;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use kezuri_geom::{Axes, AxisSet, Move, MoveKind, Spindle, Toolpath};
+use kezuri_geom::{Axes, AxisSet, Move, MoveKind, PathSink, Spindle, Toolpath, WholePath};
 
 use crate::error::{Error, ErrorKind};
 
@@ -162,6 +162,21 @@ pub type ClFn<'a> = dyn Fn(f64, f64) -> Option<f64> + Sync + 'a;
 /// (`kezuri_cam::dropcut::drop_cutter_rows`).
 pub type ClRowsFn<'a> = dyn Fn(bool, &[(f64, &[f64])]) -> Vec<Vec<Option<f64>>> + Sync + 'a;
 
+/// How the CL points of the rows are asked.
+#[derive(Clone, Copy)]
+pub enum Rows<'a> {
+    /// One by one, of the [`ClFn`].
+    PointByPoint,
+    /// Whole rows at once, many rows together, two levels of halving
+    /// ahead: for a surface that places the cutter on whole rows far
+    /// faster than point by point (a ball on a height grid).
+    Whole(&'a ClRowsFn<'a>),
+    /// The points of each row together, as point by point asks them: for
+    /// a surface that answers the points of one row faster together (a
+    /// mesh, the triangles near the row found once).
+    Along(&'a ClRowsFn<'a>),
+}
+
 /// Most CL points asked of a [`ClRowsFn`] at once (their positions and
 /// answers take 24 bytes each).
 const BATCH_POINTS: usize = 4 << 20;
@@ -204,6 +219,25 @@ pub fn raster_with(
     pick_feed: Option<&PickFeedFn>,
     on_row: &Progress,
 ) -> Result<Toolpath, Error> {
+    let mut whole = WholePath::default();
+    let asking = rows_at.map_or(Rows::PointByPoint, Rows::Whole);
+    raster_into(cl, asking, region, o, pick_feed, on_row, &mut whole)?;
+    Ok(whole.path)
+}
+
+/// [`raster_with`], the CL points asked as `asking` says, handed to `sink`
+/// row by row as the rows are made, so that a program of any size is never
+/// held: the pieces joined are the path [`raster_with`] returns. An error (the safe height below a cut,
+/// nothing to cut) comes after the pieces before it were handed on.
+pub fn raster_into(
+    cl: &ClFn,
+    asking: Rows,
+    region: Region,
+    o: &RasterOptions,
+    pick_feed: Option<&PickFeedFn>,
+    on_row: &Progress,
+    sink: &mut dyn PathSink,
+) -> Result<(), Error> {
     check(region, o)?;
     let passes: &[bool] = match o.direction {
         Direction::X => &[false],
@@ -211,7 +245,6 @@ pub fn raster_with(
         Direction::Both => &[false, true],
     };
     least_points(region, o, pick_feed, passes)?;
-    let mut path = Path { toolpath: Toolpath::default(), at: None, o: *o };
     // Where the rows go, pass by pass (pick-feed control measures the
     // surface for each next row), then the rows themselves in parallel.
     let mut plans = Vec::new();
@@ -242,113 +275,41 @@ pub fn raster_with(
     }
     let total: usize = plans.iter().map(|p| p.3.len()).sum();
     let done = AtomicUsize::new(0);
-    // Every pass sampled first (16 bytes a point as written), so that the
-    // toolpath is made at its size once: growing it move by move would
-    // hold up to twice the moves, and both copies while it grows.
-    let mut sampled_passes = Vec::with_capacity(plans.len());
+    let mut path = Path { piece: Toolpath::default(), at: None, o: *o, sink, handed: false };
     for (along_y, u0, u1, rows) in &plans {
         let (along_y, u0, u1) = (*along_y, *u0, *u1);
         let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
         let forward = |k: usize| o.pattern == Pattern::OneWay || k.is_multiple_of(2);
         let ends = |k: usize| if forward(k) { (u0, u1) } else { (u1, u0) };
-        let ask = |asked: &[(f64, &[f64])]| match rows_at {
-            Some(f) => f(along_y, asked),
-            None => point_by_point(&at, asked),
+        let ask = |asked: &[(f64, &[f64])]| match asking {
+            Rows::Whole(f) | Rows::Along(f) => f(along_y, asked),
+            Rows::PointByPoint => point_by_point(&at, asked),
         };
-        let mut sampled = Vec::with_capacity(rows.len());
+        let whole_rows = matches!(asking, Rows::Whole(_));
         let per_row = first_level(&row_samples(u0, u1, o), Quantum(o.quantum)).len().max(1);
         // Rows asked point by point are refined a few at a time: what a
         // row holds while it is refined (every CL point asked of it, some
         // six for each point it keeps) is let go as soon as it is done.
-        let batch = match rows_at {
-            Some(_) => (BATCH_POINTS / per_row).max(1),
-            None => ROWS_AT_ONCE,
-        };
+        let batch = if whole_rows { (BATCH_POINTS / per_row).max(1) } else { ROWS_AT_ONCE };
+        let mut last_row_end: Option<(f64, f64)> = None;
         for (b, chunk) in rows.chunks(batch).enumerate() {
             let jobs: Vec<Job> = chunk.iter().enumerate().map(|(k, &v)| (v, ends(b * batch + k))).collect();
-            sampled.extend(sample_rows(&ask, rows_at.is_some(), &jobs, o));
+            let sampled = sample_rows(&ask, whole_rows, &jobs, o);
+            for (&v, pieces) in chunk.iter().zip(sampled) {
+                last_row_end = path.row(along_y, &at, v, &pieces, last_row_end);
+                path.hand_on()?;
+            }
             for _ in chunk {
                 on_row(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             }
         }
-        sampled_passes.push(sampled);
-    }
-    path.toolpath.moves.reserve_exact(moves_at_most(&plans, &sampled_passes, o));
-    for ((along_y, _, _, rows), sampled) in plans.into_iter().zip(sampled_passes) {
-        let at = move |u: f64, v: f64| if along_y { cl(v, u) } else { cl(u, v) };
-        let point = |u: f64, v: f64, z: f64| {
-            if along_y {
-                Axes { x: v, y: u, z, ..Axes::ZERO }
-            } else {
-                Axes { x: u, y: v, z, ..Axes::ZERO }
-            }
-        };
-        let mut last_row_end: Option<(f64, f64)> = None;
-        for (&v, pieces) in rows.iter().zip(sampled) {
-            for (k, piece) in pieces.iter().enumerate() {
-                let first = piece[0];
-                let linked = k == 0
-                    && o.pattern == Pattern::ZigZag
-                    && last_row_end.is_some_and(|(pu, pv)| {
-                        // Link along the surface from the last row's end.
-                        (pu - first.0).abs() < 1e-9 && link_is_whole(&|w| at(pu, w), pv, v, o)
-                    });
-                if linked {
-                    let (pu, pv) = last_row_end.unwrap();
-                    let along = |asked: &[(f64, &[f64])]| point_by_point(&|w, _| at(pu, w), asked);
-                    for (w, z) in
-                        sample_rows(&along, false, &[(0.0, (pv, v))], o).remove(0).remove(0).into_iter().skip(1)
-                    {
-                        path.feed_to(point(pu, w, z), o.feed);
-                    }
-                } else {
-                    path.approach(point(first.0, v, first.1));
-                }
-                for &(u, z) in &piece[1..] {
-                    path.feed_to(point(u, v, z), o.feed);
-                }
-            }
-            last_row_end = pieces.last().map(|p| (p[p.len() - 1].0, v));
-            if last_row_end.is_some() && (o.pattern == Pattern::OneWay || pieces.len() > 1) {
-                path.retract();
-                last_row_end = None;
-            }
-        }
         path.retract();
     }
-    if path.toolpath.moves.is_empty() {
+    path.hand_on()?;
+    if !path.handed {
         return Err(nothing_to_cut());
     }
-    // Rapids run at the safe height: every cut must be below it.
-    if let Some(m) = path.toolpath.moves.iter().filter(|m| !m.is_rapid()).find(|m| m.end.z >= o.safe_z) {
-        return Err(Error::new(
-            ErrorKind::Option,
-            format!(
-                "the safe height {} is not above the cut at ({:.3}, {:.3}, {:.3}): rapids would run into the part",
-                o.safe_z, m.end.x, m.end.y, m.end.z
-            ),
-        ));
-    }
-    Ok(path.toolpath)
-}
-
-/// A pass: whether its rows run along Y, where they start and end (u0,
-/// u1) and where each row is (v).
-type Plan = (bool, f64, f64, Vec<f64>);
-
-/// A row's pieces, each its points (u, z) in order.
-type RowPieces = Vec<Vec<(f64, f64)>>;
-
-/// The most moves the sampled rows of `plans` make: each piece's points,
-/// its approach (two rapids and a plunge, two more rapids at the start) and
-/// retract, and the samples of a link to the next row.
-fn moves_at_most(plans: &[Plan], sampled: &[Vec<RowPieces>], o: &RasterOptions) -> usize {
-    let mut n = 1;
-    for ((_, _, _, rows), pass) in plans.iter().zip(sampled) {
-        let gaps = rows.windows(2).map(|w| ((w[1] - w[0]).abs() / o.step).ceil() as usize + 1);
-        n += 1 + gaps.sum::<usize>() + pass.iter().flatten().map(|piece| piece.len() + 4).sum::<usize>();
-    }
-    n
+    Ok(())
 }
 
 fn check(r: Region, o: &RasterOptions) -> Result<(), Error> {
@@ -452,17 +413,21 @@ fn controlled_step(
     step
 }
 
-/// The toolpath being built and where the tool is.
-struct Path {
-    toolpath: Toolpath,
+/// The toolpath being made, the row at hand, and where the tool is.
+struct Path<'s> {
+    /// The moves not handed on yet.
+    piece: Toolpath,
     at: Option<Axes>,
     o: RasterOptions,
+    sink: &'s mut dyn PathSink,
+    /// Whether a move was handed on.
+    handed: bool,
 }
 
-impl Path {
+impl Path<'_> {
     fn push(&mut self, kind: MoveKind, end: Axes, feed: f64, named: AxisSet) {
         let start = self.at.unwrap_or(end);
-        self.toolpath.push(Move {
+        self.piece.push(Move {
             kind,
             start,
             end,
@@ -474,6 +439,77 @@ impl Path {
             ..Move::default()
         });
         self.at = Some(end);
+    }
+
+    /// The moves of the row at `v` (its `pieces` of points `(u, z)`) after
+    /// the row that ended at `last_row_end` (`(u, v)`, where the tool
+    /// stays down to link along the surface); where this one ends.
+    fn row(
+        &mut self,
+        along_y: bool,
+        at: &(dyn Fn(f64, f64) -> Option<f64> + Sync),
+        v: f64,
+        pieces: &[Vec<(f64, f64)>],
+        mut last_row_end: Option<(f64, f64)>,
+    ) -> Option<(f64, f64)> {
+        let o = self.o;
+        let point = |u: f64, v: f64, z: f64| {
+            if along_y {
+                Axes { x: v, y: u, z, ..Axes::ZERO }
+            } else {
+                Axes { x: u, y: v, z, ..Axes::ZERO }
+            }
+        };
+        for (k, piece) in pieces.iter().enumerate() {
+            let first = piece[0];
+            let link = last_row_end.filter(|&(pu, pv)| {
+                // Link along the surface from the last row's end.
+                k == 0
+                    && o.pattern == Pattern::ZigZag
+                    && (pu - first.0).abs() < 1e-9
+                    && link_is_whole(&|w| at(pu, w), pv, v, &o)
+            });
+            if let Some((pu, pv)) = link {
+                let along = |asked: &[(f64, &[f64])]| point_by_point(&|w, _| at(pu, w), asked);
+                for (w, z) in sample_rows(&along, false, &[(0.0, (pv, v))], &o).remove(0).remove(0).into_iter().skip(1)
+                {
+                    self.feed_to(point(pu, w, z), o.feed);
+                }
+            } else {
+                self.approach(point(first.0, v, first.1));
+            }
+            for &(u, z) in &piece[1..] {
+                self.feed_to(point(u, v, z), o.feed);
+            }
+        }
+        last_row_end = pieces.last().map(|p| (p[p.len() - 1].0, v));
+        if last_row_end.is_some() && (o.pattern == Pattern::OneWay || pieces.len() > 1) {
+            self.retract();
+            last_row_end = None;
+        }
+        last_row_end
+    }
+
+    /// Hands the moves made since the last time on to the sink. Rapids run
+    /// at the safe height: every cut must be below it.
+    fn hand_on(&mut self) -> Result<(), Error> {
+        if self.piece.moves.is_empty() {
+            return Ok(());
+        }
+        let safe_z = self.o.safe_z;
+        if let Some(m) = self.piece.moves.iter().filter(|m| !m.is_rapid()).find(|m| m.end.z >= safe_z) {
+            return Err(Error::new(
+                ErrorKind::Option,
+                format!(
+                    "the safe height {safe_z} is not above the cut at ({:.3}, {:.3}, {:.3}): rapids would run into the part",
+                    m.end.x, m.end.y, m.end.z
+                ),
+            ));
+        }
+        self.sink.take(&self.piece, None);
+        self.piece.moves.clear();
+        self.handed = true;
+        Ok(())
     }
 
     /// Up to the safe height (first Z alone, as the tool may be anywhere),

@@ -13,8 +13,8 @@ pub use streamed::{staged, Streamed};
 mod tally;
 
 pub use emit::{
-    located, post_options, program_title, stage_toolpath, svg_title, warn_rml_drops, write_program, written_path,
-    Origin, RunTrial, WriteArgs,
+    located, post_options, program_title, stage_toolpath, stream_made_program, svg_title, warn_rml_drops,
+    write_program, written_path, Origin, RunTrial, WriteArgs,
 };
 pub use run::{
     choose_dialect, comp_refused, dialect_settings, library_dir, model_notes, print_label, read_and_run,

@@ -157,3 +157,42 @@ fn bad_input_is_a_clear_error() {
     let o = kezuri(&["mill", "/nonexistent.stl", "--tool", "ball:6", "--stepover", "1"]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// A program or CSV alone is written row by row as the rows are made; with
+/// a drawing (`--svg`) the whole path is made first. Both give the same
+/// bytes, in every post, zig-zag and one-way, both directions, and to
+/// standard output; the summary line says the same.
+#[test]
+fn the_program_written_row_by_row_is_the_whole_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let wave = grid(dir.path(), "wave.xyz", 6.0, 0.25, |x, y| (x * 0.8).sin() + 0.5 * (y * 0.6).cos());
+    let at = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    for (tool, extra) in [
+        ("ball:3", &["--post", "fanuc"][..]),
+        ("flat:2", &["--post", "haas", "--direction", "both", "--pattern", "oneway"][..]),
+        ("bull:3,0.5", &["--post", "linuxcnc", "--direction", "y"][..]),
+        ("ball:2", &["--post", "grbl", "--tool-number", "0"][..]),
+        ("ball:2", &["--to", "csv"][..]),
+    ] {
+        let common = [&wave, "--tool", tool, "--stepover", "1.5"];
+        let run = |out: &[&str]| {
+            let args: Vec<&str> = ["mill"].iter().chain(&common).chain(extra).chain(out).copied().collect();
+            let o = kezuri(&args);
+            assert!(o.status.success(), "{tool} {extra:?}: {}", String::from_utf8_lossy(&o.stderr));
+            o
+        };
+        let (streamed, whole, svg) = (at("streamed.nc"), at("whole.nc"), at("whole.svg"));
+        let said = run(&["-o", &streamed]);
+        let said_whole = run(&["-o", &whole, "--svg", &svg]);
+        let text = std::fs::read(&streamed).unwrap();
+        assert!(text.len() > 1000, "{tool} {extra:?}");
+        assert_eq!(text, std::fs::read(&whole).unwrap(), "{tool} {extra:?}");
+        assert_eq!(run(&[]).stdout, text, "{tool} {extra:?}: standard output");
+        let summary = |o: &Output| {
+            let e = String::from_utf8_lossy(&o.stderr).into_owned();
+            e.lines().filter_map(|l| l.split_once(".nc: ").map(|s| s.1.to_string())).collect::<Vec<_>>()
+        };
+        assert_eq!(summary(&said), summary(&said_whole), "{tool} {extra:?}");
+        assert_eq!(summary(&said).len(), 1, "{:?}", String::from_utf8_lossy(&said.stderr));
+    }
+}

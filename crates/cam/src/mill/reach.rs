@@ -81,17 +81,27 @@ pub fn unreached(
     z_at: impl Fn(f64, f64) -> Option<f64> + Sync,
     cl: impl Fn(f64, f64) -> Option<f64> + Sync,
 ) -> Option<Unreached> {
+    let row = |y: f64, xs: &[f64]| xs.iter().map(|&x| cl(x, y)).collect();
+    unreached_by_rows(area, cutter, threshold, z_at, &cl, row)
+}
+
+/// [`unreached`], the grid's cutter locations asked a row at a time of
+/// `cl_row(y, xs)` (the same answers as `cl` at each `(x, y)`: a surface
+/// may answer a row's points faster together).
+pub fn unreached_by_rows(
+    area: Area,
+    cutter: &Cutter,
+    threshold: f64,
+    z_at: impl Fn(f64, f64) -> Option<f64> + Sync,
+    cl: &(dyn Fn(f64, f64) -> Option<f64> + Sync),
+    cl_row: impl Fn(f64, &[f64]) -> Vec<Option<f64>> + Sync,
+) -> Option<Unreached> {
     let Area { bounds: [x0, y0, x1, y1], inset, step } = area;
     let (nx, ny) = (((x1 - x0) / step).floor() as usize + 1, ((y1 - y0) / step).floor() as usize + 1);
     let at = |i: usize, j: usize| (x0 + i as f64 * step, y0 + j as f64 * step);
-    // Both cores: the locations, then the rows of points judged.
-    let locations: Vec<Option<f64>> = (0..nx * ny)
-        .into_par_iter()
-        .map(|k| {
-            let (x, y) = at(k % nx, k / nx);
-            cl(x, y)
-        })
-        .collect();
+    // Both cores: the locations row by row, then the rows of points judged.
+    let xs: Vec<f64> = (0..nx).map(|i| at(i, 0).0).collect();
+    let locations: Vec<Option<f64>> = (0..ny).into_par_iter().flat_map_iter(|j| cl_row(at(0, j).1, &xs)).collect();
     let reach = (cutter.radius() / step).floor() as isize;
     // The cutter's height at each grid offset within its radius.
     let offsets: Vec<(isize, isize, f64)> = (-reach..=reach)

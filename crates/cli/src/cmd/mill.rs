@@ -2,14 +2,15 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kezuri_cam::dropcut::{drop_cutter_rows, rows_at_once};
-use kezuri_cam::mill::reach::{self, unreached, Area};
-use kezuri_cam::mill::{gouge_note, raster_with, ClRowsFn, RasterOptions, Region, GOUGE_TOL};
+use kezuri_cam::dropcut::{drop_cutter_along_rows, drop_cutter_rows, rows_at_once};
+use kezuri_cam::mill::reach::{self, unreached, unreached_by_rows, Area};
+use kezuri_cam::mill::{gouge_note, raster_into, RasterOptions, Region, Rows, GOUGE_TOL};
 use kezuri_cam::{scallop, Cutter};
+use kezuri_geom::{PathSink, WholePath};
 
 use crate::files::Outputs;
 use crate::machine::MachineArg;
-use crate::program::{write_program, Origin, WriteArgs};
+use crate::program::{stream_made_program, write_program, Origin, WriteArgs};
 use crate::raster::{RowDirection, RowPattern};
 use crate::surface::{read_surface, Surface};
 
@@ -168,28 +169,66 @@ pub fn run(args: &MillArgs) -> Result<()> {
             bar.set_position(done as u64);
         }
     };
-    // A ball on a height grid is placed on whole rows at once, far faster
-    // than point by point, with the same answers.
-    let grid_rows = match &surface {
-        Surface::Grid(field) if rows_at_once(&cutter) => {
-            Some(|along_y: bool, asked: &[(f64, &[f64])]| drop_cutter_rows(&cutter, field, along_y, asked))
-        }
-        _ => None,
+    let row_queries = |along_y: bool, asked: &[(f64, &[f64])]| match &surface {
+        Surface::Grid(field) => drop_cutter_rows(&cutter, field, along_y, asked),
+        Surface::Mesh(mesh) => drop_cutter_along_rows(&cutter, mesh, along_y, asked),
     };
-    let rows_at = grid_rows.as_ref().map(|f| f as &ClRowsFn);
-    let path = raster_with(
-        &cl,
-        rows_at,
-        Region { x0, y0, x1, y1 },
-        &options,
-        pick_feed.as_ref().map(|f| f as &kezuri_cam::mill::PickFeedFn),
-        &on_row,
-    )
-    .with_context(|| args.surface.display().to_string())?;
+    // A ball on a height grid is placed on whole rows at once, far faster
+    // than point by point; a mesh answers a row's points together, the
+    // triangles near the row found once. The same answers.
+    let rows = match &surface {
+        Surface::Grid(_) if rows_at_once(&cutter) => Rows::Whole(&row_queries),
+        Surface::Grid(_) => Rows::PointByPoint,
+        Surface::Mesh(_) => Rows::Along(&row_queries),
+    };
+    let region = Region { x0, y0, x1, y1 };
+    let pick_feed = pick_feed.as_ref().map(|f| f as &kezuri_cam::mill::PickFeedFn);
+    let make = |sink: &mut dyn PathSink| {
+        raster_into(&cl, rows, region, &options, pick_feed, &on_row, sink)
+            .with_context(|| args.surface.display().to_string())
+    };
+    let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
+    let notes = [gouge_note(args.gouge_tol)];
+    let cutters = [(args.tool_number, cutter)];
+    let mut out = Outputs::new();
+    // A program or CSV alone is written row by row as the rows are made; a
+    // drawing, a page or RML-1 needs the whole path.
+    let summary = if args.write.streams() {
+        let summary =
+            stream_made_program(&mut out, &args.surface, &title, &notes, &args.write, &machine, &cutters, make)?;
+        finish_bar(&bar);
+        warn_unreached(&cutter, &surface, [x0, y0, x1, y1], args, &cl);
+        summary
+    } else {
+        let mut whole = WholePath::default();
+        make(&mut whole)?;
+        finish_bar(&bar);
+        warn_unreached(&cutter, &surface, [x0, y0, x1, y1], args, &cl);
+        let path = whole.path;
+        write_program(&mut out, &path, &path, &title, &notes, &args.write, &machine, Origin::Made, &cutters)?;
+        crate::say::program_summary(&path, &machine)
+    };
+    out.commit()?;
+    crate::say::note!("wrote {}: {summary}", crate::say::shown(args.write.output()));
+    Ok(())
+}
+
+/// Clears the progress bar of the rows, where one was drawn.
+fn finish_bar(bar: &std::sync::OnceLock<Option<indicatif::ProgressBar>>) {
     if let Some(Some(bar)) = bar.get() {
         bar.finish_and_clear();
     }
-    // What the cutter cannot reach, at any stepover (as relief says it).
+}
+
+/// Warns of what `cutter` cannot reach of `surface` over `region` (`cl` its
+/// cutter locations), at any stepover, as relief says it.
+fn warn_unreached(
+    cutter: &Cutter,
+    surface: &Surface,
+    [x0, y0, x1, y1]: [f64; 4],
+    args: &MillArgs,
+    cl: &(dyn Fn(f64, f64) -> Option<f64> + Sync),
+) {
     let r = cutter.radius();
     let nodes = |step: f64| ((x1 - x0) / step + 1.0) * ((y1 - y0) / step + 1.0);
     let mut step = r / 5.0;
@@ -198,17 +237,17 @@ pub fn run(args: &MillArgs) -> Result<()> {
     }
     let threshold = reach::threshold(args.gouge_tol, step, r);
     let area = Area { bounds: [x0, y0, x1, y1], inset: r, step };
-    if let Some(u) = unreached(area, &cutter, threshold, |x, y| surface.height_at(x, y), cl) {
-        eprintln!("warning: {}: {}", args.surface.display(), u.message(&cutter, "the surface", threshold));
+    let z_at = |x, y| surface.height_at(x, y);
+    let found = match surface {
+        // A mesh answers a row's points together, the triangles near the row found once.
+        Surface::Mesh(mesh) => {
+            unreached_by_rows(area, cutter, threshold, z_at, cl, |y, xs| mesh.drop_cutter_along(cutter, false, y, xs))
+        }
+        Surface::Grid(_) => unreached(area, cutter, threshold, z_at, cl),
+    };
+    if let Some(u) = found {
+        eprintln!("warning: {}: {}", args.surface.display(), u.message(cutter, "the surface", threshold));
     }
-    let title = format!("{} raster {} stepover {}", cutter, args.surface.display(), args.stepover);
-    let mut out = Outputs::new();
-    let notes = [gouge_note(args.gouge_tol)];
-    let cutters = [(args.tool_number, cutter)];
-    write_program(&mut out, &path, &path, &title, &notes, &args.write, &machine, Origin::Made, &cutters)?;
-    out.commit()?;
-    crate::say::wrote_program(args.write.output(), "", &path, &machine);
-    Ok(())
 }
 
 /// Most points of the grid `mill` checks the cutter's reach on: a coarser

@@ -251,6 +251,49 @@ pub fn write_program(
     Ok(())
 }
 
+/// A program kezuri makes (of `file`, titled `title`, `notes` in its
+/// header, for the tools `cutters`) written as `make` hands its path on,
+/// into `out`, where `w` asks for a program or CSV alone
+/// ([`WriteArgs::streams`]): the path is made on this thread and written
+/// on another, and never held whole. What [`write_program`] writes of the
+/// whole path, to the byte; the one-line summary of it.
+#[allow(clippy::too_many_arguments)]
+pub fn stream_made_program(
+    out: &mut Outputs,
+    file: &Path,
+    title: &str,
+    notes: &[String],
+    w: &WriteArgs,
+    machine: &Machine,
+    cutters: &[(u32, Cutter)],
+    make: impl FnOnce(&mut dyn PathSink) -> Result<()>,
+) -> Result<String> {
+    warn_other_shapes(machine, cutters);
+    let mut tools: Vec<u32> = Vec::new();
+    for &(n, _) in cutters.iter().filter(|c| c.0 != 0) {
+        if tools.last() != Some(&n) {
+            tools.push(n);
+        }
+    }
+    let mut made: Option<Result<String>> = None;
+    let staged = out.add_with(w.output(), |to| {
+        let streamed = Streamed::made(w, machine, file, (title, notes), tools, &mut *to);
+        let (result, streamed) = super::beside::with_sink_beside(streamed, make);
+        let done = result.and_then(|()| streamed.finish().map(|(_, summary)| summary));
+        let failed = done.is_err();
+        made = Some(done);
+        if failed {
+            return Err(std::io::Error::other("the program was not made"));
+        }
+        Ok(())
+    });
+    match (made, staged) {
+        (Some(Ok(summary)), Ok(())) => Ok(summary),
+        (Some(Err(e)), _) | (_, Err(e)) => Err(e),
+        (None, Ok(())) => Err(anyhow::anyhow!("the program was not written")),
+    }
+}
+
 /// The title of a toolpath's drawing: the program written (`output`), its
 /// `title` and the tools not named in it.
 pub fn svg_title(output: Option<&Path>, title: &str, cutters: &[(u32, Cutter)]) -> String {

@@ -70,16 +70,45 @@ impl<W: Write> Streamed<W> {
     /// `machine` to `out`, titled `title`. `uvw`: the CSV has U V W
     /// columns (the program names them).
     pub fn new(w: &WriteArgs, machine: &Machine, file: &Path, title: &str, uvw: bool, out: W) -> Streamed<W> {
+        let options = w.options(machine, Origin::Transformed);
+        let options = options.map(|o| WriteOptions { title: Some(title.to_string()), ..o });
+        Streamed::with_options(w, machine, file, options, uvw, Vec::new(), out)
+    }
+
+    /// A program kezuri makes of `file` (a surface) with `w` on `machine`:
+    /// the post's start, the tools `tools` loaded in order, its end;
+    /// titled `title`, with `notes` in its header.
+    pub fn made(
+        w: &WriteArgs,
+        machine: &Machine,
+        file: &Path,
+        (title, notes): (&str, &[String]),
+        tools: Vec<u32>,
+        out: W,
+    ) -> Streamed<W> {
+        let options = w.options(machine, Origin::Made);
+        let options = options.map(|o| WriteOptions { title: Some(title.to_string()), notes: notes.to_vec(), ..o });
+        Streamed::with_options(w, machine, file, options, false, tools, out)
+    }
+
+    fn with_options(
+        w: &WriteArgs,
+        machine: &Machine,
+        file: &Path,
+        options: Result<WriteOptions>,
+        uvw: bool,
+        tools: Vec<u32>,
+        out: W,
+    ) -> Streamed<W> {
         let tally = Tally::new(&machine.dynamics, &machine.kinematics, false);
         let mut streamed = Streamed { writer: None, out, file: file.to_path_buf(), error: None, moves: 0, tally };
         let writer = match w.emit {
             Some(Emit::Csv) => Ok(Writer::Csv(CsvWriter::new(uvw))),
             Some(Emit::Rml) => Err(anyhow!("RML-1 is written from the whole path")),
-            _ => w.options(machine, Origin::Transformed).and_then(|options| {
-                let options = WriteOptions { title: Some(title.to_string()), ..options };
+            _ => options.and_then(|options| {
                 let without_comp = (options.dialect == kezuri_nc::write::Dialect::Grbl).then_some("GRBL");
                 Ok(Writer::Gcode {
-                    writer: Box::new(ProgramWriter::new(&options)?),
+                    writer: Box::new(ProgramWriter::new(&options)?.with_tool_order(tools)),
                     without_comp,
                     centre: w.apply_comp,
                 })
