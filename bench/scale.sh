@@ -51,6 +51,8 @@ for n in "${sizes[@]}"; do
     measure "check" "$n" "$bin" check "$f"
     measure "run -o" "$n" "$bin" run "$f" -o "$work/out.nc"
     measure "run --emit csv -o" "$n" "$bin" run "$f" --emit csv -o "$work/out.csv"
+    # sim over a 100 × 100 mm stock at 0.1 mm (a million cells): the moves past it skipped by their box.
+    measure "sim" "$n" "$bin" sim "$f" --tool ball:2 --res 0.1 --stock 0,0,100,100,0
     # view still holds the whole path (some 370 bytes a move): past 2e6 blocks it is left out.
     [ "$n" -le 2000000 ] && measure "view" "$n" "$bin" view "$f" -o "$work/page.html"
     if command -v rs274 >/dev/null; then

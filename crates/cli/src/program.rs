@@ -16,6 +16,6 @@ pub use emit::{
 };
 pub use run::{
     choose_dialect, dialect_settings, library_dir, model_notes, print_label, read_and_run, read_and_run_centre,
-    read_and_run_into, refuse_comp, report_logs, run_text, run_written, whole_units, Ran, RunOptions,
+    read_and_run_into, refuse_comp, report_logs, run_again_into, run_text, run_written, whole_units, Ran, RunOptions,
 };
 pub use tally::{missing_axes, Report, Tallied, Tally};

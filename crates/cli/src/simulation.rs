@@ -3,6 +3,7 @@
 //! cutting with a progress bar, and the comparison with the target.
 
 pub mod stock;
+pub mod survey;
 pub mod tiled;
 pub mod tools;
 
@@ -14,16 +15,16 @@ use clap::{ArgGroup, Args};
 use kezuri_cam::mill::{read_gouge_note, GOUGE_TOL};
 use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::compare::{compare, gouged_cells, gouges_by_tool, target_heights, ToolGouge};
-use kezuri_cam::sim::{
-    cutting_tools, simulate_tools, Grid, SimOptions, SimReport, Stock, Tooling, ZMap, CELL_BYTES, DEFAULT_MEMORY, UNCUT,
-};
-use kezuri_geom::Toolpath;
+use kezuri_cam::sim::{Cutting, Grid, SimOptions, SimReport, Tooling, ZMap, CELL_BYTES, DEFAULT_MEMORY, UNCUT};
+use kezuri_geom::{PathSink, Toolpath};
 use kezuri_picture::sim::DeviationScale;
 use kezuri_picture::Simulation;
 
+use crate::program::{Ran, RunOptions};
 use crate::progress::LateBar;
 use kezuri_machine::Machine;
 use stock::StockSpec;
+pub use survey::Survey;
 
 /// How the deviation from the target is coloured: the options `sim` and
 /// `view` share.
@@ -158,6 +159,9 @@ pub struct Simulated {
     /// The figures of every cell (where the grid was cut in tiles, `zmap`
     /// and the comparison's heights are a sample of it).
     pub figures: Figures,
+    /// Seconds each tool's moves take (by [`tools::ToolSet::table`]), each
+    /// run of them from a stop.
+    pub times: Vec<f64>,
 }
 
 /// What the report says of every cell of the grid, whole or in tiles.
@@ -216,16 +220,30 @@ fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f
     }
 }
 
-/// Cuts `path` (of `file`, run on `machine`) out of the stock at `res` mm
-/// cells (none: [`DEFAULT_RES_HELP`]), with a progress bar on a terminal,
-/// and compares it with the target (a histogram of `bins` bins; deeper
-/// than `allowance` below it a gouge). A grid over `--max-memory` is cut in
-/// tiles ([`tiled`]).
-///
-/// The tool cuts at X Y Z. A program that moves U V W (LinuxCNC's) is
-/// refused: what those axes carry (a quill that moves the tool, a second
-/// head, a foam cutter's other wire end) no machine file says, so a part
-/// cut from X Y Z alone could be wrong without a sign of it.
+/// Where a simulation's moves come from: a path held whole, or a program
+/// run again for each pass over its moves (the grid, or each tile of it),
+/// its path handed on in pieces to the cutting on the other core.
+pub enum Moves<'a> {
+    Whole(&'a Toolpath),
+    /// The program `ran` (run first with `options`, to survey it).
+    Program {
+        options: &'a RunOptions,
+        ran: &'a Ran,
+    },
+}
+
+impl Moves<'_> {
+    /// One pass over the moves, cut by `cutting`.
+    fn pass(&self, cutting: &mut Cutting<'_>) -> Result<()> {
+        match self {
+            Moves::Whole(path) => Ok(cutting.add_last(path)?),
+            Moves::Program { options, ran } => crate::program::run_again_into(options, ran, cutting).map(|_| ()),
+        }
+    }
+}
+
+/// Cuts `path` (of `file`, run on `machine`): [`simulate_moves`] of the
+/// whole path.
 pub fn simulate(
     path: &Toolpath,
     machine: &Machine,
@@ -235,18 +253,43 @@ pub fn simulate(
     allowance: f64,
     file: &str,
 ) -> Result<Simulated> {
-    if let Some((k, m)) =
-        path.moves.iter().find_map(|m| (0..3).find(|&k| m.start.uvw()[k] != m.end.uvw()[k]).map(|k| (k, m)))
-    {
+    let mut survey = Survey::new(&machine.dynamics);
+    survey.take(path, None);
+    simulate_moves(&Moves::Whole(path), survey, machine, setup, res, bins, allowance, file)
+}
+
+/// Cuts the `moves` (of `file`, run on `machine`; `survey` made of them)
+/// out of the stock at `res` mm cells (none: [`DEFAULT_RES_HELP`]), with a
+/// progress bar on a terminal, and compares it with the target (a
+/// histogram of `bins` bins; deeper than `allowance` below it a gouge). A
+/// grid over `--max-memory` is cut in tiles ([`tiled`]), each a pass over
+/// the moves.
+///
+/// The tool cuts at X Y Z. A program that moves U V W (LinuxCNC's) is
+/// refused: what those axes carry (a quill that moves the tool, a second
+/// head, a foam cutter's other wire end) no machine file says, so a part
+/// cut from X Y Z alone could be wrong without a sign of it.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_moves(
+    moves: &Moves<'_>,
+    survey: Survey,
+    machine: &Machine,
+    setup: &SimSetup,
+    res: Option<f64>,
+    bins: usize,
+    allowance: f64,
+    file: &str,
+) -> Result<Simulated> {
+    if let Some((line, k)) = survey.uvw {
         bail!(
-            "{file}: line {} moves {}: the simulation cuts with the tool at X Y Z and does not know what U V W \
+            "{file}: line {line} moves {}: the simulation cuts with the tool at X Y Z and does not know what U V W \
              carry (a quill, a second head, a wire's other end), so it simulates no program that moves them",
-            m.line,
             ['U', 'V', 'W'][k]
         );
     }
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
-    let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, path).with_context(|| file.to_string())?;
+    let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, &survey.numbers())
+        .with_context(|| file.to_string())?;
     // The target first: without --stock its top is the top of the material.
     let target = match &setup.compare {
         Some(target) => {
@@ -260,10 +303,8 @@ pub fn simulate(
         None => {
             // A drill's sideways feed is the mistake to find, not the top.
             let drills: Vec<u32> = tools.table.iter().filter(|(_, t)| t.is_drill()).map(|(n, _)| *n).collect();
-            let moved_by: Vec<u32> = cutting_tools(path).collect();
-            let tells_top = |k: usize| !drills.contains(&moved_by[k]);
-            let mut implied =
-                Stock::around_cutting(path, tools.reach(), &tells_top).with_context(|| file.to_string())?;
+            let top = survey.top(&|n| !drills.contains(&n));
+            let mut implied = survey.extent.stock(tools.reach(), top).with_context(|| file.to_string())?;
             let from = match &target {
                 Some((_, top, _)) => {
                     implied.top = *top;
@@ -285,8 +326,15 @@ pub fn simulate(
     let solid = stock.solid(setup.units)?;
     let start = stock.start(solid.as_deref());
     let grid = start.grid(&options)?;
+    let first = survey.first();
+    let numbers: Vec<u32> = tools.table.iter().map(|(n, _)| *n).collect();
+    let times = survey.times(&numbers);
     let t0 = Instant::now();
-    let bar = LateBar::new("cutting", "pieces", Duration::from_secs(1));
+    // A program run again shows its own bar, by the bytes it has read.
+    let bar = match moves {
+        Moves::Whole(_) => LateBar::new("cutting", "pieces", Duration::from_secs(1)),
+        Moves::Program { .. } => None,
+    };
     let progress = |done: u64, total: u64| {
         if let Some(bar) = &bar {
             bar.update(done, total)
@@ -297,7 +345,9 @@ pub fn simulate(
     let extra = if target.is_some() { 8 } else { 0 };
     if grid.bytes().saturating_add(grid.cells().saturating_mul(extra)) > options.max_memory {
         let triangles = target.as_ref().map(|t| t.2.as_slice());
-        let run = tiled::run(path, tooling, &start, &options, triangles, allowance, bins, &progress);
+        let mut pass = |cutting: &mut Cutting<'_>| moves.pass(cutting);
+        let cut = tiled::Cut { tooling, first, pass: &mut pass };
+        let run = tiled::run(cut, &start, &options, triangles, allowance, bins, &progress);
         if let Some(bar) = &bar {
             bar.finish();
         }
@@ -313,15 +363,21 @@ pub fn simulate(
             tiles: Some(run.tiles),
         };
         let (zmap, report, comparison, top) = (run.zmap, run.report, run.comparison, run.top);
-        return Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures });
+        return Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times });
     }
     let mut zmap = start.rows(&options, 0..grid.ny)?;
     let top = zmap.range().1;
-    let report = simulate_tools(path, tooling, &mut zmap, &options, &progress);
+    let cut = (|| -> Result<SimReport> {
+        let mut cutting = Cutting::new(tooling, &mut zmap, &options, first, Some(start))?;
+        cutting.progress = &progress;
+        moves.pass(&mut cutting)?;
+        let (cuts, cut_by) = cutting.finish()?;
+        Ok(SimReport { cut_by, ..cuts.report(res) })
+    })();
     if let Some(bar) = &bar {
         bar.finish();
     }
-    let report = report.with_context(|| file.to_string())?;
+    let report = cut.with_context(|| file.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
     let comparison = match target {
         Some((target, _, triangles)) => {
@@ -346,5 +402,5 @@ pub fn simulate(
         None => (0, Vec::new(), None),
     };
     let figures = Figures { grid, range: zmap.range(), gouged, gouges, gouge_tool, tiles: None };
-    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures })
+    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times })
 }

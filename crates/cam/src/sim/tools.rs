@@ -57,8 +57,7 @@ pub const UNCUT: u8 = u8::MAX;
 /// The number of the tool that cuts each move of `path` (see the module
 /// notes for moves before the first tool change).
 pub fn cutting_tools(path: &Toolpath) -> impl Iterator<Item = u32> + '_ {
-    let first = path.moves.iter().map(|m| m.tool).find(|&t| t != 0).unwrap_or(0);
-    path.moves.iter().scan(first, |current, m| {
+    path.moves.iter().scan(super::segments::first_tool(path), |current, m| {
         if m.tool != 0 {
             *current = m.tool;
         }
