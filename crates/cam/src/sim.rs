@@ -265,7 +265,7 @@ pub fn simulate_tools(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<SimReport, Error> {
     let res = zmap.res;
-    let mut cutting = Cutting::new(tooling, zmap, options, first_tool(path), None)?;
+    let mut cutting = Cutting::new(tooling, zmap, options, Some(first_tool(path)), None)?;
     cutting.progress = progress;
     cutting.add_last(path)?;
     let (cuts, cut_by) = cutting.finish()?;

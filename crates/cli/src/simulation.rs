@@ -2,6 +2,7 @@
 //! compared to (the options both take), the stock and the cutters read, the
 //! cutting with a progress bar, and the comparison with the target.
 
+mod once;
 pub mod stock;
 pub mod survey;
 pub mod tiled;
@@ -23,6 +24,7 @@ use kezuri_picture::Simulation;
 use crate::program::{Ran, RunOptions};
 use crate::progress::LateBar;
 use kezuri_machine::Machine;
+pub use once::{simulate_once, Once};
 use stock::StockSpec;
 pub use survey::Survey;
 
@@ -205,8 +207,8 @@ const DEFAULT_CELLS: f64 = 16e6;
 /// The cell size without `--res`: a tenth of the smallest cutter's radius,
 /// at most 0.1 mm, coarsened to whole hundredths until the stock holds at
 /// most [`DEFAULT_CELLS`] cells (or what `--max-memory` holds).
-fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f64 {
-    let smallest = tools.table.iter().map(|(_, t)| t.radius()).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
+fn default_res(stock: &StockSpec, radii: impl Iterator<Item = f64>, setup: &SimSetup) -> f64 {
+    let smallest = radii.filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
     let fine = (smallest / 10.0).min(0.1);
     // The stock's area, from a grid of 1 mm cells.
     let mut coarse = SimOptions::new(1.0);
@@ -263,12 +265,8 @@ pub fn simulate(
 /// progress bar on a terminal, and compares it with the target (a
 /// histogram of `bins` bins; deeper than `allowance` below it a gouge). A
 /// grid over `--max-memory` is cut in tiles ([`tiled`]), each a pass over
-/// the moves.
-///
-/// The tool cuts at X Y Z. A program that moves U V W (LinuxCNC's) is
-/// refused: what those axes carry (a quill that moves the tool, a second
-/// head, a foam cutter's other wire end) no machine file says, so a part
-/// cut from X Y Z alone could be wrong without a sign of it.
+/// the moves. A program that moves U V W is refused
+/// ([`Survey::refuse_uvw`]).
 #[allow(clippy::too_many_arguments)]
 pub fn simulate_moves(
     moves: &Moves<'_>,
@@ -280,13 +278,7 @@ pub fn simulate_moves(
     allowance: f64,
     file: &str,
 ) -> Result<Simulated> {
-    if let Some((line, k)) = survey.uvw {
-        bail!(
-            "{file}: line {line} moves {}: the simulation cuts with the tool at X Y Z and does not know what U V W \
-             carry (a quill, a second head, a wire's other end), so it simulates no program that moves them",
-            ['U', 'V', 'W'][k]
-        );
-    }
+    survey.refuse_uvw(file)?;
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
     let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, &survey.numbers())
         .with_context(|| file.to_string())?;
@@ -316,7 +308,7 @@ pub fn simulate_moves(
         }
     };
     let res = res.unwrap_or_else(|| {
-        let res = default_res(&stock, &tools, setup);
+        let res = default_res(&stock, tools.table.iter().map(|(_, t)| t.radius()), setup);
         crate::say::note!("{file}: cells of {res} mm (no --res: {DEFAULT_RES_HELP})");
         res
     });
@@ -368,7 +360,7 @@ pub fn simulate_moves(
     let mut zmap = start.rows(&options, 0..grid.ny)?;
     let top = zmap.range().1;
     let cut = (|| -> Result<SimReport> {
-        let mut cutting = Cutting::new(tooling, &mut zmap, &options, first, Some(start))?;
+        let mut cutting = Cutting::new(tooling, &mut zmap, &options, Some(first), Some(start))?;
         cutting.progress = &progress;
         moves.pass(&mut cutting)?;
         let (cuts, cut_by) = cutting.finish()?;
@@ -379,10 +371,29 @@ pub fn simulate_moves(
     }
     let report = cut.with_context(|| file.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
+    let target = target.map(|(target, _, triangles)| (target.as_path(), triangles));
+    let (comparison, figures) = compared(&zmap, &report, target, bins, allowance, grid)?;
+    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times })
+}
+
+/// A comparison with the target, and the target's height over each cell.
+type Compared = (Comparison, Vec<f64>);
+
+/// The comparison of the cut `zmap` (with its `report`) with the target
+/// (its file and triangles) where there is one, in `bins` bins, deeper
+/// than `allowance` a gouge; and the figures of the whole `grid`.
+fn compared(
+    zmap: &ZMap,
+    report: &SimReport,
+    target: Option<(&std::path::Path, Vec<[[f64; 3]; 3]>)>,
+    bins: usize,
+    allowance: f64,
+    grid: Grid,
+) -> Result<(Option<Compared>, Figures)> {
     let comparison = match target {
-        Some((target, _, triangles)) => {
-            let heights = target_heights(&zmap, triangles);
-            let c = compare(&zmap, &heights, bins);
+        Some((target, triangles)) => {
+            let heights = target_heights(zmap, triangles);
+            let c = compare(zmap, &heights, bins);
             if c.compared == 0 {
                 bail!("{}: the target covers none of the {} cells", target.display(), zmap.cells());
             }
@@ -394,13 +405,12 @@ pub fn simulate_moves(
         Some((c, heights)) => {
             let slot = c.gouge_cell.and_then(|k| report.cut_by.get(k)).filter(|&&b| b != UNCUT);
             (
-                gouged_cells(&zmap, heights, allowance),
-                gouges_by_tool(&zmap, heights, &report.cut_by, report.tools.len()),
+                gouged_cells(zmap, heights, allowance),
+                gouges_by_tool(zmap, heights, &report.cut_by, report.tools.len()),
                 slot.map(|&b| report.tools[b as usize].number),
             )
         }
         None => (0, Vec::new(), None),
     };
-    let figures = Figures { grid, range: zmap.range(), gouged, gouges, gouge_tool, tiles: None };
-    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times })
+    Ok((comparison, Figures { grid, range: zmap.range(), gouged, gouges, gouge_tool, tiles: None }))
 }

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use kezuri_cam::sim::{simulate_tools, Cutting, SimOptions, Start, Stock, Tool, Tooling};
+use kezuri_cam::sim::{simulate_tools, Cuts, Cutting, SimOptions, SimReport, Start, Stock, Tool, Tooling};
 use kezuri_cam::Cutter;
 use kezuri_geom::PathSink;
 use kezuri_nc::interp::{self, IntegerInput, Library, Settings};
@@ -97,12 +97,23 @@ fn a_simulation_fed_a_run_in_pieces_cuts_the_whole_paths_grid() {
         let mut got_grid = want_grid.clone();
         let want = simulate_tools(path_whole, Tooling::One(&ball), &mut want_grid, &options, &|_, _| {});
         let first = path_whole.moves.iter().map(|m| m.tool).find(|&t| t != 0).unwrap_or(0);
-        let mut cutting = Cutting::new(Tooling::One(&ball), &mut got_grid, &options, first, Some(start)).unwrap();
-        let mut pieces = Counted { cutting: &mut cutting, count: 0 };
+        // And where the first tool is not known before the run (`sim --tool`
+        // runs the program once, into the cutting).
+        let mut unknown_grid = got_grid.clone();
+        let mut cutting = Cutting::new(Tooling::One(&ball), &mut got_grid, &options, Some(first), Some(start)).unwrap();
+        let mut unknown = Cutting::new(Tooling::One(&ball), &mut unknown_grid, &options, None, Some(start)).unwrap();
+        let mut pieces = Counted { sink: (&mut cutting, &mut unknown), count: 0 };
         let handed = interp::run_into(&mut program, &mut sources, 0, &mut folder, &settings, &mut pieces);
         assert_eq!(handed.diagnostics.len(), whole.diagnostics.len(), "{name}");
         let count = pieces.count;
-        let got = cutting.finish().map(|(cuts, cut_by)| kezuri_cam::sim::SimReport { cut_by, ..cuts.report(res) });
+        let report = |(cuts, cut_by): (Cuts, Vec<u8>)| SimReport { cut_by, ..cuts.report(res) };
+        let got = cutting.finish().map(report);
+        let not_known_first = unknown.finish().map(report);
+        let tools = |r: &Result<SimReport, kezuri_cam::Error>| r.as_ref().map(|r| r.tools.clone()).map_err(|e| e.kind);
+        assert_eq!(tools(&got), tools(&not_known_first), "{name}: the first tool learnt in the run");
+        let cut_by = |r: &Result<SimReport, kezuri_cam::Error>| r.as_ref().map(|r| r.cut_by.clone()).ok();
+        assert!(cut_by(&got) == cut_by(&not_known_first), "{name}: the tool of every cell");
+        assert_eq!(got_grid.nm, unknown_grid.nm, "{name}");
         let (mut want, mut got) = match (want, got) {
             (Ok(w), Ok(g)) => (w, g),
             (Err(w), Err(g)) => {
@@ -135,15 +146,15 @@ fn a_simulation_fed_a_run_in_pieces_cuts_the_whole_paths_grid() {
     );
 }
 
-/// The cutting fed the pieces, counted.
-struct Counted<'a, 'b> {
-    cutting: &'a mut Cutting<'b>,
+/// A sink fed the pieces, counted.
+struct Counted<S> {
+    sink: S,
     count: usize,
 }
 
-impl PathSink for Counted<'_, '_> {
+impl<S: PathSink> PathSink for Counted<S> {
     fn take(&mut self, piece: &kezuri_geom::Toolpath, programmed: Option<&kezuri_geom::Toolpath>) {
         self.count += 1;
-        self.cutting.take(piece, programmed);
+        self.sink.take(piece, programmed);
     }
 }

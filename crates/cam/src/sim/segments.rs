@@ -109,8 +109,9 @@ pub(super) struct Segmenter<'a> {
     pub slots: Slots<'a>,
     pub report: SimReport,
     /// The tool in the spindle (the first the program loads for the moves
-    /// before it, as `cutting_tools` says).
-    current: u32,
+    /// before it, as `cutting_tools` says); `None` before the first tool
+    /// change where that tool is not known yet.
+    current: Option<u32>,
     /// Axes (X Y Z bits) whose position is known; `None` before the first
     /// piece, which says whether the start is known.
     known: Option<u16>,
@@ -120,8 +121,10 @@ pub(super) struct Segmenter<'a> {
 
 impl<'a> Segmenter<'a> {
     /// Before the first move; `first` is the first tool the program loads
-    /// (0 for none), which cuts the moves before it is loaded.
-    pub fn new(tooling: Tooling<'a>, tol: f64, first: u32) -> Segmenter<'a> {
+    /// (0 for none), which cuts the moves before it is loaded; `None`: not
+    /// known before the run, the moves before it cut by tool 0 (the one
+    /// tool of [`Tooling::One`]) and named for it when it comes.
+    pub fn new(tooling: Tooling<'a>, tol: f64, first: Option<u32>) -> Segmenter<'a> {
         let report = SimReport::default();
         Segmenter { tol, slots: Slots::new(tooling), report, current: first, known: None, moves: 0 }
     }
@@ -156,9 +159,16 @@ impl<'a> Segmenter<'a> {
         for (k, m) in moves.iter().enumerate() {
             let index = self.moves + k;
             if m.tool != 0 {
-                self.current = m.tool;
+                if self.current.is_none() {
+                    // The first tool loaded: the moves before were its own.
+                    slots.name_first(m.tool);
+                    if let Some(first) = report.tools.first_mut() {
+                        first.number = m.tool;
+                    }
+                }
+                self.current = Some(m.tool);
             }
-            let number = self.current;
+            let number = self.current.unwrap_or(0);
             if matches!(m.kind, MoveKind::Dwell(_)) {
                 continue;
             }

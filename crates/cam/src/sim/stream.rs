@@ -71,7 +71,8 @@ impl Cuts {
 
 impl<'a> Cutting<'a> {
     /// A cutting of `zmap` with `tooling`, `first` the first tool the
-    /// program loads (0 for none: see [`super::cutting_tools`]). `start`:
+    /// program loads (0 for none: see [`super::cutting_tools`]; `None`
+    /// where it is not known before the run: with [`Tooling::One`]). `start`:
     /// the stock `zmap` was made from, which says where a rapid from an
     /// unknown position ends in the stock as it stood before the program;
     /// without it, the grid as the cutting finds it (the same where the
@@ -80,7 +81,7 @@ impl<'a> Cutting<'a> {
         tooling: Tooling<'a>,
         zmap: &'a mut ZMap,
         options: &SimOptions,
-        first: u32,
+        first: Option<u32>,
         start: Option<Start<'a>>,
     ) -> Result<Cutting<'a>, Error> {
         if limits::length(options.chord_tolerance, "").is_err() {

@@ -94,7 +94,7 @@ pub fn cut_tiles<E: From<Error>>(
             let part = (done * 1000).checked_div(total).unwrap_or(1000);
             progress(t as u64 * 1000 + part, count * 1000)
         };
-        let mut cutting = Cutting::new(tooling, &mut tile, options, first, Some(*start))?;
+        let mut cutting = Cutting::new(tooling, &mut tile, options, Some(first), Some(*start))?;
         cutting.progress = &step;
         pass(&mut cutting)?;
         let (cuts, cut_by) = cutting.finish()?;

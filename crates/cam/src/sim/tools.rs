@@ -80,6 +80,14 @@ impl<'a> Slots<'a> {
         Slots { tooling, numbers: Vec::new(), shapes: Vec::new(), drills: Vec::new() }
     }
 
+    /// The first slot, made for the moves before the first tool change
+    /// (as tool 0), named for the first tool loaded.
+    pub fn name_first(&mut self, number: u32) {
+        if let Some(first) = self.numbers.first_mut() {
+            *first = number;
+        }
+    }
+
     /// The slot of tool `number` (met at source line `line`), added at the
     /// end when new.
     pub fn slot(&mut self, number: u32, line: u32) -> Result<u8, Error> {

@@ -4,6 +4,7 @@
 //! a move of U V W (refused), and each tool's time. Fed the whole path or
 //! its pieces, it says the same.
 
+use anyhow::{bail, Result};
 use kezuri_cam::sim::{sideways_top, Extent};
 use kezuri_geom::{CycleClock, Dynamics, PathSink, Toolpath};
 
@@ -43,6 +44,21 @@ impl Survey {
             seconds: Vec::new(),
             run: None,
         }
+    }
+
+    /// Refuses a program that moves U, V or W (of `file`): the tool cuts at
+    /// X Y Z, and what those axes carry (a quill that moves the tool, a
+    /// second head, a foam cutter's other wire end) no machine file says,
+    /// so a part cut from X Y Z alone could be wrong without a sign of it.
+    pub fn refuse_uvw(&self, file: &str) -> Result<()> {
+        if let Some((line, k)) = self.uvw {
+            bail!(
+                "{file}: line {line} moves {}: the simulation cuts with the tool at X Y Z and does not know what U V \
+                 W carry (a quill, a second head, a wire's other end), so it simulates no program that moves them",
+                ['U', 'V', 'W'][k]
+            );
+        }
+        Ok(())
     }
 
     /// The numbers of the tools that cut, in the order they first do (a

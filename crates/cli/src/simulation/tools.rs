@@ -57,6 +57,22 @@ fn listed(numbers: &[u32]) -> String {
     }
 }
 
+/// The one tool `--tool` or `--profile` gives, and its name.
+pub fn given(args: &SimSetup) -> Result<Option<(Tool, String)>> {
+    Ok(match (&args.tool, &args.profile) {
+        (Some(spec), None) => {
+            let c: Cutter = spec.parse()?;
+            Some((Tool::Cutter(c), c.to_string()))
+        }
+        (None, Some(file)) => Some((
+            Tool::Measured(MeasuredTool::new(&crate::tool_profile::read_profile(file)?)),
+            format!("profile:{}", file.display()),
+        )),
+        (None, None) => None,
+        _ => bail!("give one of --tool SPEC and --profile PROFILE.csv, not both"),
+    })
+}
+
 /// The cutters to simulate a program with, `numbers` the tools that cut
 /// its moves in the order they first do (a single 0 for a program that
 /// loads none). Never a cutter the user did not
@@ -70,18 +86,7 @@ pub fn tool_set(
     table_from: &'static str,
     numbers: &[u32],
 ) -> Result<ToolSet> {
-    let given = match (&args.tool, &args.profile) {
-        (Some(spec), None) => {
-            let c: Cutter = spec.parse()?;
-            Some((Tool::Cutter(c), c.to_string()))
-        }
-        (None, Some(file)) => Some((
-            Tool::Measured(MeasuredTool::new(&crate::tool_profile::read_profile(file)?)),
-            format!("profile:{}", file.display()),
-        )),
-        (None, None) => None,
-        _ => bail!("give one of --tool SPEC and --profile PROFILE.csv, not both"),
-    };
+    let given = given(args)?;
     let loaded: Vec<u32> = numbers.iter().copied().filter(|&n| n != 0).collect();
     let shape = |n: u32| table.get(&n).and_then(|e| e.shape);
     let every = |tool: Tool, name: String, from| ToolSet {
