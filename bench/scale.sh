@@ -77,6 +77,8 @@ for n in "${sizes[@]}"; do
     measure "convert -o .ngc" "$n" "$bin" convert "$f" -o "$work/out.ngc"
     measure "thermal apply -o" "$n" "$bin" thermal apply "$f" --model "$work/model.json" --allow-extrapolation -o "$work/out.nc"
     measure "wear apply -o" "$n" "$bin" wear apply "$f" --profile "$work/worn.csv" --nominal ball:1 --surface "$work/plane.stl" -o "$work/out.nc"
+    # sim over a 100 × 100 mm stock at 0.1 mm (a million cells): the moves past it skipped by their box.
+    measure "sim" "$n" "$bin" sim "$f" --tool ball:2 --res 0.1 --stock 0,0,100,100,0
     if command -v rs274 >/dev/null; then
         # rs274 reads .ngc; the same text as a LinuxCNC program (no O word, no %).
         grep -v '^[%O]' "$f" > "$work/raster.ngc"

@@ -75,6 +75,7 @@ pub mod compare;
 pub mod measured;
 mod segments;
 pub mod stock;
+mod stream;
 pub mod sweep;
 pub mod tiles;
 pub mod tools;
@@ -88,11 +89,14 @@ use rayon::prelude::*;
 use crate::error::{Error, ErrorKind};
 use crate::Cutter;
 pub use measured::MeasuredTool;
-use segments::segments;
+use segments::{first_tool, Segment};
 use stock::round_nm;
-pub use stock::{from_nm, to_nm, Cylinder, Grid, Start, Stock, ZMap, CELL_BYTES, HIGHEST, LOWEST};
+pub use stock::{
+    from_nm, sideways_top, to_nm, Cylinder, Extent, Grid, Start, Stock, ZMap, CELL_BYTES, HIGHEST, LOWEST,
+};
+pub use stream::{Cuts, Cutting};
 use sweep::{cell_range, Band, Prep, Reach, Shape};
-pub use tiles::{simulate_tiles, tile_rows};
+pub use tiles::{cut_tiles, simulate_tiles, tile_rows};
 pub use tools::{cutting_tools, ToolCut, Tooling, UNCUT};
 use tools::{Ledger, Window};
 
@@ -260,43 +264,28 @@ pub fn simulate_tools(
     options: &SimOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<SimReport, Error> {
-    let work = Work::new(path, tooling, options)?;
-    let mut cut_by = Vec::new();
-    if cut_by.try_reserve_exact(zmap.cells()).is_err() {
-        return Err(out_of_memory(zmap.cells()));
-    }
-    cut_by.resize(zmap.cells(), UNCUT);
-    let cut = work.cut(path, zmap, &mut cut_by, options, progress)?;
-    let mut report = work.report.clone();
-    report.cut_by = cut_by;
-    cut.into_report(&mut report, zmap.res, path);
-    Ok(report)
-}
-
-/// What a toolpath cuts, ready to run over a grid or over each tile of one.
-struct Work<'a> {
-    segs: Vec<segments::Segment>,
-    /// The report so far: the moves and tools, no cuts yet.
-    report: SimReport,
-    slots: tools::Slots<'a>,
-    /// Rapids whose start is not known but whose end Z is.
-    unplaced_rapids: Vec<usize>,
+    let res = zmap.res;
+    let mut cutting = Cutting::new(tooling, zmap, options, Some(first_tool(path)), None)?;
+    cutting.progress = progress;
+    cutting.add_last(path)?;
+    let (cuts, cut_by) = cutting.finish()?;
+    Ok(SimReport { cut_by, ..cuts.report(res) })
 }
 
 /// What cutting a grid, or a tile of one, found.
-#[derive(Default)]
+#[derive(Clone, Debug, Default)]
 struct Cut {
-    /// Rapids that cut: (move, depth), one or more per move.
-    hits: Vec<(u32, f64)>,
-    /// A drill's sideways feeds that cut: (move, depth).
-    sides: Vec<(u32, f64)>,
+    /// Rapids that cut, one or more per move.
+    hits: Vec<RapidHit>,
+    /// A drill's sideways feeds that cut.
+    sides: Vec<RapidHit>,
     /// What each tool (by slot) removed: whole nanometres of height summed
     /// over the cells, exact whatever the order.
     removed: Vec<i64>,
 }
 
 impl Cut {
-    /// `other` added: a tile's cut to the tiles' before it.
+    /// `other` added: a piece's or a tile's cut to those before it.
     fn add(&mut self, other: Cut) {
         self.hits.extend(other.hits);
         self.sides.extend(other.sides);
@@ -308,195 +297,169 @@ impl Cut {
 
     /// Into `report`: the rapids and sideways drill feeds that cut, and
     /// each tool's volume on cells of `res` mm.
-    fn into_report(self, report: &mut SimReport, res: f64, path: &Toolpath) {
+    fn into_report(self, report: &mut SimReport, res: f64) {
         for (cut, nm) in report.tools.iter_mut().zip(self.removed) {
             cut.volume = nm as f64 / 1e6 * (res * res);
         }
-        report.rapid_hits = merged(self.hits, path);
-        report.drill_side_moves = merged(self.sides, path);
+        report.rapid_hits = merged(self.hits);
+        report.drill_side_moves = merged(self.sides);
     }
 }
 
-impl<'a> Work<'a> {
-    fn new(path: &Toolpath, tooling: Tooling<'a>, options: &SimOptions) -> Result<Work<'a>, Error> {
-        if limits::length(options.chord_tolerance, "").is_err() {
-            return Err(bad_tolerance(options.chord_tolerance));
-        }
-        let (segs, report, slots, unplaced_rapids) = segments(path, tooling, options.chord_tolerance)?;
-        Ok(Work { segs, report, slots, unplaced_rapids })
+/// Runs `segs` (cut by the tools `shapes` by slot) over `zmap` (a whole
+/// grid or a tile of one, its highest cell `top` before the first
+/// segment), lowering it; `cut_by` (one per cell of `zmap`) takes the tool
+/// that lowered each cell last.
+fn cut(
+    segs: &[Segment],
+    shapes: &[Shape<'_>],
+    zmap: &mut ZMap,
+    cut_by: &mut [u8],
+    options: &SimOptions,
+    top: f64,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<Cut, Error> {
+    let (nx, ny, res, x0, y0, row0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0, zmap.first_row);
+    let mut cut = Cut { removed: vec![0; shapes.len()], ..Cut::default() };
+    if nx == 0 || ny == 0 {
+        return Ok(cut);
     }
+    // A margin of a millionth of a cell keeps cells on the footprint's edge.
+    let margin = 1e-6 * res;
 
-    /// Runs every segment over `zmap` (a whole grid or a tile of one),
-    /// lowering it; `cut_by` (one per cell of `zmap`) takes the tool that
-    /// lowered each cell last.
-    fn cut(
-        &self,
-        path: &Toolpath,
-        zmap: &mut ZMap,
-        cut_by: &mut [u8],
-        options: &SimOptions,
-        progress: &(dyn Fn(u64, u64) + Sync),
-    ) -> Result<Cut, Error> {
-        let (segs, slots) = (&self.segs, &self.slots);
-        let (nx, ny, res, x0, y0, row0) = (zmap.nx, zmap.ny, zmap.res, zmap.x0, zmap.y0, zmap.first_row);
-        let mut cut = Cut { removed: vec![0; slots.shapes.len()], ..Cut::default() };
-        if nx == 0 || ny == 0 {
-            return Ok(cut);
-        }
-        let top = zmap.range().1;
-        // A rapid from an unknown position is not simulated, but if it ends
-        // inside the stock (as it stands before the program) it went through it.
-        for &index in &self.unplaced_rapids {
-            let e = path.moves[index].end;
-            let (i, j) = (((e.x - x0) / res).floor(), ((e.y - y0) / res).floor() - row0 as f64);
-            if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
-                let depth = zmap.height(i as usize, j as usize) - e.z;
-                if depth > options.rapid_tolerance {
-                    cut.hits.push((index as u32, depth));
-                }
+    // Bands of rows; each segment is listed (in order) in every band its
+    // footprint meets. Rows are counted over the whole grid (a tile's
+    // cell centres are the whole grid's), bands from the first held.
+    let threads = rayon::current_num_threads().max(1);
+    let band_rows = ny.div_ceil(8 * threads).clamp(1, 32);
+    let bands = ny.div_ceil(band_rows);
+    let mut reaches = Vec::with_capacity(segs.len());
+    let mut cols = Vec::with_capacity(segs.len());
+    let mut counts = vec![0u32; bands + 1];
+    for s in segs {
+        let p = &s.prep;
+        let r = shapes[s.slot as usize].radius();
+        let (bx, by) = (p.ax + p.ux * p.len, p.ay + p.uy * p.len);
+        let xs = cell_range(p.ax.min(bx) - r - margin, p.ax.max(bx) + r + margin, x0, res, nx);
+        // A segment at or above every cell cannot cut.
+        let rows = if p.z_min() >= top || xs.is_empty() {
+            0..0
+        } else {
+            let rows = cell_range(p.ay.min(by) - r - margin, p.ay.max(by) + r + margin, y0, res, row0 + ny);
+            rows.start.max(row0)..rows.end.max(row0)
+        };
+        if !rows.is_empty() {
+            if p.z_min() < LOWEST {
+                return Err(too_deep(s));
+            }
+            for b in (rows.start - row0) / band_rows..=(rows.end - 1 - row0) / band_rows {
+                counts[b + 1] += 1;
             }
         }
-        // A margin of a millionth of a cell keeps cells on the footprint's edge.
-        let margin = 1e-6 * res;
-
-        // Bands of rows; each segment is listed (in order) in every band its
-        // footprint meets. Rows are counted over the whole grid (a tile's
-        // cell centres are the whole grid's), bands from the first held.
-        let threads = rayon::current_num_threads().max(1);
-        let band_rows = ny.div_ceil(8 * threads).clamp(1, 32);
-        let bands = ny.div_ceil(band_rows);
-        let mut reaches = Vec::with_capacity(segs.len());
-        let mut cols = Vec::with_capacity(segs.len());
-        let mut counts = vec![0u32; bands + 1];
-        for s in segs {
-            let p = &s.prep;
-            let r = slots.shapes[s.slot as usize].radius();
-            let (bx, by) = (p.ax + p.ux * p.len, p.ay + p.uy * p.len);
-            let xs = cell_range(p.ax.min(bx) - r - margin, p.ax.max(bx) + r + margin, x0, res, nx);
-            // A segment at or above every cell cannot cut.
-            let rows = if p.z_min() >= top || xs.is_empty() {
-                0..0
-            } else {
-                let rows = cell_range(p.ay.min(by) - r - margin, p.ay.max(by) + r + margin, y0, res, row0 + ny);
-                rows.start.max(row0)..rows.end.max(row0)
-            };
-            if !rows.is_empty() {
-                if p.z_min() < LOWEST {
-                    return Err(too_deep(s.index as usize, path));
-                }
-                for b in (rows.start - row0) / band_rows..=(rows.end - 1 - row0) / band_rows {
-                    counts[b + 1] += 1;
-                }
-            }
-            reaches.push(Reach { j0: rows.start, j1: rows.end, from: s.from, to: s.to });
-            cols.push(xs);
-        }
-        for b in 0..bands {
-            counts[b + 1] += counts[b];
-        }
-        let mut fill: Vec<u32> = counts[..bands].to_vec();
-        let mut listed = vec![0u32; counts[bands] as usize];
-        for (k, reach) in reaches.iter().enumerate() {
-            if reach.j0 < reach.j1 {
-                for b in (reach.j0 - row0) / band_rows..=(reach.j1 - 1 - row0) / band_rows {
-                    listed[fill[b] as usize] = k as u32;
-                    fill[b] += 1;
-                }
+        reaches.push(Reach { j0: rows.start, j1: rows.end, from: s.from, to: s.to });
+        cols.push(xs);
+    }
+    for b in 0..bands {
+        counts[b + 1] += counts[b];
+    }
+    let mut fill: Vec<u32> = counts[..bands].to_vec();
+    let mut listed = vec![0u32; counts[bands] as usize];
+    for (k, reach) in reaches.iter().enumerate() {
+        if reach.j0 < reach.j1 {
+            for b in (reach.j0 - row0) / band_rows..=(reach.j1 - 1 - row0) / band_rows {
+                listed[fill[b] as usize] = k as u32;
+                fill[b] += 1;
             }
         }
-        let xs: Vec<f64> = (0..nx).map(|i| x0 + (i as f64 + 0.5) * res).collect();
-        let total = listed.len() as u64;
-        let done = AtomicU64::new(0);
-        progress(0, total);
+    }
+    let xs: Vec<f64> = (0..nx).map(|i| x0 + (i as f64 + 0.5) * res).collect();
+    let total = listed.len() as u64;
+    let done = AtomicU64::new(0);
+    progress(0, total);
 
-        // Each band's rapid hits, drills fed sideways and what each tool removed from it.
-        let bands: Vec<Cut> = zmap
-            .nm
-            .par_chunks_mut(band_rows * nx)
-            .zip(cut_by.par_chunks_mut(band_rows * nx))
-            .enumerate()
-            .map(|(b, (heights, cut_by))| {
-                let mut cut = Cut::default();
-                let list = &listed[counts[b] as usize..counts[b + 1] as usize];
-                if list.is_empty() {
-                    return cut;
-                }
-                // The band is cut in mm and rounded to the nanometre once.
-                let mut cells: Vec<f64> = heights.iter().map(|&n| from_nm(n)).collect();
-                let first = row0 + b * band_rows;
-                let last = first + heights.len() / nx;
-                let mut band = Band { cells: &mut cells, first, nx, xs: &xs, x0, y0, res };
-                let mut ledger = Ledger::new(slots.shapes.len());
-                for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
-                    let slot = segs[run[0] as usize].slot;
-                    let shape = slots.shapes[slot as usize];
-                    let reached =
-                        run.iter().map(|&k| (reaches[k as usize].j0..reaches[k as usize].j1, &cols[k as usize]));
-                    let window = Window::around(reached, first..last, nx);
-                    ledger.open(band.cells, nx, &window);
-                    for (n, &k) in run.iter().enumerate() {
-                        if n % PROGRESS_STEP == PROGRESS_STEP - 1 {
-                            let step = PROGRESS_STEP as u64;
-                            progress(done.fetch_add(step, Ordering::Relaxed) + step, total);
-                        }
-                        let s = &segs[k as usize];
-                        let reach = &reaches[k as usize];
-                        let deepest = match shape {
-                            Shape::Closed { r, r2, hs } if s.rapid => {
-                                sweep::closed_rows::<true>(&s.prep, r, r2, hs, reach, &mut band)
-                            }
-                            Shape::Closed { r, r2, hs } => {
-                                sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band)
-                            }
-                            Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
-                            Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
-                        };
-                        if s.rapid && deepest > options.rapid_tolerance {
-                            cut.hits.push((s.index, deepest));
-                        }
-                        if s.side && deepest > options.rapid_tolerance {
-                            cut.sides.push((s.index, deepest));
-                        }
+    // Each band's rapid hits, drills fed sideways and what each tool removed from it.
+    let bands: Vec<Cut> = zmap
+        .nm
+        .par_chunks_mut(band_rows * nx)
+        .zip(cut_by.par_chunks_mut(band_rows * nx))
+        .enumerate()
+        .map(|(b, (heights, cut_by))| {
+            let mut cut = Cut::default();
+            let list = &listed[counts[b] as usize..counts[b + 1] as usize];
+            if list.is_empty() {
+                return cut;
+            }
+            // The band is cut in mm and rounded to the nanometre once.
+            let mut cells: Vec<f64> = heights.iter().map(|&n| from_nm(n)).collect();
+            let first = row0 + b * band_rows;
+            let last = first + heights.len() / nx;
+            let mut band = Band { cells: &mut cells, first, nx, xs: &xs, x0, y0, res };
+            let mut ledger = Ledger::new(shapes.len());
+            for run in list.chunk_by(|&p, &q| segs[p as usize].slot == segs[q as usize].slot) {
+                let slot = segs[run[0] as usize].slot;
+                let shape = shapes[slot as usize];
+                let reached = run.iter().map(|&k| (reaches[k as usize].j0..reaches[k as usize].j1, &cols[k as usize]));
+                let window = Window::around(reached, first..last, nx);
+                ledger.open(band.cells, nx, &window);
+                for (n, &k) in run.iter().enumerate() {
+                    if n % PROGRESS_STEP == PROGRESS_STEP - 1 {
+                        let step = PROGRESS_STEP as u64;
+                        progress(done.fetch_add(step, Ordering::Relaxed) + step, total);
                     }
-                    ledger.close(band.cells, cut_by, nx, &window, slot);
-                    let n = (run.len() % PROGRESS_STEP) as u64;
-                    progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
+                    let s = &segs[k as usize];
+                    let reach = &reaches[k as usize];
+                    let deepest = match shape {
+                        Shape::Closed { r, r2, hs } if s.rapid => {
+                            sweep::closed_rows::<true>(&s.prep, r, r2, hs, reach, &mut band)
+                        }
+                        Shape::Closed { r, r2, hs } => {
+                            sweep::closed_rows::<false>(&s.prep, r, r2, hs, reach, &mut band)
+                        }
+                        Shape::General(c) => sweep::general_rows(&c, &s.prep, reach, &mut band),
+                        Shape::Measured(m) => measured::measured_rows(m, &s.prep, reach, &mut band, s.rapid),
+                    };
+                    let hit = RapidHit { index: s.index as usize, line: s.line, depth: deepest };
+                    if s.rapid && deepest > options.rapid_tolerance {
+                        cut.hits.push(hit);
+                    }
+                    if s.side && deepest > options.rapid_tolerance {
+                        cut.sides.push(hit);
+                    }
                 }
-                for (n, &z) in heights.iter_mut().zip(&cells) {
-                    *n = round_nm(z);
-                }
-                cut.removed = ledger.removed;
-                cut
-            })
-            .collect();
-        for band in bands {
-            cut.add(band);
-        }
-        Ok(cut)
+                ledger.close(band.cells, cut_by, nx, &window, slot);
+                let n = (run.len() % PROGRESS_STEP) as u64;
+                progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
+            }
+            for (n, &z) in heights.iter_mut().zip(&cells) {
+                *n = round_nm(z);
+            }
+            cut.removed = ledger.removed;
+            cut
+        })
+        .collect();
+    for band in bands {
+        cut.add(band);
     }
+    Ok(cut)
 }
 
-/// A move that goes lower than a cell's height can be kept.
-fn too_deep(index: usize, path: &Toolpath) -> Error {
-    let m = &path.moves[index];
+/// A segment that goes lower than a cell's height can be kept.
+fn too_deep(s: &Segment) -> Error {
     Error::new(
         ErrorKind::HeightRange,
         format!(
-            "move {index} (line {}) goes down to Z {} mm, below the lowest height the grid keeps ({LOWEST} mm: \
+            "move {} (line {}) goes down to Z {} mm, below the lowest height the grid keeps ({LOWEST} mm: \
              heights are kept in whole nanometres)",
-            m.line,
-            m.start.z.min(m.end.z)
+            s.index, s.line, s.low
         ),
     )
 }
 
 /// The bands' hits merged: one per move, the deepest, in program order.
-fn merged(mut all: Vec<(u32, f64)>, path: &Toolpath) -> Vec<RapidHit> {
-    all.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-    all.dedup_by_key(|h| h.0);
-    all.into_iter()
-        .map(|(index, depth)| RapidHit { index: index as usize, line: path.moves[index as usize].line, depth })
-        .collect()
+fn merged(mut all: Vec<RapidHit>) -> Vec<RapidHit> {
+    all.sort_by(|a, b| a.index.cmp(&b.index).then(b.depth.total_cmp(&a.depth)));
+    all.dedup_by_key(|h| h.index);
+    all
 }
 
 /// The envelope of `cutter` swept in a straight line from tip position `a`

@@ -2,7 +2,9 @@
 //! compared to (the options both take), the stock and the cutters read, the
 //! cutting with a progress bar, and the comparison with the target.
 
+mod once;
 pub mod stock;
+pub mod survey;
 pub mod tiled;
 pub mod tools;
 
@@ -14,16 +16,17 @@ use clap::{ArgGroup, Args};
 use kezuri_cam::mill::{read_gouge_note, GOUGE_TOL};
 use kezuri_cam::sim::compare::Comparison;
 use kezuri_cam::sim::compare::{compare, gouged_cells, gouges_by_tool, target_heights, ToolGouge};
-use kezuri_cam::sim::{
-    cutting_tools, simulate_tools, Grid, SimOptions, SimReport, Stock, Tooling, ZMap, CELL_BYTES, DEFAULT_MEMORY, UNCUT,
-};
-use kezuri_geom::Toolpath;
+use kezuri_cam::sim::{Cutting, Grid, SimOptions, SimReport, Tooling, ZMap, CELL_BYTES, DEFAULT_MEMORY, UNCUT};
+use kezuri_geom::{PathSink, Toolpath};
 use kezuri_picture::sim::DeviationScale;
 use kezuri_picture::Simulation;
 
+use crate::program::{Ran, RunOptions};
 use crate::progress::LateBar;
 use kezuri_machine::Machine;
+pub use once::{simulate_once, Once};
 use stock::StockSpec;
+pub use survey::Survey;
 
 /// How the deviation from the target is coloured: the options `sim` and
 /// `view` share.
@@ -158,6 +161,9 @@ pub struct Simulated {
     /// The figures of every cell (where the grid was cut in tiles, `zmap`
     /// and the comparison's heights are a sample of it).
     pub figures: Figures,
+    /// Seconds each tool's moves take (by [`tools::ToolSet::table`]), each
+    /// run of them from a stop.
+    pub times: Vec<f64>,
 }
 
 /// What the report says of every cell of the grid, whole or in tiles.
@@ -201,8 +207,8 @@ const DEFAULT_CELLS: f64 = 16e6;
 /// The cell size without `--res`: a tenth of the smallest cutter's radius,
 /// at most 0.1 mm, coarsened to whole hundredths until the stock holds at
 /// most [`DEFAULT_CELLS`] cells (or what `--max-memory` holds).
-fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f64 {
-    let smallest = tools.table.iter().map(|(_, t)| t.radius()).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
+fn default_res(stock: &StockSpec, radii: impl Iterator<Item = f64>, setup: &SimSetup) -> f64 {
+    let smallest = radii.filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
     let fine = (smallest / 10.0).min(0.1);
     // The stock's area, from a grid of 1 mm cells.
     let mut coarse = SimOptions::new(1.0);
@@ -216,16 +222,30 @@ fn default_res(stock: &StockSpec, tools: &tools::ToolSet, setup: &SimSetup) -> f
     }
 }
 
-/// Cuts `path` (of `file`, run on `machine`) out of the stock at `res` mm
-/// cells (none: [`DEFAULT_RES_HELP`]), with a progress bar on a terminal,
-/// and compares it with the target (a histogram of `bins` bins; deeper
-/// than `allowance` below it a gouge). A grid over `--max-memory` is cut in
-/// tiles ([`tiled`]).
-///
-/// The tool cuts at X Y Z. A program that moves U V W (LinuxCNC's) is
-/// refused: what those axes carry (a quill that moves the tool, a second
-/// head, a foam cutter's other wire end) no machine file says, so a part
-/// cut from X Y Z alone could be wrong without a sign of it.
+/// Where a simulation's moves come from: a path held whole, or a program
+/// run again for each pass over its moves (the grid, or each tile of it),
+/// its path handed on in pieces to the cutting on the other core.
+pub enum Moves<'a> {
+    Whole(&'a Toolpath),
+    /// The program `ran` (run first with `options`, to survey it).
+    Program {
+        options: &'a RunOptions,
+        ran: &'a Ran,
+    },
+}
+
+impl Moves<'_> {
+    /// One pass over the moves, cut by `cutting`.
+    fn pass(&self, cutting: &mut Cutting<'_>) -> Result<()> {
+        match self {
+            Moves::Whole(path) => Ok(cutting.add_last(path)?),
+            Moves::Program { options, ran } => crate::program::run_again_into(options, ran, cutting).map(|_| ()),
+        }
+    }
+}
+
+/// Cuts `path` (of `file`, run on `machine`): [`simulate_moves`] of the
+/// whole path.
 pub fn simulate(
     path: &Toolpath,
     machine: &Machine,
@@ -235,18 +255,33 @@ pub fn simulate(
     allowance: f64,
     file: &str,
 ) -> Result<Simulated> {
-    if let Some((k, m)) =
-        path.moves.iter().find_map(|m| (0..3).find(|&k| m.start.uvw()[k] != m.end.uvw()[k]).map(|k| (k, m)))
-    {
-        bail!(
-            "{file}: line {} moves {}: the simulation cuts with the tool at X Y Z and does not know what U V W \
-             carry (a quill, a second head, a wire's other end), so it simulates no program that moves them",
-            m.line,
-            ['U', 'V', 'W'][k]
-        );
-    }
+    let mut survey = Survey::new(&machine.dynamics);
+    survey.take(path, None);
+    simulate_moves(&Moves::Whole(path), survey, machine, setup, res, bins, allowance, file)
+}
+
+/// Cuts the `moves` (of `file`, run on `machine`; `survey` made of them)
+/// out of the stock at `res` mm cells (none: [`DEFAULT_RES_HELP`]), with a
+/// progress bar on a terminal, and compares it with the target (a
+/// histogram of `bins` bins; deeper than `allowance` below it a gouge). A
+/// grid over `--max-memory` is cut in tiles ([`tiled`]), each a pass over
+/// the moves. A program that moves U V W is refused
+/// ([`Survey::refuse_uvw`]).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_moves(
+    moves: &Moves<'_>,
+    survey: Survey,
+    machine: &Machine,
+    setup: &SimSetup,
+    res: Option<f64>,
+    bins: usize,
+    allowance: f64,
+    file: &str,
+) -> Result<Simulated> {
+    survey.refuse_uvw(file)?;
     let stock = setup.stock.as_deref().map(stock::parse).transpose()?;
-    let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, path).with_context(|| file.to_string())?;
+    let tools = tools::tool_set(setup, &machine.tools, machine.tools_from, &survey.numbers())
+        .with_context(|| file.to_string())?;
     // The target first: without --stock its top is the top of the material.
     let target = match &setup.compare {
         Some(target) => {
@@ -260,10 +295,8 @@ pub fn simulate(
         None => {
             // A drill's sideways feed is the mistake to find, not the top.
             let drills: Vec<u32> = tools.table.iter().filter(|(_, t)| t.is_drill()).map(|(n, _)| *n).collect();
-            let moved_by: Vec<u32> = cutting_tools(path).collect();
-            let tells_top = |k: usize| !drills.contains(&moved_by[k]);
-            let mut implied =
-                Stock::around_cutting(path, tools.reach(), &tells_top).with_context(|| file.to_string())?;
+            let top = survey.top(&|n| !drills.contains(&n));
+            let mut implied = survey.extent.stock(tools.reach(), top).with_context(|| file.to_string())?;
             let from = match &target {
                 Some((_, top, _)) => {
                     implied.top = *top;
@@ -275,7 +308,7 @@ pub fn simulate(
         }
     };
     let res = res.unwrap_or_else(|| {
-        let res = default_res(&stock, &tools, setup);
+        let res = default_res(&stock, tools.table.iter().map(|(_, t)| t.radius()), setup);
         crate::say::note!("{file}: cells of {res} mm (no --res: {DEFAULT_RES_HELP})");
         res
     });
@@ -285,8 +318,15 @@ pub fn simulate(
     let solid = stock.solid(setup.units)?;
     let start = stock.start(solid.as_deref());
     let grid = start.grid(&options)?;
+    let first = survey.first();
+    let numbers: Vec<u32> = tools.table.iter().map(|(n, _)| *n).collect();
+    let times = survey.times(&numbers);
     let t0 = Instant::now();
-    let bar = LateBar::new("cutting", "pieces", Duration::from_secs(1));
+    // A program run again shows its own bar, by the bytes it has read.
+    let bar = match moves {
+        Moves::Whole(_) => LateBar::new("cutting", "pieces", Duration::from_secs(1)),
+        Moves::Program { .. } => None,
+    };
     let progress = |done: u64, total: u64| {
         if let Some(bar) = &bar {
             bar.update(done, total)
@@ -297,7 +337,9 @@ pub fn simulate(
     let extra = if target.is_some() { 8 } else { 0 };
     if grid.bytes().saturating_add(grid.cells().saturating_mul(extra)) > options.max_memory {
         let triangles = target.as_ref().map(|t| t.2.as_slice());
-        let run = tiled::run(path, tooling, &start, &options, triangles, allowance, bins, &progress);
+        let mut pass = |cutting: &mut Cutting<'_>| moves.pass(cutting);
+        let cut = tiled::Cut { tooling, first, pass: &mut pass };
+        let run = tiled::run(cut, &start, &options, triangles, allowance, bins, &progress);
         if let Some(bar) = &bar {
             bar.finish();
         }
@@ -313,20 +355,45 @@ pub fn simulate(
             tiles: Some(run.tiles),
         };
         let (zmap, report, comparison, top) = (run.zmap, run.report, run.comparison, run.top);
-        return Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures });
+        return Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times });
     }
     let mut zmap = start.rows(&options, 0..grid.ny)?;
     let top = zmap.range().1;
-    let report = simulate_tools(path, tooling, &mut zmap, &options, &progress);
+    let cut = (|| -> Result<SimReport> {
+        let mut cutting = Cutting::new(tooling, &mut zmap, &options, Some(first), Some(start))?;
+        cutting.progress = &progress;
+        moves.pass(&mut cutting)?;
+        let (cuts, cut_by) = cutting.finish()?;
+        Ok(SimReport { cut_by, ..cuts.report(res) })
+    })();
     if let Some(bar) = &bar {
         bar.finish();
     }
-    let report = report.with_context(|| file.to_string())?;
+    let report = cut.with_context(|| file.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
+    let target = target.map(|(target, _, triangles)| (target.as_path(), triangles));
+    let (comparison, figures) = compared(&zmap, &report, target, bins, allowance, grid)?;
+    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times })
+}
+
+/// A comparison with the target, and the target's height over each cell.
+type Compared = (Comparison, Vec<f64>);
+
+/// The comparison of the cut `zmap` (with its `report`) with the target
+/// (its file and triangles) where there is one, in `bins` bins, deeper
+/// than `allowance` a gouge; and the figures of the whole `grid`.
+fn compared(
+    zmap: &ZMap,
+    report: &SimReport,
+    target: Option<(&std::path::Path, Vec<[[f64; 3]; 3]>)>,
+    bins: usize,
+    allowance: f64,
+    grid: Grid,
+) -> Result<(Option<Compared>, Figures)> {
     let comparison = match target {
-        Some((target, _, triangles)) => {
-            let heights = target_heights(&zmap, triangles);
-            let c = compare(&zmap, &heights, bins);
+        Some((target, triangles)) => {
+            let heights = target_heights(zmap, triangles);
+            let c = compare(zmap, &heights, bins);
             if c.compared == 0 {
                 bail!("{}: the target covers none of the {} cells", target.display(), zmap.cells());
             }
@@ -338,13 +405,12 @@ pub fn simulate(
         Some((c, heights)) => {
             let slot = c.gouge_cell.and_then(|k| report.cut_by.get(k)).filter(|&&b| b != UNCUT);
             (
-                gouged_cells(&zmap, heights, allowance),
-                gouges_by_tool(&zmap, heights, &report.cut_by, report.tools.len()),
+                gouged_cells(zmap, heights, allowance),
+                gouges_by_tool(zmap, heights, &report.cut_by, report.tools.len()),
                 slot.map(|&b| report.tools[b as usize].number),
             )
         }
         None => (0, Vec::new(), None),
     };
-    let figures = Figures { grid, range: zmap.range(), gouged, gouges, gouge_tool, tiles: None };
-    Ok(Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures })
+    Ok((comparison, Figures { grid, range: zmap.range(), gouged, gouges, gouge_tool, tiles: None }))
 }

@@ -601,13 +601,7 @@ impl Toolpath {
             }
         };
         for m in &self.moves {
-            add(m.start.xyz());
-            add(m.end.xyz());
-            if let MoveKind::Arc(arc) = m.kind {
-                for p in arc_extremes(&arc, m.start, m.end) {
-                    add(p);
-                }
-            }
+            m.extreme_points(&mut add);
         }
         (!self.moves.is_empty()).then_some((lo, hi))
     }

@@ -67,6 +67,11 @@ impl Text {
     pub fn forget(&self, range: Range<usize>) {
         self.0.forget(range);
     }
+
+    /// The store the text is read from, to read the program again.
+    pub fn store(&self) -> Arc<dyn TextStore> {
+        Arc::clone(&self.0)
+    }
 }
 
 impl Deref for Text {

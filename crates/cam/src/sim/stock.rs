@@ -7,7 +7,7 @@
 
 use std::ops::Range;
 
-use kezuri_geom::{limits, MoveKind, Toolpath};
+use kezuri_geom::{limits, Move, MoveKind, Toolpath};
 
 use super::compare::target_heights;
 use super::{bad_tolerance, empty_toolpath, out_of_memory, SimOptions, Tool};
@@ -55,16 +55,9 @@ impl Stock {
     /// `tells_top(k)` keeps (by index): a drill's sideways feed is no cut
     /// at the top of the material, but a mistake to find.
     pub fn around_cutting(path: &Toolpath, radius: f64, tells_top: &dyn Fn(usize) -> bool) -> Result<Stock, Error> {
-        let cutting: Vec<_> =
-            path.moves.iter().filter(|m| !m.is_rapid() && !matches!(m.kind, MoveKind::Dwell(_))).copied().collect();
-        let bounds = if cutting.is_empty() { path.bounds() } else { Toolpath::from(cutting).bounds() };
-        let (lo, hi) = bounds.ok_or_else(empty_toolpath)?;
-        if !lo.iter().chain(&hi).all(|v| v.is_finite()) {
-            return Err(bad_stock("the program's bounds are not finite"));
-        }
-        let r = radius;
-        let top = cutting_top(path, tells_top).unwrap_or(hi[2]);
-        Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top })
+        let mut extent = Extent::default();
+        path.moves.iter().for_each(|m| extent.add(m));
+        extent.stock(radius, cutting_top(path, tells_top))
     }
 
     fn check(&self) -> Result<(), Error> {
@@ -90,15 +83,62 @@ impl Stock {
 /// `None` for a program with no such move (a drilling program: its feeds
 /// are all vertical).
 pub fn cutting_top(path: &Toolpath, tells_top: &dyn Fn(usize) -> bool) -> Option<f64> {
-    let sideways = |m: &kezuri_geom::Move| match m.kind {
+    let tops = path.moves.iter().enumerate().filter(|&(k, _)| tells_top(k)).filter_map(|(_, m)| sideways_top(m));
+    tops.reduce(f64::max).filter(|z| z.is_finite())
+}
+
+/// The highest Z of a feed move that moves sideways ([`cutting_top`]):
+/// `None` for any other move.
+pub fn sideways_top(m: &Move) -> Option<f64> {
+    let sideways = match m.kind {
         MoveKind::Arc(_) => true,
         MoveKind::Feed => m.start.x != m.end.x || m.start.y != m.end.y,
         _ => false,
     };
-    let moves: Vec<_> =
-        path.moves.iter().enumerate().filter(|&(k, m)| sideways(m) && tells_top(k)).map(|(_, m)| *m).collect();
-    let (_, hi) = Toolpath::from(moves).bounds()?;
-    hi[2].is_finite().then_some(hi[2])
+    let mut top = f64::NEG_INFINITY;
+    m.extreme_points(&mut |p| top = top.max(p[2]));
+    sideways.then_some(top)
+}
+
+/// What [`Stock::around_cutting`] needs of a path, gathered move by move
+/// (a path taken in pieces): the box of the cutting moves (feeds, arcs,
+/// probes), and of all moves where none cuts.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Extent {
+    all: Option<([f64; 3], [f64; 3])>,
+    cutting: Option<([f64; 3], [f64; 3])>,
+}
+
+impl Extent {
+    /// The next move of the path.
+    pub fn add(&mut self, m: &Move) {
+        let grow = |b: &mut Option<([f64; 3], [f64; 3])>| {
+            let (lo, hi) = b.get_or_insert(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]));
+            m.extreme_points(&mut |p| {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            });
+        };
+        grow(&mut self.all);
+        if !m.is_rapid() && !matches!(m.kind, MoveKind::Dwell(_)) {
+            grow(&mut self.cutting);
+        }
+    }
+
+    /// The stock box: the cutting moves' XY box grown by `radius`, its top
+    /// at `top` (the highest sideways feed: [`cutting_top`]), else at the
+    /// box's top.
+    pub fn stock(&self, radius: f64, top: Option<f64>) -> Result<Stock, Error> {
+        let (lo, hi) = self.cutting.or(self.all).ok_or_else(empty_toolpath)?;
+        if !lo.iter().chain(&hi).all(|v| v.is_finite()) {
+            return Err(bad_stock("the program's bounds are not finite"));
+        }
+        let r = radius;
+        let top = top.unwrap_or(hi[2]);
+        Ok(Stock { x0: lo[0] - r, y0: lo[1] - r, x1: hi[0] + r, y1: hi[1] + r, top })
+    }
 }
 
 /// The layout of a grid: its origin, cell size and cells, without heights.

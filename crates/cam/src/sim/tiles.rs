@@ -14,9 +14,10 @@ use std::ops::Range;
 
 use kezuri_geom::Toolpath;
 
+use super::segments::first_tool;
 use super::stock::{Grid, Start, ZMap};
-use super::tools::{Tooling, UNCUT};
-use super::{out_of_memory, Cut, SimOptions, SimReport, Work};
+use super::tools::Tooling;
+use super::{Cuts, Cutting, SimOptions, SimReport};
 use crate::error::{Error, ErrorKind};
 
 /// Rows a tile of `grid` holds so that its cells, at `bytes_per_cell`,
@@ -64,27 +65,45 @@ pub fn simulate_tiles<E: From<Error>>(
     progress: &(dyn Fn(u64, u64) + Sync),
     each: &mut TileDone<'_, E>,
 ) -> Result<SimReport, E> {
-    let work = Work::new(path, tooling, options)?;
+    let mut pass = |cutting: &mut Cutting<'_>| cutting.add_last(path).map_err(E::from);
+    cut_tiles(tooling, first_tool(path), start, options, rows, progress, &mut pass, each)
+}
+
+/// [`simulate_tiles`] of a path that `pass` hands to each tile's cutting
+/// ([`Cutting::add`] piece by piece: a program run once a tile), `first`
+/// the first tool it loads.
+#[allow(clippy::too_many_arguments)]
+pub fn cut_tiles<E: From<Error>>(
+    tooling: Tooling<'_>,
+    first: u32,
+    start: &Start<'_>,
+    options: &SimOptions,
+    rows: usize,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    pass: &mut dyn FnMut(&mut Cutting<'_>) -> Result<(), E>,
+    each: &mut TileDone<'_, E>,
+) -> Result<SimReport, E> {
     let grid = start.grid(options)?;
     let count = grid.ny.div_ceil(rows.max(1)) as u64;
-    let mut cut = Cut { removed: vec![0; work.slots.shapes.len()], ..Cut::default() };
+    let mut all: Option<Cuts> = None;
     for (t, range) in tiles(&grid, rows).enumerate() {
         let mut tile = start.rows(options, range)?;
         let top = tile.range().1;
-        let mut cut_by = Vec::new();
-        if cut_by.try_reserve_exact(tile.cells()).is_err() {
-            return Err(out_of_memory(tile.cells()).into());
-        }
-        cut_by.resize(tile.cells(), UNCUT);
         // Each tile a 1000th part of the whole.
         let step = |done: u64, total: u64| {
             let part = (done * 1000).checked_div(total).unwrap_or(1000);
             progress(t as u64 * 1000 + part, count * 1000)
         };
-        cut.add(work.cut(path, &mut tile, &mut cut_by, options, &step)?);
+        let mut cutting = Cutting::new(tooling, &mut tile, options, Some(first), Some(*start))?;
+        cutting.progress = &step;
+        pass(&mut cutting)?;
+        let (cuts, cut_by) = cutting.finish()?;
+        match &mut all {
+            Some(all) => all.add(cuts),
+            None => all = Some(cuts),
+        }
         each(&tile, &cut_by, top)?;
     }
-    let mut report = work.report.clone();
-    cut.into_report(&mut report, grid.res, path);
-    Ok(report)
+    let all = all.ok_or_else(|| Error::new(ErrorKind::TooManyCells, "the grid has no rows"))?;
+    Ok(all.report(grid.res))
 }

@@ -57,8 +57,7 @@ pub const UNCUT: u8 = u8::MAX;
 /// The number of the tool that cuts each move of `path` (see the module
 /// notes for moves before the first tool change).
 pub fn cutting_tools(path: &Toolpath) -> impl Iterator<Item = u32> + '_ {
-    let first = path.moves.iter().map(|m| m.tool).find(|&t| t != 0).unwrap_or(0);
-    path.moves.iter().scan(first, |current, m| {
+    path.moves.iter().scan(super::segments::first_tool(path), |current, m| {
         if m.tool != 0 {
             *current = m.tool;
         }
@@ -79,6 +78,14 @@ pub(super) struct Slots<'a> {
 impl<'a> Slots<'a> {
     pub fn new(tooling: Tooling<'a>) -> Slots<'a> {
         Slots { tooling, numbers: Vec::new(), shapes: Vec::new(), drills: Vec::new() }
+    }
+
+    /// The first slot, made for the moves before the first tool change
+    /// (as tool 0), named for the first tool loaded.
+    pub fn name_first(&mut self, number: u32) {
+        if let Some(first) = self.numbers.first_mut() {
+            *first = number;
+        }
     }
 
     /// The slot of tool `number` (met at source line `line`), added at the

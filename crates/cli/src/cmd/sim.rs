@@ -12,8 +12,11 @@ use kezuri_geom::write_binary_stl_to;
 use kezuri_picture::sim as picture;
 
 use crate::files::write_output;
-use crate::program::{read_and_run, RunOptions};
-use crate::simulation::{simulate, tools, DeviationArgs, SimSetup, Simulated};
+use crate::program::{read_and_run, read_and_run_into, Ran, RunOptions};
+use crate::simulation::{
+    simulate_moves, simulate_once, tools, Allowance, DeviationArgs, Moves, Once, SimSetup, Simulated, Survey,
+};
+use kezuri_geom::PathSink;
 use report::Done;
 
 /// Options of `kezuri sim`.
@@ -141,20 +144,50 @@ fn picture_title(file: &Path, tools: &tools::ToolSet) -> String {
     format!("{}: {summary}", file_name(file))
 }
 
+/// The simulation of `sim`'s program (`file`): with `--view` of the whole
+/// path, which the page draws; else with the program run once to survey it
+/// (its tools, extent and times), then again for each pass of the cutting,
+/// never holding its path.
+fn whole_or_surveyed(args: &SimArgs, file: &str) -> Result<(Ran, Allowance, Simulated)> {
+    let (ran, parse_diagnostics, survey) = match &args.view {
+        Some(_) => {
+            let (ran, parse_diagnostics) = read_and_run(&args.run)?;
+            let mut survey = Survey::new(&ran.machine.dynamics);
+            survey.take(&ran.outcome.toolpath, None);
+            (ran, parse_diagnostics, survey)
+        }
+        None => read_and_run_into(&args.run, false, |machine, _, _| Survey::new(&machine.dynamics))?,
+    };
+    ran.shown(&parse_diagnostics, &args.run.file, "nothing simulated")?;
+    let allowance = args.deviation.allowance(&ran.sources.get(0).text);
+    let moves = match &args.view {
+        Some(_) => Moves::Whole(&ran.outcome.toolpath),
+        None => Moves::Program { options: &args.run, ran: &ran },
+    };
+    let (setup, bins) = (&args.setup, args.bins.into());
+    let sim = simulate_moves(&moves, survey, &ran.machine, setup, args.res, bins, allowance.mm, file)?;
+    Ok((ran, allowance, sim))
+}
+
 /// Runs `kezuri sim`.
 pub fn run(args: &SimArgs) -> Result<()> {
     if args.json && args.output.as_deref() == Some(Path::new("-")) {
         bail!("--json and -o - both want standard output");
     }
-    let (mut ran, parse_diagnostics) = read_and_run(&args.run)?;
-    ran.shown(&parse_diagnostics, &args.run.file, "nothing simulated")?;
+    let file = args.run.file.display().to_string();
+    let (setup, bins) = (&args.setup, args.bins.into());
+    // With --tool and --stock the program runs once, into the cutting.
+    let once = match &args.view {
+        Some(_) => None,
+        None => simulate_once(&args.run, setup, args.res, bins, &args.deviation, &file)?,
+    };
+    let (mut ran, allowance, sim) = match once {
+        Some(Once { ran, allowance, sim }) => (ran, allowance, sim),
+        None => whole_or_surveyed(args, &file)?,
+    };
     // Every output file (the DPRNT file too) is written together, or none.
     let mut out = std::mem::take(&mut ran.outputs);
-    let file = args.run.file.display().to_string();
-    let path = &ran.outcome.toolpath;
-    let allowance = args.deviation.allowance(&ran.sources.get(0).text);
-    let sim = simulate(path, &ran.machine, &args.setup, args.res, args.bins.into(), allowance.mm, &file)?;
-    let Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures } = &sim;
+    let Simulated { tools, stock, top, top_from, zmap, report, comparison, seconds, figures, times } = &sim;
 
     let title = picture_title(&args.run.file, tools);
     if let Some(png) = &args.output {
@@ -233,7 +266,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         allowance,
         figures,
         report,
-        times: tools::times(path, &tools.table, &ran.machine.dynamics),
+        times: times.clone(),
         comparison: comparison.as_ref().map(|c| &c.0),
         seconds: *seconds,
     };

@@ -334,18 +334,34 @@ fn run_program<S: PathSink + Send>(
     radii_required: bool,
     sink: Option<impl FnOnce(&Machine, Dialect, &Program) -> S>,
 ) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
-    let machine = match &o.machine {
-        Some(p) => crate::machine::load(p)?,
-        None => Machine::default(),
-    };
-    run_on(machine, o, text, radii_required, sink)
+    run_on(machine_of(o)?, o, text, radii_required, sink, false)
+}
+
+/// The machine `o` runs the program on: its machine file's, or the default.
+fn machine_of(o: &RunOptions) -> Result<Machine> {
+    match &o.machine {
+        Some(p) => crate::machine::load(p),
+        None => Ok(Machine::default()),
+    }
+}
+
+/// The program of `ran` (its first run, with `o`) run once more on the
+/// same text and machine, its path handed piece by piece to `sink` on the
+/// other core: another pass over its moves, the same moves (a run is
+/// deterministic). What the program prints and logs, and the tools its
+/// comments give, are not said again.
+pub fn run_again_into<S: PathSink + Send>(o: &RunOptions, ran: &Ran, sink: S) -> Result<S> {
+    let text = ran.sources.get(0).text.store();
+    let make = |_: &Machine, _: Dialect, _: &Program| sink;
+    let (_, _, sink) = run_on(machine_of(o)?, o, text, false, Some(make), true)?;
+    sink.ok_or_else(|| anyhow::anyhow!("{}: the run made no sink for its path", o.file.display()))
 }
 
 /// A program kezuri wrote (`text`, to be saved as `name`) run on `machine`
 /// as `kezuri view` would run the file: for the page of a writer's `--view`.
 pub fn run_written(machine: &Machine, name: &Path, text: String) -> Result<Ran> {
     let o: RunOptions = options_from(&[OsStr::new("--"), name.as_os_str()])?;
-    let (ran, parse_diagnostics, _) = run_on(machine.clone(), &o, Arc::new(text), false, NO_SINK)?;
+    let (ran, parse_diagnostics, _) = run_on(machine.clone(), &o, Arc::new(text), false, NO_SINK, false)?;
     if ran.errors() > 0 {
         ran.print_diagnostics(&parse_diagnostics);
         bail!(
@@ -373,6 +389,7 @@ fn run_on<S: PathSink + Send>(
     text: Arc<dyn TextStore>,
     radii_required: bool,
     make_sink: Option<impl FnOnce(&Machine, Dialect, &Program) -> S>,
+    again: bool,
 ) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
     let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, text.text())?, &machine);
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
@@ -435,15 +452,18 @@ fn run_on<S: PathSink + Send>(
     };
     progress.finish();
     let mut outputs = Outputs::new();
-    if !outcome.prints.is_empty() {
+    // A run again has said what it prints and logs the first time.
+    if !outcome.prints.is_empty() && !again {
         match &o.dprnt {
             Some(p) => outputs.add(Some(p), (outcome.prints.join("\n") + "\n").as_bytes())?,
             None => outcome.prints.iter().for_each(|l| eprintln!("{}: {l}", print_label(settings.dialect))),
         }
     }
-    report_logs(&outcome);
     let mut machine = machine;
-    super::comment_tools::from_comments(&mut machine, &text, outcome.inch, &sources.get(id).name);
+    if !again {
+        report_logs(&outcome);
+        super::comment_tools::from_comments(&mut machine, &text, outcome.inch, &sources.get(id).name);
+    }
     Ok((Ran { dialect: detected, sources, outcome, machine, parse_errors, outputs }, parse_diagnostics, sink))
 }
 

@@ -11,9 +11,8 @@
 use anyhow::{bail, Result};
 use kezuri_cam::sim::compare::{gouged_cells, gouges_by_tool, histogram, target_heights, Comparison, Tally, ToolGouge};
 use kezuri_cam::sim::{
-    simulate_tiles, tile_rows, Grid, SimOptions, SimReport, Start, Tooling, ZMap, CELL_BYTES, UNCUT,
+    cut_tiles, tile_rows, Cutting, Grid, SimOptions, SimReport, Start, Tooling, ZMap, CELL_BYTES, UNCUT,
 };
-use kezuri_geom::Toolpath;
 
 /// Most tiles, each a pass over the moves, a grid is cut in.
 pub const MAX_TILES: usize = 10_000;
@@ -63,13 +62,20 @@ fn sample_grid(grid: &Grid, f: usize) -> Grid {
     Grid { x0: grid.x0, y0: grid.y0, res: grid.res * f as f64, nx: n(grid.nx), ny: n(grid.ny) }
 }
 
-/// Cuts `path` over the grid of `start` in tiles within `options.max_memory`
-/// (a target's heights taking 8 bytes a cell more), compared with
-/// `target`'s triangles where given, deeper than `allowance` a gouge.
-#[allow(clippy::too_many_arguments)]
+/// What a tile is cut with: the tools, the first tool the program loads,
+/// and a pass over the moves into a tile's cutting.
+pub struct Cut<'a, 'b> {
+    pub tooling: Tooling<'a>,
+    pub first: u32,
+    pub pass: &'b mut dyn FnMut(&mut Cutting<'_>) -> Result<()>,
+}
+
+/// Cuts the moves of `cut` over the grid of `start` in tiles within
+/// `options.max_memory` (a target's heights taking 8 bytes a cell more),
+/// each tile a pass over the moves, compared with `target`'s triangles
+/// where given, deeper than `allowance` a gouge.
 pub fn run(
-    path: &Toolpath,
-    tooling: Tooling<'_>,
+    cut: Cut<'_, '_>,
     start: &Start<'_>,
     options: &SimOptions,
     target: Option<&[[[f64; 3]; 3]]>,
@@ -128,8 +134,9 @@ pub fn run(
     let (mut tally, mut gouged, mut gouges, mut gouge_slot) = (Tally::default(), 0, Vec::new(), None);
     let mut count = 0;
     let h = (f - 1) / 2;
+    let Cut { tooling, first, pass } = cut;
     let report =
-        simulate_tiles::<anyhow::Error>(path, tooling, start, options, rows, progress, &mut |tile, by, high| {
+        cut_tiles::<anyhow::Error>(tooling, first, start, options, rows, progress, pass, &mut |tile, by, high| {
             count += 1;
             top = top.max(high);
             let (lo, hi) = tile.range();

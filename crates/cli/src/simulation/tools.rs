@@ -1,13 +1,11 @@
 //! Which cutter `sim` cuts each tool's moves with: the machine file's
-//! tool table, `--tool`/`--profile`, or one tool for all; and each
-//! tool's cycle time.
+//! tool table, `--tool`/`--profile`, or one tool for all.
 
 use std::collections::BTreeMap;
 
 use anyhow::{bail, Result};
-use kezuri_cam::sim::{cutting_tools, MeasuredTool, Tool};
+use kezuri_cam::sim::{MeasuredTool, Tool};
 use kezuri_cam::Cutter;
-use kezuri_geom::{cycle_time, Dynamics, Toolpath};
 use kezuri_machine::ToolEntry;
 
 use super::SimSetup;
@@ -50,18 +48,6 @@ impl ToolSet {
     }
 }
 
-/// The numbers of the tools that cut `path`'s moves, in the order they
-/// first do (a single 0 for a program that loads none).
-fn numbers(path: &Toolpath) -> Vec<u32> {
-    let mut out: Vec<u32> = Vec::new();
-    for n in cutting_tools(path) {
-        if !out.contains(&n) {
-            out.push(n);
-        }
-    }
-    out
-}
-
 /// `T1`, `T1 and T2`, `T1, T2 and T3`.
 fn listed(numbers: &[u32]) -> String {
     let names: Vec<String> = numbers.iter().map(|n| format!("T{n}")).collect();
@@ -71,18 +57,9 @@ fn listed(numbers: &[u32]) -> String {
     }
 }
 
-/// The cutters to simulate `path` with. Never a cutter the user did not
-/// name for that tool: a program that changes tools takes its shapes from
-/// the machine file's tool table, and `--tool` alone is refused for it
-/// (unless `--same-tool-for-all`); `--tool` for a tool the table gives
-/// another shape is refused too.
-pub fn tool_set(
-    args: &SimSetup,
-    table: &BTreeMap<u32, ToolEntry>,
-    table_from: &'static str,
-    path: &Toolpath,
-) -> Result<ToolSet> {
-    let given = match (&args.tool, &args.profile) {
+/// The one tool `--tool` or `--profile` gives, and its name.
+pub fn given(args: &SimSetup) -> Result<Option<(Tool, String)>> {
+    Ok(match (&args.tool, &args.profile) {
         (Some(spec), None) => {
             let c: Cutter = spec.parse()?;
             Some((Tool::Cutter(c), c.to_string()))
@@ -93,8 +70,23 @@ pub fn tool_set(
         )),
         (None, None) => None,
         _ => bail!("give one of --tool SPEC and --profile PROFILE.csv, not both"),
-    };
-    let numbers = numbers(path);
+    })
+}
+
+/// The cutters to simulate a program with, `numbers` the tools that cut
+/// its moves in the order they first do (a single 0 for a program that
+/// loads none). Never a cutter the user did not
+/// name for that tool: a program that changes tools takes its shapes from
+/// the machine file's tool table, and `--tool` alone is refused for it
+/// (unless `--same-tool-for-all`); `--tool` for a tool the table gives
+/// another shape is refused too.
+pub fn tool_set(
+    args: &SimSetup,
+    table: &BTreeMap<u32, ToolEntry>,
+    table_from: &'static str,
+    numbers: &[u32],
+) -> Result<ToolSet> {
+    let given = given(args)?;
     let loaded: Vec<u32> = numbers.iter().copied().filter(|&n| n != 0).collect();
     let shape = |n: u32| table.get(&n).and_then(|e| e.shape);
     let every = |tool: Tool, name: String, from| ToolSet {
@@ -156,21 +148,4 @@ pub fn tool_set(
             Ok(ToolSet { table: table_out, names, from: table_from })
         }
     }
-}
-
-/// Seconds each tool's moves take (its runs of moves, each from a stop:
-/// a tool change stops the machine), in the order of `tools`.
-pub fn times(path: &Toolpath, tools: &[(u32, Tool)], dynamics: &Dynamics) -> Vec<f64> {
-    let mut out = vec![0.0; tools.len()];
-    let numbers: Vec<u32> = cutting_tools(path).collect();
-    let mut start = 0;
-    while start < path.moves.len() {
-        let n = numbers[start];
-        let end = numbers[start..].iter().position(|&m| m != n).map_or(numbers.len(), |k| start + k);
-        if let Some(k) = tools.iter().position(|(t, _)| *t == n) {
-            out[k] += cycle_time(&Toolpath::from(path.moves[start..end].to_vec()), dynamics).0;
-        }
-        start = end;
-    }
-    out
 }

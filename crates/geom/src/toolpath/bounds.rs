@@ -48,6 +48,18 @@ impl Move {
     pub fn is_machine(&self) -> bool {
         matches!(self.kind, MoveKind::Home | MoveKind::Machine)
     }
+
+    /// Gives `add` the points the box of the move is made of, in order: its
+    /// start, its end and an arc's quadrant points ([`Toolpath::bounds`]).
+    pub fn extreme_points(&self, add: &mut impl FnMut([f64; 3])) {
+        add(self.start.xyz());
+        add(self.end.xyz());
+        if let MoveKind::Arc(arc) = self.kind {
+            for p in arc_extremes(&arc, self.start, self.end) {
+                add(p);
+            }
+        }
+    }
 }
 
 /// [`Toolpath::known_bounds`] (or [`Toolpath::known_bounds_uvw`]) of a
