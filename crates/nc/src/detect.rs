@@ -22,7 +22,9 @@
 //!    default.
 
 use std::fmt;
+use std::ops::Range;
 
+use crate::source::FORGET_EVERY;
 use crate::Dialect;
 
 /// A dialect found, and why.
@@ -74,12 +76,23 @@ pub fn by_extension(name: &str) -> Option<Dialect> {
 /// has none) holding `text`. `Err` is the refusal of a file with both
 /// families' evidence, naming one piece of each.
 pub fn detect(given: Option<Dialect>, name: &str, text: &str) -> Result<Detected, String> {
+    detect_forgetting(given, name, text, &|_| {})
+}
+
+/// [`detect`], telling `forget` of each stretch of the text it has read
+/// through (to let go of a mapped file's pages as it goes).
+pub fn detect_forgetting(
+    given: Option<Dialect>,
+    name: &str,
+    text: &str,
+    forget: &dyn Fn(Range<usize>),
+) -> Result<Detected, String> {
     if let Some(dialect) = given {
         return Ok(Detected { dialect, reason: "given with --dialect".to_string() });
     }
     let ext = extension(name);
     let by_extension = by_extension(name);
-    let found = markers(text);
+    let found = markers_forgetting(text, forget);
     let first = |d: Dialect| found.iter().find(|m| m.dialect == d);
     let fanuc_side = first(Dialect::Haas).or_else(|| first(Dialect::Fanuc));
     let fanuc_side = match (first(Dialect::Haas), first(Dialect::Fanuc)) {
@@ -264,12 +277,27 @@ const MARKER_G_CODES: [f64; 12] = [64.0, 33.1, 43.2, 65.0, 66.0, 66.1, 54.1, 154
 /// such bytes begin G codes that are no marker (`G1 X5 Y2`). Any other line
 /// is read in full.
 pub fn markers(text: &str) -> Vec<Marker> {
+    markers_forgetting(text, &|_| {})
+}
+
+/// [`markers`], telling `forget` of the text read through, a few megabytes
+/// at a time.
+fn markers_forgetting(text: &str, forget: &dyn Fn(Range<usize>)) -> Vec<Marker> {
     let b = text.as_bytes();
     let mut out: Vec<Marker> = Vec::new();
     // Lines before byte `counted`.
     let (mut lines, mut counted) = (0u32, 0usize);
-    let mut pos = 0;
-    while let Some(hit) = b[pos..].iter().position(|&c| MARKER_BYTE[c as usize]) {
+    let (mut pos, mut forgotten) = (0, 0);
+    while pos < b.len() {
+        if pos - forgotten >= FORGET_EVERY {
+            forget(forgotten..pos);
+            forgotten = pos;
+        }
+        let window = (pos + FORGET_EVERY).min(b.len());
+        let Some(hit) = b[pos..window].iter().position(|&c| MARKER_BYTE[c as usize]) else {
+            pos = window;
+            continue;
+        };
         let hit = pos + hit;
         let start = memchr::memrchr(b'\n', &b[..hit]).map_or(0, |i| i + 1);
         let end = memchr::memchr(b'\n', &b[hit..]).map_or(b.len(), |i| hit + i);
@@ -290,6 +318,7 @@ pub fn markers(text: &str) -> Vec<Marker> {
             break;
         }
     }
+    forget(forgotten..pos.min(b.len()));
     out
 }
 
@@ -525,5 +554,26 @@ mod tests {
                 markers(&text).into_iter().map(|m| (m.dialect, m.text, m.line)).collect();
             proptest::prop_assert_eq!(found, every_line(&text));
         }
+    }
+
+    #[test]
+    fn a_long_text_is_let_go_of_as_it_is_read_through() {
+        // 9 MB of axis words with markers near the start and the end.
+        let mut text = String::from("O1000\n");
+        while text.len() < 2 * FORGET_EVERY + 1_000_000 {
+            text.push_str("X1.5 Y2.25 Z-0.5\nG1 X2. Y3.\n");
+        }
+        text.push_str("#<depth> = 2\n");
+        let told = std::cell::RefCell::new(Vec::new());
+        let found = markers_forgetting(&text, &|r| told.borrow_mut().push(r));
+        let as_before: Vec<(Dialect, u32)> = markers(&text).iter().map(|m| (m.dialect, m.line)).collect();
+        assert_eq!(found.iter().map(|m| (m.dialect, m.line)).collect::<Vec<_>>(), as_before);
+        assert_eq!(as_before.len(), 2);
+        // Told of every byte once, in order, a few megabytes at a time.
+        let told = told.into_inner();
+        assert!(told.len() >= 3, "{told:?}");
+        assert_eq!((told[0].start, told.last().unwrap().end), (0, text.len()));
+        assert!(told.windows(2).all(|w| w[0].end == w[1].start), "{told:?}");
+        assert!(told.iter().all(|r| r.len() <= FORGET_EVERY + 64), "{told:?}");
     }
 }

@@ -47,9 +47,9 @@ pub mod thermal_plan;
 pub mod write;
 
 pub use ast::Program;
-pub use detect::{detect, Detected};
+pub use detect::{detect, detect_forgetting, Detected};
 pub use dialect::Dialect;
 pub use error::{Error, ErrorKind, Place};
 pub use paged::Paged;
-pub use parse::{comments, parse, parse_as, parse_counting, Comments};
+pub use parse::{comments, comments_forgetting, parse, parse_as, parse_counting, Comments};
 pub use source::{Diagnostic, Severity, SourceFile, Sources, Span};

@@ -13,7 +13,7 @@ mod lines;
 mod number;
 mod oword;
 
-pub use comment::{comments, Comments};
+pub use comment::{comments, comments_forgetting, Comments};
 use ends::{finish_unit, program_ends};
 pub(crate) use lines::read_page_again;
 use number::plain_words;

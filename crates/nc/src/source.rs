@@ -33,6 +33,10 @@ impl Span {
     }
 }
 
+/// How far a scan through a text reads before it lets go of what it read
+/// ([`TextStore::forget`]).
+pub const FORGET_EVERY: usize = 4 << 20;
+
 /// Where a source file's text is kept: a `String`, or the caller's store
 /// (a file mapped into memory) that can let go of what has been read, to
 /// read it again when asked.

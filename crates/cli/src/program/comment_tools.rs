@@ -5,19 +5,22 @@
 use kezuri_cam::cutter::named::tools_in_comments;
 use kezuri_cam::Cutter;
 use kezuri_machine::{Machine, ToolEntry};
-use kezuri_nc::comments;
+use kezuri_nc::comments_forgetting;
+use kezuri_nc::source::Text;
 
 /// [`Machine::tools_from`] for a table the comments gave.
 pub const FROM_COMMENTS: &str = "the program's comments";
 
 /// Fills `machine`'s tool table, where it has none, from the tool lines of
 /// the comments of `text` (its numbers in inches where `inch`), and says
-/// which on standard error; `file` names the program.
-pub fn from_comments(machine: &mut Machine, text: &str, inch: bool, file: &str) {
+/// which on standard error; `file` names the program. The text read
+/// through is let go of as it goes (a mapped file's pages).
+pub fn from_comments(machine: &mut Machine, text: &Text, inch: bool, file: &str) {
     if !machine.tools.is_empty() {
         return;
     }
-    let tools = tools_in_comments(comments(text), inch);
+    let forget = |r| text.forget(r);
+    let tools = tools_in_comments(comments_forgetting(text, &forget), inch);
     if tools.is_empty() {
         return;
     }

@@ -13,7 +13,9 @@ use kezuri_nc::ast::PAGE_BLOCKS;
 use kezuri_nc::interp::comp::Rules;
 use kezuri_nc::interp::{self, Control, CoordSettings, CycleSettings, IntegerInput, Outcome, Settings};
 use kezuri_nc::source::TextStore;
-use kezuri_nc::{detect, parse_as, parse_counting, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
+use kezuri_nc::{
+    detect_forgetting, parse_as, parse_counting, Detected, Diagnostic, Dialect, Program, SourceFile, Sources,
+};
 
 use crate::files::{read_program_text, read_text, Folder, Outputs};
 use crate::progress::ByteProgress;
@@ -139,8 +141,19 @@ impl From<Dialect> for DialectArg {
 /// The dialect of `file` holding `text`: `given` (`--dialect`), else the
 /// rule of [`kezuri_nc::detect`]; a mixed program is refused.
 pub fn choose_dialect(given: Option<Dialect>, file: &Path, text: &str) -> Result<Detected> {
+    choose_dialect_forgetting(given, file, text, &|_| {})
+}
+
+/// [`choose_dialect`] telling `forget` of the text read through (a mapped
+/// file's pages let go of as the markers are looked for).
+fn choose_dialect_forgetting(
+    given: Option<Dialect>,
+    file: &Path,
+    text: &str,
+    forget: &dyn Fn(std::ops::Range<usize>),
+) -> Result<Detected> {
     let name = if file == Path::new("-") { String::new() } else { file.display().to_string() };
-    detect(given, &name, text).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
+    detect_forgetting(given, &name, text, forget).map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))
 }
 
 /// The dialect `detected` on `machine`: a lathe or a mill-turn (the machine
@@ -391,7 +404,9 @@ fn run_on<S: PathSink + Send>(
     make_sink: Option<impl FnOnce(&Machine, Dialect, &Program) -> S>,
     again: bool,
 ) -> Result<(Ran, Vec<Diagnostic>, Option<S>)> {
-    let detected = on_machine(choose_dialect(o.dialect.map(Dialect::from), &o.file, text.text())?, &machine);
+    let given = o.dialect.map(Dialect::from);
+    let detected = choose_dialect_forgetting(given, &o.file, text.text(), &|r| text.forget(r))?;
+    let detected = on_machine(detected, &machine);
     let base = dialect_settings(detected.dialect, o.no_decimal, &machine);
     let parameters = match &o.var {
         Some(_) if !whole_units(detected.dialect) => bail!(

@@ -2,8 +2,11 @@
 //! comment commands, `(debug,…)`, `(msg,…)`, `(log,…)` …, with the
 //! statement that runs one with its line.
 
+use std::ops::Range;
+
 use super::{named, LineParser};
 use crate::ast::{CommentCommand, Expr, Line, PrintItem, Statement};
+use crate::source::FORGET_EVERY;
 
 /// The comments of `text`, each with its line (from 1): the insides of
 /// `( … )` (a comment not closed runs to the end of the line) and what
@@ -15,14 +18,23 @@ use crate::ast::{CommentCommand, Expr, Line, PrintItem, Statement};
 /// assert_eq!(found, [(1, "RAPID"), (1, " ball:14"), (2, "DIA 8MM")]);
 /// ```
 pub fn comments(text: &str) -> Comments<'_> {
-    Comments { text, pos: 0, line: 0, counted: 0, line_end: 0 }
+    comments_forgetting(text, &|_| {})
+}
+
+/// [`comments`], telling `forget` of the text read through, a few
+/// megabytes at a time (to let go of a mapped file's pages as it goes).
+pub fn comments_forgetting<'a>(text: &'a str, forget: &'a dyn Fn(Range<usize>)) -> Comments<'a> {
+    Comments { text, pos: 0, line: 0, counted: 0, line_end: 0, forget, forgotten: 0 }
 }
 
 /// The comments of a text ([`comments`]): the text is searched for `(` and
 /// `;` and only the lines holding one are looked at.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Comments<'a> {
     text: &'a str,
+    /// Told of the text read through, and how far it has been told.
+    forget: &'a dyn Fn(Range<usize>),
+    forgotten: usize,
     /// Where the search goes on.
     pos: usize,
     /// Lines before byte `counted`.
@@ -37,7 +49,23 @@ impl<'a> Iterator for Comments<'a> {
 
     fn next(&mut self) -> Option<(usize, &'a str)> {
         let b = self.text.as_bytes();
-        let open = self.pos + memchr::memchr2(b'(', b';', b.get(self.pos..)?)?;
+        let open = loop {
+            if self.pos - self.forgotten >= FORGET_EVERY {
+                (self.forget)(self.forgotten..self.pos);
+                self.forgotten = self.pos;
+            }
+            let window = (self.pos + FORGET_EVERY).min(b.len());
+            match memchr::memchr2(b'(', b';', &b[self.pos.min(window)..window]) {
+                Some(i) => break self.pos + i,
+                None if window == b.len() => {
+                    (self.forget)(self.forgotten..b.len());
+                    self.pos = b.len();
+                    self.forgotten = b.len();
+                    return None;
+                }
+                None => self.pos = window,
+            }
+        };
         if open >= self.line_end {
             // A new line: count the lines before it, find its end.
             let start = memchr::memrchr(b'\n', &b[..open]).map_or(0, |i| i + 1);
@@ -232,5 +260,24 @@ mod tests {
             let text = pieces.concat();
             proptest::prop_assert_eq!(comments(&text).collect::<Vec<_>>(), line_by_line(&text));
         }
+    }
+
+    #[test]
+    fn a_long_text_is_let_go_of_as_it_is_read_through() {
+        let mut text = String::from("(T1 D=6.)\n");
+        while text.len() < 2 * crate::source::FORGET_EVERY + 1_000_000 {
+            text.push_str("X1.5 Y2.25 Z-0.5\n");
+        }
+        text.push_str("G0 Z5. ; up\n");
+        let told = std::cell::RefCell::new(Vec::new());
+        let forget = |r| told.borrow_mut().push(r);
+        let found: Vec<(usize, &str)> = super::comments_forgetting(&text, &forget).collect();
+        assert_eq!(found, comments(&text).collect::<Vec<_>>());
+        assert_eq!(found.len(), 2);
+        let told = told.into_inner();
+        assert!(told.len() >= 3, "{told:?}");
+        assert_eq!((told[0].start, told.last().unwrap().end), (0, text.len()));
+        assert!(told.windows(2).all(|w| w[0].end <= w[1].start), "{told:?}");
+        assert!(told.iter().all(|r| r.len() <= crate::source::FORGET_EVERY + 64), "{told:?}");
     }
 }
