@@ -66,12 +66,14 @@ impl Allowance {
 impl DeviationArgs {
     /// The gouge allowance: --gouge-tol where given, else the one the
     /// program's `text` carries in a comment (`KEZURI GOUGE-TOL 0.010`, as
-    /// kezuri writes it), else the default.
-    pub fn allowance(&self, text: &str) -> Allowance {
+    /// kezuri writes it), else the default. A mapped program's pages are let
+    /// go of as its comments are read through.
+    pub fn allowance(&self, text: &kezuri_nc::source::Text) -> Allowance {
         if let Some(mm) = self.gouge_tol {
             return Allowance { mm, from: "given" };
         }
-        match kezuri_nc::comments(text).find_map(|(_, c)| read_gouge_note(c)) {
+        let forget = |r| text.forget(r);
+        match kezuri_nc::comments_forgetting(text, &forget).find_map(|(_, c)| read_gouge_note(c)) {
             Some(mm) => Allowance { mm, from: "program" },
             None => Allowance { mm: GOUGE_TOL, from: "default" },
         }
