@@ -12,7 +12,7 @@ use kezuri_geom::{Kept, MoveKind, Spindle, Toolpath};
 use kezuri_nc::interp;
 use kezuri_nc::rml::{self, RmlOptions};
 use kezuri_nc::write::{program, WriteOptions};
-use kezuri_nc::{comments, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
+use kezuri_nc::{comments_forgetting, parse_as, Detected, Diagnostic, Dialect, Program, SourceFile, Sources};
 
 use crate::files::{read_program_text, Folder, Outputs};
 use crate::machine::MachineArg;
@@ -237,7 +237,7 @@ pub fn run(a: &ConvertArgs) -> Result<()> {
     }
     if a.scale_xy != 1.0 || a.scale_z != 1.0 {
         let text = (from != Format::Rml).then(|| sources.get(id).text.clone());
-        warn_cutters(a, text.as_deref());
+        warn_cutters(a, text.as_ref());
         if let Some(k) = path.kept.iter().find(|k| holds_positions(k)) {
             return Err(unscalable(&name, k));
         }
@@ -319,8 +319,9 @@ fn warn_no_speed(name: &str) {
 
 /// The warnings of a scaled program's cutter (`--tool`, or one its G-code
 /// `text` names in a comment).
-fn warn_cutters(a: &ConvertArgs, text: Option<&str>) {
-    let named = text.map(|t| in_comments(comments(t))).unwrap_or_default();
+fn warn_cutters(a: &ConvertArgs, text: Option<&kezuri_nc::source::Text>) {
+    // A mapped program's pages let go of as its comments are read through.
+    let named = text.map(|t| in_comments(comments_forgetting(t, &|r| t.forget(r)))).unwrap_or_default();
     for line in cutter_warnings(a.tool, &named, a.scale_xy, a.scale_z) {
         eprintln!("{line}");
     }
