@@ -18,7 +18,7 @@ pub use emit::{
 };
 pub use run::{
     choose_dialect, comp_refused, dialect_settings, library_dir, model_notes, print_label, read_and_run,
-    read_and_run_centre, read_and_run_into, refuse_comp, report_logs, run_again_into, run_options, run_text,
-    run_text_into, run_written, whole_units, DialectArg, Ran, RunOptions,
+    read_and_run_into, refuse_comp, report_logs, run_again_into, run_options, run_store, run_text, run_text_into,
+    run_written, whole_units, DialectArg, Ran, RunOptions,
 };
 pub use tally::{missing_axes, MissingAxes, Report, Tallied, Tally};

@@ -337,6 +337,30 @@ fn values_taken_from_the_machine_file_are_said_in_check_and_in_the_written_progr
 }
 
 #[test]
+fn a_program_on_standard_input_is_written_as_its_file_is() {
+    // Run as the run hands its path on, from standard input as from a file:
+    // the same program, to standard output and to a file.
+    let file = sample("nameplate-cam.nc");
+    let text = std::fs::read_to_string(&file).unwrap();
+    for emit in [None, Some("csv")] {
+        let mut args = vec!["run"];
+        args.extend(emit.iter().flat_map(|e| ["--emit", e]));
+        let from_file = kezuri(&[args.as_slice(), &[file.as_str()]].concat());
+        let from_stdin = kezuri_stdin(&[args.as_slice(), &["-"]].concat(), &text);
+        assert!(from_file.status.success() && from_stdin.status.success(), "{}", stderr(&from_stdin));
+        assert!(!from_file.stdout.is_empty());
+        // The program's title is its file's name, `-` for standard input.
+        let titled = stdout(&from_stdin).replace("O0001 (-)", "O0001 (NAMEPLATE-CAM.NC)");
+        assert_eq!(titled, stdout(&from_file), "{emit:?}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.nc").to_string_lossy().into_owned();
+    let o = kezuri_stdin(&["run", "-", "-o", &out], &text);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), stdout(&kezuri_stdin(&["run", "-"], &text)));
+}
+
+#[test]
 fn outputs_that_cannot_hold_a_kept_block_say_so() {
     let tapping = "G90 G00 X0 Y0 Z10.\nS500 M03\nG98 G84 X5. Y5. Z-8. R2. F500.\nG80\nM01\nM30\n";
     // RML-1 has no tapping cycle: refused with the line.

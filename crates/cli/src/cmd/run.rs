@@ -2,9 +2,14 @@
 
 use anyhow::{anyhow, Result};
 
+use std::sync::Arc;
+
+use kezuri_nc::source::TextStore;
+
+use crate::files::read_program_text;
 use crate::program::{
-    located, model_notes, program_title, read_and_run, read_and_run_centre, read_and_run_into, staged, write_program,
-    written_path, Origin, RunOptions, Streamed, WriteArgs,
+    located, model_notes, program_title, run_store, run_text_into, staged, write_program, written_path, Origin,
+    RunOptions, Streamed, WriteArgs,
 };
 
 /// `kezuri run`: the motions of the program, as a program again or as CSV.
@@ -15,14 +20,15 @@ use crate::program::{
 /// no compensation, need `--apply-comp`.
 pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
     // A program or CSV alone is written as the run makes it; a drawing, a
-    // page or RML-1 needs the whole path, and standard input is read whole
-    // (it cannot be read twice).
-    if w.streams() && o.file != std::path::Path::new("-") {
-        if let Some(done) = run_streamed(o, w) {
+    // page or RML-1 needs the whole path. The text is read once (standard
+    // input cannot be read twice) for both.
+    let text = read_program_text(&o.file)?;
+    if w.streams() {
+        if let Some(done) = run_streamed(o, w, Arc::clone(&text)) {
             return done;
         }
     }
-    let (mut ran, parse_diagnostics) = if w.apply_comp { read_and_run_centre(o)? } else { read_and_run(o)? };
+    let (mut ran, parse_diagnostics) = run_store(o, text, w.apply_comp)?;
     ran.shown(&parse_diagnostics, &o.file, "nothing written")?;
     let w = &w.for_program(&ran.machine, ran.dialect.dialect);
     let mut out = std::mem::take(&mut ran.outputs);
@@ -44,15 +50,16 @@ pub fn run(o: &RunOptions, w: &WriteArgs) -> Result<()> {
 /// that a program of any length is never held. `None` where it must be
 /// written from the whole path after all: the run read values from the
 /// machine file, which the written program's header notes.
-fn run_streamed(o: &RunOptions, w: &WriteArgs) -> Option<Result<()>> {
+fn run_streamed(o: &RunOptions, w: &WriteArgs, text: Arc<dyn TextStore>) -> Option<Result<()>> {
     let mut whole = false;
     let done = staged(w.output(), |to| {
         let title = program_title(&o.file);
-        let (mut ran, parse_diagnostics, written) = read_and_run_into(o, w.apply_comp, |machine, dialect, program| {
-            let w = w.for_program(machine, dialect);
-            let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
-            Streamed::new(&w, machine, &o.file, &title, uvw, &mut *to)
-        })?;
+        let (mut ran, parse_diagnostics, written) =
+            run_text_into(o, text, w.apply_comp, |machine, dialect, program| {
+                let w = w.for_program(machine, dialect);
+                let uvw = kezuri_nc::write::may_move_uvw(program, dialect);
+                Streamed::new(&w, machine, &o.file, &title, uvw, &mut *to)
+            })?;
         // Before anything is said: the whole path's run says it all.
         if !model_notes(&ran.outcome).is_empty() {
             whole = true;

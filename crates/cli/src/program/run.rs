@@ -218,14 +218,22 @@ impl Ran {
 /// A cutter compensation register the tool table lacks is a warning
 /// (radius 0).
 pub fn read_and_run(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, false, NO_SINK).map(|(ran, d, _)| (ran, d))
+    run_store(o, read_program_text(&o.file)?, false)
+}
+
+/// [`read_and_run`] on the program's text, read already. `centre`: the
+/// tool-centre path is asked for (`run --apply-comp`), so a cutter
+/// compensation register the tool table lacks is an error (`sim` and
+/// `view` warn of it, as `check` and `run` do).
+pub fn run_store(o: &RunOptions, text: Arc<dyn TextStore>, centre: bool) -> Result<(Ran, Vec<Diagnostic>)> {
+    run_program(o, text, centre, NO_SINK).map(|(ran, d, _)| (ran, d))
 }
 
 /// [`read_and_run`] handing the toolpath piece by piece as the run makes
 /// it to the sink `make` gives once the machine, the dialect and the
 /// program parsed are known (the sink is returned; the run's
 /// `outcome.toolpath` is empty). `centre`: the tool-centre path is asked
-/// for ([`read_and_run_centre`]).
+/// for (as in [`run_store`]).
 pub fn read_and_run_into<S: PathSink + Send>(
     o: &RunOptions,
     centre: bool,
@@ -248,13 +256,6 @@ pub fn run_text_into<S: PathSink + Send>(
 
 /// No sink: the run keeps its whole path.
 const NO_SINK: Option<fn(&Machine, Dialect, &Program) -> kezuri_geom::WholePath> = None;
-
-/// [`read_and_run`] where the tool-centre path was asked for (`run
-/// --apply-comp`): a cutter compensation register the tool table lacks is
-/// an error. `sim` and `view` warn of it, as `check` and `run` do.
-pub fn read_and_run_centre(o: &RunOptions) -> Result<(Ran, Vec<Diagnostic>)> {
-    run_program(o, read_program_text(&o.file)?, true, NO_SINK).map(|(ran, d, _)| (ran, d))
-}
 
 /// The folder subprograms and subroutine files come from: `--lib`, else
 /// the program's own folder (the working folder for standard input).
