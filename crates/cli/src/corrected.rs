@@ -232,3 +232,33 @@ fn rewritten(name: &str, text: &str, path: &Toolpath, digits: usize) -> Result<S
     }
     Ok(out)
 }
+
+/// The corrected pieces of a run joined, or the correction's first error:
+/// what the tests of a [`Correction`] compare with the whole path's.
+#[cfg(test)]
+pub struct Joined<C> {
+    pub correction: C,
+    pub path: kezuri_geom::WholePath,
+    pub error: Option<String>,
+    pub pieces: usize,
+}
+
+#[cfg(test)]
+impl<C> Joined<C> {
+    pub fn new(correction: C) -> Joined<C> {
+        Joined { correction, path: kezuri_geom::WholePath::default(), error: None, pieces: 0 }
+    }
+}
+
+#[cfg(test)]
+impl<C: Correction> kezuri_geom::PathSink for Joined<C> {
+    fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
+        self.pieces += 1;
+        if self.error.is_none() {
+            match self.correction.correct(piece) {
+                Ok(corrected) => self.path.take(&corrected, None),
+                Err(e) => self.error = Some(e.to_string()),
+            }
+        }
+    }
+}

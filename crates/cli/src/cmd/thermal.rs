@@ -542,31 +542,11 @@ impl Correction for Drift<'_> {
 
 #[cfg(test)]
 mod tests {
-    use kezuri_geom::{PathSink, WholePath};
     use kezuri_machine::Machine;
 
     use super::*;
+    use crate::corrected::Joined;
     use crate::program::corpus::each_case;
-
-    /// The corrected pieces joined, or the correction's first error.
-    struct Joined<'a> {
-        drift: Drift<'a>,
-        path: WholePath,
-        error: Option<String>,
-        pieces: usize,
-    }
-
-    impl PathSink for Joined<'_> {
-        fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
-            self.pieces += 1;
-            if self.error.is_none() {
-                match self.drift.correct(piece) {
-                    Ok(corrected) => self.path.take(&corrected, None),
-                    Err(e) => self.error = Some(e.to_string()),
-                }
-            }
-        }
-    }
 
     #[test]
     fn every_program_corrected_in_pieces_is_corrected_whole() {
@@ -586,7 +566,7 @@ mod tests {
             let k = machine.kinematics.clone();
             let correcting = Correcting::new(&model, k, thermal::Solver::Newton);
             let drift = Drift { correcting, before: None, points: 0, seconds: 0.0 };
-            let mut joined = Joined { drift, path: WholePath::default(), error: None, pieces: 0 };
+            let mut joined = Joined::new(drift);
             case.run_into(&mut joined);
             let path = &case.whole.toolpath;
             let name = &case.name;
@@ -597,8 +577,8 @@ mod tests {
                     // Debug writes every f64 to the bit.
                     assert_eq!(format!("{:?}", joined.path.path.moves), format!("{:?}", whole.moves), "{name}");
                     assert_eq!(joined.path.path.kept, whole.kept, "{name}");
-                    assert_eq!(format!("{:?}", joined.drift.correcting.summary), format!("{summary:?}"), "{name}");
-                    assert_eq!(joined.drift.points, ends.len(), "{name}");
+                    assert_eq!(format!("{:?}", joined.correction.correcting.summary), format!("{summary:?}"), "{name}");
+                    assert_eq!(joined.correction.points, ends.len(), "{name}");
                     compared += 1;
                 }
                 Err(e) => {

@@ -330,31 +330,12 @@ impl Correction for Wear<'_> {
 
 #[cfg(test)]
 mod tests {
-    use kezuri_geom::{Mesh, PathSink, Triangle, Vec3, WholePath};
+    use kezuri_geom::{Mesh, Triangle, Vec3};
     use kezuri_machine::Machine;
 
     use super::*;
+    use crate::corrected::Joined;
     use crate::program::corpus::each_case;
-
-    /// The corrected pieces joined, or the correction's first error.
-    struct Joined<'a> {
-        wear: Wear<'a>,
-        path: WholePath,
-        error: Option<String>,
-        pieces: usize,
-    }
-
-    impl PathSink for Joined<'_> {
-        fn take(&mut self, piece: &Toolpath, _programmed: Option<&Toolpath>) {
-            self.pieces += 1;
-            if self.error.is_none() {
-                match self.wear.correct(piece) {
-                    Ok(corrected) => self.path.take(&corrected, None),
-                    Err(e) => self.error = Some(e.to_string()),
-                }
-            }
-        }
-    }
 
     #[test]
     fn every_program_corrected_in_pieces_is_corrected_whole() {
@@ -381,7 +362,7 @@ mod tests {
         };
         let (mut compared, mut cut, mut corrected) = (0, 0, 0);
         each_case(&machine, |mut case| {
-            let mut joined = Joined { wear: wear(), path: WholePath::default(), error: None, pieces: 0 };
+            let mut joined = Joined::new(wear());
             case.run_into(&mut joined);
             let mut whole = wear();
             let name = &case.name;
@@ -389,9 +370,9 @@ mod tests {
                 Ok(path) => {
                     // Debug writes every f64 to the bit.
                     assert_eq!(format!("{:?}", joined.path.path.moves), format!("{:?}", path.moves), "{name}");
-                    assert_eq!(format!("{:?}", joined.wear.totals), format!("{:?}", whole.totals), "{name}");
+                    assert_eq!(format!("{:?}", joined.correction.totals), format!("{:?}", whole.totals), "{name}");
                     let turned = |w: &Wear| w.turned.as_ref().map(|t| t.refusal(name).to_string());
-                    assert_eq!(turned(&joined.wear), turned(&whole), "{name}");
+                    assert_eq!(turned(&joined.correction), turned(&whole), "{name}");
                     corrected += usize::from(whole.totals.corrected > 0);
                     compared += 1;
                 }
