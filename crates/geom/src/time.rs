@@ -40,7 +40,6 @@ impl Default for Dynamics {
     }
 }
 
-/// Unit direction of travel at the start and end of a move (X Y Z).
 /// The speed (mm/s) the junction deviation allows where a move leaving in
 /// direction `d1` follows one arriving in direction `d0` (unit vectors), at
 /// acceleration `a`: unlimited straight on, 0 for a reversal.
@@ -56,6 +55,7 @@ fn junction_speed(d0: [f64; 3], d1: [f64; 3], a: f64, machine: &Dynamics) -> f64
     }
 }
 
+/// Unit direction of travel at the start and end of a move (X Y Z).
 fn directions(m: &Move) -> Option<([f64; 3], [f64; 3])> {
     let unit = |a: Axes, b: Axes| {
         let d = [b.x - a.x, b.y - a.y, b.z - a.z];
