@@ -125,7 +125,8 @@ pub struct SimSetup {
     pub chord_tol: f64,
     /// Memory for the grid (5 bytes a cell: its height to the nanometre and the tool that cut it
     /// last; 13 with --compare): K, M, G or T, powers of 1024. A larger grid is cut in tiles of
-    /// rows, each a pass over the moves: the same cells, minutes longer [default: 2G].
+    /// rows, each a pass over the moves (`sim` runs the program again for each): the same cells
+    /// [default: 2G].
     #[arg(long, value_name = "SIZE", value_parser = crate::numbers::memory, conflicts_with = "max_cells")]
     pub max_memory: Option<u64>,
     /// The same as --max-memory, as a number of cells (kept for older scripts: 5 bytes a cell).
