@@ -506,8 +506,10 @@ impl Path<'_> {
                 ),
             ));
         }
-        self.sink.take(&self.piece, None);
-        self.piece.moves.clear();
+        // Handed over, not copied; the next row starts with the room this one had.
+        let room = self.piece.moves.capacity();
+        self.sink.take_owned(std::mem::take(&mut self.piece), None);
+        self.piece.moves.reserve(room);
         self.handed = true;
         Ok(())
     }
