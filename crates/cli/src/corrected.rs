@@ -147,7 +147,7 @@ pub fn write_corrected(
         out.add(write.output(), text.as_bytes())?;
     } else {
         let mut write = write.clone();
-        let title = run.file.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+        let title = crate::program::program_title(&run.file);
         write.digits = Some(write_digits(&write));
         stage_toolpath(&mut out, path, &format!("{title} {what}"), &write, &ran.machine, Origin::Transformed, &[])?;
     }

@@ -305,7 +305,7 @@ fn write_options(a: &ConvertArgs, to: Format, machine: &kezuri_machine::Machine)
     // --to, or without --post the format the output's name says.
     let named = a.to.or(a.post.is_none().then_some(to)).map(name);
     let post = post_options(a.post.as_deref(), named, machine, None)?;
-    let title = a.input.file_name().map_or_else(|| "-".into(), |n| n.to_string_lossy().to_uppercase());
+    let title = crate::program::program_title(&a.input);
     Ok(WriteOptions { digits: a.digits, title: Some(title), setup: None, ..post })
 }
 
